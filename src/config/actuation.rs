@@ -1,0 +1,120 @@
+//! Actuation files (`*.actuation.xml`, thesis listing B.5): which actuation modules drive
+//! which groups of joints. Groups may overlap; the control kernel sums their outputs.
+//!
+//! Extension: parameter values per module, uniform or one per driven joint:
+//! `<parameter name="Amplitude" value="40"/>` or
+//! `<parameter name="Amplitude" values="40 40 40 40 0"/>`.
+
+use crate::config::error::{ConfigResult, ErrorKind, Pos};
+use crate::config::mask::JointMask;
+use crate::config::xml::read::Reader;
+use crate::config::xml::write::{XmlWriter, num, nums};
+
+/// A parameter's value: the same for every driven joint, or one per driven joint.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ParamValue {
+    Uniform(f64),
+    PerJoint(Vec<f64>),
+}
+
+/// One parameter setting of a module.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParamSetting {
+    pub name: String,
+    pub value: ParamValue,
+    pub pos: Pos,
+}
+
+/// One actuation module assigned to a group of joints.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModuleAssignment {
+    /// Registry name of the module type.
+    pub name: String,
+    pub joints: JointMask,
+    pub params: Vec<ParamSetting>,
+    pub pos: Pos,
+    pub mask_pos: Pos,
+}
+
+/// An actuation file as written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ActuationFile {
+    /// The robot file this actuation was made for.
+    pub valid_robot: Option<String>,
+    pub modules: Vec<ModuleAssignment>,
+}
+
+/// Reads an actuation file's text.
+pub fn parse_actuation_file(file: &str, text: &str) -> ConfigResult<ActuationFile> {
+    let doc = crate::config::xml::dom::parse(file, text)?;
+    let r = Reader::new(file);
+    let root = &doc.root;
+    if !root.is("actuation") {
+        return Err(r.err(
+            root.pos,
+            ErrorKind::UnknownElement,
+            format!("an actuation file starts with <actuation>, not <{}>", root.name),
+        ));
+    }
+    r.only_children(root, &["validrobot", "actuationmodule"])?;
+    r.only_attrs(root, &[])?;
+    let valid_robot = match r.at_most_one(root, "validrobot")? {
+        Some(v) => {
+            r.only_attrs(v, &["robotname"])?;
+            Some(r.required_attr(v, "robotname")?.value.clone())
+        }
+        None => None,
+    };
+    let mut modules = Vec::new();
+    for m in root.children_named("actuationmodule") {
+        r.only_children(m, &["jointconfiguration", "parameter"])?;
+        r.only_attrs(m, &["name"])?;
+        let name = r.required_attr(m, "name")?.value.clone();
+        let jc = r.required(m, "jointconfiguration")?;
+        r.only_attrs(jc, &["joints"])?;
+        let mask_attr = r.required_attr(jc, "joints")?;
+        let joints = JointMask::parse(&r, &mask_attr.value, mask_attr.pos, "joints=")?;
+        let mut params = Vec::new();
+        for p in m.children_named("parameter") {
+            r.only_attrs(p, &["name", "value", "values"])?;
+            let pname = r.required_attr(p, "name")?.value.clone();
+            let what = format!("parameter {pname}");
+            let value = match (p.attr("value"), p.attr("values")) {
+                (Some(v), None) => ParamValue::Uniform(r.number(&v.value, v.pos, &what)?),
+                (None, Some(v)) => ParamValue::PerJoint(r.numbers(&v.value, v.pos, &what)?),
+                _ => {
+                    return Err(r.err(
+                        p.pos,
+                        ErrorKind::InvalidValue,
+                        format!("{what}: give either value=\"x\" (uniform) or values=\"x y ...\" (one per driven joint)"),
+                    ));
+                }
+            };
+            params.push(ParamSetting { name: pname, value, pos: p.pos });
+        }
+        modules.push(ModuleAssignment { name, joints, params, pos: m.pos, mask_pos: mask_attr.pos });
+    }
+    Ok(ActuationFile { valid_robot, modules })
+}
+
+/// Writes an actuation file.
+pub fn write_actuation_file(a: &ActuationFile) -> String {
+    let mut w = XmlWriter::new();
+    w.open("actuation", &[]);
+    if let Some(v) = &a.valid_robot {
+        w.empty("validRobot", &[("robotName", v.clone())]);
+    }
+    for m in &a.modules {
+        w.open("actuationModule", &[("name", m.name.clone())]);
+        w.empty("jointConfiguration", &[("joints", m.joints.to_string())]);
+        for p in &m.params {
+            let attr = match &p.value {
+                ParamValue::Uniform(v) => ("value", num(*v)),
+                ParamValue::PerJoint(v) => ("values", nums(v)),
+            };
+            w.empty("parameter", &[("name", p.name.clone()), attr]);
+        }
+        w.close();
+    }
+    w.finish()
+}

@@ -1,0 +1,292 @@
+//! Rigid bodies and their geometry (OpenRAVE `<Body>` and `<Geom>`), shared by robot
+//! module parts (`*.kinbody.xml`) and environments (`*.env.xml`).
+//!
+//! Units: metres and kilograms. Box `extents` are half-extents, as in OpenRAVE;
+//! cylinders stand along their local y axis (OpenRAVE's convention).
+
+use crate::config::error::{ConfigResult, ErrorKind, Pos};
+use crate::config::transform::{POSE_ELEMENTS, Transform};
+use crate::config::xml::dom::Element;
+use crate::config::xml::read::Reader;
+use crate::config::xml::write::{XmlWriter, num};
+
+/// Largest friction coefficient accepted (Coulomb coefficient; rapier takes any value >= 0,
+/// beyond this no material pair is realistic and it usually is a typo).
+pub const MAX_FRICTION: f64 = 100.0;
+
+/// Whether a body moves (`dynamic`) or is fixed in the world (`static`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BodyKind {
+    Dynamic,
+    Static,
+}
+
+/// The shape of one geometry.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Shape {
+    /// Half-extents along x, y, z.
+    Box { extents: [f64; 3] },
+    Sphere { radius: f64 },
+    /// Along the local y axis.
+    Cylinder { radius: f64, height: f64 },
+    /// A triangle mesh from a file (Wavefront OBJ), scaled uniformly.
+    Trimesh { file: String, scale: f64 },
+}
+
+impl Shape {
+    /// A short description for summaries.
+    pub fn describe(&self) -> String {
+        match self {
+            Shape::Box { extents: [x, y, z] } => {
+                format!("box {}x{}x{} m", num(2.0 * x), num(2.0 * y), num(2.0 * z))
+            }
+            Shape::Sphere { radius } => format!("sphere r={} m", num(*radius)),
+            Shape::Cylinder { radius, height } => format!("cylinder r={} h={} m", num(*radius), num(*height)),
+            Shape::Trimesh { file, scale } => format!("mesh {file} (scale {})", num(*scale)),
+        }
+    }
+}
+
+/// One geometry of a body, posed in the body's frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Geom {
+    pub shape: Shape,
+    pub pose: Transform,
+    pub diffuse_color: Option<[f64; 3]>,
+    pub ambient_color: Option<[f64; 3]>,
+    pub transparency: Option<f64>,
+    /// Coulomb friction coefficient; the engine default when absent.
+    pub friction: Option<f64>,
+    /// Whether the geometry takes part in collisions (`render="false"` visuals do not).
+    pub collides: bool,
+    pub pos: Pos,
+}
+
+/// The mass of a body.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mass {
+    /// Total mass in kg.
+    pub total: f64,
+    /// How it is distributed: `box`, `sphere`, `mimicgeom` (from the geometry) or `custom`.
+    pub distribution: String,
+    /// Centre of mass in the body frame, for `custom`.
+    pub com: Option<[f64; 3]>,
+    pub pos: Pos,
+}
+
+/// One rigid body.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Body {
+    pub name: String,
+    pub kind: BodyKind,
+    pub pose: Transform,
+    pub geoms: Vec<Geom>,
+    pub mass: Option<Mass>,
+    pub pos: Pos,
+}
+
+const GEOM_CHILDREN: [&str; 12] = [
+    "translation", "rotationaxis", "quat", "rotationmat", "extents", "radius", "height", "data",
+    "diffusecolor", "ambientcolor", "transparency", "friction",
+];
+
+impl Geom {
+    pub fn read(r: &Reader, el: &Element) -> ConfigResult<Geom> {
+        r.only_children(el, &GEOM_CHILDREN)?;
+        r.only_attrs(el, &["type", "render"])?;
+        let ty = r.required_attr(el, "type")?;
+        let positive = |name: &str| -> ConfigResult<f64> {
+            let c = r.required(el, name)?;
+            let v = r.f64(c)?;
+            r.check_range(v, f64::MIN_POSITIVE, f64::INFINITY, c.text_pos, &format!("<{}>", c.name))?;
+            Ok(v)
+        };
+        let shape = match ty.value.to_ascii_lowercase().as_str() {
+            "box" => {
+                let c = r.required(el, "extents")?;
+                let e = r.array::<3>(c)?;
+                if e.iter().any(|v| *v <= 0.0) {
+                    return Err(r.err(c.text_pos, ErrorKind::OutOfRange, "box <extents> must all be > 0 (half-extents in m)"));
+                }
+                Shape::Box { extents: e }
+            }
+            "sphere" => Shape::Sphere { radius: positive("radius")? },
+            "cylinder" => Shape::Cylinder { radius: positive("radius")?, height: positive("height")? },
+            "trimesh" => {
+                let c = r.required(el, "data")?;
+                let text = r.text(c)?;
+                let mut words = text.split_whitespace();
+                let file = words.next().unwrap_or_default().to_string();
+                let scale = match words.next() {
+                    Some(s) => {
+                        let v = r.number(s, c.text_pos, "<data> scale")?;
+                        r.check_range(v, f64::MIN_POSITIVE, f64::INFINITY, c.text_pos, "<data> scale")?;
+                        v
+                    }
+                    None => 1.0,
+                };
+                Shape::Trimesh { file, scale }
+            }
+            other => {
+                return Err(r.err(
+                    ty.pos,
+                    ErrorKind::InvalidValue,
+                    format!("unknown geometry type \"{other}\"; expected one of: box, sphere, cylinder, trimesh"),
+                ));
+            }
+        };
+        let color = |name: &str| -> ConfigResult<Option<[f64; 3]>> {
+            match r.at_most_one(el, name)? {
+                None => Ok(None),
+                Some(c) => {
+                    let v = r.array::<3>(c)?;
+                    for x in v {
+                        r.check_range(x, 0.0, 1.0, c.text_pos, &format!("<{}> component", c.name))?;
+                    }
+                    Ok(Some(v))
+                }
+            }
+        };
+        let transparency = match r.at_most_one(el, "transparency")? {
+            Some(c) => Some(r.f64_in(c, 0.0, 1.0)?),
+            None => None,
+        };
+        let friction = match r.at_most_one(el, "friction")? {
+            Some(c) => Some(r.f64_in(c, 0.0, MAX_FRICTION)?),
+            None => None,
+        };
+        let collides = match el.attr("render") {
+            // OpenRAVE: render="true" means "render only, no collision" for visual-only geoms.
+            Some(a) => !r.flag_str(&a.value, a.pos, "render=")?,
+            None => true,
+        };
+        Ok(Geom {
+            shape,
+            pose: Transform::read(r, el)?,
+            diffuse_color: color("diffusecolor")?,
+            ambient_color: color("ambientcolor")?,
+            transparency,
+            friction,
+            collides,
+            pos: el.pos,
+        })
+    }
+
+    pub fn write(&self, w: &mut XmlWriter) {
+        let ty = match self.shape {
+            Shape::Box { .. } => "box",
+            Shape::Sphere { .. } => "sphere",
+            Shape::Cylinder { .. } => "cylinder",
+            Shape::Trimesh { .. } => "trimesh",
+        };
+        let mut attrs = vec![("type", ty.to_string())];
+        if !self.collides {
+            attrs.push(("render", "true".into()));
+        }
+        w.open("Geom", &attrs);
+        self.pose.write(w);
+        match &self.shape {
+            Shape::Box { extents } => w.nums("extents", extents),
+            Shape::Sphere { radius } => w.num("radius", *radius),
+            Shape::Cylinder { radius, height } => {
+                w.num("radius", *radius);
+                w.num("height", *height);
+            }
+            Shape::Trimesh { file, scale } => w.leaf("data", &format!("{file} {}", num(*scale))),
+        }
+        if let Some(c) = self.diffuse_color {
+            w.nums("diffuseColor", &c);
+        }
+        if let Some(c) = self.ambient_color {
+            w.nums("ambientColor", &c);
+        }
+        if let Some(t) = self.transparency {
+            w.num("transparency", t);
+        }
+        if let Some(f) = self.friction {
+            w.num("friction", f);
+        }
+        w.close();
+    }
+}
+
+impl Mass {
+    /// Reads `<Mass type="box"><total>0.1</total></Mass>` or the short `<mass>0.1</mass>`.
+    pub fn read(r: &Reader, el: &Element) -> ConfigResult<Mass> {
+        r.only_children(el, &["total", "com", "extents", "radius", "inertia"])?;
+        r.only_attrs(el, &["type"])?;
+        let (total, pos) = match r.at_most_one(el, "total")? {
+            Some(c) => (r.f64(c)?, c.text_pos),
+            None => (r.f64(el)?, el.text_pos),
+        };
+        if total <= 0.0 {
+            return Err(r.err(pos, ErrorKind::OutOfRange, format!("mass is {total} kg; it must be > 0")));
+        }
+        let com = r.at_most_one(el, "com")?.map(|c| r.array::<3>(c)).transpose()?;
+        Ok(Mass {
+            total,
+            distribution: el.attr("type").map(|a| a.value.to_ascii_lowercase()).unwrap_or_else(|| "mimicgeom".into()),
+            com,
+            pos: el.pos,
+        })
+    }
+
+    pub fn write(&self, w: &mut XmlWriter) {
+        w.open("Mass", &[("type", self.distribution.clone())]);
+        w.num("total", self.total);
+        if let Some(c) = self.com {
+            w.nums("com", &c);
+        }
+        w.close();
+    }
+}
+
+impl Body {
+    /// Reads a `<Body>`; `default_name` is used when it has no name (environment floors).
+    pub fn read(r: &Reader, el: &Element, default_name: &str) -> ConfigResult<Body> {
+        let mut allowed: Vec<&str> = vec!["geom", "mass"];
+        allowed.extend(POSE_ELEMENTS);
+        r.only_children(el, &allowed)?;
+        r.only_attrs(el, &["name", "type", "enable"])?;
+        let kind = match el.attr("type") {
+            None => BodyKind::Dynamic,
+            Some(a) => match a.value.to_ascii_lowercase().as_str() {
+                "dynamic" => BodyKind::Dynamic,
+                "static" => BodyKind::Static,
+                other => {
+                    return Err(r.err(
+                        a.pos,
+                        ErrorKind::InvalidValue,
+                        format!("body type \"{other}\"; expected static or dynamic"),
+                    ));
+                }
+            },
+        };
+        let geoms = el.children_named("geom").map(|g| Geom::read(r, g)).collect::<ConfigResult<Vec<_>>>()?;
+        let mass = r.at_most_one(el, "mass")?.map(|m| Mass::read(r, m)).transpose()?;
+        Ok(Body {
+            name: el.attr("name").map(|a| a.value.clone()).unwrap_or_else(|| default_name.to_string()),
+            kind,
+            pose: Transform::read(r, el)?,
+            geoms,
+            mass,
+            pos: el.pos,
+        })
+    }
+
+    pub fn write(&self, w: &mut XmlWriter) {
+        let kind = match self.kind {
+            BodyKind::Dynamic => "dynamic",
+            BodyKind::Static => "static",
+        };
+        w.open("Body", &[("name", self.name.clone()), ("type", kind.into())]);
+        self.pose.write(w);
+        for g in &self.geoms {
+            g.write(w);
+        }
+        if let Some(m) = &self.mass {
+            m.write(w);
+        }
+        w.close();
+    }
+}

@@ -1,0 +1,101 @@
+//! Configuration errors: which file, where in it, what kind, and what was expected.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// A 1-based line and column in a source file.
+///
+/// Positions never take part in equality: a model written out and read back equals
+/// the original even though every element now sits on another line.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Pos {
+    pub line: u32,
+    pub col: u32,
+}
+
+impl Pos {
+    pub const fn new(line: u32, col: u32) -> Self {
+        Pos { line, col }
+    }
+}
+
+impl PartialEq for Pos {
+    fn eq(&self, _other: &Self) -> bool {
+        true
+    }
+}
+
+impl fmt::Display for Pos {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}", self.line, self.col)
+    }
+}
+
+/// The class of a configuration error, for callers and tests that branch on it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorKind {
+    /// The file is not well-formed XML.
+    Syntax,
+    /// An element or attribute that the format does not have.
+    UnknownElement,
+    /// A required element or attribute is absent.
+    Missing,
+    /// A value that does not parse (not a number, NaN, wrong count).
+    InvalidValue,
+    /// A value outside its allowed range.
+    OutOfRange,
+    /// A joint mask whose length differs from the robot's joint count.
+    MaskLength,
+    /// An actuation module name that the registry does not know.
+    UnknownModule,
+    /// A name that refers to nothing (body, joint, parameter).
+    UnknownReference,
+    /// A file that cannot be read.
+    MissingFile,
+    /// A file that includes itself, directly or through others.
+    IncludeCycle,
+}
+
+/// A configuration error with its location.
+#[derive(Debug, Clone)]
+pub struct ConfigError {
+    pub file: PathBuf,
+    pub pos: Pos,
+    pub kind: ErrorKind,
+    pub message: String,
+    /// Where the failing file was included from, innermost first.
+    pub included_from: Vec<(PathBuf, Pos)>,
+}
+
+impl ConfigError {
+    pub fn new(file: impl AsRef<Path>, pos: Pos, kind: ErrorKind, message: impl Into<String>) -> Self {
+        ConfigError {
+            file: file.as_ref().to_path_buf(),
+            pos,
+            kind,
+            message: message.into(),
+            included_from: Vec::new(),
+        }
+    }
+
+    /// Adds the place that included the failing file.
+    pub fn included_from(mut self, file: impl AsRef<Path>, pos: Pos) -> Self {
+        self.included_from.push((file.as_ref().to_path_buf(), pos));
+        self
+    }
+}
+
+impl fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}: {}", self.file.display(), self.pos, self.message)?;
+        for (file, pos) in &self.included_from {
+            write!(f, "\n  included from {}:{}", file.display(), pos)?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for ConfigError {}
+
+/// Shorthand for results of configuration functions.
+pub type ConfigResult<T> = Result<T, ConfigError>;

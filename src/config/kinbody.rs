@@ -1,0 +1,270 @@
+//! OpenRAVE-style `<KinBody>`: bodies, hinge joints, attached sensors and includes of
+//! other kinbody files (`<KinBody file=".." prefix="..">` with a placement pose).
+//!
+//! Used for module parts (`*.kinbody.xml`), the body of a robot file, and the objects
+//! of an environment file. Joint units: `limitsdeg` in degrees, `maxvel` in rad/s,
+//! `maxtorque` in N·m.
+
+use crate::config::body::Body;
+use crate::config::error::{ConfigResult, ErrorKind, Pos};
+use crate::config::sensor::AttachedSensor;
+use crate::config::transform::{POSE_ELEMENTS, Transform};
+use crate::config::xml::dom::Element;
+use crate::config::xml::read::Reader;
+use crate::config::xml::write::XmlWriter;
+
+/// A hinge joint between two bodies.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Joint {
+    pub name: String,
+    /// Parent and child body names.
+    pub bodies: [String; 2],
+    /// The body whose frame `anchor` and `axis` are given in (the first body if absent).
+    pub offset_from: Option<String>,
+    pub anchor: [f64; 3],
+    pub axis: [f64; 3],
+    pub max_torque: Option<f64>,
+    pub max_vel: Option<f64>,
+    pub limits_deg: Option<[f64; 2]>,
+    pub pos: Pos,
+}
+
+/// An included kinbody file, placed by a pose and with names prefixed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Include {
+    /// The path as written in the file.
+    pub file: String,
+    pub prefix: String,
+    pub pose: Transform,
+    pub pos: Pos,
+}
+
+/// A kinematic body: bodies, joints, sensors and included parts.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KinBody {
+    pub name: Option<String>,
+    /// Placement of the whole kinbody.
+    pub pose: Transform,
+    pub includes: Vec<Include>,
+    pub bodies: Vec<Body>,
+    pub joints: Vec<Joint>,
+    pub sensors: Vec<AttachedSensor>,
+    pub pos: Pos,
+}
+
+const JOINT_CHILDREN: [&str; 9] =
+    ["body", "offsetfrom", "anchor", "axis", "maxtorque", "maxvel", "limitsdeg", "limitsrad", "limits"];
+
+impl Joint {
+    pub fn read(r: &Reader, el: &Element) -> ConfigResult<Joint> {
+        r.only_children(el, &JOINT_CHILDREN)?;
+        r.only_attrs(el, &["name", "type", "enable"])?;
+        let name = r.required_attr(el, "name")?.value.clone();
+        if let Some(t) = el.attr("type")
+            && !matches!(t.value.to_ascii_lowercase().as_str(), "hinge" | "revolute")
+        {
+            return Err(r.err(
+                t.pos,
+                ErrorKind::InvalidValue,
+                format!("joint {name}: type \"{}\" is not supported; expected hinge", t.value),
+            ));
+        }
+        let bodies: Vec<String> = el
+            .children_named("body")
+            .map(|b| r.text(b).map(str::to_string))
+            .collect::<ConfigResult<_>>()?;
+        let bodies: [String; 2] = bodies.try_into().map_err(|b: Vec<String>| {
+            r.err(el.pos, ErrorKind::InvalidValue, format!("joint {name} needs exactly 2 <Body> elements, found {}", b.len()))
+        })?;
+        let axis = r.array::<3>(r.required(el, "axis")?)?;
+        if axis.iter().map(|v| v * v).sum::<f64>() < 1e-12 {
+            let c = r.required(el, "axis")?;
+            return Err(r.err(c.text_pos, ErrorKind::InvalidValue, format!("joint {name}: <axis> is zero")));
+        }
+        let anchor = r.at_most_one(el, "anchor")?.map(|c| r.array::<3>(c)).transpose()?.unwrap_or([0.0; 3]);
+        let positive = |tag: &str| -> ConfigResult<Option<f64>> {
+            match r.at_most_one(el, tag)? {
+                None => Ok(None),
+                Some(c) => {
+                    let v = r.f64(c)?;
+                    r.check_range(v, f64::MIN_POSITIVE, f64::INFINITY, c.text_pos, &format!("joint {name}: <{}>", c.name))?;
+                    Ok(Some(v))
+                }
+            }
+        };
+        let max_torque = positive("maxtorque")?;
+        let max_vel = positive("maxvel")?;
+        let mut limits_deg = None;
+        for c in &el.children {
+            let scale = if c.is("limitsdeg") {
+                1.0
+            } else if c.is("limitsrad") || c.is("limits") {
+                180.0 / std::f64::consts::PI
+            } else {
+                continue;
+            };
+            if limits_deg.is_some() {
+                return Err(r.err(c.pos, ErrorKind::InvalidValue, format!("joint {name}: limits given twice")));
+            }
+            let [lo, hi] = r.array::<2>(c)?;
+            let (lo, hi) = (lo * scale, hi * scale);
+            if lo > hi {
+                return Err(r.err(
+                    c.text_pos,
+                    ErrorKind::OutOfRange,
+                    format!("joint {name}: lower limit {lo} deg is greater than upper limit {hi} deg"),
+                ));
+            }
+            r.check_range(lo, -180.0, 180.0, c.text_pos, &format!("joint {name}: lower limit (deg)"))?;
+            r.check_range(hi, -180.0, 180.0, c.text_pos, &format!("joint {name}: upper limit (deg)"))?;
+            limits_deg = Some([lo, hi]);
+        }
+        Ok(Joint {
+            offset_from: r.at_most_one(el, "offsetfrom")?.map(|c| r.text(c).map(str::to_string)).transpose()?,
+            name,
+            bodies,
+            anchor,
+            axis,
+            max_torque,
+            max_vel,
+            limits_deg,
+            pos: el.pos,
+        })
+    }
+
+    pub fn write(&self, w: &mut XmlWriter) {
+        w.open("Joint", &[("type", "hinge".into()), ("name", self.name.clone())]);
+        w.leaf("Body", &self.bodies[0]);
+        w.leaf("Body", &self.bodies[1]);
+        if let Some(o) = &self.offset_from {
+            w.leaf("offsetfrom", o);
+        }
+        if self.anchor != [0.0; 3] {
+            w.nums("anchor", &self.anchor);
+        }
+        w.nums("axis", &self.axis);
+        if let Some(v) = self.max_torque {
+            w.num("maxtorque", v);
+        }
+        if let Some(v) = self.max_vel {
+            w.num("maxvel", v);
+        }
+        if let Some(l) = self.limits_deg {
+            w.nums("limitsdeg", &l);
+        }
+        w.close();
+    }
+}
+
+impl KinBody {
+    /// Reads a `<KinBody>` that is not itself an include.
+    pub fn read(r: &Reader, el: &Element) -> ConfigResult<KinBody> {
+        let mut allowed = vec!["kinbody", "body", "joint", "attachedsensor"];
+        allowed.extend(POSE_ELEMENTS);
+        r.only_children(el, &allowed)?;
+        r.only_attrs(el, &["name"])?;
+        let mut kb = KinBody {
+            name: el.attr("name").map(|a| a.value.clone()),
+            pose: Transform::read(r, el)?,
+            includes: Vec::new(),
+            bodies: Vec::new(),
+            joints: Vec::new(),
+            sensors: Vec::new(),
+            pos: el.pos,
+        };
+        let body_count = el.children_named("body").count();
+        for c in &el.children {
+            if c.is("kinbody") {
+                kb.includes.push(Include::read(r, c)?);
+            } else if c.is("body") {
+                // Unnamed bodies (the thesis's floor) are named after their kinbody.
+                let default = match (&kb.name, body_count) {
+                    (Some(n), 1) => n.clone(),
+                    (Some(n), _) => format!("{n}{}", kb.bodies.len()),
+                    (None, _) => format!("body{}", kb.bodies.len()),
+                };
+                kb.bodies.push(Body::read(r, c, &default)?);
+            } else if c.is("joint") {
+                kb.joints.push(Joint::read(r, c)?);
+            } else if c.is("attachedsensor") {
+                kb.sensors.push(AttachedSensor::read(r, c)?);
+            }
+        }
+        Ok(kb)
+    }
+
+    /// Writes the `<KinBody>` element.
+    pub fn write(&self, w: &mut XmlWriter) {
+        let attrs: Vec<(&str, String)> = self.name.iter().map(|n| ("name", n.clone())).collect();
+        w.open("KinBody", &attrs);
+        self.pose.write(w);
+        for i in &self.includes {
+            i.write(w);
+        }
+        for b in &self.bodies {
+            b.write(w);
+        }
+        for j in &self.joints {
+            j.write(w);
+        }
+        for s in &self.sensors {
+            s.write(w);
+        }
+        w.close();
+    }
+}
+
+impl Include {
+    pub fn read(r: &Reader, el: &Element) -> ConfigResult<Include> {
+        r.only_children(el, &POSE_ELEMENTS)?;
+        r.only_attrs(el, &["file", "prefix", "name"])?;
+        let file = el.attr("file").ok_or_else(|| {
+            r.err(el.pos, ErrorKind::Missing, "a nested <KinBody> must name a part file with file=\"...\"")
+        })?;
+        Ok(Include {
+            file: file.value.clone(),
+            prefix: el.attr("prefix").map(|a| a.value.clone()).unwrap_or_default(),
+            pose: Transform::read(r, el)?,
+            pos: file.pos,
+        })
+    }
+
+    pub fn write(&self, w: &mut XmlWriter) {
+        let mut attrs = Vec::new();
+        if !self.prefix.is_empty() {
+            attrs.push(("prefix", self.prefix.clone()));
+        }
+        attrs.push(("file", self.file.clone()));
+        if self.pose.is_identity() {
+            w.empty("KinBody", &attrs);
+        } else {
+            w.open("KinBody", &attrs);
+            self.pose.write(w);
+            w.close();
+        }
+    }
+}
+
+/// Reads a kinbody part file.
+pub fn parse_kinbody_file(file: &str, text: &str) -> ConfigResult<KinBody> {
+    let doc = crate::config::xml::dom::parse(file, text)?;
+    let r = Reader::new(file);
+    if !doc.root.is("kinbody") {
+        return Err(r.err(
+            doc.root.pos,
+            ErrorKind::UnknownElement,
+            format!("a kinbody file starts with <KinBody>, not <{}>", doc.root.name),
+        ));
+    }
+    if doc.root.attr("file").is_some() {
+        return Err(r.err(doc.root.pos, ErrorKind::InvalidValue, "the root <KinBody> of a part file cannot include another file"));
+    }
+    KinBody::read(&r, &doc.root)
+}
+
+/// Writes a kinbody part file.
+pub fn write_kinbody_file(kb: &KinBody) -> String {
+    let mut w = XmlWriter::new();
+    kb.write(&mut w);
+    w.finish()
+}

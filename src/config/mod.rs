@@ -1,0 +1,34 @@
+//! proleg's configuration files: the thesis's XML formats (appendix B) and our
+//! extensions, read into typed models, written back, and checked.
+//!
+//! - [`simulation`]: `*.simulation.xml`, the top-level file naming the others (B.1)
+//! - [`robot`], [`kinbody`], [`body`], [`sensor`]: robots, module parts, sensors (B.2-B.4)
+//! - [`actuation`]: which modules drive which joints (B.5)
+//! - [`environment`]: physics and terrain (B.6)
+//! - [`optimizer`]: genetic algorithm and great-deluge settings (B.7)
+//! - [`resolve`]: loading a simulation with all its includes into checked models
+//!
+//! Every error names the file, line and column and says what was expected
+//! ([`ConfigError`]). Each `parse_*_file` / `write_*_file` pair round-trips: writing a
+//! model and reading it back gives an equal model.
+
+pub mod actuation;
+pub mod body;
+pub mod environment;
+pub mod error;
+pub mod kinbody;
+pub mod mask;
+pub mod mesh;
+pub mod optimizer;
+pub mod resolve;
+pub mod robot;
+pub mod sensor;
+pub mod simulation;
+pub mod source;
+pub mod summary;
+pub mod transform;
+pub mod xml;
+
+pub use error::{ConfigError, ConfigResult, ErrorKind, Pos};
+pub use resolve::{Simulation, load_simulation, load_simulation_with};
+pub use source::{FileSource, FsSource, MemSource};

@@ -1,0 +1,401 @@
+//! Optimizer settings: the genetic algorithm (thesis listing B.7, tables 6.3 and 6.8)
+//! and the modified great deluge (tables 6.1 and 6.6), with the same parameter
+//! registration and genome configuration.
+//!
+//! `genomeConfig` follows GAlib's allele sets: `lowerBounds`/`upperBounds` with
+//! `boundsIncrements` form a discrete range; with `uniform="0"` each of the three may list
+//! one value per active joint. Bound types are GAlib's: 0 none, 1 inclusive, 2 exclusive.
+//! `valueSpace` 1 is such a range; 0 an enumerated set given in `<values>`. `genomeType`
+//! and `valueType` are kept as written (1 = real-valued genome, as in the thesis).
+//! Great-deluge files have the root `<greatDeluge>` and the properties `credits`,
+//! `retries`, `initialWaterLevel`, `rain`, `confidence`.
+
+use crate::config::error::{ConfigResult, ErrorKind, Pos};
+use crate::config::mask::JointMask;
+use crate::config::xml::dom::Element;
+use crate::config::xml::read::Reader;
+use crate::config::xml::write::{XmlWriter, num};
+
+/// A module parameter registered for optimization.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RegisteredParameter {
+    pub number: u32,
+    /// Module type name, as in the actuation file (`controlAlgorithm=`).
+    pub module: String,
+    pub parameter: String,
+    pub pos: Pos,
+}
+
+/// GAlib bound type of an allele range end.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BoundType {
+    None = 0,
+    Inclusive = 1,
+    Exclusive = 2,
+}
+
+/// The allowed values of one registered parameter.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GenomeConfig {
+    pub number: u32,
+    pub all_joints: bool,
+    pub genome_type: u32,
+    pub value_type: u32,
+    pub value_space: u32,
+    pub active_joints: JointMask,
+    /// One value, or one per active joint when not uniform.
+    pub upper: Vec<f64>,
+    pub lower: Vec<f64>,
+    pub increments: Vec<f64>,
+    pub lower_bound_type: BoundType,
+    pub upper_bound_type: BoundType,
+    /// Enumerated allowed values (`valueSpace="0"`).
+    pub values: Vec<f64>,
+    /// The same value for every active joint (one gene) or one gene per joint.
+    pub uniform: bool,
+    pub pos: Pos,
+    pub mask_pos: Pos,
+}
+
+/// Genetic algorithm settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GaSettings {
+    pub popsize: u32,
+    pub pmut: f64,
+    pub pcross: f64,
+    /// Generations taken into account for the convergence test.
+    pub n_convergence: u32,
+    /// Convergence ratio (0.99 = 99 %).
+    pub p_convergence: f64,
+    /// Generations between flushes of scores to disk.
+    pub flush_frequency: u32,
+    /// GAlib mode (1 = simple GA with elitism).
+    pub ga_mode: u32,
+}
+
+/// Modified great deluge settings (thesis 3.4.2).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GdSettings {
+    pub credits: u32,
+    pub retries: u32,
+    pub initial_water_level: f64,
+    pub rain: f64,
+    pub confidence: u32,
+}
+
+/// Which optimizer, with its settings.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Algorithm {
+    Genetic(GaSettings),
+    GreatDeluge(GdSettings),
+}
+
+/// An optimizer file as written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OptimizerFile {
+    pub algorithm: Algorithm,
+    pub parameters: Vec<RegisteredParameter>,
+    pub genome: Vec<GenomeConfig>,
+}
+
+impl OptimizerFile {
+    pub fn label(&self) -> &'static str {
+        match self.algorithm {
+            Algorithm::Genetic(_) => "genetic algorithm",
+            Algorithm::GreatDeluge(_) => "modified great deluge",
+        }
+    }
+}
+
+fn prob(r: &Reader, props: &Element, name: &str) -> ConfigResult<f64> {
+    r.f64_in(r.required(props, name)?, 0.0, 1.0)
+}
+
+fn count(r: &Reader, props: &Element, name: &str, min: u32) -> ConfigResult<u32> {
+    let c = r.required(props, name)?;
+    let v = r.u32(c)?;
+    if v < min {
+        return Err(r.err(c.text_pos, ErrorKind::OutOfRange, format!("<{}> is {v}; it must be at least {min}", c.name)));
+    }
+    Ok(v)
+}
+
+fn bound_type(r: &Reader, el: &Element, name: &str) -> ConfigResult<BoundType> {
+    match r.at_most_one(el, name)? {
+        None => Ok(BoundType::Inclusive),
+        Some(c) => match r.u32(c)? {
+            0 => Ok(BoundType::None),
+            1 => Ok(BoundType::Inclusive),
+            2 => Ok(BoundType::Exclusive),
+            v => Err(r.err(c.text_pos, ErrorKind::OutOfRange, format!("<{}> is {v}; expected 0 (none), 1 (inclusive) or 2 (exclusive)", c.name))),
+        },
+    }
+}
+
+fn read_genome(r: &Reader, el: &Element) -> ConfigResult<GenomeConfig> {
+    r.only_children(
+        el,
+        &["upperbounds", "lowerbounds", "boundsincrements", "lowerboundtypes", "upperboundtypes", "uniform", "values"],
+    )?;
+    r.only_attrs(el, &["number", "alljoints", "genometype", "valuetype", "valuespace", "activejoints"])?;
+    let attr_u32 = |name: &str, default: u32| -> ConfigResult<u32> {
+        el.attr(name).map(|a| r.u32_str(&a.value, a.pos, &format!("{name}="))).transpose().map(|v| v.unwrap_or(default))
+    };
+    let num_attr = r.required_attr(el, "number")?;
+    let mask_attr = r.required_attr(el, "activejoints")?;
+    let list = |name: &str| -> ConfigResult<Vec<f64>> {
+        match r.at_most_one(el, name)? {
+            Some(c) => r.numbers(r.text(c)?, c.text_pos, &format!("<{}>", c.name)),
+            None => Ok(Vec::new()),
+        }
+    };
+    let g = GenomeConfig {
+        number: r.u32_str(&num_attr.value, num_attr.pos, "number=")?,
+        all_joints: el.attr("alljoints").map(|a| r.flag_str(&a.value, a.pos, "allJoints=")).transpose()?.unwrap_or(true),
+        genome_type: attr_u32("genometype", 1)?,
+        value_type: attr_u32("valuetype", 1)?,
+        value_space: attr_u32("valuespace", 1)?,
+        active_joints: JointMask::parse(r, &mask_attr.value, mask_attr.pos, "activeJoints=")?,
+        upper: list("upperbounds")?,
+        lower: list("lowerbounds")?,
+        increments: list("boundsincrements")?,
+        lower_bound_type: bound_type(r, el, "lowerboundtypes")?,
+        upper_bound_type: bound_type(r, el, "upperboundtypes")?,
+        values: list("values")?,
+        uniform: r.at_most_one(el, "uniform")?.map(|c| r.flag(c)).transpose()?.unwrap_or(true),
+        pos: el.pos,
+        mask_pos: mask_attr.pos,
+    };
+    check_genome(r, el, &g)?;
+    Ok(g)
+}
+
+/// Checks a genome configuration on its own (the robot is checked when resolving).
+fn check_genome(r: &Reader, el: &Element, g: &GenomeConfig) -> ConfigResult<()> {
+    let what = format!("genomeConfig {}", g.number);
+    match g.value_space {
+        0 => {
+            if g.values.is_empty() {
+                return Err(r.err(g.pos, ErrorKind::Missing, format!("{what}: valueSpace=\"0\" needs a <values> list")));
+            }
+        }
+        1 => {
+            let per_joint = if g.uniform { 1 } else { g.active_joints.count() };
+            for (name, v) in [("upperBounds", &g.upper), ("lowerBounds", &g.lower), ("boundsIncrements", &g.increments)] {
+                let pos = el.child(name).map(|c| c.text_pos).unwrap_or(g.pos);
+                if v.is_empty() {
+                    return Err(r.err(pos, ErrorKind::Missing, format!("{what} needs <{name}>")));
+                }
+                if v.len() != 1 && v.len() != per_joint {
+                    return Err(r.err(
+                        pos,
+                        ErrorKind::InvalidValue,
+                        format!("{what}: <{name}> has {} values; give 1, or one per active joint ({per_joint})", v.len()),
+                    ));
+                }
+            }
+            for i in 0..per_joint {
+                let pick = |v: &Vec<f64>| if v.len() == 1 { v[0] } else { v[i] };
+                let (lo, hi, inc) = (pick(&g.lower), pick(&g.upper), pick(&g.increments));
+                let pos = el.child("lowerbounds").map(|c| c.text_pos).unwrap_or(g.pos);
+                if lo > hi {
+                    return Err(r.err(pos, ErrorKind::OutOfRange, format!("{what}: lower bound {lo} is greater than upper bound {hi}")));
+                }
+                if inc <= 0.0 {
+                    let pos = el.child("boundsincrements").map(|c| c.text_pos).unwrap_or(g.pos);
+                    return Err(r.err(pos, ErrorKind::OutOfRange, format!("{what}: increment {inc} must be > 0")));
+                }
+            }
+        }
+        v => {
+            let pos = el.attr("valuespace").map(|a| a.pos).unwrap_or(g.pos);
+            return Err(r.err(pos, ErrorKind::OutOfRange, format!("{what}: valueSpace=\"{v}\"; expected 1 (range) or 0 (enumerated <values>)")));
+        }
+    }
+    Ok(())
+}
+
+fn read_parameters(r: &Reader, props: &Element) -> ConfigResult<Vec<RegisteredParameter>> {
+    let Some(reg) = r.at_most_one(props, "registeredparameters")? else {
+        return Ok(Vec::new());
+    };
+    r.only_children(reg, &["parameter"])?;
+    let mut out: Vec<RegisteredParameter> = Vec::new();
+    for p in reg.children_named("parameter") {
+        r.only_attrs(p, &["number", "controlalgorithm", "parameter"])?;
+        let n = r.required_attr(p, "number")?;
+        let number = r.u32_str(&n.value, n.pos, "number=")?;
+        if out.iter().any(|o| o.number == number) {
+            return Err(r.err(n.pos, ErrorKind::InvalidValue, format!("parameter number {number} is registered twice")));
+        }
+        out.push(RegisteredParameter {
+            number,
+            module: r.required_attr(p, "controlalgorithm")?.value.clone(),
+            parameter: r.required_attr(p, "parameter")?.value.clone(),
+            pos: p.pos,
+        });
+    }
+    if let Some(c) = r.at_most_one(props, "numofparameterstooptimize")? {
+        let n = r.u32(c)? as usize;
+        if n != out.len() {
+            return Err(r.err(
+                c.text_pos,
+                ErrorKind::InvalidValue,
+                format!("<numOfParametersToOptimize> is {n} but {} parameters are registered", out.len()),
+            ));
+        }
+    }
+    Ok(out)
+}
+
+/// Reads an optimizer file (`<geneticAlgorithm>` or `<greatDeluge>`).
+pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFile> {
+    let doc = crate::config::xml::dom::parse(file, text)?;
+    let r = Reader::new(file);
+    let root = &doc.root;
+    r.only_children(root, &["properties", "genomeconfig"])?;
+    r.only_attrs(root, &[])?;
+    let props = r.required(root, "properties")?;
+    let common = ["numofparameterstooptimize", "registeredparameters"];
+    let algorithm = if root.is("geneticalgorithm") {
+        let mut allowed = vec!["popsize", "pmut", "pcross", "nconvergence", "pconvergence", "flushfrequency", "gamode"];
+        allowed.extend(common);
+        r.only_children(props, &allowed)?;
+        Algorithm::Genetic(GaSettings {
+            popsize: count(&r, props, "popsize", 2)?,
+            pmut: prob(&r, props, "pmut")?,
+            pcross: prob(&r, props, "pcross")?,
+            n_convergence: count(&r, props, "nconvergence", 1)?,
+            p_convergence: prob(&r, props, "pconvergence")?,
+            flush_frequency: count(&r, props, "flushfrequency", 1)?,
+            ga_mode: count(&r, props, "gamode", 0)?,
+        })
+    } else if root.is("greatdeluge") {
+        let mut allowed = vec!["credits", "retries", "initialwaterlevel", "rain", "confidence"];
+        allowed.extend(common);
+        r.only_children(props, &allowed)?;
+        let rain = r.required(props, "rain")?;
+        Algorithm::GreatDeluge(GdSettings {
+            credits: count(&r, props, "credits", 0)?,
+            retries: count(&r, props, "retries", 1)?,
+            initial_water_level: r.f64(r.required(props, "initialwaterlevel")?)?,
+            rain: r.f64_in(rain, 0.0, f64::INFINITY)?,
+            confidence: count(&r, props, "confidence", 1)?,
+        })
+    } else {
+        return Err(r.err(
+            root.pos,
+            ErrorKind::UnknownElement,
+            format!("an optimizer file starts with <geneticAlgorithm> or <greatDeluge>, not <{}>", root.name),
+        ));
+    };
+    let parameters = read_parameters(&r, props)?;
+    let mut genome: Vec<GenomeConfig> = Vec::new();
+    for g in root.children_named("genomeconfig") {
+        let cfg = read_genome(&r, g)?;
+        if genome.iter().any(|o| o.number == cfg.number) {
+            return Err(r.err(cfg.pos, ErrorKind::InvalidValue, format!("genomeConfig number {} given twice", cfg.number)));
+        }
+        if !parameters.iter().any(|p| p.number == cfg.number) {
+            return Err(r.err(
+                cfg.pos,
+                ErrorKind::UnknownReference,
+                format!("genomeConfig number {} belongs to no registered parameter", cfg.number),
+            ));
+        }
+        genome.push(cfg);
+    }
+    for p in &parameters {
+        if !genome.iter().any(|g| g.number == p.number) {
+            return Err(r.err(
+                p.pos,
+                ErrorKind::Missing,
+                format!("registered parameter {} ({}) has no <genomeConfig number=\"{}\">", p.number, p.parameter, p.number),
+            ));
+        }
+    }
+    Ok(OptimizerFile { algorithm, parameters, genome })
+}
+
+/// Writes an optimizer file.
+pub fn write_optimizer_file(o: &OptimizerFile) -> String {
+    let mut w = XmlWriter::new();
+    let root = match &o.algorithm {
+        Algorithm::Genetic(_) => "geneticAlgorithm",
+        Algorithm::GreatDeluge(_) => "greatDeluge",
+    };
+    w.open(root, &[]);
+    w.open("properties", &[]);
+    match &o.algorithm {
+        Algorithm::Genetic(g) => {
+            w.leaf("popsize", &g.popsize.to_string());
+            w.num("pmut", g.pmut);
+            w.num("pcross", g.pcross);
+            w.leaf("nConvergence", &g.n_convergence.to_string());
+            w.num("pConvergence", g.p_convergence);
+            w.leaf("flushFrequency", &g.flush_frequency.to_string());
+            w.leaf("gaMode", &g.ga_mode.to_string());
+        }
+        Algorithm::GreatDeluge(g) => {
+            w.leaf("credits", &g.credits.to_string());
+            w.leaf("retries", &g.retries.to_string());
+            w.num("initialWaterLevel", g.initial_water_level);
+            w.num("rain", g.rain);
+            w.leaf("confidence", &g.confidence.to_string());
+        }
+    }
+    w.leaf("numOfParametersToOptimize", &o.parameters.len().to_string());
+    w.open("registeredParameters", &[]);
+    for p in &o.parameters {
+        w.empty(
+            "parameter",
+            &[("number", p.number.to_string()), ("controlAlgorithm", p.module.clone()), ("parameter", p.parameter.clone())],
+        );
+    }
+    w.close();
+    w.close();
+    for g in &o.genome {
+        w.open(
+            "genomeConfig",
+            &[
+                ("number", g.number.to_string()),
+                ("allJoints", if g.all_joints { "1" } else { "0" }.into()),
+                ("genomeType", g.genome_type.to_string()),
+                ("valueType", g.value_type.to_string()),
+                ("valueSpace", g.value_space.to_string()),
+                ("activeJoints", g.active_joints.to_string()),
+            ],
+        );
+        for (name, v) in [("upperBounds", &g.upper), ("lowerBounds", &g.lower), ("boundsIncrements", &g.increments)] {
+            if !v.is_empty() {
+                w.nums(name, v);
+            }
+        }
+        w.leaf("lowerBoundTypes", &(g.lower_bound_type as u32).to_string());
+        w.leaf("upperBoundTypes", &(g.upper_bound_type as u32).to_string());
+        if !g.values.is_empty() {
+            w.nums("values", &g.values);
+        }
+        w.flag("uniform", g.uniform);
+        w.close();
+    }
+    w.finish()
+}
+
+/// Number of allowed values of one gene with the given range (GAlib discretized allele).
+pub fn allele_count(lower: f64, upper: f64, inc: f64, lo_type: BoundType, hi_type: BoundType) -> u64 {
+    let steps = ((upper - lower) / inc + 1e-9).floor();
+    let mut n = steps as u64 + 1;
+    if lo_type == BoundType::Exclusive {
+        n = n.saturating_sub(1);
+    }
+    if hi_type == BoundType::Exclusive && (lower + steps * inc - upper).abs() < inc * 1e-6 {
+        n = n.saturating_sub(1);
+    }
+    n
+}
+
+/// A short `[lo, hi] step inc` description of a gene's range.
+pub fn describe_range(lower: f64, upper: f64, inc: f64) -> String {
+    format!("[{}, {}] step {}", num(lower), num(upper), num(inc))
+}

@@ -1,0 +1,113 @@
+//! The resolved actuation: module types found in the registry, joint masks checked
+//! against the robot, parameter values checked against the module's descriptor.
+
+use std::path::{Path, PathBuf};
+
+use crate::config::actuation::{ActuationFile, ParamValue};
+use crate::config::error::{ConfigResult, ErrorKind};
+use crate::config::mask::JointMask;
+use crate::config::resolve::robot::RobotModel;
+use crate::config::xml::read::Reader;
+use crate::control::{ModuleDescriptor, ModuleRegistry};
+
+/// A parameter value set in the actuation file, with its canonical name.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParamAssignment {
+    pub name: &'static str,
+    pub value: ParamValue,
+}
+
+/// One module instance driving a group of joints.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModuleInstance {
+    pub descriptor: ModuleDescriptor,
+    pub joints: JointMask,
+    /// Values from the file; parameters not listed keep their defaults.
+    pub params: Vec<ParamAssignment>,
+}
+
+/// The resolved actuation file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ActuationModel {
+    pub file: PathBuf,
+    pub modules: Vec<ModuleInstance>,
+    pub warnings: Vec<String>,
+}
+
+/// Checks an actuation file against the robot and the registry.
+pub fn resolve_actuation(
+    path: &Path,
+    file: &ActuationFile,
+    robot: &RobotModel,
+    registry: &ModuleRegistry,
+) -> ConfigResult<ActuationModel> {
+    let r = Reader::new(path);
+    let mut warnings = Vec::new();
+    if let Some(valid) = &file.valid_robot {
+        let robot_file = robot.file.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
+        if *valid != robot_file && *valid != robot.name {
+            warnings.push(format!(
+                "{}: made for robot \"{valid}\", used with \"{robot_file}\" (masks match its {} joints)",
+                path.display(),
+                robot.joints.len()
+            ));
+        }
+    }
+    let mut modules = Vec::with_capacity(file.modules.len());
+    for m in &file.modules {
+        let descriptor = registry.get(&m.name).ok_or_else(|| {
+            r.err(
+                m.pos,
+                ErrorKind::UnknownModule,
+                format!("unknown actuation module \"{}\"; known modules: {}", m.name, registry.names().join(", ")),
+            )
+        })?;
+        m.joints.check_len(&r, m.mask_pos, robot.joints.len(), "jointConfiguration joints=")?;
+        if m.joints.count() == 0 {
+            warnings.push(format!("{}: module {} drives no joint (mask {})", path.display(), m.name, m.joints));
+        }
+        let mut params: Vec<ParamAssignment> = Vec::new();
+        for p in &m.params {
+            let d = descriptor.parameter(&p.name).ok_or_else(|| {
+                r.err(
+                    p.pos,
+                    ErrorKind::UnknownReference,
+                    format!(
+                        "module {} has no parameter \"{}\"; its parameters: {}",
+                        descriptor.type_name,
+                        p.name,
+                        descriptor.parameter_names().join(", ")
+                    ),
+                )
+            })?;
+            if params.iter().any(|o| o.name == d.name) {
+                return Err(r.err(p.pos, ErrorKind::InvalidValue, format!("parameter {} is set twice", d.name)));
+            }
+            let values: &[f64] = match &p.value {
+                ParamValue::Uniform(v) => std::slice::from_ref(v),
+                ParamValue::PerJoint(v) => {
+                    if v.len() != m.joints.count() {
+                        return Err(r.err(
+                            p.pos,
+                            ErrorKind::InvalidValue,
+                            format!(
+                                "parameter {} has {} values but the module drives {} joints (mask {}); give one per driven joint",
+                                d.name,
+                                v.len(),
+                                m.joints.count(),
+                                m.joints
+                            ),
+                        ));
+                    }
+                    v
+                }
+            };
+            for v in values {
+                r.check_range(*v, d.min, d.max, p.pos, &format!("{} {} ({})", descriptor.type_name, d.name, d.unit))?;
+            }
+            params.push(ParamAssignment { name: d.name, value: p.value.clone() });
+        }
+        modules.push(ModuleInstance { descriptor: descriptor.clone(), joints: m.joints.clone(), params });
+    }
+    Ok(ActuationModel { file: path.to_path_buf(), modules, warnings })
+}

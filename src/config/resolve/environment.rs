@@ -1,0 +1,82 @@
+//! The resolved environment: physics properties, every object flattened into placed
+//! static or dynamic bodies, and the robot's start pose.
+
+use std::path::{Path, PathBuf};
+
+use crate::config::body::{BodyKind, Geom};
+use crate::config::environment::{EnvObject, EnvironmentFile, Physics};
+use crate::config::error::{ConfigError, ConfigResult, ErrorKind};
+use crate::config::resolve::flatten::Flattener;
+use crate::config::resolve::robot::{DEFAULT_DENSITY, geom_volume};
+use crate::config::source::FileSource;
+use crate::config::transform::Transform;
+
+/// One body of the environment, placed in the world.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnvBody {
+    pub name: String,
+    pub kind: BodyKind,
+    pub pose: Transform,
+    pub geoms: Vec<Geom>,
+    /// kg; only meaningful for dynamic bodies.
+    pub mass: f64,
+}
+
+/// An environment ready to be simulated.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnvironmentModel {
+    pub file: Option<PathBuf>,
+    pub physics: Physics,
+    pub bodies: Vec<EnvBody>,
+    pub robot_pose: Transform,
+    pub files: Vec<PathBuf>,
+}
+
+impl EnvironmentModel {
+    /// No file: gravity on, nothing to stand on.
+    pub fn empty() -> Self {
+        EnvironmentModel { file: None, physics: Physics::default(), bodies: Vec::new(), robot_pose: Transform::IDENTITY, files: Vec::new() }
+    }
+}
+
+/// Builds the environment model from a parsed environment file at `path`.
+pub fn resolve_environment(src: &dyn FileSource, path: &Path, file: &EnvironmentFile) -> ConfigResult<EnvironmentModel> {
+    let mut fl = Flattener::new(src, path);
+    fl.out.files.push(path.to_path_buf());
+    for o in &file.objects {
+        match o {
+            EnvObject::Inline(kb) => fl.add(kb, path, "", &Transform::IDENTITY)?,
+            EnvObject::Include(inc) => fl.include(inc, path, "", &Transform::IDENTITY)?,
+        }
+    }
+    if let Some(j) = fl.out.joints.first() {
+        return Err(ConfigError::new(&j.file, j.joint.pos, ErrorKind::UnknownElement, "joints in environment objects are not supported"));
+    }
+    if let Some(s) = fl.out.sensors.first() {
+        return Err(ConfigError::new(&s.file, s.sensor.pos, ErrorKind::UnknownElement, "sensors belong to robots, not environments"));
+    }
+    let bodies = fl
+        .out
+        .bodies
+        .iter()
+        .map(|pb| EnvBody {
+            name: pb.body.name.clone(),
+            kind: pb.body.kind,
+            pose: pb.world,
+            geoms: pb.body.geoms.clone(),
+            mass: pb.body.mass.as_ref().map(|m| m.total).unwrap_or_else(|| {
+                pb.body.geoms.iter().map(geom_volume).sum::<f64>().max(1e-6) * DEFAULT_DENSITY
+            }),
+        })
+        .collect();
+    let mut files = fl.out.files;
+    files.sort();
+    files.dedup();
+    Ok(EnvironmentModel {
+        file: Some(path.to_path_buf()),
+        physics: file.physics.clone(),
+        bodies,
+        robot_pose: file.robot_pose.unwrap_or(Transform::IDENTITY),
+        files,
+    })
+}

@@ -1,0 +1,146 @@
+//! Loading a whole simulation: the simulation file and everything it includes, parsed,
+//! cross-checked (masks against the robot, modules against the registry, optimizer
+//! parameters against the actuation) and resolved into models the simulation uses.
+
+pub mod actuation;
+pub mod environment;
+pub mod flatten;
+pub mod optimizer;
+pub mod robot;
+
+use std::path::{Path, PathBuf};
+
+use crate::config::actuation::{ActuationFile, parse_actuation_file};
+use crate::config::environment::{EnvironmentFile, parse_environment_file};
+use crate::config::error::{ConfigError, ConfigResult, ErrorKind, Pos};
+use crate::config::optimizer::{OptimizerFile, parse_optimizer_file};
+use crate::config::robot::{RobotFile, parse_robot_file};
+use crate::config::simulation::{Mode, SimulationFile, parse_simulation_file};
+use crate::config::source::{FileSource, FsSource, normalize};
+use crate::control::ModuleRegistry;
+
+pub use actuation::{ActuationModel, ModuleInstance, ParamAssignment};
+pub use environment::{EnvBody, EnvironmentModel};
+pub use optimizer::{OptimizedParameter, OptimizerModel};
+pub use robot::{JointOrientation, Link, RobotJoint, RobotModel, RobotSensor};
+
+/// The files of a simulation as written (what an editor changes and saves).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimulationFiles {
+    pub simulation: SimulationFile,
+    pub robot: RobotFile,
+    pub actuation: ActuationFile,
+    pub environment: Option<EnvironmentFile>,
+    pub optimizer: Option<OptimizerFile>,
+}
+
+/// A fully loaded and checked simulation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Simulation {
+    pub file: PathBuf,
+    pub files: SimulationFiles,
+    pub robot: RobotModel,
+    pub actuation: ActuationModel,
+    pub environment: EnvironmentModel,
+    pub optimizer: Option<OptimizerModel>,
+    /// Things that load but look unintended.
+    pub warnings: Vec<String>,
+}
+
+/// Loads a simulation from disk with the standard module registry.
+pub fn load_simulation(path: impl AsRef<Path>) -> ConfigResult<Simulation> {
+    load_simulation_with(&FsSource, path.as_ref(), &ModuleRegistry::default())
+}
+
+fn read_top(src: &dyn FileSource, path: &Path) -> ConfigResult<String> {
+    src.read(path).map_err(|e| {
+        ConfigError::new(path, Pos::new(0, 0), ErrorKind::MissingFile, format!("cannot read the simulation file: {e}"))
+    })
+}
+
+/// Reads, parses and resolves one included file.
+fn include<T>(
+    src: &dyn FileSource,
+    from: &Path,
+    written: &str,
+    pos: Pos,
+    what: &str,
+    parse: fn(&str, &str) -> ConfigResult<T>,
+) -> ConfigResult<(PathBuf, T)> {
+    let path = flatten::find_file(src, from, written, pos, what)?;
+    let text = flatten::read_file(src, &path, from, pos)?;
+    let parsed = parse(&path.display().to_string(), &text).map_err(|e| e.included_from(from, pos))?;
+    Ok((path, parsed))
+}
+
+/// Loads a simulation from any [`FileSource`] with the given registry.
+pub fn load_simulation_with(src: &dyn FileSource, path: &Path, registry: &ModuleRegistry) -> ConfigResult<Simulation> {
+    let path = normalize(path);
+    let text = read_top(src, &path)?;
+    let sim = parse_simulation_file(&path.display().to_string(), &text)?;
+
+    let (robot_path, robot_file) = include(src, &path, &sim.robot.path, sim.robot.pos, "robot", parse_robot_file)?;
+    let robot = robot::resolve_robot(src, &robot_path, &robot_file).map_err(|e| e.included_from(&path, sim.robot.pos))?;
+
+    let (act_path, act_file) =
+        include(src, &path, &sim.actuation.path, sim.actuation.pos, "actuation", parse_actuation_file)?;
+    let actuation = actuation::resolve_actuation(&act_path, &act_file, &robot, registry)
+        .map_err(|e| e.included_from(&path, sim.actuation.pos))?;
+
+    let (env_file, environment) = match &sim.environment {
+        Some(e) => {
+            let (env_path, env_file) = include(src, &path, &e.path, e.pos, "environment", parse_environment_file)?;
+            let model =
+                environment::resolve_environment(src, &env_path, &env_file).map_err(|err| err.included_from(&path, e.pos))?;
+            (Some(env_file), model)
+        }
+        None => (None, EnvironmentModel::empty()),
+    };
+
+    let (opt_file, optimizer) = match &sim.optimizer {
+        Some(o) => {
+            let (opt_path, opt_file) = include(src, &path, &o.path, o.pos, "optimizer", parse_optimizer_file)?;
+            let expected = match sim.properties.mode {
+                Mode::GeneticAlgorithm => Some("genetic algorithm"),
+                Mode::GreatDeluge => Some("modified great deluge"),
+                _ => None,
+            };
+            if let Some(expected) = expected
+                && expected != opt_file.label()
+            {
+                return Err(ConfigError::new(
+                    &path,
+                    o.pos,
+                    ErrorKind::InvalidValue,
+                    format!(
+                        "mode \"{}\" needs {expected} settings, but {} holds {} settings",
+                        sim.properties.mode,
+                        opt_path.display(),
+                        opt_file.label()
+                    ),
+                ));
+            }
+            let model = optimizer::resolve_optimizer(&opt_path, &opt_file, &robot, &actuation, registry)
+                .map_err(|e| e.included_from(&path, o.pos))?;
+            (Some(opt_file), Some(model))
+        }
+        None => (None, None),
+    };
+
+    let mut warnings = actuation.warnings.clone();
+    if let (Some(opt), false) = (&opt_file, sim.properties.mode.is_optimization()) {
+        warnings.push(format!("{} settings are given but mode is \"{}\"", opt.label(), sim.properties.mode));
+    }
+    for l in robot.links.iter().filter(|l| l.mass_from_geometry) {
+        warnings.push(format!("link {} gives no mass; {:.3} kg from its geometry at 1000 kg/m³", l.name, l.mass));
+    }
+    Ok(Simulation {
+        file: path,
+        files: SimulationFiles { simulation: sim, robot: robot_file, actuation: act_file, environment: env_file, optimizer: opt_file },
+        robot,
+        actuation,
+        environment,
+        optimizer,
+        warnings,
+    })
+}

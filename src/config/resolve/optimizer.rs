@@ -1,0 +1,133 @@
+//! The resolved optimizer settings: every registered parameter found in a module of the
+//! actuation file, active joints checked against the robot and the modules' masks,
+//! bounds checked against the parameter's range; the size of the search space
+//! (thesis eq. 3.3).
+
+use std::path::{Path, PathBuf};
+
+use crate::config::error::{ConfigResult, ErrorKind};
+use crate::config::optimizer::{GenomeConfig, OptimizerFile, allele_count};
+use crate::config::resolve::actuation::ActuationModel;
+use crate::config::resolve::robot::RobotModel;
+use crate::config::xml::read::{Reader, same_name};
+use crate::control::{ModuleRegistry, ParamDescriptor};
+
+/// One registered parameter, resolved.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OptimizedParameter {
+    pub number: u32,
+    pub module: &'static str,
+    pub parameter: ParamDescriptor,
+    pub genome: GenomeConfig,
+    /// Number of genes: 1 when uniform, else one per active joint.
+    pub genes: usize,
+    /// Allowed values per gene.
+    pub alleles: Vec<u64>,
+}
+
+/// The resolved optimizer file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OptimizerModel {
+    pub file: PathBuf,
+    pub spec: OptimizerFile,
+    pub parameters: Vec<OptimizedParameter>,
+}
+
+impl OptimizerModel {
+    /// Number of candidate solutions (product of allele counts), as f64 (it overflows u64).
+    pub fn search_space(&self) -> f64 {
+        self.parameters.iter().flat_map(|p| p.alleles.iter()).map(|n| *n as f64).product()
+    }
+}
+
+/// Checks an optimizer file against the robot, the actuation and the registry.
+pub fn resolve_optimizer(
+    path: &Path,
+    file: &OptimizerFile,
+    robot: &RobotModel,
+    actuation: &ActuationModel,
+    registry: &ModuleRegistry,
+) -> ConfigResult<OptimizerModel> {
+    let r = Reader::new(path);
+    let mut parameters = Vec::new();
+    for p in &file.parameters {
+        let descriptor = registry.get(&p.module).ok_or_else(|| {
+            r.err(
+                p.pos,
+                ErrorKind::UnknownModule,
+                format!("unknown actuation module \"{}\"; known modules: {}", p.module, registry.names().join(", ")),
+            )
+        })?;
+        let instances: Vec<_> =
+            actuation.modules.iter().filter(|m| same_name(m.descriptor.type_name, descriptor.type_name)).collect();
+        if instances.is_empty() {
+            let used: Vec<&str> = actuation.modules.iter().map(|m| m.descriptor.type_name).collect();
+            return Err(r.err(
+                p.pos,
+                ErrorKind::UnknownReference,
+                format!(
+                    "parameter {} belongs to module {}, which the actuation file does not use; it uses: {}",
+                    p.number,
+                    descriptor.type_name,
+                    used.join(", ")
+                ),
+            ));
+        }
+        let param = descriptor.parameter(&p.parameter).ok_or_else(|| {
+            r.err(
+                p.pos,
+                ErrorKind::UnknownReference,
+                format!(
+                    "module {} has no parameter \"{}\"; its parameters: {}",
+                    descriptor.type_name,
+                    p.parameter,
+                    descriptor.parameter_names().join(", ")
+                ),
+            )
+        })?;
+        // parse_optimizer_file guarantees one genomeConfig per registered parameter.
+        let Some(genome) = file.genome.iter().find(|g| g.number == p.number) else {
+            return Err(r.err(p.pos, ErrorKind::Missing, format!("parameter {} has no genomeConfig", p.number)));
+        };
+        let what = format!("genomeConfig {} activeJoints=", genome.number);
+        genome.active_joints.check_len(&r, genome.mask_pos, robot.joints.len(), &what)?;
+        for j in genome.active_joints.indices() {
+            if !instances.iter().any(|m| m.joints.0[j]) {
+                return Err(r.err(
+                    genome.mask_pos,
+                    ErrorKind::UnknownReference,
+                    format!(
+                        "{what}: joint {j} ({}) is active, but no {} module drives it",
+                        robot.joints[j].name, descriptor.type_name
+                    ),
+                ));
+            }
+        }
+        let genes = if genome.uniform { 1 } else { genome.active_joints.count() };
+        let pick = |v: &Vec<f64>, i: usize| if v.len() == 1 { v[0] } else { v[i] };
+        let mut alleles = Vec::with_capacity(genes);
+        for i in 0..genes {
+            if genome.value_space == 0 {
+                for v in &genome.values {
+                    r.check_range(*v, param.min, param.max, genome.pos, &format!("{} value", param.name))?;
+                }
+                alleles.push(genome.values.len() as u64);
+            } else {
+                let (lo, hi, inc) = (pick(&genome.lower, i), pick(&genome.upper, i), pick(&genome.increments, i));
+                let what = format!("genomeConfig {} bounds of {} ({})", genome.number, param.name, param.unit);
+                r.check_range(lo, param.min, param.max, genome.pos, &format!("{what}: lower"))?;
+                r.check_range(hi, param.min, param.max, genome.pos, &format!("{what}: upper"))?;
+                alleles.push(allele_count(lo, hi, inc, genome.lower_bound_type, genome.upper_bound_type));
+            }
+        }
+        parameters.push(OptimizedParameter {
+            number: p.number,
+            module: descriptor.type_name,
+            parameter: param.clone(),
+            genome: genome.clone(),
+            genes,
+            alleles,
+        });
+    }
+    Ok(OptimizerModel { file: path.to_path_buf(), spec: file.clone(), parameters })
+}

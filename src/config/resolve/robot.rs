@@ -1,0 +1,251 @@
+//! The resolved robot: links, joints and sensors in the robot's frame, every reference
+//! checked, defaults filled in. This is what the simulation builds entities from.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use crate::config::body::{Geom, Shape};
+use crate::config::error::{ConfigError, ConfigResult, ErrorKind};
+use crate::config::resolve::flatten::{Flat, Flattener, find_file, read_file};
+use crate::config::robot::RobotFile;
+use crate::config::sensor::{Sensor, SensorSource, parse_sensor_file};
+use crate::config::source::FileSource;
+use crate::config::transform::Transform;
+
+/// Default joint limits (deg), torque (N·m) and speed (rad/s): the thesis's servo (B.2).
+pub const DEFAULT_LIMITS_DEG: [f64; 2] = [-90.0, 90.0];
+pub const DEFAULT_MAX_TORQUE: f64 = 0.4;
+pub const DEFAULT_MAX_VEL: f64 = 4.5;
+/// Density used for bodies that give no mass (kg/m³, OpenRAVE's default).
+pub const DEFAULT_DENSITY: f64 = 1000.0;
+
+/// How a hinge bends the chain.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JointOrientation {
+    /// Axis horizontal and across the chain: bends up and down.
+    Pitch,
+    /// Axis vertical: bends sideways.
+    Yaw,
+    /// Axis along the chain: twists.
+    Roll,
+}
+
+impl JointOrientation {
+    pub fn letter(self) -> char {
+        match self {
+            JointOrientation::Pitch => 'P',
+            JointOrientation::Yaw => 'Y',
+            JointOrientation::Roll => 'R',
+        }
+    }
+}
+
+impl fmt::Display for JointOrientation {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            JointOrientation::Pitch => "pitch",
+            JointOrientation::Yaw => "yaw",
+            JointOrientation::Roll => "roll",
+        })
+    }
+}
+
+/// One rigid link of the robot.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Link {
+    pub name: String,
+    /// Pose in the robot frame.
+    pub pose: Transform,
+    pub geoms: Vec<Geom>,
+    /// kg.
+    pub mass: f64,
+    /// True when the file gave no mass and it was computed from the geometry.
+    pub mass_from_geometry: bool,
+}
+
+impl Link {
+    /// Centre of the link's geometry in the robot frame.
+    pub fn centre(&self) -> [f64; 3] {
+        if self.geoms.is_empty() {
+            return self.pose.translation;
+        }
+        let mut c = [0.0; 3];
+        for g in &self.geoms {
+            let p = self.pose.mul(&g.pose).translation;
+            for i in 0..3 {
+                c[i] += p[i] / self.geoms.len() as f64;
+            }
+        }
+        c
+    }
+}
+
+/// One servo-driven hinge.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RobotJoint {
+    pub name: String,
+    pub parent: usize,
+    pub child: usize,
+    /// Anchor point in the robot frame.
+    pub anchor: [f64; 3],
+    /// Unit axis in the robot frame.
+    pub axis: [f64; 3],
+    pub limits_deg: [f64; 2],
+    pub max_torque: f64,
+    pub max_vel: f64,
+    pub orientation: JointOrientation,
+}
+
+/// One sensor on a link.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RobotSensor {
+    pub name: String,
+    pub link: usize,
+    /// Pose in the link frame.
+    pub pose: Transform,
+    pub sensor: Sensor,
+}
+
+/// A robot ready to be simulated.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RobotModel {
+    pub name: String,
+    pub file: PathBuf,
+    pub links: Vec<Link>,
+    pub joints: Vec<RobotJoint>,
+    pub sensors: Vec<RobotSensor>,
+    /// Every file read to build it (robot, parts, sensors, meshes).
+    pub files: Vec<PathBuf>,
+}
+
+impl RobotModel {
+    /// `PYPYP`-style letters, one per joint.
+    pub fn pattern(&self) -> String {
+        self.joints.iter().map(|j| j.orientation.letter()).collect()
+    }
+
+    pub fn total_mass(&self) -> f64 {
+        self.links.iter().map(|l| l.mass).sum()
+    }
+
+    pub fn joint_index(&self, name: &str) -> Option<usize> {
+        self.joints.iter().position(|j| j.name == name)
+    }
+}
+
+/// Volume of a geometry (m³), for default masses.
+pub fn geom_volume(g: &Geom) -> f64 {
+    match &g.shape {
+        Shape::Box { extents: [x, y, z] } => 8.0 * x * y * z,
+        Shape::Sphere { radius } => 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3),
+        Shape::Cylinder { radius, height } => std::f64::consts::PI * radius * radius * height,
+        // A mesh's volume is not computed; 1 cm³ keeps the body simulable.
+        Shape::Trimesh { .. } => 1e-6,
+    }
+}
+
+fn normalize(v: [f64; 3]) -> [f64; 3] {
+    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    [v[0] / n, v[1] / n, v[2] / n]
+}
+
+fn classify(axis: [f64; 3], chain: [f64; 3]) -> JointOrientation {
+    let chain_len = (chain[0] * chain[0] + chain[1] * chain[1] + chain[2] * chain[2]).sqrt();
+    if axis[2].abs() > 0.7 {
+        JointOrientation::Yaw
+    } else if chain_len > 1e-9 && (axis[0] * chain[0] + axis[1] * chain[1] + axis[2] * chain[2]).abs() / chain_len > 0.7 {
+        JointOrientation::Roll
+    } else {
+        JointOrientation::Pitch
+    }
+}
+
+/// Builds the robot model from a parsed robot file at `path`.
+pub fn resolve_robot(src: &dyn FileSource, path: &Path, file: &RobotFile) -> ConfigResult<RobotModel> {
+    let mut fl = Flattener::new(src, path);
+    fl.out.files.push(path.to_path_buf());
+    fl.add(&file.kinbody, path, "", &Transform::IDENTITY)?;
+    let Flat { bodies, joints: placed_joints, sensors: mut placed_sensors, mut files } = fl.out;
+    if bodies.is_empty() {
+        return Err(ConfigError::new(path, file.pos, ErrorKind::Missing, "the robot has no <Body>"));
+    }
+    let links: Vec<Link> = bodies
+        .iter()
+        .map(|pb| {
+            let (mass, from_geom) = match &pb.body.mass {
+                Some(m) => (m.total, false),
+                None => (pb.body.geoms.iter().map(geom_volume).sum::<f64>().max(1e-6) * DEFAULT_DENSITY, true),
+            };
+            Link { name: pb.body.name.clone(), pose: pb.world, geoms: pb.body.geoms.clone(), mass, mass_from_geometry: from_geom }
+        })
+        .collect();
+    let names: Vec<&str> = links.iter().map(|l| l.name.as_str()).collect();
+    let find = |name: &str, file: &Path, pos, what: &str| -> ConfigResult<usize> {
+        names.iter().position(|n| *n == name).ok_or_else(|| {
+            ConfigError::new(
+                file,
+                pos,
+                ErrorKind::UnknownReference,
+                format!("{what} names body \"{name}\", which the robot does not have; bodies: {}", names.join(", ")),
+            )
+        })
+    };
+    let mut joints = Vec::with_capacity(placed_joints.len());
+    for pj in &placed_joints {
+        let j = &pj.joint;
+        let what = format!("joint {}", j.name);
+        if joints.iter().any(|o: &RobotJoint| o.name == j.name) {
+            return Err(ConfigError::new(&pj.file, j.pos, ErrorKind::InvalidValue, format!("joint name \"{}\" is used twice", j.name)));
+        }
+        let parent = find(&j.bodies[0], &pj.file, j.pos, &what)?;
+        let child = find(&j.bodies[1], &pj.file, j.pos, &what)?;
+        if parent == child {
+            return Err(ConfigError::new(&pj.file, j.pos, ErrorKind::InvalidValue, format!("{what} joins body \"{}\" to itself", j.bodies[0])));
+        }
+        let frame = match &j.offset_from {
+            Some(o) => links[find(o, &pj.file, j.pos, &format!("{what} <offsetfrom>"))?].pose,
+            None => links[parent].pose,
+        };
+        let anchor = frame.mul(&Transform::from_translation(j.anchor)).translation;
+        let axis = normalize(frame.rotate(j.axis));
+        let chain = {
+            let (a, b) = (links[parent].centre(), links[child].centre());
+            [b[0] - a[0], b[1] - a[1], b[2] - a[2]]
+        };
+        joints.push(RobotJoint {
+            name: j.name.clone(),
+            parent,
+            child,
+            anchor,
+            axis,
+            limits_deg: j.limits_deg.unwrap_or(DEFAULT_LIMITS_DEG),
+            max_torque: j.max_torque.unwrap_or(DEFAULT_MAX_TORQUE),
+            max_vel: j.max_vel.unwrap_or(DEFAULT_MAX_VEL),
+            orientation: classify(axis, chain),
+        });
+    }
+    for s in &file.sensors {
+        placed_sensors.push(crate::config::resolve::flatten::PlacedSensor { sensor: s.clone(), file: path.to_path_buf() });
+    }
+    let mut sensors = Vec::with_capacity(placed_sensors.len());
+    for ps in &placed_sensors {
+        let s = &ps.sensor;
+        if sensors.iter().any(|o: &RobotSensor| o.name == s.name) {
+            return Err(ConfigError::new(&ps.file, s.pos, ErrorKind::InvalidValue, format!("sensor name \"{}\" is used twice", s.name)));
+        }
+        let link = find(&s.link, &ps.file, s.pos, &format!("sensor {}", s.name))?;
+        let sensor = match &s.source {
+            SensorSource::Inline(sensor) => sensor.clone(),
+            SensorSource::File { path: written, pos } => {
+                let p = find_file(src, &ps.file, written, *pos, "sensor")?;
+                let text = read_file(src, &p, &ps.file, *pos)?;
+                files.push(p.clone());
+                parse_sensor_file(&p.display().to_string(), &text).map_err(|e| e.included_from(&ps.file, *pos))?
+            }
+        };
+        sensors.push(RobotSensor { name: s.name.clone(), link, pose: s.pose, sensor });
+    }
+    files.sort();
+    files.dedup();
+    Ok(RobotModel { name: file.name.clone(), file: path.to_path_buf(), links, joints, sensors, files })
+}

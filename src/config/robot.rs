@@ -1,0 +1,57 @@
+//! Robot files (`*.robot.xml`, thesis listing B.2): `<Robot name>` holding one
+//! `<KinBody>` (parts included by file and prefix, hinge joints) and attached sensors.
+
+use crate::config::error::{ConfigResult, ErrorKind, Pos};
+use crate::config::kinbody::KinBody;
+use crate::config::sensor::AttachedSensor;
+use crate::config::xml::read::Reader;
+use crate::config::xml::write::XmlWriter;
+
+/// A robot file as written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RobotFile {
+    pub name: String,
+    pub kinbody: KinBody,
+    pub sensors: Vec<AttachedSensor>,
+    pub pos: Pos,
+}
+
+/// Reads a robot file's text.
+pub fn parse_robot_file(file: &str, text: &str) -> ConfigResult<RobotFile> {
+    let doc = crate::config::xml::dom::parse(file, text)?;
+    let r = Reader::new(file);
+    let root = &doc.root;
+    if !root.is("robot") {
+        return Err(r.err(
+            root.pos,
+            ErrorKind::UnknownElement,
+            format!("a robot file starts with <Robot name=...>, not <{}>", root.name),
+        ));
+    }
+    r.only_children(root, &["kinbody", "attachedsensor"])?;
+    r.only_attrs(root, &["name"])?;
+    let kb = r.required(root, "kinbody")?;
+    if kb.attr("file").is_some() {
+        return Err(r.err(kb.pos, ErrorKind::InvalidValue, "the robot's <KinBody> holds the parts; include them inside it"));
+    }
+    Ok(RobotFile {
+        name: r.required_attr(root, "name")?.value.clone(),
+        kinbody: KinBody::read(&r, kb)?,
+        sensors: root
+            .children_named("attachedsensor")
+            .map(|s| AttachedSensor::read(&r, s))
+            .collect::<ConfigResult<_>>()?,
+        pos: root.pos,
+    })
+}
+
+/// Writes a robot file.
+pub fn write_robot_file(robot: &RobotFile) -> String {
+    let mut w = XmlWriter::new();
+    w.open("Robot", &[("name", robot.name.clone())]);
+    robot.kinbody.write(&mut w);
+    for s in &robot.sensors {
+        s.write(&mut w);
+    }
+    w.finish()
+}

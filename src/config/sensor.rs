@@ -1,0 +1,221 @@
+//! Sensor configuration (thesis listings B.3, B.4) and sensors attached to robot links.
+//!
+//! A sensor file holds one `<sensor type="TactileSensor|BaseLaser2D">`. Robots attach
+//! sensors with OpenRAVE's `<AttachedSensor name=".."><link>..</link>(pose)<sensor .../>`,
+//! where the `<sensor>` is inline or names a file with `file="..."`.
+//! Our extensions: a tactile pad's `<extents>` (half-extents, m) and `<debounce>` (steps).
+
+use crate::config::error::{ConfigResult, ErrorKind, Pos};
+use crate::config::transform::{POSE_ELEMENTS, Transform};
+use crate::config::xml::dom::Element;
+use crate::config::xml::read::Reader;
+use crate::config::xml::write::XmlWriter;
+
+/// Default half-extents of a tactile pad (m).
+pub const DEFAULT_PAD_EXTENTS: [f64; 3] = [0.012, 0.015, 0.002];
+
+/// A binary touch sensor (a pad pressed or released), debounced.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TactileSensor {
+    pub power: bool,
+    /// Half-extents of the pad (m).
+    pub extents: [f64; 3],
+    /// Consecutive steps a new state must last before it is reported.
+    pub debounce: u32,
+}
+
+/// A planar laser range finder (OpenRAVE BaseLaser2D). Angles in degrees.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Laser2d {
+    pub min_angle: f64,
+    pub max_angle: f64,
+    /// Angle between beams (degrees).
+    pub resolution: f64,
+    /// Longest range (m).
+    pub max_range: f64,
+    /// Time for one scan (s).
+    pub scan_time: f64,
+    pub render: bool,
+    pub power: bool,
+}
+
+/// The kinds of sensor.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Sensor {
+    Tactile(TactileSensor),
+    Laser2d(Laser2d),
+}
+
+impl Sensor {
+    /// The sensor's type name in files.
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            Sensor::Tactile(_) => "TactileSensor",
+            Sensor::Laser2d(_) => "BaseLaser2D",
+        }
+    }
+
+    /// Reads a `<sensor type="...">` element (the root of a sensor file, or inline).
+    pub fn read(r: &Reader, el: &Element) -> ConfigResult<Sensor> {
+        let ty = r.required_attr(el, "type")?;
+        let flag = |name: &str, default: bool| -> ConfigResult<bool> {
+            r.at_most_one(el, name)?.map(|c| r.flag(c)).transpose().map(|v| v.unwrap_or(default))
+        };
+        match ty.value.to_ascii_lowercase().as_str() {
+            "tactilesensor" | "tactile" => {
+                r.only_children(el, &["power", "extents", "debounce"])?;
+                let extents = match r.at_most_one(el, "extents")? {
+                    Some(c) => {
+                        let e = r.array::<3>(c)?;
+                        if e.iter().any(|v| *v <= 0.0) {
+                            return Err(r.err(c.text_pos, ErrorKind::OutOfRange, "pad <extents> must all be > 0"));
+                        }
+                        e
+                    }
+                    None => DEFAULT_PAD_EXTENTS,
+                };
+                let debounce = r.at_most_one(el, "debounce")?.map(|c| r.u32(c)).transpose()?.unwrap_or(3);
+                Ok(Sensor::Tactile(TactileSensor { power: flag("power", true)?, extents, debounce }))
+            }
+            "baselaser2d" | "laser2d" => {
+                r.only_children(el, &["minangle", "maxangle", "resolution", "maxrange", "scantime", "render", "power"])?;
+                let min_angle = r.opt_f64(el, "minangle")?.unwrap_or(-90.0);
+                let max_angle = r.opt_f64(el, "maxangle")?.unwrap_or(90.0);
+                if min_angle > max_angle {
+                    let c = r.required(el, "minangle")?;
+                    return Err(r.err(
+                        c.text_pos,
+                        ErrorKind::OutOfRange,
+                        format!("laser <minangle> {min_angle} is greater than <maxangle> {max_angle}"),
+                    ));
+                }
+                let positive = |name: &str, default: f64| -> ConfigResult<f64> {
+                    match r.at_most_one(el, name)? {
+                        Some(c) => {
+                            let v = r.f64(c)?;
+                            r.check_range(v, f64::MIN_POSITIVE, f64::INFINITY, c.text_pos, &format!("<{}>", c.name))?;
+                            Ok(v)
+                        }
+                        None => Ok(default),
+                    }
+                };
+                Ok(Sensor::Laser2d(Laser2d {
+                    min_angle,
+                    max_angle,
+                    resolution: positive("resolution", 1.0)?,
+                    max_range: positive("maxrange", 5.0)?,
+                    scan_time: positive("scantime", 0.1)?,
+                    render: flag("render", false)?,
+                    power: flag("power", true)?,
+                }))
+            }
+            other => Err(r.err(
+                ty.pos,
+                ErrorKind::InvalidValue,
+                format!("unknown sensor type \"{other}\"; expected TactileSensor or BaseLaser2D"),
+            )),
+        }
+    }
+
+    /// Writes the `<sensor>` element.
+    pub fn write(&self, w: &mut XmlWriter, extra_attrs: &[(&str, String)]) {
+        let mut attrs = vec![("type", self.type_name().to_string())];
+        attrs.extend(extra_attrs.iter().cloned());
+        w.open("sensor", &attrs);
+        match self {
+            Sensor::Tactile(t) => {
+                w.flag("power", t.power);
+                w.nums("extents", &t.extents);
+                w.leaf("debounce", &t.debounce.to_string());
+            }
+            Sensor::Laser2d(l) => {
+                w.num("minangle", l.min_angle);
+                w.num("maxangle", l.max_angle);
+                w.num("resolution", l.resolution);
+                w.num("maxrange", l.max_range);
+                w.num("scantime", l.scan_time);
+                w.flag("render", l.render);
+                w.flag("power", l.power);
+            }
+        }
+        w.close();
+    }
+}
+
+/// Where an attached sensor's definition lives.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SensorSource {
+    Inline(Sensor),
+    /// A sensor file, as written (resolved relative to the including file).
+    File { path: String, pos: Pos },
+}
+
+/// A sensor attached to a link of the robot.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AttachedSensor {
+    pub name: String,
+    pub link: String,
+    /// Pose in the link's frame.
+    pub pose: Transform,
+    pub source: SensorSource,
+    pub pos: Pos,
+}
+
+impl AttachedSensor {
+    pub fn read(r: &Reader, el: &Element) -> ConfigResult<AttachedSensor> {
+        let mut allowed = vec!["link", "sensor"];
+        allowed.extend(POSE_ELEMENTS);
+        r.only_children(el, &allowed)?;
+        r.only_attrs(el, &["name"])?;
+        let name = r.required_attr(el, "name")?.value.clone();
+        let link = r.text(r.required(el, "link")?)?.to_string();
+        let s = r.required(el, "sensor")?;
+        let source = match s.attr("file") {
+            Some(f) => {
+                r.only_attrs(s, &["file", "type"])?;
+                if !s.children.is_empty() {
+                    return Err(r.err(s.pos, ErrorKind::InvalidValue, "a <sensor file=...> takes no inline settings"));
+                }
+                SensorSource::File { path: f.value.clone(), pos: f.pos }
+            }
+            None => {
+                r.only_attrs(s, &["type"])?;
+                SensorSource::Inline(Sensor::read(r, s)?)
+            }
+        };
+        Ok(AttachedSensor { name, link, pose: Transform::read(r, el)?, source, pos: el.pos })
+    }
+
+    pub fn write(&self, w: &mut XmlWriter) {
+        w.open("AttachedSensor", &[("name", self.name.clone())]);
+        w.leaf("link", &self.link);
+        self.pose.write(w);
+        match &self.source {
+            SensorSource::Inline(s) => s.write(w, &[]),
+            SensorSource::File { path, .. } => w.empty("sensor", &[("file", path.clone())]),
+        }
+        w.close();
+    }
+}
+
+/// Reads a sensor file's text.
+pub fn parse_sensor_file(file: &str, text: &str) -> ConfigResult<Sensor> {
+    let doc = crate::config::xml::dom::parse(file, text)?;
+    let r = Reader::new(file);
+    if !doc.root.is("sensor") {
+        return Err(r.err(
+            doc.root.pos,
+            ErrorKind::UnknownElement,
+            format!("a sensor file starts with <sensor type=...>, not <{}>", doc.root.name),
+        ));
+    }
+    r.only_attrs(&doc.root, &["type"])?;
+    Sensor::read(&r, &doc.root)
+}
+
+/// Writes a sensor file.
+pub fn write_sensor_file(sensor: &Sensor) -> String {
+    let mut w = XmlWriter::new();
+    sensor.write(&mut w, &[]);
+    w.finish()
+}

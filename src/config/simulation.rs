@@ -1,0 +1,270 @@
+//! Top-level simulation files (`*.simulation.xml`, thesis listing B.1): the paths of the
+//! robot, actuation, environment and (optionally) optimizer files, and the global
+//! simulation properties.
+//!
+//! Units: `stepWidth` is in seconds (the listing's 0.001 = 1 ms; the thesis's GUI shows
+//! it in µs). `accuracy` is the sampling period of live plots, recording and sensor
+//! updates in steps. Our extensions inside `simulationProperties`: `duration` (s),
+//! `seed`, `delay` (ms of wall time added per step, slow motion) and `realtimeFactor`
+//! (1 = real time, 0 = as fast as possible). The optimizer file is named by
+//! `<optimizer>` (also accepted: `<geneticAlgorithm>`, `<greatDeluge>`).
+
+use std::fmt;
+
+use crate::config::error::{ConfigResult, ErrorKind, Pos};
+use crate::config::xml::dom::Element;
+use crate::config::xml::read::{Reader, same_name};
+use crate::config::xml::write::XmlWriter;
+
+/// Largest step width accepted (s): beyond it no contact simulation is meaningful.
+pub const MAX_STEP_WIDTH: f64 = 0.1;
+
+/// What a simulation run does (thesis 4.3.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    SingleRun,
+    RealRobot,
+    GeneticAlgorithm,
+    GreatDeluge,
+}
+
+impl Mode {
+    /// The canonical name written to files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::SingleRun => "Single Run Simulation",
+            Mode::RealRobot => "Real Robot Control",
+            Mode::GeneticAlgorithm => "GA optimization",
+            Mode::GreatDeluge => "Great Deluge optimization",
+        }
+    }
+
+    /// Accepted spellings (compared ignoring case, spaces, `_` and `-`).
+    const ALIASES: [(Mode, &'static [&'static str]); 4] = [
+        (Mode::SingleRun, &["Single Run Simulation", "Single Run", "single"]),
+        (Mode::RealRobot, &["Real Robot Control", "Real Robot", "real"]),
+        (
+            Mode::GeneticAlgorithm,
+            &["GA optimization", "GA optimisation", "Genetic Algorithm", "Genetic Algorithm optimization", "GA"],
+        ),
+        (
+            Mode::GreatDeluge,
+            &["Great Deluge optimization", "Great Deluge optimisation", "Great Deluge", "modified great deluge", "GD"],
+        ),
+    ];
+
+    pub fn parse(s: &str) -> Option<Mode> {
+        Mode::ALIASES.iter().find(|(_, names)| names.iter().any(|n| same_name(n, s))).map(|(m, _)| *m)
+    }
+
+    pub fn is_optimization(self) -> bool {
+        matches!(self, Mode::GeneticAlgorithm | Mode::GreatDeluge)
+    }
+}
+
+impl fmt::Display for Mode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Global simulation properties.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimulationProperties {
+    pub show_viewer: bool,
+    pub parallel_computing: bool,
+    pub storing_data: bool,
+    pub mode: Mode,
+    /// Sampling period of plots, recording and sensor updates, in steps.
+    pub accuracy: u32,
+    /// Physics step width δ in seconds.
+    pub step_width: f64,
+    /// Simulated time of one run (an optimizer evaluation) in seconds.
+    pub duration: f64,
+    pub seed: u64,
+    /// Extra wall-clock delay per step in ms (slow motion).
+    pub delay_ms: f64,
+    /// 1 = real time, 0 = as fast as possible.
+    pub realtime_factor: f64,
+}
+
+impl Default for SimulationProperties {
+    fn default() -> Self {
+        SimulationProperties {
+            show_viewer: true,
+            parallel_computing: false,
+            storing_data: false,
+            mode: Mode::SingleRun,
+            accuracy: 30,
+            step_width: 0.001,
+            duration: 30.0,
+            seed: 1,
+            delay_ms: 0.0,
+            realtime_factor: 1.0,
+        }
+    }
+}
+
+/// A path written in a file, with where it was written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FileRef {
+    pub path: String,
+    pub pos: Pos,
+}
+
+/// A simulation file as written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimulationFile {
+    pub description: Option<String>,
+    pub robot: FileRef,
+    pub actuation: FileRef,
+    pub environment: Option<FileRef>,
+    pub optimizer: Option<FileRef>,
+    pub properties: SimulationProperties,
+}
+
+fn file_ref(r: &Reader, el: &Element) -> ConfigResult<FileRef> {
+    Ok(FileRef { path: r.text(el)?.to_string(), pos: el.text_pos })
+}
+
+fn read_properties(r: &Reader, el: &Element) -> ConfigResult<SimulationProperties> {
+    r.only_children(
+        el,
+        &[
+            "showviewer", "parallelcomputing", "storingdata", "mode", "accuracy", "stepwidth", "duration", "seed",
+            "delay", "realtimefactor",
+        ],
+    )?;
+    let mut p = SimulationProperties::default();
+    let flag = |name: &str, v: &mut bool| -> ConfigResult<()> {
+        if let Some(c) = r.at_most_one(el, name)? {
+            *v = r.flag(c)?;
+        }
+        Ok(())
+    };
+    flag("showviewer", &mut p.show_viewer)?;
+    flag("parallelcomputing", &mut p.parallel_computing)?;
+    flag("storingdata", &mut p.storing_data)?;
+    if let Some(c) = r.at_most_one(el, "mode")? {
+        let t = r.text(c)?;
+        p.mode = Mode::parse(t).ok_or_else(|| {
+            let known: Vec<&str> = Mode::ALIASES.iter().map(|(m, _)| m.name()).collect();
+            r.err(c.text_pos, ErrorKind::InvalidValue, format!("unknown mode \"{t}\"; expected one of: {}", known.join(", ")))
+        })?;
+    }
+    if let Some(c) = r.at_most_one(el, "accuracy")? {
+        p.accuracy = r.u32(c)?;
+        if p.accuracy == 0 {
+            return Err(r.err(c.text_pos, ErrorKind::OutOfRange, "<accuracy> is a sampling period in steps; it must be at least 1"));
+        }
+    }
+    if let Some(c) = r.at_most_one(el, "stepwidth")? {
+        let v = r.f64(c)?;
+        if v > MAX_STEP_WIDTH && v >= 1.0 {
+            return Err(r.err(
+                c.text_pos,
+                ErrorKind::OutOfRange,
+                format!("<stepWidth> is {v} s; it is given in seconds (0.001 = 1 ms), at most {MAX_STEP_WIDTH}; did you write µs?"),
+            ));
+        }
+        r.check_range(v, 1e-6, MAX_STEP_WIDTH, c.text_pos, "<stepWidth> (s)")?;
+        p.step_width = v;
+    }
+    if let Some(c) = r.at_most_one(el, "duration")? {
+        p.duration = r.f64_in(c, 0.0, 1e7)?;
+    }
+    if let Some(c) = r.at_most_one(el, "seed")? {
+        let t = r.text(c)?;
+        p.seed = t.trim().parse().map_err(|_| {
+            r.err(c.text_pos, ErrorKind::InvalidValue, format!("<seed>: expected a whole number >= 0, found \"{t}\""))
+        })?;
+    }
+    if let Some(c) = r.at_most_one(el, "delay")? {
+        p.delay_ms = r.f64_in(c, 0.0, 60_000.0)?;
+    }
+    if let Some(c) = r.at_most_one(el, "realtimefactor")? {
+        p.realtime_factor = r.f64_in(c, 0.0, 1000.0)?;
+    }
+    Ok(p)
+}
+
+/// Reads a simulation file's text.
+pub fn parse_simulation_file(file: &str, text: &str) -> ConfigResult<SimulationFile> {
+    let doc = crate::config::xml::dom::parse(file, text)?;
+    let r = Reader::new(file);
+    let root = &doc.root;
+    if !root.is("simulation") {
+        return Err(r.err(
+            root.pos,
+            ErrorKind::UnknownElement,
+            format!("a simulation file starts with <simulation>, not <{}>", root.name),
+        ));
+    }
+    r.only_children(
+        root,
+        &[
+            "description", "robot", "actuation", "environment", "optimizer", "geneticalgorithm", "greatdeluge",
+            "simulationproperties",
+        ],
+    )?;
+    r.only_attrs(root, &[])?;
+    let mut optimizer = None;
+    for name in ["optimizer", "geneticalgorithm", "greatdeluge"] {
+        if let Some(c) = r.at_most_one(root, name)? {
+            if optimizer.is_some() {
+                return Err(r.err(c.pos, ErrorKind::InvalidValue, "only one optimizer file per simulation"));
+            }
+            optimizer = Some(file_ref(&r, c)?);
+        }
+    }
+    let properties = match r.at_most_one(root, "simulationproperties")? {
+        Some(p) => read_properties(&r, p)?,
+        None => SimulationProperties::default(),
+    };
+    if properties.mode.is_optimization() && optimizer.is_none() {
+        return Err(r.err(
+            root.pos,
+            ErrorKind::Missing,
+            format!("mode \"{}\" needs an <optimizer> file", properties.mode),
+        ));
+    }
+    Ok(SimulationFile {
+        description: r.at_most_one(root, "description")?.map(|d| d.text.clone()),
+        robot: file_ref(&r, r.required(root, "robot")?)?,
+        actuation: file_ref(&r, r.required(root, "actuation")?)?,
+        environment: r.at_most_one(root, "environment")?.map(|e| file_ref(&r, e)).transpose()?,
+        optimizer,
+        properties,
+    })
+}
+
+/// Writes a simulation file.
+pub fn write_simulation_file(s: &SimulationFile) -> String {
+    let mut w = XmlWriter::new();
+    w.open("simulation", &[]);
+    if let Some(d) = &s.description {
+        w.leaf("description", d);
+    }
+    w.leaf("robot", &s.robot.path);
+    w.leaf("actuation", &s.actuation.path);
+    if let Some(e) = &s.environment {
+        w.leaf("environment", &e.path);
+    }
+    if let Some(o) = &s.optimizer {
+        w.leaf("optimizer", &o.path);
+    }
+    let p = &s.properties;
+    w.open("simulationProperties", &[]);
+    w.flag("showViewer", p.show_viewer);
+    w.flag("parallelComputing", p.parallel_computing);
+    w.flag("storingData", p.storing_data);
+    w.leaf("mode", p.mode.name());
+    w.leaf("accuracy", &p.accuracy.to_string());
+    w.num("stepWidth", p.step_width);
+    w.num("duration", p.duration);
+    w.leaf("seed", &p.seed.to_string());
+    w.num("delay", p.delay_ms);
+    w.num("realtimeFactor", p.realtime_factor);
+    w.close();
+    w.finish()
+}

@@ -1,0 +1,100 @@
+//! Where configuration files come from: the file system, or an in-memory set of files
+//! (tests, fuzzing, the configuration GUI's unsaved edits).
+//!
+//! Includes are resolved relative to the including file's folder; when not found there,
+//! relative to each ancestor folder in turn (the thesis's files name parts relative to
+//! the program's working directory, e.g. `./configuration/robotXML/base/PY.kinbody.xml`).
+
+use std::collections::BTreeMap;
+use std::io;
+use std::path::{Component, Path, PathBuf};
+
+/// Reads configuration files.
+pub trait FileSource {
+    fn read(&self, path: &Path) -> io::Result<String>;
+    fn exists(&self, path: &Path) -> bool;
+}
+
+/// The real file system.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FsSource;
+
+impl FileSource for FsSource {
+    fn read(&self, path: &Path) -> io::Result<String> {
+        let bytes = std::fs::read(path)?;
+        String::from_utf8(bytes).map_err(|e| {
+            io::Error::new(io::ErrorKind::InvalidData, format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()))
+        })
+    }
+
+    fn exists(&self, path: &Path) -> bool {
+        path.is_file()
+    }
+}
+
+/// Files held in memory, keyed by normalized path.
+#[derive(Debug, Clone, Default)]
+pub struct MemSource {
+    files: BTreeMap<PathBuf, String>,
+}
+
+impl MemSource {
+    pub fn new() -> Self {
+        MemSource::default()
+    }
+
+    pub fn insert(&mut self, path: impl AsRef<Path>, text: impl Into<String>) {
+        self.files.insert(normalize(path.as_ref()), text.into());
+    }
+
+    pub fn with(mut self, path: impl AsRef<Path>, text: impl Into<String>) -> Self {
+        self.insert(path, text);
+        self
+    }
+}
+
+impl FileSource for MemSource {
+    fn read(&self, path: &Path) -> io::Result<String> {
+        self.files
+            .get(&normalize(path))
+            .cloned()
+            .ok_or_else(|| io::Error::new(io::ErrorKind::NotFound, "no such file"))
+    }
+
+    fn exists(&self, path: &Path) -> bool {
+        self.files.contains_key(&normalize(path))
+    }
+}
+
+/// Removes `.` and resolves `..` lexically (no file-system access).
+pub fn normalize(path: &Path) -> PathBuf {
+    let mut out = PathBuf::new();
+    for c in path.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                if !out.pop() {
+                    out.push("..");
+                }
+            }
+            other => out.push(other.as_os_str()),
+        }
+    }
+    out
+}
+
+/// Finds the file `written` names, as included from `from`.
+pub fn resolve_include(src: &dyn FileSource, from: &Path, written: &str) -> Option<PathBuf> {
+    let written_path = Path::new(written.trim());
+    if written_path.is_absolute() {
+        return src.exists(written_path).then(|| normalize(written_path));
+    }
+    let dir = from.parent().unwrap_or(Path::new(""));
+    for base in dir.ancestors() {
+        let candidate = normalize(&base.join(written_path));
+        if src.exists(&candidate) {
+            return Some(candidate);
+        }
+    }
+    None
+}

@@ -1,0 +1,158 @@
+//! The human-readable summary `proleg check` prints for a loaded simulation.
+
+use std::fmt::Write as _;
+
+use crate::config::actuation::ParamValue;
+use crate::config::body::BodyKind;
+use crate::config::optimizer::{Algorithm, describe_range};
+use crate::config::resolve::Simulation;
+use crate::config::sensor::Sensor;
+use crate::config::xml::write::{num, nums};
+
+fn round(v: f64, digits: i32) -> String {
+    let f = 10f64.powi(digits);
+    num((v * f).round() / f)
+}
+
+/// Formats the summary of a loaded simulation.
+pub fn summary(sim: &Simulation) -> String {
+    let mut s = String::new();
+    let p = &sim.files.simulation.properties;
+    let _ = writeln!(s, "simulation  {}", sim.file.display());
+    if let Some(d) = &sim.files.simulation.description {
+        let _ = writeln!(s, "  {d}");
+    }
+    let _ = writeln!(
+        s,
+        "  mode {}, step {} ms, duration {} s ({} steps), seed {}, sampling every {} steps, recording {}",
+        p.mode,
+        num(p.step_width * 1000.0),
+        num(p.duration),
+        (p.duration / p.step_width).round(),
+        p.seed,
+        p.accuracy,
+        if p.storing_data { "on" } else { "off" }
+    );
+
+    let r = &sim.robot;
+    let _ = writeln!(s, "robot       {} ({})", r.name, r.file.display());
+    let _ = writeln!(
+        s,
+        "  links {}: {}; total mass {} kg",
+        r.links.len(),
+        r.links.iter().map(|l| l.name.as_str()).collect::<Vec<_>>().join(" "),
+        round(r.total_mass(), 4)
+    );
+    let _ = writeln!(s, "  joints {} [{}]:", r.joints.len(), r.pattern());
+    for (i, j) in r.joints.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "    {i} {:<6} {:<5} {} -> {}  limits {}..{} deg, max {} N·m, {} rad/s",
+            j.name,
+            j.orientation.to_string(),
+            r.links[j.parent].name,
+            r.links[j.child].name,
+            num(j.limits_deg[0]),
+            num(j.limits_deg[1]),
+            num(j.max_torque),
+            num(j.max_vel)
+        );
+    }
+    let tactile = r.sensors.iter().filter(|x| matches!(x.sensor, Sensor::Tactile(_))).count();
+    let lasers = r.sensors.len() - tactile;
+    let _ = writeln!(s, "  sensors {}: {tactile} tactile, {lasers} laser", r.sensors.len());
+
+    let _ = writeln!(s, "actuation   {}", sim.actuation.file.display());
+    for m in &sim.actuation.modules {
+        let params: Vec<String> = m
+            .params
+            .iter()
+            .map(|p| match &p.value {
+                ParamValue::Uniform(v) => format!("{}={}", p.name, num(*v)),
+                ParamValue::PerJoint(v) => format!("{}=[{}]", p.name, nums(v)),
+            })
+            .collect();
+        let _ = writeln!(s, "  {:<28} joints {}  {}", m.descriptor.type_name, m.joints, params.join(" "));
+    }
+
+    let e = &sim.environment;
+    match &e.file {
+        Some(f) => {
+            let _ = writeln!(s, "environment {}", f.display());
+        }
+        None => {
+            let _ = writeln!(s, "environment (none)");
+        }
+    }
+    let _ = writeln!(
+        s,
+        "  gravity {}, self-collision {}, {} objects",
+        nums(&e.physics.gravity),
+        if e.physics.self_collision { "on" } else { "off" },
+        e.bodies.len()
+    );
+    for b in &e.bodies {
+        let kind = match b.kind {
+            BodyKind::Static => "static",
+            BodyKind::Dynamic => "dynamic",
+        };
+        let geoms: Vec<String> = b.geoms.iter().map(|g| g.shape.describe()).collect();
+        let shown = if geoms.len() > 3 { format!("{} and {} more", geoms[..3].join(", "), geoms.len() - 3) } else { geoms.join(", ") };
+        let _ = writeln!(s, "    {} ({kind}) at {}: {shown}", b.name, nums(&b.pose.translation.map(|v| (v * 1e4).round() / 1e4)));
+    }
+    let _ = writeln!(s, "  robot pose: translation {}, rotation {}", nums(&e.robot_pose.translation), nums(&e.robot_pose.rotation));
+
+    if let Some(o) = &sim.optimizer {
+        let _ = writeln!(s, "optimizer   {} ({})", o.spec.label(), o.file.display());
+        match &o.spec.algorithm {
+            Algorithm::Genetic(g) => {
+                let _ = writeln!(
+                    s,
+                    "  population {}, p(mutation) {}, p(crossover) {}, convergence {} over {} generations",
+                    g.popsize,
+                    num(g.pmut),
+                    num(g.pcross),
+                    num(g.p_convergence),
+                    g.n_convergence
+                );
+            }
+            Algorithm::GreatDeluge(g) => {
+                let _ = writeln!(
+                    s,
+                    "  credits {}, retries {}, initial water level {}, rain {}, confidence {}",
+                    g.credits,
+                    g.retries,
+                    num(g.initial_water_level),
+                    num(g.rain),
+                    g.confidence
+                );
+            }
+        }
+        for p in &o.parameters {
+            let g = &p.genome;
+            let values = if g.value_space == 0 {
+                format!("values {}", nums(&g.values))
+            } else {
+                let pick = |v: &Vec<f64>| v[0];
+                describe_range(pick(&g.lower), pick(&g.upper), pick(&g.increments))
+            };
+            let _ = writeln!(
+                s,
+                "  p{} {}.{} joints {} {} {} ({} {})",
+                p.number,
+                p.module,
+                p.parameter.name,
+                g.active_joints,
+                if g.uniform { "uniform" } else { "individual" },
+                values,
+                p.genes,
+                if p.genes == 1 { "gene" } else { "genes" }
+            );
+        }
+        let _ = writeln!(s, "  search space {:.4e} candidates", o.search_space());
+    }
+    for w in &sim.warnings {
+        let _ = writeln!(s, "warning: {w}");
+    }
+    s
+}

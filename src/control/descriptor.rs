@@ -1,0 +1,50 @@
+//! Descriptions of actuation-module types: their parameters (with units, defaults and
+//! ranges) and the internal data series they log. Plain data, free of Bevy.
+
+use crate::config::xml::read::same_name;
+
+/// One parameter of a module type.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParamDescriptor {
+    /// Canonical name, as shown in the GUI and written to files.
+    pub name: &'static str,
+    /// Other names files may use (the thesis wrote some parameters differently).
+    pub aliases: &'static [&'static str],
+    pub unit: &'static str,
+    pub default: f64,
+    pub min: f64,
+    pub max: f64,
+    pub help: &'static str,
+}
+
+impl ParamDescriptor {
+    /// Whether `name` refers to this parameter (case, spaces, `_`, `-` ignored; aliases too).
+    pub fn answers_to(&self, name: &str) -> bool {
+        same_name(self.name, name) || self.aliases.iter().any(|a| same_name(a, name))
+    }
+}
+
+/// The description of a module type.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModuleDescriptor {
+    /// Registry name (as in actuation files).
+    pub type_name: &'static str,
+    pub summary: &'static str,
+    pub parameters: &'static [ParamDescriptor],
+    /// Names of the internal data series logged per joint.
+    pub series: &'static [&'static str],
+    /// Whether the module reads sensors.
+    pub sensing: bool,
+}
+
+impl ModuleDescriptor {
+    /// The parameter answering to `name`.
+    pub fn parameter(&self, name: &str) -> Option<&ParamDescriptor> {
+        self.parameters.iter().find(|p| p.answers_to(name))
+    }
+
+    /// Canonical parameter names, for messages.
+    pub fn parameter_names(&self) -> Vec<&'static str> {
+        self.parameters.iter().map(|p| p.name).collect()
+    }
+}

@@ -1,0 +1,15 @@
+//! # proleg
+//!
+//! Design, simulate, optimize and drive the locomotion of chain-like modular robots
+//! (snake and caterpillar robots built from modules joined by pitch/yaw hinge servos).
+//!
+//! ## Contents
+//! - [`config`]: the XML configuration formats (simulation, robot, module parts, sensors,
+//!   actuation, environment, optimizer), loading with includes, validation with
+//!   located errors, writing back, and the `proleg check` summary.
+//! - [`control`]: actuation-module descriptors and the registry of module types.
+//!
+//! Pure logic stays free of rendering, so everything here runs and tests headless.
+
+pub mod config;
+pub mod control;
