@@ -57,8 +57,8 @@ pub struct Geom {
     pub transparency: Option<f64>,
     /// Coulomb friction coefficient; the engine default when absent.
     pub friction: Option<f64>,
-    /// Whether the geometry takes part in collisions (`render="false"` visuals do not).
-    pub collides: bool,
+    /// Whether the geometry is drawn (OpenRAVE's `render="false"` hides it).
+    pub visible: bool,
     pub pos: Pos,
 }
 
@@ -155,9 +155,8 @@ impl Geom {
             Some(c) => Some(r.f64_in(c, 0.0, MAX_FRICTION)?),
             None => None,
         };
-        let collides = match el.attr("render") {
-            // OpenRAVE: render="true" means "render only, no collision" for visual-only geoms.
-            Some(a) => !r.flag_str(&a.value, a.pos, "render=")?,
+        let visible = match el.attr("render") {
+            Some(a) => r.flag_str(&a.value, a.pos, "render=")?,
             None => true,
         };
         Ok(Geom {
@@ -167,7 +166,7 @@ impl Geom {
             ambient_color: color("ambientcolor")?,
             transparency,
             friction,
-            collides,
+            visible,
             pos: el.pos,
         })
     }
@@ -180,8 +179,8 @@ impl Geom {
             Shape::Trimesh { .. } => "trimesh",
         };
         let mut attrs = vec![("type", ty.to_string())];
-        if !self.collides {
-            attrs.push(("render", "true".into()));
+        if !self.visible {
+            attrs.push(("render", "false".into()));
         }
         w.open("Geom", &attrs);
         self.pose.write(w);
