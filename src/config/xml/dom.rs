@@ -265,7 +265,7 @@ fn open_element(
     let raw_tag = text.get(offset..).unwrap_or("");
     for attr in start.attributes() {
         let attr = attr.map_err(|e| {
-            ConfigError::new(file, pos, ErrorKind::Syntax, format!("bad attribute in <{}>: {e}", el.name))
+            ConfigError::new(file, pos, ErrorKind::Syntax, format!("malformed XML: bad attribute in <{}>: {e}", el.name))
         })?;
         let key = attr.key.as_ref().to_string();
         let value = attr
@@ -275,7 +275,7 @@ fn open_element(
                     file,
                     pos,
                     ErrorKind::Syntax,
-                    format!("bad value of attribute {key} in <{}>: {e}", el.name),
+                    format!("malformed XML: bad value of attribute {key} in <{}>: {e}", el.name),
                 )
             })?
             .into_owned();
