@@ -26,7 +26,12 @@ fn every_simulation_loads_and_every_file_is_used() {
     let mut used: BTreeSet<PathBuf> = BTreeSet::new();
     for s in &sims {
         let sim = load_simulation(s).unwrap_or_else(|e| panic!("{e}"));
-        assert!(sim.warnings.is_empty(), "{}: {:?}", s.display(), sim.warnings);
+        assert!(
+            sim.warnings.is_empty(),
+            "{}: {:?}",
+            s.display(),
+            sim.warnings
+        );
         used.insert(std::fs::canonicalize(s).unwrap());
         let mut files = sim.robot.files.clone();
         files.extend(sim.environment.files.iter().cloned());
@@ -45,7 +50,11 @@ fn every_simulation_loads_and_every_file_is_used() {
     }
     for f in common::files_ending(&configs, ".xml") {
         let f = std::fs::canonicalize(&f).unwrap();
-        assert!(used.contains(&f), "{} is used by no simulation in configs/", f.display());
+        assert!(
+            used.contains(&f),
+            "{} is used by no simulation in configs/",
+            f.display()
+        );
     }
 }
 
@@ -54,58 +63,129 @@ fn experiment_1_setup() {
     let sim = load("experiment1_gd.simulation.xml");
     let r = &sim.robot;
     assert_eq!(r.name, "snake5p");
-    assert_eq!((r.links.len(), r.joints.len(), r.pattern().as_str()), (6, 5, "PPPPP"));
-    let pitch: Vec<f64> = r.joints.windows(2).map(|w| ((w[1].anchor[1] - w[0].anchor[1]) * 1e6).round() / 1e3).collect();
+    assert_eq!(
+        (r.links.len(), r.joints.len(), r.pattern().as_str()),
+        (6, 5, "PPPPP")
+    );
+    let pitch: Vec<f64> = r
+        .joints
+        .windows(2)
+        .map(|w| ((w[1].anchor[1] - w[0].anchor[1]) * 1e6).round() / 1e3)
+        .collect();
     assert_eq!(pitch, [72.0; 4], "module pitch in mm");
     let p = &sim.files.simulation.properties;
-    assert_eq!((p.mode, p.duration, p.step_width), (Mode::GreatDeluge, 30.0, 0.001));
+    assert_eq!(
+        (p.mode, p.duration, p.step_width),
+        (Mode::GreatDeluge, 30.0, 0.001)
+    );
     let sine = &sim.actuation.modules[0];
     assert_eq!(sine.descriptor.type_name, "PatternGenerator_sinusoidal");
-    let get = |n: &str| sine.params.iter().find(|p| p.name == n).map(|p| p.value.clone());
+    let get = |n: &str| {
+        sine.params
+            .iter()
+            .find(|p| p.name == n)
+            .map(|p| p.value.clone())
+    };
     use proleg::config::actuation::ParamValue::Uniform;
     assert_eq!(get("Amplitude"), Some(Uniform(40.0)));
     assert_eq!(get("Phase_Difference"), Some(Uniform(55.0)));
     let o = sim.optimizer.unwrap();
-    let Algorithm::GreatDeluge(gd) = &o.spec.algorithm else { panic!() };
-    assert_eq!((gd.credits, gd.retries, gd.initial_water_level, gd.rain, gd.confidence), (10, 200, 0.15, 0.01, 20));
+    let Algorithm::GreatDeluge(gd) = &o.spec.algorithm else {
+        panic!()
+    };
+    assert_eq!(
+        (
+            gd.credits,
+            gd.retries,
+            gd.initial_water_level,
+            gd.rain,
+            gd.confidence
+        ),
+        (10, 200, 0.15, 0.01, 20)
+    );
     // Footnote 2 of chapter 6: (40 / 0.25 + 1)^5 = 108,175,616,801 solutions.
     assert_eq!(o.search_space(), 108_175_616_801.0);
 
     let ga = load("experiment1_ga.simulation.xml").optimizer.unwrap();
-    let Algorithm::Genetic(g) = &ga.spec.algorithm else { panic!() };
-    assert_eq!((g.popsize, g.pmut, g.pcross, g.p_convergence, g.n_convergence), (30, 0.8, 0.2, 0.99, 50));
+    let Algorithm::Genetic(g) = &ga.spec.algorithm else {
+        panic!()
+    };
+    assert_eq!(
+        (
+            g.popsize,
+            g.pmut,
+            g.pcross,
+            g.p_convergence,
+            g.n_convergence
+        ),
+        (30, 0.8, 0.2, 0.99, 50)
+    );
 }
 
 #[test]
 fn experiment_2_setup() {
     let sim = load("experiment2_gd.simulation.xml");
     let r = &sim.robot;
-    assert_eq!((r.name.as_str(), r.pattern().as_str()), ("tactile5p", "PPPPP"));
-    let touch = r.sensors.iter().filter(|s| matches!(s.sensor, Sensor::Tactile(_))).count();
+    assert_eq!(
+        (r.name.as_str(), r.pattern().as_str()),
+        ("tactile5p", "PPPPP")
+    );
+    let touch = r
+        .sensors
+        .iter()
+        .filter(|s| matches!(s.sensor, Sensor::Tactile(_)))
+        .count();
     assert_eq!(touch, 12, "twelve touch sensors");
     // Pads are under the links: below the link origin.
     assert!(r.sensors.iter().all(|s| s.pose.translation[2] < 0.0));
-    assert!(r.joints.iter().all(|j| j.orientation == JointOrientation::Pitch));
+    assert!(
+        r.joints
+            .iter()
+            .all(|j| j.orientation == JointOrientation::Pitch)
+    );
     assert_eq!(sim.files.simulation.properties.duration, 90.0);
-    let names: Vec<&str> = sim.actuation.modules.iter().map(|m| m.descriptor.type_name).collect();
-    assert_eq!(names, ["PatternGenerator_sinusoidal", "Global_Adaptive_Touch"]);
+    let names: Vec<&str> = sim
+        .actuation
+        .modules
+        .iter()
+        .map(|m| m.descriptor.type_name)
+        .collect();
+    assert_eq!(
+        names,
+        ["PatternGenerator_sinusoidal", "Global_Adaptive_Touch"]
+    );
     assert!(sim.environment.bodies.iter().any(|b| b.name == "obstacle"));
-    let marks = sim.environment.bodies.iter().filter(|b| b.name.starts_with("mark")).count();
+    let marks = sim
+        .environment
+        .bodies
+        .iter()
+        .filter(|b| b.name.starts_with("mark"))
+        .count();
     assert!(marks >= 4, "a metre scale beside the track");
     let o = sim.optimizer.unwrap();
-    let Algorithm::GreatDeluge(gd) = &o.spec.algorithm else { panic!() };
+    let Algorithm::GreatDeluge(gd) = &o.spec.algorithm else {
+        panic!()
+    };
     assert_eq!((gd.initial_water_level, gd.rain), (0.6, 0.02));
     // Table 6.5: 37 * 200 * 10^8 = 740,000,000,000 candidates.
     assert_eq!(o.search_space().round(), 740_000_000_000.0);
     let ga = load("experiment2_ga.simulation.xml").optimizer.unwrap();
-    let Algorithm::Genetic(g) = &ga.spec.algorithm else { panic!() };
+    let Algorithm::Genetic(g) = &ga.spec.algorithm else {
+        panic!()
+    };
     assert_eq!((g.popsize, g.pmut, g.pcross), (40, 1.0, 0.0));
 }
 
 #[test]
 fn longer_chains_alternate_pitch_and_yaw() {
-    assert_eq!(load("snake8py_slope.simulation.xml").robot.pattern(), "PYPYPYP");
-    assert_eq!(load("snake16py_stairs.simulation.xml").robot.pattern(), "PYPYPYPYPYPYPYP");
+    assert_eq!(
+        load("snake8py_slope.simulation.xml").robot.pattern(),
+        "PYPYPYP"
+    );
+    assert_eq!(
+        load("snake16py_stairs.simulation.xml").robot.pattern(),
+        "PYPYPYPYPYPYPYP"
+    );
     assert_eq!(load("cube5_flat.simulation.xml").robot.pattern(), "PPPPP");
 }
 
@@ -117,8 +197,18 @@ fn cli_check_prints_a_summary() {
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
-    for needle in ["robot       snake5p", "joints 5 [PPPPP]", "PatternGenerator_sinusoidal  joints 11111", "floor (static)", "ok"] {
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for needle in [
+        "robot       snake5p",
+        "joints 5 [PPPPP]",
+        "PatternGenerator_sinusoidal  joints 11111",
+        "floor (static)",
+        "ok",
+    ] {
         assert!(stdout.contains(needle), "{needle:?} missing in:\n{stdout}");
     }
 }
@@ -129,9 +219,16 @@ fn cli_check_fails_with_the_location() {
     std::fs::create_dir_all(&dir).unwrap();
     let bad = dir.join("bad.simulation.xml");
     std::fs::write(&bad, "<simulation>\n  <robot>missing.robot.xml</robot>\n  <actuation>a.xml</actuation>\n</simulation>\n").unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_proleg")).arg("check").arg(&bad).output().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_proleg"))
+        .arg("check")
+        .arg(&bad)
+        .output()
+        .unwrap();
     std::fs::remove_dir_all(&dir).ok();
     assert!(!out.status.success());
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(stderr.contains("bad.simulation.xml:2:10: robot file \"missing.robot.xml\" not found"), "{stderr}");
+    assert!(
+        stderr.contains("bad.simulation.xml:2:10: robot file \"missing.robot.xml\" not found"),
+        "{stderr}"
+    );
 }

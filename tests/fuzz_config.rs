@@ -13,7 +13,10 @@ use proleg::control::ModuleRegistry;
 use proptest::prelude::*;
 
 fn cases() -> u32 {
-    std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(256)
+    std::env::var("PROPTEST_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(256)
 }
 
 /// Every parser, on one text.
@@ -75,8 +78,18 @@ fn edit_strategy() -> impl Strategy<Value = Edit> {
         "[a-zA-Z0-9 <>/=\"'.-]{0,12}",
     ];
     let numbers = prop_oneof![
-        Just("NaN"), Just("-1"), Just("0"), Just("1e309"), Just("-inf"), Just("99999999999999999999"),
-        Just(""), Just("0 0"), Just("1 2 3 4 5"), Just("x"), Just("-0"), Just("1e-320"),
+        Just("NaN"),
+        Just("-1"),
+        Just("0"),
+        Just("1e309"),
+        Just("-inf"),
+        Just("99999999999999999999"),
+        Just(""),
+        Just("0 0"),
+        Just("1 2 3 4 5"),
+        Just("x"),
+        Just("-0"),
+        Just("1e-320"),
     ];
     prop_oneof![
         (0.0..1.0f64, payload).prop_map(|(p, s)| Edit::Insert(p, s)),
@@ -114,7 +127,9 @@ fn apply(text: &str, edit: &Edit) -> String {
             let a = boundary(&t, *p);
             if let Some(off) = t[a..].find(|c: char| c.is_ascii_digit()) {
                 let start = a + off;
-                let end = t[start..].find(|c: char| !(c.is_ascii_digit() || c == '.')).map_or(t.len(), |e| start + e);
+                let end = t[start..]
+                    .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+                    .map_or(t.len(), |e| start + e);
                 t.replace_range(start..end, s);
             }
         }
@@ -128,7 +143,11 @@ fn check_error(e: &ConfigError, files: &[(PathBuf, String)]) {
     assert!(!shown.is_empty());
     if let Some((_, text)) = files.iter().find(|(p, _)| e.file.ends_with(p)) {
         let lines = text.lines().count() as u32 + 1;
-        assert!(e.pos.line <= lines, "line {} beyond the file's {lines} lines: {shown}", e.pos.line);
+        assert!(
+            e.pos.line <= lines,
+            "line {} beyond the file's {lines} lines: {shown}",
+            e.pos.line
+        );
     }
 }
 
@@ -181,5 +200,9 @@ proptest! {
 #[test]
 fn simulation_files_start_with_the_top_level_file() {
     let files = simulation_files("experiment1_ga.simulation.xml");
-    assert!(files[0].0.ends_with("experiment1_ga.simulation.xml"), "{:?}", files[0].0);
+    assert!(
+        files[0].0.ends_with("experiment1_ga.simulation.xml"),
+        "{:?}",
+        files[0].0
+    );
 }

@@ -23,7 +23,8 @@ fn check<T: PartialEq + std::fmt::Debug>(
     let name = path.display().to_string();
     let model = parse(&name, &text).unwrap_or_else(|e| panic!("{e}"));
     let written = write(&model);
-    let again = parse("written", &written).unwrap_or_else(|e| panic!("re-reading {name}: {e}\n{written}"));
+    let again =
+        parse("written", &written).unwrap_or_else(|e| panic!("re-reading {name}: {e}\n{written}"));
     assert_eq!(model, again, "{name} changed in a round trip:\n{written}");
     // Writing is stable: the second write is byte-identical.
     assert_eq!(written, write(&again));
@@ -52,7 +53,10 @@ fn every_file_round_trips() {
         for p in common::files_ending(&dir, ".env.xml") {
             n += check(&p, parse_environment_file, write_environment_file);
         }
-        for p in common::files_ending(&dir, ".ga.xml").into_iter().chain(common::files_ending(&dir, ".gd.xml")) {
+        for p in common::files_ending(&dir, ".ga.xml")
+            .into_iter()
+            .chain(common::files_ending(&dir, ".gd.xml"))
+        {
             n += check(&p, parse_optimizer_file, write_optimizer_file);
         }
     }
@@ -62,7 +66,8 @@ fn every_file_round_trips() {
 /// A simulation whose files are all rewritten in a temporary folder loads to an equal model.
 #[test]
 fn rewritten_simulation_loads_equal() {
-    let sim = load_simulation(common::root().join("configs/experiment2_gd.simulation.xml")).unwrap();
+    let sim =
+        load_simulation(common::root().join("configs/experiment2_gd.simulation.xml")).unwrap();
     let dir = std::env::temp_dir().join(format!("proleg-rt-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     // Parts, sensors and meshes stay where they are; the top-level files are rewritten.
@@ -74,7 +79,14 @@ fn rewritten_simulation_loads_equal() {
     top.optimizer.as_mut().unwrap().path = "o.gd.xml".into();
     let mut robot = f.robot.clone();
     for inc in &mut robot.kinbody.includes {
-        inc.file = sim.robot.files.iter().find(|p| p.ends_with(&inc.file[3..])).unwrap().display().to_string();
+        inc.file = sim
+            .robot
+            .files
+            .iter()
+            .find(|p| p.ends_with(&inc.file[3..]))
+            .unwrap()
+            .display()
+            .to_string();
     }
     let mut env = f.environment.clone().unwrap();
     for o in &mut env.objects {
@@ -90,9 +102,17 @@ fn rewritten_simulation_loads_equal() {
     }
     std::fs::write(dir.join("s.simulation.xml"), write_simulation_file(&top)).unwrap();
     std::fs::write(dir.join("r.robot.xml"), write_robot_file(&robot)).unwrap();
-    std::fs::write(dir.join("a.actuation.xml"), write_actuation_file(&f.actuation)).unwrap();
+    std::fs::write(
+        dir.join("a.actuation.xml"),
+        write_actuation_file(&f.actuation),
+    )
+    .unwrap();
     std::fs::write(dir.join("e.env.xml"), write_environment_file(&env)).unwrap();
-    std::fs::write(dir.join("o.gd.xml"), write_optimizer_file(f.optimizer.as_ref().unwrap())).unwrap();
+    std::fs::write(
+        dir.join("o.gd.xml"),
+        write_optimizer_file(f.optimizer.as_ref().unwrap()),
+    )
+    .unwrap();
     let again = load_simulation(dir.join("s.simulation.xml")).unwrap_or_else(|e| panic!("{e}"));
     std::fs::remove_dir_all(&dir).ok();
     assert_eq!(again.robot.links, sim.robot.links);
@@ -101,6 +121,12 @@ fn rewritten_simulation_loads_equal() {
     assert_eq!(again.actuation.modules, sim.actuation.modules);
     assert_eq!(again.environment.bodies.len(), sim.environment.bodies.len());
     assert_eq!(again.environment.physics, sim.environment.physics);
-    assert_eq!(again.optimizer.unwrap().parameters, sim.optimizer.unwrap().parameters);
-    assert_eq!(again.files.simulation.properties, sim.files.simulation.properties);
+    assert_eq!(
+        again.optimizer.unwrap().parameters,
+        sim.optimizer.unwrap().parameters
+    );
+    assert_eq!(
+        again.files.simulation.properties,
+        sim.files.simulation.properties
+    );
 }

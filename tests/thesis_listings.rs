@@ -3,11 +3,11 @@
 mod common;
 
 use proleg::config::actuation::parse_actuation_file;
+use proleg::config::load_simulation;
 use proleg::config::optimizer::{Algorithm, BoundType, parse_optimizer_file};
 use proleg::config::resolve::JointOrientation;
 use proleg::config::sensor::{Sensor, parse_sensor_file};
 use proleg::config::simulation::Mode;
-use proleg::config::load_simulation;
 
 fn read(rel: &str) -> (String, String) {
     let p = common::thesis().join(rel);
@@ -31,9 +31,17 @@ fn b1_to_b6_load_as_one_simulation() {
     assert_eq!(names, ["Tail", "1Seg", "2Seg", "3Seg", "4Seg", "Head"]);
     assert_eq!(r.pattern(), "PYPYP");
     assert_eq!(r.joints[1].orientation, JointOrientation::Yaw);
-    let anchors: Vec<f64> = r.joints.iter().map(|j| (j.anchor[1] * 1000.0).round()).collect();
+    let anchors: Vec<f64> = r
+        .joints
+        .iter()
+        .map(|j| (j.anchor[1] * 1000.0).round())
+        .collect();
     assert_eq!(anchors, [0.0, 72.0, 144.0, 216.0, 288.0]);
-    assert!(r.joints.iter().all(|j| j.max_torque == 0.4 && j.max_vel == 4.5 && j.limits_deg == [-90.0, 90.0]));
+    assert!(
+        r.joints
+            .iter()
+            .all(|j| j.max_torque == 0.4 && j.max_vel == 4.5 && j.limits_deg == [-90.0, 90.0])
+    );
 
     // B.5: two overlapping-free groups.
     let m = &sim.actuation.modules;
@@ -59,11 +67,24 @@ fn b1_to_b6_load_as_one_simulation() {
 #[test]
 fn b3_and_b4_sensor_files() {
     let (f, t) = read("configuration/sensors/tactile.sensor.xml");
-    let Sensor::Tactile(s) = parse_sensor_file(&f, &t).unwrap() else { panic!("not tactile") };
+    let Sensor::Tactile(s) = parse_sensor_file(&f, &t).unwrap() else {
+        panic!("not tactile")
+    };
     assert!(s.power);
     let (f, t) = read("configuration/sensors/laser.sensor.xml");
-    let Sensor::Laser2d(l) = parse_sensor_file(&f, &t).unwrap() else { panic!("not a laser") };
-    assert_eq!((l.min_angle, l.max_angle, l.resolution, l.max_range, l.scan_time), (-1.0, 1.0, 1.0, 1.0, 1.0));
+    let Sensor::Laser2d(l) = parse_sensor_file(&f, &t).unwrap() else {
+        panic!("not a laser")
+    };
+    assert_eq!(
+        (
+            l.min_angle,
+            l.max_angle,
+            l.resolution,
+            l.max_range,
+            l.scan_time
+        ),
+        (-1.0, 1.0, 1.0, 1.0, 1.0)
+    );
     assert!(l.render && l.power);
 }
 
@@ -79,14 +100,32 @@ fn b5_actuation_file() {
 fn b7_genetic_algorithm_file() {
     let (f, t) = read("configuration/ga/adaptive.ga.xml");
     let o = parse_optimizer_file(&f, &t).unwrap();
-    let Algorithm::Genetic(g) = &o.algorithm else { panic!("not a GA") };
-    assert_eq!((g.popsize, g.pmut, g.pcross, g.n_convergence, g.p_convergence), (30, 0.01, 0.9, 50, 0.99));
+    let Algorithm::Genetic(g) = &o.algorithm else {
+        panic!("not a GA")
+    };
+    assert_eq!(
+        (
+            g.popsize,
+            g.pmut,
+            g.pcross,
+            g.n_convergence,
+            g.p_convergence
+        ),
+        (30, 0.01, 0.9, 50, 0.99)
+    );
     assert_eq!((g.flush_frequency, g.ga_mode), (1, 1));
     assert_eq!(o.parameters.len(), 2);
     assert_eq!(o.parameters[0].module, "Global Adaptive Touch");
     assert_eq!(o.parameters[1].parameter, "back to zero constant");
     let g0 = &o.genome[0];
-    assert_eq!((g0.lower.as_slice(), g0.upper.as_slice(), g0.increments.as_slice()), (&[50.0][..], &[800.0][..], &[25.0][..]));
+    assert_eq!(
+        (
+            g0.lower.as_slice(),
+            g0.upper.as_slice(),
+            g0.increments.as_slice()
+        ),
+        (&[50.0][..], &[800.0][..], &[25.0][..])
+    );
     assert_eq!(g0.lower_bound_type, BoundType::Exclusive);
     assert!(g0.uniform);
 }

@@ -53,7 +53,10 @@ pub fn parse_actuation_file(file: &str, text: &str) -> ConfigResult<ActuationFil
         return Err(r.err(
             root.pos,
             ErrorKind::UnknownElement,
-            format!("an actuation file starts with <actuation>, not <{}>", root.name),
+            format!(
+                "an actuation file starts with <actuation>, not <{}>",
+                root.name
+            ),
         ));
     }
     r.only_children(root, &["validrobot", "actuationmodule"])?;
@@ -90,11 +93,24 @@ pub fn parse_actuation_file(file: &str, text: &str) -> ConfigResult<ActuationFil
                     ));
                 }
             };
-            params.push(ParamSetting { name: pname, value, pos: p.pos });
+            params.push(ParamSetting {
+                name: pname,
+                value,
+                pos: p.pos,
+            });
         }
-        modules.push(ModuleAssignment { name, joints, params, pos: m.pos, mask_pos: mask_attr.pos });
+        modules.push(ModuleAssignment {
+            name,
+            joints,
+            params,
+            pos: m.pos,
+            mask_pos: mask_attr.pos,
+        });
     }
-    Ok(ActuationFile { valid_robot, modules })
+    Ok(ActuationFile {
+        valid_robot,
+        modules,
+    })
 }
 
 /// Writes an actuation file.

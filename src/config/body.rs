@@ -25,12 +25,22 @@ pub enum BodyKind {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
     /// Half-extents along x, y, z.
-    Box { extents: [f64; 3] },
-    Sphere { radius: f64 },
+    Box {
+        extents: [f64; 3],
+    },
+    Sphere {
+        radius: f64,
+    },
     /// Along the local y axis.
-    Cylinder { radius: f64, height: f64 },
+    Cylinder {
+        radius: f64,
+        height: f64,
+    },
     /// A triangle mesh from a file (Wavefront OBJ), scaled uniformly.
-    Trimesh { file: String, scale: f64 },
+    Trimesh {
+        file: String,
+        scale: f64,
+    },
 }
 
 impl Shape {
@@ -41,7 +51,9 @@ impl Shape {
                 format!("box {}x{}x{} m", num(2.0 * x), num(2.0 * y), num(2.0 * z))
             }
             Shape::Sphere { radius } => format!("sphere r={} m", num(*radius)),
-            Shape::Cylinder { radius, height } => format!("cylinder r={} h={} m", num(*radius), num(*height)),
+            Shape::Cylinder { radius, height } => {
+                format!("cylinder r={} h={} m", num(*radius), num(*height))
+            }
             Shape::Trimesh { file, scale } => format!("mesh {file} (scale {})", num(*scale)),
         }
     }
@@ -86,8 +98,18 @@ pub struct Body {
 }
 
 const GEOM_CHILDREN: [&str; 12] = [
-    "translation", "rotationaxis", "quat", "rotationmat", "extents", "radius", "height", "data",
-    "diffusecolor", "ambientcolor", "transparency", "friction",
+    "translation",
+    "rotationaxis",
+    "quat",
+    "rotationmat",
+    "extents",
+    "radius",
+    "height",
+    "data",
+    "diffusecolor",
+    "ambientcolor",
+    "transparency",
+    "friction",
 ];
 
 impl Geom {
@@ -98,7 +120,13 @@ impl Geom {
         let positive = |name: &str| -> ConfigResult<f64> {
             let c = r.required(el, name)?;
             let v = r.f64(c)?;
-            r.check_range(v, f64::MIN_POSITIVE, f64::INFINITY, c.text_pos, &format!("<{}>", c.name))?;
+            r.check_range(
+                v,
+                f64::MIN_POSITIVE,
+                f64::INFINITY,
+                c.text_pos,
+                &format!("<{}>", c.name),
+            )?;
             Ok(v)
         };
         let shape = match ty.value.to_ascii_lowercase().as_str() {
@@ -106,12 +134,21 @@ impl Geom {
                 let c = r.required(el, "extents")?;
                 let e = r.array::<3>(c)?;
                 if e.iter().any(|v| *v <= 0.0) {
-                    return Err(r.err(c.text_pos, ErrorKind::OutOfRange, "box <extents> must all be > 0 (half-extents in m)"));
+                    return Err(r.err(
+                        c.text_pos,
+                        ErrorKind::OutOfRange,
+                        "box <extents> must all be > 0 (half-extents in m)",
+                    ));
                 }
                 Shape::Box { extents: e }
             }
-            "sphere" => Shape::Sphere { radius: positive("radius")? },
-            "cylinder" => Shape::Cylinder { radius: positive("radius")?, height: positive("height")? },
+            "sphere" => Shape::Sphere {
+                radius: positive("radius")?,
+            },
+            "cylinder" => Shape::Cylinder {
+                radius: positive("radius")?,
+                height: positive("height")?,
+            },
             "trimesh" => {
                 let c = r.required(el, "data")?;
                 let text = r.text(c)?;
@@ -120,7 +157,13 @@ impl Geom {
                 let scale = match words.next() {
                     Some(s) => {
                         let v = r.number(s, c.text_pos, "<data> scale")?;
-                        r.check_range(v, f64::MIN_POSITIVE, f64::INFINITY, c.text_pos, "<data> scale")?;
+                        r.check_range(
+                            v,
+                            f64::MIN_POSITIVE,
+                            f64::INFINITY,
+                            c.text_pos,
+                            "<data> scale",
+                        )?;
                         v
                     }
                     None => 1.0,
@@ -219,12 +262,22 @@ impl Mass {
             None => (r.f64(el)?, el.text_pos),
         };
         if total <= 0.0 {
-            return Err(r.err(pos, ErrorKind::OutOfRange, format!("mass is {total} kg; it must be > 0")));
+            return Err(r.err(
+                pos,
+                ErrorKind::OutOfRange,
+                format!("mass is {total} kg; it must be > 0"),
+            ));
         }
-        let com = r.at_most_one(el, "com")?.map(|c| r.array::<3>(c)).transpose()?;
+        let com = r
+            .at_most_one(el, "com")?
+            .map(|c| r.array::<3>(c))
+            .transpose()?;
         Ok(Mass {
             total,
-            distribution: el.attr("type").map(|a| a.value.to_ascii_lowercase()).unwrap_or_else(|| "mimicgeom".into()),
+            distribution: el
+                .attr("type")
+                .map(|a| a.value.to_ascii_lowercase())
+                .unwrap_or_else(|| "mimicgeom".into()),
             com,
             pos: el.pos,
         })
@@ -261,10 +314,19 @@ impl Body {
                 }
             },
         };
-        let geoms = el.children_named("geom").map(|g| Geom::read(r, g)).collect::<ConfigResult<Vec<_>>>()?;
-        let mass = r.at_most_one(el, "mass")?.map(|m| Mass::read(r, m)).transpose()?;
+        let geoms = el
+            .children_named("geom")
+            .map(|g| Geom::read(r, g))
+            .collect::<ConfigResult<Vec<_>>>()?;
+        let mass = r
+            .at_most_one(el, "mass")?
+            .map(|m| Mass::read(r, m))
+            .transpose()?;
         Ok(Body {
-            name: el.attr("name").map(|a| a.value.clone()).unwrap_or_else(|| default_name.to_string()),
+            name: el
+                .attr("name")
+                .map(|a| a.value.clone())
+                .unwrap_or_else(|| default_name.to_string()),
             kind,
             pose: Transform::read(r, el)?,
             geoms,
@@ -278,7 +340,10 @@ impl Body {
             BodyKind::Dynamic => "dynamic",
             BodyKind::Static => "static",
         };
-        w.open("Body", &[("name", self.name.clone()), ("type", kind.into())]);
+        w.open(
+            "Body",
+            &[("name", self.name.clone()), ("type", kind.into())],
+        );
         self.pose.write(w);
         for g in &self.geoms {
             g.write(w);

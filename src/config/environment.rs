@@ -29,7 +29,12 @@ pub struct Physics {
 
 impl Default for Physics {
     fn default() -> Self {
-        Physics { engine: "ode".into(), gravity: [0.0, 0.0, -9.81], self_collision: false, default_friction: None }
+        Physics {
+            engine: "ode".into(),
+            gravity: [0.0, 0.0, -9.81],
+            self_collision: false,
+            default_friction: None,
+        }
     }
 }
 
@@ -52,7 +57,13 @@ pub struct EnvironmentFile {
 fn read_physics(r: &Reader, el: &Element) -> ConfigResult<Physics> {
     r.only_children(el, &["odeproperties", "properties"])?;
     r.only_attrs(el, &["type"])?;
-    let mut p = Physics { engine: el.attr("type").map(|a| a.value.clone()).unwrap_or_else(|| "ode".into()), ..Physics::default() };
+    let mut p = Physics {
+        engine: el
+            .attr("type")
+            .map(|a| a.value.clone())
+            .unwrap_or_else(|| "ode".into()),
+        ..Physics::default()
+    };
     for props in &el.children {
         r.only_children(props, &["gravity", "selfcollision", "friction"])?;
         if let Some(g) = r.at_most_one(props, "gravity")? {
@@ -73,9 +84,17 @@ fn parse_pose_comment(r: &Reader, body: &str, pos: Pos) -> ConfigResult<Option<T
     let Some(rest) = body.trim().strip_prefix("Pose:") else {
         return Ok(None);
     };
-    let groups: Vec<&str> = rest.split(',').map(str::trim).filter(|g| !g.is_empty()).collect();
+    let groups: Vec<&str> = rest
+        .split(',')
+        .map(str::trim)
+        .filter(|g| !g.is_empty())
+        .collect();
     let bad = || {
-        r.err(pos, ErrorKind::InvalidValue, "pose comment: expected \"Pose: ,w x y z,x y z,\" (quaternion, then translation)")
+        r.err(
+            pos,
+            ErrorKind::InvalidValue,
+            "pose comment: expected \"Pose: ,w x y z,x y z,\" (quaternion, then translation)",
+        )
     };
     if groups.len() != 2 {
         return Err(bad());
@@ -86,8 +105,15 @@ fn parse_pose_comment(r: &Reader, body: &str, pos: Pos) -> ConfigResult<Option<T
         return Err(bad());
     };
     let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
-    let rotation = if n == 0.0 { Transform::IDENTITY.rotation } else { [q[0] / n, q[1] / n, q[2] / n, q[3] / n] };
-    Ok(Some(Transform { translation: t, rotation }))
+    let rotation = if n == 0.0 {
+        Transform::IDENTITY.rotation
+    } else {
+        [q[0] / n, q[1] / n, q[2] / n, q[3] / n]
+    };
+    Ok(Some(Transform {
+        translation: t,
+        rotation,
+    }))
 }
 
 /// Reads an environment file's text.
@@ -99,12 +125,19 @@ pub fn parse_environment_file(file: &str, text: &str) -> ConfigResult<Environmen
         return Err(r.err(
             root.pos,
             ErrorKind::UnknownElement,
-            format!("an environment file starts with <Environment>, not <{}>", root.name),
+            format!(
+                "an environment file starts with <Environment>, not <{}>",
+                root.name
+            ),
         ));
     }
     r.only_children(root, &["physicsengine", "kinbody", "robotpose"])?;
     r.only_attrs(root, &[])?;
-    let physics = r.at_most_one(root, "physicsengine")?.map(|p| read_physics(&r, p)).transpose()?.unwrap_or_default();
+    let physics = r
+        .at_most_one(root, "physicsengine")?
+        .map(|p| read_physics(&r, p))
+        .transpose()?
+        .unwrap_or_default();
     let mut objects = Vec::new();
     for kb in root.children_named("kinbody") {
         objects.push(if kb.attr("file").is_some() {
@@ -123,7 +156,11 @@ pub fn parse_environment_file(file: &str, text: &str) -> ConfigResult<Environmen
         r.only_children(p, &POSE_ELEMENTS)?;
         robot_pose = Some(Transform::read(&r, p)?);
     }
-    Ok(EnvironmentFile { physics, objects, robot_pose })
+    Ok(EnvironmentFile {
+        physics,
+        objects,
+        robot_pose,
+    })
 }
 
 /// Writes an environment file, with the pose both as element and as the thesis's comment.
@@ -153,7 +190,11 @@ pub fn write_environment_file(env: &EnvironmentFile) -> String {
     }
     w.close();
     if let Some(p) = &env.robot_pose {
-        w.comment(&format!("Pose: ,{},{},", nums(&p.rotation), nums(&p.translation)));
+        w.comment(&format!(
+            "Pose: ,{},{},",
+            nums(&p.rotation),
+            nums(&p.translation)
+        ));
     }
     w.finish()
 }

@@ -68,7 +68,12 @@ pub struct ConfigError {
 }
 
 impl ConfigError {
-    pub fn new(file: impl AsRef<Path>, pos: Pos, kind: ErrorKind, message: impl Into<String>) -> Self {
+    pub fn new(
+        file: impl AsRef<Path>,
+        pos: Pos,
+        kind: ErrorKind,
+        message: impl Into<String>,
+    ) -> Self {
         ConfigError {
             file: file.as_ref().to_path_buf(),
             pos,

@@ -52,8 +52,17 @@ pub struct KinBody {
     pub pos: Pos,
 }
 
-const JOINT_CHILDREN: [&str; 9] =
-    ["body", "offsetfrom", "anchor", "axis", "maxtorque", "maxvel", "limitsdeg", "limitsrad", "limits"];
+const JOINT_CHILDREN: [&str; 9] = [
+    "body",
+    "offsetfrom",
+    "anchor",
+    "axis",
+    "maxtorque",
+    "maxvel",
+    "limitsdeg",
+    "limitsrad",
+    "limits",
+];
 
 impl Joint {
     pub fn read(r: &Reader, el: &Element) -> ConfigResult<Joint> {
@@ -66,7 +75,10 @@ impl Joint {
             return Err(r.err(
                 t.pos,
                 ErrorKind::InvalidValue,
-                format!("joint {name}: type \"{}\" is not supported; expected hinge", t.value),
+                format!(
+                    "joint {name}: type \"{}\" is not supported; expected hinge",
+                    t.value
+                ),
             ));
         }
         let bodies: Vec<String> = el
@@ -74,20 +86,41 @@ impl Joint {
             .map(|b| r.text(b).map(str::to_string))
             .collect::<ConfigResult<_>>()?;
         let bodies: [String; 2] = bodies.try_into().map_err(|b: Vec<String>| {
-            r.err(el.pos, ErrorKind::InvalidValue, format!("joint {name} needs exactly 2 <Body> elements, found {}", b.len()))
+            r.err(
+                el.pos,
+                ErrorKind::InvalidValue,
+                format!(
+                    "joint {name} needs exactly 2 <Body> elements, found {}",
+                    b.len()
+                ),
+            )
         })?;
         let axis = r.array::<3>(r.required(el, "axis")?)?;
         if axis.iter().map(|v| v * v).sum::<f64>() < 1e-12 {
             let c = r.required(el, "axis")?;
-            return Err(r.err(c.text_pos, ErrorKind::InvalidValue, format!("joint {name}: <axis> is zero")));
+            return Err(r.err(
+                c.text_pos,
+                ErrorKind::InvalidValue,
+                format!("joint {name}: <axis> is zero"),
+            ));
         }
-        let anchor = r.at_most_one(el, "anchor")?.map(|c| r.array::<3>(c)).transpose()?.unwrap_or([0.0; 3]);
+        let anchor = r
+            .at_most_one(el, "anchor")?
+            .map(|c| r.array::<3>(c))
+            .transpose()?
+            .unwrap_or([0.0; 3]);
         let positive = |tag: &str| -> ConfigResult<Option<f64>> {
             match r.at_most_one(el, tag)? {
                 None => Ok(None),
                 Some(c) => {
                     let v = r.f64(c)?;
-                    r.check_range(v, f64::MIN_POSITIVE, f64::INFINITY, c.text_pos, &format!("joint {name}: <{}>", c.name))?;
+                    r.check_range(
+                        v,
+                        f64::MIN_POSITIVE,
+                        f64::INFINITY,
+                        c.text_pos,
+                        &format!("joint {name}: <{}>", c.name),
+                    )?;
                     Ok(Some(v))
                 }
             }
@@ -104,7 +137,11 @@ impl Joint {
                 continue;
             };
             if limits_deg.is_some() {
-                return Err(r.err(c.pos, ErrorKind::InvalidValue, format!("joint {name}: limits given twice")));
+                return Err(r.err(
+                    c.pos,
+                    ErrorKind::InvalidValue,
+                    format!("joint {name}: limits given twice"),
+                ));
             }
             let [lo, hi] = r.array::<2>(c)?;
             let (lo, hi) = (lo * scale, hi * scale);
@@ -112,15 +149,32 @@ impl Joint {
                 return Err(r.err(
                     c.text_pos,
                     ErrorKind::OutOfRange,
-                    format!("joint {name}: lower limit {lo} deg is greater than upper limit {hi} deg"),
+                    format!(
+                        "joint {name}: lower limit {lo} deg is greater than upper limit {hi} deg"
+                    ),
                 ));
             }
-            r.check_range(lo, -180.0, 180.0, c.text_pos, &format!("joint {name}: lower limit (deg)"))?;
-            r.check_range(hi, -180.0, 180.0, c.text_pos, &format!("joint {name}: upper limit (deg)"))?;
+            r.check_range(
+                lo,
+                -180.0,
+                180.0,
+                c.text_pos,
+                &format!("joint {name}: lower limit (deg)"),
+            )?;
+            r.check_range(
+                hi,
+                -180.0,
+                180.0,
+                c.text_pos,
+                &format!("joint {name}: upper limit (deg)"),
+            )?;
             limits_deg = Some([lo, hi]);
         }
         Ok(Joint {
-            offset_from: r.at_most_one(el, "offsetfrom")?.map(|c| r.text(c).map(str::to_string)).transpose()?,
+            offset_from: r
+                .at_most_one(el, "offsetfrom")?
+                .map(|c| r.text(c).map(str::to_string))
+                .transpose()?,
             name,
             bodies,
             anchor,
@@ -133,7 +187,10 @@ impl Joint {
     }
 
     pub fn write(&self, w: &mut XmlWriter) {
-        w.open("Joint", &[("type", "hinge".into()), ("name", self.name.clone())]);
+        w.open(
+            "Joint",
+            &[("type", "hinge".into()), ("name", self.name.clone())],
+        );
         w.leaf("Body", &self.bodies[0]);
         w.leaf("Body", &self.bodies[1]);
         if let Some(o) = &self.offset_from {
@@ -219,11 +276,18 @@ impl Include {
         r.only_children(el, &POSE_ELEMENTS)?;
         r.only_attrs(el, &["file", "prefix", "name"])?;
         let file = el.attr("file").ok_or_else(|| {
-            r.err(el.pos, ErrorKind::Missing, "a nested <KinBody> must name a part file with file=\"...\"")
+            r.err(
+                el.pos,
+                ErrorKind::Missing,
+                "a nested <KinBody> must name a part file with file=\"...\"",
+            )
         })?;
         Ok(Include {
             file: file.value.clone(),
-            prefix: el.attr("prefix").map(|a| a.value.clone()).unwrap_or_default(),
+            prefix: el
+                .attr("prefix")
+                .map(|a| a.value.clone())
+                .unwrap_or_default(),
             pose: Transform::read(r, el)?,
             pos: file.pos,
         })
@@ -253,11 +317,18 @@ pub fn parse_kinbody_file(file: &str, text: &str) -> ConfigResult<KinBody> {
         return Err(r.err(
             doc.root.pos,
             ErrorKind::UnknownElement,
-            format!("a kinbody file starts with <KinBody>, not <{}>", doc.root.name),
+            format!(
+                "a kinbody file starts with <KinBody>, not <{}>",
+                doc.root.name
+            ),
         ));
     }
     if doc.root.attr("file").is_some() {
-        return Err(r.err(doc.root.pos, ErrorKind::InvalidValue, "the root <KinBody> of a part file cannot include another file"));
+        return Err(r.err(
+            doc.root.pos,
+            ErrorKind::InvalidValue,
+            "the root <KinBody> of a part file cannot include another file",
+        ));
     }
     KinBody::read(&r, &doc.root)
 }

@@ -15,7 +15,11 @@ impl JointMask {
     pub fn parse(r: &Reader, s: &str, pos: Pos, what: &str) -> ConfigResult<JointMask> {
         let s = s.trim();
         if s.is_empty() {
-            return Err(r.err(pos, ErrorKind::InvalidValue, format!("{what} is empty; expected a string of 0 and 1")));
+            return Err(r.err(
+                pos,
+                ErrorKind::InvalidValue,
+                format!("{what} is empty; expected a string of 0 and 1"),
+            ));
         }
         s.chars()
             .enumerate()
@@ -25,7 +29,10 @@ impl JointMask {
                 other => Err(r.err(
                     pos,
                     ErrorKind::InvalidValue,
-                    format!("{what}: character {} is '{other}'; a joint mask holds only 0 and 1", i + 1),
+                    format!(
+                        "{what}: character {} is '{other}'; a joint mask holds only 0 and 1",
+                        i + 1
+                    ),
                 )),
             })
             .collect::<ConfigResult<_>>()
@@ -52,7 +59,11 @@ impl JointMask {
 
     /// Indices of the joints set.
     pub fn indices(&self) -> impl Iterator<Item = usize> + '_ {
-        self.0.iter().enumerate().filter(|(_, b)| **b).map(|(i, _)| i)
+        self.0
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| **b)
+            .map(|(i, _)| i)
     }
 
     /// Fails unless the mask has one character per robot joint.

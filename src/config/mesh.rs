@@ -29,8 +29,18 @@ impl TriMesh {
 
 /// Parses OBJ text; errors name the line.
 pub fn parse_obj(file: &Path, text: &str) -> ConfigResult<TriMesh> {
-    let mut mesh = TriMesh { vertices: Vec::new(), triangles: Vec::new() };
-    let err = |line: usize, msg: String| ConfigError::new(file, Pos::new(line as u32 + 1, 1), ErrorKind::InvalidValue, msg);
+    let mut mesh = TriMesh {
+        vertices: Vec::new(),
+        triangles: Vec::new(),
+    };
+    let err = |line: usize, msg: String| {
+        ConfigError::new(
+            file,
+            Pos::new(line as u32 + 1, 1),
+            ErrorKind::InvalidValue,
+            msg,
+        )
+    };
     for (i, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
         match words.next() {
@@ -40,18 +50,25 @@ pub fn parse_obj(file: &Path, text: &str) -> ConfigResult<TriMesh> {
                     .map(|w| w.parse::<f64>().ok().filter(|x| x.is_finite()))
                     .collect::<Option<_>>()
                     .ok_or_else(|| err(i, "vertex: expected 3 finite numbers".into()))?;
-                let v: [f64; 3] = v.try_into().map_err(|_| err(i, "vertex: expected 3 numbers".into()))?;
+                let v: [f64; 3] = v
+                    .try_into()
+                    .map_err(|_| err(i, "vertex: expected 3 numbers".into()))?;
                 mesh.vertices.push(v);
             }
             Some("f") => {
                 let idx: Vec<u32> = words
                     .map(|w| {
                         let first = w.split('/').next().unwrap_or("");
-                        let n: i64 = first.parse().map_err(|_| err(i, format!("face: bad vertex index \"{w}\"")))?;
+                        let n: i64 = first
+                            .parse()
+                            .map_err(|_| err(i, format!("face: bad vertex index \"{w}\"")))?;
                         let count = mesh.vertices.len() as i64;
                         let k = if n < 0 { count + n } else { n - 1 };
                         if k < 0 || k >= count {
-                            return Err(err(i, format!("face: vertex index {n} out of range (1..{count})")));
+                            return Err(err(
+                                i,
+                                format!("face: vertex index {n} out of range (1..{count})"),
+                            ));
                         }
                         Ok(k as u32)
                     })
@@ -67,7 +84,12 @@ pub fn parse_obj(file: &Path, text: &str) -> ConfigResult<TriMesh> {
         }
     }
     if mesh.triangles.is_empty() {
-        return Err(ConfigError::new(file, Pos::new(1, 1), ErrorKind::InvalidValue, "the mesh has no faces"));
+        return Err(ConfigError::new(
+            file,
+            Pos::new(1, 1),
+            ErrorKind::InvalidValue,
+            "the mesh has no faces",
+        ));
     }
     Ok(mesh)
 }

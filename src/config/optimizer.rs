@@ -115,7 +115,11 @@ fn count(r: &Reader, props: &Element, name: &str, min: u32) -> ConfigResult<u32>
     let c = r.required(props, name)?;
     let v = r.u32(c)?;
     if v < min {
-        return Err(r.err(c.text_pos, ErrorKind::OutOfRange, format!("<{}> is {v}; it must be at least {min}", c.name)));
+        return Err(r.err(
+            c.text_pos,
+            ErrorKind::OutOfRange,
+            format!("<{}> is {v}; it must be at least {min}", c.name),
+        ));
     }
     Ok(v)
 }
@@ -127,7 +131,14 @@ fn bound_type(r: &Reader, el: &Element, name: &str) -> ConfigResult<BoundType> {
             0 => Ok(BoundType::None),
             1 => Ok(BoundType::Inclusive),
             2 => Ok(BoundType::Exclusive),
-            v => Err(r.err(c.text_pos, ErrorKind::OutOfRange, format!("<{}> is {v}; expected 0 (none), 1 (inclusive) or 2 (exclusive)", c.name))),
+            v => Err(r.err(
+                c.text_pos,
+                ErrorKind::OutOfRange,
+                format!(
+                    "<{}> is {v}; expected 0 (none), 1 (inclusive) or 2 (exclusive)",
+                    c.name
+                ),
+            )),
         },
     }
 }
@@ -135,11 +146,32 @@ fn bound_type(r: &Reader, el: &Element, name: &str) -> ConfigResult<BoundType> {
 fn read_genome(r: &Reader, el: &Element) -> ConfigResult<GenomeConfig> {
     r.only_children(
         el,
-        &["upperbounds", "lowerbounds", "boundsincrements", "lowerboundtypes", "upperboundtypes", "uniform", "values"],
+        &[
+            "upperbounds",
+            "lowerbounds",
+            "boundsincrements",
+            "lowerboundtypes",
+            "upperboundtypes",
+            "uniform",
+            "values",
+        ],
     )?;
-    r.only_attrs(el, &["number", "alljoints", "genometype", "valuetype", "valuespace", "activejoints"])?;
+    r.only_attrs(
+        el,
+        &[
+            "number",
+            "alljoints",
+            "genometype",
+            "valuetype",
+            "valuespace",
+            "activejoints",
+        ],
+    )?;
     let attr_u32 = |name: &str, default: u32| -> ConfigResult<u32> {
-        el.attr(name).map(|a| r.u32_str(&a.value, a.pos, &format!("{name}="))).transpose().map(|v| v.unwrap_or(default))
+        el.attr(name)
+            .map(|a| r.u32_str(&a.value, a.pos, &format!("{name}=")))
+            .transpose()
+            .map(|v| v.unwrap_or(default))
     };
     let num_attr = r.required_attr(el, "number")?;
     let mask_attr = r.required_attr(el, "activejoints")?;
@@ -151,7 +183,11 @@ fn read_genome(r: &Reader, el: &Element) -> ConfigResult<GenomeConfig> {
     };
     let g = GenomeConfig {
         number: r.u32_str(&num_attr.value, num_attr.pos, "number=")?,
-        all_joints: el.attr("alljoints").map(|a| r.flag_str(&a.value, a.pos, "allJoints=")).transpose()?.unwrap_or(true),
+        all_joints: el
+            .attr("alljoints")
+            .map(|a| r.flag_str(&a.value, a.pos, "allJoints="))
+            .transpose()?
+            .unwrap_or(true),
         genome_type: attr_u32("genometype", 1)?,
         value_type: attr_u32("valuetype", 1)?,
         value_space: attr_u32("valuespace", 1)?,
@@ -162,7 +198,11 @@ fn read_genome(r: &Reader, el: &Element) -> ConfigResult<GenomeConfig> {
         lower_bound_type: bound_type(r, el, "lowerboundtypes")?,
         upper_bound_type: bound_type(r, el, "upperboundtypes")?,
         values: list("values")?,
-        uniform: r.at_most_one(el, "uniform")?.map(|c| r.flag(c)).transpose()?.unwrap_or(true),
+        uniform: r
+            .at_most_one(el, "uniform")?
+            .map(|c| r.flag(c))
+            .transpose()?
+            .unwrap_or(true),
         pos: el.pos,
         mask_pos: mask_attr.pos,
     };
@@ -176,12 +216,24 @@ fn check_genome(r: &Reader, el: &Element, g: &GenomeConfig) -> ConfigResult<()> 
     match g.value_space {
         0 => {
             if g.values.is_empty() {
-                return Err(r.err(g.pos, ErrorKind::Missing, format!("{what}: valueSpace=\"0\" needs a <values> list")));
+                return Err(r.err(
+                    g.pos,
+                    ErrorKind::Missing,
+                    format!("{what}: valueSpace=\"0\" needs a <values> list"),
+                ));
             }
         }
         1 => {
-            let per_joint = if g.uniform { 1 } else { g.active_joints.count() };
-            for (name, v) in [("upperBounds", &g.upper), ("lowerBounds", &g.lower), ("boundsIncrements", &g.increments)] {
+            let per_joint = if g.uniform {
+                1
+            } else {
+                g.active_joints.count()
+            };
+            for (name, v) in [
+                ("upperBounds", &g.upper),
+                ("lowerBounds", &g.lower),
+                ("boundsIncrements", &g.increments),
+            ] {
                 let pos = el.child(name).map(|c| c.text_pos).unwrap_or(g.pos);
                 if v.is_empty() {
                     return Err(r.err(pos, ErrorKind::Missing, format!("{what} needs <{name}>")));
@@ -199,17 +251,34 @@ fn check_genome(r: &Reader, el: &Element, g: &GenomeConfig) -> ConfigResult<()> 
                 let (lo, hi, inc) = (pick(&g.lower), pick(&g.upper), pick(&g.increments));
                 let pos = el.child("lowerbounds").map(|c| c.text_pos).unwrap_or(g.pos);
                 if lo > hi {
-                    return Err(r.err(pos, ErrorKind::OutOfRange, format!("{what}: lower bound {lo} is greater than upper bound {hi}")));
+                    return Err(r.err(
+                        pos,
+                        ErrorKind::OutOfRange,
+                        format!("{what}: lower bound {lo} is greater than upper bound {hi}"),
+                    ));
                 }
                 if inc <= 0.0 {
-                    let pos = el.child("boundsincrements").map(|c| c.text_pos).unwrap_or(g.pos);
-                    return Err(r.err(pos, ErrorKind::OutOfRange, format!("{what}: increment {inc} must be > 0")));
+                    let pos = el
+                        .child("boundsincrements")
+                        .map(|c| c.text_pos)
+                        .unwrap_or(g.pos);
+                    return Err(r.err(
+                        pos,
+                        ErrorKind::OutOfRange,
+                        format!("{what}: increment {inc} must be > 0"),
+                    ));
                 }
             }
         }
         v => {
             let pos = el.attr("valuespace").map(|a| a.pos).unwrap_or(g.pos);
-            return Err(r.err(pos, ErrorKind::OutOfRange, format!("{what}: valueSpace=\"{v}\"; expected 1 (range) or 0 (enumerated <values>)")));
+            return Err(r.err(
+                pos,
+                ErrorKind::OutOfRange,
+                format!(
+                    "{what}: valueSpace=\"{v}\"; expected 1 (range) or 0 (enumerated <values>)"
+                ),
+            ));
         }
     }
     Ok(())
@@ -226,7 +295,11 @@ fn read_parameters(r: &Reader, props: &Element) -> ConfigResult<Vec<RegisteredPa
         let n = r.required_attr(p, "number")?;
         let number = r.u32_str(&n.value, n.pos, "number=")?;
         if out.iter().any(|o| o.number == number) {
-            return Err(r.err(n.pos, ErrorKind::InvalidValue, format!("parameter number {number} is registered twice")));
+            return Err(r.err(
+                n.pos,
+                ErrorKind::InvalidValue,
+                format!("parameter number {number} is registered twice"),
+            ));
         }
         out.push(RegisteredParameter {
             number,
@@ -241,7 +314,10 @@ fn read_parameters(r: &Reader, props: &Element) -> ConfigResult<Vec<RegisteredPa
             return Err(r.err(
                 c.text_pos,
                 ErrorKind::InvalidValue,
-                format!("<numOfParametersToOptimize> is {n} but {} parameters are registered", out.len()),
+                format!(
+                    "<numOfParametersToOptimize> is {n} but {} parameters are registered",
+                    out.len()
+                ),
             ));
         }
     }
@@ -258,7 +334,15 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
     let props = r.required(root, "properties")?;
     let common = ["numofparameterstooptimize", "registeredparameters"];
     let algorithm = if root.is("geneticalgorithm") {
-        let mut allowed = vec!["popsize", "pmut", "pcross", "nconvergence", "pconvergence", "flushfrequency", "gamode"];
+        let mut allowed = vec![
+            "popsize",
+            "pmut",
+            "pcross",
+            "nconvergence",
+            "pconvergence",
+            "flushfrequency",
+            "gamode",
+        ];
         allowed.extend(common);
         r.only_children(props, &allowed)?;
         Algorithm::Genetic(GaSettings {
@@ -271,7 +355,13 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
             ga_mode: count(&r, props, "gamode", 0)?,
         })
     } else if root.is("greatdeluge") {
-        let mut allowed = vec!["credits", "retries", "initialwaterlevel", "rain", "confidence"];
+        let mut allowed = vec![
+            "credits",
+            "retries",
+            "initialwaterlevel",
+            "rain",
+            "confidence",
+        ];
         allowed.extend(common);
         r.only_children(props, &allowed)?;
         let rain = r.required(props, "rain")?;
@@ -286,7 +376,10 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
         return Err(r.err(
             root.pos,
             ErrorKind::UnknownElement,
-            format!("an optimizer file starts with <geneticAlgorithm> or <greatDeluge>, not <{}>", root.name),
+            format!(
+                "an optimizer file starts with <geneticAlgorithm> or <greatDeluge>, not <{}>",
+                root.name
+            ),
         ));
     };
     let parameters = read_parameters(&r, props)?;
@@ -294,13 +387,20 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
     for g in root.children_named("genomeconfig") {
         let cfg = read_genome(&r, g)?;
         if genome.iter().any(|o| o.number == cfg.number) {
-            return Err(r.err(cfg.pos, ErrorKind::InvalidValue, format!("genomeConfig number {} given twice", cfg.number)));
+            return Err(r.err(
+                cfg.pos,
+                ErrorKind::InvalidValue,
+                format!("genomeConfig number {} given twice", cfg.number),
+            ));
         }
         if !parameters.iter().any(|p| p.number == cfg.number) {
             return Err(r.err(
                 cfg.pos,
                 ErrorKind::UnknownReference,
-                format!("genomeConfig number {} belongs to no registered parameter", cfg.number),
+                format!(
+                    "genomeConfig number {} belongs to no registered parameter",
+                    cfg.number
+                ),
             ));
         }
         genome.push(cfg);
@@ -310,11 +410,18 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
             return Err(r.err(
                 p.pos,
                 ErrorKind::Missing,
-                format!("registered parameter {} ({}) has no <genomeConfig number=\"{}\">", p.number, p.parameter, p.number),
+                format!(
+                    "registered parameter {} ({}) has no <genomeConfig number=\"{}\">",
+                    p.number, p.parameter, p.number
+                ),
             ));
         }
     }
-    Ok(OptimizerFile { algorithm, parameters, genome })
+    Ok(OptimizerFile {
+        algorithm,
+        parameters,
+        genome,
+    })
 }
 
 /// Writes an optimizer file.
@@ -349,7 +456,11 @@ pub fn write_optimizer_file(o: &OptimizerFile) -> String {
     for p in &o.parameters {
         w.empty(
             "parameter",
-            &[("number", p.number.to_string()), ("controlAlgorithm", p.module.clone()), ("parameter", p.parameter.clone())],
+            &[
+                ("number", p.number.to_string()),
+                ("controlAlgorithm", p.module.clone()),
+                ("parameter", p.parameter.clone()),
+            ],
         );
     }
     w.close();
@@ -366,7 +477,11 @@ pub fn write_optimizer_file(o: &OptimizerFile) -> String {
                 ("activeJoints", g.active_joints.to_string()),
             ],
         );
-        for (name, v) in [("upperBounds", &g.upper), ("lowerBounds", &g.lower), ("boundsIncrements", &g.increments)] {
+        for (name, v) in [
+            ("upperBounds", &g.upper),
+            ("lowerBounds", &g.lower),
+            ("boundsIncrements", &g.increments),
+        ] {
             if !v.is_empty() {
                 w.nums(name, v);
             }
@@ -383,9 +498,15 @@ pub fn write_optimizer_file(o: &OptimizerFile) -> String {
 }
 
 /// Number of allowed values of one gene with the given range (GAlib discretized allele).
-pub fn allele_count(lower: f64, upper: f64, inc: f64, lo_type: BoundType, hi_type: BoundType) -> u64 {
+pub fn allele_count(
+    lower: f64,
+    upper: f64,
+    inc: f64,
+    lo_type: BoundType,
+    hi_type: BoundType,
+) -> u64 {
     let steps = ((upper - lower) / inc + 1e-9).floor();
-    let mut n = steps as u64 + 1;
+    let mut n = (steps as u64).saturating_add(1);
     if lo_type == BoundType::Exclusive {
         n = n.saturating_sub(1);
     }
@@ -398,4 +519,24 @@ pub fn allele_count(lower: f64, upper: f64, inc: f64, lo_type: BoundType, hi_typ
 /// A short `[lo, hi] step inc` description of a gene's range.
 pub fn describe_range(lower: f64, upper: f64, inc: f64) -> String {
     format!("[{}, {}] step {}", num(lower), num(upper), num(inc))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn allele_counts_follow_galib_bound_types() {
+        use BoundType::*;
+        assert_eq!(allele_count(0.0, 40.0, 0.25, Inclusive, Inclusive), 161);
+        assert_eq!(allele_count(50.0, 800.0, 25.0, Exclusive, Exclusive), 29);
+        assert_eq!(allele_count(0.1, 1.0, 0.1, Inclusive, Inclusive), 10);
+        // A range that does not end on a step keeps its last reachable value.
+        assert_eq!(allele_count(0.0, 1.0, 0.3, Inclusive, Exclusive), 4);
+        // Absurdly fine steps saturate instead of overflowing.
+        assert_eq!(
+            allele_count(0.0, 1.0, 1e-320, Inclusive, Inclusive),
+            u64::MAX
+        );
+    }
 }

@@ -25,14 +25,21 @@ pub fn parse_robot_file(file: &str, text: &str) -> ConfigResult<RobotFile> {
         return Err(r.err(
             root.pos,
             ErrorKind::UnknownElement,
-            format!("a robot file starts with <Robot name=...>, not <{}>", root.name),
+            format!(
+                "a robot file starts with <Robot name=...>, not <{}>",
+                root.name
+            ),
         ));
     }
     r.only_children(root, &["kinbody", "attachedsensor"])?;
     r.only_attrs(root, &["name"])?;
     let kb = r.required(root, "kinbody")?;
     if kb.attr("file").is_some() {
-        return Err(r.err(kb.pos, ErrorKind::InvalidValue, "the robot's <KinBody> holds the parts; include them inside it"));
+        return Err(r.err(
+            kb.pos,
+            ErrorKind::InvalidValue,
+            "the robot's <KinBody> holds the parts; include them inside it",
+        ));
     }
     Ok(RobotFile {
         name: r.required_attr(root, "name")?.value.clone(),

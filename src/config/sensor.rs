@@ -59,7 +59,10 @@ impl Sensor {
     pub fn read(r: &Reader, el: &Element) -> ConfigResult<Sensor> {
         let ty = r.required_attr(el, "type")?;
         let flag = |name: &str, default: bool| -> ConfigResult<bool> {
-            r.at_most_one(el, name)?.map(|c| r.flag(c)).transpose().map(|v| v.unwrap_or(default))
+            r.at_most_one(el, name)?
+                .map(|c| r.flag(c))
+                .transpose()
+                .map(|v| v.unwrap_or(default))
         };
         match ty.value.to_ascii_lowercase().as_str() {
             "tactilesensor" | "tactile" => {
@@ -68,17 +71,40 @@ impl Sensor {
                     Some(c) => {
                         let e = r.array::<3>(c)?;
                         if e.iter().any(|v| *v <= 0.0) {
-                            return Err(r.err(c.text_pos, ErrorKind::OutOfRange, "pad <extents> must all be > 0"));
+                            return Err(r.err(
+                                c.text_pos,
+                                ErrorKind::OutOfRange,
+                                "pad <extents> must all be > 0",
+                            ));
                         }
                         e
                     }
                     None => DEFAULT_PAD_EXTENTS,
                 };
-                let debounce = r.at_most_one(el, "debounce")?.map(|c| r.u32(c)).transpose()?.unwrap_or(3);
-                Ok(Sensor::Tactile(TactileSensor { power: flag("power", true)?, extents, debounce }))
+                let debounce = r
+                    .at_most_one(el, "debounce")?
+                    .map(|c| r.u32(c))
+                    .transpose()?
+                    .unwrap_or(3);
+                Ok(Sensor::Tactile(TactileSensor {
+                    power: flag("power", true)?,
+                    extents,
+                    debounce,
+                }))
             }
             "baselaser2d" | "laser2d" => {
-                r.only_children(el, &["minangle", "maxangle", "resolution", "maxrange", "scantime", "render", "power"])?;
+                r.only_children(
+                    el,
+                    &[
+                        "minangle",
+                        "maxangle",
+                        "resolution",
+                        "maxrange",
+                        "scantime",
+                        "render",
+                        "power",
+                    ],
+                )?;
                 let min_angle = r.opt_f64(el, "minangle")?.unwrap_or(-90.0);
                 let max_angle = r.opt_f64(el, "maxangle")?.unwrap_or(90.0);
                 if min_angle > max_angle {
@@ -86,14 +112,22 @@ impl Sensor {
                     return Err(r.err(
                         c.text_pos,
                         ErrorKind::OutOfRange,
-                        format!("laser <minangle> {min_angle} is greater than <maxangle> {max_angle}"),
+                        format!(
+                            "laser <minangle> {min_angle} is greater than <maxangle> {max_angle}"
+                        ),
                     ));
                 }
                 let positive = |name: &str, default: f64| -> ConfigResult<f64> {
                     match r.at_most_one(el, name)? {
                         Some(c) => {
                             let v = r.f64(c)?;
-                            r.check_range(v, f64::MIN_POSITIVE, f64::INFINITY, c.text_pos, &format!("<{}>", c.name))?;
+                            r.check_range(
+                                v,
+                                f64::MIN_POSITIVE,
+                                f64::INFINITY,
+                                c.text_pos,
+                                &format!("<{}>", c.name),
+                            )?;
                             Ok(v)
                         }
                         None => Ok(default),
@@ -147,7 +181,10 @@ impl Sensor {
 pub enum SensorSource {
     Inline(Sensor),
     /// A sensor file, as written (resolved relative to the including file).
-    File { path: String, pos: Pos },
+    File {
+        path: String,
+        pos: Pos,
+    },
 }
 
 /// A sensor attached to a link of the robot.
@@ -174,16 +211,29 @@ impl AttachedSensor {
             Some(f) => {
                 r.only_attrs(s, &["file", "type"])?;
                 if !s.children.is_empty() {
-                    return Err(r.err(s.pos, ErrorKind::InvalidValue, "a <sensor file=...> takes no inline settings"));
+                    return Err(r.err(
+                        s.pos,
+                        ErrorKind::InvalidValue,
+                        "a <sensor file=...> takes no inline settings",
+                    ));
                 }
-                SensorSource::File { path: f.value.clone(), pos: f.pos }
+                SensorSource::File {
+                    path: f.value.clone(),
+                    pos: f.pos,
+                }
             }
             None => {
                 r.only_attrs(s, &["type"])?;
                 SensorSource::Inline(Sensor::read(r, s)?)
             }
         };
-        Ok(AttachedSensor { name, link, pose: Transform::read(r, el)?, source, pos: el.pos })
+        Ok(AttachedSensor {
+            name,
+            link,
+            pose: Transform::read(r, el)?,
+            source,
+            pos: el.pos,
+        })
     }
 
     pub fn write(&self, w: &mut XmlWriter) {
@@ -206,7 +256,10 @@ pub fn parse_sensor_file(file: &str, text: &str) -> ConfigResult<Sensor> {
         return Err(r.err(
             doc.root.pos,
             ErrorKind::UnknownElement,
-            format!("a sensor file starts with <sensor type=...>, not <{}>", doc.root.name),
+            format!(
+                "a sensor file starts with <sensor type=...>, not <{}>",
+                doc.root.name
+            ),
         ));
     }
     r.only_attrs(&doc.root, &["type"])?;

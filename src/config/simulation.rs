@@ -41,20 +41,41 @@ impl Mode {
 
     /// Accepted spellings (compared ignoring case, spaces, `_` and `-`).
     const ALIASES: [(Mode, &'static [&'static str]); 4] = [
-        (Mode::SingleRun, &["Single Run Simulation", "Single Run", "single"]),
-        (Mode::RealRobot, &["Real Robot Control", "Real Robot", "real"]),
+        (
+            Mode::SingleRun,
+            &["Single Run Simulation", "Single Run", "single"],
+        ),
+        (
+            Mode::RealRobot,
+            &["Real Robot Control", "Real Robot", "real"],
+        ),
         (
             Mode::GeneticAlgorithm,
-            &["GA optimization", "GA optimisation", "Genetic Algorithm", "Genetic Algorithm optimization", "GA"],
+            &[
+                "GA optimization",
+                "GA optimisation",
+                "Genetic Algorithm",
+                "Genetic Algorithm optimization",
+                "GA",
+            ],
         ),
         (
             Mode::GreatDeluge,
-            &["Great Deluge optimization", "Great Deluge optimisation", "Great Deluge", "modified great deluge", "GD"],
+            &[
+                "Great Deluge optimization",
+                "Great Deluge optimisation",
+                "Great Deluge",
+                "modified great deluge",
+                "GD",
+            ],
         ),
     ];
 
     pub fn parse(s: &str) -> Option<Mode> {
-        Mode::ALIASES.iter().find(|(_, names)| names.iter().any(|n| same_name(n, s))).map(|(m, _)| *m)
+        Mode::ALIASES
+            .iter()
+            .find(|(_, names)| names.iter().any(|n| same_name(n, s)))
+            .map(|(m, _)| *m)
     }
 
     pub fn is_optimization(self) -> bool {
@@ -124,15 +145,26 @@ pub struct SimulationFile {
 }
 
 fn file_ref(r: &Reader, el: &Element) -> ConfigResult<FileRef> {
-    Ok(FileRef { path: r.text(el)?.to_string(), pos: el.text_pos })
+    Ok(FileRef {
+        path: r.text(el)?.to_string(),
+        pos: el.text_pos,
+    })
 }
 
 fn read_properties(r: &Reader, el: &Element) -> ConfigResult<SimulationProperties> {
     r.only_children(
         el,
         &[
-            "showviewer", "parallelcomputing", "storingdata", "mode", "accuracy", "stepwidth", "duration", "seed",
-            "delay", "realtimefactor",
+            "showviewer",
+            "parallelcomputing",
+            "storingdata",
+            "mode",
+            "accuracy",
+            "stepwidth",
+            "duration",
+            "seed",
+            "delay",
+            "realtimefactor",
         ],
     )?;
     let mut p = SimulationProperties::default();
@@ -149,18 +181,29 @@ fn read_properties(r: &Reader, el: &Element) -> ConfigResult<SimulationPropertie
         let t = r.text(c)?;
         p.mode = Mode::parse(t).ok_or_else(|| {
             let known: Vec<&str> = Mode::ALIASES.iter().map(|(m, _)| m.name()).collect();
-            r.err(c.text_pos, ErrorKind::InvalidValue, format!("unknown mode \"{t}\"; expected one of: {}", known.join(", ")))
+            r.err(
+                c.text_pos,
+                ErrorKind::InvalidValue,
+                format!(
+                    "unknown mode \"{t}\"; expected one of: {}",
+                    known.join(", ")
+                ),
+            )
         })?;
     }
     if let Some(c) = r.at_most_one(el, "accuracy")? {
         p.accuracy = r.u32(c)?;
         if p.accuracy == 0 {
-            return Err(r.err(c.text_pos, ErrorKind::OutOfRange, "<accuracy> is a sampling period in steps; it must be at least 1"));
+            return Err(r.err(
+                c.text_pos,
+                ErrorKind::OutOfRange,
+                "<accuracy> is a sampling period in steps; it must be at least 1",
+            ));
         }
     }
     if let Some(c) = r.at_most_one(el, "stepwidth")? {
         let v = r.f64(c)?;
-        if v > MAX_STEP_WIDTH && v >= 1.0 {
+        if v >= 1.0 {
             return Err(r.err(
                 c.text_pos,
                 ErrorKind::OutOfRange,
@@ -176,7 +219,11 @@ fn read_properties(r: &Reader, el: &Element) -> ConfigResult<SimulationPropertie
     if let Some(c) = r.at_most_one(el, "seed")? {
         let t = r.text(c)?;
         p.seed = t.trim().parse().map_err(|_| {
-            r.err(c.text_pos, ErrorKind::InvalidValue, format!("<seed>: expected a whole number >= 0, found \"{t}\""))
+            r.err(
+                c.text_pos,
+                ErrorKind::InvalidValue,
+                format!("<seed>: expected a whole number >= 0, found \"{t}\""),
+            )
         })?;
     }
     if let Some(c) = r.at_most_one(el, "delay")? {
@@ -197,13 +244,22 @@ pub fn parse_simulation_file(file: &str, text: &str) -> ConfigResult<SimulationF
         return Err(r.err(
             root.pos,
             ErrorKind::UnknownElement,
-            format!("a simulation file starts with <simulation>, not <{}>", root.name),
+            format!(
+                "a simulation file starts with <simulation>, not <{}>",
+                root.name
+            ),
         ));
     }
     r.only_children(
         root,
         &[
-            "description", "robot", "actuation", "environment", "optimizer", "geneticalgorithm", "greatdeluge",
+            "description",
+            "robot",
+            "actuation",
+            "environment",
+            "optimizer",
+            "geneticalgorithm",
+            "greatdeluge",
             "simulationproperties",
         ],
     )?;
@@ -212,7 +268,11 @@ pub fn parse_simulation_file(file: &str, text: &str) -> ConfigResult<SimulationF
     for name in ["optimizer", "geneticalgorithm", "greatdeluge"] {
         if let Some(c) = r.at_most_one(root, name)? {
             if optimizer.is_some() {
-                return Err(r.err(c.pos, ErrorKind::InvalidValue, "only one optimizer file per simulation"));
+                return Err(r.err(
+                    c.pos,
+                    ErrorKind::InvalidValue,
+                    "only one optimizer file per simulation",
+                ));
             }
             optimizer = Some(file_ref(&r, c)?);
         }
@@ -232,7 +292,10 @@ pub fn parse_simulation_file(file: &str, text: &str) -> ConfigResult<SimulationF
         description: r.at_most_one(root, "description")?.map(|d| d.text.clone()),
         robot: file_ref(&r, r.required(root, "robot")?)?,
         actuation: file_ref(&r, r.required(root, "actuation")?)?,
-        environment: r.at_most_one(root, "environment")?.map(|e| file_ref(&r, e)).transpose()?,
+        environment: r
+            .at_most_one(root, "environment")?
+            .map(|e| file_ref(&r, e))
+            .transpose()?,
         optimizer,
         properties,
     })

@@ -40,7 +40,11 @@ pub fn summary(sim: &Simulation) -> String {
         s,
         "  links {}: {}; total mass {} kg",
         r.links.len(),
-        r.links.iter().map(|l| l.name.as_str()).collect::<Vec<_>>().join(" "),
+        r.links
+            .iter()
+            .map(|l| l.name.as_str())
+            .collect::<Vec<_>>()
+            .join(" "),
         round(r.total_mass(), 4)
     );
     let _ = writeln!(s, "  joints {} [{}]:", r.joints.len(), r.pattern());
@@ -58,9 +62,17 @@ pub fn summary(sim: &Simulation) -> String {
             num(j.max_vel)
         );
     }
-    let tactile = r.sensors.iter().filter(|x| matches!(x.sensor, Sensor::Tactile(_))).count();
+    let tactile = r
+        .sensors
+        .iter()
+        .filter(|x| matches!(x.sensor, Sensor::Tactile(_)))
+        .count();
     let lasers = r.sensors.len() - tactile;
-    let _ = writeln!(s, "  sensors {}: {tactile} tactile, {lasers} laser", r.sensors.len());
+    let _ = writeln!(
+        s,
+        "  sensors {}: {tactile} tactile, {lasers} laser",
+        r.sensors.len()
+    );
 
     let _ = writeln!(s, "actuation   {}", sim.actuation.file.display());
     for m in &sim.actuation.modules {
@@ -72,7 +84,13 @@ pub fn summary(sim: &Simulation) -> String {
                 ParamValue::PerJoint(v) => format!("{}=[{}]", p.name, nums(v)),
             })
             .collect();
-        let _ = writeln!(s, "  {:<28} joints {}  {}", m.descriptor.type_name, m.joints, params.join(" "));
+        let _ = writeln!(
+            s,
+            "  {:<28} joints {}  {}",
+            m.descriptor.type_name,
+            m.joints,
+            params.join(" ")
+        );
     }
 
     let e = &sim.environment;
@@ -88,7 +106,11 @@ pub fn summary(sim: &Simulation) -> String {
         s,
         "  gravity {}, self-collision {}, {} objects",
         nums(&e.physics.gravity),
-        if e.physics.self_collision { "on" } else { "off" },
+        if e.physics.self_collision {
+            "on"
+        } else {
+            "off"
+        },
         e.bodies.len()
     );
     for b in &e.bodies {
@@ -97,10 +119,24 @@ pub fn summary(sim: &Simulation) -> String {
             BodyKind::Dynamic => "dynamic",
         };
         let geoms: Vec<String> = b.geoms.iter().map(|g| g.shape.describe()).collect();
-        let shown = if geoms.len() > 3 { format!("{} and {} more", geoms[..3].join(", "), geoms.len() - 3) } else { geoms.join(", ") };
-        let _ = writeln!(s, "    {} ({kind}) at {}: {shown}", b.name, nums(&b.pose.translation.map(|v| (v * 1e4).round() / 1e4)));
+        let shown = if geoms.len() > 3 {
+            format!("{} and {} more", geoms[..3].join(", "), geoms.len() - 3)
+        } else {
+            geoms.join(", ")
+        };
+        let _ = writeln!(
+            s,
+            "    {} ({kind}) at {}: {shown}",
+            b.name,
+            nums(&b.pose.translation.map(|v| (v * 1e4).round() / 1e4))
+        );
     }
-    let _ = writeln!(s, "  robot pose: translation {}, rotation {}", nums(&e.robot_pose.translation), nums(&e.robot_pose.rotation));
+    let _ = writeln!(
+        s,
+        "  robot pose: translation {}, rotation {}",
+        nums(&e.robot_pose.translation),
+        nums(&e.robot_pose.rotation)
+    );
 
     if let Some(o) = &sim.optimizer {
         let _ = writeln!(s, "optimizer   {} ({})", o.spec.label(), o.file.display());

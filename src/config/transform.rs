@@ -28,10 +28,16 @@ impl Default for Transform {
 pub const POSE_ELEMENTS: [&str; 4] = ["translation", "rotationaxis", "quat", "rotationmat"];
 
 impl Transform {
-    pub const IDENTITY: Transform = Transform { translation: [0.0; 3], rotation: [1.0, 0.0, 0.0, 0.0] };
+    pub const IDENTITY: Transform = Transform {
+        translation: [0.0; 3],
+        rotation: [1.0, 0.0, 0.0, 0.0],
+    };
 
     pub fn from_translation(t: [f64; 3]) -> Self {
-        Transform { translation: t, rotation: Transform::IDENTITY.rotation }
+        Transform {
+            translation: t,
+            rotation: Transform::IDENTITY.rotation,
+        }
     }
 
     /// Whether this is exactly the identity.
@@ -43,7 +49,11 @@ impl Transform {
     pub fn mul(&self, other: &Transform) -> Transform {
         let t = self.rotate(other.translation);
         Transform {
-            translation: [t[0] + self.translation[0], t[1] + self.translation[1], t[2] + self.translation[2]],
+            translation: [
+                t[0] + self.translation[0],
+                t[1] + self.translation[1],
+                t[2] + self.translation[2],
+            ],
             rotation: quat_mul(self.rotation, other.rotation),
         }
     }
@@ -67,7 +77,11 @@ impl Transform {
         for c in &el.children {
             if c.is("translation") {
                 let t = r.array::<3>(c)?;
-                tf.translation = [tf.translation[0] + t[0], tf.translation[1] + t[1], tf.translation[2] + t[2]];
+                tf.translation = [
+                    tf.translation[0] + t[0],
+                    tf.translation[1] + t[1],
+                    tf.translation[2] + t[2],
+                ];
             } else if c.is("rotationaxis") {
                 let [x, y, z, deg] = r.array::<4>(c)?;
                 let q = axis_angle(r, c, [x, y, z], deg)?;
@@ -96,7 +110,11 @@ impl Transform {
 }
 
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
 }
 
 /// Hamilton product `a * b`.
@@ -172,7 +190,9 @@ mod tests {
     #[test]
     fn rotation_about_z_turns_x_into_y() {
         let r = Reader::new("t.xml");
-        let doc = crate::config::xml::dom::parse("t.xml", "<b><rotationaxis>0 0 1 90</rotationaxis></b>").unwrap();
+        let doc =
+            crate::config::xml::dom::parse("t.xml", "<b><rotationaxis>0 0 1 90</rotationaxis></b>")
+                .unwrap();
         let tf = Transform::read(&r, &doc.root).unwrap();
         let v = tf.rotate([1.0, 0.0, 0.0]);
         assert!((v[0]).abs() < 1e-12 && (v[1] - 1.0).abs() < 1e-12, "{v:?}");

@@ -24,18 +24,23 @@ impl Default for ModuleRegistry {
 
 impl ModuleRegistry {
     pub fn empty() -> Self {
-        ModuleRegistry { descriptors: Vec::new() }
+        ModuleRegistry {
+            descriptors: Vec::new(),
+        }
     }
 
     /// Adds a module type; a later registration under the same name replaces the earlier.
     pub fn register(&mut self, d: ModuleDescriptor) {
-        self.descriptors.retain(|o| !same_name(o.type_name, d.type_name));
+        self.descriptors
+            .retain(|o| !same_name(o.type_name, d.type_name));
         self.descriptors.push(d);
     }
 
     /// The type answering to `name` (`Global Adaptive Touch` finds `Global_Adaptive_Touch`).
     pub fn get(&self, name: &str) -> Option<&ModuleDescriptor> {
-        self.descriptors.iter().find(|d| same_name(d.type_name, name))
+        self.descriptors
+            .iter()
+            .find(|d| same_name(d.type_name, name))
     }
 
     /// Registered type names, in registration order.

@@ -44,7 +44,11 @@ pub fn resolve_actuation(
     let r = Reader::new(path);
     let mut warnings = Vec::new();
     if let Some(valid) = &file.valid_robot {
-        let robot_file = robot.file.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
+        let robot_file = robot
+            .file
+            .file_name()
+            .map(|f| f.to_string_lossy().into_owned())
+            .unwrap_or_default();
         if *valid != robot_file && *valid != robot.name {
             warnings.push(format!(
                 "{}: made for robot \"{valid}\", used with \"{robot_file}\" (masks match its {} joints)",
@@ -59,12 +63,26 @@ pub fn resolve_actuation(
             r.err(
                 m.pos,
                 ErrorKind::UnknownModule,
-                format!("unknown actuation module \"{}\"; known modules: {}", m.name, registry.names().join(", ")),
+                format!(
+                    "unknown actuation module \"{}\"; known modules: {}",
+                    m.name,
+                    registry.names().join(", ")
+                ),
             )
         })?;
-        m.joints.check_len(&r, m.mask_pos, robot.joints.len(), "jointConfiguration joints=")?;
+        m.joints.check_len(
+            &r,
+            m.mask_pos,
+            robot.joints.len(),
+            "jointConfiguration joints=",
+        )?;
         if m.joints.count() == 0 {
-            warnings.push(format!("{}: module {} drives no joint (mask {})", path.display(), m.name, m.joints));
+            warnings.push(format!(
+                "{}: module {} drives no joint (mask {})",
+                path.display(),
+                m.name,
+                m.joints
+            ));
         }
         let mut params: Vec<ParamAssignment> = Vec::new();
         for p in &m.params {
@@ -81,7 +99,11 @@ pub fn resolve_actuation(
                 )
             })?;
             if params.iter().any(|o| o.name == d.name) {
-                return Err(r.err(p.pos, ErrorKind::InvalidValue, format!("parameter {} is set twice", d.name)));
+                return Err(r.err(
+                    p.pos,
+                    ErrorKind::InvalidValue,
+                    format!("parameter {} is set twice", d.name),
+                ));
             }
             let values: &[f64] = match &p.value {
                 ParamValue::Uniform(v) => std::slice::from_ref(v),
@@ -103,11 +125,28 @@ pub fn resolve_actuation(
                 }
             };
             for v in values {
-                r.check_range(*v, d.min, d.max, p.pos, &format!("{} {} ({})", descriptor.type_name, d.name, d.unit))?;
+                r.check_range(
+                    *v,
+                    d.min,
+                    d.max,
+                    p.pos,
+                    &format!("{} {} ({})", descriptor.type_name, d.name, d.unit),
+                )?;
             }
-            params.push(ParamAssignment { name: d.name, value: p.value.clone() });
+            params.push(ParamAssignment {
+                name: d.name,
+                value: p.value.clone(),
+            });
         }
-        modules.push(ModuleInstance { descriptor: descriptor.clone(), joints: m.joints.clone(), params });
+        modules.push(ModuleInstance {
+            descriptor: descriptor.clone(),
+            joints: m.joints.clone(),
+            params,
+        });
     }
-    Ok(ActuationModel { file: path.to_path_buf(), modules, warnings })
+    Ok(ActuationModel {
+        file: path.to_path_buf(),
+        modules,
+        warnings,
+    })
 }

@@ -35,12 +35,22 @@ pub struct EnvironmentModel {
 impl EnvironmentModel {
     /// No file: gravity on, nothing to stand on.
     pub fn empty() -> Self {
-        EnvironmentModel { file: None, physics: Physics::default(), bodies: Vec::new(), robot_pose: Transform::IDENTITY, files: Vec::new() }
+        EnvironmentModel {
+            file: None,
+            physics: Physics::default(),
+            bodies: Vec::new(),
+            robot_pose: Transform::IDENTITY,
+            files: Vec::new(),
+        }
     }
 }
 
 /// Builds the environment model from a parsed environment file at `path`.
-pub fn resolve_environment(src: &dyn FileSource, path: &Path, file: &EnvironmentFile) -> ConfigResult<EnvironmentModel> {
+pub fn resolve_environment(
+    src: &dyn FileSource,
+    path: &Path,
+    file: &EnvironmentFile,
+) -> ConfigResult<EnvironmentModel> {
     let mut fl = Flattener::new(src, path);
     fl.out.files.push(path.to_path_buf());
     for o in &file.objects {
@@ -50,10 +60,20 @@ pub fn resolve_environment(src: &dyn FileSource, path: &Path, file: &Environment
         }
     }
     if let Some(j) = fl.out.joints.first() {
-        return Err(ConfigError::new(&j.file, j.joint.pos, ErrorKind::UnknownElement, "joints in environment objects are not supported"));
+        return Err(ConfigError::new(
+            &j.file,
+            j.joint.pos,
+            ErrorKind::UnknownElement,
+            "joints in environment objects are not supported",
+        ));
     }
     if let Some(s) = fl.out.sensors.first() {
-        return Err(ConfigError::new(&s.file, s.sensor.pos, ErrorKind::UnknownElement, "sensors belong to robots, not environments"));
+        return Err(ConfigError::new(
+            &s.file,
+            s.sensor.pos,
+            ErrorKind::UnknownElement,
+            "sensors belong to robots, not environments",
+        ));
     }
     let bodies = fl
         .out

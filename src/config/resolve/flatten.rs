@@ -53,11 +53,21 @@ pub struct Flattener<'a> {
 
 impl<'a> Flattener<'a> {
     pub fn new(src: &'a dyn FileSource, root_file: &Path) -> Self {
-        Flattener { src, stack: vec![root_file.to_path_buf()], out: Flat::default() }
+        Flattener {
+            src,
+            stack: vec![root_file.to_path_buf()],
+            out: Flat::default(),
+        }
     }
 
     /// Adds `kb` (written in `file`) with `prefix`, placed by `placement`.
-    pub fn add(&mut self, kb: &KinBody, file: &Path, prefix: &str, placement: &Transform) -> ConfigResult<()> {
+    pub fn add(
+        &mut self,
+        kb: &KinBody,
+        file: &Path,
+        prefix: &str,
+        placement: &Transform,
+    ) -> ConfigResult<()> {
         let tf = placement.mul(&kb.pose);
         for inc in &kb.includes {
             self.include(inc, file, prefix, &tf)?;
@@ -82,7 +92,11 @@ impl<'a> Flattener<'a> {
                 self.resolve_mesh(g, file)?;
             }
             let world = tf.mul(&b.pose);
-            self.out.bodies.push(PlacedBody { body, world, file: file.to_path_buf() });
+            self.out.bodies.push(PlacedBody {
+                body,
+                world,
+                file: file.to_path_buf(),
+            });
         }
         for j in &kb.joints {
             let mut joint = j.clone();
@@ -93,22 +107,38 @@ impl<'a> Flattener<'a> {
             if let Some(o) = &mut joint.offset_from {
                 *o = format!("{prefix}{o}");
             }
-            self.out.joints.push(PlacedJoint { joint, file: file.to_path_buf() });
+            self.out.joints.push(PlacedJoint {
+                joint,
+                file: file.to_path_buf(),
+            });
         }
         for s in &kb.sensors {
             let mut sensor = s.clone();
             sensor.name = format!("{prefix}{}", s.name);
             sensor.link = format!("{prefix}{}", s.link);
-            self.out.sensors.push(PlacedSensor { sensor, file: file.to_path_buf() });
+            self.out.sensors.push(PlacedSensor {
+                sensor,
+                file: file.to_path_buf(),
+            });
         }
         Ok(())
     }
 
     /// Reads an included part file and adds it.
-    pub fn include(&mut self, inc: &Include, file: &Path, prefix: &str, placement: &Transform) -> ConfigResult<()> {
+    pub fn include(
+        &mut self,
+        inc: &Include,
+        file: &Path,
+        prefix: &str,
+        placement: &Transform,
+    ) -> ConfigResult<()> {
         let path = find_file(self.src, file, &inc.file, inc.pos, "kinbody part")?;
         if let Some(i) = self.stack.iter().position(|p| *p == path) {
-            let chain: Vec<String> = self.stack[i..].iter().chain([&path]).map(|p| p.display().to_string()).collect();
+            let chain: Vec<String> = self.stack[i..]
+                .iter()
+                .chain([&path])
+                .map(|p| p.display().to_string())
+                .collect();
             return Err(ConfigError::new(
                 file,
                 inc.pos,
@@ -117,7 +147,8 @@ impl<'a> Flattener<'a> {
             ));
         }
         let text = read_file(self.src, &path, file, inc.pos)?;
-        let part = parse_kinbody_file(&path.display().to_string(), &text).map_err(|e| e.included_from(file, inc.pos))?;
+        let part = parse_kinbody_file(&path.display().to_string(), &text)
+            .map_err(|e| e.included_from(file, inc.pos))?;
         self.stack.push(path.clone());
         self.out.files.push(path.clone());
         let tf = placement.mul(&inc.pose);
@@ -139,17 +170,33 @@ impl<'a> Flattener<'a> {
 }
 
 /// Resolves an included path or fails with a missing-file error at `pos` of `from`.
-pub fn find_file(src: &dyn FileSource, from: &Path, written: &str, pos: Pos, what: &str) -> ConfigResult<PathBuf> {
+pub fn find_file(
+    src: &dyn FileSource,
+    from: &Path,
+    written: &str,
+    pos: Pos,
+    what: &str,
+) -> ConfigResult<PathBuf> {
     if written.trim().is_empty() {
-        return Err(ConfigError::new(from, pos, ErrorKind::Missing, format!("the {what} file name is empty")));
+        return Err(ConfigError::new(
+            from,
+            pos,
+            ErrorKind::Missing,
+            format!("the {what} file name is empty"),
+        ));
     }
     resolve_include(src, from, written).ok_or_else(|| {
-        let dir = from.parent().map(|d| d.display().to_string()).unwrap_or_default();
+        let dir = from
+            .parent()
+            .map(|d| d.display().to_string())
+            .unwrap_or_default();
         ConfigError::new(
             from,
             pos,
             ErrorKind::MissingFile,
-            format!("{what} file \"{written}\" not found (looked in {dir} and the folders above it)"),
+            format!(
+                "{what} file \"{written}\" not found (looked in {dir} and the folders above it)"
+            ),
         )
     })
 }
@@ -157,6 +204,11 @@ pub fn find_file(src: &dyn FileSource, from: &Path, written: &str, pos: Pos, wha
 /// Reads a file, or fails with a missing-file error at `pos` of `from`.
 pub fn read_file(src: &dyn FileSource, path: &Path, from: &Path, pos: Pos) -> ConfigResult<String> {
     src.read(path).map_err(|e| {
-        ConfigError::new(from, pos, ErrorKind::MissingFile, format!("cannot read {}: {e}", path.display()))
+        ConfigError::new(
+            from,
+            pos,
+            ErrorKind::MissingFile,
+            format!("cannot read {}: {e}", path.display()),
+        )
     })
 }

@@ -54,7 +54,12 @@ pub fn load_simulation(path: impl AsRef<Path>) -> ConfigResult<Simulation> {
 
 fn read_top(src: &dyn FileSource, path: &Path) -> ConfigResult<String> {
     src.read(path).map_err(|e| {
-        ConfigError::new(path, Pos::new(0, 0), ErrorKind::MissingFile, format!("cannot read the simulation file: {e}"))
+        ConfigError::new(
+            path,
+            Pos::new(0, 0),
+            ErrorKind::MissingFile,
+            format!("cannot read the simulation file: {e}"),
+        )
     })
 }
 
@@ -69,29 +74,55 @@ fn include<T>(
 ) -> ConfigResult<(PathBuf, T)> {
     let path = flatten::find_file(src, from, written, pos, what)?;
     let text = flatten::read_file(src, &path, from, pos)?;
-    let parsed = parse(&path.display().to_string(), &text).map_err(|e| e.included_from(from, pos))?;
+    let parsed =
+        parse(&path.display().to_string(), &text).map_err(|e| e.included_from(from, pos))?;
     Ok((path, parsed))
 }
 
 /// Loads a simulation from any [`FileSource`] with the given registry.
-pub fn load_simulation_with(src: &dyn FileSource, path: &Path, registry: &ModuleRegistry) -> ConfigResult<Simulation> {
+pub fn load_simulation_with(
+    src: &dyn FileSource,
+    path: &Path,
+    registry: &ModuleRegistry,
+) -> ConfigResult<Simulation> {
     let path = normalize(path);
     let text = read_top(src, &path)?;
     let sim = parse_simulation_file(&path.display().to_string(), &text)?;
 
-    let (robot_path, robot_file) = include(src, &path, &sim.robot.path, sim.robot.pos, "robot", parse_robot_file)?;
-    let robot = robot::resolve_robot(src, &robot_path, &robot_file).map_err(|e| e.included_from(&path, sim.robot.pos))?;
+    let (robot_path, robot_file) = include(
+        src,
+        &path,
+        &sim.robot.path,
+        sim.robot.pos,
+        "robot",
+        parse_robot_file,
+    )?;
+    let robot = robot::resolve_robot(src, &robot_path, &robot_file)
+        .map_err(|e| e.included_from(&path, sim.robot.pos))?;
 
-    let (act_path, act_file) =
-        include(src, &path, &sim.actuation.path, sim.actuation.pos, "actuation", parse_actuation_file)?;
+    let (act_path, act_file) = include(
+        src,
+        &path,
+        &sim.actuation.path,
+        sim.actuation.pos,
+        "actuation",
+        parse_actuation_file,
+    )?;
     let actuation = actuation::resolve_actuation(&act_path, &act_file, &robot, registry)
         .map_err(|e| e.included_from(&path, sim.actuation.pos))?;
 
     let (env_file, environment) = match &sim.environment {
         Some(e) => {
-            let (env_path, env_file) = include(src, &path, &e.path, e.pos, "environment", parse_environment_file)?;
-            let model =
-                environment::resolve_environment(src, &env_path, &env_file).map_err(|err| err.included_from(&path, e.pos))?;
+            let (env_path, env_file) = include(
+                src,
+                &path,
+                &e.path,
+                e.pos,
+                "environment",
+                parse_environment_file,
+            )?;
+            let model = environment::resolve_environment(src, &env_path, &env_file)
+                .map_err(|err| err.included_from(&path, e.pos))?;
             (Some(env_file), model)
         }
         None => (None, EnvironmentModel::empty()),
@@ -99,7 +130,14 @@ pub fn load_simulation_with(src: &dyn FileSource, path: &Path, registry: &Module
 
     let (opt_file, optimizer) = match &sim.optimizer {
         Some(o) => {
-            let (opt_path, opt_file) = include(src, &path, &o.path, o.pos, "optimizer", parse_optimizer_file)?;
+            let (opt_path, opt_file) = include(
+                src,
+                &path,
+                &o.path,
+                o.pos,
+                "optimizer",
+                parse_optimizer_file,
+            )?;
             let expected = match sim.properties.mode {
                 Mode::GeneticAlgorithm => Some("genetic algorithm"),
                 Mode::GreatDeluge => Some("modified great deluge"),
@@ -120,8 +158,9 @@ pub fn load_simulation_with(src: &dyn FileSource, path: &Path, registry: &Module
                     ),
                 ));
             }
-            let model = optimizer::resolve_optimizer(&opt_path, &opt_file, &robot, &actuation, registry)
-                .map_err(|e| e.included_from(&path, o.pos))?;
+            let model =
+                optimizer::resolve_optimizer(&opt_path, &opt_file, &robot, &actuation, registry)
+                    .map_err(|e| e.included_from(&path, o.pos))?;
             (Some(opt_file), Some(model))
         }
         None => (None, None),
@@ -129,14 +168,27 @@ pub fn load_simulation_with(src: &dyn FileSource, path: &Path, registry: &Module
 
     let mut warnings = actuation.warnings.clone();
     if let (Some(opt), false) = (&opt_file, sim.properties.mode.is_optimization()) {
-        warnings.push(format!("{} settings are given but mode is \"{}\"", opt.label(), sim.properties.mode));
+        warnings.push(format!(
+            "{} settings are given but mode is \"{}\"",
+            opt.label(),
+            sim.properties.mode
+        ));
     }
     for l in robot.links.iter().filter(|l| l.mass_from_geometry) {
-        warnings.push(format!("link {} gives no mass; {:.3} kg from its geometry at 1000 kg/m³", l.name, l.mass));
+        warnings.push(format!(
+            "link {} gives no mass; {:.3} kg from its geometry at 1000 kg/m³",
+            l.name, l.mass
+        ));
     }
     Ok(Simulation {
         file: path,
-        files: SimulationFiles { simulation: sim, robot: robot_file, actuation: act_file, environment: env_file, optimizer: opt_file },
+        files: SimulationFiles {
+            simulation: sim,
+            robot: robot_file,
+            actuation: act_file,
+            environment: env_file,
+            optimizer: opt_file,
+        },
         robot,
         actuation,
         environment,

@@ -36,7 +36,11 @@ pub struct OptimizerModel {
 impl OptimizerModel {
     /// Number of candidate solutions (product of allele counts), as f64 (it overflows u64).
     pub fn search_space(&self) -> f64 {
-        self.parameters.iter().flat_map(|p| p.alleles.iter()).map(|n| *n as f64).product()
+        self.parameters
+            .iter()
+            .flat_map(|p| p.alleles.iter())
+            .map(|n| *n as f64)
+            .product()
     }
 }
 
@@ -55,13 +59,24 @@ pub fn resolve_optimizer(
             r.err(
                 p.pos,
                 ErrorKind::UnknownModule,
-                format!("unknown actuation module \"{}\"; known modules: {}", p.module, registry.names().join(", ")),
+                format!(
+                    "unknown actuation module \"{}\"; known modules: {}",
+                    p.module,
+                    registry.names().join(", ")
+                ),
             )
         })?;
-        let instances: Vec<_> =
-            actuation.modules.iter().filter(|m| same_name(m.descriptor.type_name, descriptor.type_name)).collect();
+        let instances: Vec<_> = actuation
+            .modules
+            .iter()
+            .filter(|m| same_name(m.descriptor.type_name, descriptor.type_name))
+            .collect();
         if instances.is_empty() {
-            let used: Vec<&str> = actuation.modules.iter().map(|m| m.descriptor.type_name).collect();
+            let used: Vec<&str> = actuation
+                .modules
+                .iter()
+                .map(|m| m.descriptor.type_name)
+                .collect();
             return Err(r.err(
                 p.pos,
                 ErrorKind::UnknownReference,
@@ -87,10 +102,16 @@ pub fn resolve_optimizer(
         })?;
         // parse_optimizer_file guarantees one genomeConfig per registered parameter.
         let Some(genome) = file.genome.iter().find(|g| g.number == p.number) else {
-            return Err(r.err(p.pos, ErrorKind::Missing, format!("parameter {} has no genomeConfig", p.number)));
+            return Err(r.err(
+                p.pos,
+                ErrorKind::Missing,
+                format!("parameter {} has no genomeConfig", p.number),
+            ));
         };
         let what = format!("genomeConfig {} activeJoints=", genome.number);
-        genome.active_joints.check_len(&r, genome.mask_pos, robot.joints.len(), &what)?;
+        genome
+            .active_joints
+            .check_len(&r, genome.mask_pos, robot.joints.len(), &what)?;
         for j in genome.active_joints.indices() {
             if !instances.iter().any(|m| m.joints.0[j]) {
                 return Err(r.err(
@@ -103,21 +124,56 @@ pub fn resolve_optimizer(
                 ));
             }
         }
-        let genes = if genome.uniform { 1 } else { genome.active_joints.count() };
+        let genes = if genome.uniform {
+            1
+        } else {
+            genome.active_joints.count()
+        };
         let pick = |v: &Vec<f64>, i: usize| if v.len() == 1 { v[0] } else { v[i] };
         let mut alleles = Vec::with_capacity(genes);
         for i in 0..genes {
             if genome.value_space == 0 {
                 for v in &genome.values {
-                    r.check_range(*v, param.min, param.max, genome.pos, &format!("{} value", param.name))?;
+                    r.check_range(
+                        *v,
+                        param.min,
+                        param.max,
+                        genome.pos,
+                        &format!("{} value", param.name),
+                    )?;
                 }
                 alleles.push(genome.values.len() as u64);
             } else {
-                let (lo, hi, inc) = (pick(&genome.lower, i), pick(&genome.upper, i), pick(&genome.increments, i));
-                let what = format!("genomeConfig {} bounds of {} ({})", genome.number, param.name, param.unit);
-                r.check_range(lo, param.min, param.max, genome.pos, &format!("{what}: lower"))?;
-                r.check_range(hi, param.min, param.max, genome.pos, &format!("{what}: upper"))?;
-                alleles.push(allele_count(lo, hi, inc, genome.lower_bound_type, genome.upper_bound_type));
+                let (lo, hi, inc) = (
+                    pick(&genome.lower, i),
+                    pick(&genome.upper, i),
+                    pick(&genome.increments, i),
+                );
+                let what = format!(
+                    "genomeConfig {} bounds of {} ({})",
+                    genome.number, param.name, param.unit
+                );
+                r.check_range(
+                    lo,
+                    param.min,
+                    param.max,
+                    genome.pos,
+                    &format!("{what}: lower"),
+                )?;
+                r.check_range(
+                    hi,
+                    param.min,
+                    param.max,
+                    genome.pos,
+                    &format!("{what}: upper"),
+                )?;
+                alleles.push(allele_count(
+                    lo,
+                    hi,
+                    inc,
+                    genome.lower_bound_type,
+                    genome.upper_bound_type,
+                ));
             }
         }
         parameters.push(OptimizedParameter {
@@ -129,5 +185,9 @@ pub fn resolve_optimizer(
             alleles,
         });
     }
-    Ok(OptimizerModel { file: path.to_path_buf(), spec: file.clone(), parameters })
+    Ok(OptimizerModel {
+        file: path.to_path_buf(),
+        spec: file.clone(),
+        parameters,
+    })
 }

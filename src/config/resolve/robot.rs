@@ -153,7 +153,9 @@ fn classify(axis: [f64; 3], chain: [f64; 3]) -> JointOrientation {
     let chain_len = (chain[0] * chain[0] + chain[1] * chain[1] + chain[2] * chain[2]).sqrt();
     if axis[2].abs() > 0.7 {
         JointOrientation::Yaw
-    } else if chain_len > 1e-9 && (axis[0] * chain[0] + axis[1] * chain[1] + axis[2] * chain[2]).abs() / chain_len > 0.7 {
+    } else if chain_len > 1e-9
+        && (axis[0] * chain[0] + axis[1] * chain[1] + axis[2] * chain[2]).abs() / chain_len > 0.7
+    {
         JointOrientation::Roll
     } else {
         JointOrientation::Pitch
@@ -161,22 +163,45 @@ fn classify(axis: [f64; 3], chain: [f64; 3]) -> JointOrientation {
 }
 
 /// Builds the robot model from a parsed robot file at `path`.
-pub fn resolve_robot(src: &dyn FileSource, path: &Path, file: &RobotFile) -> ConfigResult<RobotModel> {
+pub fn resolve_robot(
+    src: &dyn FileSource,
+    path: &Path,
+    file: &RobotFile,
+) -> ConfigResult<RobotModel> {
     let mut fl = Flattener::new(src, path);
     fl.out.files.push(path.to_path_buf());
     fl.add(&file.kinbody, path, "", &Transform::IDENTITY)?;
-    let Flat { bodies, joints: placed_joints, sensors: mut placed_sensors, mut files } = fl.out;
+    let Flat {
+        bodies,
+        joints: placed_joints,
+        sensors: mut placed_sensors,
+        mut files,
+    } = fl.out;
     if bodies.is_empty() {
-        return Err(ConfigError::new(path, file.pos, ErrorKind::Missing, "the robot has no <Body>"));
+        return Err(ConfigError::new(
+            path,
+            file.pos,
+            ErrorKind::Missing,
+            "the robot has no <Body>",
+        ));
     }
     let links: Vec<Link> = bodies
         .iter()
         .map(|pb| {
             let (mass, from_geom) = match &pb.body.mass {
                 Some(m) => (m.total, false),
-                None => (pb.body.geoms.iter().map(geom_volume).sum::<f64>().max(1e-6) * DEFAULT_DENSITY, true),
+                None => (
+                    pb.body.geoms.iter().map(geom_volume).sum::<f64>().max(1e-6) * DEFAULT_DENSITY,
+                    true,
+                ),
             };
-            Link { name: pb.body.name.clone(), pose: pb.world, geoms: pb.body.geoms.clone(), mass, mass_from_geometry: from_geom }
+            Link {
+                name: pb.body.name.clone(),
+                pose: pb.world,
+                geoms: pb.body.geoms.clone(),
+                mass,
+                mass_from_geometry: from_geom,
+            }
         })
         .collect();
     let names: Vec<&str> = links.iter().map(|l| l.name.as_str()).collect();
@@ -186,7 +211,10 @@ pub fn resolve_robot(src: &dyn FileSource, path: &Path, file: &RobotFile) -> Con
                 file,
                 pos,
                 ErrorKind::UnknownReference,
-                format!("{what} names body \"{name}\", which the robot does not have; bodies: {}", names.join(", ")),
+                format!(
+                    "{what} names body \"{name}\", which the robot does not have; bodies: {}",
+                    names.join(", ")
+                ),
             )
         })
     };
@@ -195,18 +223,30 @@ pub fn resolve_robot(src: &dyn FileSource, path: &Path, file: &RobotFile) -> Con
         let j = &pj.joint;
         let what = format!("joint {}", j.name);
         if joints.iter().any(|o: &RobotJoint| o.name == j.name) {
-            return Err(ConfigError::new(&pj.file, j.pos, ErrorKind::InvalidValue, format!("joint name \"{}\" is used twice", j.name)));
+            return Err(ConfigError::new(
+                &pj.file,
+                j.pos,
+                ErrorKind::InvalidValue,
+                format!("joint name \"{}\" is used twice", j.name),
+            ));
         }
         let parent = find(&j.bodies[0], &pj.file, j.pos, &what)?;
         let child = find(&j.bodies[1], &pj.file, j.pos, &what)?;
         if parent == child {
-            return Err(ConfigError::new(&pj.file, j.pos, ErrorKind::InvalidValue, format!("{what} joins body \"{}\" to itself", j.bodies[0])));
+            return Err(ConfigError::new(
+                &pj.file,
+                j.pos,
+                ErrorKind::InvalidValue,
+                format!("{what} joins body \"{}\" to itself", j.bodies[0]),
+            ));
         }
         let frame = match &j.offset_from {
             Some(o) => links[find(o, &pj.file, j.pos, &format!("{what} <offsetfrom>"))?].pose,
             None => links[parent].pose,
         };
-        let anchor = frame.mul(&Transform::from_translation(j.anchor)).translation;
+        let anchor = frame
+            .mul(&Transform::from_translation(j.anchor))
+            .translation;
         let axis = normalize(frame.rotate(j.axis));
         let chain = {
             let (a, b) = (links[parent].centre(), links[child].centre());
@@ -225,13 +265,21 @@ pub fn resolve_robot(src: &dyn FileSource, path: &Path, file: &RobotFile) -> Con
         });
     }
     for s in &file.sensors {
-        placed_sensors.push(crate::config::resolve::flatten::PlacedSensor { sensor: s.clone(), file: path.to_path_buf() });
+        placed_sensors.push(crate::config::resolve::flatten::PlacedSensor {
+            sensor: s.clone(),
+            file: path.to_path_buf(),
+        });
     }
     let mut sensors = Vec::with_capacity(placed_sensors.len());
     for ps in &placed_sensors {
         let s = &ps.sensor;
         if sensors.iter().any(|o: &RobotSensor| o.name == s.name) {
-            return Err(ConfigError::new(&ps.file, s.pos, ErrorKind::InvalidValue, format!("sensor name \"{}\" is used twice", s.name)));
+            return Err(ConfigError::new(
+                &ps.file,
+                s.pos,
+                ErrorKind::InvalidValue,
+                format!("sensor name \"{}\" is used twice", s.name),
+            ));
         }
         let link = find(&s.link, &ps.file, s.pos, &format!("sensor {}", s.name))?;
         let sensor = match &s.source {
@@ -240,12 +288,25 @@ pub fn resolve_robot(src: &dyn FileSource, path: &Path, file: &RobotFile) -> Con
                 let p = find_file(src, &ps.file, written, *pos, "sensor")?;
                 let text = read_file(src, &p, &ps.file, *pos)?;
                 files.push(p.clone());
-                parse_sensor_file(&p.display().to_string(), &text).map_err(|e| e.included_from(&ps.file, *pos))?
+                parse_sensor_file(&p.display().to_string(), &text)
+                    .map_err(|e| e.included_from(&ps.file, *pos))?
             }
         };
-        sensors.push(RobotSensor { name: s.name.clone(), link, pose: s.pose, sensor });
+        sensors.push(RobotSensor {
+            name: s.name.clone(),
+            link,
+            pose: s.pose,
+            sensor,
+        });
     }
     files.sort();
     files.dedup();
-    Ok(RobotModel { name: file.name.clone(), file: path.to_path_buf(), links, joints, sensors, files })
+    Ok(RobotModel {
+        name: file.name.clone(),
+        file: path.to_path_buf(),
+        links,
+        joints,
+        sensors,
+        files,
+    })
 }

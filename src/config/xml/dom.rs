@@ -61,7 +61,9 @@ impl Element {
 
     /// The attribute of that name (ASCII case-insensitive), if present.
     pub fn attr(&self, name: &str) -> Option<&Attr> {
-        self.attrs.iter().find(|a| a.name.eq_ignore_ascii_case(name))
+        self.attrs
+            .iter()
+            .find(|a| a.name.eq_ignore_ascii_case(name))
     }
 
     /// Child elements with one of the given names.
@@ -126,9 +128,7 @@ pub fn parse(file: &str, text: &str) -> Result<Document, ConfigError> {
             }
         };
         match event {
-            Event::Start(start) | Event::Empty(start)
-                if root.is_some() && stack.is_empty() =>
-            {
+            Event::Start(start) | Event::Empty(start) if root.is_some() && stack.is_empty() => {
                 let name = start.name().as_ref().to_string();
                 return Err(err(
                     before,
@@ -192,7 +192,11 @@ pub fn parse(file: &str, text: &str) -> Result<Document, ConfigError> {
                         }
                     }
                     Err(e) => {
-                        return Err(err(before, ErrorKind::Syntax, format!("bad character reference: {e}")));
+                        return Err(err(
+                            before,
+                            ErrorKind::Syntax,
+                            format!("bad character reference: {e}"),
+                        ));
                     }
                 };
                 push_text(&mut stack, &resolved, before, text, &index, file, &err)?;
@@ -218,8 +222,15 @@ pub fn parse(file: &str, text: &str) -> Result<Document, ConfigError> {
         ));
     }
     match root {
-        Some(root) => Ok(Document { root, outer_comments }),
-        None => Err(err(0, ErrorKind::Syntax, "the file holds no XML element".into())),
+        Some(root) => Ok(Document {
+            root,
+            outer_comments,
+        }),
+        None => Err(err(
+            0,
+            ErrorKind::Syntax,
+            "the file holds no XML element".into(),
+        )),
     }
 }
 
@@ -265,7 +276,12 @@ fn open_element(
     let raw_tag = text.get(offset..).unwrap_or("");
     for attr in start.attributes() {
         let attr = attr.map_err(|e| {
-            ConfigError::new(file, pos, ErrorKind::Syntax, format!("malformed XML: bad attribute in <{}>: {e}", el.name))
+            ConfigError::new(
+                file,
+                pos,
+                ErrorKind::Syntax,
+                format!("malformed XML: bad attribute in <{}>: {e}", el.name),
+            )
         })?;
         let key = attr.key.as_ref().to_string();
         let value = attr
@@ -275,14 +291,21 @@ fn open_element(
                     file,
                     pos,
                     ErrorKind::Syntax,
-                    format!("malformed XML: bad value of attribute {key} in <{}>: {e}", el.name),
+                    format!(
+                        "malformed XML: bad value of attribute {key} in <{}>: {e}",
+                        el.name
+                    ),
                 )
             })?
             .into_owned();
         let value_pos = attr_value_offset(raw_tag, &key)
             .map(|o| index.pos(text, offset + o))
             .unwrap_or(pos);
-        el.attrs.push(Attr { name: key, value, pos: value_pos });
+        el.attrs.push(Attr {
+            name: key,
+            value,
+            pos: value_pos,
+        });
     }
     Ok(el)
 }
@@ -305,4 +328,48 @@ fn attr_value_offset(raw_tag: &str, key: &str) -> Option<usize> {
         from = at + key.len();
     }
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn positions_of_elements_text_and_attribute_values() {
+        let doc = parse(
+            "f.xml",
+            "<a>\n  <b x=\"1\"  yy = '22'>\n    hello\n  </b>\n</a>",
+        )
+        .unwrap();
+        let b = &doc.root.children[0];
+        assert_eq!((b.pos.line, b.pos.col), (2, 3));
+        assert_eq!((b.attrs[0].pos.line, b.attrs[0].pos.col), (2, 9));
+        assert_eq!((b.attrs[1].pos.line, b.attrs[1].pos.col), (2, 19));
+        assert_eq!(b.attrs[1].value, "22");
+        assert_eq!(b.text, "hello");
+        assert_eq!((b.text_pos.line, b.text_pos.col), (3, 5));
+    }
+
+    #[test]
+    fn entities_cdata_and_comments() {
+        let doc = parse("f.xml", "<!-- before --><a n=\"x &amp; y\">1 &lt; 2<![CDATA[ <ok> ]]>&#65;<!-- in --></a><!--Pose: ,1 0 0 0,0 0 0,-->").unwrap();
+        assert_eq!(doc.root.attrs[0].value, "x & y");
+        assert_eq!(doc.root.text, "1 < 2 <ok> A");
+        assert_eq!(doc.root.comments[0].0, " in ");
+        assert_eq!(doc.outer_comments.len(), 2);
+        assert_eq!(doc.outer_comments[1].0, "Pose: ,1 0 0 0,0 0 0,");
+    }
+
+    #[test]
+    fn syntax_errors_are_located() {
+        let e = parse("f.xml", "<a>\n  <b></c>\n</a>").unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Syntax);
+        assert_eq!(e.pos.line, 2, "{e}");
+        let e = parse("f.xml", "<a>\n<b>").unwrap_err();
+        assert!(e.to_string().contains("never closed"), "{e}");
+        let e = parse("f.xml", "<a/><b/>").unwrap_err();
+        assert!(e.to_string().contains("second root element <b>"), "{e}");
+        let e = parse("f.xml", "<a>&nbsp;</a>").unwrap_err();
+        assert!(e.to_string().contains("unknown entity &nbsp;"), "{e}");
+    }
 }

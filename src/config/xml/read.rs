@@ -16,7 +16,9 @@ pub struct Reader {
 
 impl Reader {
     pub fn new(file: impl AsRef<Path>) -> Self {
-        Reader { file: file.as_ref().to_path_buf() }
+        Reader {
+            file: file.as_ref().to_path_buf(),
+        }
     }
 
     /// An error at `pos` of this file.
@@ -47,11 +49,18 @@ impl Reader {
     pub fn only_attrs(&self, el: &Element, allowed: &[&str]) -> ConfigResult<()> {
         for a in &el.attrs {
             if !allowed.iter().any(|n| a.name.eq_ignore_ascii_case(n)) {
-                let expected = if allowed.is_empty() { "none".to_string() } else { list(allowed) };
+                let expected = if allowed.is_empty() {
+                    "none".to_string()
+                } else {
+                    list(allowed)
+                };
                 return Err(self.err(
                     a.pos,
                     ErrorKind::UnknownElement,
-                    format!("unknown attribute {}= on <{}>; expected: {expected}", a.name, el.name),
+                    format!(
+                        "unknown attribute {}= on <{}>; expected: {expected}",
+                        a.name, el.name
+                    ),
                 ));
             }
         }
@@ -59,7 +68,11 @@ impl Reader {
     }
 
     /// Fails if `el` has more than one child of that name.
-    pub fn at_most_one<'a>(&self, el: &'a Element, name: &'a str) -> ConfigResult<Option<&'a Element>> {
+    pub fn at_most_one<'a>(
+        &self,
+        el: &'a Element,
+        name: &'a str,
+    ) -> ConfigResult<Option<&'a Element>> {
         let mut found = el.children_named(name);
         let first = found.next();
         if let Some(second) = found.next() {
@@ -75,21 +88,33 @@ impl Reader {
     /// The one required child of that name.
     pub fn required<'a>(&self, el: &'a Element, name: &'a str) -> ConfigResult<&'a Element> {
         self.at_most_one(el, name)?.ok_or_else(|| {
-            self.err(el.pos, ErrorKind::Missing, format!("<{}> needs a <{name}> element", el.name))
+            self.err(
+                el.pos,
+                ErrorKind::Missing,
+                format!("<{}> needs a <{name}> element", el.name),
+            )
         })
     }
 
     /// A required attribute.
     pub fn required_attr<'a>(&self, el: &'a Element, name: &str) -> ConfigResult<&'a Attr> {
         el.attr(name).ok_or_else(|| {
-            self.err(el.pos, ErrorKind::Missing, format!("<{}> needs the attribute {name}=\"...\"", el.name))
+            self.err(
+                el.pos,
+                ErrorKind::Missing,
+                format!("<{}> needs the attribute {name}=\"...\"", el.name),
+            )
         })
     }
 
     /// The element's text, which must not be empty.
     pub fn text<'a>(&self, el: &'a Element) -> ConfigResult<&'a str> {
         if el.text.is_empty() {
-            return Err(self.err(el.pos, ErrorKind::Missing, format!("<{}> is empty; it needs a value", el.name)));
+            return Err(self.err(
+                el.pos,
+                ErrorKind::Missing,
+                format!("<{}> is empty; it needs a value", el.name),
+            ));
         }
         Ok(&el.text)
     }
@@ -97,7 +122,11 @@ impl Reader {
     /// One finite number from text at `pos`, naming `what` on failure.
     pub fn number(&self, s: &str, pos: Pos, what: &str) -> ConfigResult<f64> {
         let v: f64 = s.trim().parse().map_err(|_| {
-            self.err(pos, ErrorKind::InvalidValue, format!("{what}: expected a number, found \"{}\"", s.trim()))
+            self.err(
+                pos,
+                ErrorKind::InvalidValue,
+                format!("{what}: expected a number, found \"{}\"", s.trim()),
+            )
         })?;
         if !v.is_finite() {
             return Err(self.err(
@@ -123,7 +152,14 @@ impl Reader {
     }
 
     /// Fails unless `min <= v <= max`.
-    pub fn check_range(&self, v: f64, min: f64, max: f64, pos: Pos, what: &str) -> ConfigResult<()> {
+    pub fn check_range(
+        &self,
+        v: f64,
+        min: f64,
+        max: f64,
+        pos: Pos,
+        what: &str,
+    ) -> ConfigResult<()> {
         if v < min || v > max {
             let range = match (min.is_finite(), max.is_finite()) {
                 (true, true) => format!("between {min} and {max}"),
@@ -131,14 +167,20 @@ impl Reader {
                 (false, true) => format!("at most {max}"),
                 (false, false) => "any number".into(),
             };
-            return Err(self.err(pos, ErrorKind::OutOfRange, format!("{what} is {v}; it must be {range}")));
+            return Err(self.err(
+                pos,
+                ErrorKind::OutOfRange,
+                format!("{what} is {v}; it must be {range}"),
+            ));
         }
         Ok(())
     }
 
     /// A whitespace-separated list of finite numbers from text at `pos`.
     pub fn numbers(&self, s: &str, pos: Pos, what: &str) -> ConfigResult<Vec<f64>> {
-        s.split_whitespace().map(|w| self.number(w, pos, what)).collect()
+        s.split_whitespace()
+            .map(|w| self.number(w, pos, what))
+            .collect()
     }
 
     /// Exactly `N` numbers from an element's text.
@@ -166,7 +208,10 @@ impl Reader {
             self.err(
                 pos,
                 ErrorKind::InvalidValue,
-                format!("{what}: expected a whole number >= 0, found \"{}\"", s.trim()),
+                format!(
+                    "{what}: expected a whole number >= 0, found \"{}\"",
+                    s.trim()
+                ),
             )
         })
     }
@@ -182,7 +227,11 @@ impl Reader {
         match s.trim().to_ascii_lowercase().as_str() {
             "1" | "true" | "yes" => Ok(true),
             "0" | "false" | "no" => Ok(false),
-            other => Err(self.err(pos, ErrorKind::InvalidValue, format!("{what}: expected 1 or 0, found \"{other}\""))),
+            other => Err(self.err(
+                pos,
+                ErrorKind::InvalidValue,
+                format!("{what}: expected 1 or 0, found \"{other}\""),
+            )),
         }
     }
 

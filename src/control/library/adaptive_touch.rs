@@ -7,7 +7,15 @@
 use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
 
 const fn constant(name: &'static str, help: &'static str) -> ParamDescriptor {
-    ParamDescriptor { name, aliases: &[], unit: "deg/step", default: 0.5, min: 0.0, max: 100.0, help }
+    ParamDescriptor {
+        name,
+        aliases: &[],
+        unit: "deg/step",
+        default: 0.5,
+        min: 0.0,
+        max: 100.0,
+        help,
+    }
 }
 
 const PARAMETERS: &[ParamDescriptor] = &[

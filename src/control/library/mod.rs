@@ -8,5 +8,9 @@ use crate::control::descriptor::ModuleDescriptor;
 
 /// Descriptors of every standard module type.
 pub fn descriptors() -> Vec<ModuleDescriptor> {
-    vec![direct::descriptor(), sinusoidal::descriptor(), adaptive_touch::descriptor()]
+    vec![
+        direct::descriptor(),
+        sinusoidal::descriptor(),
+        adaptive_touch::descriptor(),
+    ]
 }

@@ -1,0 +1,31 @@
+# Shared helpers for proleg's scripts (sourced, not run).
+
+# Installs the Debian packages given as arguments that are not installed yet.
+ensure_packages() {
+  local missing=()
+  for p in "$@"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if [ ${#missing[@]} -gt 0 ]; then
+    echo "installing: ${missing[*]}"
+    local sudo=""
+    [ "$(id -u)" -ne 0 ] && sudo="sudo"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
+  fi
+}
+
+# Makes sure cargo (with rustfmt and clippy) is there.
+ensure_rust() {
+  if ! command -v cargo >/dev/null 2>&1; then
+    [ -f "$HOME/.cargo/env" ] && . "$HOME/.cargo/env"
+  fi
+  command -v cargo >/dev/null 2>&1 || { echo "cargo not found: install Rust 1.95 (rustup)" >&2; exit 1; }
+  if command -v rustup >/dev/null 2>&1; then
+    rustup component list --installed 2>/dev/null | grep -q rustfmt || rustup component add rustfmt
+    rustup component list --installed 2>/dev/null | grep -q clippy || rustup component add clippy
+  fi
+}
+
+# Build dependencies of the headless core (C compiler and pkg-config for -sys crates).
+HEADLESS_PACKAGES=(pkg-config gcc)
