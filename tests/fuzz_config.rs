@@ -151,7 +151,12 @@ fn check_error(e: &ConfigError, files: &[(PathBuf, String)]) {
     }
 }
 
-fn load_mutated(files: &[(PathBuf, String)], which: usize, edits: &[Edit]) {
+/// Loads the simulation with one file edited; returns the error kind, if any.
+fn load_mutated(
+    files: &[(PathBuf, String)],
+    which: usize,
+    edits: &[Edit],
+) -> Option<proleg::config::ErrorKind> {
     let mut src = MemSource::new();
     let mut mutated = files.to_vec();
     let k = which % mutated.len();
@@ -166,8 +171,12 @@ fn load_mutated(files: &[(PathBuf, String)], which: usize, edits: &[Edit]) {
     match load_simulation_with(&src, top, &ModuleRegistry::default()) {
         Ok(sim) => {
             let _ = proleg::config::summary::summary(&sim);
+            None
         }
-        Err(e) => check_error(&e, &mutated),
+        Err(e) => {
+            check_error(&e, &mutated);
+            Some(e.kind)
+        }
     }
 }
 
@@ -187,22 +196,50 @@ proptest! {
     #[test]
     fn mutated_experiment_2_never_panics(which in 0usize..64, edits in proptest::collection::vec(edit_strategy(), 1..6)) {
         thread_local!(static FILES: Vec<(PathBuf, String)> = simulation_files("experiment2_gd.simulation.xml"));
-        FILES.with(|files| load_mutated(files, which, &edits));
+        FILES.with(|files| { load_mutated(files, which, &edits); });
     }
 
     #[test]
     fn mutated_experiment_1_never_panics(which in 0usize..64, edits in proptest::collection::vec(edit_strategy(), 1..6)) {
         thread_local!(static FILES: Vec<(PathBuf, String)> = simulation_files("experiment1_ga.simulation.xml"));
-        FILES.with(|files| load_mutated(files, which, &edits));
+        FILES.with(|files| { load_mutated(files, which, &edits); });
     }
 }
 
 #[test]
-fn simulation_files_start_with_the_top_level_file() {
-    let files = simulation_files("experiment1_ga.simulation.xml");
-    assert!(
-        files[0].0.ends_with("experiment1_ga.simulation.xml"),
-        "{:?}",
-        files[0].0
+fn unmutated_files_load_from_memory() {
+    for sim in [
+        "experiment1_ga.simulation.xml",
+        "experiment2_gd.simulation.xml",
+    ] {
+        let files = simulation_files(sim);
+        assert!(files[0].0.ends_with(sim), "{:?}", files[0].0);
+        assert_eq!(load_mutated(&files, 0, &[]), None);
+    }
+}
+
+/// The mutations get past the XML syntax into the semantic checks: a fixed, seeded batch
+/// reaches many error classes, and some mutated files still load.
+#[test]
+fn mutations_reach_semantic_checks() {
+    use proptest::strategy::ValueTree;
+    use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+    let files = simulation_files("experiment2_gd.simulation.xml");
+    let mut runner = TestRunner::new_with_rng(
+        Config::default(),
+        TestRng::from_seed(RngAlgorithm::ChaCha, &[7; 32]),
     );
+    let strategy = (0usize..64, proptest::collection::vec(edit_strategy(), 1..3));
+    let mut kinds = std::collections::BTreeMap::new();
+    let mut loaded = 0;
+    for _ in 0..3000 {
+        let (which, edits) = strategy.new_tree(&mut runner).unwrap().current();
+        match load_mutated(&files, which, &edits) {
+            Some(kind) => *kinds.entry(format!("{kind:?}")).or_insert(0) += 1,
+            None => loaded += 1,
+        }
+    }
+    eprintln!("3000 mutated sets: {loaded} loaded, errors by kind: {kinds:?}");
+    assert!(loaded > 0, "no mutated set loaded");
+    assert!(kinds.len() >= 6, "only {kinds:?}");
 }

@@ -40,7 +40,7 @@ pub struct Flat {
     pub bodies: Vec<PlacedBody>,
     pub joints: Vec<PlacedJoint>,
     pub sensors: Vec<PlacedSensor>,
-    /// Every file read, in order.
+    /// Every file read (parts, meshes), in order.
     pub files: Vec<PathBuf>,
 }
 
@@ -164,6 +164,7 @@ impl<'a> Flattener<'a> {
             let text = read_file(self.src, &path, file, g.pos)?;
             parse_obj(&path, &text).map_err(|e| e.included_from(file, g.pos))?;
             *mesh = path.display().to_string();
+            self.out.files.push(path);
         }
         Ok(())
     }
