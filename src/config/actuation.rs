@@ -7,7 +7,7 @@
 
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::mask::JointMask;
-use crate::config::xml::read::Reader;
+use crate::config::xml::read::read_document;
 use crate::config::xml::write::{XmlWriter, num, nums};
 
 /// A parameter's value: the same for every driven joint, or one per driven joint.
@@ -46,19 +46,8 @@ pub struct ActuationFile {
 
 /// Reads an actuation file's text.
 pub fn parse_actuation_file(file: &str, text: &str) -> ConfigResult<ActuationFile> {
-    let doc = crate::config::xml::dom::parse(file, text)?;
-    let r = Reader::new(file);
+    let (doc, r) = read_document(file, text, "actuation", "an actuation file")?;
     let root = &doc.root;
-    if !root.is("actuation") {
-        return Err(r.err(
-            root.pos,
-            ErrorKind::UnknownElement,
-            format!(
-                "an actuation file starts with <actuation>, not <{}>",
-                root.name
-            ),
-        ));
-    }
     r.only_children(root, &["validrobot", "actuationmodule"])?;
     r.only_attrs(root, &[])?;
     let valid_robot = match r.at_most_one(root, "validrobot")? {

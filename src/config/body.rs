@@ -117,18 +117,7 @@ impl Geom {
         r.only_children(el, &GEOM_CHILDREN)?;
         r.only_attrs(el, &["type", "render"])?;
         let ty = r.required_attr(el, "type")?;
-        let positive = |name: &str| -> ConfigResult<f64> {
-            let c = r.required(el, name)?;
-            let v = r.f64(c)?;
-            r.check_range(
-                v,
-                f64::MIN_POSITIVE,
-                f64::INFINITY,
-                c.text_pos,
-                &format!("<{}>", c.name),
-            )?;
-            Ok(v)
-        };
+        let positive = |name: &str| r.positive(r.required(el, name)?);
         let shape = match ty.value.to_ascii_lowercase().as_str() {
             "box" => {
                 let c = r.required(el, "extents")?;
@@ -157,13 +146,13 @@ impl Geom {
                 let scale = match words.next() {
                     Some(s) => {
                         let v = r.number(s, c.text_pos, "<data> scale")?;
-                        r.check_range(
-                            v,
-                            f64::MIN_POSITIVE,
-                            f64::INFINITY,
-                            c.text_pos,
-                            "<data> scale",
-                        )?;
+                        if v <= 0.0 {
+                            return Err(r.err(
+                                c.text_pos,
+                                ErrorKind::OutOfRange,
+                                format!("<data> scale is {v}; it must be > 0"),
+                            ));
+                        }
                         v
                     }
                     None => 1.0,

@@ -11,7 +11,7 @@ use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::kinbody::{Include, KinBody};
 use crate::config::transform::{POSE_ELEMENTS, Transform};
 use crate::config::xml::dom::Element;
-use crate::config::xml::read::Reader;
+use crate::config::xml::read::{Reader, read_document};
 use crate::config::xml::write::{XmlWriter, nums};
 
 /// Physics engine properties.
@@ -118,19 +118,8 @@ fn parse_pose_comment(r: &Reader, body: &str, pos: Pos) -> ConfigResult<Option<T
 
 /// Reads an environment file's text.
 pub fn parse_environment_file(file: &str, text: &str) -> ConfigResult<EnvironmentFile> {
-    let doc = crate::config::xml::dom::parse(file, text)?;
-    let r = Reader::new(file);
+    let (doc, r) = read_document(file, text, "Environment", "an environment file")?;
     let root = &doc.root;
-    if !root.is("environment") {
-        return Err(r.err(
-            root.pos,
-            ErrorKind::UnknownElement,
-            format!(
-                "an environment file starts with <Environment>, not <{}>",
-                root.name
-            ),
-        ));
-    }
     r.only_children(root, &["physicsengine", "kinbody", "robotpose"])?;
     r.only_attrs(root, &[])?;
     let physics = r

@@ -10,7 +10,7 @@ use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::sensor::AttachedSensor;
 use crate::config::transform::{POSE_ELEMENTS, Transform};
 use crate::config::xml::dom::Element;
-use crate::config::xml::read::Reader;
+use crate::config::xml::read::{Reader, read_document};
 use crate::config::xml::write::XmlWriter;
 
 /// A hinge joint between two bodies.
@@ -109,24 +109,8 @@ impl Joint {
             .map(|c| r.array::<3>(c))
             .transpose()?
             .unwrap_or([0.0; 3]);
-        let positive = |tag: &str| -> ConfigResult<Option<f64>> {
-            match r.at_most_one(el, tag)? {
-                None => Ok(None),
-                Some(c) => {
-                    let v = r.f64(c)?;
-                    r.check_range(
-                        v,
-                        f64::MIN_POSITIVE,
-                        f64::INFINITY,
-                        c.text_pos,
-                        &format!("joint {name}: <{}>", c.name),
-                    )?;
-                    Ok(Some(v))
-                }
-            }
-        };
-        let max_torque = positive("maxtorque")?;
-        let max_vel = positive("maxvel")?;
+        let max_torque = r.opt_positive(el, "maxtorque")?;
+        let max_vel = r.opt_positive(el, "maxvel")?;
         let mut limits_deg = None;
         for c in &el.children {
             let scale = if c.is("limitsdeg") {
@@ -311,18 +295,7 @@ impl Include {
 
 /// Reads a kinbody part file.
 pub fn parse_kinbody_file(file: &str, text: &str) -> ConfigResult<KinBody> {
-    let doc = crate::config::xml::dom::parse(file, text)?;
-    let r = Reader::new(file);
-    if !doc.root.is("kinbody") {
-        return Err(r.err(
-            doc.root.pos,
-            ErrorKind::UnknownElement,
-            format!(
-                "a kinbody file starts with <KinBody>, not <{}>",
-                doc.root.name
-            ),
-        ));
-    }
+    let (doc, r) = read_document(file, text, "KinBody", "a kinbody file")?;
     if doc.root.attr("file").is_some() {
         return Err(r.err(
             doc.root.pos,

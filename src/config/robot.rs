@@ -4,7 +4,7 @@
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::kinbody::KinBody;
 use crate::config::sensor::AttachedSensor;
-use crate::config::xml::read::Reader;
+use crate::config::xml::read::read_document;
 use crate::config::xml::write::XmlWriter;
 
 /// A robot file as written.
@@ -18,19 +18,8 @@ pub struct RobotFile {
 
 /// Reads a robot file's text.
 pub fn parse_robot_file(file: &str, text: &str) -> ConfigResult<RobotFile> {
-    let doc = crate::config::xml::dom::parse(file, text)?;
-    let r = Reader::new(file);
+    let (doc, r) = read_document(file, text, "Robot", "a robot file")?;
     let root = &doc.root;
-    if !root.is("robot") {
-        return Err(r.err(
-            root.pos,
-            ErrorKind::UnknownElement,
-            format!(
-                "a robot file starts with <Robot name=...>, not <{}>",
-                root.name
-            ),
-        ));
-    }
     r.only_children(root, &["kinbody", "attachedsensor"])?;
     r.only_attrs(root, &["name"])?;
     let kb = r.required(root, "kinbody")?;

@@ -8,7 +8,7 @@
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::transform::{POSE_ELEMENTS, Transform};
 use crate::config::xml::dom::Element;
-use crate::config::xml::read::Reader;
+use crate::config::xml::read::{Reader, read_document};
 use crate::config::xml::write::XmlWriter;
 
 /// Default half-extents of a tactile pad (m).
@@ -118,20 +118,7 @@ impl Sensor {
                     ));
                 }
                 let positive = |name: &str, default: f64| -> ConfigResult<f64> {
-                    match r.at_most_one(el, name)? {
-                        Some(c) => {
-                            let v = r.f64(c)?;
-                            r.check_range(
-                                v,
-                                f64::MIN_POSITIVE,
-                                f64::INFINITY,
-                                c.text_pos,
-                                &format!("<{}>", c.name),
-                            )?;
-                            Ok(v)
-                        }
-                        None => Ok(default),
-                    }
+                    Ok(r.opt_positive(el, name)?.unwrap_or(default))
                 };
                 Ok(Sensor::Laser2d(Laser2d {
                     min_angle,
@@ -250,18 +237,7 @@ impl AttachedSensor {
 
 /// Reads a sensor file's text.
 pub fn parse_sensor_file(file: &str, text: &str) -> ConfigResult<Sensor> {
-    let doc = crate::config::xml::dom::parse(file, text)?;
-    let r = Reader::new(file);
-    if !doc.root.is("sensor") {
-        return Err(r.err(
-            doc.root.pos,
-            ErrorKind::UnknownElement,
-            format!(
-                "a sensor file starts with <sensor type=...>, not <{}>",
-                doc.root.name
-            ),
-        ));
-    }
+    let (doc, r) = read_document(file, text, "sensor", "a sensor file")?;
     r.only_attrs(&doc.root, &["type"])?;
     Sensor::read(&r, &doc.root)
 }

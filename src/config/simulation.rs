@@ -13,7 +13,7 @@ use std::fmt;
 
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::xml::dom::Element;
-use crate::config::xml::read::{Reader, same_name};
+use crate::config::xml::read::{Reader, read_document, same_name};
 use crate::config::xml::write::XmlWriter;
 
 /// Largest step width accepted (s): beyond it no contact simulation is meaningful.
@@ -237,19 +237,8 @@ fn read_properties(r: &Reader, el: &Element) -> ConfigResult<SimulationPropertie
 
 /// Reads a simulation file's text.
 pub fn parse_simulation_file(file: &str, text: &str) -> ConfigResult<SimulationFile> {
-    let doc = crate::config::xml::dom::parse(file, text)?;
-    let r = Reader::new(file);
+    let (doc, r) = read_document(file, text, "simulation", "a simulation file")?;
     let root = &doc.root;
-    if !root.is("simulation") {
-        return Err(r.err(
-            root.pos,
-            ErrorKind::UnknownElement,
-            format!(
-                "a simulation file starts with <simulation>, not <{}>",
-                root.name
-            ),
-        ));
-    }
     r.only_children(
         root,
         &[

@@ -4,11 +4,11 @@
 use std::path::{Path, PathBuf};
 
 use crate::config::actuation::{ActuationFile, ParamValue};
-use crate::config::error::{ConfigResult, ErrorKind};
+use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::mask::JointMask;
 use crate::config::resolve::robot::RobotModel;
 use crate::config::xml::read::Reader;
-use crate::control::{ModuleDescriptor, ModuleRegistry};
+use crate::control::{ModuleDescriptor, ModuleRegistry, ParamDescriptor};
 
 /// A parameter value set in the actuation file, with its canonical name.
 #[derive(Debug, Clone, PartialEq)]
@@ -32,6 +32,45 @@ pub struct ActuationModel {
     pub file: PathBuf,
     pub modules: Vec<ModuleInstance>,
     pub warnings: Vec<String>,
+}
+
+/// The module type `name` from the registry, or an error listing the known ones.
+pub(crate) fn lookup_module<'a>(
+    r: &Reader,
+    registry: &'a ModuleRegistry,
+    name: &str,
+    pos: Pos,
+) -> ConfigResult<&'a ModuleDescriptor> {
+    registry.get(name).ok_or_else(|| {
+        r.err(
+            pos,
+            ErrorKind::UnknownModule,
+            format!(
+                "unknown actuation module \"{name}\"; known modules: {}",
+                registry.names().join(", ")
+            ),
+        )
+    })
+}
+
+/// The parameter `name` of a module type, or an error listing its parameters.
+pub(crate) fn lookup_parameter<'a>(
+    r: &Reader,
+    module: &'a ModuleDescriptor,
+    name: &str,
+    pos: Pos,
+) -> ConfigResult<&'a ParamDescriptor> {
+    module.parameter(name).ok_or_else(|| {
+        r.err(
+            pos,
+            ErrorKind::UnknownReference,
+            format!(
+                "module {} has no parameter \"{name}\"; its parameters: {}",
+                module.type_name,
+                module.parameter_names().join(", ")
+            ),
+        )
+    })
 }
 
 /// Checks an actuation file against the robot and the registry.
@@ -59,17 +98,7 @@ pub fn resolve_actuation(
     }
     let mut modules = Vec::with_capacity(file.modules.len());
     for m in &file.modules {
-        let descriptor = registry.get(&m.name).ok_or_else(|| {
-            r.err(
-                m.pos,
-                ErrorKind::UnknownModule,
-                format!(
-                    "unknown actuation module \"{}\"; known modules: {}",
-                    m.name,
-                    registry.names().join(", ")
-                ),
-            )
-        })?;
+        let descriptor = lookup_module(&r, registry, &m.name, m.pos)?;
         m.joints.check_len(
             &r,
             m.mask_pos,
@@ -86,18 +115,7 @@ pub fn resolve_actuation(
         }
         let mut params: Vec<ParamAssignment> = Vec::new();
         for p in &m.params {
-            let d = descriptor.parameter(&p.name).ok_or_else(|| {
-                r.err(
-                    p.pos,
-                    ErrorKind::UnknownReference,
-                    format!(
-                        "module {} has no parameter \"{}\"; its parameters: {}",
-                        descriptor.type_name,
-                        p.name,
-                        descriptor.parameter_names().join(", ")
-                    ),
-                )
-            })?;
+            let d = lookup_parameter(&r, descriptor, &p.name, p.pos)?;
             if params.iter().any(|o| o.name == d.name) {
                 return Err(r.err(
                     p.pos,

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use crate::config::error::{ConfigResult, ErrorKind};
 use crate::config::optimizer::{GenomeConfig, OptimizerFile, allele_count};
-use crate::config::resolve::actuation::ActuationModel;
+use crate::config::resolve::actuation::{ActuationModel, lookup_module, lookup_parameter};
 use crate::config::resolve::robot::RobotModel;
 use crate::config::xml::read::{Reader, same_name};
 use crate::control::{ModuleRegistry, ParamDescriptor};
@@ -55,17 +55,7 @@ pub fn resolve_optimizer(
     let r = Reader::new(path);
     let mut parameters = Vec::new();
     for p in &file.parameters {
-        let descriptor = registry.get(&p.module).ok_or_else(|| {
-            r.err(
-                p.pos,
-                ErrorKind::UnknownModule,
-                format!(
-                    "unknown actuation module \"{}\"; known modules: {}",
-                    p.module,
-                    registry.names().join(", ")
-                ),
-            )
-        })?;
+        let descriptor = lookup_module(&r, registry, &p.module, p.pos)?;
         let instances: Vec<_> = actuation
             .modules
             .iter()
@@ -88,18 +78,7 @@ pub fn resolve_optimizer(
                 ),
             ));
         }
-        let param = descriptor.parameter(&p.parameter).ok_or_else(|| {
-            r.err(
-                p.pos,
-                ErrorKind::UnknownReference,
-                format!(
-                    "module {} has no parameter \"{}\"; its parameters: {}",
-                    descriptor.type_name,
-                    p.parameter,
-                    descriptor.parameter_names().join(", ")
-                ),
-            )
-        })?;
+        let param = lookup_parameter(&r, descriptor, &p.parameter, p.pos)?;
         // parse_optimizer_file guarantees one genomeConfig per registered parameter.
         let Some(genome) = file.genome.iter().find(|g| g.number == p.number) else {
             return Err(r.err(

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::config::error::{ConfigError, ConfigResult, ErrorKind, Pos};
-use crate::config::xml::dom::{Attr, Element};
+use crate::config::xml::dom::{Attr, Document, Element};
 
 /// Reads values out of the elements of one file.
 #[derive(Debug, Clone)]
@@ -144,6 +144,26 @@ impl Reader {
         self.number(t, el.text_pos, &format!("<{}>", el.name))
     }
 
+    /// A number > 0 from an element's text.
+    pub fn positive(&self, el: &Element) -> ConfigResult<f64> {
+        let v = self.f64(el)?;
+        if v <= 0.0 {
+            return Err(self.err(
+                el.text_pos,
+                ErrorKind::OutOfRange,
+                format!("<{}> is {v}; it must be > 0", el.name),
+            ));
+        }
+        Ok(v)
+    }
+
+    /// The number > 0 of an optional child.
+    pub fn opt_positive(&self, el: &Element, name: &str) -> ConfigResult<Option<f64>> {
+        self.at_most_one(el, name)?
+            .map(|c| self.positive(c))
+            .transpose()
+    }
+
     /// A number from an element's text, checked against an inclusive range.
     pub fn f64_in(&self, el: &Element, min: f64, max: f64) -> ConfigResult<f64> {
         let v = self.f64(el)?;
@@ -239,6 +259,26 @@ impl Reader {
     pub fn opt_f64(&self, el: &Element, name: &str) -> ConfigResult<Option<f64>> {
         self.at_most_one(el, name)?.map(|c| self.f64(c)).transpose()
     }
+}
+
+/// Parses a file's text and checks that its root element is `root` (e.g. `"Robot"`);
+/// `what` names the kind of file in the error.
+pub fn read_document(
+    file: &str,
+    text: &str,
+    root: &str,
+    what: &str,
+) -> ConfigResult<(Document, Reader)> {
+    let doc = crate::config::xml::dom::parse(file, text)?;
+    let r = Reader::new(file);
+    if !doc.root.is(root) {
+        return Err(r.err(
+            doc.root.pos,
+            ErrorKind::UnknownElement,
+            format!("{what} starts with <{root}>, not <{}>", doc.root.name),
+        ));
+    }
+    Ok((doc, r))
 }
 
 /// `a, b, c` for messages.
