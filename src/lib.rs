@@ -7,9 +7,12 @@
 //! - [`config`]: the XML configuration formats (simulation, robot, module parts, sensors,
 //!   actuation, environment, optimizer), loading with includes, validation with
 //!   located errors, writing back, and the `proleg check` summary.
-//! - [`control`]: actuation-module descriptors and the registry of module types.
+//! - [`control`]: the actuation-module interface, the registry of module types, the
+//!   standard module library and the control kernel.
+//! - [`rng`]: the seeded random numbers of a run.
 //!
 //! Pure logic stays free of rendering, so everything here runs and tests headless.
 
 pub mod config;
 pub mod control;
+pub mod rng;

@@ -1,9 +1,14 @@
-//! The control kernel's vocabulary: module descriptors, the registry of module types,
-//! and the standard module library.
+//! The control kernel: the actuation-module interface, module descriptors, the registry
+//! of module types, the standard module library, and the joint-wise summation of module
+//! outputs (thesis 4.3.1, Algorithm 1).
 
 pub mod descriptor;
+pub mod kernel;
 pub mod library;
+pub mod module;
 pub mod registry;
 
 pub use descriptor::{ModuleDescriptor, ParamDescriptor};
-pub use registry::ModuleRegistry;
+pub use kernel::{Actuator, ControlKernel};
+pub use module::{ActuationModule, InternalData, ParamError, Parameters, StepContext};
+pub use registry::{CreateError, ModuleRegistry};

@@ -1,6 +1,8 @@
 //! `DirectJointAccess`: holds its joints at fixed angles (thesis listing B.5).
 
 use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
+use crate::control::module::{ActuationModule, InternalData, Parameters, StepContext};
+use crate::rng::SimRng;
 
 const PARAMETERS: &[ParamDescriptor] = &[ParamDescriptor {
     name: "Angle",
@@ -19,5 +21,53 @@ pub fn descriptor() -> ModuleDescriptor {
         parameters: PARAMETERS,
         series: &["desired_angle"],
         sensing: false,
+    }
+}
+
+/// Holds each joint at its `Angle`.
+#[derive(Debug, Clone)]
+pub struct DirectJointAccess {
+    descriptor: ModuleDescriptor,
+    params: Parameters,
+    data: InternalData,
+}
+
+impl DirectJointAccess {
+    pub fn new(joints: usize) -> Self {
+        let descriptor = descriptor();
+        DirectJointAccess {
+            params: Parameters::new(&descriptor, joints),
+            data: InternalData::new(descriptor.series, joints),
+            descriptor,
+        }
+    }
+}
+
+impl ActuationModule for DirectJointAccess {
+    fn descriptor(&self) -> &ModuleDescriptor {
+        &self.descriptor
+    }
+
+    fn reset(&mut self, _rng: &mut SimRng) {}
+
+    fn compute(&mut self, _ctx: &StepContext, out: &mut [f64]) {
+        out.copy_from_slice(self.params.row(0));
+        self.data.series_mut(0).copy_from_slice(out);
+    }
+
+    fn parameters(&self) -> &Parameters {
+        &self.params
+    }
+
+    fn parameters_mut(&mut self) -> &mut Parameters {
+        &mut self.params
+    }
+
+    fn internal_data(&self) -> &InternalData {
+        &self.data
+    }
+
+    fn clone_box(&self) -> Box<dyn ActuationModule> {
+        Box::new(self.clone())
     }
 }

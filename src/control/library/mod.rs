@@ -4,13 +4,12 @@ pub mod adaptive_touch;
 pub mod direct;
 pub mod sinusoidal;
 
-use crate::control::descriptor::ModuleDescriptor;
+use crate::control::registry::ModuleRegistry;
 
-/// Descriptors of every standard module type.
-pub fn descriptors() -> Vec<ModuleDescriptor> {
-    vec![
-        direct::descriptor(),
-        sinusoidal::descriptor(),
-        adaptive_touch::descriptor(),
-    ]
+/// Registers every standard module type.
+pub fn register(r: &mut ModuleRegistry) {
+    r.register(direct::descriptor(), Some(|n| Box::new(direct::DirectJointAccess::new(n))));
+    r.register(sinusoidal::descriptor(), Some(|n| Box::new(sinusoidal::Sinusoidal::new(n))));
+    // Implemented with the sensors (issue 4); configurations may already name it.
+    r.register(adaptive_touch::descriptor(), None);
 }

@@ -1,7 +1,19 @@
-//! `PatternGenerator_sinusoidal`: φ_i(t) = A_i sin(2π f_i t + i·Δφ) + O_i
-//! (thesis eq. 3.1, table 3.1), parameters uniform or per joint.
+//! `PatternGenerator_sinusoidal`: φ_i(t) = A_i sin(2π f_i t + ϕ_i) + O_i (thesis eq. 3.1,
+//! table 3.1), parameters uniform or per joint.
+//!
+//! Joint i's phase lead ϕ_i is the sum of the `Phase_Difference` values of joints 1..=i,
+//! so with a uniform value it is i·Δϕ (joint 0 is the first joint of the mask, the tail
+//! in the ready robots). The time term is integrated per joint (θ_i += 2π f_i δ), so
+//! changing the frequency while running bends the wave smoothly instead of jumping.
 
 use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
+use crate::control::module::{ActuationModule, InternalData, Parameters, StepContext};
+use crate::rng::SimRng;
+
+const AMPLITUDE: usize = 0;
+const FREQUENCY: usize = 1;
+const PHASE_DIFFERENCE: usize = 2;
+const OFFSET: usize = 3;
 
 const PARAMETERS: &[ParamDescriptor] = &[
     ParamDescriptor {
@@ -29,7 +41,7 @@ const PARAMETERS: &[ParamDescriptor] = &[
         default: 55.0,
         min: -180.0,
         max: 180.0,
-        help: "phase lag between neighbouring joints (its sign sets the direction)",
+        help: "phase lead of a joint over its tail-side neighbour (its sign sets the direction)",
     },
     ParamDescriptor {
         name: "Offset",
@@ -47,7 +59,128 @@ pub fn descriptor() -> ModuleDescriptor {
         type_name: "PatternGenerator_sinusoidal",
         summary: "sine travelling wave (eq. 3.1)",
         parameters: PARAMETERS,
-        series: &["Angle", "Time", "Phase_Difference", "Frequency"],
+        series: &["Angle", "Phase"],
         sensing: false,
+    }
+}
+
+/// The sine generator.
+#[derive(Debug, Clone)]
+pub struct Sinusoidal {
+    descriptor: ModuleDescriptor,
+    params: Parameters,
+    data: InternalData,
+    /// Integrated 2π f t per joint (radians).
+    theta: Vec<f64>,
+}
+
+impl Sinusoidal {
+    pub fn new(joints: usize) -> Self {
+        let descriptor = descriptor();
+        Sinusoidal {
+            params: Parameters::new(&descriptor, joints),
+            data: InternalData::new(descriptor.series, joints),
+            theta: vec![0.0; joints],
+            descriptor,
+        }
+    }
+}
+
+impl ActuationModule for Sinusoidal {
+    fn descriptor(&self) -> &ModuleDescriptor {
+        &self.descriptor
+    }
+
+    fn reset(&mut self, _rng: &mut SimRng) {
+        self.theta.fill(0.0);
+    }
+
+    fn compute(&mut self, ctx: &StepContext, out: &mut [f64]) {
+        let p = &self.params;
+        let mut lead = 0.0;
+        for j in 0..out.len() {
+            if j > 0 {
+                lead += p.get(PHASE_DIFFERENCE, j).to_radians();
+            }
+            let phase = self.theta[j] + lead;
+            out[j] = p.get(AMPLITUDE, j) * phase.sin() + p.get(OFFSET, j);
+            self.data.series_mut(1)[j] = phase.to_degrees().rem_euclid(360.0);
+            self.theta[j] = (self.theta[j] + std::f64::consts::TAU * p.get(FREQUENCY, j) * ctx.dt)
+                .rem_euclid(std::f64::consts::TAU);
+        }
+        self.data.series_mut(0).copy_from_slice(out);
+    }
+
+    fn parameters(&self) -> &Parameters {
+        &self.params
+    }
+
+    fn parameters_mut(&mut self) -> &mut Parameters {
+        &mut self.params
+    }
+
+    fn internal_data(&self) -> &InternalData {
+        &self.data
+    }
+
+    fn clone_box(&self) -> Box<dyn ActuationModule> {
+        Box::new(self.clone())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(m: &mut Sinusoidal, steps: usize, dt: f64) -> Vec<Vec<f64>> {
+        let angles = vec![0.0; m.params.joints()];
+        let mut out = vec![0.0; m.params.joints()];
+        (0..steps)
+            .map(|k| {
+                let ctx = StepContext { time: k as f64 * dt, dt, step: k as u64, angles: &angles };
+                m.compute(&ctx, &mut out);
+                out.clone()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn follows_equation_3_1() {
+        let mut m = Sinusoidal::new(3);
+        m.params.set(AMPLITUDE, None, 30.0).unwrap();
+        m.params.set(FREQUENCY, None, 0.5).unwrap();
+        m.params.set(PHASE_DIFFERENCE, None, 90.0).unwrap();
+        m.params.set(OFFSET, Some(2), 5.0).unwrap();
+        let dt = 0.001;
+        let out = run(&mut m, 1001, dt);
+        for (k, row) in out.iter().enumerate() {
+            let t = k as f64 * dt;
+            for (j, v) in row.iter().enumerate() {
+                let offset = if j == 2 { 5.0 } else { 0.0 };
+                let expected = 30.0 * (std::f64::consts::PI * t + (j as f64) * std::f64::consts::FRAC_PI_2).sin() + offset;
+                assert!((v - expected).abs() < 1e-9, "step {k} joint {j}: {v} vs {expected}");
+            }
+        }
+    }
+
+    #[test]
+    fn individual_amplitudes_and_reset() {
+        let mut m = Sinusoidal::new(2);
+        m.params.set_all(AMPLITUDE, &[10.0, 0.0]).unwrap();
+        let out = run(&mut m, 300, 0.001);
+        assert!(out.iter().all(|r| r[1] == 0.0));
+        assert!(out.iter().any(|r| r[0] > 9.9));
+        m.reset(&mut SimRng::new(0));
+        let again = run(&mut m, 300, 0.001);
+        assert_eq!(out, again);
+    }
+
+    #[test]
+    fn bad_values_are_refused() {
+        let mut m = Sinusoidal::new(2);
+        assert!(m.params.set(AMPLITUDE, None, f64::NAN).is_err());
+        assert!(m.params.set(AMPLITUDE, None, 120.0).is_err());
+        assert!(m.params.set(AMPLITUDE, Some(2), 10.0).is_err());
+        assert!(m.params.set_all(AMPLITUDE, &[1.0]).is_err());
     }
 }

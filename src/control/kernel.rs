@@ -1,0 +1,262 @@
+//! The control kernel (thesis 4.3.1, fig. 4.4, Algorithm 1): the actuation modules of one
+//! robot, each driving a group of joints (groups may overlap); every step it computes each
+//! module's angles and sums them joint-wise, clamped to the joint limits.
+//!
+//! Plain Rust with no Bevy types: the simulation holds one per robot as a component, and
+//! real-robot control and the optimizers use the same object. Parameters are read and
+//! changed by name between steps (GUI, gamepad, optimizers all go through
+//! [`ControlKernel::set_parameter`]). Nothing is allocated per step.
+
+use std::fmt;
+
+use crate::config::actuation::ParamValue;
+use crate::config::resolve::ActuationModel;
+use crate::control::module::{ActuationModule, ParamError, StepContext};
+use crate::control::registry::{CreateError, ModuleRegistry};
+use crate::rng::SimRng;
+
+/// One module instance and the robot joints it drives.
+#[derive(Clone)]
+pub struct Actuator {
+    pub module: Box<dyn ActuationModule>,
+    /// Robot joint indices, in the module's joint order.
+    pub joints: Vec<usize>,
+    /// Measured angles of those joints, gathered each step.
+    angles: Vec<f64>,
+    /// The module's latest output.
+    out: Vec<f64>,
+}
+
+impl Actuator {
+    /// The module's latest output, one angle per driven joint.
+    pub fn output(&self) -> &[f64] {
+        &self.out
+    }
+
+    /// The module-local index of robot joint `joint`.
+    pub fn local(&self, joint: usize) -> Option<usize> {
+        self.joints.iter().position(|j| *j == joint)
+    }
+}
+
+impl fmt::Debug for Actuator {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Actuator")
+            .field("module", &self.module.descriptor().type_name)
+            .field("joints", &self.joints)
+            .finish()
+    }
+}
+
+/// Why a kernel could not be built or changed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum KernelError {
+    Create(CreateError),
+    Param { module: &'static str, error: ParamError },
+    JointOutOfRange { joint: usize, joints: usize },
+    NoSuchActuator { index: usize, count: usize },
+    NotDriven { module: &'static str, joint: usize },
+}
+
+impl fmt::Display for KernelError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            KernelError::Create(e) => e.fmt(f),
+            KernelError::Param { module, error } => write!(f, "{module}: {error}"),
+            KernelError::JointOutOfRange { joint, joints } => write!(f, "joint {joint} out of range: the robot has {joints} joints"),
+            KernelError::NoSuchActuator { index, count } => write!(f, "no actuator {index}: the kernel has {count}"),
+            KernelError::NotDriven { module, joint } => write!(f, "module {module} does not drive joint {joint}"),
+        }
+    }
+}
+
+impl std::error::Error for KernelError {}
+
+/// The control kernel of one robot.
+#[derive(Debug, Clone)]
+pub struct ControlKernel {
+    actuators: Vec<Actuator>,
+    /// Joint limits in degrees, per robot joint.
+    limits: Vec<[f64; 2]>,
+    /// The summed, clamped output per robot joint.
+    desired: Vec<f64>,
+}
+
+impl ControlKernel {
+    /// An empty kernel for a robot with these joint limits (degrees).
+    pub fn new(limits: Vec<[f64; 2]>) -> Self {
+        let n = limits.len();
+        ControlKernel { actuators: Vec::new(), limits, desired: vec![0.0; n] }
+    }
+
+    /// Builds the kernel of an actuation file: one module per assignment, parameters set.
+    pub fn from_actuation(
+        model: &ActuationModel,
+        registry: &ModuleRegistry,
+        limits: Vec<[f64; 2]>,
+    ) -> Result<Self, KernelError> {
+        let mut k = ControlKernel::new(limits);
+        for m in &model.modules {
+            let joints: Vec<usize> = m.joints.indices().collect();
+            let mut module = registry.create(m.descriptor.type_name, joints.len()).map_err(KernelError::Create)?;
+            let name = module.descriptor().type_name;
+            for p in &m.params {
+                let params = module.parameters_mut();
+                let idx = params.index(p.name).map_err(|error| KernelError::Param { module: name, error })?;
+                match &p.value {
+                    ParamValue::Uniform(v) => params.set(idx, None, *v),
+                    ParamValue::PerJoint(v) => params.set_all(idx, v),
+                }
+                .map_err(|error| KernelError::Param { module: name, error })?;
+            }
+            k.add(module, joints)?;
+        }
+        Ok(k)
+    }
+
+    /// Adds a module driving `joints` (robot joint indices); returns its actuator index.
+    pub fn add(&mut self, module: Box<dyn ActuationModule>, joints: Vec<usize>) -> Result<usize, KernelError> {
+        if let Some(j) = joints.iter().find(|j| **j >= self.limits.len()) {
+            return Err(KernelError::JointOutOfRange { joint: *j, joints: self.limits.len() });
+        }
+        let n = joints.len();
+        self.actuators.push(Actuator { module, joints, angles: vec![0.0; n], out: vec![0.0; n] });
+        Ok(self.actuators.len() - 1)
+    }
+
+    pub fn actuators(&self) -> &[Actuator] {
+        &self.actuators
+    }
+
+    /// Number of robot joints.
+    pub fn joints(&self) -> usize {
+        self.limits.len()
+    }
+
+    /// The first actuator whose module type answers to `type_name`.
+    pub fn find(&self, type_name: &str) -> Option<usize> {
+        self.actuators
+            .iter()
+            .position(|a| crate::config::xml::read::same_name(a.module.descriptor().type_name, type_name))
+    }
+
+    /// Resets every module; module `i` draws from its own stream of `rng`.
+    pub fn reset(&mut self, rng: &mut SimRng) {
+        for (i, a) in self.actuators.iter_mut().enumerate() {
+            let mut stream = rng.fork(i as u64);
+            a.module.reset(&mut stream);
+            a.out.fill(0.0);
+        }
+        self.desired.fill(0.0);
+    }
+
+    /// Algorithm 1: every module computes, outputs are summed per joint and clamped to the
+    /// joint limits. `measured` holds the current angle (degrees) of every robot joint.
+    pub fn compute(&mut self, time: f64, dt: f64, step: u64, measured: &[f64]) -> &[f64] {
+        self.desired.fill(0.0);
+        for a in &mut self.actuators {
+            for (slot, j) in a.angles.iter_mut().zip(&a.joints) {
+                *slot = measured[*j];
+            }
+            let ctx = StepContext { time, dt, step, angles: &a.angles };
+            a.module.compute(&ctx, &mut a.out);
+            for (v, j) in a.out.iter().zip(&a.joints) {
+                self.desired[*j] += v;
+            }
+        }
+        for (d, [lo, hi]) in self.desired.iter_mut().zip(&self.limits) {
+            *d = d.clamp(*lo, *hi);
+        }
+        &self.desired
+    }
+
+    /// The latest summed output per robot joint (degrees).
+    pub fn desired(&self) -> &[f64] {
+        &self.desired
+    }
+
+    fn actuator(&self, index: usize) -> Result<&Actuator, KernelError> {
+        self.actuators.get(index).ok_or(KernelError::NoSuchActuator { index, count: self.actuators.len() })
+    }
+
+    /// The local joint index of robot joint `joint` in actuator `a`, if given.
+    fn local_joint(a: &Actuator, joint: Option<usize>) -> Result<Option<usize>, KernelError> {
+        joint
+            .map(|j| a.local(j).ok_or(KernelError::NotDriven { module: a.module.descriptor().type_name, joint: j }))
+            .transpose()
+    }
+
+    /// Reads parameter `name` of actuator `index` at robot joint `joint` (the first driven
+    /// joint when `None`).
+    pub fn parameter(&self, index: usize, name: &str, joint: Option<usize>) -> Result<f64, KernelError> {
+        let a = self.actuator(index)?;
+        let module = a.module.descriptor().type_name;
+        let p = a.module.parameters();
+        let idx = p.index(name).map_err(|error| KernelError::Param { module, error })?;
+        let local = Self::local_joint(a, joint)?.unwrap_or(0);
+        if local >= p.joints() {
+            return Err(KernelError::NotDriven { module, joint: joint.unwrap_or(0) });
+        }
+        Ok(p.get(idx, local))
+    }
+
+    /// Changes parameter `name` of actuator `index` at robot joint `joint`, or at every
+    /// joint it drives when `None`. Takes effect at the next step.
+    pub fn set_parameter(&mut self, index: usize, name: &str, joint: Option<usize>, value: f64) -> Result<(), KernelError> {
+        let count = self.actuators.len();
+        let a = self.actuators.get_mut(index).ok_or(KernelError::NoSuchActuator { index, count })?;
+        let local = Self::local_joint(a, joint)?;
+        let module = a.module.descriptor().type_name;
+        let p = a.module.parameters_mut();
+        let idx = p.index(name).map_err(|error| KernelError::Param { module, error })?;
+        p.set(idx, local, value).map_err(|error| KernelError::Param { module, error })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn kernel() -> ControlKernel {
+        let r = ModuleRegistry::default();
+        let mut k = ControlKernel::new(vec![[-90.0, 90.0]; 3]);
+        let mut direct = r.create("DirectJointAccess", 2).unwrap();
+        direct.parameters_mut().set(0, None, 10.0).unwrap();
+        k.add(direct, vec![0, 1]).unwrap();
+        let mut direct2 = r.create("DirectJointAccess", 2).unwrap();
+        direct2.parameters_mut().set(0, None, 85.0).unwrap();
+        k.add(direct2, vec![1, 2]).unwrap();
+        k
+    }
+
+    #[test]
+    fn overlapping_groups_sum_and_clamp() {
+        let mut k = kernel();
+        let out = k.compute(0.0, 0.001, 0, &[0.0; 3]).to_vec();
+        assert_eq!(out, [10.0, 90.0, 85.0], "joint 1 gets 10 + 85, clamped to 90");
+    }
+
+    #[test]
+    fn parameters_by_name_between_steps() {
+        let mut k = kernel();
+        k.set_parameter(0, "Angle", Some(1), -20.0).unwrap();
+        assert_eq!(k.parameter(0, "angle", Some(1)).unwrap(), -20.0);
+        assert_eq!(k.parameter(0, "Angle", Some(0)).unwrap(), 10.0);
+        assert_eq!(k.compute(0.0, 0.001, 0, &[0.0; 3]), [10.0, 65.0, 85.0]);
+        assert!(matches!(k.set_parameter(0, "Angle", Some(2), 1.0), Err(KernelError::NotDriven { joint: 2, .. })));
+        assert!(matches!(k.set_parameter(0, "Angel", None, 1.0), Err(KernelError::Param { .. })));
+        assert!(matches!(k.set_parameter(0, "Angle", None, f64::NAN), Err(KernelError::Param { .. })));
+        assert!(matches!(k.set_parameter(5, "Angle", None, 1.0), Err(KernelError::NoSuchActuator { .. })));
+        assert_eq!(k.find("directjointaccess"), Some(0));
+    }
+
+    #[test]
+    fn out_of_range_joint_is_refused() {
+        let r = ModuleRegistry::default();
+        let mut k = ControlKernel::new(vec![[-90.0, 90.0]; 2]);
+        let m = r.create("DirectJointAccess", 1).unwrap();
+        assert!(matches!(k.add(m, vec![2]), Err(KernelError::JointOutOfRange { .. })));
+        assert!(matches!(r.create("Global_Adaptive_Touch", 5), Err(CreateError::NotImplemented { .. })));
+        assert!(matches!(r.create("Nope", 5), Err(CreateError::Unknown { .. })));
+    }
+}

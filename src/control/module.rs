@@ -1,0 +1,191 @@
+//! The actuation-module interface (thesis 5.2, listing A.1): plain Rust, free of Bevy, so
+//! a module runs the same in the simulation, in a unit test, in the GUI and in a plugin.
+//!
+//! A module drives a group of joints. Every step it gets a [`StepContext`] and writes one
+//! angle (degrees) per connected joint. Its parameters are per joint, uniform or
+//! individual ([`Parameters`]); its intermediate values are logged ([`InternalData`]).
+
+use std::fmt;
+
+use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
+use crate::rng::SimRng;
+
+/// What a module sees in one step.
+#[derive(Debug, Clone, Copy)]
+pub struct StepContext<'a> {
+    /// Simulated time (s) of the step being computed.
+    pub time: f64,
+    /// Step width δ (s).
+    pub dt: f64,
+    /// Step counter.
+    pub step: u64,
+    /// Current measured angles (degrees) of the module's joints, in mask order.
+    pub angles: &'a [f64],
+}
+
+/// Why a parameter could not be read or changed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ParamError {
+    UnknownParameter { module: &'static str, name: String, known: Vec<&'static str> },
+    JointOutOfRange { joint: usize, joints: usize },
+    NotFinite { name: &'static str, value: f64 },
+    OutOfRange { name: &'static str, value: f64, min: f64, max: f64, unit: &'static str },
+    WrongCount { name: &'static str, given: usize, joints: usize },
+}
+
+impl fmt::Display for ParamError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ParamError::UnknownParameter { module, name, known } => {
+                write!(f, "module {module} has no parameter \"{name}\"; its parameters: {}", known.join(", "))
+            }
+            ParamError::JointOutOfRange { joint, joints } => {
+                write!(f, "joint {joint} is not one of the module's {joints} joints")
+            }
+            ParamError::NotFinite { name, value } => write!(f, "{name}: {value} is not a finite number"),
+            ParamError::OutOfRange { name, value, min, max, unit } => {
+                write!(f, "{name} = {value} {unit} is outside {min}..{max}")
+            }
+            ParamError::WrongCount { name, given, joints } => {
+                write!(f, "{name}: {given} values for {joints} joints")
+            }
+        }
+    }
+}
+
+impl std::error::Error for ParamError {}
+
+/// A module's parameter values: one value per parameter and connected joint.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parameters {
+    module: &'static str,
+    descriptors: &'static [ParamDescriptor],
+    joints: usize,
+    /// Row-major: `values[param * joints + joint]`.
+    values: Vec<f64>,
+}
+
+impl Parameters {
+    /// Every parameter at its default, for `joints` joints.
+    pub fn new(descriptor: &ModuleDescriptor, joints: usize) -> Self {
+        let values = descriptor.parameters.iter().flat_map(|p| std::iter::repeat_n(p.default, joints)).collect();
+        Parameters { module: descriptor.type_name, descriptors: descriptor.parameters, joints, values }
+    }
+
+    pub fn joints(&self) -> usize {
+        self.joints
+    }
+
+    pub fn descriptors(&self) -> &'static [ParamDescriptor] {
+        self.descriptors
+    }
+
+    /// The index of the parameter answering to `name`.
+    pub fn index(&self, name: &str) -> Result<usize, ParamError> {
+        self.descriptors.iter().position(|d| d.answers_to(name)).ok_or_else(|| ParamError::UnknownParameter {
+            module: self.module,
+            name: name.to_string(),
+            known: self.descriptors.iter().map(|d| d.name).collect(),
+        })
+    }
+
+    /// The value of parameter `param` at `joint` (no bounds check beyond the slice's).
+    #[inline]
+    pub fn get(&self, param: usize, joint: usize) -> f64 {
+        self.values[param * self.joints + joint]
+    }
+
+    /// All joints' values of one parameter.
+    pub fn row(&self, param: usize) -> &[f64] {
+        &self.values[param * self.joints..(param + 1) * self.joints]
+    }
+
+    fn check(&self, param: usize, value: f64) -> Result<(), ParamError> {
+        let d = &self.descriptors[param];
+        if !value.is_finite() {
+            return Err(ParamError::NotFinite { name: d.name, value });
+        }
+        if value < d.min || value > d.max {
+            return Err(ParamError::OutOfRange { name: d.name, value, min: d.min, max: d.max, unit: d.unit });
+        }
+        Ok(())
+    }
+
+    /// Sets one joint's value, or every joint's when `joint` is `None`.
+    pub fn set(&mut self, param: usize, joint: Option<usize>, value: f64) -> Result<(), ParamError> {
+        self.check(param, value)?;
+        match joint {
+            Some(j) if j >= self.joints => Err(ParamError::JointOutOfRange { joint: j, joints: self.joints }),
+            Some(j) => {
+                self.values[param * self.joints + j] = value;
+                Ok(())
+            }
+            None => {
+                self.values[param * self.joints..(param + 1) * self.joints].fill(value);
+                Ok(())
+            }
+        }
+    }
+
+    /// Sets one value per joint.
+    pub fn set_all(&mut self, param: usize, values: &[f64]) -> Result<(), ParamError> {
+        if values.len() != self.joints {
+            return Err(ParamError::WrongCount { name: self.descriptors[param].name, given: values.len(), joints: self.joints });
+        }
+        for v in values {
+            self.check(param, *v)?;
+        }
+        self.values[param * self.joints..(param + 1) * self.joints].copy_from_slice(values);
+        Ok(())
+    }
+}
+
+/// A module's logged intermediate values: the latest value of each series per joint.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InternalData {
+    names: &'static [&'static str],
+    joints: usize,
+    values: Vec<f64>,
+}
+
+impl InternalData {
+    pub fn new(names: &'static [&'static str], joints: usize) -> Self {
+        InternalData { names, joints, values: vec![0.0; names.len() * joints] }
+    }
+
+    pub fn names(&self) -> &'static [&'static str] {
+        self.names
+    }
+
+    /// The latest values of series `series`, one per joint.
+    pub fn series(&self, series: usize) -> &[f64] {
+        &self.values[series * self.joints..(series + 1) * self.joints]
+    }
+
+    /// Mutable access for the module that owns it.
+    #[inline]
+    pub fn series_mut(&mut self, series: usize) -> &mut [f64] {
+        &mut self.values[series * self.joints..(series + 1) * self.joints]
+    }
+}
+
+/// An actuation module (thesis listing A.1).
+pub trait ActuationModule: Send + Sync {
+    /// Type name, parameters, logged series.
+    fn descriptor(&self) -> &ModuleDescriptor;
+    /// Back to the start state (called before a run; `rng` is the module's own stream).
+    fn reset(&mut self, rng: &mut SimRng);
+    /// One angle (degrees) per connected joint into `out` (`out.len()` = joints).
+    fn compute(&mut self, ctx: &StepContext, out: &mut [f64]);
+    fn parameters(&self) -> &Parameters;
+    fn parameters_mut(&mut self) -> &mut Parameters;
+    fn internal_data(&self) -> &InternalData;
+    /// A copy in the same state (for parallel evaluation).
+    fn clone_box(&self) -> Box<dyn ActuationModule>;
+}
+
+impl Clone for Box<dyn ActuationModule> {
+    fn clone(&self) -> Self {
+        self.clone_box()
+    }
+}
