@@ -10,9 +10,12 @@
 //! - [`control`]: the actuation-module interface, the registry of module types, the
 //!   standard module library and the control kernel.
 //! - [`rng`]: the seeded random numbers of a run.
+//! - [`sim`]: the simulated world as ECS (rapier physics, servos, the fixed-step pipeline)
+//!   and the headless [`sim::Simulator`].
 //!
 //! Pure logic stays free of rendering, so everything here runs and tests headless.
 
 pub mod config;
 pub mod control;
 pub mod rng;
+pub mod sim;

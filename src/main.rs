@@ -5,6 +5,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod cli_run;
+
 /// Design, simulate, optimize and drive chain-like modular robots.
 #[derive(Parser)]
 #[command(name = "proleg", version, about)]
@@ -20,11 +22,35 @@ enum Command {
         /// A `*.simulation.xml` file.
         config: PathBuf,
     },
+    /// Run one simulation headless and print what the robot did.
+    Run {
+        /// A `*.simulation.xml` file.
+        config: PathBuf,
+        /// Simulated seconds (default: the file's duration).
+        #[arg(long)]
+        duration: Option<f64>,
+        /// Random seed (default: the file's seed).
+        #[arg(long)]
+        seed: Option<u64>,
+        /// Pace to real time times this factor (default 0: as fast as possible).
+        #[arg(long, default_value_t = 0.0)]
+        realtime: f64,
+    },
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
+        Command::Run { config, duration, seed, realtime } => match cli_run::run(&config, duration, seed, realtime) {
+            Ok(text) => {
+                print!("{text}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::FAILURE
+            }
+        },
         Command::Check { config } => match proleg::config::load_simulation(&config) {
             Ok(sim) => {
                 print!("{}", proleg::config::summary::summary(&sim));

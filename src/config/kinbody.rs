@@ -3,7 +3,8 @@
 //!
 //! Used for module parts (`*.kinbody.xml`), the body of a robot file, and the objects
 //! of an environment file. Joint units: `limitsdeg` in degrees, `maxvel` in rad/s,
-//! `maxtorque` in N·m.
+//! `maxtorque` in N·m. Extension: `<servoGain>` (1/s), the proportional gain of the
+//! joint's servo.
 
 use crate::config::body::Body;
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
@@ -26,6 +27,8 @@ pub struct Joint {
     pub max_torque: Option<f64>,
     pub max_vel: Option<f64>,
     pub limits_deg: Option<[f64; 2]>,
+    /// Extension: the servo's proportional gain (1/s).
+    pub servo_gain: Option<f64>,
     pub pos: Pos,
 }
 
@@ -111,6 +114,7 @@ impl Joint {
             .unwrap_or([0.0; 3]);
         let max_torque = r.opt_positive(el, "maxtorque")?;
         let max_vel = r.opt_positive(el, "maxvel")?;
+        let servo_gain = r.opt_positive(el, "servogain")?;
         let mut limits_deg = None;
         for c in &el.children {
             let scale = if c.is("limitsdeg") {
@@ -166,6 +170,7 @@ impl Joint {
             max_torque,
             max_vel,
             limits_deg,
+            servo_gain,
             pos: el.pos,
         })
     }
@@ -192,6 +197,9 @@ impl Joint {
         }
         if let Some(l) = self.limits_deg {
             w.nums("limitsdeg", &l);
+        }
+        if let Some(g) = self.servo_gain {
+            w.num("servoGain", g);
         }
         w.close();
     }

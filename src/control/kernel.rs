@@ -153,13 +153,25 @@ impl ControlKernel {
     /// Algorithm 1: every module computes, outputs are summed per joint and clamped to the
     /// joint limits. `measured` holds the current angle (degrees) of every robot joint.
     pub fn compute(&mut self, time: f64, dt: f64, step: u64, measured: &[f64]) -> &[f64] {
-        self.desired.fill(0.0);
+        self.compute_modules(time, dt, step, measured);
+        self.sum()
+    }
+
+    /// The first half of [`ControlKernel::compute`]: every module computes its output.
+    pub fn compute_modules(&mut self, time: f64, dt: f64, step: u64, measured: &[f64]) {
         for a in &mut self.actuators {
             for (slot, j) in a.angles.iter_mut().zip(&a.joints) {
-                *slot = measured[*j];
+                *slot = measured.get(*j).copied().unwrap_or(0.0);
             }
             let ctx = StepContext { time, dt, step, angles: &a.angles };
             a.module.compute(&ctx, &mut a.out);
+        }
+    }
+
+    /// The second half: the outputs summed per joint, clamped to the joint limits.
+    pub fn sum(&mut self) -> &[f64] {
+        self.desired.fill(0.0);
+        for a in &self.actuators {
             for (v, j) in a.out.iter().zip(&a.joints) {
                 self.desired[*j] += v;
             }

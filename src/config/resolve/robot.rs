@@ -93,6 +93,8 @@ pub struct RobotJoint {
     pub limits_deg: [f64; 2],
     pub max_torque: f64,
     pub max_vel: f64,
+    /// Servo gain (1/s) when the file sets one.
+    pub servo_gain: Option<f64>,
     pub orientation: JointOrientation,
 }
 
@@ -261,6 +263,7 @@ pub fn resolve_robot(
             limits_deg: j.limits_deg.unwrap_or(DEFAULT_LIMITS_DEG),
             max_torque: j.max_torque.unwrap_or(DEFAULT_MAX_TORQUE),
             max_vel: j.max_vel.unwrap_or(DEFAULT_MAX_VEL),
+            servo_gain: j.servo_gain,
             orientation: classify(axis, chain),
         });
     }

@@ -1,9 +1,10 @@
 //! `PatternGenerator_sinusoidal`: φ_i(t) = A_i sin(2π f_i t + ϕ_i) + O_i (thesis eq. 3.1,
 //! table 3.1), parameters uniform or per joint.
 //!
-//! Joint i's phase lead ϕ_i is the sum of the `Phase_Difference` values of joints 1..=i,
-//! so with a uniform value it is i·Δϕ (joint 0 is the first joint of the mask, the tail
-//! in the ready robots). The time term is integrated per joint (θ_i += 2π f_i δ), so
+//! Joint i lags joint 0 by the sum of the `Phase_Difference` values of joints 1..=i, so
+//! with a uniform value ϕ_i = -i·Δϕ (joint 0 is the first joint of the mask, the tail in
+//! the ready robots): with Δϕ > 0 the wave runs from the tail to the head, and a pitching
+//! chain crawls head first; a negative Δϕ reverses both. The time term is integrated per joint (θ_i += 2π f_i δ), so
 //! changing the frequency while running bends the wave smoothly instead of jumping.
 
 use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
@@ -41,7 +42,7 @@ const PARAMETERS: &[ParamDescriptor] = &[
         default: 55.0,
         min: -180.0,
         max: 180.0,
-        help: "phase lead of a joint over its tail-side neighbour (its sign sets the direction)",
+        help: "phase lag of a joint behind its tail-side neighbour (> 0: crawl head first)",
     },
     ParamDescriptor {
         name: "Offset",
@@ -100,7 +101,7 @@ impl ActuationModule for Sinusoidal {
         let mut lead = 0.0;
         for j in 0..out.len() {
             if j > 0 {
-                lead += p.get(PHASE_DIFFERENCE, j).to_radians();
+                lead -= p.get(PHASE_DIFFERENCE, j).to_radians();
             }
             let phase = self.theta[j] + lead;
             out[j] = p.get(AMPLITUDE, j) * phase.sin() + p.get(OFFSET, j);
@@ -157,7 +158,7 @@ mod tests {
             let t = k as f64 * dt;
             for (j, v) in row.iter().enumerate() {
                 let offset = if j == 2 { 5.0 } else { 0.0 };
-                let expected = 30.0 * (std::f64::consts::PI * t + (j as f64) * std::f64::consts::FRAC_PI_2).sin() + offset;
+                let expected = 30.0 * (std::f64::consts::PI * t - (j as f64) * std::f64::consts::FRAC_PI_2).sin() + offset;
                 assert!((v - expected).abs() < 1e-9, "step {k} joint {j}: {v} vs {expected}");
             }
         }

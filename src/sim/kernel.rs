@@ -1,0 +1,50 @@
+//! The control kernel in the pipeline: each robot's [`ControlKernel`] computes its modules
+//! from the measured joint angles (`Actuate`), sums them (`Kernel`) and hands the sums to
+//! the servos.
+
+use bevy::prelude::*;
+
+use crate::control::ControlKernel;
+use crate::sim::clock::SimClock;
+use crate::sim::servo::{JointState, Servo};
+
+/// A simulated robot: its joint and link entities in robot order.
+#[derive(Component, Debug, Clone)]
+pub struct SimRobot {
+    /// Position in the batch (0 for a single robot).
+    pub index: usize,
+    pub joints: Vec<Entity>,
+    pub links: Vec<Entity>,
+    /// Link bodies and masses, for the centre of mass.
+    pub bodies: Vec<(rapier3d::prelude::RigidBodyHandle, f64)>,
+    /// Measured joint angles (degrees), gathered each step.
+    pub(crate) measured: Vec<f64>,
+}
+
+/// The robot's control kernel.
+#[derive(Component, Debug, Clone)]
+pub struct Kernel(pub ControlKernel);
+
+/// Gathers the measured angles and lets every module compute (the `Actuate` set).
+pub fn actuate(clock: Res<SimClock>, mut robots: Query<(&mut SimRobot, &mut Kernel)>, states: Query<&JointState>) {
+    let time = clock.time();
+    for (mut robot, mut kernel) in &mut robots {
+        let robot = &mut *robot;
+        for (slot, e) in robot.measured.iter_mut().zip(&robot.joints) {
+            *slot = states.get(*e).map_or(0.0, |s| s.angle);
+        }
+        kernel.0.compute_modules(time, clock.dt, clock.step, &robot.measured);
+    }
+}
+
+/// Sums the module outputs joint-wise and sets the servo targets (the `Kernel` set).
+pub fn sum_outputs(mut robots: Query<(&SimRobot, &mut Kernel)>, mut servos: Query<&mut Servo>) {
+    for (robot, mut kernel) in &mut robots {
+        let desired = kernel.0.sum();
+        for (e, d) in robot.joints.iter().zip(desired) {
+            if let Ok(mut s) = servos.get_mut(*e) {
+                s.target = *d;
+            }
+        }
+    }
+}

@@ -1,0 +1,35 @@
+//! The simulated world as ECS: the robot and terrain of a configuration built into
+//! entities and a rapier physics world, stepped by a fixed-step pipeline of ordered system
+//! sets, plus a headless runner.
+//!
+//! - [`schedule`]: the [`SimStep`] schedule and its [`SimSystems`] sets
+//! - [`spawn`]: building the world from a loaded simulation
+//! - [`physics`], [`servo`], [`kernel`], [`record`], [`clock`]: the stages of a step
+//! - [`runner`]: [`Simulator`], the headless driver the CLI, benchmarks and optimizers use
+
+pub mod clock;
+pub mod error;
+pub mod kernel;
+pub mod physics;
+pub mod record;
+pub mod runner;
+pub mod schedule;
+pub mod servo;
+pub mod spawn;
+
+use bevy::prelude::*;
+
+pub use error::SimError;
+pub use runner::{RunSummary, Simulator};
+pub use schedule::{SimStep, SimSystems};
+pub use spawn::BuildOptions;
+
+/// The simulation core: the step schedule and its systems. The world itself is built by
+/// [`spawn::build_world`] (the runner does it).
+pub struct SimPlugin;
+
+impl Plugin for SimPlugin {
+    fn build(&self, app: &mut App) {
+        schedule::plugin(app);
+    }
+}

@@ -1,0 +1,55 @@
+//! The physics world: rapier3d's bodies, colliders and joints, owned by one resource and
+//! stepped once per simulation step. Coordinates are the configuration's (metres, z up);
+//! the viewer turns them into Bevy's y-up frame.
+//!
+//! We drive rapier directly instead of through bevy_rapier's plugin: the fixed-step
+//! pipeline needs physics as one set among ours, and headless runs must not pay for
+//! syncing transforms nobody looks at (see docs/DESIGN.md §7).
+
+use bevy::prelude::*;
+use rapier3d::prelude as rp;
+
+/// Most robots one world can hold (one collision group each, besides the environment).
+pub const MAX_ROBOTS_PER_WORLD: usize = 31;
+
+/// rapier's world, and the settings of the run.
+#[derive(Resource)]
+pub struct Physics {
+    pub world: rp::PhysicsWorld,
+}
+
+impl Physics {
+    /// A world with gravity (m/s², z up) and step width (s).
+    pub fn new(gravity: [f64; 3], dt: f64) -> Self {
+        let mut world = rp::PhysicsWorld::default();
+        world.gravity = vec3(gravity);
+        world.integration_parameters.dt = dt as f32;
+        Physics { world }
+    }
+}
+
+/// Bit of collision group `g`: group 0 is the environment, robot `i` of a batch uses `i + 1`.
+pub fn group_bit(g: u32) -> rp::Group {
+    rp::Group::from_bits_truncate(1u32 << g)
+}
+
+/// f64 triple to rapier's vector.
+pub fn vec3(v: [f64; 3]) -> rp::Vector {
+    rp::Vector::new(v[0] as f32, v[1] as f32, v[2] as f32)
+}
+
+/// Rapier's vector to an f64 triple.
+pub fn arr3(v: rp::Vector) -> [f64; 3] {
+    [v.x as f64, v.y as f64, v.z as f64]
+}
+
+/// Configuration pose (translation, quaternion w x y z) to rapier's pose.
+pub fn pose(t: &crate::config::transform::Transform) -> rp::Pose {
+    let [w, x, y, z] = t.rotation;
+    rp::Pose::from_parts(vec3(t.translation), rp::Rotation::from_xyzw(x as f32, y as f32, z as f32, w as f32).normalize())
+}
+
+/// The physics step (the `Physics` set of the pipeline).
+pub fn step_physics(mut physics: ResMut<Physics>) {
+    physics.world.step();
+}

@@ -1,0 +1,191 @@
+//! [`Simulator`]: a headless world built from a configuration, stepped as fast as possible
+//! (or paced to real time), with the one API for reading state and changing parameters
+//! between steps that the CLI, the benchmarks, the optimizers and the GUI all use.
+
+use std::time::{Duration, Instant};
+
+use bevy::prelude::*;
+
+use crate::config::Simulation;
+use crate::control::{ControlKernel, ModuleRegistry};
+use crate::sim::SimPlugin;
+use crate::sim::clock::SimClock;
+use crate::sim::error::SimError;
+use crate::sim::kernel::{Kernel, SimRobot};
+use crate::sim::physics::Physics;
+use crate::sim::record::{Track, centre_of_mass, heading};
+use crate::sim::schedule::SimStep;
+use crate::sim::servo::JointState;
+use crate::sim::spawn::{BuildOptions, build_world};
+
+/// What a run did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunSummary {
+    pub steps: u64,
+    /// Simulated seconds.
+    pub sim_time: f64,
+    /// Wall-clock seconds.
+    pub wall_time: f64,
+    /// Simulated seconds per wall second.
+    pub realtime_factor: f64,
+    pub start_com: [f64; 3],
+    pub end_com: [f64; 3],
+    /// Thesis eq. 3.7: distance between start and end in the ground plane (m).
+    pub displacement: f64,
+    /// displacement / simulated time (m/s).
+    pub mean_speed: f64,
+}
+
+/// A headless simulation.
+pub struct Simulator {
+    app: App,
+    robots: Vec<Entity>,
+}
+
+impl Simulator {
+    /// Builds the world of `sim` with the standard module registry.
+    pub fn new(sim: &Simulation, opts: &BuildOptions) -> Result<Self, SimError> {
+        Simulator::with_registry(sim, opts, &ModuleRegistry::default())
+    }
+
+    /// Builds the world of `sim` with the given module registry.
+    pub fn with_registry(sim: &Simulation, opts: &BuildOptions, registry: &ModuleRegistry) -> Result<Self, SimError> {
+        let mut app = App::new();
+        app.add_plugins(SimPlugin);
+        let robots = build_world(app.world_mut(), sim, opts, registry)?;
+        Ok(Simulator { app, robots })
+    }
+
+    pub fn world(&self) -> &World {
+        self.app.world()
+    }
+
+    pub fn world_mut(&mut self) -> &mut World {
+        self.app.world_mut()
+    }
+
+    /// The robot entities, in batch order.
+    pub fn robots(&self) -> &[Entity] {
+        &self.robots
+    }
+
+    fn robot(&self, index: usize) -> Result<Entity, SimError> {
+        self.robots.get(index).copied().ok_or(SimError::NoSuchRobot { index, count: self.robots.len() })
+    }
+
+    pub fn clock(&self) -> &SimClock {
+        self.app.world().resource::<SimClock>()
+    }
+
+    /// Runs `n` steps as fast as possible.
+    pub fn run_steps(&mut self, n: u64) {
+        let world = self.app.world_mut();
+        // Taking the schedule out once saves its lookup on every step.
+        let Some(mut schedule) = world.resource_mut::<Schedules>().remove(SimStep) else {
+            return;
+        };
+        for _ in 0..n {
+            schedule.run(world);
+        }
+        world.resource_mut::<Schedules>().insert(schedule);
+    }
+
+    /// One step.
+    pub fn step(&mut self) {
+        self.run_steps(1);
+    }
+
+    /// Runs for `seconds` of simulated time (rounded to whole steps), paced by the clock's
+    /// real-time factor and delay, and summarizes robot 0's motion over the run.
+    pub fn run_for(&mut self, seconds: f64) -> RunSummary {
+        let dt = self.clock().dt;
+        let steps = (seconds / dt).round().max(0.0) as u64;
+        let (factor, delay) = (self.clock().realtime_factor, self.clock().delay_ms);
+        let start_com = self.com(0).unwrap_or_default();
+        let start_step = self.clock().step;
+        let wall = Instant::now();
+        if factor <= 0.0 && delay <= 0.0 {
+            self.run_steps(steps);
+        } else {
+            for k in 1..=steps {
+                self.run_steps(1);
+                if delay > 0.0 {
+                    std::thread::sleep(Duration::from_secs_f64(delay / 1000.0));
+                }
+                if factor > 0.0 {
+                    let due = Duration::from_secs_f64(k as f64 * dt / factor);
+                    if let Some(wait) = due.checked_sub(wall.elapsed()) {
+                        std::thread::sleep(wait);
+                    }
+                }
+            }
+        }
+        let wall_time = wall.elapsed().as_secs_f64();
+        let end_com = self.com(0).unwrap_or_default();
+        let done = self.clock().step - start_step;
+        let sim_time = done as f64 * dt;
+        let displacement = ((end_com[0] - start_com[0]).powi(2) + (end_com[1] - start_com[1]).powi(2)).sqrt();
+        RunSummary {
+            steps: done,
+            sim_time,
+            wall_time,
+            realtime_factor: if wall_time > 0.0 { sim_time / wall_time } else { f64::INFINITY },
+            start_com,
+            end_com,
+            displacement,
+            mean_speed: if sim_time > 0.0 { displacement / sim_time } else { 0.0 },
+        }
+    }
+
+    /// Centre of mass of robot `index` (m, z up).
+    pub fn com(&self, index: usize) -> Result<[f64; 3], SimError> {
+        let e = self.robot(index)?;
+        let w = self.app.world();
+        let robot = w.get::<SimRobot>(e).ok_or(SimError::NoSuchRobot { index, count: self.robots.len() })?;
+        Ok(centre_of_mass(&w.resource::<Physics>().world.bodies, robot))
+    }
+
+    /// Tail-to-head heading of robot `index` in the ground plane (degrees from +x).
+    pub fn heading(&self, index: usize) -> Result<f64, SimError> {
+        let e = self.robot(index)?;
+        let w = self.app.world();
+        let robot = w.get::<SimRobot>(e).ok_or(SimError::NoSuchRobot { index, count: self.robots.len() })?;
+        Ok(heading(&w.resource::<Physics>().world.bodies, robot))
+    }
+
+    /// The current state of every joint of robot `index`.
+    pub fn joint_states(&self, index: usize) -> Result<Vec<JointState>, SimError> {
+        let e = self.robot(index)?;
+        let w = self.app.world();
+        let robot = w.get::<SimRobot>(e).ok_or(SimError::NoSuchRobot { index, count: self.robots.len() })?;
+        Ok(robot.joints.iter().map(|j| w.get::<JointState>(*j).copied().unwrap_or_default()).collect())
+    }
+
+    /// The recorded trajectory of robot `index`.
+    pub fn track(&self, index: usize) -> Result<&Track, SimError> {
+        let e = self.robot(index)?;
+        self.app.world().get::<Track>(e).ok_or(SimError::NoSuchRobot { index, count: self.robots.len() })
+    }
+
+    /// The control kernel of robot `index`.
+    pub fn kernel(&self, index: usize) -> Result<&ControlKernel, SimError> {
+        let e = self.robot(index)?;
+        self.app.world().get::<Kernel>(e).map(|k| &k.0).ok_or(SimError::NoSuchRobot { index, count: self.robots.len() })
+    }
+
+    /// Changes a module parameter of robot `robot` between steps (see
+    /// [`ControlKernel::set_parameter`]).
+    pub fn set_parameter(
+        &mut self,
+        robot: usize,
+        actuator: usize,
+        name: &str,
+        joint: Option<usize>,
+        value: f64,
+    ) -> Result<(), SimError> {
+        let e = self.robot(robot)?;
+        let count = self.robots.len();
+        let mut kernel = self.app.world_mut().get_mut::<Kernel>(e).ok_or(SimError::NoSuchRobot { index: robot, count })?;
+        Ok(kernel.0.set_parameter(actuator, name, joint, value)?)
+    }
+}

@@ -1,0 +1,219 @@
+//! Builds the world of a loaded [`Simulation`]: environment bodies, and one or more copies
+//! of the robot (links as rigid bodies with colliders, hinges as revolute joints with
+//! limits and servo motors, a control kernel from the actuation file). Every entity gets
+//! a `Name`. Robots of a batch share the environment but not each other: each has its own
+//! collision group.
+
+use std::path::Path;
+
+use bevy::prelude::*;
+use rapier3d::prelude as rp;
+
+use crate::config::body::{BodyKind, Geom, Shape};
+use crate::config::mesh::parse_obj;
+use crate::config::resolve::robot::geom_volume;
+use crate::config::Simulation;
+use crate::control::{ControlKernel, ModuleRegistry};
+use crate::rng::SimRng;
+use crate::sim::clock::SimClock;
+use crate::sim::error::SimError;
+use crate::sim::kernel::{Kernel, SimRobot};
+use crate::sim::physics::{MAX_ROBOTS_PER_WORLD, Physics, group_bit, pose, vec3};
+use crate::sim::record::{RecordSettings, Track};
+use crate::sim::servo::{DEFAULT_SERVO_GAIN, JointState, MOTOR_DAMPING, Servo, SimJoint};
+
+/// Friction of robot link surfaces; contacts take the smaller of the two coefficients, so
+/// the terrain's friction decides unless it is higher than this.
+pub const LINK_FRICTION: f64 = 1.0;
+/// Friction of geometries that name none, when the environment gives no default.
+pub const DEFAULT_FRICTION: f64 = 0.5;
+
+/// How to build the world.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BuildOptions {
+    /// Copies of the robot, each with its own kernel (1 ..= 31).
+    pub robots: usize,
+    pub seed: u64,
+    /// Record trajectories (off for throughput runs).
+    pub record: bool,
+}
+
+impl Default for BuildOptions {
+    fn default() -> Self {
+        BuildOptions { robots: 1, seed: 1, record: true }
+    }
+}
+
+/// A static or dynamic body of the environment.
+#[derive(Component, Debug, Clone)]
+pub struct EnvObject {
+    pub handle: rp::RigidBodyHandle,
+}
+
+/// A link of a robot.
+#[derive(Component, Debug, Clone)]
+pub struct SimLink {
+    pub robot: Entity,
+    pub index: usize,
+    pub handle: rp::RigidBodyHandle,
+}
+
+/// The loaded configuration the world was built from.
+#[derive(Resource, Debug, Clone)]
+pub struct LoadedSimulation(pub Simulation);
+
+fn shape(g: &Geom) -> Result<rp::SharedShape, SimError> {
+    Ok(match &g.shape {
+        Shape::Box { extents: [x, y, z] } => rp::SharedShape::cuboid(*x as f32, *y as f32, *z as f32),
+        Shape::Sphere { radius } => rp::SharedShape::ball(*radius as f32),
+        Shape::Cylinder { radius, height } => rp::SharedShape::cylinder((height / 2.0) as f32, *radius as f32),
+        Shape::Trimesh { file, scale } => {
+            let err = |message: String| SimError::Mesh { file: file.clone(), message };
+            let text = std::fs::read_to_string(file).map_err(|e| err(e.to_string()))?;
+            let mesh = parse_obj(Path::new(file), &text).map_err(|e| err(e.to_string()))?;
+            let vertices = mesh.vertices.iter().map(|v| vec3(v.map(|c| c * scale))).collect();
+            rp::SharedShape::trimesh(vertices, mesh.triangles).map_err(|e| err(format!("{e:?}")))?
+        }
+    })
+}
+
+/// Colliders for a body's geometries, its mass split by volume.
+fn colliders(
+    geoms: &[Geom],
+    mass: f64,
+    friction: impl Fn(&Geom) -> f64,
+    groups: rp::InteractionGroups,
+) -> Result<Vec<rp::Collider>, SimError> {
+    let volume: f64 = geoms.iter().map(geom_volume).sum::<f64>().max(1e-12);
+    geoms
+        .iter()
+        .map(|g| {
+            Ok(rp::ColliderBuilder::new(shape(g)?)
+                .position(pose(&g.pose))
+                .mass((mass * geom_volume(g) / volume) as f32)
+                .friction(friction(g) as f32)
+                .friction_combine_rule(rp::CoefficientCombineRule::Min)
+                .collision_groups(groups)
+                .build())
+        })
+        .collect()
+}
+
+/// Builds the world of `sim` into `world` (resources and entities); returns the robots.
+pub fn build_world(world: &mut World, sim: &Simulation, opts: &BuildOptions, registry: &ModuleRegistry) -> Result<Vec<Entity>, SimError> {
+    if opts.robots == 0 || opts.robots > MAX_ROBOTS_PER_WORLD {
+        return Err(SimError::TooManyRobots { requested: opts.robots, max: MAX_ROBOTS_PER_WORLD });
+    }
+    let props = &sim.files.simulation.properties;
+    let env = &sim.environment;
+    let mut physics = Physics::new(env.physics.gravity, props.step_width);
+    let all_robots = (1..=opts.robots as u32).fold(rp::Group::empty(), |g, i| g | group_bit(i));
+
+    // Environment: static bodies are shared by every robot.
+    let env_groups = rp::InteractionGroups::new(group_bit(0), all_robots | group_bit(0), rp::InteractionTestMode::And);
+    let default_friction = env.physics.default_friction.unwrap_or(DEFAULT_FRICTION);
+    let mut env_entities = Vec::new();
+    for b in &env.bodies {
+        let builder = match b.kind {
+            BodyKind::Static => rp::RigidBodyBuilder::fixed(),
+            BodyKind::Dynamic => rp::RigidBodyBuilder::dynamic().can_sleep(false),
+        };
+        let handle = physics.world.bodies.insert(builder.pose(pose(&b.pose)));
+        for c in colliders(&b.geoms, b.mass, |g| g.friction.unwrap_or(default_friction), env_groups)? {
+            let w = &mut physics.world;
+            w.colliders.insert_with_parent(c, handle, &mut w.bodies);
+        }
+        env_entities.push(world.spawn((Name::new(format!("environment: {}", b.name)), EnvObject { handle })).id());
+    }
+
+    let robot_model = &sim.robot;
+    let limits: Vec<[f64; 2]> = robot_model.joints.iter().map(|j| j.limits_deg).collect();
+    let template = ControlKernel::from_actuation(&sim.actuation, registry, limits)?;
+    let start = &env.robot_pose;
+    let samples = (props.duration / props.step_width / props.accuracy.max(1) as f64).ceil() as usize + 1;
+    let mut rng = SimRng::new(opts.seed);
+    let mut robots = Vec::with_capacity(opts.robots);
+    for r in 0..opts.robots {
+        let group = group_bit(r as u32 + 1);
+        let filter = if env.physics.self_collision { group | group_bit(0) } else { group_bit(0) };
+        let groups = rp::InteractionGroups::new(group, filter, rp::InteractionTestMode::And);
+        let robot_entity = world
+            .spawn(Name::new(if opts.robots == 1 { robot_model.name.clone() } else { format!("{} #{r}", robot_model.name) }))
+            .id();
+        let mut link_entities = Vec::with_capacity(robot_model.links.len());
+        let mut handles = Vec::with_capacity(robot_model.links.len());
+        for (i, l) in robot_model.links.iter().enumerate() {
+            let p = start.mul(&l.pose);
+            let handle = physics.world.bodies.insert(rp::RigidBodyBuilder::dynamic().pose(pose(&p)).can_sleep(false));
+            for c in colliders(&l.geoms, l.mass, |_| LINK_FRICTION, groups)? {
+                let w = &mut physics.world;
+                w.colliders.insert_with_parent(c, handle, &mut w.bodies);
+            }
+            handles.push((handle, l.mass));
+            let e = world
+                .spawn((Name::new(format!("link {}", l.name)), SimLink { robot: robot_entity, index: i, handle }, ChildOf(robot_entity)))
+                .id();
+            link_entities.push(e);
+        }
+        let mut joint_entities = Vec::with_capacity(robot_model.joints.len());
+        for (i, j) in robot_model.joints.iter().enumerate() {
+            let (ph, _) = handles[j.parent];
+            let (ch, _) = handles[j.child];
+            let w = &mut physics.world;
+            let (pp, cp) = (*w.bodies[ph].position(), *w.bodies[ch].position());
+            let anchor = start.mul(&crate::config::transform::Transform::from_translation(j.anchor)).translation;
+            let axis = start.rotate(j.axis);
+            let (a, n) = (vec3(anchor), vec3(axis).normalize());
+            let local_axis1 = pp.rotation.inverse() * n;
+            let data = rp::GenericJointBuilder::new(rp::JointAxesMask::LOCKED_REVOLUTE_AXES)
+                .local_anchor1(pp.inverse_transform_point(a))
+                .local_anchor2(cp.inverse_transform_point(a))
+                .local_axis1(local_axis1)
+                .local_axis2(cp.rotation.inverse() * n)
+                .limits(rp::JointAxis::AngX, [j.limits_deg[0].to_radians() as f32, j.limits_deg[1].to_radians() as f32])
+                .motor_model(rp::JointAxis::AngX, rp::MotorModel::ForceBased)
+                .motor_velocity(rp::JointAxis::AngX, 0.0, MOTOR_DAMPING)
+                .motor_max_force(rp::JointAxis::AngX, j.max_torque as f32)
+                .contacts_enabled(false)
+                .build();
+            let handle = w.impulse_joints.insert(ph, ch, data, true);
+            let joint = SimJoint {
+                robot: robot_entity,
+                index: i,
+                handle,
+                parent: ph,
+                child: ch,
+                axis_parent: local_axis1.normalize(),
+                rest_inv: (pp.rotation.inverse() * cp.rotation).inverse(),
+            };
+            let servo = Servo {
+                target: 0.0,
+                gain: j.servo_gain.unwrap_or(DEFAULT_SERVO_GAIN),
+                max_torque: j.max_torque,
+                max_velocity: j.max_vel,
+                limits_deg: j.limits_deg,
+            };
+            let e = world
+                .spawn((Name::new(format!("joint {}", j.name)), joint, servo, JointState::default(), ChildOf(robot_entity)))
+                .id();
+            joint_entities.push(e);
+        }
+        let mut kernel = template.clone();
+        kernel.reset(&mut rng.fork(r as u64));
+        let n = robot_model.joints.len();
+        world.entity_mut(robot_entity).insert((
+            SimRobot { index: r, joints: joint_entities, links: link_entities, bodies: handles, measured: vec![0.0; n] },
+            Kernel(kernel),
+            Track::with_capacity(n, if opts.record { samples } else { 0 }),
+        ));
+        robots.push(robot_entity);
+    }
+    let mut clock = SimClock::new(props.step_width);
+    clock.delay_ms = props.delay_ms;
+    clock.realtime_factor = props.realtime_factor;
+    world.insert_resource(clock);
+    world.insert_resource(RecordSettings { enabled: opts.record, every: props.accuracy });
+    world.insert_resource(physics);
+    world.insert_resource(LoadedSimulation(sim.clone()));
+    Ok(robots)
+}
