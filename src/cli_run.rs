@@ -7,20 +7,35 @@ use proleg::config::load_simulation;
 use proleg::sim::{BuildOptions, Simulator};
 
 /// Loads, runs and summarizes; the error is the message to print.
-pub fn run(config: &Path, duration: Option<f64>, seed: Option<u64>, realtime: f64) -> Result<String, String> {
+pub fn run(
+    config: &Path,
+    duration: Option<f64>,
+    seed: Option<u64>,
+    realtime: f64,
+) -> Result<String, String> {
     let sim = load_simulation(config).map_err(|e| e.to_string())?;
     let props = &sim.files.simulation.properties;
     let duration = duration.unwrap_or(props.duration);
     if !duration.is_finite() || duration < 0.0 {
-        return Err(format!("--duration {duration}: give a number of seconds >= 0"));
+        return Err(format!(
+            "--duration {duration}: give a number of seconds >= 0"
+        ));
     }
     if !realtime.is_finite() || realtime < 0.0 {
-        return Err(format!("--realtime {realtime}: give a factor >= 0 (0 = as fast as possible)"));
+        return Err(format!(
+            "--realtime {realtime}: give a factor >= 0 (0 = as fast as possible)"
+        ));
     }
-    let opts = BuildOptions { robots: 1, seed: seed.unwrap_or(props.seed), record: false };
+    let opts = BuildOptions {
+        robots: 1,
+        seed: seed.unwrap_or(props.seed),
+        record: false,
+    };
     let mut simulator = Simulator::new(&sim, &opts).map_err(|e| e.to_string())?;
     {
-        let mut clock = simulator.world_mut().resource_mut::<proleg::sim::clock::SimClock>();
+        let mut clock = simulator
+            .world_mut()
+            .resource_mut::<proleg::sim::clock::SimClock>();
         clock.realtime_factor = realtime;
         clock.delay_ms = 0.0;
     }
@@ -30,7 +45,11 @@ pub fn run(config: &Path, duration: Option<f64>, seed: Option<u64>, realtime: f6
     let mut out = String::new();
     let f3 = |v: [f64; 3]| format!("{:.4} {:.4} {:.4}", v[0], v[1], v[2]);
     let _ = writeln!(out, "simulation      {}", sim.file.display());
-    let _ = writeln!(out, "robot           {} (seed {})", sim.robot.name, opts.seed);
+    let _ = writeln!(
+        out,
+        "robot           {} (seed {})",
+        sim.robot.name, opts.seed
+    );
     let _ = writeln!(out, "steps           {}", s.steps);
     let _ = writeln!(out, "simulated time  {:.3} s", s.sim_time);
     let _ = writeln!(out, "wall time       {:.3} s", s.wall_time);

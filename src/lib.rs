@@ -4,6 +4,7 @@
 //! (snake and caterpillar robots built from modules joined by pitch/yaw hinge servos).
 //!
 //! ## Contents
+//! - [`bench`]: throughput figures of the reference scenario.
 //! - [`config`]: the XML configuration formats (simulation, robot, module parts, sensors,
 //!   actuation, environment, optimizer), loading with includes, validation with
 //!   located errors, writing back, and the `proleg check` summary.
@@ -15,6 +16,7 @@
 //!
 //! Pure logic stays free of rendering, so everything here runs and tests headless.
 
+pub mod bench;
 pub mod config;
 pub mod control;
 pub mod rng;

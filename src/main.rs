@@ -22,6 +22,18 @@ enum Command {
         /// A `*.simulation.xml` file.
         config: PathBuf,
     },
+    /// Throughput figures of the reference scenario (robot-steps per second, real-time factors).
+    Bench {
+        /// The reference simulation.
+        #[arg(long, default_value = "configs/demo.simulation.xml")]
+        config: PathBuf,
+        /// Simulated seconds per figure.
+        #[arg(long, default_value_t = 30.0)]
+        seconds: f64,
+        /// Batch sizes (robots sharing one world) to measure besides 1.
+        #[arg(long, value_delimiter = ',', default_values_t = vec![8, 31])]
+        batches: Vec<usize>,
+    },
     /// Run one simulation headless and print what the robot did.
     Run {
         /// A `*.simulation.xml` file.
@@ -41,7 +53,26 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::Run { config, duration, seed, realtime } => match cli_run::run(&config, duration, seed, realtime) {
+        Command::Bench {
+            config,
+            seconds,
+            batches,
+        } => match proleg::bench::report(&config, seconds, &batches) {
+            Ok(text) => {
+                print!("{text}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::FAILURE
+            }
+        },
+        Command::Run {
+            config,
+            duration,
+            seed,
+            realtime,
+        } => match cli_run::run(&config, duration, seed, realtime) {
             Ok(text) => {
                 print!("{text}");
                 ExitCode::SUCCESS

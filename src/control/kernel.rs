@@ -52,10 +52,22 @@ impl fmt::Debug for Actuator {
 #[derive(Debug, Clone, PartialEq)]
 pub enum KernelError {
     Create(CreateError),
-    Param { module: &'static str, error: ParamError },
-    JointOutOfRange { joint: usize, joints: usize },
-    NoSuchActuator { index: usize, count: usize },
-    NotDriven { module: &'static str, joint: usize },
+    Param {
+        module: &'static str,
+        error: ParamError,
+    },
+    JointOutOfRange {
+        joint: usize,
+        joints: usize,
+    },
+    NoSuchActuator {
+        index: usize,
+        count: usize,
+    },
+    NotDriven {
+        module: &'static str,
+        joint: usize,
+    },
 }
 
 impl fmt::Display for KernelError {
@@ -63,9 +75,16 @@ impl fmt::Display for KernelError {
         match self {
             KernelError::Create(e) => e.fmt(f),
             KernelError::Param { module, error } => write!(f, "{module}: {error}"),
-            KernelError::JointOutOfRange { joint, joints } => write!(f, "joint {joint} out of range: the robot has {joints} joints"),
-            KernelError::NoSuchActuator { index, count } => write!(f, "no actuator {index}: the kernel has {count}"),
-            KernelError::NotDriven { module, joint } => write!(f, "module {module} does not drive joint {joint}"),
+            KernelError::JointOutOfRange { joint, joints } => write!(
+                f,
+                "joint {joint} out of range: the robot has {joints} joints"
+            ),
+            KernelError::NoSuchActuator { index, count } => {
+                write!(f, "no actuator {index}: the kernel has {count}")
+            }
+            KernelError::NotDriven { module, joint } => {
+                write!(f, "module {module} does not drive joint {joint}")
+            }
         }
     }
 }
@@ -86,7 +105,11 @@ impl ControlKernel {
     /// An empty kernel for a robot with these joint limits (degrees).
     pub fn new(limits: Vec<[f64; 2]>) -> Self {
         let n = limits.len();
-        ControlKernel { actuators: Vec::new(), limits, desired: vec![0.0; n] }
+        ControlKernel {
+            actuators: Vec::new(),
+            limits,
+            desired: vec![0.0; n],
+        }
     }
 
     /// Builds the kernel of an actuation file: one module per assignment, parameters set.
@@ -98,16 +121,24 @@ impl ControlKernel {
         let mut k = ControlKernel::new(limits);
         for m in &model.modules {
             let joints: Vec<usize> = m.joints.indices().collect();
-            let mut module = registry.create(m.descriptor.type_name, joints.len()).map_err(KernelError::Create)?;
+            let mut module = registry
+                .create(m.descriptor.type_name, joints.len())
+                .map_err(KernelError::Create)?;
             let name = module.descriptor().type_name;
             for p in &m.params {
                 let params = module.parameters_mut();
-                let idx = params.index(p.name).map_err(|error| KernelError::Param { module: name, error })?;
+                let idx = params.index(p.name).map_err(|error| KernelError::Param {
+                    module: name,
+                    error,
+                })?;
                 match &p.value {
                     ParamValue::Uniform(v) => params.set(idx, None, *v),
                     ParamValue::PerJoint(v) => params.set_all(idx, v),
                 }
-                .map_err(|error| KernelError::Param { module: name, error })?;
+                .map_err(|error| KernelError::Param {
+                    module: name,
+                    error,
+                })?;
             }
             k.add(module, joints)?;
         }
@@ -115,12 +146,24 @@ impl ControlKernel {
     }
 
     /// Adds a module driving `joints` (robot joint indices); returns its actuator index.
-    pub fn add(&mut self, module: Box<dyn ActuationModule>, joints: Vec<usize>) -> Result<usize, KernelError> {
+    pub fn add(
+        &mut self,
+        module: Box<dyn ActuationModule>,
+        joints: Vec<usize>,
+    ) -> Result<usize, KernelError> {
         if let Some(j) = joints.iter().find(|j| **j >= self.limits.len()) {
-            return Err(KernelError::JointOutOfRange { joint: *j, joints: self.limits.len() });
+            return Err(KernelError::JointOutOfRange {
+                joint: *j,
+                joints: self.limits.len(),
+            });
         }
         let n = joints.len();
-        self.actuators.push(Actuator { module, joints, angles: vec![0.0; n], out: vec![0.0; n] });
+        self.actuators.push(Actuator {
+            module,
+            joints,
+            angles: vec![0.0; n],
+            out: vec![0.0; n],
+        });
         Ok(self.actuators.len() - 1)
     }
 
@@ -135,9 +178,9 @@ impl ControlKernel {
 
     /// The first actuator whose module type answers to `type_name`.
     pub fn find(&self, type_name: &str) -> Option<usize> {
-        self.actuators
-            .iter()
-            .position(|a| crate::config::xml::read::same_name(a.module.descriptor().type_name, type_name))
+        self.actuators.iter().position(|a| {
+            crate::config::xml::read::same_name(a.module.descriptor().type_name, type_name)
+        })
     }
 
     /// Resets every module; module `i` draws from its own stream of `rng`.
@@ -163,7 +206,12 @@ impl ControlKernel {
             for (slot, j) in a.angles.iter_mut().zip(&a.joints) {
                 *slot = measured.get(*j).copied().unwrap_or(0.0);
             }
-            let ctx = StepContext { time, dt, step, angles: &a.angles };
+            let ctx = StepContext {
+                time,
+                dt,
+                step,
+                angles: &a.angles,
+            };
             a.module.compute(&ctx, &mut a.out);
         }
     }
@@ -188,40 +236,72 @@ impl ControlKernel {
     }
 
     fn actuator(&self, index: usize) -> Result<&Actuator, KernelError> {
-        self.actuators.get(index).ok_or(KernelError::NoSuchActuator { index, count: self.actuators.len() })
+        self.actuators
+            .get(index)
+            .ok_or(KernelError::NoSuchActuator {
+                index,
+                count: self.actuators.len(),
+            })
     }
 
     /// The local joint index of robot joint `joint` in actuator `a`, if given.
     fn local_joint(a: &Actuator, joint: Option<usize>) -> Result<Option<usize>, KernelError> {
         joint
-            .map(|j| a.local(j).ok_or(KernelError::NotDriven { module: a.module.descriptor().type_name, joint: j }))
+            .map(|j| {
+                a.local(j).ok_or(KernelError::NotDriven {
+                    module: a.module.descriptor().type_name,
+                    joint: j,
+                })
+            })
             .transpose()
     }
 
     /// Reads parameter `name` of actuator `index` at robot joint `joint` (the first driven
     /// joint when `None`).
-    pub fn parameter(&self, index: usize, name: &str, joint: Option<usize>) -> Result<f64, KernelError> {
+    pub fn parameter(
+        &self,
+        index: usize,
+        name: &str,
+        joint: Option<usize>,
+    ) -> Result<f64, KernelError> {
         let a = self.actuator(index)?;
         let module = a.module.descriptor().type_name;
         let p = a.module.parameters();
-        let idx = p.index(name).map_err(|error| KernelError::Param { module, error })?;
+        let idx = p
+            .index(name)
+            .map_err(|error| KernelError::Param { module, error })?;
         let local = Self::local_joint(a, joint)?.unwrap_or(0);
         if local >= p.joints() {
-            return Err(KernelError::NotDriven { module, joint: joint.unwrap_or(0) });
+            return Err(KernelError::NotDriven {
+                module,
+                joint: joint.unwrap_or(0),
+            });
         }
         Ok(p.get(idx, local))
     }
 
     /// Changes parameter `name` of actuator `index` at robot joint `joint`, or at every
     /// joint it drives when `None`. Takes effect at the next step.
-    pub fn set_parameter(&mut self, index: usize, name: &str, joint: Option<usize>, value: f64) -> Result<(), KernelError> {
+    pub fn set_parameter(
+        &mut self,
+        index: usize,
+        name: &str,
+        joint: Option<usize>,
+        value: f64,
+    ) -> Result<(), KernelError> {
         let count = self.actuators.len();
-        let a = self.actuators.get_mut(index).ok_or(KernelError::NoSuchActuator { index, count })?;
+        let a = self
+            .actuators
+            .get_mut(index)
+            .ok_or(KernelError::NoSuchActuator { index, count })?;
         let local = Self::local_joint(a, joint)?;
         let module = a.module.descriptor().type_name;
         let p = a.module.parameters_mut();
-        let idx = p.index(name).map_err(|error| KernelError::Param { module, error })?;
-        p.set(idx, local, value).map_err(|error| KernelError::Param { module, error })
+        let idx = p
+            .index(name)
+            .map_err(|error| KernelError::Param { module, error })?;
+        p.set(idx, local, value)
+            .map_err(|error| KernelError::Param { module, error })
     }
 }
 
@@ -245,7 +325,11 @@ mod tests {
     fn overlapping_groups_sum_and_clamp() {
         let mut k = kernel();
         let out = k.compute(0.0, 0.001, 0, &[0.0; 3]).to_vec();
-        assert_eq!(out, [10.0, 90.0, 85.0], "joint 1 gets 10 + 85, clamped to 90");
+        assert_eq!(
+            out,
+            [10.0, 90.0, 85.0],
+            "joint 1 gets 10 + 85, clamped to 90"
+        );
     }
 
     #[test]
@@ -255,10 +339,22 @@ mod tests {
         assert_eq!(k.parameter(0, "angle", Some(1)).unwrap(), -20.0);
         assert_eq!(k.parameter(0, "Angle", Some(0)).unwrap(), 10.0);
         assert_eq!(k.compute(0.0, 0.001, 0, &[0.0; 3]), [10.0, 65.0, 85.0]);
-        assert!(matches!(k.set_parameter(0, "Angle", Some(2), 1.0), Err(KernelError::NotDriven { joint: 2, .. })));
-        assert!(matches!(k.set_parameter(0, "Angel", None, 1.0), Err(KernelError::Param { .. })));
-        assert!(matches!(k.set_parameter(0, "Angle", None, f64::NAN), Err(KernelError::Param { .. })));
-        assert!(matches!(k.set_parameter(5, "Angle", None, 1.0), Err(KernelError::NoSuchActuator { .. })));
+        assert!(matches!(
+            k.set_parameter(0, "Angle", Some(2), 1.0),
+            Err(KernelError::NotDriven { joint: 2, .. })
+        ));
+        assert!(matches!(
+            k.set_parameter(0, "Angel", None, 1.0),
+            Err(KernelError::Param { .. })
+        ));
+        assert!(matches!(
+            k.set_parameter(0, "Angle", None, f64::NAN),
+            Err(KernelError::Param { .. })
+        ));
+        assert!(matches!(
+            k.set_parameter(5, "Angle", None, 1.0),
+            Err(KernelError::NoSuchActuator { .. })
+        ));
         assert_eq!(k.find("directjointaccess"), Some(0));
     }
 
@@ -267,8 +363,17 @@ mod tests {
         let r = ModuleRegistry::default();
         let mut k = ControlKernel::new(vec![[-90.0, 90.0]; 2]);
         let m = r.create("DirectJointAccess", 1).unwrap();
-        assert!(matches!(k.add(m, vec![2]), Err(KernelError::JointOutOfRange { .. })));
-        assert!(matches!(r.create("Global_Adaptive_Touch", 5), Err(CreateError::NotImplemented { .. })));
-        assert!(matches!(r.create("Nope", 5), Err(CreateError::Unknown { .. })));
+        assert!(matches!(
+            k.add(m, vec![2]),
+            Err(KernelError::JointOutOfRange { .. })
+        ));
+        assert!(matches!(
+            r.create("Global_Adaptive_Touch", 5),
+            Err(CreateError::NotImplemented { .. })
+        ));
+        assert!(matches!(
+            r.create("Nope", 5),
+            Err(CreateError::Unknown { .. })
+        ));
     }
 }

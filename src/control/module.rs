@@ -26,27 +26,70 @@ pub struct StepContext<'a> {
 /// Why a parameter could not be read or changed.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ParamError {
-    UnknownParameter { module: &'static str, name: String, known: Vec<&'static str> },
-    JointOutOfRange { joint: usize, joints: usize },
-    NotFinite { name: &'static str, value: f64 },
-    OutOfRange { name: &'static str, value: f64, min: f64, max: f64, unit: &'static str },
-    WrongCount { name: &'static str, given: usize, joints: usize },
+    UnknownParameter {
+        module: &'static str,
+        name: String,
+        known: Vec<&'static str>,
+    },
+    JointOutOfRange {
+        joint: usize,
+        joints: usize,
+    },
+    NotFinite {
+        name: &'static str,
+        value: f64,
+    },
+    OutOfRange {
+        name: &'static str,
+        value: f64,
+        min: f64,
+        max: f64,
+        unit: &'static str,
+    },
+    WrongCount {
+        name: &'static str,
+        given: usize,
+        joints: usize,
+    },
 }
 
 impl fmt::Display for ParamError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            ParamError::UnknownParameter { module, name, known } => {
-                write!(f, "module {module} has no parameter \"{name}\"; its parameters: {}", known.join(", "))
+            ParamError::UnknownParameter {
+                module,
+                name,
+                known,
+            } => {
+                write!(
+                    f,
+                    "module {module} has no parameter \"{name}\"; its parameters: {}",
+                    known.join(", ")
+                )
             }
             ParamError::JointOutOfRange { joint, joints } => {
-                write!(f, "joint {joint} is not one of the module's {joints} joints")
+                write!(
+                    f,
+                    "joint {joint} is not one of the module's {joints} joints"
+                )
             }
-            ParamError::NotFinite { name, value } => write!(f, "{name}: {value} is not a finite number"),
-            ParamError::OutOfRange { name, value, min, max, unit } => {
+            ParamError::NotFinite { name, value } => {
+                write!(f, "{name}: {value} is not a finite number")
+            }
+            ParamError::OutOfRange {
+                name,
+                value,
+                min,
+                max,
+                unit,
+            } => {
                 write!(f, "{name} = {value} {unit} is outside {min}..{max}")
             }
-            ParamError::WrongCount { name, given, joints } => {
+            ParamError::WrongCount {
+                name,
+                given,
+                joints,
+            } => {
                 write!(f, "{name}: {given} values for {joints} joints")
             }
         }
@@ -68,8 +111,17 @@ pub struct Parameters {
 impl Parameters {
     /// Every parameter at its default, for `joints` joints.
     pub fn new(descriptor: &ModuleDescriptor, joints: usize) -> Self {
-        let values = descriptor.parameters.iter().flat_map(|p| std::iter::repeat_n(p.default, joints)).collect();
-        Parameters { module: descriptor.type_name, descriptors: descriptor.parameters, joints, values }
+        let values = descriptor
+            .parameters
+            .iter()
+            .flat_map(|p| std::iter::repeat_n(p.default, joints))
+            .collect();
+        Parameters {
+            module: descriptor.type_name,
+            descriptors: descriptor.parameters,
+            joints,
+            values,
+        }
     }
 
     pub fn joints(&self) -> usize {
@@ -82,11 +134,14 @@ impl Parameters {
 
     /// The index of the parameter answering to `name`.
     pub fn index(&self, name: &str) -> Result<usize, ParamError> {
-        self.descriptors.iter().position(|d| d.answers_to(name)).ok_or_else(|| ParamError::UnknownParameter {
-            module: self.module,
-            name: name.to_string(),
-            known: self.descriptors.iter().map(|d| d.name).collect(),
-        })
+        self.descriptors
+            .iter()
+            .position(|d| d.answers_to(name))
+            .ok_or_else(|| ParamError::UnknownParameter {
+                module: self.module,
+                name: name.to_string(),
+                known: self.descriptors.iter().map(|d| d.name).collect(),
+            })
     }
 
     /// The value of parameter `param` at `joint` (no bounds check beyond the slice's).
@@ -103,19 +158,36 @@ impl Parameters {
     fn check(&self, param: usize, value: f64) -> Result<(), ParamError> {
         let d = &self.descriptors[param];
         if !value.is_finite() {
-            return Err(ParamError::NotFinite { name: d.name, value });
+            return Err(ParamError::NotFinite {
+                name: d.name,
+                value,
+            });
         }
         if value < d.min || value > d.max {
-            return Err(ParamError::OutOfRange { name: d.name, value, min: d.min, max: d.max, unit: d.unit });
+            return Err(ParamError::OutOfRange {
+                name: d.name,
+                value,
+                min: d.min,
+                max: d.max,
+                unit: d.unit,
+            });
         }
         Ok(())
     }
 
     /// Sets one joint's value, or every joint's when `joint` is `None`.
-    pub fn set(&mut self, param: usize, joint: Option<usize>, value: f64) -> Result<(), ParamError> {
+    pub fn set(
+        &mut self,
+        param: usize,
+        joint: Option<usize>,
+        value: f64,
+    ) -> Result<(), ParamError> {
         self.check(param, value)?;
         match joint {
-            Some(j) if j >= self.joints => Err(ParamError::JointOutOfRange { joint: j, joints: self.joints }),
+            Some(j) if j >= self.joints => Err(ParamError::JointOutOfRange {
+                joint: j,
+                joints: self.joints,
+            }),
             Some(j) => {
                 self.values[param * self.joints + j] = value;
                 Ok(())
@@ -130,7 +202,11 @@ impl Parameters {
     /// Sets one value per joint.
     pub fn set_all(&mut self, param: usize, values: &[f64]) -> Result<(), ParamError> {
         if values.len() != self.joints {
-            return Err(ParamError::WrongCount { name: self.descriptors[param].name, given: values.len(), joints: self.joints });
+            return Err(ParamError::WrongCount {
+                name: self.descriptors[param].name,
+                given: values.len(),
+                joints: self.joints,
+            });
         }
         for v in values {
             self.check(param, *v)?;
@@ -150,7 +226,11 @@ pub struct InternalData {
 
 impl InternalData {
     pub fn new(names: &'static [&'static str], joints: usize) -> Self {
-        InternalData { names, joints, values: vec![0.0; names.len() * joints] }
+        InternalData {
+            names,
+            joints,
+            values: vec![0.0; names.len() * joints],
+        }
     }
 
     pub fn names(&self) -> &'static [&'static str] {

@@ -27,18 +27,30 @@ pub struct ModuleRegistry {
 /// Why a module could not be created.
 #[derive(Debug, Clone, PartialEq)]
 pub enum CreateError {
-    Unknown { name: String, known: Vec<&'static str> },
-    NotImplemented { name: &'static str },
+    Unknown {
+        name: String,
+        known: Vec<&'static str>,
+    },
+    NotImplemented {
+        name: &'static str,
+    },
 }
 
 impl fmt::Display for CreateError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             CreateError::Unknown { name, known } => {
-                write!(f, "unknown actuation module \"{name}\"; known modules: {}", known.join(", "))
+                write!(
+                    f,
+                    "unknown actuation module \"{name}\"; known modules: {}",
+                    known.join(", ")
+                )
             }
             CreateError::NotImplemented { name } => {
-                write!(f, "actuation module {name} is described but has no implementation yet")
+                write!(
+                    f,
+                    "actuation module {name} is described but has no implementation yet"
+                )
             }
         }
     }
@@ -57,14 +69,20 @@ impl Default for ModuleRegistry {
 
 impl ModuleRegistry {
     pub fn empty() -> Self {
-        ModuleRegistry { entries: Vec::new() }
+        ModuleRegistry {
+            entries: Vec::new(),
+        }
     }
 
     /// Adds a module type; a later registration under the same name replaces the earlier.
     /// `factory` is `None` for a type that configurations may name but runs cannot create.
     pub fn register(&mut self, descriptor: ModuleDescriptor, factory: Option<ModuleFactory>) {
-        self.entries.retain(|e| !same_name(e.descriptor.type_name, descriptor.type_name));
-        self.entries.push(Entry { descriptor, factory });
+        self.entries
+            .retain(|e| !same_name(e.descriptor.type_name, descriptor.type_name));
+        self.entries.push(Entry {
+            descriptor,
+            factory,
+        });
     }
 
     /// The type answering to `name` (`Global Adaptive Touch` finds `Global_Adaptive_Touch`).
@@ -73,18 +91,32 @@ impl ModuleRegistry {
     }
 
     fn entry(&self, name: &str) -> Option<&Entry> {
-        self.entries.iter().find(|e| same_name(e.descriptor.type_name, name))
+        self.entries
+            .iter()
+            .find(|e| same_name(e.descriptor.type_name, name))
     }
 
     /// Registered type names, in registration order.
     pub fn names(&self) -> Vec<&'static str> {
-        self.entries.iter().map(|e| e.descriptor.type_name).collect()
+        self.entries
+            .iter()
+            .map(|e| e.descriptor.type_name)
+            .collect()
     }
 
     /// A new module of type `name` for `joints` connected joints.
-    pub fn create(&self, name: &str, joints: usize) -> Result<Box<dyn ActuationModule>, CreateError> {
-        let entry = self.entry(name).ok_or_else(|| CreateError::Unknown { name: name.to_string(), known: self.names() })?;
-        let factory = entry.factory.ok_or(CreateError::NotImplemented { name: entry.descriptor.type_name })?;
+    pub fn create(
+        &self,
+        name: &str,
+        joints: usize,
+    ) -> Result<Box<dyn ActuationModule>, CreateError> {
+        let entry = self.entry(name).ok_or_else(|| CreateError::Unknown {
+            name: name.to_string(),
+            known: self.names(),
+        })?;
+        let factory = entry.factory.ok_or(CreateError::NotImplemented {
+            name: entry.descriptor.type_name,
+        })?;
         Ok(factory(joints))
     }
 }

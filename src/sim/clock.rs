@@ -19,7 +19,12 @@ pub struct SimClock {
 
 impl SimClock {
     pub fn new(dt: f64) -> Self {
-        SimClock { step: 0, dt, delay_ms: 0.0, realtime_factor: 0.0 }
+        SimClock {
+            step: 0,
+            dt,
+            delay_ms: 0.0,
+            realtime_factor: 0.0,
+        }
     }
 
     /// Simulated time (s) of the current step: step · δ (no accumulated rounding).

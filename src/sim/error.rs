@@ -20,11 +20,18 @@ impl fmt::Display for SimError {
         match self {
             SimError::Config(e) => e.fmt(f),
             SimError::Kernel(e) => e.fmt(f),
-            SimError::Mesh { file, message } => write!(f, "{file}: cannot build the collision mesh: {message}"),
-            SimError::TooManyRobots { requested, max } => {
-                write!(f, "{requested} robots in one world; at most {max} fit (one collision group each)")
+            SimError::Mesh { file, message } => {
+                write!(f, "{file}: cannot build the collision mesh: {message}")
             }
-            SimError::NoSuchRobot { index, count } => write!(f, "no robot {index}: the world holds {count}"),
+            SimError::TooManyRobots { requested, max } => {
+                write!(
+                    f,
+                    "{requested} robots in one world; at most {max} fit (one collision group each)"
+                )
+            }
+            SimError::NoSuchRobot { index, count } => {
+                write!(f, "no robot {index}: the world holds {count}")
+            }
         }
     }
 }

@@ -26,14 +26,20 @@ pub struct SimRobot {
 pub struct Kernel(pub ControlKernel);
 
 /// Gathers the measured angles and lets every module compute (the `Actuate` set).
-pub fn actuate(clock: Res<SimClock>, mut robots: Query<(&mut SimRobot, &mut Kernel)>, states: Query<&JointState>) {
+pub fn actuate(
+    clock: Res<SimClock>,
+    mut robots: Query<(&mut SimRobot, &mut Kernel)>,
+    states: Query<&JointState>,
+) {
     let time = clock.time();
     for (mut robot, mut kernel) in &mut robots {
         let robot = &mut *robot;
         for (slot, e) in robot.measured.iter_mut().zip(&robot.joints) {
             *slot = states.get(*e).map_or(0.0, |s| s.angle);
         }
-        kernel.0.compute_modules(time, clock.dt, clock.step, &robot.measured);
+        kernel
+            .0
+            .compute_modules(time, clock.dt, clock.step, &robot.measured);
     }
 }
 

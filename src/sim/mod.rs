@@ -6,8 +6,10 @@
 //! - [`spawn`]: building the world from a loaded simulation
 //! - [`physics`], [`servo`], [`kernel`], [`record`], [`clock`]: the stages of a step
 //! - [`runner`]: [`Simulator`], the headless driver the CLI, benchmarks and optimizers use
+//! - [`driver`]: stepping from a running App (GUI, App-level tests)
 
 pub mod clock;
+pub mod driver;
 pub mod error;
 pub mod kernel;
 pub mod physics;
@@ -19,6 +21,7 @@ pub mod spawn;
 
 use bevy::prelude::*;
 
+pub use driver::{SimDriverPlugin, StepsPerUpdate};
 pub use error::SimError;
 pub use runner::{RunSummary, Simulator};
 pub use schedule::{SimStep, SimSystems};

@@ -46,7 +46,10 @@ pub fn arr3(v: rp::Vector) -> [f64; 3] {
 /// Configuration pose (translation, quaternion w x y z) to rapier's pose.
 pub fn pose(t: &crate::config::transform::Transform) -> rp::Pose {
     let [w, x, y, z] = t.rotation;
-    rp::Pose::from_parts(vec3(t.translation), rp::Rotation::from_xyzw(x as f32, y as f32, z as f32, w as f32).normalize())
+    rp::Pose::from_parts(
+        vec3(t.translation),
+        rp::Rotation::from_xyzw(x as f32, y as f32, z as f32, w as f32).normalize(),
+    )
 }
 
 /// The physics step (the `Physics` set of the pipeline).

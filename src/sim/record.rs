@@ -77,12 +77,22 @@ pub fn centre_of_mass(bodies: &rp::RigidBodySet, robot: &SimRobot) -> [f64; 3] {
             mass += m;
         }
     }
-    if mass > 0.0 { sum.map(|s| s / mass) } else { sum }
+    if mass > 0.0 {
+        sum.map(|s| s / mass)
+    } else {
+        sum
+    }
 }
 
 /// Direction from the first link (tail) to the last (head) in the ground plane, degrees.
 pub fn heading(bodies: &rp::RigidBodySet, robot: &SimRobot) -> f64 {
-    let pos = |i: usize| robot.bodies.get(i).and_then(|(h, _)| bodies.get(*h)).map(|b| arr3(b.center_of_mass()));
+    let pos = |i: usize| {
+        robot
+            .bodies
+            .get(i)
+            .and_then(|(h, _)| bodies.get(*h))
+            .map(|b| arr3(b.center_of_mass()))
+    };
     match (pos(0), robot.bodies.len().checked_sub(1).and_then(pos)) {
         (Some(a), Some(b)) => (b[1] - a[1]).atan2(b[0] - a[0]).to_degrees(),
         _ => 0.0,
@@ -107,7 +117,12 @@ pub fn record(
         track.heading.push(heading(bodies, robot));
         for (e, desired) in robot.joints.iter().zip(kernel.0.desired()) {
             let s = states.get(*e).copied().unwrap_or_default();
-            track.joints.push(JointSample { desired: *desired, angle: s.angle, velocity: s.velocity, torque: s.torque });
+            track.joints.push(JointSample {
+                desired: *desired,
+                angle: s.angle,
+                velocity: s.velocity,
+                torque: s.torque,
+            });
         }
     }
 }

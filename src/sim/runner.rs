@@ -49,7 +49,11 @@ impl Simulator {
     }
 
     /// Builds the world of `sim` with the given module registry.
-    pub fn with_registry(sim: &Simulation, opts: &BuildOptions, registry: &ModuleRegistry) -> Result<Self, SimError> {
+    pub fn with_registry(
+        sim: &Simulation,
+        opts: &BuildOptions,
+        registry: &ModuleRegistry,
+    ) -> Result<Self, SimError> {
         let mut app = App::new();
         app.add_plugins(SimPlugin);
         let robots = build_world(app.world_mut(), sim, opts, registry)?;
@@ -70,7 +74,13 @@ impl Simulator {
     }
 
     fn robot(&self, index: usize) -> Result<Entity, SimError> {
-        self.robots.get(index).copied().ok_or(SimError::NoSuchRobot { index, count: self.robots.len() })
+        self.robots
+            .get(index)
+            .copied()
+            .ok_or(SimError::NoSuchRobot {
+                index,
+                count: self.robots.len(),
+            })
     }
 
     pub fn clock(&self) -> &SimClock {
@@ -124,16 +134,25 @@ impl Simulator {
         let end_com = self.com(0).unwrap_or_default();
         let done = self.clock().step - start_step;
         let sim_time = done as f64 * dt;
-        let displacement = ((end_com[0] - start_com[0]).powi(2) + (end_com[1] - start_com[1]).powi(2)).sqrt();
+        let displacement =
+            ((end_com[0] - start_com[0]).powi(2) + (end_com[1] - start_com[1]).powi(2)).sqrt();
         RunSummary {
             steps: done,
             sim_time,
             wall_time,
-            realtime_factor: if wall_time > 0.0 { sim_time / wall_time } else { f64::INFINITY },
+            realtime_factor: if wall_time > 0.0 {
+                sim_time / wall_time
+            } else {
+                f64::INFINITY
+            },
             start_com,
             end_com,
             displacement,
-            mean_speed: if sim_time > 0.0 { displacement / sim_time } else { 0.0 },
+            mean_speed: if sim_time > 0.0 {
+                displacement / sim_time
+            } else {
+                0.0
+            },
         }
     }
 
@@ -141,7 +160,10 @@ impl Simulator {
     pub fn com(&self, index: usize) -> Result<[f64; 3], SimError> {
         let e = self.robot(index)?;
         let w = self.app.world();
-        let robot = w.get::<SimRobot>(e).ok_or(SimError::NoSuchRobot { index, count: self.robots.len() })?;
+        let robot = w.get::<SimRobot>(e).ok_or(SimError::NoSuchRobot {
+            index,
+            count: self.robots.len(),
+        })?;
         Ok(centre_of_mass(&w.resource::<Physics>().world.bodies, robot))
     }
 
@@ -149,7 +171,10 @@ impl Simulator {
     pub fn heading(&self, index: usize) -> Result<f64, SimError> {
         let e = self.robot(index)?;
         let w = self.app.world();
-        let robot = w.get::<SimRobot>(e).ok_or(SimError::NoSuchRobot { index, count: self.robots.len() })?;
+        let robot = w.get::<SimRobot>(e).ok_or(SimError::NoSuchRobot {
+            index,
+            count: self.robots.len(),
+        })?;
         Ok(heading(&w.resource::<Physics>().world.bodies, robot))
     }
 
@@ -157,20 +182,40 @@ impl Simulator {
     pub fn joint_states(&self, index: usize) -> Result<Vec<JointState>, SimError> {
         let e = self.robot(index)?;
         let w = self.app.world();
-        let robot = w.get::<SimRobot>(e).ok_or(SimError::NoSuchRobot { index, count: self.robots.len() })?;
-        Ok(robot.joints.iter().map(|j| w.get::<JointState>(*j).copied().unwrap_or_default()).collect())
+        let robot = w.get::<SimRobot>(e).ok_or(SimError::NoSuchRobot {
+            index,
+            count: self.robots.len(),
+        })?;
+        Ok(robot
+            .joints
+            .iter()
+            .map(|j| w.get::<JointState>(*j).copied().unwrap_or_default())
+            .collect())
     }
 
     /// The recorded trajectory of robot `index`.
     pub fn track(&self, index: usize) -> Result<&Track, SimError> {
         let e = self.robot(index)?;
-        self.app.world().get::<Track>(e).ok_or(SimError::NoSuchRobot { index, count: self.robots.len() })
+        self.app
+            .world()
+            .get::<Track>(e)
+            .ok_or(SimError::NoSuchRobot {
+                index,
+                count: self.robots.len(),
+            })
     }
 
     /// The control kernel of robot `index`.
     pub fn kernel(&self, index: usize) -> Result<&ControlKernel, SimError> {
         let e = self.robot(index)?;
-        self.app.world().get::<Kernel>(e).map(|k| &k.0).ok_or(SimError::NoSuchRobot { index, count: self.robots.len() })
+        self.app
+            .world()
+            .get::<Kernel>(e)
+            .map(|k| &k.0)
+            .ok_or(SimError::NoSuchRobot {
+                index,
+                count: self.robots.len(),
+            })
     }
 
     /// Changes a module parameter of robot `robot` between steps (see
@@ -185,7 +230,14 @@ impl Simulator {
     ) -> Result<(), SimError> {
         let e = self.robot(robot)?;
         let count = self.robots.len();
-        let mut kernel = self.app.world_mut().get_mut::<Kernel>(e).ok_or(SimError::NoSuchRobot { index: robot, count })?;
+        let mut kernel =
+            self.app
+                .world_mut()
+                .get_mut::<Kernel>(e)
+                .ok_or(SimError::NoSuchRobot {
+                    index: robot,
+                    count,
+                })?;
         Ok(kernel.0.set_parameter(actuator, name, joint, value)?)
     }
 }

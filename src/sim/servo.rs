@@ -67,9 +67,17 @@ impl SimJoint {
         let r1 = *p.rotation();
         let r2 = *c.rotation();
         let delta = r1.inverse() * r2 * self.rest_inv;
-        let along = delta.x * self.axis_parent.x + delta.y * self.axis_parent.y + delta.z * self.axis_parent.z;
+        let along = delta.x * self.axis_parent.x
+            + delta.y * self.axis_parent.y
+            + delta.z * self.axis_parent.z;
         let angle = 2.0 * along.atan2(delta.w);
-        let angle = if angle > std::f32::consts::PI { angle - std::f32::consts::TAU } else if angle < -std::f32::consts::PI { angle + std::f32::consts::TAU } else { angle };
+        let angle = if angle > std::f32::consts::PI {
+            angle - std::f32::consts::TAU
+        } else if angle < -std::f32::consts::PI {
+            angle + std::f32::consts::TAU
+        } else {
+            angle
+        };
         let axis_world = r1 * self.axis_parent;
         let rel = c.angvel() - p.angvel();
         let velocity = rel.dot(axis_world);
@@ -78,13 +86,24 @@ impl SimJoint {
 }
 
 /// Reads every joint's angle, velocity and last torque (part of the `Sense` set).
-pub fn sense_joints(physics: Res<Physics>, clock: Res<SimClock>, mut joints: Query<(&SimJoint, &mut JointState)>) {
+pub fn sense_joints(
+    physics: Res<Physics>,
+    clock: Res<SimClock>,
+    mut joints: Query<(&SimJoint, &mut JointState)>,
+) {
     let w = &physics.world;
+    let substep = clock.dt / w.integration_parameters.num_solver_iterations.max(1) as f64;
     for (j, mut state) in &mut joints {
         let (angle, velocity) = j.measure(&w.bodies);
         state.angle = angle;
         state.velocity = velocity;
-        state.torque = w.impulse_joints.get(j.handle).map_or(0.0, |ij| ij.impulses[3] as f64 / clock.dt);
+        // The motor's impulse in the last solver substep (the joint limit's impulse is not the
+        // servo's); rapier splits a step into `num_solver_iterations` substeps.
+        let axis = rp::JointAxis::AngX as usize;
+        state.torque = w
+            .impulse_joints
+            .get(j.handle)
+            .map_or(0.0, |ij| ij.data.motors[axis].impulse as f64 / substep);
     }
 }
 
@@ -95,13 +114,17 @@ pub fn servo_command(servo: &Servo, angle: f64) -> f64 {
 }
 
 /// Turns each servo's target into a velocity-motor command (the `Servo` set).
-pub fn drive_servos(mut physics: ResMut<Physics>, mut joints: Query<(&SimJoint, &Servo, &mut JointState)>) {
+pub fn drive_servos(
+    mut physics: ResMut<Physics>,
+    mut joints: Query<(&SimJoint, &Servo, &mut JointState)>,
+) {
     let w = &mut physics.world;
     for (j, servo, mut state) in &mut joints {
         let v = servo_command(servo, state.angle);
         state.commanded_velocity = v;
         if let Some(ij) = w.impulse_joints.get_mut(j.handle, false) {
-            ij.data.set_motor_velocity(rp::JointAxis::AngX, v.to_radians() as f32, MOTOR_DAMPING);
+            ij.data
+                .set_motor_velocity(rp::JointAxis::AngX, v.to_radians() as f32, MOTOR_DAMPING);
         }
     }
 }

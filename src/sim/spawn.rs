@@ -9,10 +9,10 @@ use std::path::Path;
 use bevy::prelude::*;
 use rapier3d::prelude as rp;
 
+use crate::config::Simulation;
 use crate::config::body::{BodyKind, Geom, Shape};
 use crate::config::mesh::parse_obj;
 use crate::config::resolve::robot::geom_volume;
-use crate::config::Simulation;
 use crate::control::{ControlKernel, ModuleRegistry};
 use crate::rng::SimRng;
 use crate::sim::clock::SimClock;
@@ -40,7 +40,11 @@ pub struct BuildOptions {
 
 impl Default for BuildOptions {
     fn default() -> Self {
-        BuildOptions { robots: 1, seed: 1, record: true }
+        BuildOptions {
+            robots: 1,
+            seed: 1,
+            record: true,
+        }
     }
 }
 
@@ -64,14 +68,25 @@ pub struct LoadedSimulation(pub Simulation);
 
 fn shape(g: &Geom) -> Result<rp::SharedShape, SimError> {
     Ok(match &g.shape {
-        Shape::Box { extents: [x, y, z] } => rp::SharedShape::cuboid(*x as f32, *y as f32, *z as f32),
+        Shape::Box { extents: [x, y, z] } => {
+            rp::SharedShape::cuboid(*x as f32, *y as f32, *z as f32)
+        }
         Shape::Sphere { radius } => rp::SharedShape::ball(*radius as f32),
-        Shape::Cylinder { radius, height } => rp::SharedShape::cylinder((height / 2.0) as f32, *radius as f32),
+        Shape::Cylinder { radius, height } => {
+            rp::SharedShape::cylinder((height / 2.0) as f32, *radius as f32)
+        }
         Shape::Trimesh { file, scale } => {
-            let err = |message: String| SimError::Mesh { file: file.clone(), message };
+            let err = |message: String| SimError::Mesh {
+                file: file.clone(),
+                message,
+            };
             let text = std::fs::read_to_string(file).map_err(|e| err(e.to_string()))?;
             let mesh = parse_obj(Path::new(file), &text).map_err(|e| err(e.to_string()))?;
-            let vertices = mesh.vertices.iter().map(|v| vec3(v.map(|c| c * scale))).collect();
+            let vertices = mesh
+                .vertices
+                .iter()
+                .map(|v| vec3(v.map(|c| c * scale)))
+                .collect();
             rp::SharedShape::trimesh(vertices, mesh.triangles).map_err(|e| err(format!("{e:?}")))?
         }
     })
@@ -100,9 +115,17 @@ fn colliders(
 }
 
 /// Builds the world of `sim` into `world` (resources and entities); returns the robots.
-pub fn build_world(world: &mut World, sim: &Simulation, opts: &BuildOptions, registry: &ModuleRegistry) -> Result<Vec<Entity>, SimError> {
+pub fn build_world(
+    world: &mut World,
+    sim: &Simulation,
+    opts: &BuildOptions,
+    registry: &ModuleRegistry,
+) -> Result<Vec<Entity>, SimError> {
     if opts.robots == 0 || opts.robots > MAX_ROBOTS_PER_WORLD {
-        return Err(SimError::TooManyRobots { requested: opts.robots, max: MAX_ROBOTS_PER_WORLD });
+        return Err(SimError::TooManyRobots {
+            requested: opts.robots,
+            max: MAX_ROBOTS_PER_WORLD,
+        });
     }
     let props = &sim.files.simulation.properties;
     let env = &sim.environment;
@@ -110,7 +133,11 @@ pub fn build_world(world: &mut World, sim: &Simulation, opts: &BuildOptions, reg
     let all_robots = (1..=opts.robots as u32).fold(rp::Group::empty(), |g, i| g | group_bit(i));
 
     // Environment: static bodies are shared by every robot.
-    let env_groups = rp::InteractionGroups::new(group_bit(0), all_robots | group_bit(0), rp::InteractionTestMode::And);
+    let env_groups = rp::InteractionGroups::new(
+        group_bit(0),
+        all_robots | group_bit(0),
+        rp::InteractionTestMode::And,
+    );
     let default_friction = env.physics.default_friction.unwrap_or(DEFAULT_FRICTION);
     let mut env_entities = Vec::new();
     for b in &env.bodies {
@@ -119,39 +146,72 @@ pub fn build_world(world: &mut World, sim: &Simulation, opts: &BuildOptions, reg
             BodyKind::Dynamic => rp::RigidBodyBuilder::dynamic().can_sleep(false),
         };
         let handle = physics.world.bodies.insert(builder.pose(pose(&b.pose)));
-        for c in colliders(&b.geoms, b.mass, |g| g.friction.unwrap_or(default_friction), env_groups)? {
+        for c in colliders(
+            &b.geoms,
+            b.mass,
+            |g| g.friction.unwrap_or(default_friction),
+            env_groups,
+        )? {
             let w = &mut physics.world;
             w.colliders.insert_with_parent(c, handle, &mut w.bodies);
         }
-        env_entities.push(world.spawn((Name::new(format!("environment: {}", b.name)), EnvObject { handle })).id());
+        env_entities.push(
+            world
+                .spawn((
+                    Name::new(format!("environment: {}", b.name)),
+                    EnvObject { handle },
+                ))
+                .id(),
+        );
     }
 
     let robot_model = &sim.robot;
     let limits: Vec<[f64; 2]> = robot_model.joints.iter().map(|j| j.limits_deg).collect();
     let template = ControlKernel::from_actuation(&sim.actuation, registry, limits)?;
     let start = &env.robot_pose;
-    let samples = (props.duration / props.step_width / props.accuracy.max(1) as f64).ceil() as usize + 1;
+    let samples =
+        (props.duration / props.step_width / props.accuracy.max(1) as f64).ceil() as usize + 1;
     let mut rng = SimRng::new(opts.seed);
     let mut robots = Vec::with_capacity(opts.robots);
     for r in 0..opts.robots {
         let group = group_bit(r as u32 + 1);
-        let filter = if env.physics.self_collision { group | group_bit(0) } else { group_bit(0) };
+        let filter = if env.physics.self_collision {
+            group | group_bit(0)
+        } else {
+            group_bit(0)
+        };
         let groups = rp::InteractionGroups::new(group, filter, rp::InteractionTestMode::And);
         let robot_entity = world
-            .spawn(Name::new(if opts.robots == 1 { robot_model.name.clone() } else { format!("{} #{r}", robot_model.name) }))
+            .spawn(Name::new(if opts.robots == 1 {
+                robot_model.name.clone()
+            } else {
+                format!("{} #{r}", robot_model.name)
+            }))
             .id();
         let mut link_entities = Vec::with_capacity(robot_model.links.len());
         let mut handles = Vec::with_capacity(robot_model.links.len());
         for (i, l) in robot_model.links.iter().enumerate() {
             let p = start.mul(&l.pose);
-            let handle = physics.world.bodies.insert(rp::RigidBodyBuilder::dynamic().pose(pose(&p)).can_sleep(false));
+            let handle = physics.world.bodies.insert(
+                rp::RigidBodyBuilder::dynamic()
+                    .pose(pose(&p))
+                    .can_sleep(false),
+            );
             for c in colliders(&l.geoms, l.mass, |_| LINK_FRICTION, groups)? {
                 let w = &mut physics.world;
                 w.colliders.insert_with_parent(c, handle, &mut w.bodies);
             }
             handles.push((handle, l.mass));
             let e = world
-                .spawn((Name::new(format!("link {}", l.name)), SimLink { robot: robot_entity, index: i, handle }, ChildOf(robot_entity)))
+                .spawn((
+                    Name::new(format!("link {}", l.name)),
+                    SimLink {
+                        robot: robot_entity,
+                        index: i,
+                        handle,
+                    },
+                    ChildOf(robot_entity),
+                ))
                 .id();
             link_entities.push(e);
         }
@@ -161,7 +221,11 @@ pub fn build_world(world: &mut World, sim: &Simulation, opts: &BuildOptions, reg
             let (ch, _) = handles[j.child];
             let w = &mut physics.world;
             let (pp, cp) = (*w.bodies[ph].position(), *w.bodies[ch].position());
-            let anchor = start.mul(&crate::config::transform::Transform::from_translation(j.anchor)).translation;
+            let anchor = start
+                .mul(&crate::config::transform::Transform::from_translation(
+                    j.anchor,
+                ))
+                .translation;
             let axis = start.rotate(j.axis);
             let (a, n) = (vec3(anchor), vec3(axis).normalize());
             let local_axis1 = pp.rotation.inverse() * n;
@@ -170,7 +234,13 @@ pub fn build_world(world: &mut World, sim: &Simulation, opts: &BuildOptions, reg
                 .local_anchor2(cp.inverse_transform_point(a))
                 .local_axis1(local_axis1)
                 .local_axis2(cp.rotation.inverse() * n)
-                .limits(rp::JointAxis::AngX, [j.limits_deg[0].to_radians() as f32, j.limits_deg[1].to_radians() as f32])
+                .limits(
+                    rp::JointAxis::AngX,
+                    [
+                        j.limits_deg[0].to_radians() as f32,
+                        j.limits_deg[1].to_radians() as f32,
+                    ],
+                )
                 .motor_model(rp::JointAxis::AngX, rp::MotorModel::ForceBased)
                 .motor_velocity(rp::JointAxis::AngX, 0.0, MOTOR_DAMPING)
                 .motor_max_force(rp::JointAxis::AngX, j.max_torque as f32)
@@ -194,7 +264,13 @@ pub fn build_world(world: &mut World, sim: &Simulation, opts: &BuildOptions, reg
                 limits_deg: j.limits_deg,
             };
             let e = world
-                .spawn((Name::new(format!("joint {}", j.name)), joint, servo, JointState::default(), ChildOf(robot_entity)))
+                .spawn((
+                    Name::new(format!("joint {}", j.name)),
+                    joint,
+                    servo,
+                    JointState::default(),
+                    ChildOf(robot_entity),
+                ))
                 .id();
             joint_entities.push(e);
         }
@@ -202,7 +278,13 @@ pub fn build_world(world: &mut World, sim: &Simulation, opts: &BuildOptions, reg
         kernel.reset(&mut rng.fork(r as u64));
         let n = robot_model.joints.len();
         world.entity_mut(robot_entity).insert((
-            SimRobot { index: r, joints: joint_entities, links: link_entities, bodies: handles, measured: vec![0.0; n] },
+            SimRobot {
+                index: r,
+                joints: joint_entities,
+                links: link_entities,
+                bodies: handles,
+                measured: vec![0.0; n],
+            },
             Kernel(kernel),
             Track::with_capacity(n, if opts.record { samples } else { 0 }),
         ));
@@ -212,7 +294,10 @@ pub fn build_world(world: &mut World, sim: &Simulation, opts: &BuildOptions, reg
     clock.delay_ms = props.delay_ms;
     clock.realtime_factor = props.realtime_factor;
     world.insert_resource(clock);
-    world.insert_resource(RecordSettings { enabled: opts.record, every: props.accuracy });
+    world.insert_resource(RecordSettings {
+        enabled: opts.record,
+        every: props.accuracy,
+    });
     world.insert_resource(physics);
     world.insert_resource(LoadedSimulation(sim.clone()));
     Ok(robots)

@@ -8,8 +8,14 @@ use crate::control::registry::ModuleRegistry;
 
 /// Registers every standard module type.
 pub fn register(r: &mut ModuleRegistry) {
-    r.register(direct::descriptor(), Some(|n| Box::new(direct::DirectJointAccess::new(n))));
-    r.register(sinusoidal::descriptor(), Some(|n| Box::new(sinusoidal::Sinusoidal::new(n))));
+    r.register(
+        direct::descriptor(),
+        Some(|n| Box::new(direct::DirectJointAccess::new(n))),
+    );
+    r.register(
+        sinusoidal::descriptor(),
+        Some(|n| Box::new(sinusoidal::Sinusoidal::new(n))),
+    );
     // Implemented with the sensors (issue 4); configurations may already name it.
     r.register(adaptive_touch::descriptor(), None);
 }

@@ -138,7 +138,12 @@ mod tests {
         let mut out = vec![0.0; m.params.joints()];
         (0..steps)
             .map(|k| {
-                let ctx = StepContext { time: k as f64 * dt, dt, step: k as u64, angles: &angles };
+                let ctx = StepContext {
+                    time: k as f64 * dt,
+                    dt,
+                    step: k as u64,
+                    angles: &angles,
+                };
                 m.compute(&ctx, &mut out);
                 out.clone()
             })
@@ -158,8 +163,13 @@ mod tests {
             let t = k as f64 * dt;
             for (j, v) in row.iter().enumerate() {
                 let offset = if j == 2 { 5.0 } else { 0.0 };
-                let expected = 30.0 * (std::f64::consts::PI * t - (j as f64) * std::f64::consts::FRAC_PI_2).sin() + offset;
-                assert!((v - expected).abs() < 1e-9, "step {k} joint {j}: {v} vs {expected}");
+                let expected = 30.0
+                    * (std::f64::consts::PI * t - (j as f64) * std::f64::consts::FRAC_PI_2).sin()
+                    + offset;
+                assert!(
+                    (v - expected).abs() < 1e-9,
+                    "step {k} joint {j}: {v} vs {expected}"
+                );
             }
         }
     }

@@ -1,0 +1,117 @@
+//! Throughput figures of the reference scenario (`proleg bench`): the experiment-1 robot
+//! (snake5p) on the flat floor with the uniform 40° / 55° sine, 1 ms steps. Measures the
+//! full pipeline (sense, kernel, servos, physics, clock; recording off), rapier's step
+//! alone on the same world, and batches of robots sharing one world.
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Instant;
+
+use crate::config::load_simulation;
+use crate::sim::physics::Physics;
+use crate::sim::{BuildOptions, SimError, Simulator};
+
+/// One measurement.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Figure {
+    pub label: String,
+    pub robots: usize,
+    pub steps: u64,
+    /// Step width (s).
+    pub dt: f64,
+    pub wall: f64,
+}
+
+impl Figure {
+    /// Robot-steps per wall second.
+    pub fn robot_steps_per_s(&self) -> f64 {
+        self.robots as f64 * self.steps as f64 / self.wall
+    }
+
+    /// Simulated seconds per wall second (each robot of a batch advances that fast).
+    pub fn realtime_factor(&self) -> f64 {
+        self.steps as f64 * self.dt / self.wall
+    }
+}
+
+fn world(config: &Path, robots: usize) -> Result<Simulator, String> {
+    let sim = load_simulation(config).map_err(|e| e.to_string())?;
+    Simulator::new(
+        &sim,
+        &BuildOptions {
+            robots,
+            seed: 1,
+            record: false,
+        },
+    )
+    .map_err(|e: SimError| e.to_string())
+}
+
+/// The full pipeline with `robots` robots in one world for `seconds` simulated seconds.
+pub fn pipeline(config: &Path, robots: usize, seconds: f64) -> Result<Figure, String> {
+    let mut s = world(config, robots)?;
+    let dt = s.clock().dt;
+    let steps = (seconds / dt).round() as u64;
+    let t = Instant::now();
+    s.run_steps(steps);
+    Ok(Figure {
+        label: format!("pipeline, {robots} robot(s)/world"),
+        robots,
+        steps,
+        dt,
+        wall: t.elapsed().as_secs_f64(),
+    })
+}
+
+/// Rapier's step alone on the same world (servo motors hold their first command).
+pub fn physics_only(config: &Path, seconds: f64) -> Result<Figure, String> {
+    let mut s = world(config, 1)?;
+    s.step();
+    let dt = s.clock().dt;
+    let steps = (seconds / dt).round() as u64;
+    let mut physics = s.world_mut().resource_mut::<Physics>();
+    let t = Instant::now();
+    for _ in 0..steps {
+        physics.world.step();
+    }
+    Ok(Figure {
+        label: "rapier step only, 1 robot".into(),
+        robots: 1,
+        steps,
+        dt,
+        wall: t.elapsed().as_secs_f64(),
+    })
+}
+
+/// Every figure, formatted for the terminal.
+pub fn report(config: &Path, seconds: f64, batches: &[usize]) -> Result<String, String> {
+    let raw = physics_only(config, seconds)?;
+    let mut figs = vec![pipeline(config, 1, seconds)?];
+    for b in batches.iter().filter(|b| **b > 1) {
+        figs.push(pipeline(config, *b, seconds)?);
+    }
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "reference scenario: {} , {seconds} s simulated per figure, 1 core",
+        config.display()
+    );
+    let _ = writeln!(
+        out,
+        "{:<34} {:>16} {:>12} {:>16}",
+        "", "robot-steps/s", "real-time", "vs rapier only"
+    );
+    let raw_rate = raw.robot_steps_per_s();
+    for f in std::iter::once(&raw).chain(&figs) {
+        let rate = f.robot_steps_per_s();
+        let _ = writeln!(
+            out,
+            "{:<34} {:>16.0} {:>11.1}x {:>15.2}x",
+            f.label,
+            rate,
+            f.realtime_factor(),
+            rate / raw_rate
+        );
+    }
+    Ok(out)
+}
