@@ -2,7 +2,8 @@
 //! reference scenario (robot-steps per second, real-time factors, batching).
 
 fn main() {
-    let config = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/demo.simulation.xml");
+    let config =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/demo.simulation.xml");
     match proleg::bench::report(&config, 10.0, &[8, 31]) {
         Ok(text) => print!("{text}"),
         Err(e) => {

@@ -5,15 +5,31 @@ mod common;
 use std::process::Command;
 
 fn proleg(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_proleg")).args(args).current_dir(common::root()).output().unwrap();
-    (out.status.success(), String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+    let out = Command::new(env!("CARGO_BIN_EXE_proleg"))
+        .args(args)
+        .current_dir(common::root())
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
 }
 
 #[test]
 fn run_prints_the_motion_summary() {
     let (ok, out, err) = proleg(&["run", "configs/demo.simulation.xml", "--duration", "5"]);
     assert!(ok, "{err}");
-    for needle in ["steps           5000", "simulated time  5.000 s", "real-time factor", "start COM", "end COM", "displacement", "mean speed"] {
+    for needle in [
+        "steps           5000",
+        "simulated time  5.000 s",
+        "real-time factor",
+        "start COM",
+        "end COM",
+        "displacement",
+        "mean speed",
+    ] {
         assert!(out.contains(needle), "{needle:?} missing in:\n{out}");
     }
     let line = out.lines().find(|l| l.starts_with("displacement")).unwrap();
@@ -27,17 +43,33 @@ fn run_refuses_bad_input_with_a_message() {
     assert!(!ok && err.contains("--duration -3"), "{err}");
     let (ok, _, err) = proleg(&["run", "configs/demo.simulation.xml", "--duration", "NaN"]);
     assert!(!ok && err.contains("--duration NaN"), "{err}");
-    let (ok, _, err) = proleg(&["run", "configs/experiment2_adaptive.simulation.xml", "--duration", "1"]);
-    assert!(!ok && err.contains("Global_Adaptive_Touch is described but has no implementation yet"), "{err}");
+    let (ok, _, err) = proleg(&[
+        "run",
+        "configs/experiment2_adaptive.simulation.xml",
+        "--duration",
+        "1",
+    ]);
+    assert!(
+        !ok && err.contains("Global_Adaptive_Touch is described but has no implementation yet"),
+        "{err}"
+    );
     let (ok, _, err) = proleg(&["run", "configs/nothing.simulation.xml"]);
-    assert!(!ok && err.contains("configs/nothing.simulation.xml"), "{err}");
+    assert!(
+        !ok && err.contains("configs/nothing.simulation.xml"),
+        "{err}"
+    );
 }
 
 #[test]
 fn bench_prints_ratios() {
     let (ok, out, err) = proleg(&["bench", "--seconds", "0.5", "--batches", "2"]);
     assert!(ok, "{err}");
-    for needle in ["rapier step only, 1 robot", "pipeline, 1 robot(s)/world", "pipeline, 2 robot(s)/world", "robot-steps/s"] {
+    for needle in [
+        "rapier step only, 1 robot",
+        "pipeline, 1 robot(s)/world",
+        "pipeline, 2 robot(s)/world",
+        "robot-steps/s",
+    ] {
         assert!(out.contains(needle), "{needle:?} missing in:\n{out}");
     }
 }

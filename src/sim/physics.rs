@@ -21,8 +21,10 @@ pub struct Physics {
 impl Physics {
     /// A world with gravity (m/s², z up) and step width (s).
     pub fn new(gravity: [f64; 3], dt: f64) -> Self {
-        let mut world = rp::PhysicsWorld::default();
-        world.gravity = vec3(gravity);
+        let mut world = rp::PhysicsWorld {
+            gravity: vec3(gravity),
+            ..Default::default()
+        };
         world.integration_parameters.dt = dt as f32;
         Physics { world }
     }

@@ -99,12 +99,12 @@ impl ActuationModule for Sinusoidal {
     fn compute(&mut self, ctx: &StepContext, out: &mut [f64]) {
         let p = &self.params;
         let mut lead = 0.0;
-        for j in 0..out.len() {
+        for (j, angle) in out.iter_mut().enumerate() {
             if j > 0 {
                 lead -= p.get(PHASE_DIFFERENCE, j).to_radians();
             }
             let phase = self.theta[j] + lead;
-            out[j] = p.get(AMPLITUDE, j) * phase.sin() + p.get(OFFSET, j);
+            *angle = p.get(AMPLITUDE, j) * phase.sin() + p.get(OFFSET, j);
             self.data.series_mut(1)[j] = phase.to_degrees().rem_euclid(360.0);
             self.theta[j] = (self.theta[j] + std::f64::consts::TAU * p.get(FREQUENCY, j) * ctx.dt)
                 .rem_euclid(std::f64::consts::TAU);
