@@ -50,48 +50,36 @@ enum Command {
     },
 }
 
+/// Prints a command's output, or its error, and gives the exit code.
+fn finish(result: Result<String, String>) -> ExitCode {
+    match result {
+        Ok(text) => {
+            print!("{text}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match cli.command {
+    finish(match cli.command {
         Command::Bench {
             config,
             seconds,
             batches,
-        } => match proleg::bench::report(&config, seconds, &batches) {
-            Ok(text) => {
-                print!("{text}");
-                ExitCode::SUCCESS
-            }
-            Err(e) => {
-                eprintln!("error: {e}");
-                ExitCode::FAILURE
-            }
-        },
+        } => proleg::bench::report(&config, seconds, &batches),
         Command::Run {
             config,
             duration,
             seed,
             realtime,
-        } => match cli_run::run(&config, duration, seed, realtime) {
-            Ok(text) => {
-                print!("{text}");
-                ExitCode::SUCCESS
-            }
-            Err(e) => {
-                eprintln!("error: {e}");
-                ExitCode::FAILURE
-            }
-        },
-        Command::Check { config } => match proleg::config::load_simulation(&config) {
-            Ok(sim) => {
-                print!("{}", proleg::config::summary::summary(&sim));
-                println!("ok");
-                ExitCode::SUCCESS
-            }
-            Err(e) => {
-                eprintln!("error: {e}");
-                ExitCode::FAILURE
-            }
-        },
-    }
+        } => cli_run::run(&config, duration, seed, realtime),
+        Command::Check { config } => proleg::config::load_simulation(&config)
+            .map(|sim| format!("{}ok\n", proleg::config::summary::summary(&sim)))
+            .map_err(|e| e.to_string()),
+    })
 }

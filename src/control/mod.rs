@@ -10,5 +10,5 @@ pub mod registry;
 
 pub use descriptor::{ModuleDescriptor, ParamDescriptor};
 pub use kernel::{Actuator, ControlKernel};
-pub use module::{ActuationModule, InternalData, ParamError, Parameters, StepContext};
+pub use module::{ActuationModule, InternalData, ModuleCore, ParamError, Parameters, StepContext};
 pub use registry::{CreateError, ModuleRegistry};

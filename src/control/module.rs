@@ -249,19 +249,50 @@ impl InternalData {
     }
 }
 
+/// What every module holds: its description, parameter values and logged data.
+#[derive(Debug, Clone)]
+pub struct ModuleCore {
+    pub descriptor: ModuleDescriptor,
+    pub params: Parameters,
+    pub data: InternalData,
+}
+
+impl ModuleCore {
+    /// Parameters at their defaults and zeroed data, for `joints` connected joints.
+    pub fn new(descriptor: ModuleDescriptor, joints: usize) -> Self {
+        ModuleCore {
+            params: Parameters::new(&descriptor, joints),
+            data: InternalData::new(descriptor.series, joints),
+            descriptor,
+        }
+    }
+}
+
 /// An actuation module (thesis listing A.1).
 pub trait ActuationModule: Send + Sync {
-    /// Type name, parameters, logged series.
-    fn descriptor(&self) -> &ModuleDescriptor;
+    /// The module's descriptor, parameters and logged data.
+    fn core(&self) -> &ModuleCore;
+    fn core_mut(&mut self) -> &mut ModuleCore;
     /// Back to the start state (called before a run; `rng` is the module's own stream).
     fn reset(&mut self, rng: &mut SimRng);
     /// One angle (degrees) per connected joint into `out` (`out.len()` = joints).
     fn compute(&mut self, ctx: &StepContext, out: &mut [f64]);
-    fn parameters(&self) -> &Parameters;
-    fn parameters_mut(&mut self) -> &mut Parameters;
-    fn internal_data(&self) -> &InternalData;
     /// A copy in the same state (for parallel evaluation).
     fn clone_box(&self) -> Box<dyn ActuationModule>;
+
+    /// Type name, parameters, logged series.
+    fn descriptor(&self) -> &ModuleDescriptor {
+        &self.core().descriptor
+    }
+    fn parameters(&self) -> &Parameters {
+        &self.core().params
+    }
+    fn parameters_mut(&mut self) -> &mut Parameters {
+        &mut self.core_mut().params
+    }
+    fn internal_data(&self) -> &InternalData {
+        &self.core().data
+    }
 }
 
 impl Clone for Box<dyn ActuationModule> {

@@ -83,6 +83,15 @@ impl Simulator {
             })
     }
 
+    /// A component of robot `index`'s root entity.
+    fn robot_component<C: Component>(&self, index: usize) -> Result<&C, SimError> {
+        let e = self.robot(index)?;
+        self.app.world().get::<C>(e).ok_or(SimError::NoSuchRobot {
+            index,
+            count: self.robots.len(),
+        })
+    }
+
     pub fn clock(&self) -> &SimClock {
         self.app.world().resource::<SimClock>()
     }
@@ -158,34 +167,22 @@ impl Simulator {
 
     /// Centre of mass of robot `index` (m, z up).
     pub fn com(&self, index: usize) -> Result<[f64; 3], SimError> {
-        let e = self.robot(index)?;
+        let robot = self.robot_component::<SimRobot>(index)?;
         let w = self.app.world();
-        let robot = w.get::<SimRobot>(e).ok_or(SimError::NoSuchRobot {
-            index,
-            count: self.robots.len(),
-        })?;
         Ok(centre_of_mass(&w.resource::<Physics>().world.bodies, robot))
     }
 
     /// Tail-to-head heading of robot `index` in the ground plane (degrees from +x).
     pub fn heading(&self, index: usize) -> Result<f64, SimError> {
-        let e = self.robot(index)?;
+        let robot = self.robot_component::<SimRobot>(index)?;
         let w = self.app.world();
-        let robot = w.get::<SimRobot>(e).ok_or(SimError::NoSuchRobot {
-            index,
-            count: self.robots.len(),
-        })?;
         Ok(heading(&w.resource::<Physics>().world.bodies, robot))
     }
 
     /// The current state of every joint of robot `index`.
     pub fn joint_states(&self, index: usize) -> Result<Vec<JointState>, SimError> {
-        let e = self.robot(index)?;
+        let robot = self.robot_component::<SimRobot>(index)?;
         let w = self.app.world();
-        let robot = w.get::<SimRobot>(e).ok_or(SimError::NoSuchRobot {
-            index,
-            count: self.robots.len(),
-        })?;
         Ok(robot
             .joints
             .iter()
@@ -195,27 +192,12 @@ impl Simulator {
 
     /// The recorded trajectory of robot `index`.
     pub fn track(&self, index: usize) -> Result<&Track, SimError> {
-        let e = self.robot(index)?;
-        self.app
-            .world()
-            .get::<Track>(e)
-            .ok_or(SimError::NoSuchRobot {
-                index,
-                count: self.robots.len(),
-            })
+        self.robot_component::<Track>(index)
     }
 
     /// The control kernel of robot `index`.
     pub fn kernel(&self, index: usize) -> Result<&ControlKernel, SimError> {
-        let e = self.robot(index)?;
-        self.app
-            .world()
-            .get::<Kernel>(e)
-            .map(|k| &k.0)
-            .ok_or(SimError::NoSuchRobot {
-                index,
-                count: self.robots.len(),
-            })
+        self.robot_component::<Kernel>(index).map(|k| &k.0)
     }
 
     /// Changes a module parameter of robot `robot` between steps (see

@@ -1,7 +1,7 @@
 //! `DirectJointAccess`: holds its joints at fixed angles (thesis listing B.5).
 
 use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
-use crate::control::module::{ActuationModule, InternalData, Parameters, StepContext};
+use crate::control::module::{ActuationModule, ModuleCore, StepContext};
 use crate::rng::SimRng;
 
 const PARAMETERS: &[ParamDescriptor] = &[ParamDescriptor {
@@ -27,44 +27,31 @@ pub fn descriptor() -> ModuleDescriptor {
 /// Holds each joint at its `Angle`.
 #[derive(Debug, Clone)]
 pub struct DirectJointAccess {
-    descriptor: ModuleDescriptor,
-    params: Parameters,
-    data: InternalData,
+    core: ModuleCore,
 }
 
 impl DirectJointAccess {
     pub fn new(joints: usize) -> Self {
-        let descriptor = descriptor();
         DirectJointAccess {
-            params: Parameters::new(&descriptor, joints),
-            data: InternalData::new(descriptor.series, joints),
-            descriptor,
+            core: ModuleCore::new(descriptor(), joints),
         }
     }
 }
 
 impl ActuationModule for DirectJointAccess {
-    fn descriptor(&self) -> &ModuleDescriptor {
-        &self.descriptor
+    fn core(&self) -> &ModuleCore {
+        &self.core
+    }
+
+    fn core_mut(&mut self) -> &mut ModuleCore {
+        &mut self.core
     }
 
     fn reset(&mut self, _rng: &mut SimRng) {}
 
     fn compute(&mut self, _ctx: &StepContext, out: &mut [f64]) {
-        out.copy_from_slice(self.params.row(0));
-        self.data.series_mut(0).copy_from_slice(out);
-    }
-
-    fn parameters(&self) -> &Parameters {
-        &self.params
-    }
-
-    fn parameters_mut(&mut self) -> &mut Parameters {
-        &mut self.params
-    }
-
-    fn internal_data(&self) -> &InternalData {
-        &self.data
+        out.copy_from_slice(self.core.params.row(0));
+        self.core.data.series_mut(0).copy_from_slice(out);
     }
 
     fn clone_box(&self) -> Box<dyn ActuationModule> {

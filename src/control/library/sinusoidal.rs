@@ -8,7 +8,7 @@
 //! changing the frequency while running bends the wave smoothly instead of jumping.
 
 use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
-use crate::control::module::{ActuationModule, InternalData, Parameters, StepContext};
+use crate::control::module::{ActuationModule, ModuleCore, StepContext};
 use crate::rng::SimRng;
 
 const AMPLITUDE: usize = 0;
@@ -68,28 +68,27 @@ pub fn descriptor() -> ModuleDescriptor {
 /// The sine generator.
 #[derive(Debug, Clone)]
 pub struct Sinusoidal {
-    descriptor: ModuleDescriptor,
-    params: Parameters,
-    data: InternalData,
+    core: ModuleCore,
     /// Integrated 2π f t per joint (radians).
     theta: Vec<f64>,
 }
 
 impl Sinusoidal {
     pub fn new(joints: usize) -> Self {
-        let descriptor = descriptor();
         Sinusoidal {
-            params: Parameters::new(&descriptor, joints),
-            data: InternalData::new(descriptor.series, joints),
+            core: ModuleCore::new(descriptor(), joints),
             theta: vec![0.0; joints],
-            descriptor,
         }
     }
 }
 
 impl ActuationModule for Sinusoidal {
-    fn descriptor(&self) -> &ModuleDescriptor {
-        &self.descriptor
+    fn core(&self) -> &ModuleCore {
+        &self.core
+    }
+
+    fn core_mut(&mut self) -> &mut ModuleCore {
+        &mut self.core
     }
 
     fn reset(&mut self, _rng: &mut SimRng) {
@@ -97,7 +96,9 @@ impl ActuationModule for Sinusoidal {
     }
 
     fn compute(&mut self, ctx: &StepContext, out: &mut [f64]) {
-        let p = &self.params;
+        let ModuleCore {
+            params: p, data, ..
+        } = &mut self.core;
         let mut lead = 0.0;
         for (j, angle) in out.iter_mut().enumerate() {
             if j > 0 {
@@ -105,23 +106,11 @@ impl ActuationModule for Sinusoidal {
             }
             let phase = self.theta[j] + lead;
             *angle = p.get(AMPLITUDE, j) * phase.sin() + p.get(OFFSET, j);
-            self.data.series_mut(1)[j] = phase.to_degrees().rem_euclid(360.0);
+            data.series_mut(1)[j] = phase.to_degrees().rem_euclid(360.0);
             self.theta[j] = (self.theta[j] + std::f64::consts::TAU * p.get(FREQUENCY, j) * ctx.dt)
                 .rem_euclid(std::f64::consts::TAU);
         }
-        self.data.series_mut(0).copy_from_slice(out);
-    }
-
-    fn parameters(&self) -> &Parameters {
-        &self.params
-    }
-
-    fn parameters_mut(&mut self) -> &mut Parameters {
-        &mut self.params
-    }
-
-    fn internal_data(&self) -> &InternalData {
-        &self.data
+        data.series_mut(0).copy_from_slice(out);
     }
 
     fn clone_box(&self) -> Box<dyn ActuationModule> {
@@ -134,8 +123,8 @@ mod tests {
     use super::*;
 
     fn run(m: &mut Sinusoidal, steps: usize, dt: f64) -> Vec<Vec<f64>> {
-        let angles = vec![0.0; m.params.joints()];
-        let mut out = vec![0.0; m.params.joints()];
+        let angles = vec![0.0; m.core.params.joints()];
+        let mut out = vec![0.0; m.core.params.joints()];
         (0..steps)
             .map(|k| {
                 let ctx = StepContext {
@@ -153,10 +142,10 @@ mod tests {
     #[test]
     fn follows_equation_3_1() {
         let mut m = Sinusoidal::new(3);
-        m.params.set(AMPLITUDE, None, 30.0).unwrap();
-        m.params.set(FREQUENCY, None, 0.5).unwrap();
-        m.params.set(PHASE_DIFFERENCE, None, 90.0).unwrap();
-        m.params.set(OFFSET, Some(2), 5.0).unwrap();
+        m.core.params.set(AMPLITUDE, None, 30.0).unwrap();
+        m.core.params.set(FREQUENCY, None, 0.5).unwrap();
+        m.core.params.set(PHASE_DIFFERENCE, None, 90.0).unwrap();
+        m.core.params.set(OFFSET, Some(2), 5.0).unwrap();
         let dt = 0.001;
         let out = run(&mut m, 1001, dt);
         for (k, row) in out.iter().enumerate() {
@@ -177,7 +166,7 @@ mod tests {
     #[test]
     fn individual_amplitudes_and_reset() {
         let mut m = Sinusoidal::new(2);
-        m.params.set_all(AMPLITUDE, &[10.0, 0.0]).unwrap();
+        m.core.params.set_all(AMPLITUDE, &[10.0, 0.0]).unwrap();
         let out = run(&mut m, 300, 0.001);
         assert!(out.iter().all(|r| r[1] == 0.0));
         assert!(out.iter().any(|r| r[0] > 9.9));
@@ -189,9 +178,9 @@ mod tests {
     #[test]
     fn bad_values_are_refused() {
         let mut m = Sinusoidal::new(2);
-        assert!(m.params.set(AMPLITUDE, None, f64::NAN).is_err());
-        assert!(m.params.set(AMPLITUDE, None, 120.0).is_err());
-        assert!(m.params.set(AMPLITUDE, Some(2), 10.0).is_err());
-        assert!(m.params.set_all(AMPLITUDE, &[1.0]).is_err());
+        assert!(m.core.params.set(AMPLITUDE, None, f64::NAN).is_err());
+        assert!(m.core.params.set(AMPLITUDE, None, 120.0).is_err());
+        assert!(m.core.params.set(AMPLITUDE, Some(2), 10.0).is_err());
+        assert!(m.core.params.set_all(AMPLITUDE, &[1.0]).is_err());
     }
 }
