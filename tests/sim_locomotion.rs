@@ -209,3 +209,38 @@ fn robots_of_a_batch_are_independent() {
         "{y0} {y1} {y2}"
     );
 }
+
+#[test]
+fn joint_limits_stop_a_joint_the_servo_cannot_hold() {
+    let mut sim = demo();
+    sim.environment.physics.gravity = [0.0; 3];
+    for j in &mut sim.robot.joints {
+        j.limits_deg = [-10.0, 10.0];
+        j.max_torque = 0.001;
+    }
+    let mut s = simulator(&sim);
+    s.set_parameter(0, 0, "Amplitude", None, 0.0).unwrap();
+    s.run_steps(10);
+    // Spin the head about the pitch axis, far faster than the weak servo can brake.
+    let head = s
+        .world()
+        .get::<proleg::sim::kernel::SimRobot>(s.robots()[0])
+        .unwrap()
+        .bodies[5]
+        .0;
+    {
+        let mut physics = s
+            .world_mut()
+            .resource_mut::<proleg::sim::physics::Physics>();
+        let body = physics.world.bodies.get_mut(head).unwrap();
+        body.set_angvel(rapier3d::prelude::Vector::new(20.0, 0.0, 0.0), true);
+    }
+    let mut worst: f64 = 0.0;
+    for _ in 0..500 {
+        s.step();
+        worst = worst.max(s.joint_states(0).unwrap()[4].angle.abs());
+    }
+    eprintln!("head joint pushed at 20 rad/s against ±10 deg limits: reached {worst:.2} deg");
+    assert!(worst > 5.0, "the push did not move the joint ({worst} deg)");
+    assert!(worst < 11.0, "the limit did not hold: {worst} deg");
+}

@@ -15,6 +15,11 @@ pub const DEFAULT_SERVO_GAIN: f64 = 60.0;
 /// not the motor model, bounds the servo.
 pub const MOTOR_DAMPING: f32 = 10.0;
 
+/// A joint closer than this to a limit (degrees) has its limit constraint active.
+pub const LIMIT_MARGIN_DEG: f64 = 15.0;
+/// ... or closer than it would move in this time at its current speed (s).
+pub const LIMIT_LOOKAHEAD_S: f64 = 0.05;
+
 /// A hinge of a simulated robot and where its bodies are in the physics world.
 #[derive(Component, Debug, Clone)]
 pub struct SimJoint {
@@ -125,6 +130,15 @@ pub fn drive_servos(
         if let Some(ij) = w.impulse_joints.get_mut(j.handle, false) {
             ij.data
                 .set_motor_velocity(rp::JointAxis::AngX, v.to_radians() as f32, MOTOR_DAMPING);
+            // The limit constraint costs a solver row every substep; it is only switched on
+            // while the joint is close enough to a limit to reach it within a few steps.
+            let [lo, hi] = servo.limits_deg;
+            let margin = LIMIT_MARGIN_DEG.max(state.velocity.abs() * LIMIT_LOOKAHEAD_S);
+            if state.angle < lo + margin || state.angle > hi - margin {
+                ij.data.limit_axes |= rp::JointAxesMask::ANG_X;
+            } else {
+                ij.data.limit_axes &= !rp::JointAxesMask::ANG_X;
+            }
         }
     }
 }
