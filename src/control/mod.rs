@@ -6,6 +6,7 @@ pub mod descriptor;
 pub mod kernel;
 pub mod library;
 pub mod module;
+pub mod pattern;
 pub mod registry;
 
 pub use descriptor::{ModuleDescriptor, ParamDescriptor};
