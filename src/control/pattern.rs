@@ -47,9 +47,9 @@ impl PatternExtras {
             self.started = true;
             return;
         }
-        for j in 0..out.len() {
+        for (j, &cur) in out.iter().enumerate() {
             let c = centre(j);
-            let (a, b) = (self.prev[j] - c, out[j] - c);
+            let (a, b) = (self.prev[j] - c, cur - c);
             if a < 0.0 && b >= 0.0 {
                 let t = time - dt + dt * (-a / (b - a));
                 if let Some(last) = self.last_crossing[j] {
@@ -67,7 +67,7 @@ impl PatternExtras {
                     self.phase_difference[j] = wrap_degrees(lag);
                 }
             }
-            self.prev[j] = out[j];
+            self.prev[j] = cur;
         }
     }
 

@@ -193,7 +193,7 @@ impl ActuationModule for CpgPhase {
             }
             self.dtheta[i] = d;
         }
-        for i in 0..n {
+        for (i, o) in out.iter_mut().enumerate() {
             let a = p.get(CONVERGENCE, i);
             // Semi-implicit Euler: velocities first, then positions.
             self.dr[i] += dt * a * (a / 4.0 * (p.get(AMPLITUDE, i) - self.r[i]) - self.dr[i]);
@@ -201,7 +201,7 @@ impl ActuationModule for CpgPhase {
             self.dx[i] += dt * a * (a / 4.0 * (p.get(OFFSET, i) - self.x[i]) - self.dx[i]);
             self.x[i] += dt * self.dx[i];
             self.theta[i] = (self.theta[i] + dt * self.dtheta[i]).rem_euclid(TAU);
-            out[i] = self.x[i] + self.r[i] * self.theta[i].sin();
+            *o = self.x[i] + self.r[i] * self.theta[i].sin();
         }
         let x = &self.x;
         self.extras.observe(ctx.time, dt, out, |j| x[j]);
