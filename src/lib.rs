@@ -11,6 +11,7 @@
 //! - [`control`]: the actuation-module interface, the registry of module types, the
 //!   standard module library and the control kernel.
 //! - [`rng`]: the seeded random numbers of a run.
+//! - [`sensing`]: sensor readings as modules see them, touch debouncing.
 //! - [`sim`]: the simulated world as ECS (rapier physics, servos, the fixed-step pipeline)
 //!   and the headless [`sim::Simulator`].
 //!
@@ -20,4 +21,5 @@ pub mod bench;
 pub mod config;
 pub mod control;
 pub mod rng;
+pub mod sensing;
 pub mod sim;

@@ -14,6 +14,7 @@ use crate::config::resolve::ActuationModel;
 use crate::control::module::{ActuationModule, ParamError, StepContext};
 use crate::control::registry::{CreateError, ModuleRegistry};
 use crate::rng::SimRng;
+use crate::sensing::SensorData;
 
 /// One module instance and the robot joints it drives.
 #[derive(Clone)]
@@ -193,15 +194,23 @@ impl ControlKernel {
         self.desired.fill(0.0);
     }
 
-    /// Algorithm 1: every module computes, outputs are summed per joint and clamped to the
-    /// joint limits. `measured` holds the current angle (degrees) of every robot joint.
+    /// Algorithm 1 for a robot without sensors: every module computes, outputs are summed
+    /// per joint and clamped to the joint limits. `measured` holds the current angle
+    /// (degrees) of every robot joint.
     pub fn compute(&mut self, time: f64, dt: f64, step: u64, measured: &[f64]) -> &[f64] {
-        self.compute_modules(time, dt, step, measured);
+        self.compute_modules(time, dt, step, measured, &SensorData::default());
         self.sum()
     }
 
     /// The first half of [`ControlKernel::compute`]: every module computes its output.
-    pub fn compute_modules(&mut self, time: f64, dt: f64, step: u64, measured: &[f64]) {
+    pub fn compute_modules(
+        &mut self,
+        time: f64,
+        dt: f64,
+        step: u64,
+        measured: &[f64],
+        sensors: &SensorData,
+    ) {
         for a in &mut self.actuators {
             for (slot, j) in a.angles.iter_mut().zip(&a.joints) {
                 *slot = measured.get(*j).copied().unwrap_or(0.0);
@@ -211,6 +220,7 @@ impl ControlKernel {
                 dt,
                 step,
                 angles: &a.angles,
+                sensors,
             };
             a.module.compute(&ctx, &mut a.out);
         }

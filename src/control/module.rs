@@ -9,6 +9,7 @@ use std::fmt;
 
 use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
 use crate::rng::SimRng;
+use crate::sensing::SensorData;
 
 /// What a module sees in one step.
 #[derive(Debug, Clone, Copy)]
@@ -21,6 +22,8 @@ pub struct StepContext<'a> {
     pub step: u64,
     /// Current measured angles (degrees) of the module's joints, in mask order.
     pub angles: &'a [f64],
+    /// The robot's latest sensor readings (for sensing modules).
+    pub sensors: &'a SensorData,
 }
 
 /// Why a parameter could not be read or changed.

@@ -7,6 +7,7 @@ use bevy::prelude::*;
 use crate::control::ControlKernel;
 use crate::sim::clock::SimClock;
 use crate::sim::servo::{JointState, Servo};
+use crate::sim::tactile::RobotSensors;
 
 /// A simulated robot: its joint and link entities in robot order.
 #[derive(Component, Debug, Clone)]
@@ -28,18 +29,18 @@ pub struct Kernel(pub ControlKernel);
 /// Gathers the measured angles and lets every module compute (the `Actuate` set).
 pub fn actuate(
     clock: Res<SimClock>,
-    mut robots: Query<(&mut SimRobot, &mut Kernel)>,
+    mut robots: Query<(&mut SimRobot, &mut Kernel, &RobotSensors)>,
     states: Query<&JointState>,
 ) {
     let time = clock.time();
-    for (mut robot, mut kernel) in &mut robots {
+    for (mut robot, mut kernel, sensors) in &mut robots {
         let robot = &mut *robot;
         for (slot, e) in robot.measured.iter_mut().zip(&robot.joints) {
             *slot = states.get(*e).map_or(0.0, |s| s.angle);
         }
         kernel
             .0
-            .compute_modules(time, clock.dt, clock.step, &robot.measured);
+            .compute_modules(time, clock.dt, clock.step, &robot.measured, &sensors.0);
     }
 }
 

@@ -4,7 +4,7 @@
 //!
 //! - [`schedule`]: the [`SimStep`] schedule and its [`SimSystems`] sets
 //! - [`spawn`]: building the world from a loaded simulation
-//! - [`physics`], [`servo`], [`kernel`], [`record`], [`clock`]: the stages of a step
+//! - [`physics`], [`servo`], [`tactile`], [`kernel`], [`record`], [`clock`]: the stages of a step
 //! - [`runner`]: [`Simulator`], the headless driver the CLI, benchmarks and optimizers use
 //! - [`driver`]: stepping from a running App (GUI, App-level tests)
 
@@ -18,6 +18,7 @@ pub mod runner;
 pub mod schedule;
 pub mod servo;
 pub mod spawn;
+pub mod tactile;
 
 use bevy::prelude::*;
 

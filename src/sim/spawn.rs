@@ -13,14 +13,17 @@ use crate::config::Simulation;
 use crate::config::body::{BodyKind, Geom, Shape};
 use crate::config::mesh::parse_obj;
 use crate::config::resolve::robot::geom_volume;
+use crate::config::sensor::Sensor;
 use crate::control::{ControlKernel, ModuleRegistry};
 use crate::rng::SimRng;
+use crate::sensing::{Debounce, SensorData};
 use crate::sim::clock::SimClock;
 use crate::sim::error::SimError;
 use crate::sim::kernel::{Kernel, SimRobot};
 use crate::sim::physics::{MAX_ROBOTS_PER_WORLD, Physics, group_bit, pose, vec3};
 use crate::sim::record::{RecordSettings, Track};
 use crate::sim::servo::{DEFAULT_SERVO_GAIN, JointState, MOTOR_DAMPING, Servo, SimJoint};
+use crate::sim::tactile::{RobotSensors, TactileSensor};
 
 /// Friction of robot link surfaces; contacts take the smaller of the two coefficients, so
 /// the terrain's friction decides unless it is higher than this.
@@ -274,6 +277,37 @@ pub fn build_world(
                 .id();
             joint_entities.push(e);
         }
+        let mut pads = 0;
+        for s in &robot_model.sensors {
+            let Sensor::Tactile(t) = &s.sensor else {
+                continue;
+            };
+            let (body, _) = handles[s.link];
+            let [x, y, z] = t.extents;
+            let pad = rp::ColliderBuilder::cuboid(x as f32, y as f32, z as f32)
+                .position(pose(&s.pose))
+                .mass(0.0)
+                .friction(LINK_FRICTION as f32)
+                .friction_combine_rule(rp::CoefficientCombineRule::Min)
+                .collision_groups(groups)
+                .build();
+            let w = &mut physics.world;
+            let collider = w.colliders.insert_with_parent(pad, body, &mut w.bodies);
+            let sensor = TactileSensor {
+                robot: robot_entity,
+                index: pads,
+                collider,
+                debounce_steps: t.debounce,
+                state: Debounce::default(),
+                raw: false,
+            };
+            world.spawn((
+                Name::new(format!("sensor {}", s.name)),
+                sensor,
+                ChildOf(robot_entity),
+            ));
+            pads += 1;
+        }
         let mut kernel = template.clone();
         kernel.reset(&mut rng.fork(r as u64));
         let n = robot_model.joints.len();
@@ -286,6 +320,7 @@ pub fn build_world(
                 measured: vec![0.0; n],
             },
             Kernel(kernel),
+            RobotSensors(SensorData::with_tactile(pads)),
             Track::with_capacity(n, if opts.record { samples } else { 0 }),
         ));
         robots.push(robot_entity);

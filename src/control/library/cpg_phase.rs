@@ -225,6 +225,7 @@ impl ActuationModule for CpgPhase {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sensing::SensorData;
 
     fn run(m: &mut CpgPhase, from: usize, steps: usize, dt: f64) -> Vec<Vec<f64>> {
         let n = m.core.params.joints();
@@ -237,6 +238,7 @@ mod tests {
                     dt,
                     step: k as u64,
                     angles: &angles,
+                    sensors: &SensorData::default(),
                 };
                 m.compute(&ctx, &mut out);
                 out.clone()

@@ -121,6 +121,7 @@ impl ActuationModule for Sinusoidal {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sensing::SensorData;
 
     fn run(m: &mut Sinusoidal, steps: usize, dt: f64) -> Vec<Vec<f64>> {
         let angles = vec![0.0; m.core.params.joints()];
@@ -132,6 +133,7 @@ mod tests {
                     dt,
                     step: k as u64,
                     angles: &angles,
+                    sensors: &SensorData::default(),
                 };
                 m.compute(&ctx, &mut out);
                 out.clone()

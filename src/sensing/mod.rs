@@ -1,0 +1,32 @@
+//! Sensors as the control kernel sees them: the latest readings of a robot's sensors,
+//! handed to sensing modules through the step context (thesis 5.2.1, listing A.3), and the
+//! pure logic that turns raw contacts into debounced touch states.
+
+pub mod debounce;
+
+pub use debounce::Debounce;
+
+/// The latest readings of one robot's sensors, in the robot's sensor order per kind.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SensorData {
+    /// Debounced touch state of each tactile pad.
+    pub tactile: Vec<bool>,
+    /// Contact normal of each pad (unit, pointing from the touched surface into the pad;
+    /// zero while released).
+    pub tactile_normals: Vec<[f64; 3]>,
+}
+
+impl SensorData {
+    /// Room for `tactile` pads, all released.
+    pub fn with_tactile(tactile: usize) -> Self {
+        SensorData {
+            tactile: vec![false; tactile],
+            tactile_normals: vec![[0.0; 3]; tactile],
+        }
+    }
+
+    /// Number of pads pressed.
+    pub fn pressed(&self) -> usize {
+        self.tactile.iter().filter(|p| **p).count()
+    }
+}
