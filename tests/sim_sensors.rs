@@ -20,7 +20,12 @@ fn still(sim: &Simulation) -> Simulator {
 }
 
 fn readings(s: &Simulator) -> Vec<bool> {
-    s.world().get::<RobotSensors>(s.robots()[0]).unwrap().0.tactile.clone()
+    s.world()
+        .get::<RobotSensors>(s.robots()[0])
+        .unwrap()
+        .0
+        .tactile
+        .clone()
 }
 
 #[test]
@@ -30,8 +35,17 @@ fn pads_resting_on_the_floor_read_pressed() {
     let r = readings(&s);
     assert_eq!(r.len(), 12);
     assert!(r.iter().all(|p| *p), "{r:?}");
-    let normals = s.world().get::<RobotSensors>(s.robots()[0]).unwrap().0.tactile_normals.clone();
-    assert!(normals.iter().all(|n| n[2] > 0.99), "normals point up from the floor: {normals:?}");
+    let normals = s
+        .world()
+        .get::<RobotSensors>(s.robots()[0])
+        .unwrap()
+        .0
+        .tactile_normals
+        .clone();
+    assert!(
+        normals.iter().all(|n| n[2] > 0.99),
+        "normals point up from the floor: {normals:?}"
+    );
 }
 
 #[test]
@@ -42,7 +56,11 @@ fn lifted_pads_read_released_until_they_land() {
     s.run_steps(50);
     assert!(readings(&s).iter().all(|p| !*p), "pressed in the air");
     s.run_steps(1500);
-    assert!(readings(&s).iter().filter(|p| **p).count() >= 10, "{:?}", readings(&s));
+    assert!(
+        readings(&s).iter().filter(|p| **p).count() >= 10,
+        "{:?}",
+        readings(&s)
+    );
 }
 
 #[test]
@@ -71,5 +89,60 @@ fn a_landing_is_reported_after_the_debounce_steps() {
         }
     }
     let (raw, pressed) = (first_raw.unwrap(), first_pressed.unwrap());
-    assert!(pressed >= raw + debounce - 1, "raw contact at step {raw}, reported at {pressed}");
+    assert!(
+        pressed >= raw + debounce - 1,
+        "raw contact at step {raw}, reported at {pressed}"
+    );
+}
+
+#[test]
+fn laser_measures_a_wall_at_a_known_distance() {
+    use proleg::config::body::{BodyKind, Geom, Shape};
+    use proleg::config::resolve::{EnvBody, RobotSensor};
+    use proleg::config::sensor::{Laser2d, Sensor};
+    use proleg::config::transform::Transform;
+    let mut sim = load_simulation(common::root().join("configs/demo.simulation.xml")).unwrap();
+    // A laser 7 cm ahead of the head's joint, 2 cm up; a wall whose face is at y = 1.95 m.
+    let head = sim.robot.links.iter().position(|l| l.name == "Head").unwrap();
+    sim.robot.sensors.push(RobotSensor {
+        name: "laser".into(),
+        link: head,
+        pose: Transform::from_translation([0.0, 0.07, 0.02]),
+        sensor: Sensor::Laser2d(Laser2d {
+            min_angle: -30.0,
+            max_angle: 30.0,
+            resolution: 15.0,
+            max_range: 3.0,
+            scan_time: 0.01,
+            render: false,
+            power: true,
+        }),
+    });
+    let wall = Geom {
+        shape: Shape::Box { extents: [1.0, 0.05, 0.25] },
+        pose: Transform::IDENTITY,
+        diffuse_color: None,
+        ambient_color: None,
+        transparency: None,
+        friction: None,
+        visible: true,
+        pos: Default::default(),
+    };
+    sim.environment.bodies.push(EnvBody {
+        name: "wall".into(),
+        kind: BodyKind::Static,
+        pose: Transform::from_translation([0.0, 2.0, 0.25]),
+        geoms: vec![wall],
+        mass: 1.0,
+    });
+    let mut s = still(&sim);
+    s.run_steps(20);
+    let ranges = s.world().get::<RobotSensors>(s.robots()[0]).unwrap().0.laser[0].clone();
+    assert_eq!(ranges.len(), 5, "beams at -30, -15, 0, 15, 30 deg");
+    let origin_y = 0.288 + 0.07;
+    let straight = 1.95 - origin_y;
+    for (r, a) in ranges.iter().zip([-30.0f64, -15.0, 0.0, 15.0, 30.0]) {
+        let expected = straight / a.to_radians().cos();
+        assert!((r - expected).abs() < 0.01, "beam {a} deg: {r} m, expected {expected} m");
+    }
 }

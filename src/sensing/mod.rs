@@ -14,14 +14,17 @@ pub struct SensorData {
     /// Contact normal of each pad (unit, pointing from the touched surface into the pad;
     /// zero while released).
     pub tactile_normals: Vec<[f64; 3]>,
+    /// Ranges (m) of each laser's beams, from its minimum to its maximum angle.
+    pub laser: Vec<Vec<f64>>,
 }
 
 impl SensorData {
-    /// Room for `tactile` pads, all released.
-    pub fn with_tactile(tactile: usize) -> Self {
+    /// Room for `tactile` pads, all released, and lasers with these beam counts.
+    pub fn new(tactile: usize, beams: &[usize]) -> Self {
         SensorData {
             tactile: vec![false; tactile],
             tactile_normals: vec![[0.0; 3]; tactile],
+            laser: beams.iter().map(|n| vec![0.0; *n]).collect(),
         }
     }
 

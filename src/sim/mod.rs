@@ -4,7 +4,7 @@
 //!
 //! - [`schedule`]: the [`SimStep`] schedule and its [`SimSystems`] sets
 //! - [`spawn`]: building the world from a loaded simulation
-//! - [`physics`], [`servo`], [`tactile`], [`kernel`], [`record`], [`clock`]: the stages of a step
+//! - [`physics`], [`servo`], [`tactile`], [`laser`], [`kernel`], [`record`], [`clock`]: the stages of a step
 //! - [`runner`]: [`Simulator`], the headless driver the CLI, benchmarks and optimizers use
 //! - [`driver`]: stepping from a running App (GUI, App-level tests)
 
@@ -12,6 +12,7 @@ pub mod clock;
 pub mod driver;
 pub mod error;
 pub mod kernel;
+pub mod laser;
 pub mod physics;
 pub mod record;
 pub mod runner;

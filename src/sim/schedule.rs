@@ -6,7 +6,7 @@ use bevy::ecs::schedule::ScheduleLabel;
 use bevy::ecs::schedule::SingleThreadedExecutor;
 use bevy::prelude::*;
 
-use crate::sim::{clock, kernel, physics, record, servo, tactile};
+use crate::sim::{clock, kernel, laser, physics, record, servo, tactile};
 
 /// The schedule of one simulation step.
 #[derive(ScheduleLabel, Debug, Clone, PartialEq, Eq, Hash)]
@@ -53,7 +53,12 @@ pub(super) fn plugin(app: &mut App) {
     app.add_systems(
         SimStep,
         (
-            (servo::sense_joints, tactile::sense_tactile).in_set(SimSystems::Sense),
+            (
+                servo::sense_joints,
+                tactile::sense_tactile,
+                laser::scan_lasers,
+            )
+                .in_set(SimSystems::Sense),
             kernel::actuate.in_set(SimSystems::Actuate),
             kernel::sum_outputs.in_set(SimSystems::Kernel),
             servo::drive_servos.in_set(SimSystems::Servo),

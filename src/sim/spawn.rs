@@ -20,6 +20,7 @@ use crate::sensing::{Debounce, SensorData};
 use crate::sim::clock::SimClock;
 use crate::sim::error::SimError;
 use crate::sim::kernel::{Kernel, SimRobot};
+use crate::sim::laser::{Laser2dSensor, beam_angles};
 use crate::sim::physics::{MAX_ROBOTS_PER_WORLD, Physics, group_bit, pose, vec3};
 use crate::sim::record::{RecordSettings, Track};
 use crate::sim::servo::{DEFAULT_SERVO_GAIN, JointState, MOTOR_DAMPING, Servo, SimJoint};
@@ -278,7 +279,27 @@ pub fn build_world(
             joint_entities.push(e);
         }
         let mut pads = 0;
+        let mut beams = Vec::new();
         for s in &robot_model.sensors {
+            if let Sensor::Laser2d(l) = &s.sensor {
+                let angles: Vec<f64> = beam_angles(l).iter().map(|a| a.to_radians()).collect();
+                beams.push(angles.len());
+                let laser = Laser2dSensor {
+                    robot: robot_entity,
+                    index: beams.len() - 1,
+                    body: handles[s.link].0,
+                    pose: pose(&s.pose),
+                    angles,
+                    max_range: l.max_range,
+                    period: (l.scan_time / props.step_width).round().max(1.0) as u64,
+                    groups,
+                };
+                world.spawn((
+                    Name::new(format!("sensor {}", s.name)),
+                    laser,
+                    ChildOf(robot_entity),
+                ));
+            }
             let Sensor::Tactile(t) = &s.sensor else {
                 continue;
             };
@@ -320,7 +341,7 @@ pub fn build_world(
                 measured: vec![0.0; n],
             },
             Kernel(kernel),
-            RobotSensors(SensorData::with_tactile(pads)),
+            RobotSensors(SensorData::new(pads, &beams)),
             Track::with_capacity(n, if opts.record { samples } else { 0 }),
         ));
         robots.push(robot_entity);
