@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Writes assets/meshes/irregular_obstacle.obj: the irregular obstacle of thesis fig. 6.7.
 
-A 0.6 m wide, 2.4 m long surface (y from 0.6 to 3.0 m, z up) with two convex humps, a
-concave trough between them and a final hill, slightly uneven across its width. Closed
+A 0.6 m wide, 2.4 m long surface (y from 0.6 to 3.0 m, z up): a 6.8 cm convex hump, a
+7.5 cm plateau with a concave trough in it, and a last 10.5 cm hill, slightly uneven
+across its width. Sized so that the experiment-2 robot (5.8 cm tall) with the sine
+generator alone gets stuck at the first hump. Closed
 with side and end walls down to z = 0 so it is a solid for collisions.
 Run from the repository root: python3 scripts/gen_irregular_obstacle.py
 """
@@ -19,12 +21,12 @@ def smoothstep(a, b, s):
 
 def height(x, y):
     s = (y - Y0) / (Y1 - Y0)  # 0..1 along the obstacle
-    hump = 0.045 * math.exp(-((s - 0.12) / 0.06) ** 2)  # first convex hump
+    hump = 0.0675 * math.exp(-((s - 0.12) / 0.0360) ** 2)  # first convex hump
     # a raised plateau with a concave trough in its middle
-    plateau = 0.05 * smoothstep(0.22, 0.32, s) * (1 - smoothstep(0.72, 0.80, s))
+    plateau = 0.0750 * smoothstep(0.240, 0.300, s) * (1 - smoothstep(0.72, 0.80, s))
     if 0.42 < s < 0.62:
-        plateau -= 0.045 * (1 - math.cos(2 * math.pi * (s - 0.42) / 0.20)) / 2
-    hill = 0.07 * math.exp(-((s - 0.88) / 0.05) ** 2)  # last convex hill
+        plateau -= 0.0675 * (1 - math.cos(2 * math.pi * (s - 0.42) / 0.20)) / 2
+    hill = 0.1050 * math.exp(-((s - 0.88) / 0.0300) ** 2)  # last convex hill
     h = max(hump, plateau, hill)
     h += 0.004 * math.sin(9 * x + 23 * y) * math.sin(math.pi * s)  # unevenness across the width
     return max(h, 0.0)

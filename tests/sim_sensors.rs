@@ -103,7 +103,12 @@ fn laser_measures_a_wall_at_a_known_distance() {
     use proleg::config::transform::Transform;
     let mut sim = load_simulation(common::root().join("configs/demo.simulation.xml")).unwrap();
     // A laser 7 cm ahead of the head's joint, 2 cm up; a wall whose face is at y = 1.95 m.
-    let head = sim.robot.links.iter().position(|l| l.name == "Head").unwrap();
+    let head = sim
+        .robot
+        .links
+        .iter()
+        .position(|l| l.name == "Head")
+        .unwrap();
     sim.robot.sensors.push(RobotSensor {
         name: "laser".into(),
         link: head,
@@ -119,7 +124,9 @@ fn laser_measures_a_wall_at_a_known_distance() {
         }),
     });
     let wall = Geom {
-        shape: Shape::Box { extents: [1.0, 0.05, 0.25] },
+        shape: Shape::Box {
+            extents: [1.0, 0.05, 0.25],
+        },
         pose: Transform::IDENTITY,
         diffuse_color: None,
         ambient_color: None,
@@ -137,12 +144,21 @@ fn laser_measures_a_wall_at_a_known_distance() {
     });
     let mut s = still(&sim);
     s.run_steps(20);
-    let ranges = s.world().get::<RobotSensors>(s.robots()[0]).unwrap().0.laser[0].clone();
+    let ranges = s
+        .world()
+        .get::<RobotSensors>(s.robots()[0])
+        .unwrap()
+        .0
+        .laser[0]
+        .clone();
     assert_eq!(ranges.len(), 5, "beams at -30, -15, 0, 15, 30 deg");
     let origin_y = 0.288 + 0.07;
     let straight = 1.95 - origin_y;
     for (r, a) in ranges.iter().zip([-30.0f64, -15.0, 0.0, 15.0, 30.0]) {
         let expected = straight / a.to_radians().cos();
-        assert!((r - expected).abs() < 0.01, "beam {a} deg: {r} m, expected {expected} m");
+        assert!(
+            (r - expected).abs() < 0.01,
+            "beam {a} deg: {r} m, expected {expected} m"
+        );
     }
 }
