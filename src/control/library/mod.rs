@@ -1,6 +1,7 @@
 //! The standard actuation-module library.
 
 pub mod adaptive_touch;
+pub mod cpg_matsuoka;
 pub mod cpg_phase;
 pub mod direct;
 pub mod sinusoidal;
