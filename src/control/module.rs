@@ -303,3 +303,31 @@ impl Clone for Box<dyn ActuationModule> {
         self.clone_box()
     }
 }
+
+/// Test helper: runs `module` for `steps` steps of `dt` from step `from` (joint angles 0, no
+/// sensors) and returns every output.
+#[cfg(test)]
+pub(crate) fn drive(
+    module: &mut dyn ActuationModule,
+    from: usize,
+    steps: usize,
+    dt: f64,
+) -> Vec<Vec<f64>> {
+    let n = module.parameters().joints();
+    let angles = vec![0.0; n];
+    let sensors = SensorData::default();
+    let mut out = vec![0.0; n];
+    (from..from + steps)
+        .map(|k| {
+            let ctx = StepContext {
+                time: k as f64 * dt,
+                dt,
+                step: k as u64,
+                angles: &angles,
+                sensors: &sensors,
+            };
+            module.compute(&ctx, &mut out);
+            out.clone()
+        })
+        .collect()
+}

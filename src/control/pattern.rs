@@ -8,7 +8,39 @@
 //! between a joint's crossing and its neighbour's last one, as a fraction of the period,
 //! is the phase difference (degrees, in (-180, 180], positive when the joint lags).
 
+use crate::control::descriptor::ParamDescriptor;
 use crate::rng::SimRng;
+
+/// The amplitude parameter every pattern generator has.
+pub const AMPLITUDE_PARAM: ParamDescriptor = ParamDescriptor {
+    name: "Amplitude",
+    aliases: &[],
+    unit: "deg",
+    default: 40.0,
+    min: 0.0,
+    max: 90.0,
+    help: "amplitude of the joint's oscillation",
+};
+/// The offset parameter every pattern generator has.
+pub const OFFSET_PARAM: ParamDescriptor = ParamDescriptor {
+    name: "Offset",
+    aliases: &[],
+    unit: "deg",
+    default: 0.0,
+    min: -90.0,
+    max: 90.0,
+    help: "offset added to the oscillation",
+};
+/// The commanded lag of a joint behind its tail-side neighbour.
+pub const PHASE_DIFFERENCE_PARAM: ParamDescriptor = ParamDescriptor {
+    name: "Phase_Difference",
+    aliases: &["Phase difference", "Phase lag", "Phase"],
+    unit: "deg",
+    default: 55.0,
+    min: -180.0,
+    max: 180.0,
+    help: "phase lag of a joint behind its tail-side neighbour (> 0: crawl head first)",
+};
 
 /// Frequency and phase-difference estimation per joint.
 #[derive(Debug, Clone, PartialEq)]

@@ -19,7 +19,7 @@ use std::sync::OnceLock;
 
 use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
 use crate::control::module::{ActuationModule, ModuleCore, StepContext};
-use crate::control::pattern::{PatternExtras, gaussian_noise};
+use crate::control::pattern::{AMPLITUDE_PARAM, OFFSET_PARAM, PatternExtras, gaussian_noise};
 use crate::rng::SimRng;
 
 const AMPLITUDE: usize = 0;
@@ -34,15 +34,7 @@ const ADAPTATION_RATIO: f64 = 2.0;
 const TONIC: f64 = 1.0;
 
 const PARAMETERS: &[ParamDescriptor] = &[
-    ParamDescriptor {
-        name: "Amplitude",
-        aliases: &[],
-        unit: "deg",
-        default: 30.0,
-        min: 0.0,
-        max: 90.0,
-        help: "output amplitude",
-    },
+    AMPLITUDE_PARAM,
     ParamDescriptor {
         name: "Frequency",
         aliases: &[],
@@ -52,15 +44,7 @@ const PARAMETERS: &[ParamDescriptor] = &[
         max: 10.0,
         help: "oscillation frequency",
     },
-    ParamDescriptor {
-        name: "Offset",
-        aliases: &[],
-        unit: "deg",
-        default: 0.0,
-        min: -90.0,
-        max: 90.0,
-        help: "offset added to the output",
-    },
+    OFFSET_PARAM,
     ParamDescriptor {
         name: "Coupling",
         aliases: &["Weight"],
@@ -240,25 +224,9 @@ impl ActuationModule for CpgMatsuoka {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sensing::SensorData;
 
     fn run(m: &mut CpgMatsuoka, steps: usize, dt: f64) -> Vec<Vec<f64>> {
-        let n = m.core.params.joints();
-        let angles = vec![0.0; n];
-        let mut out = vec![0.0; n];
-        (0..steps)
-            .map(|k| {
-                let ctx = StepContext {
-                    time: k as f64 * dt,
-                    dt,
-                    step: k as u64,
-                    angles: &angles,
-                    sensors: &SensorData::default(),
-                };
-                m.compute(&ctx, &mut out);
-                out.clone()
-            })
-            .collect()
+        crate::control::module::drive(m, 0, steps, dt)
     }
 
     #[test]

@@ -17,7 +17,9 @@ use std::f64::consts::TAU;
 
 use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
 use crate::control::module::{ActuationModule, ModuleCore, StepContext};
-use crate::control::pattern::{PatternExtras, gaussian_noise};
+use crate::control::pattern::{
+    AMPLITUDE_PARAM, OFFSET_PARAM, PHASE_DIFFERENCE_PARAM, PatternExtras, gaussian_noise,
+};
 use crate::rng::SimRng;
 
 const AMPLITUDE: usize = 0;
@@ -29,15 +31,7 @@ const CONVERGENCE: usize = 5;
 const NOISE: usize = 6;
 
 const PARAMETERS: &[ParamDescriptor] = &[
-    ParamDescriptor {
-        name: "Amplitude",
-        aliases: &[],
-        unit: "deg",
-        default: 30.0,
-        min: 0.0,
-        max: 90.0,
-        help: "target amplitude A_i",
-    },
+    AMPLITUDE_PARAM,
     ParamDescriptor {
         name: "Frequency",
         aliases: &[],
@@ -47,24 +41,8 @@ const PARAMETERS: &[ParamDescriptor] = &[
         max: 10.0,
         help: "intrinsic frequency f_i",
     },
-    ParamDescriptor {
-        name: "Phase_Difference",
-        aliases: &["Phase difference", "Phase lag"],
-        unit: "deg",
-        default: 55.0,
-        min: -180.0,
-        max: 180.0,
-        help: "phase lag of a joint behind its tail-side neighbour",
-    },
-    ParamDescriptor {
-        name: "Offset",
-        aliases: &[],
-        unit: "deg",
-        default: 0.0,
-        min: -90.0,
-        max: 90.0,
-        help: "target offset O_i",
-    },
+    PHASE_DIFFERENCE_PARAM,
+    OFFSET_PARAM,
     ParamDescriptor {
         name: "Coupling",
         aliases: &["Weight"],
@@ -225,31 +203,16 @@ impl ActuationModule for CpgPhase {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sensing::SensorData;
 
     fn run(m: &mut CpgPhase, from: usize, steps: usize, dt: f64) -> Vec<Vec<f64>> {
-        let n = m.core.params.joints();
-        let angles = vec![0.0; n];
-        let mut out = vec![0.0; n];
-        (from..from + steps)
-            .map(|k| {
-                let ctx = StepContext {
-                    time: k as f64 * dt,
-                    dt,
-                    step: k as u64,
-                    angles: &angles,
-                    sensors: &SensorData::default(),
-                };
-                m.compute(&ctx, &mut out);
-                out.clone()
-            })
-            .collect()
+        crate::control::module::drive(m, from, steps, dt)
     }
 
     #[test]
     fn converges_to_the_commanded_phase_lag_from_noise() {
         let mut m = CpgPhase::new(5);
         m.core.params.set(PHASE_DIFFERENCE, None, 55.0).unwrap();
+        m.core.params.set(AMPLITUDE, None, 30.0).unwrap();
         m.reset(&mut SimRng::new(42));
         let start: Vec<f64> = m.theta.clone();
         assert!(start.iter().any(|t| *t != 0.0), "noise start");

@@ -9,6 +9,7 @@
 
 use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
 use crate::control::module::{ActuationModule, ModuleCore, StepContext};
+use crate::control::pattern::{AMPLITUDE_PARAM, OFFSET_PARAM, PHASE_DIFFERENCE_PARAM};
 use crate::rng::SimRng;
 
 const AMPLITUDE: usize = 0;
@@ -17,15 +18,7 @@ const PHASE_DIFFERENCE: usize = 2;
 const OFFSET: usize = 3;
 
 const PARAMETERS: &[ParamDescriptor] = &[
-    ParamDescriptor {
-        name: "Amplitude",
-        aliases: &[],
-        unit: "deg",
-        default: 40.0,
-        min: 0.0,
-        max: 90.0,
-        help: "amplitude A_i of the joint's sine",
-    },
+    AMPLITUDE_PARAM,
     ParamDescriptor {
         name: "Frequency",
         aliases: &[],
@@ -35,24 +28,8 @@ const PARAMETERS: &[ParamDescriptor] = &[
         max: 10.0,
         help: "frequency 1/T_i of the travelling wave",
     },
-    ParamDescriptor {
-        name: "Phase_Difference",
-        aliases: &["Phase difference", "Phase"],
-        unit: "deg",
-        default: 55.0,
-        min: -180.0,
-        max: 180.0,
-        help: "phase lag of a joint behind its tail-side neighbour (> 0: crawl head first)",
-    },
-    ParamDescriptor {
-        name: "Offset",
-        aliases: &[],
-        unit: "deg",
-        default: 0.0,
-        min: -90.0,
-        max: 90.0,
-        help: "offset O_i added to the sine",
-    },
+    PHASE_DIFFERENCE_PARAM,
+    OFFSET_PARAM,
 ];
 
 pub fn descriptor() -> ModuleDescriptor {
@@ -121,24 +98,9 @@ impl ActuationModule for Sinusoidal {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sensing::SensorData;
 
     fn run(m: &mut Sinusoidal, steps: usize, dt: f64) -> Vec<Vec<f64>> {
-        let angles = vec![0.0; m.core.params.joints()];
-        let mut out = vec![0.0; m.core.params.joints()];
-        (0..steps)
-            .map(|k| {
-                let ctx = StepContext {
-                    time: k as f64 * dt,
-                    dt,
-                    step: k as u64,
-                    angles: &angles,
-                    sensors: &SensorData::default(),
-                };
-                m.compute(&ctx, &mut out);
-                out.clone()
-            })
-            .collect()
+        crate::control::module::drive(m, 0, steps, dt)
     }
 
     #[test]
