@@ -9,7 +9,9 @@
 
 use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
 use crate::control::module::{ActuationModule, ModuleCore, StepContext};
-use crate::control::pattern::{AMPLITUDE_PARAM, OFFSET_PARAM, PHASE_DIFFERENCE_PARAM};
+use crate::control::pattern::{
+    AMPLITUDE_PARAM, OFFSET_PARAM, PHASE_DIFFERENCE_PARAM, PatternExtras,
+};
 use crate::rng::SimRng;
 
 const AMPLITUDE: usize = 0;
@@ -37,7 +39,7 @@ pub fn descriptor() -> ModuleDescriptor {
         type_name: "PatternGenerator_sinusoidal",
         summary: "sine travelling wave (eq. 3.1)",
         parameters: PARAMETERS,
-        series: &["Angle", "Phase"],
+        series: &["Angle", "Phase", "Frequency", "Phase_Difference"],
         sensing: false,
     }
 }
@@ -48,6 +50,8 @@ pub struct Sinusoidal {
     core: ModuleCore,
     /// Integrated 2π f t per joint (radians).
     theta: Vec<f64>,
+    /// Frequency and phase-difference estimates from the output (thesis A.2).
+    extras: PatternExtras,
 }
 
 impl Sinusoidal {
@@ -55,6 +59,7 @@ impl Sinusoidal {
         Sinusoidal {
             core: ModuleCore::new(descriptor(), joints),
             theta: vec![0.0; joints],
+            extras: PatternExtras::new(joints),
         }
     }
 }
@@ -70,6 +75,7 @@ impl ActuationModule for Sinusoidal {
 
     fn reset(&mut self, _rng: &mut SimRng) {
         self.theta.fill(0.0);
+        self.extras.reset();
     }
 
     fn compute(&mut self, ctx: &StepContext, out: &mut [f64]) {
@@ -88,6 +94,11 @@ impl ActuationModule for Sinusoidal {
                 .rem_euclid(std::f64::consts::TAU);
         }
         data.series_mut(0).copy_from_slice(out);
+        self.extras
+            .observe(ctx.time, ctx.dt, out, |j| p.get(OFFSET, j));
+        data.series_mut(2).copy_from_slice(self.extras.frequency());
+        data.series_mut(3)
+            .copy_from_slice(self.extras.phase_difference());
     }
 
     fn clone_box(&self) -> Box<dyn ActuationModule> {
@@ -146,5 +157,24 @@ mod tests {
         assert!(m.core.params.set(AMPLITUDE, None, 120.0).is_err());
         assert!(m.core.params.set(AMPLITUDE, Some(2), 10.0).is_err());
         assert!(m.core.params.set_all(AMPLITUDE, &[1.0]).is_err());
+    }
+
+    #[test]
+    fn estimates_its_own_frequency_and_phase_difference() {
+        let mut m = Sinusoidal::new(4);
+        m.core.params.set(FREQUENCY, None, 1.5).unwrap();
+        m.core.params.set(PHASE_DIFFERENCE, None, 40.0).unwrap();
+        run(&mut m, 3000, 0.001);
+        let d = m.internal_data();
+        assert!(
+            d.series(2).iter().all(|f| (f - 1.5).abs() < 0.01),
+            "{:?}",
+            d.series(2)
+        );
+        assert!(
+            d.series(3)[1..].iter().all(|p| (p - 40.0).abs() < 0.5),
+            "{:?}",
+            d.series(3)
+        );
     }
 }
