@@ -377,8 +377,10 @@ mod tests {
             k.add(m, vec![2]),
             Err(KernelError::JointOutOfRange { .. })
         ));
+        let mut described_only = ModuleRegistry::empty();
+        described_only.register(crate::control::library::direct::descriptor(), None);
         assert!(matches!(
-            r.create("Global_Adaptive_Touch", 5),
+            described_only.create("DirectJointAccess", 5),
             Err(CreateError::NotImplemented { .. })
         ));
         assert!(matches!(

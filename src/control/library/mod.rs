@@ -18,6 +18,8 @@ pub fn register(r: &mut ModuleRegistry) {
         sinusoidal::descriptor(),
         Some(|n| Box::new(sinusoidal::Sinusoidal::new(n))),
     );
-    // Implemented with the sensors (issue 4); configurations may already name it.
-    r.register(adaptive_touch::descriptor(), None);
+    r.register(
+        adaptive_touch::descriptor(),
+        Some(|n| Box::new(adaptive_touch::AdaptiveTouch::new(n))),
+    );
 }
