@@ -9,6 +9,7 @@
 //! is the phase difference (degrees, in (-180, 180], positive when the joint lags).
 
 use crate::control::descriptor::ParamDescriptor;
+use crate::control::module::InternalData;
 use crate::rng::SimRng;
 
 /// The amplitude parameter every pattern generator has.
@@ -20,6 +21,16 @@ pub const AMPLITUDE_PARAM: ParamDescriptor = ParamDescriptor {
     min: 0.0,
     max: 90.0,
     help: "amplitude of the joint's oscillation",
+};
+/// The frequency parameter of the pattern generators that accept 0 Hz (a frozen wave).
+pub const FREQUENCY_PARAM: ParamDescriptor = ParamDescriptor {
+    name: "Frequency",
+    aliases: &[],
+    unit: "Hz",
+    default: 1.0,
+    min: 0.0,
+    max: 10.0,
+    help: "frequency 1/T of the wave",
 };
 /// The offset parameter every pattern generator has.
 pub const OFFSET_PARAM: ParamDescriptor = ParamDescriptor {
@@ -101,6 +112,14 @@ impl PatternExtras {
             }
             self.prev[j] = cur;
         }
+    }
+
+    /// Writes the estimates into two series of a module's logged data.
+    pub fn log(&self, data: &mut InternalData, frequency_series: usize, phase_series: usize) {
+        data.series_mut(frequency_series)
+            .copy_from_slice(&self.frequency);
+        data.series_mut(phase_series)
+            .copy_from_slice(&self.phase_difference);
     }
 
     /// Estimated frequency (Hz) per joint; 0 until two crossings were seen.

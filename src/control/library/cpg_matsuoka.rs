@@ -211,9 +211,7 @@ impl ActuationModule for CpgMatsuoka {
             data.series_mut(1)[i] = n.ye();
             data.series_mut(2)[i] = n.yf();
         }
-        data.series_mut(3).copy_from_slice(self.extras.frequency());
-        data.series_mut(4)
-            .copy_from_slice(self.extras.phase_difference());
+        self.extras.log(data, 3, 4);
     }
 
     fn clone_box(&self) -> Box<dyn ActuationModule> {

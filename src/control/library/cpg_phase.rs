@@ -18,7 +18,8 @@ use std::f64::consts::TAU;
 use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
 use crate::control::module::{ActuationModule, ModuleCore, StepContext};
 use crate::control::pattern::{
-    AMPLITUDE_PARAM, OFFSET_PARAM, PHASE_DIFFERENCE_PARAM, PatternExtras, gaussian_noise,
+    AMPLITUDE_PARAM, FREQUENCY_PARAM, OFFSET_PARAM, PHASE_DIFFERENCE_PARAM, PatternExtras,
+    gaussian_noise,
 };
 use crate::rng::SimRng;
 
@@ -32,15 +33,7 @@ const NOISE: usize = 6;
 
 const PARAMETERS: &[ParamDescriptor] = &[
     AMPLITUDE_PARAM,
-    ParamDescriptor {
-        name: "Frequency",
-        aliases: &[],
-        unit: "Hz",
-        default: 1.0,
-        min: 0.0,
-        max: 10.0,
-        help: "intrinsic frequency f_i",
-    },
+    FREQUENCY_PARAM,
     PHASE_DIFFERENCE_PARAM,
     OFFSET_PARAM,
     ParamDescriptor {
@@ -190,9 +183,7 @@ impl ActuationModule for CpgPhase {
         }
         data.series_mut(2).copy_from_slice(&self.r);
         data.series_mut(3).copy_from_slice(&self.x);
-        data.series_mut(4).copy_from_slice(self.extras.frequency());
-        data.series_mut(5)
-            .copy_from_slice(self.extras.phase_difference());
+        self.extras.log(data, 4, 5);
     }
 
     fn clone_box(&self) -> Box<dyn ActuationModule> {

@@ -10,7 +10,7 @@
 use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
 use crate::control::module::{ActuationModule, ModuleCore, StepContext};
 use crate::control::pattern::{
-    AMPLITUDE_PARAM, OFFSET_PARAM, PHASE_DIFFERENCE_PARAM, PatternExtras,
+    AMPLITUDE_PARAM, FREQUENCY_PARAM, OFFSET_PARAM, PHASE_DIFFERENCE_PARAM, PatternExtras,
 };
 use crate::rng::SimRng;
 
@@ -21,15 +21,7 @@ const OFFSET: usize = 3;
 
 const PARAMETERS: &[ParamDescriptor] = &[
     AMPLITUDE_PARAM,
-    ParamDescriptor {
-        name: "Frequency",
-        aliases: &[],
-        unit: "Hz",
-        default: 1.0,
-        min: 0.0,
-        max: 10.0,
-        help: "frequency 1/T_i of the travelling wave",
-    },
+    FREQUENCY_PARAM,
     PHASE_DIFFERENCE_PARAM,
     OFFSET_PARAM,
 ];
@@ -96,9 +88,7 @@ impl ActuationModule for Sinusoidal {
         data.series_mut(0).copy_from_slice(out);
         self.extras
             .observe(ctx.time, ctx.dt, out, |j| p.get(OFFSET, j));
-        data.series_mut(2).copy_from_slice(self.extras.frequency());
-        data.series_mut(3)
-            .copy_from_slice(self.extras.phase_difference());
+        self.extras.log(data, 2, 3);
     }
 
     fn clone_box(&self) -> Box<dyn ActuationModule> {
