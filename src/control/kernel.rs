@@ -24,8 +24,12 @@ pub struct Actuator {
     pub joints: Vec<usize>,
     /// Measured angles of those joints, gathered each step.
     angles: Vec<f64>,
-    /// The module's latest output.
+    /// The module's latest output (with the distortion added).
     out: Vec<f64>,
+    /// Constant distortion added to each driven joint's output (degrees).
+    distortion: Vec<f64>,
+    /// Whether any distortion is non-zero (skips the addition otherwise).
+    distorted: bool,
 }
 
 impl Actuator {
@@ -37,6 +41,11 @@ impl Actuator {
     /// The module-local index of robot joint `joint`.
     pub fn local(&self, joint: usize) -> Option<usize> {
         self.joints.iter().position(|j| *j == joint)
+    }
+
+    /// The constant distortion per driven joint (degrees).
+    pub fn distortion(&self) -> &[f64] {
+        &self.distortion
     }
 }
 
@@ -69,6 +78,10 @@ pub enum KernelError {
         module: &'static str,
         joint: usize,
     },
+    NotFinite {
+        what: &'static str,
+        value: f64,
+    },
 }
 
 impl fmt::Display for KernelError {
@@ -85,6 +98,9 @@ impl fmt::Display for KernelError {
             }
             KernelError::NotDriven { module, joint } => {
                 write!(f, "module {module} does not drive joint {joint}")
+            }
+            KernelError::NotFinite { what, value } => {
+                write!(f, "{what} must be a finite number, got {value}")
             }
         }
     }
@@ -164,6 +180,8 @@ impl ControlKernel {
             joints,
             angles: vec![0.0; n],
             out: vec![0.0; n],
+            distortion: vec![0.0; n],
+            distorted: false,
         });
         Ok(self.actuators.len() - 1)
     }
@@ -223,6 +241,11 @@ impl ControlKernel {
                 sensors,
             };
             a.module.compute(&ctx, &mut a.out);
+            if a.distorted {
+                for (o, d) in a.out.iter_mut().zip(&a.distortion) {
+                    *o += d;
+                }
+            }
         }
     }
 
@@ -313,6 +336,58 @@ impl ControlKernel {
         p.set(idx, local, value)
             .map_err(|error| KernelError::Param { module, error })
     }
+
+    /// Adds a constant `degrees` to actuator `index`'s output at robot joint `joint`, or at
+    /// every joint it drives when `None`, from the next step on (thesis 4.5.2, the
+    /// distortion frame); 0 removes it. The module's own state is untouched.
+    pub fn set_distortion(
+        &mut self,
+        index: usize,
+        joint: Option<usize>,
+        degrees: f64,
+    ) -> Result<(), KernelError> {
+        if !degrees.is_finite() {
+            return Err(KernelError::NotFinite {
+                what: "distortion",
+                value: degrees,
+            });
+        }
+        let count = self.actuators.len();
+        let a = self
+            .actuators
+            .get_mut(index)
+            .ok_or(KernelError::NoSuchActuator { index, count })?;
+        match Self::local_joint(a, joint)? {
+            Some(l) => a.distortion[l] = degrees,
+            None => a.distortion.fill(degrees),
+        }
+        a.distorted = a.distortion.iter().any(|d| *d != 0.0);
+        Ok(())
+    }
+
+    /// Disturbs the internal state of actuator `index` at robot joint `joint` once by
+    /// `amount` (see [`ActuationModule::perturb`]); returns whether the module has such
+    /// state.
+    pub fn perturb(
+        &mut self,
+        index: usize,
+        joint: usize,
+        amount: f64,
+    ) -> Result<bool, KernelError> {
+        if !amount.is_finite() {
+            return Err(KernelError::NotFinite {
+                what: "perturbation",
+                value: amount,
+            });
+        }
+        let count = self.actuators.len();
+        let a = self
+            .actuators
+            .get_mut(index)
+            .ok_or(KernelError::NoSuchActuator { index, count })?;
+        let local = Self::local_joint(a, Some(joint))?.unwrap_or(0);
+        Ok(a.module.perturb(local, amount))
+    }
 }
 
 #[cfg(test)]
@@ -366,6 +441,44 @@ mod tests {
             Err(KernelError::NoSuchActuator { .. })
         ));
         assert_eq!(k.find("directjointaccess"), Some(0));
+    }
+
+    #[test]
+    fn a_constant_distortion_is_added_until_removed() {
+        let mut k = kernel();
+        k.set_distortion(0, Some(0), -4.0).unwrap();
+        assert_eq!(k.compute(0.0, 0.001, 0, &[0.0; 3]), [6.0, 90.0, 85.0]);
+        assert_eq!(k.actuators()[0].distortion(), [-4.0, 0.0]);
+        k.set_distortion(1, None, -10.0).unwrap();
+        assert_eq!(k.compute(0.0, 0.001, 1, &[0.0; 3]), [6.0, 85.0, 75.0]);
+        k.set_distortion(0, None, 0.0).unwrap();
+        k.set_distortion(1, None, 0.0).unwrap();
+        assert_eq!(k.compute(0.0, 0.001, 2, &[0.0; 3]), [10.0, 90.0, 85.0]);
+        assert!(matches!(
+            k.set_distortion(0, None, f64::INFINITY),
+            Err(KernelError::NotFinite { .. })
+        ));
+        assert!(matches!(
+            k.set_distortion(0, Some(2), 1.0),
+            Err(KernelError::NotDriven { joint: 2, .. })
+        ));
+        // Direct joint access has no state to disturb; a phase oscillator has.
+        assert_eq!(k.perturb(0, 1, 5.0), Ok(false));
+        let mut k = ControlKernel::new(vec![[-90.0, 90.0]; 3]);
+        let sine = ModuleRegistry::default()
+            .create("PatternGenerator_sinusoidal", 3)
+            .unwrap();
+        k.add(sine, vec![0, 1, 2]).unwrap();
+        let before = k.compute(0.0, 0.001, 0, &[0.0; 3]).to_vec();
+        let mut other = k.clone();
+        assert_eq!(k.perturb(0, 2, 90.0), Ok(true));
+        let kicked = k.compute(0.001, 0.001, 1, &[0.0; 3]).to_vec();
+        let plain = other.compute(0.001, 0.001, 1, &[0.0; 3]).to_vec();
+        assert_eq!(kicked[..2], plain[..2]);
+        assert!(
+            (kicked[2] - plain[2]).abs() > 1.0,
+            "{before:?} {kicked:?} {plain:?}"
+        );
     }
 
     #[test]

@@ -296,6 +296,14 @@ pub trait ActuationModule: Send + Sync {
     fn internal_data(&self) -> &InternalData {
         &self.core().data
     }
+    /// A one-off disturbance of joint `joint`'s internal state by `amount` (the module's
+    /// own unit, e.g. degrees of phase), to study how the module recovers (thesis 5.2.1,
+    /// `setDistortion`). Returns false when the module has no state to disturb; a
+    /// constant output distortion works for every module (see
+    /// [`crate::control::ControlKernel::set_distortion`]).
+    fn perturb(&mut self, _joint: usize, _amount: f64) -> bool {
+        false
+    }
 }
 
 impl Clone for Box<dyn ActuationModule> {

@@ -200,6 +200,18 @@ impl Simulator {
         self.robot_component::<Kernel>(index).map(|k| &k.0)
     }
 
+    /// The control kernel of robot `index`, to change between steps (parameters,
+    /// distortions, perturbations; see [`ControlKernel`]).
+    pub fn kernel_mut(&mut self, index: usize) -> Result<&mut ControlKernel, SimError> {
+        let e = self.robot(index)?;
+        let count = self.robots.len();
+        self.app
+            .world_mut()
+            .get_mut::<Kernel>(e)
+            .map(|k| &mut k.into_inner().0)
+            .ok_or(SimError::NoSuchRobot { index, count })
+    }
+
     /// Changes a module parameter of robot `robot` between steps (see
     /// [`ControlKernel::set_parameter`]).
     pub fn set_parameter(

@@ -222,6 +222,17 @@ impl ActuationModule for AdaptiveTouch {
         data.series_mut(1).fill(if self.stuck { 1.0 } else { 0.0 });
     }
 
+    /// Moves the joint's offset by `amount` degrees (it then recovers as usual).
+    fn perturb(&mut self, joint: usize, amount: f64) -> bool {
+        match self.offsets.get_mut(joint) {
+            Some(o) => {
+                *o = (*o + amount).clamp(-MAX_OFFSET, MAX_OFFSET);
+                true
+            }
+            None => false,
+        }
+    }
+
     fn clone_box(&self) -> Box<dyn ActuationModule> {
         Box::new(self.clone())
     }

@@ -214,6 +214,17 @@ impl ActuationModule for CpgMatsuoka {
         self.extras.log(data, 3, 4);
     }
 
+    /// Adds `amount` (in units of the tonic input) to the joint's extensor potential.
+    fn perturb(&mut self, joint: usize, amount: f64) -> bool {
+        match self.neurons.get_mut(joint) {
+            Some(n) => {
+                n.ue += amount;
+                true
+            }
+            None => false,
+        }
+    }
+
     fn clone_box(&self) -> Box<dyn ActuationModule> {
         Box::new(self.clone())
     }

@@ -186,6 +186,12 @@ impl ActuationModule for CpgPhase {
         self.extras.log(data, 4, 5);
     }
 
+    /// Kicks the joint's phase by `amount` degrees.
+    fn perturb(&mut self, joint: usize, amount: f64) -> bool {
+        self.kick(joint, amount);
+        joint < self.theta.len()
+    }
+
     fn clone_box(&self) -> Box<dyn ActuationModule> {
         Box::new(self.clone())
     }

@@ -91,6 +91,17 @@ impl ActuationModule for Sinusoidal {
         self.extras.log(data, 2, 3);
     }
 
+    /// Shifts the joint's phase by `amount` degrees (it keeps the shift: no coupling).
+    fn perturb(&mut self, joint: usize, amount: f64) -> bool {
+        match self.theta.get_mut(joint) {
+            Some(t) => {
+                *t += amount.to_radians();
+                true
+            }
+            None => false,
+        }
+    }
+
     fn clone_box(&self) -> Box<dyn ActuationModule> {
         Box::new(self.clone())
     }
