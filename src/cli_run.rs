@@ -1,10 +1,27 @@
-//! `proleg run`: one headless run of a simulation file, summarized.
+//! `proleg run`: one headless run of a simulation file, summarized; with `--data`, every
+//! data handler is recorded to a B.8 data file, closed well-formed also on Ctrl-C and
+//! SIGTERM (the run stops at the next chunk of steps).
 
 use std::fmt::Write as _;
 use std::path::Path;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
 
 use proleg::config::load_simulation;
+use proleg::data::store::DataStore;
+use proleg::sim::datalog::{DataSettings, handlers_for};
 use proleg::sim::{BuildOptions, Simulator};
+
+/// Where and how often `proleg run` records.
+pub struct DataOptions<'a> {
+    pub file: Option<&'a Path>,
+    /// Sample every this many steps (default: the file's accuracy).
+    pub every: Option<u32>,
+}
+
+/// Simulated seconds between checks for Ctrl-C / SIGTERM.
+const CHUNK_SECONDS: f64 = 0.5;
 
 /// Loads, runs and summarizes; the error is the message to print.
 pub fn run(
@@ -12,6 +29,7 @@ pub fn run(
     duration: Option<f64>,
     seed: Option<u64>,
     realtime: f64,
+    data: DataOptions<'_>,
 ) -> Result<String, String> {
     let sim = load_simulation(config).map_err(|e| e.to_string())?;
     let props = &sim.files.simulation.properties;
@@ -39,9 +57,73 @@ pub fn run(
         clock.realtime_factor = realtime;
         clock.delay_ms = 0.0;
     }
+    if let Some(file) = data.file {
+        let every = data.every.unwrap_or(props.accuracy.max(1));
+        if every == 0 {
+            return Err("--every 0: give a sampling period of at least 1 step".into());
+        }
+        let handlers = {
+            let kernel = simulator.kernel(0).map_err(|e| e.to_string())?;
+            let sensors = simulator
+                .world()
+                .get::<proleg::sim::tactile::RobotSensors>(simulator.robots()[0])
+                .map(|s| s.0.clone())
+                .unwrap_or_default();
+            handlers_for(kernel, &sensors)
+        };
+        let store = DataStore::create(file, handlers)?;
+        let settings = DataSettings {
+            every,
+            ..DataSettings::default()
+        };
+        simulator.enable_data(settings, Some(store));
+    }
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        // Only one handler per process; a second `run` in the same process keeps the first.
+        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst));
+    }
     let heading0 = simulator.heading(0).map_err(|e| e.to_string())?;
-    let s = simulator.run_for(duration);
+    let start_com = simulator.com(0).map_err(|e| e.to_string())?;
+    let wall = Instant::now();
+    let mut done = 0.0;
+    let mut interrupted = false;
+    while done < duration - 1e-9 {
+        if stop.load(Ordering::SeqCst) {
+            interrupted = true;
+            break;
+        }
+        let chunk = CHUNK_SECONDS.min(duration - done);
+        simulator.run_for(chunk);
+        done += chunk;
+    }
+    let rounds = simulator.finish_data()?;
+    let steps = simulator.clock().step;
+    let end_com = simulator.com(0).map_err(|e| e.to_string())?;
     let heading1 = simulator.heading(0).map_err(|e| e.to_string())?;
+    let wall_time = wall.elapsed().as_secs_f64();
+    let sim_time = steps as f64 * simulator.clock().dt;
+    let displacement =
+        ((end_com[0] - start_com[0]).powi(2) + (end_com[1] - start_com[1]).powi(2)).sqrt();
+    let s = proleg::sim::runner::RunSummary {
+        steps,
+        sim_time,
+        wall_time,
+        realtime_factor: if wall_time > 0.0 {
+            sim_time / wall_time
+        } else {
+            f64::INFINITY
+        },
+        start_com,
+        end_com,
+        displacement,
+        mean_speed: if sim_time > 0.0 {
+            displacement / sim_time
+        } else {
+            0.0
+        },
+    };
     let mut out = String::new();
     let f3 = |v: [f64; 3]| format!("{:.4} {:.4} {:.4}", v[0], v[1], v[2]);
     let _ = writeln!(out, "simulation      {}", sim.file.display());
@@ -59,5 +141,14 @@ pub fn run(
     let _ = writeln!(out, "displacement    {:.4} m (eq. 3.7)", s.displacement);
     let _ = writeln!(out, "mean speed      {:.4} m/s", s.mean_speed);
     let _ = writeln!(out, "heading         {heading0:.1} -> {heading1:.1} deg");
+    if let Some(file) = data.file {
+        let _ = writeln!(out, "data            {} ({rounds} rounds)", file.display());
+    }
+    if interrupted {
+        let _ = writeln!(
+            out,
+            "interrupted     stopped early by a signal; the data file is closed"
+        );
+    }
     Ok(out)
 }

@@ -20,6 +20,7 @@
 pub mod bench;
 pub mod config;
 pub mod control;
+pub mod data;
 pub mod rng;
 pub mod sensing;
 pub mod sim;

@@ -5,6 +5,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod cli_data;
 mod cli_run;
 
 /// Design, simulate, optimize and drive chain-like modular robots.
@@ -47,6 +48,36 @@ enum Command {
         /// Pace to real time times this factor (default 0: as fast as possible).
         #[arg(long, default_value_t = 0.0)]
         realtime: f64,
+        /// Record every data handler to this XML data file (thesis B.8).
+        #[arg(long)]
+        data: Option<PathBuf>,
+        /// Sample every this many steps (default: the file's accuracy).
+        #[arg(long)]
+        every: Option<u32>,
+    },
+    /// Inspect recorded data files.
+    Data {
+        #[command(subcommand)]
+        command: DataCommand,
+    },
+}
+
+#[derive(Subcommand)]
+enum DataCommand {
+    /// Handlers, series, parts, frames and time span of a data file; says if it was cut.
+    Info { file: PathBuf },
+    /// Chosen series as a table (TSV, or CSV when OUT ends in .csv).
+    Export {
+        file: PathBuf,
+        /// x column: simtime, realtime, stepcount or index.
+        #[arg(long, default_value = "simtime")]
+        x: String,
+        /// Comma-separated Handler/series[a..b], e.g. "Robot_Data/y_pos,PatternGenerator_sinusoidal/Angle[0..4]".
+        #[arg(long)]
+        series: String,
+        /// Output file.
+        #[arg(short, long)]
+        output: PathBuf,
     },
 }
 
@@ -77,7 +108,27 @@ fn main() -> ExitCode {
             duration,
             seed,
             realtime,
-        } => cli_run::run(&config, duration, seed, realtime),
+            data,
+            every,
+        } => cli_run::run(
+            &config,
+            duration,
+            seed,
+            realtime,
+            cli_run::DataOptions {
+                file: data.as_deref(),
+                every,
+            },
+        ),
+        Command::Data { command } => match command {
+            DataCommand::Info { file } => cli_data::show_info(&file),
+            DataCommand::Export {
+                file,
+                x,
+                series,
+                output,
+            } => cli_data::export_table(&file, &x, &series, &output),
+        },
         Command::Check { config } => proleg::config::load_simulation(&config)
             .map(|sim| format!("{}ok\n", proleg::config::summary::summary(&sim)))
             .map_err(|e| e.to_string()),

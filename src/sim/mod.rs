@@ -9,6 +9,7 @@
 //! - [`driver`]: stepping from a running App (GUI, App-level tests)
 
 pub mod clock;
+pub mod datalog;
 pub mod driver;
 pub mod error;
 pub mod kernel;

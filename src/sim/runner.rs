@@ -8,8 +8,10 @@ use bevy::prelude::*;
 
 use crate::config::Simulation;
 use crate::control::{ControlKernel, ModuleRegistry};
+use crate::data::store::DataStore;
 use crate::sim::SimPlugin;
 use crate::sim::clock::SimClock;
+use crate::sim::datalog::{DataLog, DataSettings, DataSink, flush_round, handlers_for};
 use crate::sim::error::SimError;
 use crate::sim::kernel::{Kernel, SimRobot};
 use crate::sim::physics::Physics;
@@ -17,6 +19,7 @@ use crate::sim::record::{Track, centre_of_mass, heading};
 use crate::sim::schedule::SimStep;
 use crate::sim::servo::JointState;
 use crate::sim::spawn::{BuildOptions, build_world};
+use crate::sim::tactile::RobotSensors;
 
 /// What a run did.
 #[derive(Debug, Clone, PartialEq)]
@@ -210,6 +213,56 @@ impl Simulator {
             .get_mut::<Kernel>(e)
             .map(|k| &mut k.into_inner().0)
             .ok_or(SimError::NoSuchRobot { index, count })
+    }
+
+    /// Starts recording data handlers on every robot (thesis 4.3.2); with `store`, robot 0's
+    /// frames are also written to that data file by its background writer. Call
+    /// [`Simulator::finish_data`] to close the file.
+    pub fn enable_data(&mut self, settings: DataSettings, store: Option<DataStore>) {
+        let world = self.app.world_mut();
+        world.insert_resource(settings);
+        let mut q = world.query::<(Entity, &SimRobot, &Kernel, &RobotSensors)>();
+        let logs: Vec<(Entity, DataLog)> = q
+            .iter(world)
+            .map(|(e, robot, kernel, sensors)| {
+                let mass = robot.bodies.iter().map(|(_, m)| m).sum();
+                (
+                    e,
+                    DataLog::new(handlers_for(&kernel.0, &sensors.0), &settings, mass),
+                )
+            })
+            .collect();
+        for (e, log) in logs {
+            world.entity_mut(e).insert(log);
+        }
+        if let Some(store) = store {
+            world.insert_resource(DataSink {
+                store,
+                rounds_sent: 0,
+                error: None,
+            });
+        }
+    }
+
+    /// The data handlers of robot `index` (after [`Simulator::enable_data`]).
+    pub fn data(&self, index: usize) -> Result<&DataLog, SimError> {
+        self.robot_component::<DataLog>(index)
+    }
+
+    /// Sends the last frames to the data file and closes it well-formed; returns the
+    /// rounds written (0 without a file).
+    pub fn finish_data(&mut self) -> Result<u64, String> {
+        let world = self.app.world_mut();
+        flush_round(world);
+        match world.remove_resource::<DataSink>() {
+            Some(sink) => {
+                if let Some(e) = sink.error {
+                    return Err(e);
+                }
+                sink.store.finish()
+            }
+            None => Ok(0),
+        }
     }
 
     /// Changes a module parameter of robot `robot` between steps (see

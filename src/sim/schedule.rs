@@ -6,7 +6,7 @@ use bevy::ecs::schedule::ScheduleLabel;
 use bevy::ecs::schedule::SingleThreadedExecutor;
 use bevy::prelude::*;
 
-use crate::sim::{clock, kernel, laser, physics, record, servo, tactile};
+use crate::sim::{clock, datalog, kernel, laser, physics, record, servo, tactile};
 
 /// The schedule of one simulation step.
 #[derive(ScheduleLabel, Debug, Clone, PartialEq, Eq, Hash)]
@@ -37,6 +37,7 @@ pub(super) fn plugin(app: &mut App) {
     // Measured on 2 cores: the multi-threaded executor is ~20x slower per step here.
     schedule.set_executor(SingleThreadedExecutor::new());
     app.add_schedule(schedule);
+    app.init_resource::<datalog::DataSettings>();
     app.configure_sets(
         SimStep,
         (
@@ -63,7 +64,7 @@ pub(super) fn plugin(app: &mut App) {
             kernel::sum_outputs.in_set(SimSystems::Kernel),
             servo::drive_servos.in_set(SimSystems::Servo),
             physics::step_physics.in_set(SimSystems::Physics),
-            record::record.in_set(SimSystems::Record),
+            (record::record, datalog::log_data).in_set(SimSystems::Record),
             clock::advance_clock.in_set(SimSystems::Clock),
         ),
     );

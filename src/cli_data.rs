@@ -1,0 +1,75 @@
+//! `proleg data`: inspecting recorded data files (info, export as TSV/CSV).
+
+use std::fmt::Write as _;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::Path;
+use std::time::Instant;
+
+use proleg::data::export::{SeriesSelector, XAxis, export};
+use proleg::data::read::info;
+
+/// `proleg data info FILE`.
+pub fn show_info(file: &Path) -> Result<String, String> {
+    let i = info(file).map_err(|e| e.to_string())?;
+    let mut out = String::new();
+    let _ = writeln!(out, "file      {}", file.display());
+    if let Ok(m) = std::fs::metadata(file) {
+        let _ = writeln!(out, "size      {:.2} MB", m.len() as f64 / 1e6);
+    }
+    let _ = writeln!(out, "rounds    {}", i.rounds);
+    match (i.first_simtime_ms, i.last_simtime_ms) {
+        (Some(a), Some(b)) => {
+            let _ = writeln!(out, "simtime   {:.3} s .. {:.3} s", a / 1000.0, b / 1000.0);
+        }
+        _ => {
+            let _ = writeln!(out, "simtime   (no frames)");
+        }
+    }
+    if i.cut {
+        let _ = writeln!(
+            out,
+            "status    CUT: the file ends before </dataRoot>; complete rounds up to here are readable"
+        );
+    } else {
+        let _ = writeln!(out, "status    complete");
+    }
+    for (h, frames) in i.handlers.iter().zip(&i.frames) {
+        let _ = writeln!(out, "handler   {} ({frames} frames)", h.name);
+        for (s, p) in h.series.iter().zip(&h.parts) {
+            let _ = writeln!(out, "  {s} [{p}]");
+        }
+    }
+    Ok(out)
+}
+
+/// `proleg data export FILE --x X --series LIST -o OUT`.
+pub fn export_table(file: &Path, x: &str, series: &str, output: &Path) -> Result<String, String> {
+    let x = XAxis::parse(x)?;
+    let wanted = SeriesSelector::parse_list(series)?;
+    if wanted.is_empty() {
+        return Err("--series: name at least one series, e.g. Robot_Data/y_pos".into());
+    }
+    let sep = match output.extension().and_then(|e| e.to_str()) {
+        Some("csv") => ',',
+        _ => '\t',
+    };
+    let f =
+        File::create(output).map_err(|e| format!("{}: cannot create: {e}", output.display()))?;
+    let mut w = BufWriter::new(f);
+    let t = Instant::now();
+    let stats = export(file, x, &wanted, sep, &mut w).map_err(|e| e.to_string())?;
+    w.flush()
+        .map_err(|e| format!("{}: cannot write: {e}", output.display()))?;
+    let mut out = format!(
+        "wrote {} rows x {} columns to {} in {:.2} s\n",
+        stats.rows,
+        stats.columns + 1,
+        output.display(),
+        t.elapsed().as_secs_f64()
+    );
+    if stats.info.cut {
+        out.push_str("note: the data file is cut; rows end at its last complete round\n");
+    }
+    Ok(out)
+}

@@ -1,0 +1,287 @@
+//! Exporting chosen series of a data file as a table (TSV or CSV with a header row; loads
+//! with pandas `read_csv(sep="\t")`), streaming round by round. Series are chosen as
+//! `Handler/series`, `Handler/series[k]` or `Handler/series[a..b]` (parts a to b,
+//! inclusive); rows are the samples, the first column the chosen x.
+
+use std::io::Write;
+use std::path::Path;
+
+use crate::data::handler::{FrameMeta, HandlerSpec};
+use crate::data::read::{DataError, DataEvent, DataInfo, read_file};
+use crate::data::write::push_number;
+
+/// The x column.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum XAxis {
+    /// Simulated time, seconds.
+    SimTime,
+    /// Wall-clock seconds since the first frame.
+    RealTime,
+    StepCount,
+    Index,
+}
+
+impl XAxis {
+    pub const NAMES: [&'static str; 4] = ["simtime", "realtime", "stepcount", "index"];
+
+    pub fn parse(s: &str) -> Result<XAxis, String> {
+        match s {
+            "simtime" => Ok(XAxis::SimTime),
+            "realtime" => Ok(XAxis::RealTime),
+            "stepcount" | "step" => Ok(XAxis::StepCount),
+            "index" | "count" => Ok(XAxis::Index),
+            _ => Err(format!(
+                "unknown x series {s:?}; expected one of {}",
+                XAxis::NAMES.join(", ")
+            )),
+        }
+    }
+
+    /// Column title with its unit.
+    pub fn title(self) -> &'static str {
+        match self {
+            XAxis::SimTime => "simtime_s",
+            XAxis::RealTime => "realtime_s",
+            XAxis::StepCount => "stepcount",
+            XAxis::Index => "index",
+        }
+    }
+
+    fn value(self, m: &FrameMeta, first_realtime: u64) -> f64 {
+        match self {
+            XAxis::SimTime => m.simtime_ms / 1000.0,
+            XAxis::RealTime => m.realtime_ms.saturating_sub(first_realtime) as f64 / 1000.0,
+            XAxis::StepCount => m.step as f64,
+            XAxis::Index => m.index as f64,
+        }
+    }
+}
+
+/// A requested series, before it is checked against a file's header.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SeriesSelector {
+    pub handler: String,
+    pub series: String,
+    /// Inclusive part range; `None` = every part.
+    pub parts: Option<(usize, usize)>,
+}
+
+impl SeriesSelector {
+    /// Parses `Handler/series`, `Handler/series[k]` or `Handler/series[a..b]`.
+    pub fn parse(s: &str) -> Result<SeriesSelector, String> {
+        let s = s.trim();
+        let (handler, rest) = s
+            .split_once('/')
+            .ok_or_else(|| format!("{s:?}: expected Handler/series, e.g. Robot_Data/x_pos"))?;
+        let (series, parts) = match rest.split_once('[') {
+            None => (rest, None),
+            Some((name, range)) => {
+                let range = range
+                    .strip_suffix(']')
+                    .ok_or_else(|| format!("{s:?}: missing ']'"))?;
+                let num = |t: &str| {
+                    t.trim()
+                        .parse::<usize>()
+                        .map_err(|_| format!("{s:?}: {t:?} is not a part number"))
+                };
+                let (a, b) = match range.split_once("..") {
+                    Some((a, b)) => (num(a)?, num(b)?),
+                    None => (num(range)?, num(range)?),
+                };
+                if a > b {
+                    return Err(format!("{s:?}: empty part range {a}..{b}"));
+                }
+                (name, Some((a, b)))
+            }
+        };
+        if handler.is_empty() || series.is_empty() {
+            return Err(format!("{s:?}: expected Handler/series"));
+        }
+        Ok(SeriesSelector {
+            handler: handler.to_string(),
+            series: series.to_string(),
+            parts,
+        })
+    }
+
+    /// Parses a comma-separated list.
+    pub fn parse_list(s: &str) -> Result<Vec<SeriesSelector>, String> {
+        s.split(',')
+            .filter(|t| !t.trim().is_empty())
+            .map(SeriesSelector::parse)
+            .collect()
+    }
+}
+
+/// One output column: handler index and value index within its frames.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Column {
+    pub title: String,
+    pub handler: usize,
+    pub value: usize,
+}
+
+/// Resolves selectors against a header.
+pub fn resolve(handlers: &[HandlerSpec], wanted: &[SeriesSelector]) -> Result<Vec<Column>, String> {
+    let mut cols = Vec::new();
+    for w in wanted {
+        let h = handlers
+            .iter()
+            .position(|h| h.name == w.handler)
+            .ok_or_else(|| {
+                let names: Vec<&str> = handlers.iter().map(|h| h.name.as_str()).collect();
+                format!(
+                    "no handler {:?}; the file has {}",
+                    w.handler,
+                    names.join(", ")
+                )
+            })?;
+        let spec = &handlers[h];
+        let s = spec.find(&w.series).ok_or_else(|| {
+            format!(
+                "{} has no series {:?}; it has {}",
+                spec.name,
+                w.series,
+                spec.series.join(", ")
+            )
+        })?;
+        let n = spec.parts[s];
+        let (a, b) = w.parts.unwrap_or((0, n.saturating_sub(1)));
+        if b >= n {
+            return Err(format!(
+                "{}/{} has {n} parts (0..{}); asked for part {b}",
+                spec.name,
+                spec.series[s],
+                n.saturating_sub(1)
+            ));
+        }
+        for k in a..=b {
+            cols.push(Column {
+                title: if n == 1 {
+                    format!("{}/{}", spec.name, spec.series[s])
+                } else {
+                    format!("{}/{}[{k}]", spec.name, spec.series[s])
+                },
+                handler: h,
+                value: spec.offset(s) + k,
+            });
+        }
+    }
+    Ok(cols)
+}
+
+/// What an export wrote.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExportStats {
+    pub rows: u64,
+    pub columns: usize,
+    pub info: DataInfo,
+}
+
+/// Writes the chosen columns of `path` to `out`, separated by `sep` (`'\t'` or `','`).
+pub fn export(
+    path: &Path,
+    x: XAxis,
+    wanted: &[SeriesSelector],
+    sep: char,
+    out: &mut dyn Write,
+) -> Result<ExportStats, DataError> {
+    let fail = |message: String| DataError {
+        file: path.to_path_buf(),
+        line: None,
+        message,
+    };
+    let mut cols: Vec<Column> = Vec::new();
+    let mut problem: Option<String> = None;
+    let mut io_error: Option<std::io::Error> = None;
+    // Rows of the current round: x stamp and one value per column.
+    let mut rows: Vec<(FrameMeta, Vec<f64>)> = Vec::new();
+    let mut seen: Vec<usize> = Vec::new();
+    let mut round = u64::MAX;
+    let mut first_realtime: Option<u64> = None;
+    let mut written = 0u64;
+    let mut line = String::new();
+    let mut flush = |rows: &mut Vec<(FrameMeta, Vec<f64>)>,
+                     first: u64,
+                     out: &mut dyn Write|
+     -> std::io::Result<()> {
+        for (m, v) in rows.drain(..) {
+            line.clear();
+            push_number(&mut line, x.value(&m, first));
+            for value in v {
+                line.push(sep);
+                push_number(&mut line, value);
+            }
+            line.push('\n');
+            out.write_all(line.as_bytes())?;
+            written += 1;
+        }
+        Ok(())
+    };
+    let mut header_written = false;
+    let info = read_file(path, |event| match event {
+        DataEvent::Header(handlers) => match resolve(handlers, wanted) {
+            Ok(c) => {
+                seen = vec![0; handlers.len()];
+                cols = c;
+            }
+            Err(e) => problem = Some(e),
+        },
+        DataEvent::Frame(f) => {
+            if problem.is_some() || io_error.is_some() {
+                return;
+            }
+            if !header_written {
+                header_written = true;
+                if let Err(e) = write_titles(out, x, &cols, sep) {
+                    io_error = Some(e);
+                    return;
+                }
+            }
+            if f.round != round {
+                if let Err(e) = flush(&mut rows, first_realtime.unwrap_or(0), out) {
+                    io_error = Some(e);
+                }
+                round = f.round;
+                seen.iter_mut().for_each(|s| *s = 0);
+            }
+            first_realtime.get_or_insert(f.meta.realtime_ms);
+            let k = seen[f.handler];
+            seen[f.handler] += 1;
+            if k >= rows.len() {
+                rows.push((f.meta, vec![f64::NAN; cols.len()]));
+            }
+            for (c, slot) in cols.iter().zip(rows[k].1.iter_mut()) {
+                if c.handler == f.handler {
+                    *slot = f.values.get(c.value).copied().unwrap_or(f64::NAN);
+                }
+            }
+        }
+    })?;
+    if let Some(p) = problem {
+        return Err(fail(p));
+    }
+    if io_error.is_none() && !header_written {
+        io_error = write_titles(out, x, &cols, sep).err();
+    }
+    if io_error.is_none()
+        && let Err(e) = flush(&mut rows, first_realtime.unwrap_or(0), out)
+    {
+        io_error = Some(e);
+    }
+    if let Some(e) = io_error {
+        return Err(fail(format!("cannot write the table: {e}")));
+    }
+    Ok(ExportStats {
+        rows: written,
+        columns: cols.len(),
+        info,
+    })
+}
+
+fn write_titles(out: &mut dyn Write, x: XAxis, cols: &[Column], sep: char) -> std::io::Result<()> {
+    let titles: Vec<&str> = std::iter::once(x.title())
+        .chain(cols.iter().map(|c| c.title.as_str()))
+        .collect();
+    writeln!(out, "{}", titles.join(&sep.to_string()))
+}

@@ -1,0 +1,14 @@
+//! Recorded data (thesis 4.3.2, 4.5.6, 5.5.2, listing B.8), free of Bevy: what a data
+//! handler records ([`HandlerSpec`]), the bounded ring buffers live views read
+//! ([`RingBuffer`]), the XML data file written round by round on a background thread
+//! ([`store`]), read back as a stream ([`read`]) and exported as TSV/CSV ([`export`]).
+
+pub mod export;
+pub mod handler;
+pub mod read;
+pub mod ring;
+pub mod store;
+pub mod write;
+
+pub use handler::{FrameMeta, HandlerSpec};
+pub use ring::RingBuffer;

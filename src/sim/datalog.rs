@@ -1,0 +1,346 @@
+//! Data handlers in the world (thesis 4.3.2, 5.5.2): one per actuation module (its
+//! internal-data series), one per sensor type (tactile, laser) and `Robot_Data` (B.8's
+//! robot series plus mechanical power and energy used). Every `every`-th step each
+//! handler's frame goes into its ring buffer (live views) and, for the robot that stores
+//! data, into the round being gathered, which is handed to the background writer every
+//! `round_frames` samples. Buffers are allocated once; the step never touches the disk.
+
+use std::time::{SystemTime, UNIX_EPOCH};
+
+use bevy::prelude::*;
+
+use crate::control::ControlKernel;
+use crate::data::store::DataStore;
+use crate::data::write::HandlerFrames;
+use crate::data::{FrameMeta, HandlerSpec, RingBuffer};
+use crate::sensing::SensorData;
+use crate::sim::clock::SimClock;
+use crate::sim::kernel::{Kernel, SimRobot};
+use crate::sim::physics::{Physics, arr3};
+use crate::sim::record::centre_of_mass;
+use crate::sim::servo::JointState;
+use crate::sim::tactile::RobotSensors;
+
+/// The robot handler's scalar series, then its per-joint series.
+pub const ROBOT_SCALARS: [&str; 11] = [
+    "speed",
+    "x_pos",
+    "y_pos",
+    "z_pos",
+    "alpha",
+    "beta",
+    "gamma",
+    "potential_energy",
+    "average_com_speed",
+    "power",
+    "energy",
+];
+pub const ROBOT_JOINT_SERIES: [&str; 4] = [
+    "desired_joint_positions",
+    "real_joint_positions",
+    "servo_currents",
+    "servo_speeds",
+];
+pub const ROBOT_HANDLER: &str = "Robot_Data";
+
+/// How data is sampled and kept.
+#[derive(Resource, Debug, Clone, Copy, PartialEq)]
+pub struct DataSettings {
+    /// Sample every this many steps (the simulation file's `accuracy`).
+    pub every: u32,
+    /// Frames each ring buffer keeps.
+    pub ring_frames: usize,
+    /// Samples per round handed to the writer.
+    pub round_frames: usize,
+}
+
+impl Default for DataSettings {
+    fn default() -> Self {
+        DataSettings {
+            every: 1,
+            ring_frames: 4096,
+            round_frames: 500,
+        }
+    }
+}
+
+/// The data file robot 0 records into (absent: nothing is stored).
+#[derive(Resource)]
+pub struct DataSink {
+    pub store: DataStore,
+    pub rounds_sent: u64,
+    pub error: Option<String>,
+}
+
+/// A robot's data handlers and their buffers.
+#[derive(Component, Debug, Clone)]
+pub struct DataLog {
+    pub handlers: Vec<HandlerSpec>,
+    pub rings: Vec<RingBuffer>,
+    frame: Vec<Vec<f64>>,
+    round: Vec<HandlerFrames>,
+    samples: u64,
+    /// Mechanical energy the servos put out so far (J).
+    pub energy: f64,
+    start_com: Option<[f64; 3]>,
+    start_time: f64,
+    total_mass: f64,
+}
+
+/// The handlers of a robot with this kernel and these sensors.
+pub fn handlers_for(kernel: &ControlKernel, sensors: &SensorData) -> Vec<HandlerSpec> {
+    let mut out: Vec<HandlerSpec> = Vec::new();
+    for a in kernel.actuators() {
+        let d = a.module.internal_data();
+        let base = a.module.descriptor().type_name;
+        let same = out
+            .iter()
+            .filter(|h| h.name == base || h.name.starts_with(&format!("{base}.")))
+            .count();
+        let name = if same == 0 {
+            base.to_string()
+        } else {
+            format!("{base}.{}", same + 1)
+        };
+        out.push(HandlerSpec {
+            name,
+            series: d.names().iter().map(|s| s.to_string()).collect(),
+            parts: vec![a.joints.len(); d.names().len()],
+        });
+    }
+    if !sensors.tactile.is_empty() {
+        out.push(HandlerSpec::uniform(
+            "tactile",
+            &["pressed", "x-normals", "y-normals", "z-normals"],
+            sensors.tactile.len(),
+        ));
+    }
+    let beams: usize = sensors.laser.iter().map(Vec::len).sum();
+    if beams > 0 {
+        out.push(HandlerSpec::uniform("laser2d", &["range"], beams));
+    }
+    let joints = kernel.joints();
+    let mut robot = HandlerSpec::uniform(ROBOT_HANDLER, &ROBOT_SCALARS, 1);
+    for s in ROBOT_JOINT_SERIES {
+        robot.series.push(s.to_string());
+        robot.parts.push(joints);
+    }
+    out.push(robot);
+    out
+}
+
+impl DataLog {
+    pub fn new(handlers: Vec<HandlerSpec>, settings: &DataSettings, total_mass: f64) -> Self {
+        let rings = handlers
+            .iter()
+            .map(|h| RingBuffer::new(h.width(), settings.ring_frames))
+            .collect();
+        let frame = handlers
+            .iter()
+            .map(|h| Vec::with_capacity(h.width()))
+            .collect();
+        let round = handlers
+            .iter()
+            .map(|h| HandlerFrames {
+                meta: Vec::with_capacity(settings.round_frames),
+                values: Vec::with_capacity(settings.round_frames * h.width()),
+            })
+            .collect();
+        DataLog {
+            handlers,
+            rings,
+            frame,
+            round,
+            samples: 0,
+            energy: 0.0,
+            start_com: None,
+            start_time: 0.0,
+            total_mass,
+        }
+    }
+
+    /// The ring buffer of handler `name`.
+    pub fn ring(&self, name: &str) -> Option<&RingBuffer> {
+        self.handlers
+            .iter()
+            .position(|h| h.name == name)
+            .map(|i| &self.rings[i])
+    }
+
+    /// Samples taken so far.
+    pub fn samples(&self) -> u64 {
+        self.samples
+    }
+
+    /// Takes the gathered round (for the writer), leaving empty buffers of the same size.
+    fn take_round(&mut self) -> Vec<HandlerFrames> {
+        self.round
+            .iter_mut()
+            .map(|f| {
+                let (m, v) = (f.meta.capacity(), f.values.capacity());
+                HandlerFrames {
+                    meta: std::mem::replace(&mut f.meta, Vec::with_capacity(m)),
+                    values: std::mem::replace(&mut f.values, Vec::with_capacity(v)),
+                }
+            })
+            .collect()
+    }
+}
+
+/// Roll (alpha), pitch (beta) and yaw (gamma) of a rotation, degrees.
+fn euler(q: [f64; 4]) -> [f64; 3] {
+    let [x, y, z, w] = q;
+    let roll = (2.0 * (w * x + y * z)).atan2(1.0 - 2.0 * (x * x + y * y));
+    let pitch = (2.0 * (w * y - z * x)).clamp(-1.0, 1.0).asin();
+    let yaw = (2.0 * (w * z + x * y)).atan2(1.0 - 2.0 * (y * y + z * z));
+    [roll.to_degrees(), pitch.to_degrees(), yaw.to_degrees()]
+}
+
+/// Accumulates energy every step and samples every handler every `every` steps (the
+/// `Record` set).
+pub fn log_data(
+    settings: Res<DataSettings>,
+    clock: Res<SimClock>,
+    physics: Res<Physics>,
+    mut sink: Option<ResMut<DataSink>>,
+    mut robots: Query<(&SimRobot, &Kernel, &RobotSensors, &mut DataLog)>,
+    states: Query<&JointState>,
+) {
+    let sample = (clock.step + 1).is_multiple_of(settings.every.max(1) as u64);
+    let bodies = &physics.world.bodies;
+    let time = clock.time() + clock.dt;
+    for (robot, kernel, sensors, mut log) in &mut robots {
+        let log = &mut *log;
+        let mut power = 0.0;
+        for e in &robot.joints {
+            let s = states.get(*e).copied().unwrap_or_default();
+            power += (s.torque * s.velocity.to_radians()).abs();
+        }
+        log.energy += power * clock.dt;
+        if !sample {
+            continue;
+        }
+        let com = centre_of_mass(bodies, robot);
+        let start = *log.start_com.get_or_insert(com);
+        if log.samples == 0 {
+            log.start_time = clock.time();
+        }
+        let meta = FrameMeta {
+            index: log.samples,
+            realtime_ms: SystemTime::now()
+                .duration_since(UNIX_EPOCH)
+                .map(|d| d.as_millis() as u64)
+                .unwrap_or(0),
+            // Whole steps times the step in ms: exact for millisecond steps.
+            simtime_ms: (clock.step + 1) as f64 * (clock.dt * 1000.0),
+            step: clock.step + 1,
+        };
+        let mut h = 0;
+        for a in kernel.0.actuators() {
+            let f = &mut log.frame[h];
+            f.clear();
+            let d = a.module.internal_data();
+            for s in 0..d.names().len() {
+                f.extend_from_slice(d.series(s));
+            }
+            h += 1;
+        }
+        if !sensors.0.tactile.is_empty() {
+            let f = &mut log.frame[h];
+            f.clear();
+            f.extend(sensors.0.tactile.iter().map(|p| if *p { 1.0 } else { 0.0 }));
+            for axis in 0..3 {
+                f.extend(sensors.0.tactile_normals.iter().map(|n| n[axis]));
+            }
+            h += 1;
+        }
+        if sensors.0.laser.iter().any(|l| !l.is_empty()) {
+            let f = &mut log.frame[h];
+            f.clear();
+            for l in &sensors.0.laser {
+                f.extend_from_slice(l);
+            }
+            h += 1;
+        }
+        // Robot_Data.
+        let (mut momentum, mut potential) = ([0.0; 3], 0.0);
+        for (b, m) in &robot.bodies {
+            if let Some(body) = bodies.get(*b) {
+                let v = arr3(body.linvel());
+                for i in 0..3 {
+                    momentum[i] += m * v[i];
+                }
+                potential += m * 9.81 * arr3(body.center_of_mass())[2];
+            }
+        }
+        let mass = log.total_mass.max(1e-12);
+        let speed = (momentum[0].powi(2) + momentum[1].powi(2) + momentum[2].powi(2)).sqrt() / mass;
+        let head = robot
+            .bodies
+            .last()
+            .and_then(|(b, _)| bodies.get(*b))
+            .map(|b| {
+                let r = b.rotation();
+                euler([r.x as f64, r.y as f64, r.z as f64, r.w as f64])
+            })
+            .unwrap_or_default();
+        let elapsed = time - log.start_time;
+        let avg = if elapsed > 0.0 {
+            ((com[0] - start[0]).powi(2) + (com[1] - start[1]).powi(2)).sqrt() / elapsed
+        } else {
+            0.0
+        };
+        let energy = log.energy;
+        let f = &mut log.frame[h];
+        f.clear();
+        f.extend_from_slice(&[
+            speed, com[0], com[1], com[2], head[0], head[1], head[2], potential, avg, power, energy,
+        ]);
+        f.extend_from_slice(kernel.0.desired());
+        let joint = |e: &Entity| states.get(*e).copied().unwrap_or_default();
+        f.extend(robot.joints.iter().map(|e| joint(e).angle));
+        f.extend(robot.joints.iter().map(|e| joint(e).torque));
+        f.extend(robot.joints.iter().map(|e| joint(e).velocity));
+        // Rings, and the round for the file.
+        let storing = robot.index == 0 && sink.is_some();
+        for i in 0..log.handlers.len() {
+            log.rings[i].push(meta, &log.frame[i]);
+            if storing {
+                log.round[i].meta.push(meta);
+                log.round[i].values.extend_from_slice(&log.frame[i]);
+            }
+        }
+        log.samples += 1;
+        if storing
+            && log.round[0].len() >= settings.round_frames.max(1)
+            && let Some(sink) = sink.as_mut()
+        {
+            let round = log.take_round();
+            send(sink, round);
+        }
+    }
+}
+
+fn send(sink: &mut DataSink, round: Vec<HandlerFrames>) {
+    if sink.error.is_some() {
+        return;
+    }
+    match sink.store.send(round) {
+        Ok(()) => sink.rounds_sent += 1,
+        Err(e) => sink.error = Some(e),
+    }
+}
+
+/// Hands robot 0's unsent frames to the writer (before closing the file).
+pub fn flush_round(world: &mut World) {
+    let mut pending = None;
+    let mut q = world.query::<(&SimRobot, &mut DataLog)>();
+    for (robot, mut log) in q.iter_mut(world) {
+        if robot.index == 0 && !log.round.iter().all(HandlerFrames::is_empty) {
+            pending = Some(log.take_round());
+        }
+    }
+    if let (Some(round), Some(mut sink)) = (pending, world.get_resource_mut::<DataSink>()) {
+        send(&mut sink, round);
+    }
+}
