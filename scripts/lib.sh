@@ -27,5 +27,6 @@ ensure_rust() {
   fi
 }
 
-# Build dependencies of the headless core (C compiler and pkg-config for -sys crates).
-HEADLESS_PACKAGES=(pkg-config gcc)
+# Build dependencies of the headless core (C compiler and pkg-config for -sys crates;
+# fontconfig and freetype for the plot text, with a font to draw it).
+HEADLESS_PACKAGES=(pkg-config gcc libfontconfig1-dev libfreetype-dev fonts-dejavu-core)

@@ -1,7 +1,8 @@
 //! Throughput figures of the reference scenario (`proleg bench`, `cargo bench`): the
 //! experiment-1 robot (snake5p) on the flat floor with the uniform 40° / 55° sine, 1 ms
 //! steps. Measures rapier's step alone, the full pipeline (sense, kernel, servos, physics,
-//! clock; recording off), and batches of robots sharing one world. Each figure is the
+//! clock; recording off), the pipeline recording every data handler at every step into a
+//! data file, and batches of robots sharing one world. Each figure is the
 //! best of [`REPEATS`] fresh worlds after one simulated second of warm-up: the machines
 //! here are shared VMs whose speed varies from run to run.
 
@@ -10,7 +11,10 @@ use std::path::Path;
 use std::time::Instant;
 
 use crate::config::load_simulation;
+use crate::data::store::DataStore;
+use crate::sim::datalog::{DataSettings, handlers_for};
 use crate::sim::physics::Physics;
+use crate::sim::tactile::RobotSensors;
 use crate::sim::{BuildOptions, SimError, Simulator};
 
 /// Repetitions of each figure; the fastest counts.
@@ -115,10 +119,55 @@ pub fn physics_only(config: &Path, seconds: f64) -> Result<Figure, String> {
     )
 }
 
+/// The full pipeline, one robot, recording every data handler at every step into a data
+/// file (the background writer included: the time runs until the file is closed).
+/// Returns the figure and the file size in bytes.
+pub fn recording(config: &Path, seconds: f64) -> Result<(Figure, u64), String> {
+    let file = std::env::temp_dir().join(format!("proleg-bench-{}.data.xml", std::process::id()));
+    let size = std::cell::Cell::new(0);
+    let fig = best(
+        config,
+        1,
+        seconds,
+        "pipeline + data file, 1 robot",
+        |s, steps| {
+            let handlers = match (s.kernel(0), s.robots().first()) {
+                (Ok(k), Some(e)) => {
+                    let sensors = s
+                        .world()
+                        .get::<RobotSensors>(*e)
+                        .map(|r| r.0.clone())
+                        .unwrap_or_default();
+                    handlers_for(k, &sensors)
+                }
+                _ => return f64::INFINITY,
+            };
+            let t = Instant::now();
+            let Ok(store) = DataStore::create(&file, handlers) else {
+                return f64::INFINITY;
+            };
+            s.enable_data(DataSettings::default(), Some(store));
+            s.run_steps(steps);
+            if s.finish_data().is_err() {
+                return f64::INFINITY;
+            }
+            let wall = t.elapsed().as_secs_f64();
+            size.set(std::fs::metadata(&file).map(|m| m.len()).unwrap_or(0));
+            wall
+        },
+    )?;
+    let _ = std::fs::remove_file(&file);
+    if !fig.wall.is_finite() {
+        return Err(format!("recording to {} failed", file.display()));
+    }
+    Ok((fig, size.get()))
+}
+
 /// Every figure, formatted for the terminal.
 pub fn report(config: &Path, seconds: f64, batches: &[usize]) -> Result<String, String> {
     let raw = physics_only(config, seconds)?;
-    let mut figs = vec![pipeline(config, 1, seconds)?];
+    let (rec, size) = recording(config, seconds)?;
+    let mut figs = vec![pipeline(config, 1, seconds)?, rec.clone()];
     for b in batches.iter().filter(|b| **b > 1) {
         figs.push(pipeline(config, *b, seconds)?);
     }
@@ -145,5 +194,11 @@ pub fn report(config: &Path, seconds: f64, batches: &[usize]) -> Result<String, 
             rate / raw_rate
         );
     }
+    let _ = writeln!(
+        out,
+        "recording every handler at every step: {:.1}% slower than the pipeline alone; {:.1} MB per simulated minute",
+        (rec.wall / figs[0].wall - 1.0) * 100.0,
+        size as f64 / 1e6 * 60.0 / seconds
+    );
     Ok(out)
 }

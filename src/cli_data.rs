@@ -7,6 +7,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use proleg::data::export::{SeriesSelector, XAxis, export};
+use proleg::data::plot::plot;
 use proleg::data::read::info;
 
 /// `proleg data info FILE`.
@@ -72,4 +73,37 @@ pub fn export_table(file: &Path, x: &str, series: &str, output: &Path) -> Result
         out.push_str("note: the data file is cut; rows end at its last complete round\n");
     }
     Ok(out)
+}
+
+/// `proleg data plot FILE --x X --series LIST -o OUT.png`.
+pub fn plot_png(
+    file: &Path,
+    x: &str,
+    series: &str,
+    output: &Path,
+    size: (u32, u32),
+) -> Result<String, String> {
+    let x = XAxis::parse(x)?;
+    let wanted = SeriesSelector::parse_list(series)?;
+    if wanted.is_empty() {
+        return Err("--series: name at least one series, e.g. Robot_Data/y_pos".into());
+    }
+    if size.0 < 200 || size.1 < 150 || size.0 > 10_000 || size.1 > 10_000 {
+        return Err(format!(
+            "--size {}x{}: give a width of 200..10000 and a height of 150..10000 pixels",
+            size.0, size.1
+        ));
+    }
+    let t = Instant::now();
+    let stats = plot(file, x, &wanted, output, size).map_err(|e| e.to_string())?;
+    Ok(format!(
+        "plotted {} series of {} rows ({} points drawn) to {} ({}x{}) in {:.2} s\n",
+        stats.series,
+        stats.rows,
+        stats.points_drawn,
+        output.display(),
+        size.0,
+        size.1,
+        t.elapsed().as_secs_f64()
+    ))
 }

@@ -79,6 +79,35 @@ enum DataCommand {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// Chosen series drawn into a PNG with axes, units and a legend.
+    Plot {
+        file: PathBuf,
+        /// x axis: simtime, realtime, stepcount or index.
+        #[arg(long, default_value = "simtime")]
+        x: String,
+        /// Comma-separated Handler/series[a..b].
+        #[arg(long)]
+        series: String,
+        /// Output PNG.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Image size in pixels, WIDTHxHEIGHT.
+        #[arg(long, default_value = "1200x700", value_parser = parse_size)]
+        size: (u32, u32),
+    },
+}
+
+/// Parses `WIDTHxHEIGHT`.
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once('x')
+        .ok_or_else(|| format!("{s:?}: expected WIDTHxHEIGHT, e.g. 1200x700"))?;
+    let n = |t: &str| {
+        t.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("{s:?}: {t:?} is not a pixel count"))
+    };
+    Ok((n(w)?, n(h)?))
 }
 
 /// Prints a command's output, or its error, and gives the exit code.
@@ -128,6 +157,13 @@ fn main() -> ExitCode {
                 series,
                 output,
             } => cli_data::export_table(&file, &x, &series, &output),
+            DataCommand::Plot {
+                file,
+                x,
+                series,
+                output,
+                size,
+            } => cli_data::plot_png(&file, &x, &series, &output, size),
         },
         Command::Check { config } => proleg::config::load_simulation(&config)
             .map(|sim| format!("{}ok\n", proleg::config::summary::summary(&sim)))

@@ -178,14 +178,15 @@ pub struct ExportStats {
     pub info: DataInfo,
 }
 
-/// Writes the chosen columns of `path` to `out`, separated by `sep` (`'\t'` or `','`).
-pub fn export(
+/// Calls `on_row` with the x value and the chosen columns of every sample of `path`, in
+/// order, holding only one round in memory; returns the rows, the file summary and the
+/// resolved columns.
+pub fn for_each_row(
     path: &Path,
     x: XAxis,
     wanted: &[SeriesSelector],
-    sep: char,
-    out: &mut dyn Write,
-) -> Result<ExportStats, DataError> {
+    mut on_row: impl FnMut(&[Column], f64, &[f64]) -> std::io::Result<()>,
+) -> Result<(u64, DataInfo, Vec<Column>), DataError> {
     let fail = |message: String| DataError {
         file: path.to_path_buf(),
         line: None,
@@ -194,31 +195,25 @@ pub fn export(
     let mut cols: Vec<Column> = Vec::new();
     let mut problem: Option<String> = None;
     let mut io_error: Option<std::io::Error> = None;
-    // Rows of the current round: x stamp and one value per column.
+    // Rows of the current round: stamps and one value per column.
     let mut rows: Vec<(FrameMeta, Vec<f64>)> = Vec::new();
+    let mut used = 0usize;
     let mut seen: Vec<usize> = Vec::new();
     let mut round = u64::MAX;
     let mut first_realtime: Option<u64> = None;
     let mut written = 0u64;
-    let mut line = String::new();
     let mut flush = |rows: &mut Vec<(FrameMeta, Vec<f64>)>,
-                     first: u64,
-                     out: &mut dyn Write|
+                     used: &mut usize,
+                     cols: &[Column],
+                     first: u64|
      -> std::io::Result<()> {
-        for (m, v) in rows.drain(..) {
-            line.clear();
-            push_number(&mut line, x.value(&m, first));
-            for value in v {
-                line.push(sep);
-                push_number(&mut line, value);
-            }
-            line.push('\n');
-            out.write_all(line.as_bytes())?;
+        for (m, v) in &rows[..*used] {
+            on_row(cols, x.value(m, first), v)?;
             written += 1;
         }
+        *used = 0;
         Ok(())
     };
-    let mut header_written = false;
     let info = read_file(path, |event| match event {
         DataEvent::Header(handlers) => match resolve(handlers, wanted) {
             Ok(c) => {
@@ -231,15 +226,9 @@ pub fn export(
             if problem.is_some() || io_error.is_some() {
                 return;
             }
-            if !header_written {
-                header_written = true;
-                if let Err(e) = write_titles(out, x, &cols, sep) {
-                    io_error = Some(e);
-                    return;
-                }
-            }
             if f.round != round {
-                if let Err(e) = flush(&mut rows, first_realtime.unwrap_or(0), out) {
+                let first = first_realtime.unwrap_or(0);
+                if let Err(e) = flush(&mut rows, &mut used, &cols, first) {
                     io_error = Some(e);
                 }
                 round = f.round;
@@ -248,8 +237,15 @@ pub fn export(
             first_realtime.get_or_insert(f.meta.realtime_ms);
             let k = seen[f.handler];
             seen[f.handler] += 1;
-            if k >= rows.len() {
-                rows.push((f.meta, vec![f64::NAN; cols.len()]));
+            if k >= used {
+                // Reuse row buffers from earlier rounds.
+                if used == rows.len() {
+                    rows.push((f.meta, vec![f64::NAN; cols.len()]));
+                } else {
+                    rows[used].0 = f.meta;
+                    rows[used].1.fill(f64::NAN);
+                }
+                used += 1;
             }
             for (c, slot) in cols.iter().zip(rows[k].1.iter_mut()) {
                 if c.handler == f.handler {
@@ -261,19 +257,50 @@ pub fn export(
     if let Some(p) = problem {
         return Err(fail(p));
     }
-    if io_error.is_none() && !header_written {
-        io_error = write_titles(out, x, &cols, sep).err();
-    }
     if io_error.is_none()
-        && let Err(e) = flush(&mut rows, first_realtime.unwrap_or(0), out)
+        && let Err(e) = flush(&mut rows, &mut used, &cols, first_realtime.unwrap_or(0))
     {
         io_error = Some(e);
     }
     if let Some(e) = io_error {
-        return Err(fail(format!("cannot write the table: {e}")));
+        return Err(fail(format!("cannot write: {e}")));
+    }
+    Ok((written, info, cols))
+}
+
+/// Writes the chosen columns of `path` to `out`, separated by `sep` (`'\t'` or `','`).
+pub fn export(
+    path: &Path,
+    x: XAxis,
+    wanted: &[SeriesSelector],
+    sep: char,
+    out: &mut dyn Write,
+) -> Result<ExportStats, DataError> {
+    let mut titled = false;
+    let mut line = String::new();
+    let (rows, info, cols) = for_each_row(path, x, wanted, |cols, xv, values| {
+        if !titled {
+            titled = true;
+            write_titles(out, x, cols, sep)?;
+        }
+        line.clear();
+        push_number(&mut line, xv);
+        for v in values {
+            line.push(sep);
+            push_number(&mut line, *v);
+        }
+        line.push('\n');
+        out.write_all(line.as_bytes())
+    })?;
+    if !titled {
+        write_titles(out, x, &cols, sep).map_err(|e| DataError {
+            file: path.to_path_buf(),
+            line: None,
+            message: format!("cannot write: {e}"),
+        })?;
     }
     Ok(ExportStats {
-        rows: written,
+        rows,
         columns: cols.len(),
         info,
     })

@@ -5,6 +5,7 @@
 
 pub mod export;
 pub mod handler;
+pub mod plot;
 pub mod read;
 pub mod ring;
 pub mod store;

@@ -33,3 +33,11 @@ pub fn files_ending(dir: &Path, suffix: &str) -> Vec<PathBuf> {
 pub fn thesis() -> PathBuf {
     root().join("tests/fixtures/thesis")
 }
+
+/// A fresh scratch folder for one test (under the target folder, removed first).
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = root().join("target/test-scratch").join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
