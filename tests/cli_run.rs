@@ -74,3 +74,60 @@ fn bench_prints_ratios() {
         assert!(out.contains(needle), "{needle:?} missing in:\n{out}");
     }
 }
+
+#[test]
+fn run_records_data_that_info_and_export_read() {
+    let dir = common::scratch("cli_data");
+    let data = dir.join("demo.data.xml");
+    let data_s = data.to_str().unwrap();
+    let (ok, out, err) = proleg(&[
+        "run",
+        "configs/demo.simulation.xml",
+        "--duration",
+        "1",
+        "--data",
+        data_s,
+        "--every",
+        "10",
+    ]);
+    assert!(ok, "{err}");
+    assert!(out.contains("data            "), "{out}");
+    let (ok, out, err) = proleg(&["data", "info", data_s]);
+    assert!(ok, "{err}");
+    for needle in [
+        "status    complete",
+        "handler   PatternGenerator_sinusoidal (100 frames)",
+        "handler   Robot_Data (100 frames)",
+        "  y_pos [1]",
+        "  servo_currents [5]",
+        "simtime   0.010 s .. 1.000 s",
+    ] {
+        assert!(out.contains(needle), "{needle:?} missing in:\n{out}");
+    }
+    let csv = dir.join("out.csv");
+    let (ok, out, err) = proleg(&[
+        "data",
+        "export",
+        data_s,
+        "--x",
+        "stepcount",
+        "--series",
+        "Robot_Data/y_pos,PatternGenerator_sinusoidal/Angle[4]",
+        "-o",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(out.contains("wrote 100 rows x 3 columns"), "{out}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("stepcount,Robot_Data/y_pos,PatternGenerator_sinusoidal/Angle[4]")
+    );
+    assert_eq!(lines.next().unwrap().split(',').next(), Some("10"));
+    assert_eq!(lines.count(), 99);
+    // A missing file is a one-line error naming it.
+    let (ok, _, err) = proleg(&["data", "info", "nope.data.xml"]);
+    assert!(!ok);
+    assert!(err.contains("nope.data.xml") && err.contains("cannot open"), "{err}");
+}
