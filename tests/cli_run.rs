@@ -129,5 +129,8 @@ fn run_records_data_that_info_and_export_read() {
     // A missing file is a one-line error naming it.
     let (ok, _, err) = proleg(&["data", "info", "nope.data.xml"]);
     assert!(!ok);
-    assert!(err.contains("nope.data.xml") && err.contains("cannot open"), "{err}");
+    assert!(
+        err.contains("nope.data.xml") && err.contains("cannot open"),
+        "{err}"
+    );
 }
