@@ -21,6 +21,7 @@ pub mod bench;
 pub mod config;
 pub mod control;
 pub mod data;
+pub mod optimize;
 pub mod rng;
 pub mod sensing;
 pub mod sim;

@@ -6,6 +6,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 mod cli_data;
+mod cli_optimize;
 mod cli_run;
 
 /// Design, simulate, optimize and drive chain-like modular robots.
@@ -54,6 +55,38 @@ enum Command {
         /// Sample every this many steps (default: the file's accuracy).
         #[arg(long)]
         every: Option<u32>,
+    },
+    /// Optimize the registered parameters of a GA / great-deluge simulation, headless.
+    Optimize {
+        /// A `*.simulation.xml` file whose mode is "Genetic Algorithm" or "Great Deluge".
+        config: PathBuf,
+        /// Random seed (default: the file's seed).
+        #[arg(long)]
+        seed: Option<u64>,
+        /// Parallel evaluation threads (default: the number of cores).
+        #[arg(long)]
+        workers: Option<usize>,
+        /// Robots per world (default 0: each round split evenly over the workers).
+        #[arg(long, default_value_t = 0)]
+        batch: usize,
+        /// Stop after this many evaluations.
+        #[arg(long)]
+        max_evals: Option<u64>,
+        /// Simulated seconds per episode (default: the file's duration).
+        #[arg(long)]
+        duration: Option<f64>,
+        /// displacement (eq. 3.7), distance, speed or cost-of-transport.
+        #[arg(long, default_value = "displacement")]
+        fitness: String,
+        /// Write the best candidate as an actuation file.
+        #[arg(short, long)]
+        out: Option<PathBuf>,
+        /// Write every evaluation (score, best so far, gene values) as TSV.
+        #[arg(long)]
+        evaluations: Option<PathBuf>,
+        /// No progress on stderr.
+        #[arg(long)]
+        quiet: bool,
     },
     /// Inspect recorded data files.
     Data {
@@ -149,6 +182,29 @@ fn main() -> ExitCode {
                 every,
             },
         ),
+        Command::Optimize {
+            config,
+            seed,
+            workers,
+            batch,
+            max_evals,
+            duration,
+            fitness,
+            out,
+            evaluations,
+            quiet,
+        } => cli_optimize::run(&cli_optimize::OptimizeOptions {
+            config,
+            seed,
+            workers,
+            batch,
+            max_evaluations: max_evals,
+            duration,
+            fitness,
+            out,
+            evaluations,
+            quiet,
+        }),
         Command::Data { command } => match command {
             DataCommand::Info { file } => cli_data::show_info(&file),
             DataCommand::Export {

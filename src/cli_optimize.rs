@@ -1,0 +1,182 @@
+//! `proleg optimize`: a headless optimization run of a simulation whose mode is the genetic
+//! algorithm or the great deluge, with progress, a table of every evaluation, and the
+//! best candidate written back as an actuation file.
+
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use proleg::config::actuation::write_actuation_file;
+use proleg::config::load_simulation;
+use proleg::optimize::fitness::Fitness;
+use proleg::optimize::result::actuation_with;
+use proleg::optimize::run::{RunSettings, optimize, prepare};
+
+/// Command-line options of `proleg optimize`.
+pub struct OptimizeOptions {
+    pub config: PathBuf,
+    pub seed: Option<u64>,
+    pub workers: Option<usize>,
+    pub batch: usize,
+    pub max_evaluations: Option<u64>,
+    pub duration: Option<f64>,
+    pub fitness: String,
+    pub out: Option<PathBuf>,
+    pub evaluations: Option<PathBuf>,
+    pub quiet: bool,
+}
+
+pub fn run(o: &OptimizeOptions) -> Result<String, String> {
+    let sim = load_simulation(&o.config).map_err(|e| e.to_string())?;
+    let props = &sim.files.simulation.properties;
+    let duration = o.duration.unwrap_or(props.duration);
+    if !duration.is_finite() || duration <= 0.0 {
+        return Err(format!(
+            "--duration {duration}: give a number of seconds > 0"
+        ));
+    }
+    let fitness = Fitness::parse(&o.fitness)?;
+    let workers = o.workers.unwrap_or_else(|| {
+        std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1)
+    });
+    if workers == 0 {
+        return Err("--workers 0: give at least 1".into());
+    }
+    let settings = RunSettings {
+        seed: o.seed.unwrap_or(props.seed),
+        workers,
+        batch: o.batch,
+        deluge_batch: 8,
+        max_evaluations: o.max_evaluations.unwrap_or(u64::MAX),
+        duration,
+        fitness,
+    };
+    let (space, _) = prepare(&sim)?;
+    let mut head = String::new();
+    let label = sim
+        .optimizer
+        .as_ref()
+        .map(|m| m.spec.label())
+        .unwrap_or("?");
+    let _ = writeln!(head, "optimizing {} with the {label}", sim.file.display());
+    for g in &space.genes {
+        let _ = writeln!(
+            head,
+            "  gene {:<40} {} values {}..{}",
+            g.label(),
+            g.alleles.count(),
+            g.alleles.value(0),
+            g.alleles.value(g.alleles.count().saturating_sub(1))
+        );
+    }
+    let _ = writeln!(
+        head,
+        "problem size (eq. 3.3): {:.3e} candidates; {} s per episode, fitness {}, seed {}, {workers} worker(s)",
+        space.size(),
+        duration,
+        o.fitness,
+        settings.seed
+    );
+    if !o.quiet {
+        eprint!("{head}");
+    }
+    let mut table = match &o.evaluations {
+        Some(p) => {
+            let f = std::fs::File::create(p)
+                .map_err(|e| format!("{}: cannot create: {e}", p.display()))?;
+            let mut w = std::io::BufWriter::new(f);
+            let genes: Vec<String> = space.genes.iter().map(|g| g.label()).collect();
+            writeln!(w, "evaluation\tround\tscore\tbest\t{}", genes.join("\t"))
+                .map_err(|e| format!("{}: {e}", p.display()))?;
+            Some(w)
+        }
+        None => None,
+    };
+    let t = Instant::now();
+    let mut last_report = 0.0;
+    let mut table_error = None;
+    let outcome = optimize(&sim, &settings, |e| {
+        if let Some(w) = table.as_mut() {
+            let values: Vec<String> = space
+                .decode(&e.genome)
+                .iter()
+                .map(|v| v.to_string())
+                .collect();
+            if let Err(err) = writeln!(
+                w,
+                "{}\t{}\t{}\t{}\t{}",
+                e.number,
+                e.round,
+                e.score,
+                e.best,
+                values.join("\t")
+            ) {
+                table_error.get_or_insert(err.to_string());
+            }
+        }
+        let secs = t.elapsed().as_secs_f64();
+        if !o.quiet && (secs - last_report >= 5.0 || e.number == 0) {
+            last_report = secs;
+            let rate = (e.number + 1) as f64 / secs.max(1e-9);
+            let eta = match o.max_evaluations {
+                Some(m) => format!(
+                    ", ETA {:.0} s",
+                    (m.saturating_sub(e.number + 1)) as f64 / rate
+                ),
+                None => String::new(),
+            };
+            eprintln!(
+                "  evaluations {:>6}  round {:>5}  best {:.4}  {:.2} evals/s ({:.0}/h){eta}",
+                e.number + 1,
+                e.round,
+                e.best,
+                rate,
+                rate * 3600.0
+            );
+        }
+    })?;
+    if let Some(mut w) = table {
+        w.flush().map_err(|e| e.to_string())?;
+    }
+    if let Some(e) = table_error {
+        return Err(format!("writing the evaluations table: {e}"));
+    }
+    let wall = t.elapsed().as_secs_f64();
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{} evaluations in {} rounds, {:.1} s ({:.0} evaluations/h, {:.1}x real time per core)",
+        outcome.evaluations,
+        outcome.rounds,
+        wall,
+        outcome.evaluations as f64 / wall * 3600.0,
+        outcome.evaluations as f64 * duration / wall / workers as f64
+    );
+    if let Some(s0) = outcome.start_score {
+        let _ = writeln!(out, "start score {s0:.4} (the configured values)");
+    }
+    let gain = outcome
+        .start_score
+        .filter(|s| *s > 0.0)
+        .map(|s0| {
+            format!(
+                " ({:+.1}% over the start)",
+                (outcome.best_score / s0 - 1.0) * 100.0
+            )
+        })
+        .unwrap_or_default();
+    let _ = writeln!(out, "best score  {:.4}{gain}", outcome.best_score);
+    for (g, v) in space.genes.iter().zip(space.decode(&outcome.best)) {
+        let _ = writeln!(out, "  {:<40} {v}", g.label());
+    }
+    if let Some(p) = &o.out {
+        let file = actuation_with(&sim, &space, &outcome.best);
+        std::fs::write(p, write_actuation_file(&file))
+            .map_err(|e| format!("{}: cannot write: {e}", p.display()))?;
+        let _ = writeln!(out, "best actuation written to {}", p.display());
+    }
+    Ok(out)
+}

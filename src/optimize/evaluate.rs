@@ -1,0 +1,142 @@
+//! Evaluating candidates: each is a fresh, seeded headless episode of the simulation.
+//! Candidates are batched, up to `batch` robots sharing one world (they do not touch each
+//! other), and the batches are spread over `workers` threads. A physics blow-up (a
+//! non-finite or far-flung centre of mass) scores the candidate `-inf` and the run goes on.
+
+use std::sync::Mutex;
+
+use crate::config::Simulation;
+use crate::optimize::fitness::{Episode, Fitness};
+use crate::optimize::space::{Genome, SearchSpace};
+use crate::sim::clock::SimClock;
+use crate::sim::datalog::DataSettings;
+use crate::sim::physics::MAX_ROBOTS_PER_WORLD;
+use crate::sim::{BuildOptions, Simulator};
+
+/// Farther than this from the start (m) counts as a blow-up.
+const BLOW_UP_DISTANCE: f64 = 1000.0;
+
+/// Runs candidates.
+pub struct Evaluator {
+    pub sim: Simulation,
+    pub space: SearchSpace,
+    pub fitness: Fitness,
+    /// Simulated seconds per episode.
+    pub duration: f64,
+    pub seed: u64,
+    /// Robots per world.
+    pub batch: usize,
+    pub workers: usize,
+}
+
+impl Evaluator {
+    /// Scores of `genomes`, in order.
+    pub fn evaluate(&self, genomes: &[Genome]) -> Result<Vec<f64>, String> {
+        let batch = self.batch.clamp(1, MAX_ROBOTS_PER_WORLD);
+        let chunks: Vec<(usize, &[Genome])> = genomes
+            .chunks(batch)
+            .enumerate()
+            .map(|(i, c)| (i * batch, c))
+            .collect();
+        let next = Mutex::new(0usize);
+        let results = Mutex::new(vec![f64::NAN; genomes.len()]);
+        let error = Mutex::new(None::<String>);
+        std::thread::scope(|s| {
+            for _ in 0..self.workers.clamp(1, chunks.len().max(1)) {
+                s.spawn(|| {
+                    loop {
+                        let i = {
+                            let Ok(mut n) = next.lock() else { return };
+                            let i = *n;
+                            *n += 1;
+                            i
+                        };
+                        let Some((start, chunk)) = chunks.get(i) else {
+                            return;
+                        };
+                        match self.run_batch(chunk) {
+                            Ok(scores) => {
+                                if let Ok(mut r) = results.lock() {
+                                    r[*start..*start + scores.len()].copy_from_slice(&scores);
+                                }
+                            }
+                            Err(e) => {
+                                if let Ok(mut slot) = error.lock() {
+                                    slot.get_or_insert(e);
+                                }
+                                return;
+                            }
+                        }
+                    }
+                });
+            }
+        });
+        if let Some(e) = error.into_inner().ok().flatten() {
+            return Err(e);
+        }
+        results
+            .into_inner()
+            .map_err(|_| "an evaluation thread panicked".to_string())
+    }
+
+    /// One world with a robot per genome.
+    pub fn run_batch(&self, genomes: &[Genome]) -> Result<Vec<f64>, String> {
+        let opts = BuildOptions {
+            robots: genomes.len(),
+            seed: self.seed,
+            record: false,
+        };
+        let mut s = Simulator::new(&self.sim, &opts).map_err(|e| e.to_string())?;
+        s.world_mut().resource_mut::<SimClock>().realtime_factor = 0.0;
+        s.world_mut().resource_mut::<SimClock>().delay_ms = 0.0;
+        for (i, g) in genomes.iter().enumerate() {
+            let kernel = s.kernel_mut(i).map_err(|e| e.to_string())?;
+            self.space.apply(g, kernel).map_err(|e| e.to_string())?;
+        }
+        if self.fitness.needs_energy() {
+            // Energy accumulates every step; sampling never comes round.
+            s.enable_data(
+                DataSettings {
+                    every: u32::MAX,
+                    ring_frames: 1,
+                    round_frames: 1,
+                },
+                None,
+            );
+        }
+        let mut start = Vec::with_capacity(genomes.len());
+        for i in 0..genomes.len() {
+            start.push((
+                s.com(i).map_err(|e| e.to_string())?,
+                s.heading(i).map_err(|e| e.to_string())?,
+            ));
+        }
+        let dt = s.clock().dt;
+        let steps = (self.duration / dt).round() as u64;
+        s.run_steps(steps);
+        let time = steps as f64 * dt;
+        let mut scores = Vec::with_capacity(genomes.len());
+        for (i, (com0, heading0)) in start.into_iter().enumerate() {
+            let end = s.com(i).map_err(|e| e.to_string())?;
+            let moved = ((end[0] - com0[0]).powi(2) + (end[1] - com0[1]).powi(2)).sqrt();
+            if !end.iter().all(|v| v.is_finite()) || moved > BLOW_UP_DISTANCE {
+                scores.push(f64::NEG_INFINITY);
+                continue;
+            }
+            let (energy, mass) = match s.data(i) {
+                Ok(log) => (log.energy, log.mass()),
+                Err(_) => (0.0, 0.0),
+            };
+            let e = Episode {
+                start_com: com0,
+                end_com: end,
+                start_heading: heading0,
+                time,
+                energy,
+                mass,
+            };
+            scores.push(self.fitness.score(&e));
+        }
+        Ok(scores)
+    }
+}

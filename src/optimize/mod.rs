@@ -1,0 +1,28 @@
+//! Parameter optimization (thesis 3.4, 4.3.3, B.7), free of rendering: the search space
+//! built from the registered parameters ([`space`]), the genetic algorithm ([`ga`]) and
+//! the modified great deluge ([`deluge`]) behind one ask/tell interface
+//! ([`Optimizer`]), fitness functions ([`fitness`]) and the evaluator that runs
+//! candidates as seeded headless episodes, batched per world, on every core
+//! ([`evaluate`]).
+
+pub mod deluge;
+pub mod evaluate;
+pub mod fitness;
+pub mod ga;
+pub mod result;
+pub mod run;
+pub mod space;
+
+pub use space::{Genome, SearchSpace};
+
+/// A search strategy: hands out candidates, is told their scores (higher is better).
+pub trait Optimizer: Send {
+    /// The next candidates to evaluate (empty when finished).
+    fn ask(&mut self) -> Vec<Genome>;
+    /// The scores of the candidates of the last `ask`, in order.
+    fn tell(&mut self, scores: &[f64]);
+    /// Whether the search has stopped.
+    fn finished(&self) -> bool;
+    /// The best candidate seen and its score.
+    fn best(&self) -> Option<(&Genome, f64)>;
+}

@@ -1,0 +1,70 @@
+//! Turning a candidate back into configuration: the actuation file with the candidate's
+//! values written in, ready for `proleg run`.
+
+use crate::config::Simulation;
+use crate::config::actuation::{ActuationFile, ParamSetting, ParamValue};
+use crate::config::error::Pos;
+use crate::config::xml::read::same_name;
+use crate::optimize::space::SearchSpace;
+
+/// The simulation's actuation file with `genome`'s values set.
+pub fn actuation_with(sim: &Simulation, space: &SearchSpace, genome: &[u32]) -> ActuationFile {
+    let mut file = sim.files.actuation.clone();
+    for (gene, k) in space.genes.iter().zip(genome) {
+        let value = gene.alleles.value(*k);
+        let Some(m) = file
+            .modules
+            .iter_mut()
+            .find(|m| same_name(&m.name, gene.module))
+        else {
+            continue;
+        };
+        let driven: Vec<usize> = m.joints.indices().collect();
+        let default = sim
+            .actuation
+            .modules
+            .iter()
+            .find(|x| same_name(x.descriptor.type_name, gene.module))
+            .and_then(|x| {
+                x.descriptor
+                    .parameters
+                    .iter()
+                    .find(|p| p.name == gene.parameter)
+            })
+            .map(|p| p.default)
+            .unwrap_or(0.0);
+        let setting = match m
+            .params
+            .iter()
+            .position(|p| same_name(&p.name, gene.parameter))
+        {
+            Some(i) => &mut m.params[i],
+            None => {
+                m.params.push(ParamSetting {
+                    name: gene.parameter.to_string(),
+                    value: ParamValue::Uniform(default),
+                    pos: Pos::new(0, 0),
+                });
+                let last = m.params.len() - 1;
+                &mut m.params[last]
+            }
+        };
+        let all = driven.iter().all(|j| gene.joints.contains(j));
+        if all {
+            setting.value = ParamValue::Uniform(value);
+            continue;
+        }
+        let mut values = match &setting.value {
+            ParamValue::Uniform(v) => vec![*v; driven.len()],
+            ParamValue::PerJoint(v) => v.clone(),
+        };
+        values.resize(driven.len(), default);
+        for j in &gene.joints {
+            if let Some(local) = driven.iter().position(|d| d == j) {
+                values[local] = value;
+            }
+        }
+        setting.value = ParamValue::PerJoint(values);
+    }
+    file
+}

@@ -1,0 +1,160 @@
+//! One optimization run: the optimizer named by the simulation's optimizer file, fed by the
+//! evaluator, every evaluation reported to a callback (progress, logs, the store) as its
+//! batch finishes.
+
+use crate::config::Simulation;
+use crate::config::optimizer::Algorithm;
+use crate::optimize::Optimizer;
+use crate::optimize::deluge::GreatDeluge;
+use crate::optimize::evaluate::Evaluator;
+use crate::optimize::fitness::Fitness;
+use crate::optimize::ga::GeneticAlgorithm;
+use crate::optimize::space::{Genome, SearchSpace};
+use crate::sim::{BuildOptions, Simulator};
+
+/// How to run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunSettings {
+    pub seed: u64,
+    pub workers: usize,
+    /// Robots per world (0: split each round evenly over the workers).
+    pub batch: usize,
+    /// Great deluge: neighbours handed out per round.
+    pub deluge_batch: usize,
+    pub max_evaluations: u64,
+    /// Simulated seconds per episode.
+    pub duration: f64,
+    pub fitness: Fitness,
+}
+
+/// One finished evaluation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Evaluation {
+    /// 0-based evaluation number.
+    pub number: u64,
+    /// Round (GA generation / great-deluge batch) it belonged to.
+    pub round: u64,
+    pub genome: Genome,
+    pub score: f64,
+    /// Best score so far, this one included.
+    pub best: f64,
+}
+
+/// What a run found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outcome {
+    pub best: Genome,
+    pub best_score: f64,
+    pub start: Genome,
+    pub start_score: Option<f64>,
+    pub evaluations: u64,
+    pub rounds: u64,
+}
+
+/// The configured start candidate and the search space of `sim`.
+pub fn prepare(sim: &Simulation) -> Result<(SearchSpace, Genome), String> {
+    let model = sim.optimizer.as_ref().ok_or_else(|| {
+        format!(
+            "{}: mode {:?} has no optimizer file; optimization needs mode \"Genetic Algorithm\" or \"Great Deluge\" with an <optimizer>",
+            sim.file.display(),
+            sim.files.simulation.properties.mode.name()
+        )
+    })?;
+    let space = SearchSpace::from_model(model);
+    if space.genes.is_empty() {
+        return Err(format!(
+            "{}: no parameter is registered for optimization",
+            model.file.display()
+        ));
+    }
+    let s = Simulator::new(
+        sim,
+        &BuildOptions {
+            robots: 1,
+            seed: 1,
+            record: false,
+        },
+    )
+    .map_err(|e| e.to_string())?;
+    let start = space.encode_kernel(s.kernel(0).map_err(|e| e.to_string())?);
+    Ok((space, start))
+}
+
+/// Runs the optimization of `sim`, calling `on_eval` for every evaluation in order.
+pub fn optimize(
+    sim: &Simulation,
+    settings: &RunSettings,
+    mut on_eval: impl FnMut(&Evaluation),
+) -> Result<Outcome, String> {
+    let (space, start) = prepare(sim)?;
+    let Some(model) = sim.optimizer.as_ref() else {
+        return Err("no optimizer".into());
+    };
+    let mut optimizer: Box<dyn Optimizer> = match &model.spec.algorithm {
+        Algorithm::Genetic(ga) => Box::new(GeneticAlgorithm::new(
+            space.clone(),
+            ga.clone(),
+            start.clone(),
+            settings.seed,
+            settings.max_evaluations,
+        )),
+        Algorithm::GreatDeluge(gd) => Box::new(GreatDeluge::new(
+            space.clone(),
+            gd.clone(),
+            start.clone(),
+            settings.seed,
+            settings.deluge_batch,
+            settings.max_evaluations,
+        )),
+    };
+    let workers = settings.workers.max(1);
+    let mut evaluator = Evaluator {
+        sim: sim.clone(),
+        space,
+        fitness: settings.fitness,
+        duration: settings.duration,
+        seed: settings.seed,
+        batch: settings.batch,
+        workers,
+    };
+    let (mut n, mut round, mut best) = (0u64, 0u64, f64::NEG_INFINITY);
+    let mut start_score = None;
+    while !optimizer.finished() {
+        let candidates = optimizer.ask();
+        if candidates.is_empty() {
+            break;
+        }
+        if settings.batch == 0 {
+            evaluator.batch = candidates.len().div_ceil(workers);
+        }
+        let scores = evaluator.evaluate(&candidates)?;
+        for (g, s) in candidates.iter().zip(&scores) {
+            if n == 0 {
+                start_score = Some(*s);
+            }
+            best = best.max(*s);
+            on_eval(&Evaluation {
+                number: n,
+                round,
+                genome: g.clone(),
+                score: *s,
+                best,
+            });
+            n += 1;
+        }
+        optimizer.tell(&scores);
+        round += 1;
+    }
+    let (g, s) = optimizer
+        .best()
+        .map(|(g, s)| (g.clone(), s))
+        .ok_or_else(|| "the optimizer evaluated nothing".to_string())?;
+    Ok(Outcome {
+        best: g,
+        best_score: s,
+        start,
+        start_score,
+        evaluations: n,
+        rounds: round,
+    })
+}
