@@ -11,7 +11,8 @@ use proleg::config::actuation::write_actuation_file;
 use proleg::config::load_simulation;
 use proleg::optimize::fitness::Fitness;
 use proleg::optimize::result::actuation_with;
-use proleg::optimize::run::{RunSettings, optimize, prepare};
+use proleg::optimize::run::{Evaluation, Recording, RunSettings, optimize, prepare};
+use proleg::optimize::store::{RunInfo, Store};
 
 /// Command-line options of `proleg optimize`.
 pub struct OptimizeOptions {
@@ -24,6 +25,8 @@ pub struct OptimizeOptions {
     pub fitness: String,
     pub out: Option<PathBuf>,
     pub evaluations: Option<PathBuf>,
+    pub store: Option<PathBuf>,
+    pub resume: bool,
     pub quiet: bool,
 }
 
@@ -95,10 +98,52 @@ pub fn run(o: &OptimizeOptions) -> Result<String, String> {
         }
         None => None,
     };
+    let store_path = o.store.clone().unwrap_or_else(|| {
+        let stem = o
+            .config
+            .file_name()
+            .and_then(|n| n.to_str())
+            .map(|n| n.trim_end_matches(".xml").trim_end_matches(".simulation"))
+            .unwrap_or("optimize");
+        PathBuf::from(format!("{stem}.results.sqlite"))
+    });
+    let mut store = Store::open(&store_path)?;
+    let info = RunInfo {
+        config: sim.file.display().to_string(),
+        algorithm: label.to_string(),
+        seed: settings.seed,
+        fitness: o.fitness.clone(),
+        duration,
+        genes: space.genes.iter().map(|g| g.label()).collect(),
+    };
+    let (run, known) = match (o.resume, store.find_unfinished(&info)?) {
+        (true, Some(id)) => {
+            let known = store.evaluations(id)?;
+            if !o.quiet {
+                eprintln!("resuming run {id} of {}: {} evaluations stored", store_path.display(), known.len());
+            }
+            (id, known)
+        }
+        (true, None) => {
+            return Err(format!(
+                "--resume: {} holds no unfinished run of {} with seed {}, fitness {} and {duration} s episodes",
+                store_path.display(),
+                sim.file.display(),
+                settings.seed,
+                o.fitness
+            ));
+        }
+        (false, _) => (store.start_run(&info)?, Vec::new()),
+    };
+    let recording = Recording {
+        store: &mut store,
+        run,
+        known,
+    };
     let t = Instant::now();
     let mut last_report = 0.0;
     let mut table_error = None;
-    let outcome = optimize(&sim, &settings, |e| {
+    let outcome = optimize(&sim, &settings, Some(recording), |e: &Evaluation| {
         if let Some(w) = table.as_mut() {
             let values: Vec<String> = space
                 .decode(&e.genome)
@@ -155,6 +200,7 @@ pub fn run(o: &OptimizeOptions) -> Result<String, String> {
         outcome.evaluations as f64 / wall * 3600.0,
         outcome.evaluations as f64 * duration / wall / workers as f64
     );
+    let _ = writeln!(out, "store           {} (run {run})", store_path.display());
     if let Some(s0) = outcome.start_score {
         let _ = writeln!(out, "start score {s0:.4} (the configured values)");
     }

@@ -84,6 +84,13 @@ enum Command {
         /// Write every evaluation (score, best so far, gene values) as TSV.
         #[arg(long)]
         evaluations: Option<PathBuf>,
+        /// The SQLite experiment store (default: CONFIG-STEM.results.sqlite here).
+        #[arg(long)]
+        store: Option<PathBuf>,
+        /// Continue the last unfinished run of the same configuration, seed, fitness and
+        /// duration in the store, reusing its stored evaluations.
+        #[arg(long)]
+        resume: bool,
         /// No progress on stderr.
         #[arg(long)]
         quiet: bool,
@@ -192,6 +199,8 @@ fn main() -> ExitCode {
             fitness,
             out,
             evaluations,
+            store,
+            resume,
             quiet,
         } => cli_optimize::run(&cli_optimize::OptimizeOptions {
             config,
@@ -203,6 +212,8 @@ fn main() -> ExitCode {
             fitness,
             out,
             evaluations,
+            store,
+            resume,
             quiet,
         }),
         Command::Data { command } => match command {

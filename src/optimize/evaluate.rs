@@ -4,6 +4,8 @@
 //! non-finite or far-flung centre of mass) scores the candidate `-inf` and the run goes on.
 
 use std::sync::Mutex;
+use std::sync::mpsc::channel;
+use std::time::Instant;
 
 use crate::config::Simulation;
 use crate::optimize::fitness::{Episode, Fitness};
@@ -32,6 +34,16 @@ pub struct Evaluator {
 impl Evaluator {
     /// Scores of `genomes`, in order.
     pub fn evaluate(&self, genomes: &[Genome]) -> Result<Vec<f64>, String> {
+        self.evaluate_with(genomes, |_, _, _| {})
+    }
+
+    /// Scores of `genomes`, in order; `on_batch(first, scores, wall_seconds)` is called on
+    /// this thread as each batch finishes (to store results before the round ends).
+    pub fn evaluate_with(
+        &self,
+        genomes: &[Genome],
+        mut on_batch: impl FnMut(usize, &[f64], f64),
+    ) -> Result<Vec<f64>, String> {
         let batch = self.batch.clamp(1, MAX_ROBOTS_PER_WORLD);
         let chunks: Vec<(usize, &[Genome])> = genomes
             .chunks(batch)
@@ -39,11 +51,14 @@ impl Evaluator {
             .map(|(i, c)| (i * batch, c))
             .collect();
         let next = Mutex::new(0usize);
-        let results = Mutex::new(vec![f64::NAN; genomes.len()]);
-        let error = Mutex::new(None::<String>);
+        let mut results = vec![f64::NAN; genomes.len()];
+        let mut error = None;
+        let (tx, rx) = channel::<(usize, Result<Vec<f64>, String>, f64)>();
         std::thread::scope(|s| {
             for _ in 0..self.workers.clamp(1, chunks.len().max(1)) {
-                s.spawn(|| {
+                let tx = tx.clone();
+                let (next, chunks) = (&next, &chunks);
+                s.spawn(move || {
                     loop {
                         let i = {
                             let Ok(mut n) = next.lock() else { return };
@@ -51,32 +66,33 @@ impl Evaluator {
                             *n += 1;
                             i
                         };
-                        let Some((start, chunk)) = chunks.get(i) else {
+                        let Some((start, chunk)) = chunks.get(i) else { return };
+                        let t = Instant::now();
+                        let r = self.run_batch(chunk);
+                        let failed = r.is_err();
+                        if tx.send((*start, r, t.elapsed().as_secs_f64())).is_err() || failed {
                             return;
-                        };
-                        match self.run_batch(chunk) {
-                            Ok(scores) => {
-                                if let Ok(mut r) = results.lock() {
-                                    r[*start..*start + scores.len()].copy_from_slice(&scores);
-                                }
-                            }
-                            Err(e) => {
-                                if let Ok(mut slot) = error.lock() {
-                                    slot.get_or_insert(e);
-                                }
-                                return;
-                            }
                         }
                     }
                 });
             }
+            drop(tx);
+            for (start, r, wall) in rx {
+                match r {
+                    Ok(scores) => {
+                        results[start..start + scores.len()].copy_from_slice(&scores);
+                        on_batch(start, &scores, wall);
+                    }
+                    Err(e) => {
+                        error.get_or_insert(e);
+                    }
+                }
+            }
         });
-        if let Some(e) = error.into_inner().ok().flatten() {
-            return Err(e);
+        match error {
+            Some(e) => Err(e),
+            None => Ok(results),
         }
-        results
-            .into_inner()
-            .map_err(|_| "an evaluation thread panicked".to_string())
     }
 
     /// One world with a robot per genome.
@@ -135,7 +151,8 @@ impl Evaluator {
                 energy,
                 mass,
             };
-            scores.push(self.fitness.score(&e));
+            let score = self.fitness.score(&e);
+            scores.push(if score.is_nan() { f64::NEG_INFINITY } else { score });
         }
         Ok(scores)
     }

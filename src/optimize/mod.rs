@@ -12,6 +12,7 @@ pub mod ga;
 pub mod result;
 pub mod run;
 pub mod space;
+pub mod store;
 
 pub use space::{Genome, SearchSpace};
 

@@ -10,6 +10,7 @@ use crate::optimize::evaluate::Evaluator;
 use crate::optimize::fitness::Fitness;
 use crate::optimize::ga::GeneticAlgorithm;
 use crate::optimize::space::{Genome, SearchSpace};
+use crate::optimize::store::{Store, StoredEval};
 use crate::sim::{BuildOptions, Simulator};
 
 /// How to run.
@@ -80,10 +81,21 @@ pub fn prepare(sim: &Simulation) -> Result<(SearchSpace, Genome), String> {
     Ok((space, start))
 }
 
-/// Runs the optimization of `sim`, calling `on_eval` for every evaluation in order.
+/// Where a run stores its evaluations, and what it already holds (for `--resume`).
+pub struct Recording<'a> {
+    pub store: &'a mut Store,
+    pub run: i64,
+    /// Evaluations stored by an earlier, interrupted attempt of this run.
+    pub known: Vec<StoredEval>,
+}
+
+/// Runs the optimization of `sim`, calling `on_eval` for every evaluation in order. With a
+/// recording, every evaluation is stored as its batch finishes, and stored ones (same
+/// number and genome) are reused instead of simulated again.
 pub fn optimize(
     sim: &Simulation,
     settings: &RunSettings,
+    mut recording: Option<Recording<'_>>,
     mut on_eval: impl FnMut(&Evaluation),
 ) -> Result<Outcome, String> {
     let (space, start) = prepare(sim)?;
@@ -124,10 +136,54 @@ pub fn optimize(
         if candidates.is_empty() {
             break;
         }
-        if settings.batch == 0 {
-            evaluator.batch = candidates.len().div_ceil(workers);
+        // Reuse what an interrupted attempt stored; simulate the rest.
+        let mut scores = vec![f64::NAN; candidates.len()];
+        let mut missing = Vec::new();
+        for (i, g) in candidates.iter().enumerate() {
+            let known = recording.as_ref().and_then(|r| {
+                r.known
+                    .get((n as usize) + i)
+                    .filter(|k| k.number == n + i as u64 && k.genome == *g)
+            });
+            match known {
+                Some(k) => scores[i] = if k.score.is_nan() { f64::NEG_INFINITY } else { k.score },
+                None => missing.push(i),
+            }
         }
-        let scores = evaluator.evaluate(&candidates)?;
+        if !missing.is_empty() {
+            let todo: Vec<Genome> = missing.iter().map(|i| candidates[*i].clone()).collect();
+            if settings.batch == 0 {
+                evaluator.batch = todo.len().div_ceil(workers);
+            }
+            let mut store_error = None;
+            let got = evaluator.evaluate_with(&todo, |first, batch_scores, wall| {
+                let Some(r) = recording.as_mut() else { return };
+                let evals: Vec<StoredEval> = batch_scores
+                    .iter()
+                    .enumerate()
+                    .map(|(k, s)| {
+                        let i = missing[first + k];
+                        StoredEval {
+                            number: n + i as u64,
+                            round,
+                            genome: candidates[i].clone(),
+                            values: evaluator.space.decode(&candidates[i]),
+                            score: *s,
+                            wall: wall / batch_scores.len().max(1) as f64,
+                        }
+                    })
+                    .collect();
+                if let Err(e) = r.store.record(r.run, settings.seed, &evals) {
+                    store_error.get_or_insert(e);
+                }
+            })?;
+            if let Some(e) = store_error {
+                return Err(e);
+            }
+            for (k, i) in missing.iter().enumerate() {
+                scores[*i] = got[k];
+            }
+        }
         for (g, s) in candidates.iter().zip(&scores) {
             if n == 0 {
                 start_score = Some(*s);
@@ -144,6 +200,9 @@ pub fn optimize(
         }
         optimizer.tell(&scores);
         round += 1;
+    }
+    if let Some(r) = recording.as_ref() {
+        r.store.finish_run(r.run)?;
     }
     let (g, s) = optimizer
         .best()
