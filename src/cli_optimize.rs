@@ -28,6 +28,7 @@ pub struct OptimizeOptions {
     pub store: Option<PathBuf>,
     pub resume: bool,
     pub quiet: bool,
+    pub crash_after: Option<u64>,
 }
 
 pub fn run(o: &OptimizeOptions) -> Result<String, String> {
@@ -108,6 +109,9 @@ pub fn run(o: &OptimizeOptions) -> Result<String, String> {
         PathBuf::from(format!("{stem}.results.sqlite"))
     });
     let mut store = Store::open(&store_path)?;
+    if let Some(n) = o.crash_after {
+        store.crash_after(n);
+    }
     let info = RunInfo {
         config: sim.file.display().to_string(),
         algorithm: label.to_string(),
@@ -120,7 +124,11 @@ pub fn run(o: &OptimizeOptions) -> Result<String, String> {
         (true, Some(id)) => {
             let known = store.evaluations(id)?;
             if !o.quiet {
-                eprintln!("resuming run {id} of {}: {} evaluations stored", store_path.display(), known.len());
+                eprintln!(
+                    "resuming run {id} of {}: {} evaluations stored",
+                    store_path.display(),
+                    known.len()
+                );
             }
             (id, known)
         }

@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand};
 
 mod cli_data;
 mod cli_optimize;
+mod cli_results;
 mod cli_run;
 
 /// Design, simulate, optimize and drive chain-like modular robots.
@@ -94,6 +95,23 @@ enum Command {
         /// No progress on stderr.
         #[arg(long)]
         quiet: bool,
+        /// Testing aid: abort (like kill -9) once this many evaluations are stored.
+        #[arg(long, hide = true)]
+        crash_after: Option<u64>,
+    },
+    /// Runs and best candidates of an experiment store; learning curves and TSV export.
+    Results {
+        /// The SQLite store written by `proleg optimize`.
+        store: PathBuf,
+        /// Only these runs (comma-separated ids).
+        #[arg(long, value_delimiter = ',')]
+        runs: Vec<i64>,
+        /// Draw the learning curves (best score so far per evaluation) into this PNG.
+        #[arg(long)]
+        curve: Option<PathBuf>,
+        /// Write every evaluation as TSV.
+        #[arg(long)]
+        export: Option<PathBuf>,
     },
     /// Inspect recorded data files.
     Data {
@@ -202,6 +220,7 @@ fn main() -> ExitCode {
             store,
             resume,
             quiet,
+            crash_after,
         } => cli_optimize::run(&cli_optimize::OptimizeOptions {
             config,
             seed,
@@ -215,6 +234,18 @@ fn main() -> ExitCode {
             store,
             resume,
             quiet,
+            crash_after,
+        }),
+        Command::Results {
+            store,
+            runs,
+            curve,
+            export,
+        } => cli_results::run(&cli_results::ResultsOptions {
+            store,
+            runs,
+            curve,
+            export,
         }),
         Command::Data { command } => match command {
             DataCommand::Info { file } => cli_data::show_info(&file),

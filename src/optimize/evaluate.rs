@@ -66,7 +66,9 @@ impl Evaluator {
                             *n += 1;
                             i
                         };
-                        let Some((start, chunk)) = chunks.get(i) else { return };
+                        let Some((start, chunk)) = chunks.get(i) else {
+                            return;
+                        };
                         let t = Instant::now();
                         let r = self.run_batch(chunk);
                         let failed = r.is_err();
@@ -152,7 +154,11 @@ impl Evaluator {
                 mass,
             };
             let score = self.fitness.score(&e);
-            scores.push(if score.is_nan() { f64::NEG_INFINITY } else { score });
+            scores.push(if score.is_nan() {
+                f64::NEG_INFINITY
+            } else {
+                score
+            });
         }
         Ok(scores)
     }

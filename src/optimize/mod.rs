@@ -5,6 +5,7 @@
 //! candidates as seeded headless episodes, batched per world, on every core
 //! ([`evaluate`]).
 
+pub mod curve;
 pub mod deluge;
 pub mod evaluate;
 pub mod fitness;

@@ -146,7 +146,13 @@ pub fn optimize(
                     .filter(|k| k.number == n + i as u64 && k.genome == *g)
             });
             match known {
-                Some(k) => scores[i] = if k.score.is_nan() { f64::NEG_INFINITY } else { k.score },
+                Some(k) => {
+                    scores[i] = if k.score.is_nan() {
+                        f64::NEG_INFINITY
+                    } else {
+                        k.score
+                    }
+                }
                 None => missing.push(i),
             }
         }

@@ -48,6 +48,8 @@ pub struct StoredEval {
 pub struct Store {
     conn: Connection,
     path: PathBuf,
+    stored: u64,
+    crash_after: Option<u64>,
 }
 
 fn join<T: ToString>(v: &[T]) -> String {
@@ -59,8 +61,10 @@ impl Store {
     pub fn open(path: &Path) -> Result<Store, String> {
         let fail = |e: rusqlite::Error| format!("{}: {e}", path.display());
         let conn = Connection::open(path).map_err(fail)?;
-        conn.pragma_update(None, "journal_mode", "WAL").map_err(fail)?;
-        conn.pragma_update(None, "synchronous", "NORMAL").map_err(fail)?;
+        conn.pragma_update(None, "journal_mode", "WAL")
+            .map_err(fail)?;
+        conn.pragma_update(None, "synchronous", "NORMAL")
+            .map_err(fail)?;
         conn.execute_batch(
             "CREATE TABLE IF NOT EXISTS runs (
                 id INTEGER PRIMARY KEY,
@@ -78,7 +82,15 @@ impl Store {
         Ok(Store {
             conn,
             path: path.to_path_buf(),
+            stored: 0,
+            crash_after: None,
         })
+    }
+
+    /// Testing aid for resumption: abort the process (no clean-up, like `kill -9`) right
+    /// after the batch that brings this session's stored evaluations to `n` is committed.
+    pub fn crash_after(&mut self, n: u64) {
+        self.crash_after = Some(n);
     }
 
     pub fn path(&self) -> &Path {
@@ -115,7 +127,10 @@ impl Store {
 
     /// Stores evaluations (one transaction).
     pub fn record(&mut self, run: i64, seed: u64, evals: &[StoredEval]) -> Result<(), String> {
-        let tx = self.conn.transaction().map_err(|e| format!("{}: {e}", self.path.display()))?;
+        let tx = self
+            .conn
+            .transaction()
+            .map_err(|e| format!("{}: {e}", self.path.display()))?;
         {
             let mut st = tx
                 .prepare_cached(
@@ -124,7 +139,11 @@ impl Store {
                 )
                 .map_err(|e| format!("{}: {e}", self.path.display()))?;
             for e in evals {
-                let score = if e.score.is_nan() { None } else { Some(e.score) };
+                let score = if e.score.is_nan() {
+                    None
+                } else {
+                    Some(e.score)
+                };
                 st.execute(params![
                     run,
                     e.number as i64,
@@ -138,7 +157,13 @@ impl Store {
                 .map_err(|err| format!("{}: {err}", self.path.display()))?;
             }
         }
-        tx.commit().map_err(|e| format!("{}: {e}", self.path.display()))
+        tx.commit()
+            .map_err(|e| format!("{}: {e}", self.path.display()))?;
+        self.stored += evals.len() as u64;
+        if self.crash_after.is_some_and(|n| self.stored >= n) {
+            std::process::abort();
+        }
+        Ok(())
     }
 
     /// Every stored evaluation of `run`, by number.
@@ -155,14 +180,21 @@ impl Store {
                 Ok(StoredEval {
                     number: r.get::<_, i64>(0)? as u64,
                     round: r.get::<_, i64>(1)? as u64,
-                    genome: genome.split_whitespace().filter_map(|t| t.parse().ok()).collect(),
-                    values: vals.split_whitespace().filter_map(|t| t.parse().ok()).collect(),
+                    genome: genome
+                        .split_whitespace()
+                        .filter_map(|t| t.parse().ok())
+                        .collect(),
+                    values: vals
+                        .split_whitespace()
+                        .filter_map(|t| t.parse().ok())
+                        .collect(),
                     score: score.unwrap_or(f64::NAN),
                     wall: r.get(5)?,
                 })
             })
             .map_err(|e| self.fail(e))?;
-        rows.collect::<Result<Vec<_>, _>>().map_err(|e| self.fail(e))
+        rows.collect::<Result<Vec<_>, _>>()
+            .map_err(|e| self.fail(e))
     }
 
     /// Marks `run` finished.
@@ -206,6 +238,7 @@ impl Store {
                 })
             })
             .map_err(|e| self.fail(e))?;
-        rows.collect::<Result<Vec<_>, _>>().map_err(|e| self.fail(e))
+        rows.collect::<Result<Vec<_>, _>>()
+            .map_err(|e| self.fail(e))
     }
 }

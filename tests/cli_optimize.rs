@@ -1,0 +1,117 @@
+//! `proleg optimize` and `proleg results` from the command line: a run killed in the middle
+//! and resumed from its store ends with the same best candidate as an uninterrupted run.
+
+mod common;
+
+use std::process::Command;
+
+fn proleg(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_proleg"))
+        .args(args)
+        .current_dir(common::root())
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// The lines that state the result: best score and best values.
+fn result_lines(out: &str) -> Vec<String> {
+    out.lines()
+        .skip_while(|l| !l.starts_with("best score"))
+        .take_while(|l| !l.starts_with("best actuation"))
+        .map(str::to_string)
+        .collect()
+}
+
+#[test]
+fn a_killed_run_resumes_to_the_same_best() {
+    let dir = common::scratch("cli_optimize");
+    let whole = dir.join("whole.sqlite");
+    let killed = dir.join("killed.sqlite");
+    let common_args = [
+        "optimize",
+        "configs/experiment1_ga.simulation.xml",
+        "--max-evals",
+        "75",
+        "--duration",
+        "1",
+        "--quiet",
+        "--store",
+    ];
+    let mut args = common_args.to_vec();
+    args.push(whole.to_str().unwrap());
+    let (ok, full, err) = proleg(&args);
+    assert!(ok, "{err}");
+    assert!(full.contains("75 evaluations in 3 rounds"), "{full}");
+    let expected = result_lines(&full);
+    assert!(expected.len() == 6, "{full}");
+
+    // Killed in the middle of the second generation (after a batch is stored).
+    let mut args = common_args.to_vec();
+    args.extend([killed.to_str().unwrap(), "--crash-after", "40"]);
+    let (ok, _, _) = proleg(&args);
+    assert!(!ok, "the crash aid aborts the process");
+    let (ok, listing, err) = proleg(&["results", killed.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    assert!(listing.contains("(unfinished"), "{listing}");
+
+    let mut args = common_args.to_vec();
+    args.extend([killed.to_str().unwrap(), "--resume"]);
+    args.retain(|a| *a != "--quiet");
+    let (ok, resumed, err) = proleg(&args);
+    assert!(ok, "{err}");
+    let stored: u64 = err
+        .lines()
+        .filter(|l| l.contains("evaluations stored"))
+        .find_map(|l| {
+            l.split("evaluations stored")
+                .next()?
+                .rsplit(' ')
+                .nth(1)?
+                .parse()
+                .ok()
+        })
+        .unwrap_or_else(|| panic!("no resume line in {err}"));
+    assert!((40..75).contains(&stored), "{err}");
+    assert_eq!(result_lines(&resumed), expected);
+
+    // The store lists the finished run, draws its curve and exports every evaluation.
+    let png = dir.join("curve.png");
+    let tsv = dir.join("evals.tsv");
+    let (ok, listing, err) = proleg(&[
+        "results",
+        killed.to_str().unwrap(),
+        "--curve",
+        png.to_str().unwrap(),
+        "--export",
+        tsv.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        listing.contains("75 evaluations") && !listing.contains("unfinished"),
+        "{listing}"
+    );
+    assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+    assert_eq!(std::fs::read_to_string(&tsv).unwrap().lines().count(), 76);
+}
+
+#[test]
+fn optimize_refuses_a_single_run_configuration() {
+    let dir = common::scratch("cli_optimize_refuse");
+    let store = dir.join("s.sqlite");
+    let (ok, _, err) = proleg(&[
+        "optimize",
+        "configs/demo.simulation.xml",
+        "--store",
+        store.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(err.contains("no optimizer file"), "{err}");
+    let (ok, _, err) = proleg(&["results", "missing.sqlite"]);
+    assert!(!ok);
+    assert!(err.contains("no such store"), "{err}");
+}
