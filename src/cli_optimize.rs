@@ -22,7 +22,8 @@ pub struct OptimizeOptions {
     pub batch: usize,
     pub max_evaluations: Option<u64>,
     pub duration: Option<f64>,
-    pub fitness: String,
+    /// Default: the optimizer file's `<fitness>`.
+    pub fitness: Option<String>,
     pub out: Option<PathBuf>,
     pub evaluations: Option<PathBuf>,
     pub store: Option<PathBuf>,
@@ -40,7 +41,12 @@ pub fn run(o: &OptimizeOptions) -> Result<String, String> {
             "--duration {duration}: give a number of seconds > 0"
         ));
     }
-    let fitness = Fitness::parse(&o.fitness)?;
+    let spec = sim.optimizer.as_ref().map(|m| &m.spec);
+    let fitness = match &o.fitness {
+        Some(f) => Fitness::parse(f)?,
+        None => spec.map(|s| s.fitness).unwrap_or(Fitness::Displacement),
+    };
+    let max_evaluations = o.max_evaluations.or(spec.and_then(|s| s.max_evaluations));
     let workers = o.workers.unwrap_or_else(|| {
         std::thread::available_parallelism()
             .map(|n| n.get())
@@ -54,7 +60,7 @@ pub fn run(o: &OptimizeOptions) -> Result<String, String> {
         workers,
         batch: o.batch,
         deluge_batch: 8,
-        max_evaluations: o.max_evaluations.unwrap_or(u64::MAX),
+        max_evaluations: max_evaluations.unwrap_or(u64::MAX),
         duration,
         fitness,
     };
@@ -81,7 +87,7 @@ pub fn run(o: &OptimizeOptions) -> Result<String, String> {
         "problem size (eq. 3.3): {:.3e} candidates; {} s per episode, fitness {}, seed {}, {workers} worker(s)",
         space.size(),
         duration,
-        o.fitness,
+        fitness.name(),
         settings.seed
     );
     if !o.quiet {
@@ -116,7 +122,7 @@ pub fn run(o: &OptimizeOptions) -> Result<String, String> {
         config: sim.file.display().to_string(),
         algorithm: label.to_string(),
         seed: settings.seed,
-        fitness: o.fitness.clone(),
+        fitness: fitness.name().to_string(),
         duration,
         genes: space.genes.iter().map(|g| g.label()).collect(),
     };
@@ -138,7 +144,7 @@ pub fn run(o: &OptimizeOptions) -> Result<String, String> {
                 store_path.display(),
                 sim.file.display(),
                 settings.seed,
-                o.fitness
+                fitness.name()
             ));
         }
         (false, _) => (store.start_run(&info)?, Vec::new()),
@@ -174,7 +180,7 @@ pub fn run(o: &OptimizeOptions) -> Result<String, String> {
         if !o.quiet && (secs - last_report >= 5.0 || e.number == 0) {
             last_report = secs;
             let rate = (e.number + 1) as f64 / secs.max(1e-9);
-            let eta = match o.max_evaluations {
+            let eta = match max_evaluations {
                 Some(m) => format!(
                     ", ETA {:.0} s",
                     (m.saturating_sub(e.number + 1)) as f64 / rate

@@ -70,15 +70,16 @@ enum Command {
         /// Robots per world (default 0: each round split evenly over the workers).
         #[arg(long, default_value_t = 0)]
         batch: usize,
-        /// Stop after this many evaluations.
+        /// Stop after this many evaluations (default: the optimizer file's <maxEvaluations>).
         #[arg(long)]
         max_evals: Option<u64>,
         /// Simulated seconds per episode (default: the file's duration).
         #[arg(long)]
         duration: Option<f64>,
-        /// displacement (eq. 3.7), distance, speed or cost-of-transport.
-        #[arg(long, default_value = "displacement")]
-        fitness: String,
+        /// displacement (eq. 3.7), distance, speed or cost-of-transport (default: the
+        /// optimizer file's <fitness>, else displacement).
+        #[arg(long)]
+        fitness: Option<String>,
         /// Write the best candidate as an actuation file.
         #[arg(short, long)]
         out: Option<PathBuf>,

@@ -15,6 +15,7 @@ use crate::config::mask::JointMask;
 use crate::config::xml::dom::Element;
 use crate::config::xml::read::Reader;
 use crate::config::xml::write::{XmlWriter, num};
+use crate::optimize::fitness::Fitness;
 
 /// A module parameter registered for optimization.
 #[derive(Debug, Clone, PartialEq)]
@@ -96,6 +97,10 @@ pub struct OptimizerFile {
     pub algorithm: Algorithm,
     pub parameters: Vec<RegisteredParameter>,
     pub genome: Vec<GenomeConfig>,
+    /// Our extension `<fitness>`: how episodes are scored (default displacement, eq. 3.7).
+    pub fitness: Fitness,
+    /// Our extension `<maxEvaluations>`: stop after this many evaluations.
+    pub max_evaluations: Option<u64>,
 }
 
 impl OptimizerFile {
@@ -332,7 +337,12 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
     r.only_children(root, &["properties", "genomeconfig"])?;
     r.only_attrs(root, &[])?;
     let props = r.required(root, "properties")?;
-    let common = ["numofparameterstooptimize", "registeredparameters"];
+    let common = [
+        "numofparameterstooptimize",
+        "registeredparameters",
+        "fitness",
+        "maxevaluations",
+    ];
     let algorithm = if root.is("geneticalgorithm") {
         let mut allowed = vec![
             "popsize",
@@ -417,10 +427,22 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
             ));
         }
     }
+    let fitness = match r.at_most_one(props, "fitness")? {
+        Some(el) => {
+            Fitness::parse(r.text(el)?).map_err(|m| r.err(el.pos, ErrorKind::InvalidValue, m))?
+        }
+        None => Fitness::Displacement,
+    };
+    let max_evaluations = r
+        .at_most_one(props, "maxevaluations")?
+        .map(|el| r.u32(el).map(u64::from))
+        .transpose()?;
     Ok(OptimizerFile {
         algorithm,
         parameters,
         genome,
+        fitness,
+        max_evaluations,
     })
 }
 
@@ -450,6 +472,12 @@ pub fn write_optimizer_file(o: &OptimizerFile) -> String {
             w.num("rain", g.rain);
             w.leaf("confidence", &g.confidence.to_string());
         }
+    }
+    if o.fitness != Fitness::Displacement {
+        w.leaf("fitness", o.fitness.name());
+    }
+    if let Some(m) = o.max_evaluations {
+        w.leaf("maxEvaluations", &m.to_string());
     }
     w.leaf("numOfParametersToOptimize", &o.parameters.len().to_string());
     w.open("registeredParameters", &[]);
@@ -538,5 +566,33 @@ mod tests {
             allele_count(0.0, 1.0, 1e-320, Inclusive, Inclusive),
             u64::MAX
         );
+    }
+
+    #[test]
+    fn fitness_and_evaluation_budget_are_read_written_and_checked() {
+        let base = include_str!("../../configs/optimizer/experiment1.ga.xml");
+        let text = base.replace(
+            "<gaMode>1</gaMode>",
+            "<gaMode>1</gaMode>\n    <fitness>cost-of-transport</fitness>\n    <maxEvaluations>500</maxEvaluations>",
+        );
+        let o = parse_optimizer_file("x.ga.xml", &text).unwrap();
+        assert_eq!(
+            (o.fitness, o.max_evaluations),
+            (Fitness::CostOfTransport, Some(500))
+        );
+        let again = parse_optimizer_file("x.ga.xml", &write_optimizer_file(&o)).unwrap();
+        assert_eq!(again, o);
+        let plain = parse_optimizer_file("x.ga.xml", base).unwrap();
+        assert_eq!(
+            (plain.fitness, plain.max_evaluations),
+            (Fitness::Displacement, None)
+        );
+        let bad = base.replace(
+            "<gaMode>1</gaMode>",
+            "<gaMode>1</gaMode>\n<fitness>fastest</fitness>",
+        );
+        let e = parse_optimizer_file("x.ga.xml", &bad).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::InvalidValue);
+        assert!(e.to_string().contains("unknown fitness"), "{e}");
     }
 }

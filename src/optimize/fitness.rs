@@ -45,6 +45,16 @@ impl Fitness {
         }
     }
 
+    /// The name files and the command line use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Fitness::Displacement => "displacement",
+            Fitness::Distance => "distance",
+            Fitness::MeanSpeed => "speed",
+            Fitness::CostOfTransport => "cost-of-transport",
+        }
+    }
+
     /// Whether episodes must accumulate the servos' energy.
     pub fn needs_energy(self) -> bool {
         self == Fitness::CostOfTransport
