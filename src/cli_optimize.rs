@@ -7,6 +7,8 @@ use std::io::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
 
+use indicatif::{ProgressBar, ProgressStyle};
+
 use proleg::config::actuation::write_actuation_file;
 use proleg::config::load_simulation;
 use proleg::optimize::fitness::Fitness;
@@ -155,6 +157,23 @@ pub fn run(o: &OptimizeOptions) -> Result<String, String> {
         known,
     };
     let t = Instant::now();
+    let bar = if o.quiet {
+        ProgressBar::hidden()
+    } else {
+        match max_evaluations {
+            Some(m) => ProgressBar::new(m),
+            None => ProgressBar::new_spinner(),
+        }
+    };
+    let style = match max_evaluations {
+        Some(_) => "{bar:30} {pos}/{len} evaluations  {msg}  {per_sec}  ETA {eta}",
+        None => "{spinner} {pos} evaluations  {msg}  {per_sec}",
+    };
+    if let Ok(st) = ProgressStyle::with_template(style) {
+        bar.set_style(st);
+    }
+    // Lines for logs when stderr is not a terminal (the bar then stays hidden).
+    let log_lines = !o.quiet && bar.is_hidden();
     let mut last_report = 0.0;
     let mut table_error = None;
     let outcome = optimize(&sim, &settings, Some(recording), |e: &Evaluation| {
@@ -176,27 +195,23 @@ pub fn run(o: &OptimizeOptions) -> Result<String, String> {
                 table_error.get_or_insert(err.to_string());
             }
         }
+        bar.set_position(e.number + 1);
+        bar.set_message(format!("best {:.4}", e.best));
         let secs = t.elapsed().as_secs_f64();
-        if !o.quiet && (secs - last_report >= 5.0 || e.number == 0) {
+        if log_lines && (secs - last_report >= 10.0 || e.number == 0) {
             last_report = secs;
             let rate = (e.number + 1) as f64 / secs.max(1e-9);
-            let eta = match max_evaluations {
-                Some(m) => format!(
-                    ", ETA {:.0} s",
-                    (m.saturating_sub(e.number + 1)) as f64 / rate
-                ),
-                None => String::new(),
-            };
             eprintln!(
-                "  evaluations {:>6}  round {:>5}  best {:.4}  {:.2} evals/s ({:.0}/h){eta}",
+                "  evaluations {:>6}  round {:>5}  best {:.4}  {:.0} evaluations/h",
                 e.number + 1,
                 e.round,
                 e.best,
-                rate,
                 rate * 3600.0
             );
         }
-    })?;
+    });
+    bar.finish_and_clear();
+    let outcome = outcome?;
     if let Some(mut w) = table {
         w.flush().map_err(|e| e.to_string())?;
     }
