@@ -222,13 +222,18 @@ pub fn run(o: &OptimizeOptions) -> Result<String, String> {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "{} evaluations in {} rounds, {:.1} s ({:.0} evaluations/h, {:.1}x real time per core)",
-        outcome.evaluations,
-        outcome.rounds,
-        wall,
-        outcome.evaluations as f64 / wall * 3600.0,
-        outcome.evaluations as f64 * duration / wall / workers as f64
+        "{} evaluations in {} rounds ({} simulated, the rest from the store), {:.1} s",
+        outcome.evaluations, outcome.rounds, outcome.simulated, wall
     );
+    if outcome.simulated > 0 {
+        let per_hour = outcome.simulated as f64 / wall * 3600.0;
+        let _ = writeln!(
+            out,
+            "throughput      {per_hour:.0} evaluations/h of {duration} s ({:.1}x real time per worker); 6000 such evaluations (the thesis's experiment-2 budget, eq. 3.6) take {:.2} h",
+            outcome.simulated as f64 * duration / wall / workers as f64,
+            6000.0 / per_hour
+        );
+    }
     let _ = writeln!(out, "store           {} (run {run})", store_path.display());
     if let Some(s0) = outcome.start_score {
         let _ = writeln!(out, "start score {s0:.4} (the configured values)");

@@ -46,7 +46,10 @@ fn a_killed_run_resumes_to_the_same_best() {
     args.push(whole.to_str().unwrap());
     let (ok, full, err) = proleg(&args);
     assert!(ok, "{err}");
-    assert!(full.contains("75 evaluations in 3 rounds"), "{full}");
+    assert!(
+        full.contains("75 evaluations in 3 rounds (75 simulated"),
+        "{full}"
+    );
     let expected = result_lines(&full);
     assert!(expected.len() == 6, "{full}");
 
@@ -78,6 +81,10 @@ fn a_killed_run_resumes_to_the_same_best() {
         .unwrap_or_else(|| panic!("no resume line in {err}"));
     assert!((40..75).contains(&stored), "{err}");
     assert_eq!(result_lines(&resumed), expected);
+    assert!(
+        resumed.contains(&format!("({} simulated", 75 - stored)),
+        "only the missing evaluations run: {resumed}"
+    );
 
     // The store lists the finished run, draws its curve and exports every evaluation.
     let png = dir.join("curve.png");

@@ -49,6 +49,8 @@ pub struct Outcome {
     pub start: Genome,
     pub start_score: Option<f64>,
     pub evaluations: u64,
+    /// Evaluations simulated in this call (the rest came from the store).
+    pub simulated: u64,
     pub rounds: u64,
 }
 
@@ -131,6 +133,7 @@ pub fn optimize(
     };
     let (mut n, mut round, mut best) = (0u64, 0u64, f64::NEG_INFINITY);
     let mut start_score = None;
+    let mut simulated = 0u64;
     while !optimizer.finished() {
         let candidates = optimizer.ask();
         if candidates.is_empty() {
@@ -156,6 +159,7 @@ pub fn optimize(
                 None => missing.push(i),
             }
         }
+        simulated += missing.len() as u64;
         if !missing.is_empty() {
             let todo: Vec<Genome> = missing.iter().map(|i| candidates[*i].clone()).collect();
             if settings.batch == 0 {
@@ -220,6 +224,7 @@ pub fn optimize(
         start,
         start_score,
         evaluations: n,
+        simulated,
         rounds: round,
     })
 }
