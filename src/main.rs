@@ -102,8 +102,9 @@ enum Command {
     },
     /// Runs and best candidates of an experiment store; learning curves and TSV export.
     Results {
-        /// The SQLite store written by `proleg optimize`.
-        store: PathBuf,
+        /// SQLite stores written by `proleg optimize` (runs of all are drawn together).
+        #[arg(required = true)]
+        stores: Vec<PathBuf>,
         /// Only these runs (comma-separated ids).
         #[arg(long, value_delimiter = ',')]
         runs: Vec<i64>,
@@ -238,12 +239,12 @@ fn main() -> ExitCode {
             crash_after,
         }),
         Command::Results {
-            store,
+            stores,
             runs,
             curve,
             export,
         } => cli_results::run(&cli_results::ResultsOptions {
-            store,
+            stores,
             runs,
             curve,
             export,
