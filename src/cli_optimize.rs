@@ -234,6 +234,7 @@ pub fn run(o: &OptimizeOptions) -> Result<String, String> {
             6000.0 / per_hour
         );
     }
+    let _ = writeln!(out, "evaluation      {}", outcome.batching);
     let _ = writeln!(out, "store           {} (run {run})", store_path.display());
     if let Some(s0) = outcome.start_score {
         let _ = writeln!(out, "start score {s0:.4} (the configured values)");

@@ -51,6 +51,8 @@ pub struct Outcome {
     pub evaluations: u64,
     /// Evaluations simulated in this call (the rest came from the store).
     pub simulated: u64,
+    /// How candidates were spread over worlds, and why.
+    pub batching: String,
     pub rounds: u64,
 }
 
@@ -134,6 +136,12 @@ pub fn optimize(
     let (mut n, mut round, mut best) = (0u64, 0u64, f64::NEG_INFINITY);
     let mut start_score = None;
     let mut simulated = 0u64;
+    let mut shared_worlds: Option<bool> = None;
+    let mut batching = if settings.batch > 0 {
+        format!("{} robots per world (given)", settings.batch)
+    } else {
+        "one world per candidate (rounds too small to measure)".to_string()
+    };
     while !optimizer.finished() {
         let candidates = optimizer.ask();
         if candidates.is_empty() {
@@ -162,36 +170,76 @@ pub fn optimize(
         simulated += missing.len() as u64;
         if !missing.is_empty() {
             let todo: Vec<Genome> = missing.iter().map(|i| candidates[*i].clone()).collect();
-            if settings.batch == 0 {
-                evaluator.batch = todo.len().div_ceil(workers);
-            }
-            let mut store_error = None;
-            let got = evaluator.evaluate_with(&todo, |first, batch_scores, wall| {
-                let Some(r) = recording.as_mut() else { return };
-                let evals: Vec<StoredEval> = batch_scores
-                    .iter()
-                    .enumerate()
-                    .map(|(k, s)| {
-                        let i = missing[first + k];
-                        StoredEval {
-                            number: n + i as u64,
-                            round,
-                            genome: candidates[i].clone(),
-                            values: evaluator.space.decode(&candidates[i]),
-                            score: *s,
-                            wall: wall / batch_scores.len().max(1) as f64,
-                        }
-                    })
-                    .collect();
-                if let Err(e) = r.store.record(r.run, settings.seed, &evals) {
-                    store_error.get_or_insert(e);
+            let len = todo.len();
+            let shared = |k: usize| k.div_ceil(workers).max(1);
+            // Parts of the round: (range of `todo`, robots per world).
+            let parts: Vec<(std::ops::Range<usize>, usize)> = match (settings.batch, shared_worlds)
+            {
+                (b, _) if b > 0 => vec![(0..len, b)],
+                (_, Some(true)) => vec![(0..len, shared(len))],
+                (_, Some(false)) => vec![(0..len, 1)],
+                // Not measured yet: one world per candidate for the first `workers`
+                // candidates, shared worlds for the rest, and keep the faster.
+                (_, None) if len > 2 * workers => {
+                    vec![(0..workers, 1), (workers..len, shared(len - workers))]
                 }
-            })?;
-            if let Some(e) = store_error {
-                return Err(e);
+                (_, None) => vec![(0..len, 1)],
+            };
+            let mut rates = Vec::new();
+            for (range, batch) in parts {
+                evaluator.batch = batch;
+                let t = std::time::Instant::now();
+                let mut store_error = None;
+                let offset = range.start;
+                let got = evaluator.evaluate_with(
+                    &todo[range.clone()],
+                    |first, batch_scores, wall| {
+                        let Some(r) = recording.as_mut() else { return };
+                        let evals: Vec<StoredEval> = batch_scores
+                            .iter()
+                            .enumerate()
+                            .map(|(k, s)| {
+                                let i = missing[offset + first + k];
+                                StoredEval {
+                                    number: n + i as u64,
+                                    round,
+                                    genome: candidates[i].clone(),
+                                    values: evaluator.space.decode(&candidates[i]),
+                                    score: *s,
+                                    wall: wall / batch_scores.len().max(1) as f64,
+                                }
+                            })
+                            .collect();
+                        if let Err(e) = r.store.record(r.run, settings.seed, &evals) {
+                            store_error.get_or_insert(e);
+                        }
+                    },
+                )?;
+                if let Some(e) = store_error {
+                    return Err(e);
+                }
+                rates.push((
+                    batch,
+                    range.len() as f64 / t.elapsed().as_secs_f64().max(1e-9),
+                ));
+                for (k, score) in got.into_iter().enumerate() {
+                    scores[missing[offset + k]] = score;
+                }
             }
-            for (k, i) in missing.iter().enumerate() {
-                scores[*i] = got[k];
+            if settings.batch == 0 && shared_worlds.is_none() && rates.len() == 2 {
+                let faster_shared = rates[1].1 > rates[0].1;
+                shared_worlds = Some(faster_shared);
+                batching = format!(
+                    "{} (measured {:.2} candidates/s alone, {:.2} with {} robots per world)",
+                    if faster_shared {
+                        "robots share worlds"
+                    } else {
+                        "one world per candidate"
+                    },
+                    rates[0].1,
+                    rates[1].1,
+                    rates[1].0
+                );
             }
         }
         for (g, s) in candidates.iter().zip(&scores) {
@@ -225,6 +273,7 @@ pub fn optimize(
         start_score,
         evaluations: n,
         simulated,
+        batching,
         rounds: round,
     })
 }
