@@ -102,28 +102,13 @@ pub fn run(
     let steps = simulator.clock().step;
     let end_com = simulator.com(0).map_err(|e| e.to_string())?;
     let heading1 = simulator.heading(0).map_err(|e| e.to_string())?;
-    let wall_time = wall.elapsed().as_secs_f64();
-    let sim_time = steps as f64 * simulator.clock().dt;
-    let displacement =
-        ((end_com[0] - start_com[0]).powi(2) + (end_com[1] - start_com[1]).powi(2)).sqrt();
-    let s = proleg::sim::runner::RunSummary {
+    let s = proleg::sim::runner::RunSummary::new(
         steps,
-        sim_time,
-        wall_time,
-        realtime_factor: if wall_time > 0.0 {
-            sim_time / wall_time
-        } else {
-            f64::INFINITY
-        },
+        simulator.clock().dt,
+        wall.elapsed().as_secs_f64(),
         start_com,
         end_com,
-        displacement,
-        mean_speed: if sim_time > 0.0 {
-            displacement / sim_time
-        } else {
-            0.0
-        },
-    };
+    );
     let mut out = String::new();
     let f3 = |v: [f64; 3]| format!("{:.4} {:.4} {:.4}", v[0], v[1], v[2]);
     let _ = writeln!(out, "simulation      {}", sim.file.display());

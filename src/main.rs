@@ -128,33 +128,32 @@ enum DataCommand {
     Info { file: PathBuf },
     /// Chosen series as a table (TSV, or CSV when OUT ends in .csv).
     Export {
-        file: PathBuf,
-        /// x column: simtime, realtime, stepcount or index.
-        #[arg(long, default_value = "simtime")]
-        x: String,
-        /// Comma-separated Handler/series[a..b], e.g. "Robot_Data/y_pos,PatternGenerator_sinusoidal/Angle[0..4]".
-        #[arg(long)]
-        series: String,
-        /// Output file.
-        #[arg(short, long)]
-        output: PathBuf,
+        #[command(flatten)]
+        pick: Selection,
     },
     /// Chosen series drawn into a PNG with axes, units and a legend.
     Plot {
-        file: PathBuf,
-        /// x axis: simtime, realtime, stepcount or index.
-        #[arg(long, default_value = "simtime")]
-        x: String,
-        /// Comma-separated Handler/series[a..b].
-        #[arg(long)]
-        series: String,
-        /// Output PNG.
-        #[arg(short, long)]
-        output: PathBuf,
+        #[command(flatten)]
+        pick: Selection,
         /// Image size in pixels, WIDTHxHEIGHT.
         #[arg(long, default_value = "1200x700", value_parser = parse_size)]
         size: (u32, u32),
     },
+}
+
+/// A data file, the series chosen from it and where the result goes.
+#[derive(clap::Args)]
+struct Selection {
+    file: PathBuf,
+    /// x: simtime, realtime, stepcount or index.
+    #[arg(long, default_value = "simtime")]
+    x: String,
+    /// Comma-separated Handler/series[a..b], e.g. "Robot_Data/y_pos,PatternGenerator_sinusoidal/Angle[0..4]".
+    #[arg(long)]
+    series: String,
+    /// Output file.
+    #[arg(short, long)]
+    output: PathBuf,
 }
 
 /// Parses `WIDTHxHEIGHT`.
@@ -251,19 +250,12 @@ fn main() -> ExitCode {
         }),
         Command::Data { command } => match command {
             DataCommand::Info { file } => cli_data::show_info(&file),
-            DataCommand::Export {
-                file,
-                x,
-                series,
-                output,
-            } => cli_data::export_table(&file, &x, &series, &output),
-            DataCommand::Plot {
-                file,
-                x,
-                series,
-                output,
-                size,
-            } => cli_data::plot_png(&file, &x, &series, &output, size),
+            DataCommand::Export { pick } => {
+                cli_data::export_table(&pick.file, &pick.x, &pick.series, &pick.output)
+            }
+            DataCommand::Plot { pick, size } => {
+                cli_data::plot_png(&pick.file, &pick.x, &pick.series, &pick.output, size)
+            }
         },
         Command::Check { config } => proleg::config::load_simulation(&config)
             .map(|sim| format!("{}ok\n", proleg::config::summary::summary(&sim)))

@@ -3,20 +3,7 @@
 
 mod common;
 
-use std::process::Command;
-
-fn proleg(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_proleg"))
-        .args(args)
-        .current_dir(common::root())
-        .output()
-        .unwrap();
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::proleg;
 
 /// The lines that state the result: best score and best values.
 fn result_lines(out: &str) -> Vec<String> {

@@ -2,20 +2,7 @@
 
 mod common;
 
-use std::process::Command;
-
-fn proleg(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_proleg"))
-        .args(args)
-        .current_dir(common::root())
-        .output()
-        .unwrap();
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::proleg;
 
 #[test]
 fn run_prints_the_motion_summary() {

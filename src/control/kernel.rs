@@ -268,6 +268,21 @@ impl ControlKernel {
         &self.desired
     }
 
+    fn actuator_mut(&mut self, index: usize) -> Result<&mut Actuator, KernelError> {
+        let count = self.actuators.len();
+        self.actuators
+            .get_mut(index)
+            .ok_or(KernelError::NoSuchActuator { index, count })
+    }
+
+    fn finite(what: &'static str, value: f64) -> Result<f64, KernelError> {
+        if value.is_finite() {
+            Ok(value)
+        } else {
+            Err(KernelError::NotFinite { what, value })
+        }
+    }
+
     fn actuator(&self, index: usize) -> Result<&Actuator, KernelError> {
         self.actuators
             .get(index)
@@ -322,11 +337,7 @@ impl ControlKernel {
         joint: Option<usize>,
         value: f64,
     ) -> Result<(), KernelError> {
-        let count = self.actuators.len();
-        let a = self
-            .actuators
-            .get_mut(index)
-            .ok_or(KernelError::NoSuchActuator { index, count })?;
+        let a = self.actuator_mut(index)?;
         let local = Self::local_joint(a, joint)?;
         let module = a.module.descriptor().type_name;
         let p = a.module.parameters_mut();
@@ -346,17 +357,8 @@ impl ControlKernel {
         joint: Option<usize>,
         degrees: f64,
     ) -> Result<(), KernelError> {
-        if !degrees.is_finite() {
-            return Err(KernelError::NotFinite {
-                what: "distortion",
-                value: degrees,
-            });
-        }
-        let count = self.actuators.len();
-        let a = self
-            .actuators
-            .get_mut(index)
-            .ok_or(KernelError::NoSuchActuator { index, count })?;
+        let degrees = Self::finite("distortion", degrees)?;
+        let a = self.actuator_mut(index)?;
         match Self::local_joint(a, joint)? {
             Some(l) => a.distortion[l] = degrees,
             None => a.distortion.fill(degrees),
@@ -374,17 +376,8 @@ impl ControlKernel {
         joint: usize,
         amount: f64,
     ) -> Result<bool, KernelError> {
-        if !amount.is_finite() {
-            return Err(KernelError::NotFinite {
-                what: "perturbation",
-                value: amount,
-            });
-        }
-        let count = self.actuators.len();
-        let a = self
-            .actuators
-            .get_mut(index)
-            .ok_or(KernelError::NoSuchActuator { index, count })?;
+        let amount = Self::finite("perturbation", amount)?;
+        let a = self.actuator_mut(index)?;
         let local = Self::local_joint(a, Some(joint))?.unwrap_or(0);
         Ok(a.module.perturb(local, amount))
     }

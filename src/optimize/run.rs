@@ -89,7 +89,8 @@ pub fn prepare(sim: &Simulation) -> Result<(SearchSpace, Genome), String> {
 pub struct Recording<'a> {
     pub store: &'a mut Store,
     pub run: i64,
-    /// Evaluations stored by an earlier, interrupted attempt of this run.
+    /// Evaluations stored by an earlier, interrupted attempt of this run, sorted by
+    /// number (as [`Store::evaluations`] returns them).
     pub known: Vec<StoredEval>,
 }
 
@@ -151,10 +152,14 @@ pub fn optimize(
         let mut scores = vec![f64::NAN; candidates.len()];
         let mut missing = Vec::new();
         for (i, g) in candidates.iter().enumerate() {
+            let number = n + i as u64;
             let known = recording.as_ref().and_then(|r| {
+                // Batches may finish out of order: look the number up, do not index.
                 r.known
-                    .get((n as usize) + i)
-                    .filter(|k| k.number == n + i as u64 && k.genome == *g)
+                    .binary_search_by_key(&number, |k| k.number)
+                    .ok()
+                    .map(|at| &r.known[at])
+                    .filter(|k| k.genome == *g)
             });
             match known {
                 Some(k) => {

@@ -39,6 +39,40 @@ pub struct RunSummary {
     pub mean_speed: f64,
 }
 
+impl RunSummary {
+    /// The summary of `steps` steps of `dt` seconds that took `wall_time` wall seconds and
+    /// moved robot 0's centre of mass from `start_com` to `end_com`.
+    pub fn new(
+        steps: u64,
+        dt: f64,
+        wall_time: f64,
+        start_com: [f64; 3],
+        end_com: [f64; 3],
+    ) -> Self {
+        let sim_time = steps as f64 * dt;
+        let displacement =
+            ((end_com[0] - start_com[0]).powi(2) + (end_com[1] - start_com[1]).powi(2)).sqrt();
+        RunSummary {
+            steps,
+            sim_time,
+            wall_time,
+            realtime_factor: if wall_time > 0.0 {
+                sim_time / wall_time
+            } else {
+                f64::INFINITY
+            },
+            start_com,
+            end_com,
+            displacement,
+            mean_speed: if sim_time > 0.0 {
+                displacement / sim_time
+            } else {
+                0.0
+            },
+        }
+    }
+}
+
 /// A headless simulation.
 pub struct Simulator {
     app: App,
@@ -142,30 +176,9 @@ impl Simulator {
                 }
             }
         }
-        let wall_time = wall.elapsed().as_secs_f64();
         let end_com = self.com(0).unwrap_or_default();
         let done = self.clock().step - start_step;
-        let sim_time = done as f64 * dt;
-        let displacement =
-            ((end_com[0] - start_com[0]).powi(2) + (end_com[1] - start_com[1]).powi(2)).sqrt();
-        RunSummary {
-            steps: done,
-            sim_time,
-            wall_time,
-            realtime_factor: if wall_time > 0.0 {
-                sim_time / wall_time
-            } else {
-                f64::INFINITY
-            },
-            start_com,
-            end_com,
-            displacement,
-            mean_speed: if sim_time > 0.0 {
-                displacement / sim_time
-            } else {
-                0.0
-            },
-        }
+        RunSummary::new(done, dt, wall.elapsed().as_secs_f64(), start_com, end_com)
     }
 
     /// Centre of mass of robot `index` (m, z up).
