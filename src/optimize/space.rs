@@ -34,7 +34,9 @@ impl Alleles {
     pub fn value(&self, k: u32) -> f64 {
         match self {
             Alleles::Range { first, inc, count } => {
-                first + f64::from(k.min(count.saturating_sub(1))) * inc
+                // Rounded to 1e-10 so that 0.1 + 6 * 0.1 reads 0.7, not 0.7000000000000001.
+                let v = first + f64::from(k.min(count.saturating_sub(1))) * inc;
+                (v * 1e10).round() / 1e10
             }
             Alleles::List(v) => v.get(k as usize).or(v.last()).copied().unwrap_or(0.0),
         }
@@ -208,6 +210,12 @@ mod tests {
         }
         assert_eq!(a.value(160), 40.0);
         assert_eq!(a.nearest(99.0), 160);
+        let c = Alleles::Range {
+            first: 0.1,
+            inc: 0.1,
+            count: 10,
+        };
+        assert_eq!(c.value(6).to_string(), "0.7");
         let l = Alleles::List(vec![1.0, 5.0, 2.0]);
         assert_eq!((l.nearest(4.0), l.value(2)), (1, 2.0));
     }
