@@ -76,7 +76,7 @@ pub fn plot_curves(
     chart
         .configure_series_labels()
         .label_font(("monospace", 14))
-        .position(SeriesLabelPosition::LowerRight)
+        .position(SeriesLabelPosition::MiddleRight)
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .draw()
