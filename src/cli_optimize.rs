@@ -86,7 +86,7 @@ pub fn run(o: &OptimizeOptions) -> Result<String, String> {
     }
     let _ = writeln!(
         head,
-        "problem size (eq. 3.3): {:.3e} candidates; {} s per episode, fitness {}, seed {}, {workers} worker(s)",
+        "problem size (eq. 3.3 / 3.5): {:.3e} candidates; {} s per episode, fitness {}, seed {}, {workers} worker(s)",
         space.size(),
         duration,
         fitness.name(),
@@ -232,6 +232,12 @@ pub fn run(o: &OptimizeOptions) -> Result<String, String> {
             "throughput      {per_hour:.0} evaluations/h of {duration} s ({:.1}x real time per worker); 6000 such evaluations (the thesis's experiment-2 budget, eq. 3.6) take {:.2} h",
             outcome.simulated as f64 * duration / wall / workers as f64,
             6000.0 / per_hour
+        );
+        let _ = writeln!(
+            out,
+            "brute force     {:.3e} candidates at this rate (eq. 3.4) take {:.3e} years",
+            space.size(),
+            space.size() / per_hour / (24.0 * 365.25)
         );
     }
     let _ = writeln!(out, "evaluation      {}", outcome.batching);
