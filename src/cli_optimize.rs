@@ -222,8 +222,12 @@ pub fn run(o: &OptimizeOptions) -> Result<String, String> {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "{} evaluations in {} rounds ({} simulated, the rest from the store), {:.1} s",
-        outcome.evaluations, outcome.rounds, outcome.simulated, wall
+        "{} evaluations in {} rounds ({} simulated, {} from the store), {:.1} s",
+        outcome.evaluations,
+        outcome.rounds,
+        outcome.simulated,
+        outcome.evaluations - outcome.simulated,
+        wall
     );
     if outcome.simulated > 0 {
         let per_hour = outcome.simulated as f64 / wall * 3600.0;
