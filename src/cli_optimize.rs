@@ -17,20 +17,47 @@ use proleg::optimize::run::{Evaluation, Recording, RunSettings, optimize, prepar
 use proleg::optimize::store::{RunInfo, Store};
 
 /// Command-line options of `proleg optimize`.
+#[derive(clap::Args)]
 pub struct OptimizeOptions {
+    /// A `*.simulation.xml` file whose mode is "Genetic Algorithm" or "Great Deluge".
     pub config: PathBuf,
+    /// Random seed (default: the file's seed).
+    #[arg(long)]
     pub seed: Option<u64>,
+    /// Parallel evaluation threads (default: the number of cores).
+    #[arg(long)]
     pub workers: Option<usize>,
+    /// Robots per world (default 0: each round split evenly over the workers).
+    #[arg(long, default_value_t = 0)]
     pub batch: usize,
+    /// Stop after this many evaluations (default: the optimizer file's <maxEvaluations>).
+    #[arg(long = "max-evals")]
     pub max_evaluations: Option<u64>,
+    /// Simulated seconds per episode (default: the file's duration).
+    #[arg(long)]
     pub duration: Option<f64>,
-    /// Default: the optimizer file's `<fitness>`.
+    /// displacement (eq. 3.7), distance, speed or cost-of-transport (default: the
+    /// optimizer file's <fitness>, else displacement).
+    #[arg(long)]
     pub fitness: Option<String>,
+    /// Write the best candidate as an actuation file.
+    #[arg(short, long)]
     pub out: Option<PathBuf>,
+    /// Write every evaluation (score, best so far, gene values) as TSV.
+    #[arg(long)]
     pub evaluations: Option<PathBuf>,
+    /// The SQLite experiment store (default: CONFIG-STEM.results.sqlite here).
+    #[arg(long)]
     pub store: Option<PathBuf>,
+    /// Continue the last unfinished run of the same configuration, seed, fitness and
+    /// duration in the store, reusing its stored evaluations.
+    #[arg(long)]
     pub resume: bool,
+    /// No progress on stderr.
+    #[arg(long)]
     pub quiet: bool,
+    /// Testing aid: abort (like kill -9) once this many evaluations are stored.
+    #[arg(long, hide = true)]
     pub crash_after: Option<u64>,
 }
 

@@ -58,48 +58,7 @@ enum Command {
         every: Option<u32>,
     },
     /// Optimize the registered parameters of a GA / great-deluge simulation, headless.
-    Optimize {
-        /// A `*.simulation.xml` file whose mode is "Genetic Algorithm" or "Great Deluge".
-        config: PathBuf,
-        /// Random seed (default: the file's seed).
-        #[arg(long)]
-        seed: Option<u64>,
-        /// Parallel evaluation threads (default: the number of cores).
-        #[arg(long)]
-        workers: Option<usize>,
-        /// Robots per world (default 0: each round split evenly over the workers).
-        #[arg(long, default_value_t = 0)]
-        batch: usize,
-        /// Stop after this many evaluations (default: the optimizer file's <maxEvaluations>).
-        #[arg(long)]
-        max_evals: Option<u64>,
-        /// Simulated seconds per episode (default: the file's duration).
-        #[arg(long)]
-        duration: Option<f64>,
-        /// displacement (eq. 3.7), distance, speed or cost-of-transport (default: the
-        /// optimizer file's <fitness>, else displacement).
-        #[arg(long)]
-        fitness: Option<String>,
-        /// Write the best candidate as an actuation file.
-        #[arg(short, long)]
-        out: Option<PathBuf>,
-        /// Write every evaluation (score, best so far, gene values) as TSV.
-        #[arg(long)]
-        evaluations: Option<PathBuf>,
-        /// The SQLite experiment store (default: CONFIG-STEM.results.sqlite here).
-        #[arg(long)]
-        store: Option<PathBuf>,
-        /// Continue the last unfinished run of the same configuration, seed, fitness and
-        /// duration in the store, reusing its stored evaluations.
-        #[arg(long)]
-        resume: bool,
-        /// No progress on stderr.
-        #[arg(long)]
-        quiet: bool,
-        /// Testing aid: abort (like kill -9) once this many evaluations are stored.
-        #[arg(long, hide = true)]
-        crash_after: Option<u64>,
-    },
+    Optimize(cli_optimize::OptimizeOptions),
     /// Runs and best candidates of an experiment store; learning curves and TSV export.
     Results {
         /// SQLite stores written by `proleg optimize` (runs of all are drawn together).
@@ -208,35 +167,7 @@ fn main() -> ExitCode {
                 every,
             },
         ),
-        Command::Optimize {
-            config,
-            seed,
-            workers,
-            batch,
-            max_evals,
-            duration,
-            fitness,
-            out,
-            evaluations,
-            store,
-            resume,
-            quiet,
-            crash_after,
-        } => cli_optimize::run(&cli_optimize::OptimizeOptions {
-            config,
-            seed,
-            workers,
-            batch,
-            max_evaluations: max_evals,
-            duration,
-            fitness,
-            out,
-            evaluations,
-            store,
-            resume,
-            quiet,
-            crash_after,
-        }),
+        Command::Optimize(options) => cli_optimize::run(&options),
         Command::Results {
             stores,
             runs,
