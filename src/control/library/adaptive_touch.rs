@@ -224,13 +224,10 @@ impl ActuationModule for AdaptiveTouch {
 
     /// Moves the joint's offset by `amount` degrees (it then recovers as usual).
     fn perturb(&mut self, joint: usize, amount: f64) -> bool {
-        match self.offsets.get_mut(joint) {
-            Some(o) => {
-                *o = (*o + amount).clamp(-MAX_OFFSET, MAX_OFFSET);
-                true
-            }
-            None => false,
-        }
+        self.offsets
+            .get_mut(joint)
+            .map(|o| *o = (*o + amount).clamp(-MAX_OFFSET, MAX_OFFSET))
+            .is_some()
     }
 
     fn clone_box(&self) -> Box<dyn ActuationModule> {

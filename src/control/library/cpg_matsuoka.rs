@@ -216,13 +216,10 @@ impl ActuationModule for CpgMatsuoka {
 
     /// Adds `amount` (in units of the tonic input) to the joint's extensor potential.
     fn perturb(&mut self, joint: usize, amount: f64) -> bool {
-        match self.neurons.get_mut(joint) {
-            Some(n) => {
-                n.ue += amount;
-                true
-            }
-            None => false,
-        }
+        self.neurons
+            .get_mut(joint)
+            .map(|n| n.ue += amount)
+            .is_some()
     }
 
     fn clone_box(&self) -> Box<dyn ActuationModule> {

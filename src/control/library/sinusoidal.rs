@@ -93,13 +93,10 @@ impl ActuationModule for Sinusoidal {
 
     /// Shifts the joint's phase by `amount` degrees (it keeps the shift: no coupling).
     fn perturb(&mut self, joint: usize, amount: f64) -> bool {
-        match self.theta.get_mut(joint) {
-            Some(t) => {
-                *t += amount.to_radians();
-                true
-            }
-            None => false,
-        }
+        self.theta
+            .get_mut(joint)
+            .map(|t| *t += amount.to_radians())
+            .is_some()
     }
 
     fn clone_box(&self) -> Box<dyn ActuationModule> {
