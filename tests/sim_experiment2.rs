@@ -1,6 +1,7 @@
-//! Experiment 2's terrain (thesis 6.2): the detailed robot with the sine generator alone
-//! (30° / 55°) gets stuck at the irregular obstacle, though on the same floor without the
-//! obstacle it crawls on. (The adaptive module that crosses it is issue 4's remaining part.)
+//! Experiment 2 (thesis 6.2): the detailed robot with the sine generator alone (30° / 55°)
+//! gets stuck at the irregular obstacle, though on the same floor without the obstacle it
+//! crawls on; with the adaptive touch module added (parameters found by `proleg optimize`
+//! on `configs/experiment2_ga.simulation.xml`) it crosses the obstacle.
 
 mod common;
 
@@ -8,10 +9,13 @@ use proleg::config::load_simulation;
 use proleg::sim::clock::SimClock;
 use proleg::sim::{BuildOptions, Simulator};
 
-fn run(without_obstacle: bool) -> [f64; 3] {
-    let mut sim =
-        load_simulation(common::root().join("configs/experiment2_sine_only.simulation.xml"))
-            .unwrap();
+/// The obstacle spans y = 0.6 m to 4.2 m; the robot starts with its centre at y = 0.14 m.
+const OBSTACLE_END: f64 = 4.2;
+/// The crest of the obstacle's last hill.
+const LAST_CREST: f64 = 3.77;
+
+fn run(config: &str, without_obstacle: bool) -> [f64; 3] {
+    let mut sim = load_simulation(common::root().join(config)).unwrap();
     if without_obstacle {
         sim.environment.bodies.retain(|b| b.name != "obstacle");
     }
@@ -30,17 +34,32 @@ fn run(without_obstacle: bool) -> [f64; 3] {
 
 #[test]
 fn sine_alone_gets_stuck_at_the_obstacle() {
-    let stuck = run(false);
-    let free = run(true);
+    let stuck = run("configs/experiment2_sine_only.simulation.xml", false);
+    let free = run("configs/experiment2_sine_only.simulation.xml", true);
     eprintln!(
-        "90 s, sine alone: {:.3} m with the obstacle, {:.3} m without",
+        "90 s, sine alone: y = {:.3} m with the obstacle, {:.3} m without",
         stuck[1], free[1]
     );
-    // The obstacle starts at y = 0.6 m and its first hump peaks at 0.89 m.
-    assert!(stuck[1] < 1.2, "crossed the first hump: y = {}", stuck[1]);
+    // It crosses the hump, the plateau and its trough, and stops at the last hill.
     assert!(
-        free[1] > 3.0,
+        stuck[1] < LAST_CREST,
+        "got over the last hill: y = {}",
+        stuck[1]
+    );
+    assert!(
+        free[1] > OBSTACLE_END,
         "on the open floor it should crawl on: y = {}",
         free[1]
+    );
+}
+
+#[test]
+fn the_adaptive_module_crosses_the_obstacle() {
+    let end = run("configs/experiment2_adaptive.simulation.xml", false);
+    eprintln!("90 s, sine + adaptive touch: y = {:.3} m", end[1]);
+    assert!(
+        end[1] > OBSTACLE_END,
+        "did not get over the obstacle: y = {}",
+        end[1]
     );
 }

@@ -16,6 +16,9 @@ pub struct SensorData {
     pub tactile_normals: Vec<[f64; 3]>,
     /// Ranges (m) of each laser's beams, from its minimum to its maximum angle.
     pub laser: Vec<Vec<f64>>,
+    /// The robot's centre of mass in world coordinates (m). In simulation this is ground
+    /// truth; a real robot would get it from odometry or an external tracker.
+    pub position: [f64; 3],
 }
 
 impl SensorData {
@@ -25,6 +28,7 @@ impl SensorData {
             tactile: vec![false; tactile],
             tactile_normals: vec![[0.0; 3]; tactile],
             laser: beams.iter().map(|n| vec![0.0; *n]).collect(),
+            position: [0.0; 3],
         }
     }
 

@@ -15,6 +15,7 @@ pub mod error;
 pub mod kernel;
 pub mod laser;
 pub mod physics;
+pub mod position;
 pub mod record;
 pub mod runner;
 pub mod schedule;

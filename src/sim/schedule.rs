@@ -6,7 +6,7 @@ use bevy::ecs::schedule::ScheduleLabel;
 use bevy::ecs::schedule::SingleThreadedExecutor;
 use bevy::prelude::*;
 
-use crate::sim::{clock, datalog, kernel, laser, physics, record, servo, tactile};
+use crate::sim::{clock, datalog, kernel, laser, physics, position, record, servo, tactile};
 
 /// The schedule of one simulation step.
 #[derive(ScheduleLabel, Debug, Clone, PartialEq, Eq, Hash)]
@@ -56,6 +56,7 @@ pub(super) fn plugin(app: &mut App) {
         (
             (
                 servo::sense_joints,
+                position::sense_position,
                 tactile::sense_tactile,
                 laser::scan_lasers,
             )

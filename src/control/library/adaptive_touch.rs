@@ -8,27 +8,38 @@
 //! to head, so joint i sits between the front pad of link i and the back pad of link i+1.
 //! Positive offsets bend a joint so the head-side link tilts up.
 //!
-//! - Stuck: the head link's pads stay pressed for `Get-stuck` steps in a row (while
-//!   crawling they lift every wave period). The shape is adapted only while stuck and for
+//! - Stuck: the robot has made no progress for `Get-stuck` steps, i.e. its centre of mass
+//!   (the position sensor) has not got [`PROGRESS_STEP`] farther from where it started
+//!   than its farthest point so far. The shape is adapted only while stuck and for
 //!   `Get-stuck` steps after (the thesis: the threshold "determines when manipulation of
 //!   the robot's base shape has to be applied"); otherwise every offset returns towards 0
-//!   at the `Recovering` rate, so crawling on flat ground is left alone.
-//! - `Constant 1`: while stuck, the head joint bends up (lift the head onto the obstacle).
-//! - `Constant 2`: while stuck, the joint behind it bends up too.
-//! - `Constant 3`: a concave spot under joint i (its two near pads released, the far pads
-//!   of both links pressed): joint i bends up to fit the trough.
+//!   at the `Recovering` rate, so crawling on flat ground is left alone. Offsets no rule
+//!   moves this step also recover, even while stuck, so a shape that did not help
+//!   (say, a head still raised on the crest) does not stay. A crawler stalls
+//!   for part of every wave period (the tail pulls up), so thresholds shorter than that
+//!   stall also adapt on flat ground; the optimizer finds the trade-off.
+//!
+//! The rates (`Constant 1..8`, 4 raising and 4 lowering offsets):
+//! - `Constant 1`: while stuck with the head blocked (a head pad touches a surface that
+//!   faces the robot: its contact normal points against the way the robot has travelled),
+//!   the head joint bends up to lift the head onto the obstacle.
+//! - `Constant 2`: in the same state, the joint behind it bends up too.
+//! - `Constant 3`: a concave spot under joint i (its two near pads released, some pad
+//!   behind and some pad ahead pressed: the body bridges a trough): joint i bends up so
+//!   the body sags into it.
 //! - `Constant 4`: the tail link's pads both released (tail hanging): the first joint bends
 //!   up, pressing the tail down.
 //! - `Constant 5`: the head link's pads both released while the link behind it touches
 //!   (head over an edge): the head joint bends down.
 //! - `Constant 6`: a convex spot under joint i (near pads pressed, far pads released):
 //!   joint i bends down to wrap the crest.
-//! - `Constant 7`: while stuck, the middle joints bend down, lowering the centre of
-//!   gravity so the body pushes rather than lifts.
+//! - `Constant 7`: in the same state, the middle joints bend down (a crest behind the
+//!   raised front), so the body props the head higher.
 //! - `Constant 8`: fewer than a third of all pads touch (body lifted off): every offset
 //!   shrinks towards 0 at this extra rate.
 //!
-//! Rates are degrees per step; offsets stay within ±45°. The thesis's GA file (listing
+//! Constants 3-6 and 8 act while stuck or adapting. Rates are degrees per step; offsets
+//! stay within ±45°. The thesis's GA file (listing
 //! B.7) names two of the parameters `Get-stuck-threshold` and `back to zero constant`;
 //! both spellings are accepted.
 
@@ -38,6 +49,13 @@ use crate::rng::SimRng;
 
 /// Largest offset magnitude (degrees).
 pub const MAX_OFFSET: f64 = 45.0;
+
+/// A head contact blocks when its normal's component against the travel direction exceeds
+/// this (the sine of the surface's slope, here about 12°).
+pub const BLOCKING: f64 = 0.2;
+
+/// Progress smaller than this (m) does not reset the stuck counter.
+pub const PROGRESS_STEP: f64 = 0.005;
 
 const GET_STUCK: usize = 0;
 const RECOVERING: usize = 1;
@@ -63,7 +81,7 @@ const PARAMETERS: &[ParamDescriptor] = &[
         default: 300.0,
         min: 1.0,
         max: 100_000.0,
-        help: "steps the head pads stay pressed before the robot counts as stuck",
+        help: "steps without progress before the robot counts as stuck",
     },
     ParamDescriptor {
         name: "Recovering",
@@ -74,8 +92,14 @@ const PARAMETERS: &[ParamDescriptor] = &[
         max: 10.0,
         help: "speed at which offsets return to the base shape",
     },
-    constant("Constant 1", "head joint up while stuck"),
-    constant("Constant 2", "second joint from the head up while stuck"),
+    constant(
+        "Constant 1",
+        "head joint up while stuck and the head blocked",
+    ),
+    constant(
+        "Constant 2",
+        "second joint up while stuck and the head blocked",
+    ),
     constant("Constant 3", "joint up over a concave spot"),
     constant("Constant 4", "first joint up while the tail hangs"),
     constant(
@@ -83,7 +107,10 @@ const PARAMETERS: &[ParamDescriptor] = &[
         "head joint down while the head hangs over an edge",
     ),
     constant("Constant 6", "joint down over a convex spot"),
-    constant("Constant 7", "middle joints down while stuck"),
+    constant(
+        "Constant 7",
+        "middle joints down while stuck and the head blocked",
+    ),
     constant(
         "Constant 8",
         "all offsets towards 0 while the body is lifted off",
@@ -106,7 +133,14 @@ pub struct AdaptiveTouch {
     core: ModuleCore,
     offsets: Vec<f64>,
     acted: Vec<bool>,
-    head_pressed_steps: u64,
+    /// Where the robot was at its first step after a reset.
+    start: Option<[f64; 3]>,
+    /// Farthest distance from `start` so far (m), counted in [`PROGRESS_STEP`]s.
+    farthest: f64,
+    /// Steps since `farthest` last grew.
+    stalled: u64,
+    /// Horizontal unit direction from the start to the robot (zero until it moved 1 cm).
+    heading: [f64; 2],
     /// Steps of adaptation left after the robot was last stuck.
     adapting: u64,
     stuck: bool,
@@ -118,7 +152,10 @@ impl AdaptiveTouch {
             core: ModuleCore::new(descriptor(), joints),
             offsets: vec![0.0; joints],
             acted: vec![false; joints],
-            head_pressed_steps: 0,
+            start: None,
+            farthest: 0.0,
+            stalled: 0,
+            heading: [0.0; 2],
             adapting: 0,
             stuck: false,
         }
@@ -127,6 +164,38 @@ impl AdaptiveTouch {
     /// Whether the module currently considers the robot stuck.
     pub fn stuck(&self) -> bool {
         self.stuck
+    }
+
+    /// Counts the steps since the robot last got [`PROGRESS_STEP`] farther from its start.
+    fn track_progress(&mut self, position: [f64; 3]) {
+        let start = *self.start.get_or_insert(position);
+        let (dx, dy) = (position[0] - start[0], position[1] - start[1]);
+        let distance = dx.hypot(dy);
+        if distance > 0.01 {
+            self.heading = [dx / distance, dy / distance];
+        }
+        if distance >= self.farthest + PROGRESS_STEP {
+            self.farthest = distance;
+            self.stalled = 0;
+        } else {
+            self.stalled += 1;
+        }
+    }
+
+    /// Whether a head pad touches a surface facing the robot: its contact normal (from
+    /// the surface into the pad) points against the way the robot has travelled by more
+    /// than [`BLOCKING`]. Before the robot has moved, any head contact counts.
+    fn head_blocked(&self, ctx: &StepContext, head: usize) -> bool {
+        let sensors = ctx.sensors;
+        (2 * head..2 * head + 2).any(|i| {
+            sensors.tactile.get(i).copied().unwrap_or(false)
+                && match sensors.tactile_normals.get(i) {
+                    Some(n) if self.heading != [0.0; 2] => {
+                        n[0] * self.heading[0] + n[1] * self.heading[1] < -BLOCKING
+                    }
+                    _ => true,
+                }
+        })
     }
 
     fn push(&mut self, joint: usize, delta: f64) {
@@ -148,13 +217,17 @@ impl ActuationModule for AdaptiveTouch {
 
     fn reset(&mut self, _rng: &mut SimRng) {
         self.offsets.fill(0.0);
-        self.head_pressed_steps = 0;
+        self.start = None;
+        self.farthest = 0.0;
+        self.stalled = 0;
+        self.heading = [0.0; 2];
         self.adapting = 0;
         self.stuck = false;
     }
 
     fn compute(&mut self, ctx: &StepContext, out: &mut [f64]) {
         let n = out.len();
+        self.track_progress(ctx.sensors.position);
         let pads = &ctx.sensors.tactile;
         let links = n + 1;
         self.acted.fill(false);
@@ -163,14 +236,8 @@ impl ActuationModule for AdaptiveTouch {
             let k = |i: usize| self.core.params.get(C + i - 1, 0);
             let head = links - 1;
             let threshold = self.core.params.get(GET_STUCK, 0);
-            if p(head, false) || p(head, true) {
-                self.head_pressed_steps += 1;
-            } else {
-                self.head_pressed_steps = 0;
-                self.stuck = false;
-            }
-            if self.head_pressed_steps as f64 >= threshold {
-                self.stuck = true;
+            self.stuck = self.stalled as f64 >= threshold;
+            if self.stuck {
                 self.adapting = threshold as u64;
             } else {
                 self.adapting = self.adapting.saturating_sub(1);
@@ -178,7 +245,7 @@ impl ActuationModule for AdaptiveTouch {
             if self.stuck || self.adapting > 0 {
                 let (c1, c2, c3, c4, c5, c6, c7, c8) =
                     (k(1), k(2), k(3), k(4), k(5), k(6), k(7), k(8));
-                if self.stuck {
+                if self.stuck && self.head_blocked(ctx, head) {
                     self.push(n - 1, c1);
                     if n >= 2 {
                         self.push(n - 2, c2);
@@ -188,9 +255,12 @@ impl ActuationModule for AdaptiveTouch {
                     }
                 }
                 for i in 0..n {
-                    let (far_back, near_back, near_front, far_front) =
-                        (p(i, false), p(i, true), p(i + 1, false), p(i + 1, true));
-                    if !near_back && !near_front && far_back && far_front {
+                    // Pads behind joint i's near pads are 0..=2i, those ahead 2i+3..
+                    let (near_back, near_front) = (p(i, true), p(i + 1, false));
+                    let behind = pads[..=2 * i].iter().any(|x| *x);
+                    let ahead = pads[2 * i + 3..2 * links].iter().any(|x| *x);
+                    let (far_back, far_front) = (p(i, false), p(i + 1, true));
+                    if !near_back && !near_front && behind && ahead {
                         self.push(i, c3);
                     } else if near_back && near_front && !far_back && !far_front {
                         self.push(i, -c6);
@@ -212,7 +282,7 @@ impl ActuationModule for AdaptiveTouch {
         }
         let back = self.core.params.get(RECOVERING, 0);
         for (o, acted) in self.offsets.iter_mut().zip(&self.acted) {
-            if !acted && !self.stuck {
+            if !acted {
                 *o -= o.signum() * back.min(o.abs());
             }
         }
@@ -240,10 +310,12 @@ mod tests {
     use super::*;
     use crate::sensing::SensorData;
 
-    fn step(m: &mut AdaptiveTouch, pads: &[bool]) -> Vec<f64> {
+    /// One step with these pads pressed and the robot's centre at `y` (m).
+    fn step(m: &mut AdaptiveTouch, pads: &[bool], y: f64) -> Vec<f64> {
         let n = m.core.params.joints();
         let sensors = SensorData {
             tactile: pads.to_vec(),
+            position: [0.0, y, 0.03],
             ..SensorData::default()
         };
         let angles = vec![0.0; n];
@@ -265,68 +337,81 @@ mod tests {
         m
     }
 
+    /// Pads of a crawler on flat ground at step `k`: a contact wave runs along the body.
+    fn crawling(k: usize) -> [bool; 12] {
+        let mut pads = [true; 12];
+        for (i, p) in pads.iter_mut().enumerate() {
+            *p = (i + k / 2) % 6 < 4;
+        }
+        pads
+    }
+
     #[test]
-    fn flat_ground_keeps_the_base_shape() {
+    fn crawling_on_flat_ground_keeps_the_base_shape() {
         let mut m = module();
-        let all = [true; 12];
-        // The head lifts now and then while crawling: never stuck.
-        for k in 0..100 {
-            let mut pads = all;
-            if k % 8 == 0 {
-                pads[10] = false;
-                pads[11] = false;
-            }
-            assert_eq!(step(&mut m, &pads), vec![0.0; 5]);
+        // 2 mm forward per step with a short slide back every 8 steps: never 10 stalled.
+        let mut y = 0.0;
+        for k in 0..500 {
+            y += if k % 8 < 6 { 0.002 } else { -0.002 };
+            assert_eq!(step(&mut m, &crawling(k), y), vec![0.0; 5], "step {k}");
         }
         assert!(!m.stuck());
     }
 
     #[test]
-    fn a_blocked_head_lifts_the_front_and_recovers_afterwards() {
+    fn a_blocked_robot_lifts_its_front_and_recovers_after_moving_on() {
         let mut m = module();
         let all = [true; 12];
         for _ in 0..9 {
-            step(&mut m, &all);
+            step(&mut m, &all, 0.002);
         }
-        assert!(!m.stuck());
-        let out = step(&mut m, &all);
+        assert!(
+            !m.stuck(),
+            "progress under 5 mm still counts as stalled, not yet long"
+        );
+        let out = step(&mut m, &all, 0.002);
         assert!(m.stuck());
         assert!(out[4] > 0.0 && out[3] > 0.0 && out[2] < 0.0, "{out:?}");
         for _ in 0..200 {
-            step(&mut m, &all);
+            step(&mut m, &all, 0.0);
         }
-        assert_eq!(step(&mut m, &all)[4], MAX_OFFSET, "offsets are bounded");
-        // The head releases: not stuck any more, offsets return to 0 at the recovering rate.
-        let mut pads = all;
-        pads[10] = false;
-        pads[11] = false;
-        pads[8] = false;
-        pads[9] = false;
-        let mut last = step(&mut m, &pads);
-        assert!(!m.stuck());
-        // Crawling again: the head lifts every few steps.
-        for k in 0..1000 {
-            let mut pads = all;
-            if k % 8 == 0 {
-                pads[10] = false;
-                pads[11] = false;
-            }
-            last = step(&mut m, &pads);
+        assert_eq!(
+            step(&mut m, &all, 0.0)[4],
+            MAX_OFFSET,
+            "offsets are bounded"
+        );
+        // Moving on (a first 1 cm, then 1 mm per step): no longer stuck, and offsets
+        // return to 0 at the recovering rate.
+        let mut y = 0.01;
+        let mut last = Vec::new();
+        for k in 0..2000 {
+            y += 0.001;
+            last = step(&mut m, &crawling(k), y);
+            assert!(!m.stuck());
         }
-        assert!(!m.stuck());
         assert_eq!(last, vec![0.0; 5]);
     }
 
-    /// A module that has just been stuck (head pressed for the threshold), now adapting.
+    #[test]
+    fn sliding_back_is_no_progress() {
+        let mut m = module();
+        step(&mut m, &[true; 12], 0.0);
+        step(&mut m, &[true; 12], 0.1);
+        for k in 0..10 {
+            assert!(!m.stuck(), "step {k}");
+            step(&mut m, &[true; 12], 0.1 - 0.001 * k as f64);
+        }
+        assert!(m.stuck());
+    }
+
+    /// A module that has just been stuck, now moving again and adapting.
     fn adapting() -> AdaptiveTouch {
         let mut m = module();
-        for _ in 0..10 {
-            step(&mut m, &[true; 12]);
+        for _ in 0..11 {
+            step(&mut m, &[true; 12], 0.0);
         }
-        let mut free = [true; 12];
-        free[10] = false;
-        free[11] = false;
-        let before = step(&mut m, &free);
+        assert!(m.stuck());
+        let before = step(&mut m, &[true; 12], 0.01);
         assert!(!m.stuck() && before.iter().any(|o| *o != 0.0));
         m
     }
@@ -336,25 +421,37 @@ mod tests {
         let mut m = adapting();
         let o = m.offsets[2];
         let mut concave = [true; 12];
-        concave[10] = false;
         concave[5] = false; // front pad of link 2
         concave[6] = false; // back pad of link 3
-        assert!(step(&mut m, &concave)[2] > o);
+        assert!(step(&mut m, &concave, 0.02)[2] > o);
         let mut m = adapting();
         let o = m.offsets[2];
         let mut convex = [true; 12];
-        convex[10] = false;
         convex[4] = false; // back pad of link 2
         convex[7] = false; // front pad of link 3
-        assert!(step(&mut m, &convex)[2] < o);
+        assert!(step(&mut m, &convex, 0.02)[2] < o);
         // Not stuck lately: the same spots leave the shape alone.
         let mut m = module();
-        assert_eq!(step(&mut m, &convex), vec![0.0; 5]);
+        assert_eq!(step(&mut m, &convex, 0.0), vec![0.0; 5]);
+    }
+
+    #[test]
+    fn reset_forgets_the_start_and_the_stall() {
+        let mut m = module();
+        for _ in 0..11 {
+            step(&mut m, &[true; 12], 0.0);
+        }
+        assert!(m.stuck());
+        m.reset(&mut SimRng::new(1));
+        step(&mut m, &[true; 12], 5.0);
+        assert!(!m.stuck());
     }
 
     #[test]
     fn without_pads_it_does_nothing() {
         let mut m = module();
-        assert_eq!(step(&mut m, &[]), vec![0.0; 5]);
+        for _ in 0..20 {
+            assert_eq!(step(&mut m, &[], 0.0), vec![0.0; 5]);
+        }
     }
 }

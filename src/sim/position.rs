@@ -1,0 +1,17 @@
+//! Position sensing: each step, before the kernels run, every robot's centre of mass goes
+//! into its [`RobotSensors`] so sensing modules can tell progress from being stuck.
+
+use bevy::prelude::*;
+
+use crate::sim::kernel::SimRobot;
+use crate::sim::physics::Physics;
+use crate::sim::record::centre_of_mass;
+use crate::sim::tactile::RobotSensors;
+
+/// Updates each robot's sensed position (part of the `Sense` set).
+pub fn sense_position(physics: Res<Physics>, mut robots: Query<(&SimRobot, &mut RobotSensors)>) {
+    let bodies = &physics.world.bodies;
+    for (robot, mut sensors) in &mut robots {
+        sensors.0.position = centre_of_mass(bodies, robot);
+    }
+}
