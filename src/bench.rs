@@ -101,13 +101,15 @@ pub fn pipeline(config: &Path, robots: usize, seconds: f64) -> Result<Figure, St
     )
 }
 
-/// Rapier's step alone on the same world (the servo motors hold their last command).
+/// Rapier's step alone on the same world, the servo motors holding their last command: the
+/// robot barely moves (its bodies may even sleep), so this is a floor for the physics cost,
+/// not the same motion as the pipeline's rows.
 pub fn physics_only(config: &Path, seconds: f64) -> Result<Figure, String> {
     best(
         config,
         1,
         seconds,
-        "rapier step only, 1 robot",
+        "rapier step, motors held, 1 robot",
         |s, steps| {
             let mut physics = s.world_mut().resource_mut::<Physics>();
             let t = Instant::now();

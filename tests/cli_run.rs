@@ -53,7 +53,7 @@ fn bench_prints_ratios() {
     let (ok, out, err) = proleg(&["bench", "--seconds", "0.5", "--batches", "2"]);
     assert!(ok, "{err}");
     for needle in [
-        "rapier step only, 1 robot",
+        "rapier step, motors held, 1 robot",
         "pipeline, 1 robot(s)/world",
         "pipeline, 2 robot(s)/world",
         "robot-steps/s",
