@@ -139,8 +139,6 @@ pub struct AdaptiveTouch {
     farthest: f64,
     /// Steps since `farthest` last grew.
     stalled: u64,
-    /// Horizontal unit direction from the start to the robot (zero until it moved 1 cm).
-    heading: [f64; 2],
     /// Steps of adaptation left after the robot was last stuck.
     adapting: u64,
     stuck: bool,
@@ -155,7 +153,6 @@ impl AdaptiveTouch {
             start: None,
             farthest: 0.0,
             stalled: 0,
-            heading: [0.0; 2],
             adapting: 0,
             stuck: false,
         }
@@ -169,11 +166,7 @@ impl AdaptiveTouch {
     /// Counts the steps since the robot last got [`PROGRESS_STEP`] farther from its start.
     fn track_progress(&mut self, position: [f64; 3]) {
         let start = *self.start.get_or_insert(position);
-        let (dx, dy) = (position[0] - start[0], position[1] - start[1]);
-        let distance = dx.hypot(dy);
-        if distance > 0.01 {
-            self.heading = [dx / distance, dy / distance];
-        }
+        let distance = (position[0] - start[0]).hypot(position[1] - start[1]);
         if distance >= self.farthest + PROGRESS_STEP {
             self.farthest = distance;
             self.stalled = 0;
@@ -184,15 +177,16 @@ impl AdaptiveTouch {
 
     /// Whether a head pad touches a surface facing the robot: its contact normal (from
     /// the surface into the pad) points against the way the robot has travelled by more
-    /// than [`BLOCKING`]. Before the robot has moved, any head contact counts.
+    /// than [`BLOCKING`]. Before the robot has moved 1 cm, any head contact counts.
     fn head_blocked(&self, ctx: &StepContext, head: usize) -> bool {
         let sensors = ctx.sensors;
+        let (p, start) = (sensors.position, self.start.unwrap_or(sensors.position));
+        let (dx, dy) = (p[0] - start[0], p[1] - start[1]);
+        let travelled = dx.hypot(dy);
         (2 * head..2 * head + 2).any(|i| {
             sensors.tactile.get(i).copied().unwrap_or(false)
                 && match sensors.tactile_normals.get(i) {
-                    Some(n) if self.heading != [0.0; 2] => {
-                        n[0] * self.heading[0] + n[1] * self.heading[1] < -BLOCKING
-                    }
+                    Some(n) if travelled > 0.01 => (n[0] * dx + n[1] * dy) / travelled < -BLOCKING,
                     _ => true,
                 }
         })
@@ -220,7 +214,6 @@ impl ActuationModule for AdaptiveTouch {
         self.start = None;
         self.farthest = 0.0;
         self.stalled = 0;
-        self.heading = [0.0; 2];
         self.adapting = 0;
         self.stuck = false;
     }
