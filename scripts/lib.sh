@@ -30,3 +30,7 @@ ensure_rust() {
 # Build dependencies of the headless core (C compiler and pkg-config for -sys crates;
 # fontconfig and freetype for the plot text, with a font to draw it).
 HEADLESS_PACKAGES=(pkg-config gcc libfontconfig1-dev libfreetype-dev fonts-dejavu-core)
+
+# The control window: gamepad support builds against libudev; GUI tests render under Xvfb
+# with Mesa's software Vulkan (llvmpipe).
+GUI_PACKAGES=(libudev-dev xvfb xauth mesa-vulkan-drivers libvulkan1)

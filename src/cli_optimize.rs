@@ -92,6 +92,7 @@ pub fn run(o: &OptimizeOptions) -> Result<String, String> {
         max_evaluations: max_evaluations.unwrap_or(u64::MAX),
         duration,
         fitness,
+        stop: Default::default(),
     };
     let (space, _) = prepare(&sim)?;
     let mut head = String::new();

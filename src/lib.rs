@@ -10,6 +10,8 @@
 //!   located errors, writing back, and the `proleg check` summary.
 //! - [`control`]: the actuation-module interface, the registry of module types, the
 //!   standard module library and the control kernel.
+//! - `gui` (feature `gui`): the control window, a Bevy 3D viewer with egui views on the
+//!   same core.
 //! - [`rng`]: the seeded random numbers of a run.
 //! - [`sensing`]: sensor readings as modules see them, touch debouncing.
 //! - [`sim`]: the simulated world as ECS (rapier physics, servos, the fixed-step pipeline)
@@ -21,6 +23,8 @@ pub mod bench;
 pub mod config;
 pub mod control;
 pub mod data;
+#[cfg(feature = "gui")]
+pub mod gui;
 pub mod optimize;
 pub mod rng;
 pub mod sensing;

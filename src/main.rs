@@ -14,12 +14,22 @@ mod cli_run;
 #[derive(Parser)]
 #[command(name = "proleg", version, about)]
 struct Cli {
+    /// Without a command: the control window on configs/demo.simulation.xml.
     #[command(subcommand)]
-    command: Command,
+    command: Option<Command>,
 }
 
 #[derive(Subcommand)]
 enum Command {
+    /// Open the control window (3D viewer, toolbar, live plots, parameters) on a simulation.
+    Gui {
+        /// A `*.simulation.xml` file.
+        #[arg(default_value = DEMO_CONFIG)]
+        config: PathBuf,
+        /// Drive the window from a script (tests, screenshots; see proleg::gui::script).
+        #[arg(long)]
+        script: Option<PathBuf>,
+    },
     /// Validate a simulation file and everything it includes, and print a summary.
     Check {
         /// A `*.simulation.xml` file.
@@ -142,9 +152,29 @@ fn finish(result: Result<String, String>) -> ExitCode {
     }
 }
 
+/// The simulation the window opens without arguments.
+const DEMO_CONFIG: &str = "configs/demo.simulation.xml";
+
+/// The control window, or why there is none in this build.
+fn gui(config: &std::path::Path, script: Option<&std::path::Path>) -> Result<String, String> {
+    #[cfg(feature = "gui")]
+    {
+        proleg::gui::run(config, script).map(|()| String::new())
+    }
+    #[cfg(not(feature = "gui"))]
+    {
+        let _ = (config, script);
+        Err("this proleg was built without the `gui` feature; use the headless commands (proleg --help)".into())
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    finish(match cli.command {
+    let Some(command) = cli.command else {
+        return finish(gui(std::path::Path::new(DEMO_CONFIG), None));
+    };
+    finish(match command {
+        Command::Gui { config, script } => gui(&config, script.as_deref()),
         Command::Bench {
             config,
             seconds,

@@ -2,6 +2,9 @@
 //! evaluator, every evaluation reported to a callback (progress, logs, the store) as its
 //! batch finishes.
 
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use crate::config::Simulation;
 use crate::config::optimizer::Algorithm;
 use crate::optimize::Optimizer;
@@ -12,6 +15,26 @@ use crate::optimize::ga::GeneticAlgorithm;
 use crate::optimize::space::{Genome, SearchSpace};
 use crate::optimize::store::{Store, StoredEval};
 use crate::sim::{BuildOptions, Simulator};
+
+/// Set from another thread to end a run after its current round (the GUI's Stop).
+#[derive(Debug, Clone, Default)]
+pub struct StopFlag(pub Arc<AtomicBool>);
+
+impl StopFlag {
+    pub fn stop(&self) {
+        self.0.store(true, Ordering::SeqCst);
+    }
+
+    pub fn is_set(&self) -> bool {
+        self.0.load(Ordering::SeqCst)
+    }
+}
+
+impl PartialEq for StopFlag {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.0, &other.0)
+    }
+}
 
 /// How to run.
 #[derive(Debug, Clone, PartialEq)]
@@ -26,6 +49,8 @@ pub struct RunSettings {
     /// Simulated seconds per episode.
     pub duration: f64,
     pub fitness: Fitness,
+    /// Ends the run early when set (between rounds).
+    pub stop: StopFlag,
 }
 
 /// One finished evaluation.
@@ -143,7 +168,7 @@ pub fn optimize(
     } else {
         "one world per candidate (rounds too small to measure)".to_string()
     };
-    while !optimizer.finished() {
+    while !optimizer.finished() && !settings.stop.is_set() {
         let candidates = optimizer.ask();
         if candidates.is_empty() {
             break;

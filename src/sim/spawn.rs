@@ -55,6 +55,8 @@ impl Default for BuildOptions {
 /// A static or dynamic body of the environment.
 #[derive(Component, Debug, Clone)]
 pub struct EnvObject {
+    /// Position among the environment's bodies.
+    pub index: usize,
     pub handle: rp::RigidBodyHandle,
 }
 
@@ -144,7 +146,7 @@ pub fn build_world(
     );
     let default_friction = env.physics.default_friction.unwrap_or(DEFAULT_FRICTION);
     let mut env_entities = Vec::new();
-    for b in &env.bodies {
+    for (index, b) in env.bodies.iter().enumerate() {
         let builder = match b.kind {
             BodyKind::Static => rp::RigidBodyBuilder::fixed(),
             BodyKind::Dynamic => rp::RigidBodyBuilder::dynamic().can_sleep(false),
@@ -163,7 +165,7 @@ pub fn build_world(
             world
                 .spawn((
                     Name::new(format!("environment: {}", b.name)),
-                    EnvObject { handle },
+                    EnvObject { index, handle },
                 ))
                 .id(),
         );

@@ -1,0 +1,100 @@
+//! The viewer's camera: orbit (left drag), pan (right or middle drag), zoom (wheel) about a
+//! focus point, and an optional follow mode that keeps the robot's centre of mass in focus.
+//! Mouse input over egui panels is left to egui.
+
+use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
+use bevy::prelude::*;
+use bevy_egui::input::EguiWantsInput;
+
+use crate::gui::session::SimSession;
+
+/// Orbit state of the viewer camera (Bevy frame, y up).
+#[derive(Component, Debug, Clone)]
+pub struct OrbitCamera {
+    pub focus: Vec3,
+    /// Radians about the vertical axis.
+    pub yaw: f32,
+    /// Radians above the ground plane.
+    pub pitch: f32,
+    pub distance: f32,
+    /// Keep robot 0's centre of mass in focus.
+    pub follow: bool,
+}
+
+impl Default for OrbitCamera {
+    fn default() -> Self {
+        OrbitCamera {
+            focus: Vec3::new(0.0, 0.05, -0.2),
+            yaw: -0.9,
+            pitch: 0.55,
+            distance: 1.4,
+            follow: true,
+        }
+    }
+}
+
+impl OrbitCamera {
+    /// The camera transform for this orbit.
+    pub fn transform(&self) -> Transform {
+        let dir = Vec3::new(
+            self.pitch.cos() * self.yaw.sin(),
+            self.pitch.sin(),
+            self.pitch.cos() * self.yaw.cos(),
+        );
+        Transform::from_translation(self.focus + dir * self.distance)
+            .looking_at(self.focus, Vec3::Y)
+    }
+}
+
+/// Spawns the viewer camera.
+pub fn spawn_camera(mut commands: Commands) {
+    let orbit = OrbitCamera::default();
+    commands.spawn((
+        Name::new("viewer camera"),
+        Camera3d::default(),
+        orbit.transform(),
+        orbit,
+    ));
+}
+
+/// A configuration point (z up) in Bevy's frame (y up).
+pub fn to_bevy(p: [f64; 3]) -> Vec3 {
+    Vec3::new(p[0] as f32, p[2] as f32, -p[1] as f32)
+}
+
+/// Mouse orbit / pan / zoom and follow mode.
+pub fn orbit_camera(
+    buttons: Res<ButtonInput<MouseButton>>,
+    motion: Res<AccumulatedMouseMotion>,
+    scroll: Res<AccumulatedMouseScroll>,
+    egui: Res<EguiWantsInput>,
+    session: NonSend<SimSession>,
+    mut cameras: Query<(&mut OrbitCamera, &mut Transform)>,
+) {
+    for (mut orbit, mut t) in &mut cameras {
+        if !egui.wants_any_pointer_input() {
+            let d = motion.delta;
+            if buttons.pressed(MouseButton::Left) {
+                orbit.yaw -= d.x * 0.006;
+                orbit.pitch = (orbit.pitch + d.y * 0.006).clamp(-0.2, 1.5);
+            } else if buttons.pressed(MouseButton::Right) || buttons.pressed(MouseButton::Middle) {
+                let right = t.right().as_vec3();
+                let forward = Vec3::new(t.forward().x, 0.0, t.forward().z).normalize_or_zero();
+                let k = orbit.distance * 0.0015;
+                orbit.focus += (-right * d.x + forward * d.y) * k;
+                orbit.follow = false;
+            }
+            if scroll.delta.y != 0.0 {
+                orbit.distance = (orbit.distance * (1.0 - 0.1 * scroll.delta.y)).clamp(0.05, 50.0);
+            }
+        }
+        if orbit.follow
+            && let Ok(com) = session.simulator.com(0)
+        {
+            let target = to_bevy(com);
+            // Smooth, so the camera does not shake with the gait.
+            orbit.focus = orbit.focus.lerp(target, 0.2);
+        }
+        *t = orbit.transform();
+    }
+}

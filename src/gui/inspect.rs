@@ -1,0 +1,278 @@
+//! Data file inspection (thesis 4.5.6): load a recorded data file, choose the x series
+//! (simulated time, real time, step count or sample index) and y series from a tree per
+//! handler and part, add graphs (box-zoom with a right drag, reset with a double click),
+//! save a graph as PNG or export its series as TSV — with the same code as `proleg data
+//! plot` and `proleg data export`.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+use bevy::prelude::*;
+use bevy_egui::egui;
+use egui_plot::{Legend, Line, Plot, PlotPoints};
+
+use crate::data::export::{SeriesSelector, XAxis, export, for_each_row};
+use crate::data::read::{DataInfo, info};
+
+/// A graph of chosen series.
+#[derive(Debug, Clone)]
+pub struct Graph {
+    pub id: u64,
+    pub x: XAxis,
+    pub selectors: Vec<SeriesSelector>,
+    pub lines: Vec<(String, Vec<[f64; 2]>)>,
+}
+
+/// The inspection window's state.
+#[derive(Resource, Debug, Clone)]
+pub struct InspectState {
+    pub open: bool,
+    pub path: String,
+    pub file: Option<(PathBuf, DataInfo)>,
+    pub x: XAxis,
+    /// Checked (handler, series, part).
+    pub checked: BTreeSet<(String, String, usize)>,
+    pub graphs: Vec<Graph>,
+    next_id: u64,
+    /// Where "Save PNG" / "Export TSV" write (the extension is replaced).
+    pub out_stem: String,
+    pub message: String,
+}
+
+impl Default for InspectState {
+    fn default() -> Self {
+        InspectState {
+            open: false,
+            path: "out/demo.data.xml".into(),
+            file: None,
+            x: XAxis::SimTime,
+            checked: BTreeSet::new(),
+            graphs: Vec::new(),
+            next_id: 0,
+            out_stem: "out/graph".into(),
+            message: String::new(),
+        }
+    }
+}
+
+impl InspectState {
+    /// Reads the header and extent of `path`.
+    pub fn load(&mut self, path: &Path) {
+        match info(path) {
+            Ok(i) => {
+                self.message = format!(
+                    "{} handlers, {} rounds{}",
+                    i.handlers.len(),
+                    i.rounds,
+                    if i.cut {
+                        " (cut: the run did not finish)"
+                    } else {
+                        ""
+                    }
+                );
+                self.file = Some((path.to_path_buf(), i));
+                self.checked.clear();
+            }
+            Err(e) => self.message = e.to_string(),
+        }
+    }
+
+    /// Adds a graph of the checked series; returns its id.
+    pub fn add_graph(&mut self) -> Option<u64> {
+        let (path, _) = self.file.as_ref()?;
+        let selectors: Vec<SeriesSelector> = self
+            .checked
+            .iter()
+            .map(|(h, s, k)| SeriesSelector {
+                handler: h.clone(),
+                series: s.clone(),
+                parts: Some((*k, *k)),
+            })
+            .collect();
+        let mut lines: Vec<(String, Vec<[f64; 2]>)> = Vec::new();
+        let read = for_each_row(path, self.x, &selectors, |cols, x, values| {
+            if lines.is_empty() {
+                lines = cols.iter().map(|c| (c.title.clone(), Vec::new())).collect();
+            }
+            for (l, v) in lines.iter_mut().zip(values) {
+                l.1.push([x, *v]);
+            }
+            Ok(())
+        });
+        match read {
+            Ok((rows, _, _)) => {
+                let id = self.next_id;
+                self.next_id += 1;
+                self.message = format!("graph {}: {rows} rows", id + 1);
+                self.graphs.push(Graph {
+                    id,
+                    x: self.x,
+                    selectors,
+                    lines,
+                });
+                Some(id)
+            }
+            Err(e) => {
+                self.message = e.to_string();
+                None
+            }
+        }
+    }
+
+    /// Saves graph `id` as `<out_stem>-<id>.png` with the headless plotter.
+    pub fn save_png(&mut self, id: u64) {
+        let (Some(g), Some((path, _))) = (self.graphs.iter().find(|g| g.id == id), &self.file)
+        else {
+            return;
+        };
+        let out = PathBuf::from(format!("{}-{}.png", self.out_stem, id + 1));
+        if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+            let _ = std::fs::create_dir_all(dir);
+        }
+        self.message = match crate::data::plot::plot(path, g.x, &g.selectors, &out, (1200, 700)) {
+            Ok(s) => format!("wrote {} ({} rows)", out.display(), s.rows),
+            Err(e) => e.to_string(),
+        };
+    }
+
+    /// Exports graph `id`'s series as `<out_stem>-<id>.tsv`.
+    pub fn export_tsv(&mut self, id: u64) {
+        let (Some(g), Some((path, _))) = (self.graphs.iter().find(|g| g.id == id), &self.file)
+        else {
+            return;
+        };
+        let out = PathBuf::from(format!("{}-{}.tsv", self.out_stem, id + 1));
+        if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+            let _ = std::fs::create_dir_all(dir);
+        }
+        let result = std::fs::File::create(&out)
+            .map_err(|e| format!("{}: {e}", out.display()))
+            .and_then(|f| {
+                let mut w = std::io::BufWriter::new(f);
+                export(path, g.x, &g.selectors, '\t', &mut w).map_err(|e| e.to_string())
+            });
+        self.message = match result {
+            Ok(s) => format!("wrote {} ({} rows)", out.display(), s.rows),
+            Err(e) => e,
+        };
+    }
+}
+
+/// Draws the inspection window.
+pub fn show(ctx: &egui::Context, state: &mut InspectState) {
+    let mut open = state.open;
+    egui::Window::new("Data file inspection")
+        .open(&mut open)
+        .default_size([900.0, 520.0])
+        .show(ctx, |ui| {
+            ui.horizontal(|ui| {
+                ui.label("Data file:");
+                ui.add(egui::TextEdit::singleline(&mut state.path).desired_width(320.0));
+                if ui.button("Load").clicked() {
+                    let p = PathBuf::from(state.path.trim());
+                    state.load(&p);
+                }
+                ui.label("x:");
+                for (name, axis) in XAxis::NAMES.iter().zip([
+                    XAxis::SimTime,
+                    XAxis::RealTime,
+                    XAxis::StepCount,
+                    XAxis::Index,
+                ]) {
+                    ui.selectable_value(&mut state.x, axis, *name);
+                }
+            });
+            ui.label(&state.message);
+            ui.separator();
+            ui.horizontal_top(|ui| {
+                ui.vertical(|ui| {
+                    ui.set_width(260.0);
+                    tree(ui, state);
+                });
+                ui.separator();
+                graphs(ui, state);
+            });
+        });
+    state.open = open;
+}
+
+/// The series tree and "Add graph".
+fn tree(ui: &mut egui::Ui, state: &mut InspectState) {
+    let Some((_, info)) = &state.file else {
+        ui.label("Load a data file (proleg run --data FILE writes one).");
+        return;
+    };
+    let handlers = info.handlers.clone();
+    egui::ScrollArea::vertical()
+        .max_height(380.0)
+        .show(ui, |ui| {
+            for h in &handlers {
+                egui::CollapsingHeader::new(&h.name).show(ui, |ui| {
+                    for (s, name) in h.series.iter().enumerate() {
+                        ui.horizontal_wrapped(|ui| {
+                            ui.label(name);
+                            for k in 0..h.parts[s] {
+                                let key = (h.name.clone(), name.clone(), k);
+                                let mut on = state.checked.contains(&key);
+                                let text = if h.parts[s] > 1 {
+                                    k.to_string()
+                                } else {
+                                    String::new()
+                                };
+                                if ui.checkbox(&mut on, text).changed() {
+                                    if on {
+                                        state.checked.insert(key);
+                                    } else {
+                                        state.checked.remove(&key);
+                                    }
+                                }
+                            }
+                        });
+                    }
+                });
+            }
+        });
+    ui.horizontal(|ui| {
+        if ui
+            .add_enabled(!state.checked.is_empty(), egui::Button::new("Add graph"))
+            .clicked()
+        {
+            state.add_graph();
+        }
+        ui.label("save as");
+        ui.add(egui::TextEdit::singleline(&mut state.out_stem).desired_width(100.0));
+    });
+}
+
+/// The graphs with their buttons.
+fn graphs(ui: &mut egui::Ui, state: &mut InspectState) {
+    let mut action: Option<(u64, &str)> = None;
+    egui::ScrollArea::vertical().show(ui, |ui| {
+        for g in &state.graphs {
+            ui.horizontal(|ui| {
+                ui.label(format!("graph {}", g.id + 1));
+                for a in ["Save PNG", "Export TSV", "Delete"] {
+                    if ui.small_button(a).clicked() {
+                        action = Some((g.id, a));
+                    }
+                }
+            });
+            Plot::new(("data graph", g.id))
+                .height(220.0)
+                .legend(Legend::default())
+                .allow_boxed_zoom(true)
+                .x_axis_label(g.x.title())
+                .show(ui, |p| {
+                    for (name, pts) in &g.lines {
+                        p.line(Line::new(name.clone(), PlotPoints::from(pts.clone())));
+                    }
+                });
+        }
+    });
+    match action {
+        Some((id, "Save PNG")) => state.save_png(id),
+        Some((id, "Export TSV")) => state.export_tsv(id),
+        Some((id, _)) => state.graphs.retain(|g| g.id != id),
+        None => {}
+    }
+}

@@ -1,0 +1,228 @@
+//! The optimization view: when the simulation's mode is a genetic algorithm or great
+//! deluge, run that optimization on headless workers in the background (the same
+//! [`crate::optimize::run::optimize`] as `proleg optimize`), show its progress, evaluations
+//! per second, a live learning curve and the best candidate's parameter values, and replay
+//! the best candidate in the viewer (its values put into the shown robot's kernel).
+
+use std::sync::mpsc::{Receiver, channel};
+use std::time::Instant;
+
+use bevy::prelude::*;
+use bevy_egui::egui;
+use egui_plot::{Legend, Line, Plot, PlotPoints, Points};
+
+use crate::gui::session::SimSession;
+use crate::optimize::fitness::Fitness;
+use crate::optimize::run::{Evaluation, Outcome, RunSettings, StopFlag, optimize, prepare};
+use crate::optimize::space::Genome;
+
+/// A message from the optimization thread.
+enum Report {
+    Eval(Evaluation),
+    Done(Result<Outcome, String>),
+}
+
+/// The view's state and the running optimization, if any.
+#[derive(Resource, Default)]
+pub struct OptimizerView {
+    pub open: bool,
+    /// Evaluations to run (the optimizer file's maximum when 0).
+    pub max_evals: u64,
+    pub workers: usize,
+    /// (evaluation, score, best so far).
+    pub curve: Vec<[f64; 3]>,
+    pub best: Option<(Genome, f64)>,
+    pub started: Option<Instant>,
+    pub status: String,
+    stop: StopFlag,
+    rx: Option<std::sync::Mutex<Receiver<Report>>>,
+}
+
+impl OptimizerView {
+    /// A closed view that will run `workers` evaluation threads.
+    pub fn new(workers: usize) -> Self {
+        OptimizerView {
+            workers,
+            ..OptimizerView::default()
+        }
+    }
+
+    /// Whether a run is going on.
+    pub fn running(&self) -> bool {
+        self.rx.is_some()
+    }
+
+    /// Starts optimizing the session's simulation in a background thread.
+    pub fn start(&mut self, session: &SimSession) {
+        if self.running() {
+            return;
+        }
+        let sim = session.sim.clone();
+        let spec = sim.optimizer.as_ref().map(|m| &m.spec);
+        let props = &sim.files.simulation.properties;
+        let max = if self.max_evals > 0 {
+            self.max_evals
+        } else {
+            spec.and_then(|s| s.max_evaluations).unwrap_or(u64::MAX)
+        };
+        let settings = RunSettings {
+            seed: props.seed,
+            workers: self.workers.max(1),
+            batch: 0,
+            deluge_batch: 8,
+            max_evaluations: max,
+            duration: props.duration,
+            fitness: spec.map(|s| s.fitness).unwrap_or(Fitness::Displacement),
+            stop: StopFlag::default(),
+        };
+        self.stop = settings.stop.clone();
+        self.curve.clear();
+        self.best = None;
+        self.started = Some(Instant::now());
+        self.status = "running".into();
+        let (tx, rx) = channel();
+        std::thread::spawn(move || {
+            let eval_tx = tx.clone();
+            let result = optimize(&sim, &settings, None, |e| {
+                let _ = eval_tx.send(Report::Eval(e.clone()));
+            });
+            let _ = tx.send(Report::Done(result));
+        });
+        self.rx = Some(std::sync::Mutex::new(rx));
+    }
+
+    /// Asks the run to end after its current round.
+    pub fn stop(&self) {
+        self.stop.stop();
+    }
+
+    /// Takes the thread's reports.
+    pub fn poll(&mut self) {
+        let mut done = None;
+        if let Some(rx) = &self.rx
+            && let Ok(rx) = rx.lock()
+        {
+            while let Ok(r) = rx.try_recv() {
+                match r {
+                    Report::Eval(e) => {
+                        let score = if e.score.is_finite() {
+                            e.score
+                        } else {
+                            f64::NAN
+                        };
+                        self.curve.push([e.number as f64 + 1.0, score, e.best]);
+                        if self.best.as_ref().is_none_or(|(_, b)| e.score > *b) {
+                            self.best = Some((e.genome.clone(), e.score));
+                        }
+                    }
+                    Report::Done(r) => done = Some(r),
+                }
+            }
+        }
+        if let Some(r) = done {
+            self.rx = None;
+            self.status = match r {
+                Ok(o) => format!(
+                    "finished: {} evaluations, best {:.4} ({})",
+                    o.evaluations, o.best_score, o.batching
+                ),
+                Err(e) => format!("failed: {e}"),
+            };
+        }
+    }
+
+    /// Evaluations per second so far.
+    pub fn rate(&self) -> f64 {
+        let secs = self.started.map_or(0.0, |t| t.elapsed().as_secs_f64());
+        if secs > 0.0 {
+            self.curve.len() as f64 / secs
+        } else {
+            0.0
+        }
+    }
+}
+
+/// Puts `genome`'s values into the session's kernel after a restart, and starts it.
+pub fn replay(session: &mut SimSession, genome: &Genome) {
+    let space = match prepare(&session.sim) {
+        Ok((space, _)) => space,
+        Err(e) => {
+            session.error = Some(e);
+            return;
+        }
+    };
+    session.restart();
+    let applied = session
+        .simulator
+        .kernel_mut(0)
+        .map_err(|e| e.to_string())
+        .and_then(|k| space.apply(genome, k).map_err(|e| e.to_string()));
+    match applied {
+        Ok(()) => session.running = true,
+        Err(e) => session.error = Some(e),
+    }
+}
+
+/// Draws the optimization window (only for optimization modes).
+pub fn show(ctx: &egui::Context, session: &mut SimSession, view: &mut OptimizerView) {
+    let Some(model) = session.sim.optimizer.as_ref() else {
+        return;
+    };
+    view.poll();
+    let label = model.spec.label();
+    let space = prepare(&session.sim).ok().map(|(s, _)| s);
+    let mut open = view.open;
+    egui::Window::new("Optimization")
+        .open(&mut open)
+        .default_size([560.0, 420.0])
+        .show(ctx, |ui| {
+            ui.label(format!(
+                "{label}; {} genes, problem size {:.3e}",
+                space.as_ref().map_or(0, |s| s.genes.len()),
+                space.as_ref().map_or(0.0, |s| s.size())
+            ));
+            ui.horizontal(|ui| {
+                ui.label("evaluations (0 = file's limit)");
+                ui.add(egui::DragValue::new(&mut view.max_evals).range(0..=1_000_000));
+                ui.label("workers");
+                ui.add(egui::DragValue::new(&mut view.workers).range(1..=64));
+                if view.running() {
+                    if ui.button("Stop").clicked() {
+                        view.stop();
+                    }
+                } else if ui.button("Start").clicked() {
+                    view.start(session);
+                }
+            });
+            let best = view.best.as_ref().map_or(f64::NAN, |b| b.1);
+            ui.monospace(format!(
+                "{}: {} evaluations, best {:.4}, {:.2} evals/s",
+                view.status,
+                view.curve.len(),
+                best,
+                view.rate()
+            ));
+            Plot::new("learning curve")
+                .height(200.0)
+                .legend(Legend::default())
+                .x_axis_label("evaluation")
+                .y_axis_label("score")
+                .show(ui, |p| {
+                    let scores: Vec<[f64; 2]> = view.curve.iter().map(|c| [c[0], c[1]]).collect();
+                    let bests: Vec<[f64; 2]> = view.curve.iter().map(|c| [c[0], c[2]]).collect();
+                    p.points(Points::new("score", PlotPoints::from(scores)).radius(1.5));
+                    p.line(Line::new("best so far", PlotPoints::from(bests)));
+                });
+            if let (Some((genome, score)), Some(space)) = (view.best.clone(), space.as_ref()) {
+                ui.label(format!("best candidate ({score:.4}):"));
+                let values = space.decode(&genome);
+                for (g, v) in space.genes.iter().zip(values) {
+                    ui.monospace(format!("  {} = {v}", g.label()));
+                }
+                if ui.button("Replay best in the viewer").clicked() {
+                    replay(session, &genome);
+                }
+            }
+        });
+    view.open = open;
+}

@@ -1,0 +1,169 @@
+//! Control algorithm properties (thesis 4.5.5): a tab per actuation module with all its
+//! parameters, in uniform mode (one slider sets every joint the module drives) or
+//! individual mode (a slider per joint). Values are read back from the kernel every frame,
+//! so changes made elsewhere (a script, an optimizer, a gamepad) show at once; Reset
+//! restores the module's parameters as the configuration built them. Every change goes
+//! through [`crate::control::ControlKernel::set_parameter`], the one parameter API.
+
+use std::collections::HashSet;
+
+use bevy::prelude::*;
+use bevy_egui::egui;
+
+use crate::gui::session::SimSession;
+
+/// The dialog's state: the selected module and which parameters are shown per joint.
+#[derive(Resource, Debug, Clone, Default)]
+pub struct ParamsState {
+    pub tab: usize,
+    /// (actuator, parameter) pairs in individual mode.
+    pub individual: HashSet<(usize, usize)>,
+}
+
+/// A parameter change the dialog asks for.
+struct Change {
+    actuator: usize,
+    name: &'static str,
+    joint: Option<usize>,
+    value: f64,
+}
+
+/// Draws the dialog and applies the changes made in it.
+pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut ParamsState) {
+    let Ok(kernel) = session.simulator.kernel(0) else {
+        ui.label("no robot");
+        return;
+    };
+    let actuators = kernel.actuators();
+    if actuators.is_empty() {
+        ui.label("This robot has no actuation modules.");
+        return;
+    }
+    state.tab = state.tab.min(actuators.len() - 1);
+    ui.horizontal_wrapped(|ui| {
+        for (i, a) in actuators.iter().enumerate() {
+            let name = a.module.descriptor().type_name;
+            ui.selectable_value(&mut state.tab, i, format!("{i}: {name}"));
+        }
+    });
+    ui.separator();
+    let a = &actuators[state.tab];
+    let d = a.module.descriptor();
+    ui.label(egui::RichText::new(d.summary).italics());
+    ui.label(format!("joints {:?}", a.joints));
+    let mut changes = Vec::new();
+    let mut reset = false;
+    egui::ScrollArea::vertical().show(ui, |ui| {
+        let p = a.module.parameters();
+        for (pi, desc) in d.parameters.iter().enumerate() {
+            let key = (state.tab, pi);
+            let mut individual = state.individual.contains(&key);
+            ui.horizontal(|ui| {
+                ui.strong(desc.name).on_hover_text(desc.help);
+                if !desc.unit.is_empty() {
+                    ui.label(format!("[{}]", desc.unit));
+                }
+                if ui.checkbox(&mut individual, "per joint").changed() {
+                    if individual {
+                        state.individual.insert(key);
+                    } else {
+                        state.individual.remove(&key);
+                    }
+                }
+            });
+            let (lo, hi) = slider_range(desc.min, desc.max, p.row(pi));
+            if individual {
+                for (local, joint) in a.joints.iter().enumerate() {
+                    let mut v = p.get(pi, local);
+                    let r =
+                        ui.add(egui::Slider::new(&mut v, lo..=hi).text(format!("J{}", joint + 1)));
+                    if r.changed() {
+                        changes.push(Change {
+                            actuator: state.tab,
+                            name: desc.name,
+                            joint: Some(*joint),
+                            value: v,
+                        });
+                    }
+                }
+            } else {
+                let mut v = p.get(pi, 0);
+                let uniform = p.row(pi).iter().all(|x| *x == v);
+                let text = if uniform {
+                    "all joints"
+                } else {
+                    "all joints (differ)"
+                };
+                if ui
+                    .add(egui::Slider::new(&mut v, lo..=hi).text(text))
+                    .changed()
+                {
+                    changes.push(Change {
+                        actuator: state.tab,
+                        name: desc.name,
+                        joint: None,
+                        value: v,
+                    });
+                }
+            }
+        }
+        ui.separator();
+        reset = ui
+            .button("Reset")
+            .on_hover_text("restore this module's parameters as configured")
+            .clicked();
+    });
+    apply(session, changes, reset.then_some(state.tab));
+}
+
+/// A slider range: the descriptor's, narrowed to something draggable when it is unbounded.
+fn slider_range(min: f64, max: f64, values: &[f64]) -> (f64, f64) {
+    let biggest = values.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+    let lo = if min.is_finite() {
+        min
+    } else {
+        -10.0 * biggest
+    };
+    let hi = if max.is_finite() { max } else { 10.0 * biggest };
+    (lo, hi.max(lo + f64::EPSILON))
+}
+
+/// Applies the dialog's changes, and a reset of one actuator's parameters.
+fn apply(session: &mut SimSession, changes: Vec<Change>, reset: Option<usize>) {
+    let initial = session.initial_kernel.clone();
+    let Ok(kernel) = session.simulator.kernel_mut(0) else {
+        return;
+    };
+    for c in changes {
+        if let Err(e) = kernel.set_parameter(c.actuator, c.name, c.joint, c.value) {
+            session.error = Some(e.to_string());
+            return;
+        }
+    }
+    if let Some(a) = reset {
+        if let Err(e) = reset_actuator(kernel, &initial, a) {
+            session.error = Some(e);
+        }
+    }
+}
+
+/// Sets every parameter of actuator `a` back to its value in `initial`.
+pub fn reset_actuator(
+    kernel: &mut crate::control::ControlKernel,
+    initial: &crate::control::ControlKernel,
+    a: usize,
+) -> Result<(), String> {
+    let Some(init) = initial.actuators().get(a) else {
+        return Err(format!("no actuator {a}"));
+    };
+    let d = init.module.descriptor();
+    let p = init.module.parameters();
+    for (pi, desc) in d.parameters.iter().enumerate() {
+        for (local, joint) in init.joints.iter().enumerate() {
+            kernel
+                .set_parameter(a, desc.name, Some(*joint), p.get(pi, local))
+                .map_err(|e| e.to_string())?;
+        }
+    }
+    Ok(())
+}

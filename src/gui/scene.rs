@@ -1,0 +1,330 @@
+//! The 3D scene of the viewer: a mesh per geometry of every environment body and robot
+//! link, touch pads that light up when pressed, lights with shadows. Physics runs in the
+//! configuration's frame (z up); one root entity turns it into Bevy's y-up frame, so every
+//! visual below it uses configuration coordinates. The scene is rebuilt whenever the
+//! session builds a new world (load, restart) and follows the rapier bodies every frame.
+
+use std::path::Path;
+
+use bevy::asset::RenderAssetUsages;
+use bevy::mesh::{Indices, PrimitiveTopology};
+use bevy::prelude::*;
+use rapier3d::prelude as rp;
+
+use crate::config::body::{Geom, Shape};
+use crate::config::mesh::parse_obj;
+use crate::config::transform::Transform as Pose;
+use crate::gui::session::SimSession;
+use crate::sim::physics::Physics;
+use crate::sim::spawn::{EnvObject, SimLink};
+use crate::sim::tactile::{RobotSensors, TactileSensor};
+
+/// The root of the scene (configuration frame -> Bevy frame).
+#[derive(Component)]
+pub struct SceneRoot;
+
+/// A visual that follows a rapier body.
+#[derive(Component)]
+pub struct BodyVisual {
+    pub handle: rp::RigidBodyHandle,
+    /// Index of the robot link it shows (None: an environment body).
+    pub link: Option<usize>,
+}
+
+/// A touch pad's visual.
+#[derive(Component)]
+pub struct PadVisual {
+    pub index: usize,
+    pub pressed: Handle<StandardMaterial>,
+    pub released: Handle<StandardMaterial>,
+}
+
+/// Which world the scene shows (the simulator's build count).
+#[derive(Resource, Default)]
+pub struct SceneBuilt(pub Option<u64>);
+
+/// Builds the scene from the session's world: environment, robot links, pads.
+pub fn build_scene(
+    mut commands: Commands,
+    mut built: ResMut<SceneBuilt>,
+    session: NonSend<SimSession>,
+    roots: Query<Entity, With<SceneRoot>>,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<StandardMaterial>>,
+) {
+    if built.0 == Some(session.generation) {
+        return;
+    }
+    built.0 = Some(session.generation);
+    for e in &roots {
+        commands.entity(e).despawn();
+    }
+    let root = commands
+        .spawn((
+            Name::new("scene (z-up configuration frame)"),
+            SceneRoot,
+            Transform::from_rotation(Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2)),
+            Visibility::default(),
+        ))
+        .id();
+    let world = session.simulator.world();
+    let sim = &session.sim;
+    let mut env: Vec<&EnvObject> = Vec::new();
+    let mut q = world.try_query::<&EnvObject>();
+    if let Some(q) = q.as_mut() {
+        env.extend(q.iter(world));
+    }
+    for obj in env {
+        let Some(body) = sim.environment.bodies.get(obj.index) else {
+            continue;
+        };
+        let e = spawn_body(
+            &mut commands,
+            &mut meshes,
+            &mut materials,
+            format!("environment: {}", body.name),
+            BodyVisual {
+                handle: obj.handle,
+                link: None,
+            },
+            &body.geoms,
+        );
+        commands.entity(root).add_child(e);
+    }
+    let robot = session.simulator.robots().first().copied();
+    let mut links = world.try_query::<&SimLink>();
+    let mut link_entities = vec![None; sim.robot.links.len()];
+    if let Some(q) = links.as_mut() {
+        for l in q.iter(world).filter(|l| Some(l.robot) == robot) {
+            let Some(model) = sim.robot.links.get(l.index) else {
+                continue;
+            };
+            let e = spawn_body(
+                &mut commands,
+                &mut meshes,
+                &mut materials,
+                format!("link {}", model.name),
+                BodyVisual {
+                    handle: l.handle,
+                    link: Some(l.index),
+                },
+                &model.geoms,
+            );
+            commands.entity(root).add_child(e);
+            if let Some(slot) = link_entities.get_mut(l.index) {
+                *slot = Some((e, l.handle));
+            }
+        }
+    }
+    spawn_pads(
+        &mut commands,
+        &mut meshes,
+        &mut materials,
+        &session,
+        &link_entities,
+    );
+}
+
+/// The pads of robot 0 as small boxes under their links.
+fn spawn_pads(
+    commands: &mut Commands,
+    meshes: &mut Assets<Mesh>,
+    materials: &mut Assets<StandardMaterial>,
+    session: &SimSession,
+    links: &[Option<(Entity, rp::RigidBodyHandle)>],
+) {
+    let world = session.simulator.world();
+    let Some(physics) = world.get_resource::<Physics>() else {
+        return;
+    };
+    let robot = session.simulator.robots().first().copied();
+    let pressed = materials.add(StandardMaterial {
+        base_color: Color::srgb(1.0, 0.1, 0.05),
+        emissive: LinearRgba::rgb(2.0, 0.1, 0.0),
+        ..default()
+    });
+    let released = materials.add(Color::srgb(0.45, 0.1, 0.1));
+    let mut pads = world.try_query::<&TactileSensor>();
+    let Some(q) = pads.as_mut() else {
+        return;
+    };
+    for pad in q.iter(world).filter(|p| Some(p.robot) == robot) {
+        let Some(collider) = physics.world.colliders.get(pad.collider) else {
+            continue;
+        };
+        let Some((link, _)) = collider
+            .parent()
+            .and_then(|h| links.iter().flatten().find(|(_, lh)| *lh == h))
+        else {
+            continue;
+        };
+        let Some(cuboid) = collider.shape().as_cuboid() else {
+            continue;
+        };
+        let he = cuboid.half_extents;
+        let local = collider.position_wrt_parent().copied().unwrap_or_default();
+        let t = Transform::from_translation(Vec3::new(
+            local.translation.x,
+            local.translation.y,
+            local.translation.z,
+        ));
+        let e = commands
+            .spawn((
+                Name::new(format!("touch pad {}", pad.index)),
+                PadVisual {
+                    index: pad.index,
+                    pressed: pressed.clone(),
+                    released: released.clone(),
+                },
+                Mesh3d(meshes.add(Cuboid::new(
+                    2.0 * he.x + 0.001,
+                    2.0 * he.y + 0.001,
+                    2.0 * he.z + 0.001,
+                ))),
+                MeshMaterial3d(released.clone()),
+                t,
+            ))
+            .id();
+        commands.entity(*link).add_child(e);
+    }
+}
+
+/// A body entity with one child mesh per geometry.
+fn spawn_body(
+    commands: &mut Commands,
+    meshes: &mut Assets<Mesh>,
+    materials: &mut Assets<StandardMaterial>,
+    name: String,
+    visual: BodyVisual,
+    geoms: &[Geom],
+) -> Entity {
+    let parent = commands
+        .spawn((
+            Name::new(name),
+            visual,
+            Transform::default(),
+            Visibility::default(),
+        ))
+        .id();
+    for (i, g) in geoms.iter().enumerate().filter(|(_, g)| g.visible) {
+        let Some(mesh) = geom_mesh(&g.shape) else {
+            continue;
+        };
+        let [r, gr, b] = g.diffuse_color.unwrap_or([0.7, 0.7, 0.7]);
+        let alpha = 1.0 - g.transparency.unwrap_or(0.0).clamp(0.0, 1.0);
+        let material = StandardMaterial {
+            base_color: Color::srgba(r as f32, gr as f32, b as f32, alpha as f32),
+            alpha_mode: if alpha < 0.9 {
+                AlphaMode::Blend
+            } else {
+                AlphaMode::Opaque
+            },
+            perceptual_roughness: 0.8,
+            ..default()
+        };
+        let child = commands
+            .spawn((
+                Name::new(format!("geom {i}")),
+                Mesh3d(meshes.add(mesh)),
+                MeshMaterial3d(materials.add(material)),
+                to_transform(&g.pose),
+            ))
+            .id();
+        commands.entity(parent).add_child(child);
+    }
+    parent
+}
+
+/// The mesh of a geometry (None: a mesh file that cannot be read; the simulation would
+/// not have built either).
+fn geom_mesh(shape: &Shape) -> Option<Mesh> {
+    Some(match shape {
+        Shape::Box { extents: [x, y, z] } => {
+            Cuboid::new(2.0 * *x as f32, 2.0 * *y as f32, 2.0 * *z as f32).into()
+        }
+        Shape::Sphere { radius } => Sphere::new(*radius as f32).mesh().ico(3).ok()?,
+        Shape::Cylinder { radius, height } => Cylinder::new(*radius as f32, *height as f32).into(),
+        Shape::Trimesh { file, scale } => {
+            let text = std::fs::read_to_string(file).ok()?;
+            let obj = parse_obj(Path::new(file), &text).ok()?;
+            let positions: Vec<[f32; 3]> = obj
+                .vertices
+                .iter()
+                .map(|v| v.map(|c| (c * scale) as f32))
+                .collect();
+            let indices: Vec<u32> = obj.triangles.iter().flatten().copied().collect();
+            let mut mesh = Mesh::new(
+                PrimitiveTopology::TriangleList,
+                RenderAssetUsages::default(),
+            )
+            .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
+            .with_inserted_indices(Indices::U32(indices));
+            mesh.duplicate_vertices();
+            mesh.compute_flat_normals();
+            mesh
+        }
+    })
+}
+
+/// A configuration pose as a Bevy transform (same frame: the scene root converts).
+pub fn to_transform(p: &Pose) -> Transform {
+    let [w, x, y, z] = p.rotation;
+    let [tx, ty, tz] = p.translation;
+    Transform::from_translation(Vec3::new(tx as f32, ty as f32, tz as f32))
+        .with_rotation(Quat::from_xyzw(x as f32, y as f32, z as f32, w as f32).normalize())
+}
+
+/// Moves every body visual to its rapier body's pose.
+pub fn follow_bodies(
+    session: NonSend<SimSession>,
+    mut visuals: Query<(&BodyVisual, &mut Transform)>,
+) {
+    let Some(physics) = session.simulator.world().get_resource::<Physics>() else {
+        return;
+    };
+    for (v, mut t) in &mut visuals {
+        if let Some(b) = physics.world.bodies.get(v.handle) {
+            let p = b.translation();
+            let r = b.rotation();
+            t.translation = Vec3::new(p.x, p.y, p.z);
+            t.rotation = Quat::from_xyzw(r.x, r.y, r.z, r.w);
+        }
+    }
+}
+
+/// Colours pads by robot 0's debounced tactile readings.
+pub fn colour_pads(
+    session: NonSend<SimSession>,
+    mut pads: Query<(&PadVisual, &mut MeshMaterial3d<StandardMaterial>)>,
+) {
+    let Some(robot) = session.simulator.robots().first() else {
+        return;
+    };
+    let Some(sensors) = session.simulator.world().get::<RobotSensors>(*robot) else {
+        return;
+    };
+    for (pad, mut material) in &mut pads {
+        let on = sensors.0.tactile.get(pad.index).copied().unwrap_or(false);
+        let want = if on { &pad.pressed } else { &pad.released };
+        if material.0 != *want {
+            material.0 = want.clone();
+        }
+    }
+}
+
+/// Sun with shadows and a soft ambient light.
+pub fn spawn_lights(mut commands: Commands) {
+    commands.insert_resource(GlobalAmbientLight {
+        brightness: 400.0,
+        ..default()
+    });
+    commands.spawn((
+        Name::new("sun"),
+        DirectionalLight {
+            illuminance: 9000.0,
+            shadow_maps_enabled: true,
+            ..default()
+        },
+        Transform::from_xyz(2.0, 6.0, 3.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+}

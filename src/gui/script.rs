@@ -1,0 +1,210 @@
+//! Scripted driving of the control window, for GUI tests and the screenshots in docs/:
+//! `proleg gui CONFIG --script FILE` runs one command per line (blank lines and `#`
+//! comments ignored) while the window renders:
+//!
+//! ```text
+//! wait 5                         # frames
+//! start | pause | restart
+//! run-until 3.0                  # simulated seconds (starts the simulation)
+//! speed 0                        # real-time factor (0: as fast as possible)
+//! set Sinus_Generator Amplitude 20 [JOINT]
+//! plot Robot_Data/y_pos Sinus_Generator/Angle[2]   # a live plot of these series
+//! panel params|plots|all|none    # which docked views are open
+//! inspect out/demo.data.xml Robot_Data/y_pos   # data file inspection with a graph
+//! optimize 8                    # run the optimization mode for 8 evaluations, wait
+//! replay-best                    # show the best candidate in the viewer
+//! screenshot docs/control_window.png
+//! state out/state.txt            # the app state as key = value lines
+//! quit
+//! ```
+//!
+//! A bad line stops the script with a message naming the file and line, and the window
+//! closes with a failure status.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use crate::data::export::SeriesSelector;
+
+/// One script command.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Command {
+    Wait(u32),
+    Start,
+    Pause,
+    Restart,
+    RunUntil(f64),
+    /// Real-time factor (0: as fast as possible).
+    Speed(f64),
+    Set {
+        module: String,
+        param: String,
+        value: f64,
+        joint: Option<usize>,
+    },
+    /// Series as `proleg data` selects them: `Handler/series`, `[k]` or `[a..b]` (from 0).
+    Plot(Vec<SeriesSelector>),
+    Panel(String),
+    /// Open the data file inspection on a file and add a graph of these series.
+    Inspect(PathBuf, Vec<SeriesSelector>),
+    /// Run the simulation's optimization for this many evaluations and wait for it.
+    Optimize(u64),
+    /// Replay the best candidate found in the viewer.
+    ReplayBest,
+    Screenshot(PathBuf),
+    State(PathBuf),
+    Quit,
+}
+
+/// A parsed script and where it is.
+#[derive(Debug, Clone, Default)]
+pub struct Script {
+    pub commands: Vec<(usize, Command)>,
+    pub next: usize,
+    /// Frames left of a `wait`.
+    pub waiting: u32,
+    /// A screenshot being written: path and frames waited for it.
+    pub pending_shot: Option<(PathBuf, u32)>,
+    pub file: PathBuf,
+}
+
+/// Reads a script file.
+pub fn load(path: &Path) -> Result<Script, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    parse(path, &text)
+}
+
+/// Parses script text (`path` names it in errors).
+pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
+    let mut commands = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let line = raw.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        let at = |msg: String| format!("{}:{}: {msg}", path.display(), i + 1);
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let num = |w: Option<&&str>, what: &str| -> Result<f64, String> {
+            let w = w.ok_or_else(|| at(format!("{line:?}: missing {what}")))?;
+            w.parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| at(format!("{w:?} is not a number ({what})")))
+        };
+        let c = match words[0] {
+            "wait" => Command::Wait(num(words.get(1), "frames")?.max(0.0) as u32),
+            "start" => Command::Start,
+            "pause" => Command::Pause,
+            "restart" => Command::Restart,
+            "run-until" => Command::RunUntil(num(words.get(1), "seconds")?),
+            "speed" => Command::Speed(num(words.get(1), "real-time factor")?.max(0.0)),
+            "set" => {
+                if words.len() < 4 {
+                    return Err(at("set MODULE PARAM VALUE [JOINT]".into()));
+                }
+                Command::Set {
+                    module: words[1].to_string(),
+                    param: words[2].to_string(),
+                    value: num(words.get(3), "value")?,
+                    joint: match words.get(4) {
+                        Some(_) => Some(num(words.get(4), "joint")? as usize),
+                        None => None,
+                    },
+                }
+            }
+            "plot" if words.len() > 1 => Command::Plot(
+                words[1..]
+                    .iter()
+                    .map(|w| SeriesSelector::parse(w).map_err(&at))
+                    .collect::<Result<_, _>>()?,
+            ),
+            "panel" if words.len() == 2 => Command::Panel(words[1].to_string()),
+            "inspect" if words.len() > 2 => Command::Inspect(
+                PathBuf::from(words[1]),
+                words[2..]
+                    .iter()
+                    .map(|w| SeriesSelector::parse(w).map_err(&at))
+                    .collect::<Result<_, _>>()?,
+            ),
+            "screenshot" if words.len() == 2 => Command::Screenshot(PathBuf::from(words[1])),
+            "state" if words.len() == 2 => Command::State(PathBuf::from(words[1])),
+            "optimize" => Command::Optimize(num(words.get(1), "evaluations")?.max(1.0) as u64),
+            "replay-best" => Command::ReplayBest,
+            "quit" => Command::Quit,
+            other => return Err(at(format!("unknown or incomplete command {other:?}"))),
+        };
+        commands.push((i + 1, c));
+    }
+    Ok(Script {
+        commands,
+        file: path.to_path_buf(),
+        ..Script::default()
+    })
+}
+
+/// Key = value lines of the state a test checks.
+pub fn state_report(pairs: &[(&str, String)]) -> String {
+    let mut out = String::new();
+    for (k, v) in pairs {
+        let _ = writeln!(out, "{k} = {v}");
+    }
+    out
+}
+
+/// The script being run by the window, if any.
+#[derive(bevy::prelude::Resource, Debug, Clone, Default)]
+pub struct ScriptRunner(pub Option<Script>);
+
+impl ScriptRunner {
+    pub fn new(script: Script) -> Self {
+        ScriptRunner(Some(script))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_every_command_and_locates_errors() {
+        let s = parse(
+            Path::new("t.script"),
+            "wait 3\nstart # go\n\nrun-until 1.5\nset Sinus_Generator Amplitude 20 2\nplot Robot_Data/y_pos A/Angle[2]\npanel plots\nscreenshot a.png\nstate s.txt\npause\nrestart\nquit\n",
+        )
+        .unwrap();
+        assert_eq!(s.commands.len(), 11);
+        assert_eq!(s.commands[0], (1, Command::Wait(3)));
+        assert_eq!(s.commands[2], (4, Command::RunUntil(1.5)));
+        assert_eq!(
+            s.commands[3].1,
+            Command::Set {
+                module: "Sinus_Generator".into(),
+                param: "Amplitude".into(),
+                value: 20.0,
+                joint: Some(2)
+            }
+        );
+        let e = parse(Path::new("t.script"), "start\nfly 3\n").unwrap_err();
+        assert!(e.starts_with("t.script:2:"), "{e}");
+        let e = parse(Path::new("t.script"), "run-until soon\n").unwrap_err();
+        assert!(e.contains("t.script:1:") && e.contains("soon"), "{e}");
+        let e = parse(Path::new("t.script"), "set A B NaN\n").unwrap_err();
+        assert!(e.contains("NaN"), "{e}");
+    }
+
+    #[test]
+    fn plot_series_are_data_selectors() {
+        let s = parse(
+            Path::new("p.script"),
+            "plot Robot_Data/y_pos M/Angle[0..2]\n",
+        )
+        .unwrap();
+        let Command::Plot(sel) = &s.commands[0].1 else {
+            panic!("not a plot: {:?}", s.commands[0]);
+        };
+        assert_eq!(sel.len(), 2);
+        assert_eq!(sel[1].parts, Some((0, 2)));
+        let e = parse(Path::new("p.script"), "wait 1\nplot nohandler\n").unwrap_err();
+        assert!(e.starts_with("p.script:2:"), "{e}");
+    }
+}

@@ -1,0 +1,277 @@
+//! Runs a [`crate::gui::script`] in the window: each frame, commands are carried out until
+//! one has to wait (frames, simulated time, a screenshot being written, an optimization).
+//! A failing command prints `error: FILE:LINE: cause` and closes the window with a failure.
+
+use std::fmt::Write as _;
+
+use bevy::ecs::system::SystemParam;
+use bevy::prelude::*;
+use bevy::render::view::screenshot::{Screenshot, save_to_disk};
+
+use crate::data::export::resolve;
+use crate::gui::Panels;
+use crate::gui::inspect::InspectState;
+use crate::gui::optimizer_view::{OptimizerView, replay};
+use crate::gui::plots::{LiveSeries, PlotsState};
+use crate::gui::script::{Command, ScriptRunner, state_report};
+use crate::gui::session::SimSession;
+
+/// Frames to wait for a screenshot file before giving up.
+const SHOT_FRAMES: u32 = 600;
+
+/// The views a script changes.
+#[derive(SystemParam)]
+pub struct Views<'w> {
+    plots: ResMut<'w, PlotsState>,
+    panels: ResMut<'w, Panels>,
+    inspect: ResMut<'w, InspectState>,
+    optimizer: ResMut<'w, OptimizerView>,
+}
+
+/// What a command leaves the script to do.
+enum Flow {
+    /// Go on with the next command this frame.
+    Next,
+    /// Come back to this command next frame.
+    Again,
+    /// The command is done; wait for the next frame before going on.
+    Yield,
+    Quit,
+}
+
+/// Carries out script commands (the `Script` set).
+pub fn run_script(
+    mut commands: Commands,
+    mut runner: ResMut<ScriptRunner>,
+    mut session: NonSendMut<SimSession>,
+    mut views: Views,
+    mut exit: MessageWriter<AppExit>,
+) {
+    let Some(script) = runner.0.as_mut() else {
+        return;
+    };
+    if script.waiting > 0 {
+        script.waiting -= 1;
+        return;
+    }
+    if let Some((path, waited)) = script.pending_shot.as_mut() {
+        if !path.exists() && *waited < SHOT_FRAMES {
+            *waited += 1;
+            return;
+        }
+        let missing = !path.exists();
+        let shot = path.display().to_string();
+        script.pending_shot = None;
+        if missing {
+            eprintln!(
+                "error: {}: screenshot {shot} was not written",
+                script.file.display()
+            );
+            exit.write(AppExit::error());
+            runner.0 = None;
+            return;
+        }
+    }
+    while let Some((line, c)) = script.commands.get(script.next).cloned() {
+        let flow = match carry_out(c, &mut commands, script, &mut session, &mut views) {
+            Ok(f) => f,
+            Err(e) => {
+                eprintln!("error: {}:{line}: {e}", script.file.display());
+                exit.write(AppExit::error());
+                runner.0 = None;
+                return;
+            }
+        };
+        match flow {
+            Flow::Next => script.next += 1,
+            Flow::Again => return,
+            Flow::Yield => {
+                script.next += 1;
+                return;
+            }
+            Flow::Quit => {
+                exit.write(AppExit::Success);
+                runner.0 = None;
+                return;
+            }
+        }
+    }
+}
+
+/// One command.
+fn carry_out(
+    c: Command,
+    commands: &mut Commands,
+    script: &mut crate::gui::script::Script,
+    session: &mut SimSession,
+    views: &mut Views,
+) -> Result<Flow, String> {
+    Ok(match c {
+        Command::Wait(n) => {
+            script.waiting = n;
+            Flow::Yield
+        }
+        Command::Start => {
+            session.running = true;
+            Flow::Next
+        }
+        Command::Pause => {
+            session.running = false;
+            Flow::Next
+        }
+        Command::Restart => {
+            session.restart();
+            Flow::Next
+        }
+        Command::RunUntil(t) if session.sim_time() + 1e-9 < t => {
+            session.running = true;
+            Flow::Again
+        }
+        Command::RunUntil(_) => Flow::Next,
+        Command::Speed(f) => {
+            session.realtime_factor = f;
+            Flow::Next
+        }
+        Command::Set {
+            module,
+            param,
+            value,
+            joint,
+        } => {
+            let k = session.simulator.kernel_mut(0).map_err(|e| e.to_string())?;
+            let a = k
+                .find(&module)
+                .ok_or_else(|| format!("no module {module:?} in this robot's actuation"))?;
+            k.set_parameter(a, &param, joint.map(|j| j.saturating_sub(1)), value)
+                .map_err(|e| e.to_string())?;
+            Flow::Next
+        }
+        Command::Plot(selectors) => {
+            let log = session.simulator.data(0).map_err(|e| e.to_string())?;
+            let cols = resolve(&log.handlers, &selectors)?;
+            let series = cols
+                .into_iter()
+                .map(|c| LiveSeries {
+                    handler: log.handlers[c.handler].name.clone(),
+                    column: c.value,
+                    title: c.title,
+                })
+                .collect();
+            views.plots.add(series);
+            Flow::Next
+        }
+        Command::Panel(which) => {
+            *views.panels = Panels {
+                params: which == "params" || which == "all",
+                plots: which == "plots" || which == "all",
+            };
+            Flow::Next
+        }
+        Command::Inspect(path, selectors) => {
+            let inspect = &mut views.inspect;
+            inspect.open = true;
+            inspect.path = path.display().to_string();
+            inspect.load(&path);
+            let Some((_, info)) = &inspect.file else {
+                return Err(inspect.message.clone());
+            };
+            let cols = resolve(&info.handlers, &selectors)?;
+            let mut checked = std::collections::BTreeSet::new();
+            for c in &cols {
+                let h = &info.handlers[c.handler];
+                if let Some(s) = (0..h.series.len()).rev().find(|s| h.offset(*s) <= c.value) {
+                    checked.insert((h.name.clone(), h.series[s].clone(), c.value - h.offset(s)));
+                }
+            }
+            inspect.checked = checked;
+            inspect.add_graph().ok_or_else(|| inspect.message.clone())?;
+            Flow::Next
+        }
+        Command::Optimize(n) => {
+            if session.sim.optimizer.is_none() {
+                return Err("this simulation's mode is not an optimization".into());
+            }
+            let o = &mut views.optimizer;
+            if o.started.is_none() {
+                o.open = true;
+                o.max_evals = n;
+                o.start(session);
+            }
+            o.poll();
+            if o.running() { Flow::Again } else { Flow::Next }
+        }
+        Command::ReplayBest => {
+            let (genome, _) = views
+                .optimizer
+                .best
+                .clone()
+                .ok_or("no candidate evaluated yet")?;
+            replay(session, &genome);
+            Flow::Next
+        }
+        Command::Screenshot(path) => {
+            if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+                std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+            }
+            let _ = std::fs::remove_file(&path);
+            commands
+                .spawn(Screenshot::primary_window())
+                .observe(save_to_disk(path.clone()));
+            script.pending_shot = Some((path, 0));
+            Flow::Yield
+        }
+        Command::State(path) => {
+            std::fs::write(&path, state_lines(session, views))
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            Flow::Next
+        }
+        Command::Quit => Flow::Quit,
+    })
+}
+
+/// The state a GUI test checks.
+fn state_lines(session: &SimSession, views: &Views) -> String {
+    let mut pairs: Vec<(&str, String)> = vec![
+        ("config", session.path.display().to_string()),
+        ("running", session.running.to_string()),
+        ("steps", session.steps().to_string()),
+        ("sim_time", format!("{:.6}", session.sim_time())),
+        ("plots", views.plots.plots.len().to_string()),
+        ("params_panel", views.panels.params.to_string()),
+        ("plots_panel", views.panels.plots.to_string()),
+        ("inspect_graphs", views.inspect.graphs.len().to_string()),
+        (
+            "optimizer_evaluations",
+            views.optimizer.curve.len().to_string(),
+        ),
+        (
+            "optimizer_best",
+            views
+                .optimizer
+                .best
+                .as_ref()
+                .map_or("none".into(), |b| format!("{:.6}", b.1)),
+        ),
+    ];
+    if let Ok(c) = session.simulator.com(0) {
+        pairs.push(("com", format!("{:.6} {:.6} {:.6}", c[0], c[1], c[2])));
+    }
+    let mut params = String::new();
+    if let Ok(k) = session.simulator.kernel(0) {
+        for (i, a) in k.actuators().iter().enumerate() {
+            let d = a.module.descriptor();
+            for (pi, p) in d.parameters.iter().enumerate() {
+                let vals: Vec<String> = a
+                    .module
+                    .parameters()
+                    .row(pi)
+                    .iter()
+                    .map(|v| v.to_string())
+                    .collect();
+                let _ = write!(params, "{i}:{}:{}={};", d.type_name, p.name, vals.join(","));
+            }
+        }
+    }
+    pairs.push(("parameters", params));
+    state_report(&pairs)
+}

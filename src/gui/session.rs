@@ -1,0 +1,167 @@
+//! The simulation the window shows: a headless [`Simulator`] (the same core the CLI and the
+//! optimizers use) held by the GUI, with the toolbar's controls (start / pause / restart,
+//! delay, real-time factor, step width) and the pacing that advances it each frame,
+//! decoupled from the frame rate.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use crate::config::{Simulation, load_simulation};
+use crate::control::ControlKernel;
+use crate::sim::datalog::DataSettings;
+use crate::sim::{BuildOptions, Simulator};
+
+/// Longest a frame may spend stepping when the simulation runs as fast as possible, so the
+/// window stays responsive (seconds).
+const MAX_STEP_BUDGET: f64 = 0.12;
+
+/// The running simulation and its controls (a non-send resource: the simulator owns an App).
+pub struct SimSession {
+    /// The configuration file shown.
+    pub path: PathBuf,
+    pub sim: Simulation,
+    pub simulator: Simulator,
+    /// The kernel as built, for the parameter dialog's Reset.
+    pub initial_kernel: ControlKernel,
+    pub running: bool,
+    /// Simulated seconds per wall second; 0 = as fast as possible.
+    pub realtime_factor: f64,
+    /// Extra wall-clock delay per step (ms), for slow motion.
+    pub delay_ms: f64,
+    /// Step width δ (s) used at the next restart.
+    pub step_width: f64,
+    /// Wall seconds spent running since the last (re)start.
+    pub real_time: f64,
+    /// Simulated seconds still owed to the real-time pacing.
+    owed: f64,
+    /// The last error (load, restart), shown in the toolbar.
+    pub error: Option<String>,
+    /// Counts the worlds built (load, restart), so views know when to rebuild.
+    pub generation: u64,
+}
+
+impl SimSession {
+    /// Loads `path` and builds its world, paused.
+    pub fn open(path: &Path) -> Result<SimSession, String> {
+        let sim = load_simulation(path).map_err(|e| e.to_string())?;
+        let step_width = sim.files.simulation.properties.step_width;
+        let realtime = sim.files.simulation.properties.realtime_factor;
+        let delay_ms = sim.files.simulation.properties.delay_ms;
+        let (simulator, initial_kernel) = build(&sim, step_width)?;
+        Ok(SimSession {
+            path: path.to_path_buf(),
+            sim,
+            simulator,
+            initial_kernel,
+            running: false,
+            realtime_factor: realtime.max(0.0),
+            delay_ms: delay_ms.max(0.0),
+            step_width,
+            real_time: 0.0,
+            owed: 0.0,
+            error: None,
+            generation: 0,
+        })
+    }
+
+    /// Loads another configuration; on failure keeps the current one and records the error.
+    pub fn load(&mut self, path: &Path) {
+        match SimSession::open(path) {
+            Ok(s) => {
+                let generation = self.generation + 1;
+                *self = s;
+                self.generation = generation;
+            }
+            Err(e) => self.error = Some(e),
+        }
+    }
+
+    /// Rebuilds the world from the configuration (with the chosen step width), paused.
+    pub fn restart(&mut self) {
+        match build(&self.sim, self.step_width) {
+            Ok((simulator, kernel)) => {
+                self.simulator = simulator;
+                self.initial_kernel = kernel;
+                self.real_time = 0.0;
+                self.owed = 0.0;
+                self.running = false;
+                self.error = None;
+                self.generation += 1;
+            }
+            Err(e) => self.error = Some(e),
+        }
+    }
+
+    /// Simulated seconds so far.
+    pub fn sim_time(&self) -> f64 {
+        self.simulator.clock().time()
+    }
+
+    /// Steps so far.
+    pub fn steps(&self) -> u64 {
+        self.simulator.clock().step
+    }
+
+    /// Advances the simulation for a frame that took `frame_dt` wall seconds: at the
+    /// real-time factor (several steps per frame when faster than the frame rate), or as
+    /// many steps as fit in the frame's budget when the factor is 0. Returns steps run.
+    pub fn advance(&mut self, frame_dt: f64) -> u64 {
+        if !self.running {
+            return 0;
+        }
+        self.real_time += frame_dt;
+        let dt = self.simulator.clock().dt;
+        let delay = self.delay_ms.max(0.0) / 1000.0;
+        let mut steps = if self.realtime_factor > 0.0 {
+            self.owed += frame_dt * self.realtime_factor;
+            let n = (self.owed / dt).floor().max(0.0);
+            self.owed -= n * dt;
+            n as u64
+        } else {
+            u64::MAX
+        };
+        if delay > 0.0 {
+            // With a delay per step, a frame holds as many steps as its delays fit in.
+            steps = steps.min(((frame_dt / delay).floor() as u64).max(1));
+        }
+        let started = Instant::now();
+        let mut done = 0;
+        // Step in small chunks so the budget is checked without reading the clock each step.
+        while done < steps {
+            let chunk = (steps - done).min(50);
+            self.simulator.run_steps(chunk);
+            done += chunk;
+            if started.elapsed().as_secs_f64() > MAX_STEP_BUDGET {
+                self.owed = 0.0; // cannot keep up: drop the backlog instead of spiralling
+                break;
+            }
+        }
+        done
+    }
+}
+
+/// A simulator for `sim` at step width `dt`, recording into ring buffers for the live
+/// plots, and a copy of its kernel as built.
+fn build(sim: &Simulation, dt: f64) -> Result<(Simulator, ControlKernel), String> {
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(format!("step width {dt} s: give a positive number"));
+    }
+    let mut sim = sim.clone();
+    sim.files.simulation.properties.step_width = dt;
+    let opts = BuildOptions {
+        robots: 1,
+        seed: sim.files.simulation.properties.seed,
+        record: true,
+    };
+    let mut simulator = Simulator::new(&sim, &opts).map_err(|e| e.to_string())?;
+    let every = sim.files.simulation.properties.accuracy.max(1);
+    simulator.enable_data(
+        DataSettings {
+            every,
+            ..DataSettings::default()
+        },
+        None,
+    );
+    let kernel = simulator.kernel(0).map_err(|e| e.to_string())?.clone();
+    Ok((simulator, kernel))
+}

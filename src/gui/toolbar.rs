@@ -1,0 +1,145 @@
+//! The main toolbar (thesis 4.5.1): load a configuration, start / pause / restart, delay
+//! between steps, real-time factor or as fast as possible, physics step width, and the
+//! simulated time, real time, step counter and achieved speed.
+
+use std::path::{Path, PathBuf};
+
+use bevy::prelude::*;
+use bevy_egui::egui;
+
+use crate::gui::session::SimSession;
+
+/// The toolbar's own state.
+#[derive(Resource, Debug, Clone)]
+pub struct ToolbarState {
+    /// The configuration path being typed.
+    pub path: String,
+    /// Simulation files found under `configs/`, for the quick-load list.
+    pub known: Vec<PathBuf>,
+    /// Frames per second of the window (smoothed).
+    pub fps: f64,
+    /// Simulated seconds per wall second achieved (smoothed).
+    pub speed: f64,
+}
+
+impl ToolbarState {
+    pub fn new(current: &Path) -> Self {
+        ToolbarState {
+            path: current.display().to_string(),
+            known: simulation_files(Path::new("configs")),
+            fps: 0.0,
+            speed: 0.0,
+        }
+    }
+
+    /// Folds one frame's duration and simulated progress into the smoothed figures.
+    pub fn observe(&mut self, frame_dt: f64, sim_advanced: f64) {
+        if frame_dt > 0.0 {
+            let k = 0.1;
+            self.fps += k * (1.0 / frame_dt - self.fps);
+            self.speed += k * (sim_advanced / frame_dt - self.speed);
+        }
+    }
+}
+
+/// `*.simulation.xml` files directly in `dir`, sorted.
+pub fn simulation_files(dir: &Path) -> Vec<PathBuf> {
+    let mut out: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map(|rd| {
+            rd.flatten()
+                .map(|e| e.path())
+                .filter(|p| {
+                    p.file_name()
+                        .and_then(|n| n.to_str())
+                        .is_some_and(|n| n.ends_with(".simulation.xml") && !n.starts_with('_'))
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    out.sort();
+    out
+}
+
+/// Draws the toolbar.
+pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut ToolbarState) {
+    ui.horizontal_wrapped(|ui| {
+        ui.label("Configuration:");
+        ui.add(egui::TextEdit::singleline(&mut state.path).desired_width(260.0));
+        if ui.button("Load").clicked() {
+            session.load(Path::new(state.path.trim()));
+        }
+        egui::ComboBox::from_id_salt("known configs")
+            .selected_text("configs/ …")
+            .show_ui(ui, |ui| {
+                for p in state.known.clone() {
+                    if ui
+                        .selectable_label(false, p.display().to_string())
+                        .clicked()
+                    {
+                        state.path = p.display().to_string();
+                        session.load(&p);
+                    }
+                }
+            });
+        ui.separator();
+        let label = if session.running {
+            "⏸ Pause"
+        } else {
+            "▶ Start"
+        };
+        if ui.button(label).clicked() {
+            session.running = !session.running;
+        }
+        if ui.button("⟲ Restart").clicked() {
+            session.restart();
+        }
+        ui.separator();
+        ui.label("Delay (ms/step):");
+        ui.add(
+            egui::DragValue::new(&mut session.delay_ms)
+                .range(0.0..=1000.0)
+                .speed(0.5),
+        );
+        ui.label("Real-time factor:");
+        ui.add(
+            egui::DragValue::new(&mut session.realtime_factor)
+                .range(0.0..=1000.0)
+                .speed(0.05),
+        );
+        if ui
+            .selectable_label(session.realtime_factor == 1.0, "sync 1x")
+            .clicked()
+        {
+            session.realtime_factor = 1.0;
+        }
+        if ui
+            .selectable_label(session.realtime_factor == 0.0, "max")
+            .clicked()
+        {
+            session.realtime_factor = 0.0;
+        }
+        ui.label("Step width δ (s):");
+        ui.add(
+            egui::DragValue::new(&mut session.step_width)
+                .range(0.0001..=0.05)
+                .speed(0.0001)
+                .max_decimals(4),
+        )
+        .on_hover_text("used from the next restart");
+    });
+    ui.horizontal(|ui| {
+        let dt = session.simulator.clock().dt;
+        ui.monospace(format!(
+            "sim {:>8.3} s   real {:>8.3} s   step {:>8}   δ {:.4} s   speed {:>6.1}x   {:>4.1} fps",
+            session.sim_time(),
+            session.real_time,
+            session.steps(),
+            dt,
+            state.speed,
+            state.fps,
+        ));
+        if let Some(e) = &session.error {
+            ui.colored_label(egui::Color32::LIGHT_RED, e);
+        }
+    });
+}

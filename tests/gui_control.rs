@@ -1,0 +1,149 @@
+//! The control window for real: `proleg gui` on the demo under Xvfb with Mesa's software
+//! renderer, driven by a script (start, change a parameter, add a live plot, pause), with a
+//! screenshot and the app state checked afterwards. Needs the `gui` feature, and a display
+//! or `xvfb-run` (the test command installs `xvfb` and `mesa-vulkan-drivers`).
+#![cfg(feature = "gui")]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Longest the window may take (llvmpipe renders ~2 frames per second under load).
+const WATCHDOG: Duration = Duration::from_secs(600);
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("proleg-gui-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+/// Runs `proleg gui CONFIG --script SCRIPT` (under xvfb-run without a display); returns
+/// whether it succeeded and what it printed.
+fn run_window(config: &str, script: &Path) -> (bool, String) {
+    let exe = env!("CARGO_BIN_EXE_proleg");
+    let mut cmd = if std::env::var_os("DISPLAY").is_some() {
+        Command::new(exe)
+    } else {
+        let mut c = Command::new("xvfb-run");
+        c.args(["-a", "-s", "-screen 0 1280x800x24", exe]);
+        c
+    };
+    let runtime = scratch("xdg");
+    cmd.args(["gui", config, "--script"])
+        .arg(script)
+        .env("XDG_RUNTIME_DIR", &runtime)
+        .env("WGPU_BACKEND", "vulkan")
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    let mut child = cmd
+        .spawn()
+        .expect("start proleg gui (is xvfb-run installed?)");
+    let started = Instant::now();
+    loop {
+        match child.try_wait().expect("wait for the window") {
+            Some(_) => break,
+            None if started.elapsed() > WATCHDOG => {
+                let _ = child.kill();
+                break;
+            }
+            None => std::thread::sleep(Duration::from_millis(200)),
+        }
+    }
+    let out = child.wait_with_output().expect("window output");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    (out.status.success(), text)
+}
+
+/// key = value lines of a state file.
+fn state(path: &Path) -> Vec<(String, String)> {
+    let text = std::fs::read_to_string(path).expect("state file written");
+    text.lines()
+        .filter_map(|l| l.split_once(" = "))
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect()
+}
+
+fn get<'a>(s: &'a [(String, String)], key: &str) -> &'a str {
+    s.iter()
+        .find(|(k, _)| k == key)
+        .map(|(_, v)| v.as_str())
+        .unwrap_or_else(|| panic!("no {key} in the state"))
+}
+
+/// Decodes a PNG and counts its distinct colours (a blank or failed render has one).
+fn png_colours(path: &Path) -> (u32, u32, usize) {
+    let file = std::fs::File::open(path).expect("screenshot written");
+    let decoder = png::Decoder::new(std::io::BufReader::new(file));
+    let mut reader = decoder.read_info().expect("a PNG");
+    let mut buf = vec![0; reader.output_buffer_size().expect("size")];
+    let info = reader.next_frame(&mut buf).expect("PNG frame");
+    let bpp = info.line_size / info.width as usize;
+    let mut colours: Vec<&[u8]> = buf[..info.buffer_size()].chunks(bpp).collect();
+    colours.sort();
+    colours.dedup();
+    (info.width, info.height, colours.len())
+}
+
+#[test]
+fn window_runs_the_demo_changes_a_parameter_and_plots() {
+    let dir = scratch("control");
+    let (shot, st) = (dir.join("control.png"), dir.join("state.txt"));
+    let script = dir.join("control.script");
+    std::fs::write(
+        &script,
+        format!(
+            "wait 2\npanel all\nstart\nrun-until 1.0\n\
+             set PatternGenerator_sinusoidal Amplitude 20\n\
+             plot Robot_Data/y_pos PatternGenerator_sinusoidal/Angle[0] PatternGenerator_sinusoidal/Angle[2]\n\
+             run-until 3.0\npause\nwait 4\nscreenshot {}\nstate {}\nquit\n",
+            shot.display(),
+            st.display()
+        ),
+    )
+    .expect("script");
+    let (ok, out) = run_window("configs/demo.simulation.xml", &script);
+    assert!(ok, "the window failed:\n{out}");
+    let s = state(&st);
+    assert_eq!(get(&s, "running"), "false");
+    let t: f64 = get(&s, "sim_time").parse().expect("time");
+    assert!((3.0..3.5).contains(&t), "paused at {t} s");
+    assert_eq!(get(&s, "plots"), "1");
+    // The slider API set every joint's amplitude; the others kept theirs.
+    let params = get(&s, "parameters");
+    assert!(
+        params.contains("PatternGenerator_sinusoidal:Amplitude=20,20,20,20,20;"),
+        "{params}"
+    );
+    assert!(
+        params.contains("Phase_Difference=55,55,55,55,55;"),
+        "{params}"
+    );
+    // The snake crawled forward (+y) in its 3 s.
+    let com: Vec<f64> = get(&s, "com")
+        .split(' ')
+        .map(|v| v.parse().expect("com"))
+        .collect();
+    assert!(com[1] > 0.03, "centre of mass {com:?}");
+    let (w, h, colours) = png_colours(&shot);
+    assert_eq!((w, h), (1280, 800));
+    assert!(colours > 50, "screenshot has only {colours} colours");
+}
+
+#[test]
+fn a_bad_script_line_is_reported_with_file_and_line() {
+    let dir = scratch("bad");
+    let script = dir.join("bad.script");
+    std::fs::write(&script, "wait 1\nset NoSuchModule Amplitude 3\nquit\n").expect("script");
+    let (ok, out) = run_window("configs/demo.simulation.xml", &script);
+    assert!(!ok, "a bad command must fail the window:\n{out}");
+    assert!(
+        out.contains("bad.script:2") && out.contains("NoSuchModule"),
+        "{out}"
+    );
+}
