@@ -147,3 +147,79 @@ fn a_bad_script_line_is_reported_with_file_and_line() {
         "{out}"
     );
 }
+
+#[test]
+fn data_inspection_loads_a_recorded_file_and_graphs_it() {
+    let dir = scratch("inspect");
+    let data = dir.join("run.data.xml");
+    let run = Command::new(env!("CARGO_BIN_EXE_proleg"))
+        .args([
+            "run",
+            "configs/demo.simulation.xml",
+            "--duration",
+            "2",
+            "--data",
+        ])
+        .arg(&data)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("proleg run");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let (st, script) = (dir.join("state.txt"), dir.join("inspect.script"));
+    std::fs::write(
+        &script,
+        format!(
+            "wait 1\ninspect {d} Robot_Data/y_pos\ninspect {d} Robot_Data/real_joint_positions[0..2]\nstate {}\nquit\n",
+            st.display(),
+            d = data.display()
+        ),
+    )
+    .expect("script");
+    let (ok, out) = run_window("configs/demo.simulation.xml", &script);
+    assert!(ok, "{out}");
+    assert_eq!(get(&state(&st), "inspect_graphs"), "2");
+    // A series the file does not have is an error naming the script line.
+    std::fs::write(
+        &script,
+        format!(
+            "inspect {} Robot_Data/no_such_series\nquit\n",
+            data.display()
+        ),
+    )
+    .expect("script");
+    let (ok, out) = run_window("configs/demo.simulation.xml", &script);
+    assert!(
+        !ok && out.contains("inspect.script:1") && out.contains("no_such_series"),
+        "{out}"
+    );
+}
+
+#[test]
+fn optimization_view_runs_the_ga_and_replays_the_best() {
+    let dir = scratch("optimize");
+    let (st, script) = (dir.join("state.txt"), dir.join("optimize.script"));
+    std::fs::write(
+        &script,
+        format!(
+            "wait 1\noptimize 5\nreplay-best\nwait 2\nstate {}\nquit\n",
+            st.display()
+        ),
+    )
+    .expect("script");
+    let (ok, out) = run_window("configs/experiment1_ga.simulation.xml", &script);
+    assert!(ok, "{out}");
+    let s = state(&st);
+    // The GA evaluates whole generations: at least the 5 asked for.
+    let n: u64 = get(&s, "optimizer_evaluations").parse().expect("count");
+    assert!(n >= 5, "{n} evaluations");
+    let best: f64 = get(&s, "optimizer_best").parse().expect("a best score");
+    assert!(best > 1.0, "best {best} m");
+    // The replay restarted the world and runs it.
+    assert_eq!(get(&s, "running"), "true");
+    let t: f64 = get(&s, "sim_time").parse().expect("time");
+    assert!(t < 2.0, "replay started at {t} s");
+}

@@ -190,7 +190,7 @@ pub fn show(ctx: &egui::Context, state: &mut InspectState) {
                     tree(ui, state);
                 });
                 ui.separator();
-                graphs(ui, state);
+                ui.vertical(|ui| graphs(ui, state));
             });
         });
     state.open = open;
