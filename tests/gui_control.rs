@@ -223,3 +223,33 @@ fn optimization_view_runs_the_ga_and_replays_the_best() {
     let t: f64 = get(&s, "sim_time").parse().expect("time");
     assert!(t < 2.0, "replay started at {t} s");
 }
+
+#[test]
+fn a_selected_robot_moves_with_the_drag_path_and_the_debug_view_draws() {
+    let dir = scratch("pick");
+    let (st, script) = (dir.join("state.txt"), dir.join("pick.script"));
+    std::fs::write(
+        &script,
+        format!(
+            "wait 2\nselect-link 0\nmove-by 0.5 -0.25 0\nwait 1\ndebug on\nstart\nrun-until 0.5\npause\nstate {}\nquit\n",
+            st.display()
+        ),
+    )
+    .expect("script");
+    let (ok, out) = run_window("configs/demo.simulation.xml", &script);
+    assert!(ok, "{out}");
+    let s = state(&st);
+    assert_eq!(get(&s, "selected"), "true");
+    assert_eq!(get(&s, "debug_view"), "true");
+    // The whole robot moved (all links with the one selected) and kept crawling from there.
+    let com: Vec<f64> = get(&s, "com")
+        .split(' ')
+        .map(|v| v.parse().expect("com"))
+        .collect();
+    assert!((com[0] - 0.5).abs() < 0.05, "centre of mass {com:?}");
+    assert!(
+        (com[1] - (0.144 - 0.25)).abs() < 0.1,
+        "centre of mass {com:?}"
+    );
+    assert!(com[2] > 0.0 && com[2] < 0.1, "centre of mass {com:?}");
+}

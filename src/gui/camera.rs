@@ -69,12 +69,15 @@ pub fn orbit_camera(
     scroll: Res<AccumulatedMouseScroll>,
     egui: Res<EguiWantsInput>,
     session: NonSend<SimSession>,
+    selection: Res<crate::gui::picking::Selection>,
     mut cameras: Query<(&mut OrbitCamera, &mut Transform)>,
 ) {
     for (mut orbit, mut t) in &mut cameras {
         if !egui.wants_any_pointer_input() {
             let d = motion.delta;
-            if buttons.pressed(MouseButton::Left) {
+            if selection.dragging {
+                // The left drag moves a body (see picking).
+            } else if buttons.pressed(MouseButton::Left) {
                 orbit.yaw -= d.x * 0.006;
                 orbit.pitch = (orbit.pitch + d.y * 0.006).clamp(-0.2, 1.5);
             } else if buttons.pressed(MouseButton::Right) || buttons.pressed(MouseButton::Middle) {

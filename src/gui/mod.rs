@@ -5,16 +5,19 @@
 //!
 //! - [`session`]: the simulation shown and its pacing (start / pause / restart, speed)
 //! - [`scene`]: meshes, lights and pads following the physics bodies
-//! - [`camera`]: orbit / pan / zoom / follow
+//! - [`camera`]: orbit / pan / zoom / follow; [`picking`]: select and drag bodies
+//! - [`debug_view`]: collider outlines and contacts from the physics world
 //! - [`toolbar`], [`params`], [`plots`], [`overlay`], [`inspect`], [`optimizer_view`]: the
 //!   egui views
 //! - [`script`], [`script_run`]: scripted driving for tests and screenshots
 
 pub mod camera;
+pub mod debug_view;
 pub mod inspect;
 pub mod optimizer_view;
 pub mod overlay;
 pub mod params;
+pub mod picking;
 pub mod plots;
 pub mod scene;
 pub mod script;
@@ -24,16 +27,20 @@ pub mod toolbar;
 
 use std::path::Path;
 
+use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 use bevy::window::WindowResolution;
 use bevy_egui::{EguiContexts, EguiPlugin, EguiPrimaryContextPass, egui};
 
 use crate::gui::camera::OrbitCamera;
+use crate::gui::debug_view::DebugView;
 use crate::gui::inspect::InspectState;
 use crate::gui::optimizer_view::OptimizerView;
 use crate::gui::overlay::RobotOverlay;
 use crate::gui::params::ParamsState;
+use crate::gui::picking::Selection;
 use crate::gui::plots::PlotsState;
+use crate::gui::scene::BodyVisual;
 use crate::gui::scene::SceneBuilt;
 use crate::gui::script::ScriptRunner;
 use crate::gui::session::SimSession;
@@ -44,6 +51,19 @@ use crate::gui::toolbar::ToolbarState;
 pub struct Panels {
     pub params: bool,
     pub plots: bool,
+}
+
+/// The state of the egui views (what scripts and the UI pass change).
+#[derive(SystemParam)]
+pub struct Views<'w> {
+    pub toolbar: ResMut<'w, ToolbarState>,
+    pub params: ResMut<'w, ParamsState>,
+    pub plots: ResMut<'w, PlotsState>,
+    pub panels: ResMut<'w, Panels>,
+    pub inspect: ResMut<'w, InspectState>,
+    pub optimizer: ResMut<'w, OptimizerView>,
+    pub debug: ResMut<'w, DebugView>,
+    pub selection: ResMut<'w, Selection>,
 }
 
 /// Ordering of the window's per-frame work.
@@ -74,7 +94,7 @@ pub fn run(config: &Path, script: Option<&Path>) -> Result<(), String> {
         }),
         ..default()
     }))
-    .add_plugins(EguiPlugin::default())
+    .add_plugins((EguiPlugin::default(), MeshPickingPlugin))
     .insert_resource(ClearColor(Color::srgb(0.62, 0.74, 0.86)))
     .insert_resource(ToolbarState::new(config))
     .insert_resource(runner)
@@ -93,6 +113,12 @@ impl Plugin for ControlWindowPlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<ParamsState>()
             .init_resource::<InspectState>()
+            .init_resource::<DebugView>()
+            .init_resource::<Selection>()
+            .add_observer(picking::on_click)
+            .add_observer(picking::on_drag_start)
+            .add_observer(picking::on_drag)
+            .add_observer(picking::on_drag_end)
             .insert_resource(OptimizerView::new(
                 std::thread::available_parallelism().map_or(1, |n| n.get()),
             ))
@@ -114,7 +140,12 @@ impl Plugin for ControlWindowPlugin {
             )
             .add_systems(Startup, (camera::spawn_camera, scene::spawn_lights))
             .add_systems(Update, script_run::run_script.in_set(GuiSystems::Script))
-            .add_systems(Update, simulate.in_set(GuiSystems::Simulate))
+            .add_systems(
+                Update,
+                (picking::apply_moves, simulate)
+                    .chain()
+                    .in_set(GuiSystems::Simulate),
+            )
             .add_systems(
                 Update,
                 (
@@ -122,6 +153,7 @@ impl Plugin for ControlWindowPlugin {
                     scene::follow_bodies,
                     scene::colour_pads,
                     camera::orbit_camera,
+                    debug_view::draw_debug,
                 )
                     .chain()
                     .in_set(GuiSystems::Present),
@@ -149,15 +181,21 @@ fn simulate(
 fn draw_ui(
     mut contexts: EguiContexts,
     mut session: NonSendMut<SimSession>,
-    mut toolbar: ResMut<ToolbarState>,
-    mut params: ResMut<ParamsState>,
-    mut plots: ResMut<PlotsState>,
-    mut panels: ResMut<Panels>,
-    mut inspect: ResMut<InspectState>,
-    mut optimizer: ResMut<OptimizerView>,
+    mut views: Views,
     overlay: Res<RobotOverlay>,
     mut cameras: Query<&mut OrbitCamera>,
+    visuals: Query<(&BodyVisual, &Name)>,
 ) -> Result {
+    let Views {
+        toolbar,
+        params,
+        plots,
+        panels,
+        inspect,
+        optimizer,
+        debug,
+        selection,
+    } = &mut views;
     let ctx = contexts.ctx_mut()?.clone();
     let mut root = egui::Ui::new(
         ctx.clone(),
@@ -167,7 +205,7 @@ fn draw_ui(
             .max_rect(ctx.viewport_rect()),
     );
     egui::Panel::top("toolbar").show(&mut root, |ui| {
-        toolbar::show(ui, &mut session, &mut toolbar);
+        toolbar::show(ui, &mut session, toolbar);
         ui.horizontal(|ui| {
             ui.toggle_value(&mut panels.params, "Control algorithm properties");
             ui.toggle_value(&mut panels.plots, "Live plots");
@@ -175,6 +213,7 @@ fn draw_ui(
             if session.sim.optimizer.is_some() {
                 ui.toggle_value(&mut optimizer.open, "Optimization");
             }
+            ui.toggle_value(&mut debug.0, "Physics debug view");
         });
     });
     if panels.plots {
@@ -183,21 +222,22 @@ fn draw_ui(
         egui::Panel::bottom("plots")
             .resizable(true)
             .default_size(270.0)
-            .show(&mut root, |ui| plots::show(ui, &mut session, &mut plots));
+            .show(&mut root, |ui| plots::show(ui, &mut session, plots));
     }
     if panels.params {
         egui::Panel::right("params")
             .resizable(true)
             .default_size(330.0)
-            .show(&mut root, |ui| params::show(ui, &mut session, &mut params));
+            .show(&mut root, |ui| params::show(ui, &mut session, params));
     }
     let mut follow = cameras.iter().next().is_some_and(|c| c.follow);
-    overlay::show(&ctx, &overlay, &toolbar, &mut follow);
+    overlay::show(&ctx, &overlay, toolbar, &mut follow);
+    picking::show(&ctx, &session, selection, &visuals);
     if inspect.open {
-        inspect::show(&ctx, &mut inspect);
+        inspect::show(&ctx, inspect);
     }
     if optimizer.open {
-        optimizer_view::show(&ctx, &mut session, &mut optimizer);
+        optimizer_view::show(&ctx, &mut session, optimizer);
     } else {
         optimizer.poll();
     }

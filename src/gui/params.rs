@@ -140,10 +140,10 @@ fn apply(session: &mut SimSession, changes: Vec<Change>, reset: Option<usize>) {
             return;
         }
     }
-    if let Some(a) = reset {
-        if let Err(e) = reset_actuator(kernel, &initial, a) {
-            session.error = Some(e);
-        }
+    if let Some(a) = reset
+        && let Err(e) = reset_actuator(kernel, &initial, a)
+    {
+        session.error = Some(e);
     }
 }
 

@@ -220,6 +220,12 @@ fn spawn_body(
                 AlphaMode::Opaque
             },
             perceptual_roughness: 0.8,
+            // Terrain meshes often lie flush on the floor: draw them in front of it.
+            depth_bias: if matches!(g.shape, Shape::Trimesh { .. }) {
+                1000.0
+            } else {
+                0.0
+            },
             ..default()
         };
         let child = commands

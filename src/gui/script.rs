@@ -10,6 +10,9 @@
 //! set Sinus_Generator Amplitude 20 [JOINT]
 //! plot Robot_Data/y_pos Sinus_Generator/Angle[2]   # a live plot of these series
 //! panel params|plots|all|none    # which docked views are open
+//! debug on|off                   # the physics debug view
+//! select-link 0                  # select a robot link, as a click does
+//! move-by 0.5 0 0                # move the selection (metres, z up), as a drag does
 //! inspect out/demo.data.xml Robot_Data/y_pos   # data file inspection with a graph
 //! optimize 8                    # run the optimization mode for 8 evaluations, wait
 //! replay-best                    # show the best candidate in the viewer
@@ -45,6 +48,12 @@ pub enum Command {
     /// Series as `proleg data` selects them: `Handler/series`, `[k]` or `[a..b]` (from 0).
     Plot(Vec<SeriesSelector>),
     Panel(String),
+    /// Turn the physics debug view on or off.
+    Debug(bool),
+    /// Select robot link N (from 0) as a click would.
+    SelectLink(usize),
+    /// Move the selection by (dx, dy, dz) metres, as a drag would.
+    MoveBy([f64; 3]),
     /// Open the data file inspection on a file and add a graph of these series.
     Inspect(PathBuf, Vec<SeriesSelector>),
     /// Run the simulation's optimization for this many evaluations and wait for it.
@@ -119,6 +128,13 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
                     .collect::<Result<_, _>>()?,
             ),
             "panel" if words.len() == 2 => Command::Panel(words[1].to_string()),
+            "debug" if words.len() == 2 => Command::Debug(words[1] == "on"),
+            "select-link" => Command::SelectLink(num(words.get(1), "link")?.max(0.0) as usize),
+            "move-by" => Command::MoveBy([
+                num(words.get(1), "dx")?,
+                num(words.get(2), "dy")?,
+                num(words.get(3), "dz")?,
+            ]),
             "inspect" if words.len() > 2 => Command::Inspect(
                 PathBuf::from(words[1]),
                 words[2..]

@@ -4,29 +4,19 @@
 
 use std::fmt::Write as _;
 
-use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 use bevy::render::view::screenshot::{Screenshot, save_to_disk};
 
 use crate::data::export::resolve;
-use crate::gui::Panels;
-use crate::gui::inspect::InspectState;
-use crate::gui::optimizer_view::{OptimizerView, replay};
-use crate::gui::plots::{LiveSeries, PlotsState};
+use crate::gui::optimizer_view::replay;
+use crate::gui::plots::LiveSeries;
+use crate::gui::scene::BodyVisual;
 use crate::gui::script::{Command, ScriptRunner, state_report};
 use crate::gui::session::SimSession;
+use crate::gui::{Panels, Views};
 
 /// Frames to wait for a screenshot file before giving up.
 const SHOT_FRAMES: u32 = 600;
-
-/// The views a script changes.
-#[derive(SystemParam)]
-pub struct Views<'w> {
-    plots: ResMut<'w, PlotsState>,
-    panels: ResMut<'w, Panels>,
-    inspect: ResMut<'w, InspectState>,
-    optimizer: ResMut<'w, OptimizerView>,
-}
 
 /// What a command leaves the script to do.
 enum Flow {
@@ -45,6 +35,7 @@ pub fn run_script(
     mut runner: ResMut<ScriptRunner>,
     mut session: NonSendMut<SimSession>,
     mut views: Views,
+    visuals: Query<(Entity, &BodyVisual)>,
     mut exit: MessageWriter<AppExit>,
 ) {
     let Some(script) = runner.0.as_mut() else {
@@ -73,7 +64,7 @@ pub fn run_script(
         }
     }
     while let Some((line, c)) = script.commands.get(script.next).cloned() {
-        let flow = match carry_out(c, &mut commands, script, &mut session, &mut views) {
+        let flow = match carry_out(c, &mut commands, script, &mut session, &mut views, &visuals) {
             Ok(f) => f,
             Err(e) => {
                 eprintln!("error: {}:{line}: {e}", script.file.display());
@@ -105,6 +96,7 @@ fn carry_out(
     script: &mut crate::gui::script::Script,
     session: &mut SimSession,
     views: &mut Views,
+    visuals: &Query<(Entity, &BodyVisual)>,
 ) -> Result<Flow, String> {
     Ok(match c {
         Command::Wait(n) => {
@@ -166,6 +158,25 @@ fn carry_out(
                 plots: which == "plots" || which == "all",
             };
             Flow::Next
+        }
+        Command::Debug(on) => {
+            views.debug.0 = on;
+            Flow::Next
+        }
+        Command::SelectLink(i) => {
+            let (e, _) = visuals
+                .iter()
+                .find(|(_, v)| v.link == Some(i))
+                .ok_or_else(|| format!("no link {i} in the viewer"))?;
+            views.selection.body = Some(e);
+            Flow::Next
+        }
+        Command::MoveBy(d) => {
+            if views.selection.body.is_none() {
+                return Err("nothing selected (select-link first)".into());
+            }
+            views.selection.nudge(d);
+            Flow::Yield
         }
         Command::Inspect(path, selectors) => {
             let inspect = &mut views.inspect;
@@ -239,6 +250,8 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
         ("plots", views.plots.plots.len().to_string()),
         ("params_panel", views.panels.params.to_string()),
         ("plots_panel", views.panels.plots.to_string()),
+        ("debug_view", views.debug.0.to_string()),
+        ("selected", views.selection.body.is_some().to_string()),
         ("inspect_graphs", views.inspect.graphs.len().to_string()),
         (
             "optimizer_evaluations",

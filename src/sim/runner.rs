@@ -181,6 +181,35 @@ impl Simulator {
         RunSummary::new(done, dt, wall.elapsed().as_secs_f64(), start_com, end_com)
     }
 
+    /// The link bodies of robot `index`, in link order.
+    pub fn robot_bodies(
+        &self,
+        index: usize,
+    ) -> Result<Vec<rapier3d::prelude::RigidBodyHandle>, SimError> {
+        let robot = self.robot_component::<SimRobot>(index)?;
+        Ok(robot.bodies.iter().map(|(h, _)| *h).collect())
+    }
+
+    /// Moves `bodies` by `delta` metres (z up) between steps, keeping their velocities and
+    /// orientations (the viewer's drag); unknown handles are skipped.
+    pub fn translate_bodies(
+        &mut self,
+        bodies: &[rapier3d::prelude::RigidBodyHandle],
+        delta: [f64; 3],
+    ) {
+        if !delta.iter().all(|d| d.is_finite()) {
+            return;
+        }
+        let mut physics = self.app.world_mut().resource_mut::<Physics>();
+        for h in bodies {
+            if let Some(b) = physics.world.bodies.get_mut(*h) {
+                let t = crate::sim::physics::arr3(b.translation());
+                let moved = [t[0] + delta[0], t[1] + delta[1], t[2] + delta[2]];
+                b.set_translation(crate::sim::physics::vec3(moved), true);
+            }
+        }
+    }
+
     /// Centre of mass of robot `index` (m, z up).
     pub fn com(&self, index: usize) -> Result<[f64; 3], SimError> {
         let robot = self.robot_component::<SimRobot>(index)?;
