@@ -20,12 +20,14 @@ pub struct ParamsState {
     pub individual: HashSet<(usize, usize)>,
 }
 
-/// A parameter change the dialog asks for.
-struct Change {
-    actuator: usize,
-    name: &'static str,
-    joint: Option<usize>,
-    value: f64,
+/// A parameter change the dialog asks for: one slider moved.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Change {
+    pub actuator: usize,
+    pub name: &'static str,
+    /// A robot joint (individual mode), or every joint the module drives (uniform mode).
+    pub joint: Option<usize>,
+    pub value: f64,
 }
 
 /// Draws the dialog and applies the changes made in it.
@@ -128,8 +130,9 @@ fn slider_range(min: f64, max: f64, values: &[f64]) -> (f64, f64) {
     (lo, hi.max(lo + f64::EPSILON))
 }
 
-/// Applies the dialog's changes, and a reset of one actuator's parameters.
-fn apply(session: &mut SimSession, changes: Vec<Change>, reset: Option<usize>) {
+/// Applies the dialog's changes, and a reset of one actuator's parameters (errors go to
+/// the toolbar's message).
+pub fn apply(session: &mut SimSession, changes: Vec<Change>, reset: Option<usize>) {
     let initial = session.initial_kernel.clone();
     let Ok(kernel) = session.simulator.kernel_mut(0) else {
         return;
@@ -166,4 +169,69 @@ pub fn reset_actuator(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+
+    fn demo() -> SimSession {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        SimSession::open(&root.join("configs/demo.simulation.xml")).expect("demo loads")
+    }
+
+    fn amplitudes(s: &SimSession) -> Vec<f64> {
+        let k = s.simulator.kernel(0).expect("kernel");
+        let a = &k.actuators()[0];
+        let p = a.module.parameters();
+        p.row(p.index("Amplitude").expect("amplitude")).to_vec()
+    }
+
+    fn change(joint: Option<usize>, value: f64) -> Change {
+        Change {
+            actuator: 0,
+            name: "Amplitude",
+            joint,
+            value,
+        }
+    }
+
+    /// Runs `seconds` and returns how far the centre of mass moved in the ground plane.
+    fn crawl(s: &mut SimSession, seconds: f64) -> f64 {
+        let a = s.simulator.com(0).expect("com");
+        s.simulator.run_for(seconds);
+        let b = s.simulator.com(0).expect("com");
+        ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt()
+    }
+
+    #[test]
+    fn uniform_and_individual_sliders_set_the_kernel_and_reset_restores() {
+        let mut s = demo();
+        assert_eq!(amplitudes(&s), vec![40.0; 5]);
+        apply(&mut s, vec![change(None, 25.0)], None);
+        assert_eq!(amplitudes(&s), vec![25.0; 5]);
+        apply(&mut s, vec![change(Some(3), 10.0)], None);
+        assert_eq!(amplitudes(&s), vec![25.0, 25.0, 25.0, 10.0, 25.0]);
+        apply(&mut s, vec![], Some(0));
+        assert_eq!(amplitudes(&s), vec![40.0; 5]);
+        assert!(s.error.is_none());
+        // A value outside the parameter's range is refused with a message, not applied.
+        apply(&mut s, vec![change(None, f64::NAN)], None);
+        assert!(s.error.is_some());
+        assert_eq!(amplitudes(&s), vec![40.0; 5]);
+    }
+
+    #[test]
+    fn the_dialog_changes_how_the_robot_moves() {
+        // Amplitude 0 from the dialog: the snake lies still; back to 40: it crawls.
+        let mut s = demo();
+        apply(&mut s, vec![change(None, 0.0)], None);
+        let still = crawl(&mut s, 3.0);
+        apply(&mut s, vec![], Some(0));
+        let moving = crawl(&mut s, 3.0);
+        assert!(still < 0.01, "moved {still} m with amplitude 0");
+        assert!(moving > 0.1, "moved only {moving} m with amplitude 40");
+    }
 }

@@ -7,10 +7,11 @@
 //! start | pause | restart
 //! run-until 3.0                  # simulated seconds (starts the simulation)
 //! speed 0                        # real-time factor (0: as fast as possible)
-//! set Sinus_Generator Amplitude 20 [JOINT]
+//! set PatternGenerator_sinusoidal Amplitude 20 [JOINT]   # JOINT as in the robot file: 1 = J1
 //! plot Robot_Data/y_pos Sinus_Generator/Angle[2]   # a live plot of these series
 //! panel params|plots|all|none    # which docked views are open
 //! debug on|off                   # the physics debug view
+//! per-joint 0 Amplitude on       # properties dialog: a slider per joint for a parameter
 //! select-link 0                  # select a robot link, as a click does
 //! move-by 0.5 0 0                # move the selection (metres, z up), as a drag does
 //! inspect out/demo.data.xml Robot_Data/y_pos   # data file inspection with a graph
@@ -48,6 +49,12 @@ pub enum Command {
     /// Series as `proleg data` selects them: `Handler/series`, `[k]` or `[a..b]` (from 0).
     Plot(Vec<SeriesSelector>),
     Panel(String),
+    /// Show a parameter of module tab N per joint (individual mode) or not.
+    PerJoint {
+        actuator: usize,
+        param: String,
+        on: bool,
+    },
     /// Turn the physics debug view on or off.
     Debug(bool),
     /// Select robot link N (from 0) as a click would.
@@ -129,6 +136,11 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             ),
             "panel" if words.len() == 2 => Command::Panel(words[1].to_string()),
             "debug" if words.len() == 2 => Command::Debug(words[1] == "on"),
+            "per-joint" if words.len() == 4 => Command::PerJoint {
+                actuator: num(words.get(1), "module tab")?.max(0.0) as usize,
+                param: words[2].to_string(),
+                on: words[3] == "on",
+            },
             "select-link" => Command::SelectLink(num(words.get(1), "link")?.max(0.0) as usize),
             "move-by" => Command::MoveBy([
                 num(words.get(1), "dx")?,

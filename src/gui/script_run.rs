@@ -159,6 +159,30 @@ fn carry_out(
             };
             Flow::Next
         }
+        Command::PerJoint {
+            actuator,
+            param,
+            on,
+        } => {
+            let k = session.simulator.kernel(0).map_err(|e| e.to_string())?;
+            let a = k
+                .actuators()
+                .get(actuator)
+                .ok_or_else(|| format!("no module tab {actuator}"))?;
+            let d = a.module.descriptor();
+            let p = d
+                .parameters
+                .iter()
+                .position(|p| p.answers_to(&param))
+                .ok_or_else(|| format!("{} has no parameter {param:?}", d.type_name))?;
+            views.params.tab = actuator;
+            if on {
+                views.params.individual.insert((actuator, p));
+            } else {
+                views.params.individual.remove(&(actuator, p));
+            }
+            Flow::Next
+        }
         Command::Debug(on) => {
             views.debug.0 = on;
             Flow::Next
