@@ -13,6 +13,7 @@ use egui_plot::{Legend, Line, Plot, PlotPoints};
 
 use crate::data::export::{SeriesSelector, XAxis, export, for_each_row};
 use crate::data::read::{DataInfo, info};
+use crate::gui::widgets::{ensure_parent, set_checkbox};
 
 /// A graph of chosen series.
 #[derive(Debug, Clone)]
@@ -119,16 +120,20 @@ impl InspectState {
         }
     }
 
+    /// Graph `id`, its data file and the output path with extension `ext`.
+    fn output(&self, id: u64, ext: &str) -> Option<(&Graph, &Path, PathBuf)> {
+        let g = self.graphs.iter().find(|g| g.id == id)?;
+        let (path, _) = self.file.as_ref()?;
+        let out = PathBuf::from(format!("{}-{}.{ext}", self.out_stem, id + 1));
+        ensure_parent(&out);
+        Some((g, path, out))
+    }
+
     /// Saves graph `id` as `<out_stem>-<id>.png` with the headless plotter.
     pub fn save_png(&mut self, id: u64) {
-        let (Some(g), Some((path, _))) = (self.graphs.iter().find(|g| g.id == id), &self.file)
-        else {
+        let Some((g, path, out)) = self.output(id, "png") else {
             return;
         };
-        let out = PathBuf::from(format!("{}-{}.png", self.out_stem, id + 1));
-        if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-            let _ = std::fs::create_dir_all(dir);
-        }
         self.message = match crate::data::plot::plot(path, g.x, &g.selectors, &out, (1200, 700)) {
             Ok(s) => format!("wrote {} ({} rows)", out.display(), s.rows),
             Err(e) => e.to_string(),
@@ -137,14 +142,9 @@ impl InspectState {
 
     /// Exports graph `id`'s series as `<out_stem>-<id>.tsv`.
     pub fn export_tsv(&mut self, id: u64) {
-        let (Some(g), Some((path, _))) = (self.graphs.iter().find(|g| g.id == id), &self.file)
-        else {
+        let Some((g, path, out)) = self.output(id, "tsv") else {
             return;
         };
-        let out = PathBuf::from(format!("{}-{}.tsv", self.out_stem, id + 1));
-        if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-            let _ = std::fs::create_dir_all(dir);
-        }
         let result = std::fs::File::create(&out)
             .map_err(|e| format!("{}: {e}", out.display()))
             .and_then(|f| {
@@ -213,19 +213,12 @@ fn tree(ui: &mut egui::Ui, state: &mut InspectState) {
                             ui.label(name);
                             for k in 0..h.parts[s] {
                                 let key = (h.name.clone(), name.clone(), k);
-                                let mut on = state.checked.contains(&key);
                                 let text = if h.parts[s] > 1 {
                                     k.to_string()
                                 } else {
                                     String::new()
                                 };
-                                if ui.checkbox(&mut on, text).changed() {
-                                    if on {
-                                        state.checked.insert(key);
-                                    } else {
-                                        state.checked.remove(&key);
-                                    }
-                                }
+                                set_checkbox(ui, &mut state.checked, key, text);
                             }
                         });
                     }
@@ -274,5 +267,54 @@ fn graphs(ui: &mut egui::Ui, state: &mut InspectState) {
         Some((id, "Export TSV")) => state.export_tsv(id),
         Some((id, _)) => state.graphs.retain(|g| g.id != id),
         None => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn loads_graphs_saves_and_exports_the_thesis_data_file() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let out = std::env::temp_dir().join(format!("proleg-inspect-{}", std::process::id()));
+        let mut s = InspectState {
+            out_stem: out.join("g").display().to_string(),
+            ..InspectState::default()
+        };
+        s.load(&root.join("tests/fixtures/thesis/data/B.8.data.xml"));
+        assert!(s.file.is_some(), "{}", s.message);
+        s.checked
+            .insert(("PatternGenerator_sinusoidal".into(), "Angle".into(), 2));
+        s.checked
+            .insert(("Global_Adaptive_Touch".into(), "desired_angle".into(), 0));
+        let id = s.add_graph().expect("graph");
+        let g = &s.graphs[0];
+        assert_eq!(g.lines.len(), 2);
+        assert!(
+            g.lines.iter().all(|(_, pts)| pts.len() == 2),
+            "{:?}",
+            g.lines
+        );
+        // Same titles as `proleg data` columns.
+        assert!(
+            g.lines
+                .iter()
+                .any(|(t, _)| t == "PatternGenerator_sinusoidal/Angle[2]")
+        );
+        s.export_tsv(id);
+        let tsv = std::fs::read_to_string(out.join("g-1.tsv")).expect("tsv written");
+        assert_eq!(tsv.lines().count(), 3, "{tsv}");
+        s.save_png(id);
+        assert!(out.join("g-1.png").exists(), "{}", s.message);
+        // A missing file is a message, not a panic, and keeps nothing loaded.
+        let mut bad = InspectState::default();
+        bad.load(Path::new("no/such.data.xml"));
+        assert!(
+            bad.file.is_none() && bad.message.contains("no/such.data.xml"),
+            "{}",
+            bad.message
+        );
+        assert!(bad.add_graph().is_none());
     }
 }

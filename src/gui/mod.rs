@@ -24,6 +24,7 @@ pub mod script;
 pub mod script_run;
 pub mod session;
 pub mod toolbar;
+pub mod widgets;
 
 use std::path::Path;
 

@@ -12,6 +12,7 @@ use bevy_egui::egui;
 use egui_plot::{Legend, Line, Plot, PlotPoints};
 
 use crate::gui::session::SimSession;
+use crate::gui::widgets::set_checkbox;
 use crate::sim::datalog::DataLog;
 
 /// A series checked in the selector: (handler name, series index, part index).
@@ -268,19 +269,12 @@ fn selector(ui: &mut egui::Ui, log: &[crate::data::handler::HandlerSpec], state:
                     ui.label(name);
                     for part in 0..parts {
                         let key = (h.name.clone(), s, part);
-                        let mut on = state.checked.contains(&key);
                         let text = if parts > 1 {
                             format!("{part}")
                         } else {
                             String::new()
                         };
-                        if ui.checkbox(&mut on, text).changed() {
-                            if on {
-                                state.checked.insert(key);
-                            } else {
-                                state.checked.remove(&key);
-                            }
-                        }
+                        set_checkbox(ui, &mut state.checked, key, text);
                     }
                 });
             }

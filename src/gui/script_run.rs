@@ -245,9 +245,7 @@ fn carry_out(
             Flow::Next
         }
         Command::Screenshot(path) => {
-            if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-                std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-            }
+            crate::gui::widgets::ensure_parent(&path);
             let _ = std::fs::remove_file(&path);
             commands
                 .spawn(Screenshot::primary_window())
