@@ -26,7 +26,7 @@ enum Command {
         /// A `*.simulation.xml` file.
         #[arg(default_value = DEMO_CONFIG)]
         config: PathBuf,
-        /// Drive the window from a script (tests, screenshots; see proleg::gui::script).
+        /// Drive the window from a script (tests, screenshots; see proleg::gui::control::script).
         #[arg(long)]
         script: Option<PathBuf>,
     },

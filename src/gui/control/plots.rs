@@ -11,8 +11,8 @@ use bevy::prelude::*;
 use bevy_egui::egui;
 use egui_plot::{Legend, Line, Plot, PlotPoints};
 
-use crate::gui::session::SimSession;
-use crate::gui::widgets::set_checkbox;
+use crate::gui::control::session::SimSession;
+use crate::gui::control::widgets::set_checkbox;
 use crate::sim::datalog::DataLog;
 
 /// A series checked in the selector: (handler name, series index, part index).

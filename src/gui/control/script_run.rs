@@ -1,4 +1,4 @@
-//! Runs a [`crate::gui::script`] in the window: each frame, commands are carried out until
+//! Runs a [`crate::gui::control::script`] in the window: each frame, commands are carried out until
 //! one has to wait (frames, simulated time, a screenshot being written, an optimization).
 //! A failing command prints `error: FILE:LINE: cause` and closes the window with a failure.
 
@@ -8,12 +8,12 @@ use bevy::prelude::*;
 use bevy::render::view::screenshot::{Screenshot, save_to_disk};
 
 use crate::data::export::resolve;
-use crate::gui::optimizer_view::replay;
-use crate::gui::plots::LiveSeries;
-use crate::gui::scene::BodyVisual;
-use crate::gui::script::{Command, ScriptRunner, state_report};
-use crate::gui::session::SimSession;
-use crate::gui::{Panels, Views};
+use crate::gui::control::optimizer_view::replay;
+use crate::gui::control::plots::LiveSeries;
+use crate::gui::control::scene::BodyVisual;
+use crate::gui::control::script::{Command, ScriptRunner, state_report};
+use crate::gui::control::session::SimSession;
+use crate::gui::control::{Panels, Views};
 
 /// Frames to wait for a screenshot file before giving up.
 const SHOT_FRAMES: u32 = 600;
@@ -93,7 +93,7 @@ pub fn run_script(
 fn carry_out(
     c: Command,
     commands: &mut Commands,
-    script: &mut crate::gui::script::Script,
+    script: &mut crate::gui::control::script::Script,
     session: &mut SimSession,
     views: &mut Views,
     visuals: &Query<(Entity, &BodyVisual)>,
@@ -245,7 +245,7 @@ fn carry_out(
             Flow::Next
         }
         Command::Screenshot(path) => {
-            crate::gui::widgets::ensure_parent(&path);
+            crate::gui::control::widgets::ensure_parent(&path);
             let _ = std::fs::remove_file(&path);
             commands
                 .spawn(Screenshot::primary_window())

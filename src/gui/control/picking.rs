@@ -7,9 +7,9 @@
 use bevy::prelude::*;
 use bevy_egui::egui;
 
-use crate::gui::camera::OrbitCamera;
-use crate::gui::scene::BodyVisual;
-use crate::gui::session::SimSession;
+use crate::gui::control::camera::OrbitCamera;
+use crate::gui::control::scene::BodyVisual;
+use crate::gui::control::session::SimSession;
 
 /// The selected body and the drag in progress.
 #[derive(Resource, Debug, Default)]

@@ -11,7 +11,7 @@ use bevy::prelude::*;
 use bevy_egui::egui;
 use egui_plot::{Legend, Line, Plot, PlotPoints, Points};
 
-use crate::gui::session::SimSession;
+use crate::gui::control::session::SimSession;
 use crate::optimize::fitness::Fitness;
 use crate::optimize::run::{Evaluation, Outcome, RunSettings, StopFlag, optimize, prepare};
 use crate::optimize::space::Genome;

@@ -10,7 +10,7 @@ use std::collections::HashSet;
 use bevy::prelude::*;
 use bevy_egui::egui;
 
-use crate::gui::session::SimSession;
+use crate::gui::control::session::SimSession;
 
 /// The dialog's state: the selected module and which parameters are shown per joint.
 #[derive(Resource, Debug, Clone, Default)]

@@ -5,7 +5,7 @@
 use bevy::prelude::*;
 use rapier3d::prelude as rp;
 
-use crate::gui::session::SimSession;
+use crate::gui::control::session::SimSession;
 use crate::sim::physics::Physics;
 
 /// Whether the debug view is on.

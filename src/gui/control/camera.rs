@@ -6,7 +6,7 @@ use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
 use bevy::prelude::*;
 use bevy_egui::input::EguiWantsInput;
 
-use crate::gui::session::SimSession;
+use crate::gui::control::session::SimSession;
 
 /// Orbit state of the viewer camera (Bevy frame, y up).
 #[derive(Component, Debug, Clone)]
@@ -69,7 +69,7 @@ pub fn orbit_camera(
     scroll: Res<AccumulatedMouseScroll>,
     egui: Res<EguiWantsInput>,
     session: NonSend<SimSession>,
-    selection: Res<crate::gui::picking::Selection>,
+    selection: Res<crate::gui::control::picking::Selection>,
     mut cameras: Query<(&mut OrbitCamera, &mut Transform)>,
 ) {
     for (mut orbit, mut t) in &mut cameras {

@@ -14,7 +14,7 @@ use rapier3d::prelude as rp;
 use crate::config::body::{Geom, Shape};
 use crate::config::mesh::parse_obj;
 use crate::config::transform::Transform as Pose;
-use crate::gui::session::SimSession;
+use crate::gui::control::session::SimSession;
 use crate::sim::physics::Physics;
 use crate::sim::spawn::{EnvObject, SimLink};
 use crate::sim::tactile::{RobotSensors, TactileSensor};

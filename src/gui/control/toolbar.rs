@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use bevy::prelude::*;
 use bevy_egui::egui;
 
-use crate::gui::session::SimSession;
+use crate::gui::control::session::SimSession;
 
 /// The toolbar's own state.
 #[derive(Resource, Debug, Clone)]

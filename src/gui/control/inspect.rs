@@ -13,7 +13,7 @@ use egui_plot::{Legend, Line, Plot, PlotPoints};
 
 use crate::data::export::{SeriesSelector, XAxis, export, for_each_row};
 use crate::data::read::{DataInfo, info};
-use crate::gui::widgets::{ensure_parent, set_checkbox};
+use crate::gui::control::widgets::{ensure_parent, set_checkbox};
 
 /// A graph of chosen series.
 #[derive(Debug, Clone)]

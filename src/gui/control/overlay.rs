@@ -4,8 +4,8 @@
 use bevy::prelude::*;
 use bevy_egui::egui;
 
-use crate::gui::session::SimSession;
-use crate::gui::toolbar::ToolbarState;
+use crate::gui::control::session::SimSession;
+use crate::gui::control::toolbar::ToolbarState;
 use crate::sim::tactile::RobotSensors;
 
 /// What the overlay shows, updated after the frame's steps.

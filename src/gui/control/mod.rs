@@ -1,0 +1,249 @@
+//! The control window (thesis 4.5): a 3D viewer of the running simulation with a toolbar,
+//! live plots and the control-algorithm properties, built with Bevy's renderer and
+//! bevy_egui. It drives the same headless [`crate::sim::Simulator`] the CLI and the
+//! optimizers use; nothing here simulates.
+//!
+//! - [`session`]: the simulation shown and its pacing (start / pause / restart, speed)
+//! - [`scene`]: meshes, lights and pads following the physics bodies
+//! - [`camera`]: orbit / pan / zoom / follow; [`picking`]: select and drag bodies
+//! - [`debug_view`]: collider outlines and contacts from the physics world
+//! - [`toolbar`], [`params`], [`plots`], [`overlay`], [`inspect`], [`optimizer_view`]: the
+//!   egui views
+//! - [`script`], [`script_run`]: scripted driving for tests and screenshots
+
+pub mod camera;
+pub mod debug_view;
+pub mod inspect;
+pub mod optimizer_view;
+pub mod overlay;
+pub mod params;
+pub mod picking;
+pub mod plots;
+pub mod scene;
+pub mod script;
+pub mod script_run;
+pub mod session;
+pub mod toolbar;
+pub mod widgets;
+
+use std::path::Path;
+
+use bevy::ecs::system::SystemParam;
+use bevy::prelude::*;
+use bevy::window::WindowResolution;
+use bevy_egui::{EguiContexts, EguiPlugin, EguiPrimaryContextPass, egui};
+
+use crate::gui::control::camera::OrbitCamera;
+use crate::gui::control::debug_view::DebugView;
+use crate::gui::control::inspect::InspectState;
+use crate::gui::control::optimizer_view::OptimizerView;
+use crate::gui::control::overlay::RobotOverlay;
+use crate::gui::control::params::ParamsState;
+use crate::gui::control::picking::Selection;
+use crate::gui::control::plots::PlotsState;
+use crate::gui::control::scene::BodyVisual;
+use crate::gui::control::scene::SceneBuilt;
+use crate::gui::control::script::ScriptRunner;
+use crate::gui::control::session::SimSession;
+use crate::gui::control::toolbar::ToolbarState;
+
+/// Which of the docked views are open.
+#[derive(Resource, Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Panels {
+    pub params: bool,
+    pub plots: bool,
+}
+
+/// The state of the egui views (what scripts and the UI pass change).
+#[derive(SystemParam)]
+pub struct Views<'w> {
+    pub toolbar: ResMut<'w, ToolbarState>,
+    pub params: ResMut<'w, ParamsState>,
+    pub plots: ResMut<'w, PlotsState>,
+    pub panels: ResMut<'w, Panels>,
+    pub inspect: ResMut<'w, InspectState>,
+    pub optimizer: ResMut<'w, OptimizerView>,
+    pub debug: ResMut<'w, DebugView>,
+    pub selection: ResMut<'w, Selection>,
+}
+
+/// Ordering of the window's per-frame work.
+#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum GuiSystems {
+    /// Script commands (tests, screenshots).
+    Script,
+    /// Simulation steps of this frame.
+    Simulate,
+    /// Scene and camera follow the new state.
+    Present,
+}
+
+/// Opens the control window on `config`; with `script`, runs it (see [`script`]).
+pub fn run(config: &Path, script: Option<&Path>) -> Result<(), String> {
+    let session = SimSession::open(config)?;
+    let runner = match script {
+        Some(p) => ScriptRunner::new(script::load(p)?),
+        None => ScriptRunner::default(),
+    };
+    let title = format!("proleg — {}", config.display());
+    let mut app = App::new();
+    app.add_plugins(DefaultPlugins.set(WindowPlugin {
+        primary_window: Some(Window {
+            title,
+            resolution: WindowResolution::new(1280, 800),
+            ..default()
+        }),
+        ..default()
+    }))
+    .add_plugins((EguiPlugin::default(), MeshPickingPlugin))
+    .insert_resource(ClearColor(Color::srgb(0.62, 0.74, 0.86)))
+    .insert_resource(ToolbarState::new(config))
+    .insert_resource(runner)
+    .insert_non_send(session)
+    .add_plugins(ControlWindowPlugin);
+    match app.run() {
+        AppExit::Success => Ok(()),
+        AppExit::Error(code) => Err(format!("the control window closed with status {code}")),
+    }
+}
+
+/// The control window's systems and state (everything but the session and the window).
+pub struct ControlWindowPlugin;
+
+impl Plugin for ControlWindowPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<ParamsState>()
+            .init_resource::<InspectState>()
+            .init_resource::<DebugView>()
+            .init_resource::<Selection>()
+            .add_observer(picking::on_click)
+            .add_observer(picking::on_drag_start)
+            .add_observer(picking::on_drag)
+            .add_observer(picking::on_drag_end)
+            .insert_resource(OptimizerView::new(
+                std::thread::available_parallelism().map_or(1, |n| n.get()),
+            ))
+            .init_resource::<PlotsState>()
+            .init_resource::<SceneBuilt>()
+            .init_resource::<RobotOverlay>()
+            .insert_resource(Panels {
+                params: true,
+                plots: true,
+            })
+            .configure_sets(
+                Update,
+                (
+                    GuiSystems::Script,
+                    GuiSystems::Simulate,
+                    GuiSystems::Present,
+                )
+                    .chain(),
+            )
+            .add_systems(Startup, (camera::spawn_camera, scene::spawn_lights))
+            .add_systems(Update, script_run::run_script.in_set(GuiSystems::Script))
+            .add_systems(
+                Update,
+                (picking::apply_moves, simulate)
+                    .chain()
+                    .in_set(GuiSystems::Simulate),
+            )
+            .add_systems(
+                Update,
+                (
+                    scene::build_scene,
+                    scene::follow_bodies,
+                    scene::colour_pads,
+                    camera::orbit_camera,
+                    debug_view::draw_debug,
+                )
+                    .chain()
+                    .in_set(GuiSystems::Present),
+            )
+            .add_systems(EguiPrimaryContextPass, draw_ui);
+    }
+}
+
+/// Runs this frame's simulation steps and updates the speed figures.
+fn simulate(
+    time: Res<Time>,
+    mut session: NonSendMut<SimSession>,
+    mut toolbar: ResMut<ToolbarState>,
+    mut overlay: ResMut<RobotOverlay>,
+) {
+    let frame_dt = time.delta_secs_f64();
+    let before = session.sim_time();
+    session.advance(frame_dt);
+    let advanced = session.sim_time() - before;
+    toolbar.observe(frame_dt, advanced);
+    overlay.observe(&session);
+}
+
+/// The egui views: toolbar on top, properties on the right, plots below, robot overlay.
+fn draw_ui(
+    mut contexts: EguiContexts,
+    mut session: NonSendMut<SimSession>,
+    mut views: Views,
+    overlay: Res<RobotOverlay>,
+    mut cameras: Query<&mut OrbitCamera>,
+    visuals: Query<(&BodyVisual, &Name)>,
+) -> Result {
+    let Views {
+        toolbar,
+        params,
+        plots,
+        panels,
+        inspect,
+        optimizer,
+        debug,
+        selection,
+    } = &mut views;
+    let ctx = contexts.ctx_mut()?.clone();
+    let mut root = egui::Ui::new(
+        ctx.clone(),
+        "control window".into(),
+        egui::UiBuilder::new()
+            .layer_id(egui::LayerId::background())
+            .max_rect(ctx.viewport_rect()),
+    );
+    egui::Panel::top("toolbar").show(&mut root, |ui| {
+        toolbar::show(ui, &mut session, toolbar);
+        ui.horizontal(|ui| {
+            ui.toggle_value(&mut panels.params, "Control algorithm properties");
+            ui.toggle_value(&mut panels.plots, "Live plots");
+            ui.toggle_value(&mut inspect.open, "Data file inspection");
+            if session.sim.optimizer.is_some() {
+                ui.toggle_value(&mut optimizer.open, "Optimization");
+            }
+            ui.toggle_value(&mut debug.0, "Physics debug view");
+        });
+    });
+    if panels.plots {
+        let now = session.sim_time();
+        plots.refresh(session.simulator.data(0).ok(), now);
+        egui::Panel::bottom("plots")
+            .resizable(true)
+            .default_size(270.0)
+            .show(&mut root, |ui| plots::show(ui, &mut session, plots));
+    }
+    if panels.params {
+        egui::Panel::right("params")
+            .resizable(true)
+            .default_size(330.0)
+            .show(&mut root, |ui| params::show(ui, &mut session, params));
+    }
+    let mut follow = cameras.iter().next().is_some_and(|c| c.follow);
+    overlay::show(&ctx, &overlay, toolbar, &mut follow);
+    picking::show(&ctx, &session, selection, &visuals);
+    if inspect.open {
+        inspect::show(&ctx, inspect);
+    }
+    if optimizer.open {
+        optimizer_view::show(&ctx, &mut session, optimizer);
+    } else {
+        optimizer.poll();
+    }
+    for mut c in &mut cameras {
+        c.follow = follow;
+    }
+    Ok(())
+}
