@@ -198,21 +198,24 @@ fn data_inspection_loads_a_recorded_file_and_graphs_it() {
     );
 }
 
+/// Runs `commands` in the window on `config`, then writes the state and quits; returns it.
+fn scripted_state(name: &str, config: &str, commands: &str) -> Vec<(String, String)> {
+    let dir = scratch(name);
+    let (st, script) = (dir.join("state.txt"), dir.join(format!("{name}.script")));
+    let text = format!("{commands}state {}\nquit\n", st.display());
+    std::fs::write(&script, text).expect("script");
+    let (ok, out) = run_window(config, &script);
+    assert!(ok, "the window failed:\n{out}");
+    state(&st)
+}
+
 #[test]
 fn optimization_view_runs_the_ga_and_replays_the_best() {
-    let dir = scratch("optimize");
-    let (st, script) = (dir.join("state.txt"), dir.join("optimize.script"));
-    std::fs::write(
-        &script,
-        format!(
-            "wait 1\noptimize 5\nreplay-best\nwait 2\nstate {}\nquit\n",
-            st.display()
-        ),
-    )
-    .expect("script");
-    let (ok, out) = run_window("configs/experiment1_ga.simulation.xml", &script);
-    assert!(ok, "{out}");
-    let s = state(&st);
+    let s = scripted_state(
+        "optimize",
+        "configs/experiment1_ga.simulation.xml",
+        "wait 1\noptimize 5\nreplay-best\nwait 2\n",
+    );
     // The GA evaluates whole generations: at least the 5 asked for.
     let n: u64 = get(&s, "optimizer_evaluations").parse().expect("count");
     assert!(n >= 5, "{n} evaluations");
@@ -226,19 +229,11 @@ fn optimization_view_runs_the_ga_and_replays_the_best() {
 
 #[test]
 fn a_selected_robot_moves_with_the_drag_path_and_the_debug_view_draws() {
-    let dir = scratch("pick");
-    let (st, script) = (dir.join("state.txt"), dir.join("pick.script"));
-    std::fs::write(
-        &script,
-        format!(
-            "wait 2\nselect-link 0\nmove-by 0.5 -0.25 0\nwait 1\ndebug on\nstart\nrun-until 0.5\npause\nstate {}\nquit\n",
-            st.display()
-        ),
-    )
-    .expect("script");
-    let (ok, out) = run_window("configs/demo.simulation.xml", &script);
-    assert!(ok, "{out}");
-    let s = state(&st);
+    let s = scripted_state(
+        "pick",
+        "configs/demo.simulation.xml",
+        "wait 2\nselect-link 0\nmove-by 0.5 -0.25 0\nwait 1\ndebug on\nstart\nrun-until 0.5\npause\n",
+    );
     assert_eq!(get(&s, "selected"), "true");
     assert_eq!(get(&s, "debug_view"), "true");
     // The whole robot moved (all links with the one selected) and kept crawling from there.
