@@ -14,7 +14,7 @@ use egui_plot::{Legend, Line, Plot, PlotPoints, Points};
 use crate::gui::control::session::SimSession;
 use crate::optimize::fitness::Fitness;
 use crate::optimize::run::{Evaluation, Outcome, RunSettings, StopFlag, optimize, prepare};
-use crate::optimize::space::Genome;
+use crate::optimize::space::{Genome, SearchSpace};
 
 /// A message from the optimization thread.
 enum Report {
@@ -36,6 +36,8 @@ pub struct OptimizerView {
     pub status: String,
     stop: StopFlag,
     rx: Option<std::sync::Mutex<Receiver<Report>>>,
+    /// The search space of the session's world (by its generation), built once.
+    space: Option<(u64, Option<SearchSpace>)>,
 }
 
 impl OptimizerView {
@@ -170,7 +172,13 @@ pub fn show(ctx: &egui::Context, session: &mut SimSession, view: &mut OptimizerV
     };
     view.poll();
     let label = model.spec.label();
-    let space = prepare(&session.sim).ok().map(|(s, _)| s);
+    let (generation, space) = match view.space.take() {
+        Some((g, s)) if g == session.generation => (g, s),
+        _ => (
+            session.generation,
+            prepare(&session.sim).ok().map(|(s, _)| s),
+        ),
+    };
     let mut open = view.open;
     egui::Window::new("Optimization")
         .open(&mut open)
@@ -225,4 +233,5 @@ pub fn show(ctx: &egui::Context, session: &mut SimSession, view: &mut OptimizerV
             }
         });
     view.open = open;
+    view.space = Some((generation, space));
 }
