@@ -5,6 +5,8 @@
 //!
 //! ## Contents
 //! - [`bench`]: throughput figures of the reference scenario.
+//! - [`compose`]: composing configurations without XML — robot builder, behaviour
+//!   groups, environment editor model, the wizard's pages, the expert composition.
 //! - [`config`]: the XML configuration formats (simulation, robot, module parts, sensors,
 //!   actuation, environment, optimizer), loading with includes, validation with
 //!   located errors, writing back, and the `proleg check` summary.
@@ -20,6 +22,7 @@
 //! Pure logic stays free of rendering, so everything here runs and tests headless.
 
 pub mod bench;
+pub mod compose;
 pub mod config;
 pub mod control;
 pub mod data;

@@ -1,0 +1,788 @@
+//! The environment editor's model (thesis 4.4.6): objects from the [`library`] dropped
+//! onto the ground or onto what lies under the cursor, selected, moved, turned about the
+//! vertical axis, scaled, given friction, static/dynamic, mass and colour, deleted; every
+//! change can be undone and redone. The robot placeholder is always there and sets the
+//! robot's start pose. Loads and saves ordinary `*.env.xml` files.
+//!
+//! Objects that include a kinbody file (`<KinBody file=..>`) can be moved and turned;
+//! their contents are edited in their own file.
+//!
+//! [`library`]: crate::compose::library
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use crate::compose::library::LibraryItem;
+use crate::config::body::{BodyKind, MAX_FRICTION, Mass, Shape};
+use crate::config::environment::{
+    EnvObject, EnvironmentFile, Physics, parse_environment_file, write_environment_file,
+};
+use crate::config::kinbody::KinBody;
+use crate::config::mesh::parse_obj;
+use crate::config::resolve::environment::resolve_environment;
+use crate::config::source::{FsSource, resolve_include};
+use crate::config::transform::{Transform, quat_mul};
+
+/// Largest friction the editor offers (Coulomb coefficient, as the thesis's dialog).
+pub const EDITOR_MAX_FRICTION: f64 = 1.0;
+/// Most undo steps kept.
+const UNDO_LIMIT: usize = 200;
+
+/// What is selected.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Selected {
+    Robot,
+    Object(usize),
+}
+
+/// An axis-aligned box in world coordinates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Aabb {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+}
+
+impl Aabb {
+    const EMPTY: Aabb = Aabb {
+        min: [f64::INFINITY; 3],
+        max: [f64::NEG_INFINITY; 3],
+    };
+
+    fn add(&mut self, p: [f64; 3]) {
+        for i in 0..3 {
+            self.min[i] = self.min[i].min(p[i]);
+            self.max[i] = self.max[i].max(p[i]);
+        }
+    }
+
+    fn is_empty(&self) -> bool {
+        self.min[0] > self.max[0]
+    }
+
+    /// Whether (x, y) lies inside the box's footprint.
+    pub fn covers(&self, x: f64, y: f64) -> bool {
+        !self.is_empty()
+            && x >= self.min[0]
+            && x <= self.max[0]
+            && y >= self.min[1]
+            && y <= self.max[1]
+    }
+
+    pub fn size(&self) -> [f64; 3] {
+        if self.is_empty() {
+            return [0.0; 3];
+        }
+        [0, 1, 2].map(|i| self.max[i] - self.min[i])
+    }
+}
+
+/// The editable part of the scene (what undo restores).
+#[derive(Debug, Clone, PartialEq)]
+struct Snapshot {
+    objects: Vec<EnvObject>,
+    robot_pose: Transform,
+}
+
+/// The properties the side panel shows for the selection.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Props {
+    pub name: String,
+    pub position: [f64; 3],
+    pub yaw_deg: f64,
+    pub size: [f64; 3],
+    /// None: not editable here (robot, included file) or mixed.
+    pub friction: Option<f64>,
+    pub dynamic: bool,
+    pub mass: Option<f64>,
+    pub colour: Option<[f64; 3]>,
+    pub editable: bool,
+}
+
+/// The environment being edited.
+#[derive(Debug, Clone)]
+pub struct EnvEditor {
+    pub physics: Physics,
+    pub objects: Vec<EnvObject>,
+    pub robot_pose: Transform,
+    pub selected: Option<Selected>,
+    /// Where the file is (or will be) saved: includes and meshes resolve from here.
+    pub file: PathBuf,
+    undo: Vec<Snapshot>,
+    redo: Vec<Snapshot>,
+    /// Merges a drag's many moves into one undo step.
+    dragging: bool,
+    mesh_bounds: HashMap<String, Option<Aabb>>,
+    /// Bumped on every change (the 3D view rebuilds when it changes).
+    pub revision: u64,
+}
+
+/// A rotation about z by `deg` degrees, as a quaternion.
+fn yaw_quat(deg: f64) -> [f64; 4] {
+    let h = deg.to_radians() / 2.0;
+    [h.cos(), 0.0, 0.0, h.sin()]
+}
+
+/// The heading (rotation about z) of a quaternion, in degrees.
+pub fn yaw_of(q: [f64; 4]) -> f64 {
+    let [w, x, y, z] = q;
+    (2.0 * (w * z + x * y))
+        .atan2(1.0 - 2.0 * (y * y + z * z))
+        .to_degrees()
+}
+
+fn object_pose(o: &EnvObject) -> Transform {
+    match o {
+        EnvObject::Inline(kb) => kb.pose,
+        EnvObject::Include(i) => i.pose,
+    }
+}
+
+fn object_pose_mut(o: &mut EnvObject) -> &mut Transform {
+    match o {
+        EnvObject::Inline(kb) => &mut kb.pose,
+        EnvObject::Include(i) => &mut i.pose,
+    }
+}
+
+/// The name shown for an object.
+pub fn object_name(o: &EnvObject, index: usize) -> String {
+    match o {
+        EnvObject::Inline(kb) => kb.name.clone().unwrap_or_else(|| format!("object {index}")),
+        EnvObject::Include(i) => format!("{} (file)", i.file),
+    }
+}
+
+impl EnvEditor {
+    /// A new environment: gravity, self collision and an 8 m x 8 m floor, the robot at
+    /// the origin. `file` is where it will be saved.
+    pub fn new(file: impl Into<PathBuf>) -> Self {
+        let mut floor = LibraryItem::Box.kinbody("floor");
+        floor.bodies[0].geoms[0].shape = Shape::Box {
+            extents: [4.0, 4.0, 0.003],
+        };
+        floor.bodies[0].geoms[0].diffuse_color = Some([0.3, 1.0, 0.3]);
+        floor.pose = Transform::from_translation([0.0, 0.0, -0.003]);
+        EnvEditor {
+            physics: Physics {
+                self_collision: true,
+                ..Physics::default()
+            },
+            objects: vec![EnvObject::Inline(floor)],
+            robot_pose: Transform::IDENTITY,
+            selected: None,
+            file: file.into(),
+            undo: Vec::new(),
+            redo: Vec::new(),
+            dragging: false,
+            mesh_bounds: HashMap::new(),
+            revision: 0,
+        }
+    }
+
+    /// An empty scene (only the robot placeholder).
+    pub fn empty(file: impl Into<PathBuf>) -> Self {
+        let mut e = EnvEditor::new(file);
+        e.objects.clear();
+        e
+    }
+
+    /// Opens an environment file.
+    pub fn load(path: &Path) -> Result<Self, String> {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let file = parse_environment_file(&path.display().to_string(), &text)
+            .map_err(|e| e.to_string())?;
+        let mut e = EnvEditor::empty(path);
+        e.physics = file.physics;
+        e.objects = file.objects;
+        e.robot_pose = file.robot_pose.unwrap_or(Transform::IDENTITY);
+        Ok(e)
+    }
+
+    /// The environment file this scene is.
+    pub fn to_file(&self) -> EnvironmentFile {
+        EnvironmentFile {
+            physics: self.physics.clone(),
+            objects: self.objects.clone(),
+            robot_pose: Some(self.robot_pose),
+        }
+    }
+
+    /// Checks the scene the way a simulation would load it (meshes and included files
+    /// found, values valid) and writes it to `path`; the editor then belongs to `path`.
+    pub fn save(&mut self, path: &Path) -> Result<(), String> {
+        let text = write_environment_file(&self.to_file());
+        let reread = parse_environment_file(&path.display().to_string(), &text)
+            .map_err(|e| format!("the scene does not make a valid file: {e}"))?;
+        resolve_environment(&FsSource, path, &reread).map_err(|e| e.to_string())?;
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        }
+        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        self.file = path.to_path_buf();
+        Ok(())
+    }
+
+    fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            objects: self.objects.clone(),
+            robot_pose: self.robot_pose,
+        }
+    }
+
+    /// Records the state before a change.
+    fn checkpoint(&mut self) {
+        self.undo.push(self.snapshot());
+        if self.undo.len() > UNDO_LIMIT {
+            self.undo.remove(0);
+        }
+        self.redo.clear();
+        self.revision += 1;
+    }
+
+    fn restore(&mut self, s: Snapshot) {
+        self.objects = s.objects;
+        self.robot_pose = s.robot_pose;
+        if let Some(Selected::Object(i)) = self.selected
+            && i >= self.objects.len()
+        {
+            self.selected = None;
+        }
+        self.revision += 1;
+    }
+
+    pub fn can_undo(&self) -> bool {
+        !self.undo.is_empty()
+    }
+
+    pub fn can_redo(&self) -> bool {
+        !self.redo.is_empty()
+    }
+
+    pub fn undo(&mut self) -> bool {
+        let Some(s) = self.undo.pop() else {
+            return false;
+        };
+        self.redo.push(self.snapshot());
+        self.restore(s);
+        true
+    }
+
+    pub fn redo(&mut self) -> bool {
+        let Some(s) = self.redo.pop() else {
+            return false;
+        };
+        self.undo.push(self.snapshot());
+        self.restore(s);
+        true
+    }
+
+    /// Bounds of a mesh file as named in the scene (cached).
+    fn mesh_aabb(&mut self, file: &str, scale: f64) -> Option<Aabb> {
+        let key = file.to_string();
+        if !self.mesh_bounds.contains_key(&key) {
+            let b = resolve_include(&FsSource, &self.file, file)
+                .and_then(|p| {
+                    let text = std::fs::read_to_string(&p).ok()?;
+                    parse_obj(&p, &text).ok()
+                })
+                .map(|m| {
+                    let (min, max) = m.bounds();
+                    Aabb { min, max }
+                });
+            self.mesh_bounds.insert(key.clone(), b);
+        }
+        self.mesh_bounds
+            .get(&key)
+            .copied()
+            .flatten()
+            .map(|b| Aabb {
+                min: b.min.map(|v| v * scale),
+                max: b.max.map(|v| v * scale),
+            })
+    }
+
+    /// World bounds of a kinbody placed at `pose`.
+    fn kinbody_aabb(&mut self, kb: &KinBody, pose: &Transform) -> Aabb {
+        let mut out = Aabb::EMPTY;
+        for body in &kb.bodies {
+            let bp = pose.mul(&body.pose);
+            for g in &body.geoms {
+                let gp = bp.mul(&g.pose);
+                let local = match &g.shape {
+                    Shape::Box { extents } => Aabb {
+                        min: extents.map(|e| -e),
+                        max: *extents,
+                    },
+                    Shape::Sphere { radius } => Aabb {
+                        min: [-radius; 3],
+                        max: [*radius; 3],
+                    },
+                    Shape::Cylinder { radius, height } => Aabb {
+                        min: [-radius, -height / 2.0, -radius],
+                        max: [*radius, height / 2.0, *radius],
+                    },
+                    Shape::Trimesh { file, scale } => match self.mesh_aabb(file, *scale) {
+                        Some(b) => b,
+                        None => continue,
+                    },
+                };
+                for k in 0..8 {
+                    let c = [0, 1, 2].map(|i| {
+                        if k >> i & 1 == 0 {
+                            local.min[i]
+                        } else {
+                            local.max[i]
+                        }
+                    });
+                    let r = gp.rotate(c);
+                    out.add([0, 1, 2].map(|i| r[i] + gp.translation[i]));
+                }
+            }
+        }
+        out
+    }
+
+    /// World bounds of object `i` (empty for an included file that cannot be read).
+    pub fn bounds(&mut self, i: usize) -> Aabb {
+        let Some(o) = self.objects.get(i).cloned() else {
+            return Aabb::EMPTY;
+        };
+        match &o {
+            EnvObject::Inline(kb) => self.kinbody_aabb(kb, &kb.pose),
+            EnvObject::Include(inc) => {
+                let kb = resolve_include(&FsSource, &self.file, &inc.file).and_then(|p| {
+                    let text = std::fs::read_to_string(&p).ok()?;
+                    crate::config::kinbody::parse_kinbody_file(&p.display().to_string(), &text)
+                        .ok()
+                });
+                match kb {
+                    Some(kb) => self.kinbody_aabb(&kb, &inc.pose.mul(&kb.pose)),
+                    None => Aabb::EMPTY,
+                }
+            }
+        }
+    }
+
+    /// The height objects dropped at (x, y) land on: the highest top among the objects
+    /// covering that point, or the ground (0).
+    pub fn surface_at(&mut self, x: f64, y: f64, skip: Option<usize>) -> f64 {
+        let mut top: f64 = 0.0;
+        for i in 0..self.objects.len() {
+            if Some(i) == skip {
+                continue;
+            }
+            let b = self.bounds(i);
+            if b.covers(x, y) {
+                top = top.max(b.max[2]);
+            }
+        }
+        top
+    }
+
+    fn unique_name(&self, base: &str) -> String {
+        let taken = |n: &str| {
+            self.objects
+                .iter()
+                .any(|o| matches!(o, EnvObject::Inline(kb) if kb.name.as_deref() == Some(n)))
+        };
+        (1..)
+            .map(|k| format!("{base}{k}"))
+            .find(|n| !taken(n))
+            .unwrap_or_else(|| base.to_string())
+    }
+
+    /// Drops a library item at (x, y): it lands on the ground or on the object under that
+    /// point, and is selected. Returns its index.
+    pub fn add(&mut self, item: &LibraryItem, x: f64, y: f64) -> usize {
+        let name = self.unique_name(&item.label());
+        let mut kb = item.kinbody(&name);
+        let local = self.kinbody_aabb(&kb, &Transform::IDENTITY);
+        let surface = self.surface_at(x, y, None);
+        let lift = if local.is_empty() { 0.0 } else { -local.min[2] };
+        kb.pose = Transform::from_translation([x, y, surface + lift]);
+        self.checkpoint();
+        self.objects.push(EnvObject::Inline(kb));
+        let i = self.objects.len() - 1;
+        self.selected = Some(Selected::Object(i));
+        i
+    }
+
+    /// Selects an object or the robot (None clears the selection).
+    pub fn select(&mut self, s: Option<Selected>) -> Result<(), String> {
+        if let Some(Selected::Object(i)) = s
+            && i >= self.objects.len()
+        {
+            return Err(format!(
+                "no object {i}; the scene has {}",
+                self.objects.len()
+            ));
+        }
+        self.selected = s;
+        Ok(())
+    }
+
+    fn need_selection(&self) -> Result<Selected, String> {
+        self.selected
+            .ok_or_else(|| "select an object or the robot first".to_string())
+    }
+
+    /// The selected object's pose (the robot's start pose for the robot).
+    pub fn pose(&self, s: Selected) -> Option<Transform> {
+        match s {
+            Selected::Robot => Some(self.robot_pose),
+            Selected::Object(i) => self.objects.get(i).map(object_pose),
+        }
+    }
+
+    fn pose_mut(&mut self, s: Selected) -> Option<&mut Transform> {
+        match s {
+            Selected::Robot => Some(&mut self.robot_pose),
+            Selected::Object(i) => self.objects.get_mut(i).map(object_pose_mut),
+        }
+    }
+
+    /// Moves the selection to a position (metres, z up).
+    pub fn move_to(&mut self, p: [f64; 3]) -> Result<(), String> {
+        let s = self.need_selection()?;
+        if p.iter().any(|v| !v.is_finite()) {
+            return Err(format!("position {p:?} is not finite"));
+        }
+        if !self.dragging {
+            self.checkpoint();
+        } else {
+            self.revision += 1;
+        }
+        if let Some(pose) = self.pose_mut(s) {
+            pose.translation = p;
+        }
+        Ok(())
+    }
+
+    /// Moves the selection by an offset.
+    pub fn move_by(&mut self, d: [f64; 3]) -> Result<(), String> {
+        let s = self.need_selection()?;
+        let t = self.pose(s).map_or([0.0; 3], |p| p.translation);
+        self.move_to([t[0] + d[0], t[1] + d[1], t[2] + d[2]])
+    }
+
+    /// A drag starts: its moves become one undo step until [`EnvEditor::end_drag`].
+    pub fn begin_drag(&mut self) {
+        if !self.dragging {
+            self.checkpoint();
+            self.dragging = true;
+        }
+    }
+
+    pub fn end_drag(&mut self) {
+        self.dragging = false;
+    }
+
+    /// Drags the selection over the ground plane to (x, y): it rests on what is there.
+    pub fn drag_to(&mut self, x: f64, y: f64) -> Result<(), String> {
+        let s = self.need_selection()?;
+        let z = match s {
+            Selected::Robot => self.robot_pose.translation[2],
+            Selected::Object(i) => {
+                let b = self.bounds(i);
+                let pose = self.pose(s).unwrap_or_default();
+                let bottom = pose.translation[2] - b.min[2];
+                self.surface_at(x, y, Some(i)) + bottom
+            }
+        };
+        self.move_to([x, y, z])
+    }
+
+    /// Turns the selection about the vertical axis by `deg` degrees.
+    pub fn rotate_by(&mut self, deg: f64) -> Result<(), String> {
+        let s = self.need_selection()?;
+        if !deg.is_finite() {
+            return Err(format!("angle {deg} is not finite"));
+        }
+        self.checkpoint();
+        if let Some(pose) = self.pose_mut(s) {
+            pose.rotation = quat_mul(yaw_quat(deg), pose.rotation);
+        }
+        Ok(())
+    }
+
+    /// Sets the selection's heading (degrees about z; tilts are kept).
+    pub fn set_yaw(&mut self, deg: f64) -> Result<(), String> {
+        let s = self.need_selection()?;
+        let now = self.pose(s).map_or(0.0, |p| yaw_of(p.rotation));
+        self.rotate_by(deg - now)
+    }
+
+    /// The selected inline object, or why it cannot be edited.
+    fn editable(&mut self) -> Result<&mut KinBody, String> {
+        match self.need_selection()? {
+            Selected::Robot => Err("the robot placeholder only moves and turns; its size and material come from the robot file".into()),
+            Selected::Object(i) => match self.objects.get_mut(i) {
+                Some(EnvObject::Inline(kb)) => Ok(kb),
+                Some(EnvObject::Include(inc)) => Err(format!(
+                    "{} is an included file: it moves and turns here, edit its contents in that file",
+                    inc.file
+                )),
+                None => Err(format!("no object {i}")),
+            },
+        }
+    }
+
+    /// Scales the selection along x, y, z (each geometry along its own axes; spheres and
+    /// meshes by the mean factor), keeping its bottom where it was.
+    pub fn scale(&mut self, f: [f64; 3]) -> Result<(), String> {
+        if f.iter().any(|v| !v.is_finite() || *v <= 0.0 || *v > 1000.0) {
+            return Err(format!("scale factors {f:?} must lie in 0..1000"));
+        }
+        let i = match self.need_selection()? {
+            Selected::Object(i) => i,
+            Selected::Robot => {
+                return Err("the robot cannot be scaled".into());
+            }
+        };
+        self.editable()?;
+        let before = self.bounds(i);
+        self.checkpoint();
+        let mean = (f[0] * f[1] * f[2]).cbrt();
+        if let Ok(kb) = self.editable() {
+            let mul = |t: &mut [f64; 3]| {
+                for k in 0..3 {
+                    t[k] *= f[k];
+                }
+            };
+            for body in &mut kb.bodies {
+                mul(&mut body.pose.translation);
+                for g in &mut body.geoms {
+                    mul(&mut g.pose.translation);
+                    match &mut g.shape {
+                        Shape::Box { extents } => mul(extents),
+                        Shape::Sphere { radius } => *radius *= mean,
+                        Shape::Cylinder { radius, height } => {
+                            *radius *= (f[0] * f[2]).sqrt();
+                            *height *= f[1];
+                        }
+                        Shape::Trimesh { scale, .. } => *scale *= mean,
+                    }
+                }
+            }
+        }
+        let after = self.bounds(i);
+        if !before.is_empty() && !after.is_empty() {
+            let dz = before.min[2] - after.min[2];
+            if let Some(EnvObject::Inline(kb)) = self.objects.get_mut(i) {
+                kb.pose.translation[2] += dz;
+            }
+        }
+        Ok(())
+    }
+
+    /// Sets the Coulomb friction of every geometry of the selection (0..1).
+    pub fn set_friction(&mut self, mu: f64) -> Result<(), String> {
+        if !(0.0..=EDITOR_MAX_FRICTION.min(MAX_FRICTION)).contains(&mu) {
+            return Err(format!(
+                "friction {mu} is outside 0..{EDITOR_MAX_FRICTION} (Coulomb coefficient)"
+            ));
+        }
+        self.editable()?;
+        self.checkpoint();
+        let kb = self.editable()?;
+        kb.bodies
+            .iter_mut()
+            .flat_map(|b| &mut b.geoms)
+            .for_each(|g| g.friction = Some(mu));
+        Ok(())
+    }
+
+    /// Makes the selection static (fixed) or dynamic (pushed around).
+    pub fn set_dynamic(&mut self, dynamic: bool) -> Result<(), String> {
+        self.editable()?;
+        self.checkpoint();
+        let kb = self.editable()?;
+        for b in &mut kb.bodies {
+            b.kind = if dynamic {
+                BodyKind::Dynamic
+            } else {
+                BodyKind::Static
+            };
+        }
+        Ok(())
+    }
+
+    /// Sets the selection's total mass (kg), shared equally by its bodies.
+    pub fn set_mass(&mut self, kg: f64) -> Result<(), String> {
+        if !kg.is_finite() || kg <= 0.0 || kg > 1e6 {
+            return Err(format!("mass {kg} kg must be positive (at most 1e6)"));
+        }
+        self.editable()?;
+        self.checkpoint();
+        let kb = self.editable()?;
+        let n = kb.bodies.len().max(1) as f64;
+        for b in &mut kb.bodies {
+            b.mass = Some(Mass {
+                total: kg / n,
+                distribution: "mimicgeom".into(),
+                com: None,
+                pos: b.pos,
+            });
+        }
+        Ok(())
+    }
+
+    /// Sets the colour (RGB, 0..1) of every geometry of the selection.
+    pub fn set_colour(&mut self, rgb: [f64; 3]) -> Result<(), String> {
+        if rgb.iter().any(|c| !(0.0..=1.0).contains(c)) {
+            return Err(format!("colour {rgb:?}: each part lies in 0..1"));
+        }
+        self.editable()?;
+        self.checkpoint();
+        let kb = self.editable()?;
+        kb.bodies
+            .iter_mut()
+            .flat_map(|b| &mut b.geoms)
+            .for_each(|g| g.diffuse_color = Some(rgb));
+        Ok(())
+    }
+
+    /// Renames the selected object.
+    pub fn rename(&mut self, name: &str) -> Result<(), String> {
+        crate::compose::robot_builder::check_name(name, "object name")?;
+        self.editable()?;
+        self.checkpoint();
+        self.editable()?.name = Some(name.to_string());
+        Ok(())
+    }
+
+    /// Deletes the selected object (the robot placeholder stays).
+    pub fn delete(&mut self) -> Result<(), String> {
+        match self.need_selection()? {
+            Selected::Robot => Err("the robot placeholder is obligatory: it sets the start pose".into()),
+            Selected::Object(i) => {
+                self.checkpoint();
+                self.objects.remove(i);
+                self.selected = None;
+                Ok(())
+            }
+        }
+    }
+
+    /// What the side panel shows for the selection.
+    pub fn props(&mut self, s: Selected) -> Option<Props> {
+        let pose = self.pose(s)?;
+        let mut p = Props {
+            name: "robot (start pose)".into(),
+            position: pose.translation,
+            yaw_deg: yaw_of(pose.rotation),
+            size: [0.0; 3],
+            friction: None,
+            dynamic: false,
+            mass: None,
+            colour: None,
+            editable: false,
+        };
+        if let Selected::Object(i) = s {
+            p.size = self.bounds(i).size();
+            let o = self.objects.get(i)?;
+            p.name = object_name(o, i);
+            if let EnvObject::Inline(kb) = o {
+                p.editable = true;
+                let geoms: Vec<_> = kb.bodies.iter().flat_map(|b| &b.geoms).collect();
+                p.friction = geoms.first().and_then(|g| g.friction);
+                p.colour = geoms.first().and_then(|g| g.diffuse_color);
+                p.dynamic = kb.bodies.iter().any(|b| b.kind == BodyKind::Dynamic);
+                let masses: Vec<f64> = kb
+                    .bodies
+                    .iter()
+                    .filter_map(|b| b.mass.as_ref().map(|m| m.total))
+                    .collect();
+                p.mass = (!masses.is_empty()).then(|| masses.iter().sum());
+            }
+        }
+        Some(p)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn editor() -> EnvEditor {
+        EnvEditor::new("configs/environments/_test.env.xml")
+    }
+
+    #[test]
+    fn dropped_objects_land_on_the_ground_or_on_what_is_below() {
+        let mut e = editor();
+        let b = e.add(&LibraryItem::Box, 1.0, 1.0);
+        // On the floor, whose top is at z = 0: the 0.2 m box's centre at 0.1.
+        let z = e.pose(Selected::Object(b)).unwrap().translation[2];
+        assert!((z - 0.1).abs() < 1e-9, "{z}");
+        let s = e.add(&LibraryItem::Sphere, 1.05, 0.95);
+        let z = e.pose(Selected::Object(s)).unwrap().translation[2];
+        assert!((z - 0.3).abs() < 1e-9, "the sphere lands on the box: {z}");
+        // Dragged off the box it comes down to the floor.
+        e.drag_to(2.0, 2.0).unwrap();
+        let z = e.pose(Selected::Object(s)).unwrap().translation[2];
+        assert!((z - 0.1).abs() < 1e-9, "{z}");
+    }
+
+    #[test]
+    fn edits_undo_and_redo() {
+        let mut e = editor();
+        let i = e.add(&LibraryItem::Box, 0.0, 1.0);
+        e.rotate_by(90.0).unwrap();
+        e.scale([2.0, 1.0, 0.5]).unwrap();
+        e.set_friction(0.9).unwrap();
+        let p = e.props(Selected::Object(i)).unwrap();
+        assert!((p.yaw_deg - 90.0).abs() < 1e-9);
+        assert!((p.size[0] - 0.2).abs() < 1e-9 && (p.size[1] - 0.4).abs() < 1e-9);
+        assert!((p.size[2] - 0.1).abs() < 1e-9);
+        // The bottom stayed on the floor.
+        assert!(e.bounds(i).min[2].abs() < 1e-9);
+        assert_eq!(p.friction, Some(0.9));
+        assert!(e.undo());
+        assert_eq!(e.props(Selected::Object(i)).unwrap().friction, Some(0.5));
+        assert!(e.undo() && e.undo());
+        assert_eq!(e.props(Selected::Object(i)).unwrap().yaw_deg, 0.0);
+        assert!(e.redo());
+        assert!((e.props(Selected::Object(i)).unwrap().yaw_deg - 90.0).abs() < 1e-9);
+        // A drag is one undo step.
+        e.begin_drag();
+        for k in 0..10 {
+            e.drag_to(0.1 * k as f64, 1.0).unwrap();
+        }
+        e.end_drag();
+        assert!(e.undo());
+        assert!((e.pose(Selected::Object(i)).unwrap().translation[0]).abs() < 1e-9);
+    }
+
+    #[test]
+    fn bad_edits_are_refused_with_reasons() {
+        let mut e = editor();
+        assert!(e.move_by([1.0, 0.0, 0.0]).unwrap_err().contains("select"));
+        e.select(Some(Selected::Robot)).unwrap();
+        assert!(e.scale([2.0; 3]).unwrap_err().contains("robot"));
+        assert!(e.delete().unwrap_err().contains("obligatory"));
+        e.select(Some(Selected::Object(0))).unwrap();
+        assert!(e.set_friction(1.5).unwrap_err().contains("0..1"));
+        assert!(e.set_friction(f64::NAN).is_err());
+        assert!(e.set_mass(-1.0).is_err());
+        assert!(e.scale([0.0, 1.0, 1.0]).is_err());
+        assert!(e.select(Some(Selected::Object(9))).is_err());
+        assert!(!e.can_undo(), "refused edits leave no undo step");
+    }
+
+    #[test]
+    fn saved_scene_loads_back_equal() {
+        let dir = std::env::temp_dir().join(format!("proleg_env_edit_{}", std::process::id()));
+        let path = dir.join("scene.env.xml");
+        let mut e = EnvEditor::new(&path);
+        e.add(&LibraryItem::Stairs, 0.0, 1.5);
+        e.set_dynamic(false).unwrap();
+        e.select(Some(Selected::Robot)).unwrap();
+        e.move_to([0.0, 0.2, 0.0]).unwrap();
+        e.rotate_by(30.0).unwrap();
+        e.save(&path).unwrap();
+        let back = EnvEditor::load(&path).unwrap();
+        assert_eq!(back.to_file(), e.to_file());
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}

@@ -1,0 +1,207 @@
+//! The environment editor's object library (thesis 4.4.6): primitive objects, stairs, a
+//! ramp and the triangle meshes found in the assets folder (the irregular obstacle among
+//! them). Each item becomes a static `<KinBody>` whose geometry sits about its origin.
+
+use std::path::Path;
+
+use crate::config::body::{Body, BodyKind, Geom, Shape};
+use crate::config::error::Pos;
+use crate::config::kinbody::KinBody;
+use crate::config::transform::Transform;
+
+/// Something the editor can put into the scene.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LibraryItem {
+    Box,
+    Ramp,
+    Cylinder,
+    Sphere,
+    Stairs,
+    /// A Wavefront OBJ mesh, the path as the environment file will name it.
+    Mesh(String),
+}
+
+impl LibraryItem {
+    /// The name shown in the library and used for new objects.
+    pub fn label(&self) -> String {
+        match self {
+            LibraryItem::Box => "box".into(),
+            LibraryItem::Ramp => "ramp".into(),
+            LibraryItem::Cylinder => "cylinder".into(),
+            LibraryItem::Sphere => "sphere".into(),
+            LibraryItem::Stairs => "stairs".into(),
+            LibraryItem::Mesh(path) => Path::new(path)
+                .file_stem()
+                .map_or_else(|| path.clone(), |s| s.to_string_lossy().into_owned()),
+        }
+    }
+
+    /// Parses a label (`box`, `stairs`, ...) or a mesh path ending in `.obj`.
+    pub fn parse(s: &str) -> Option<LibraryItem> {
+        let s = s.trim();
+        if s.to_ascii_lowercase().ends_with(".obj") {
+            return Some(LibraryItem::Mesh(s.to_string()));
+        }
+        [
+            LibraryItem::Box,
+            LibraryItem::Ramp,
+            LibraryItem::Cylinder,
+            LibraryItem::Sphere,
+            LibraryItem::Stairs,
+        ]
+        .into_iter()
+        .find(|i| i.label().eq_ignore_ascii_case(s))
+    }
+
+    /// The object, named `name`, at the origin.
+    pub fn kinbody(&self, name: &str) -> KinBody {
+        let grey = [0.75, 0.7, 0.65];
+        let geoms: Vec<(String, Transform, Shape, [f64; 3])> = match self {
+            LibraryItem::Box => vec![(
+                name.into(),
+                Transform::IDENTITY,
+                Shape::Box {
+                    extents: [0.1, 0.1, 0.1],
+                },
+                [0.85, 0.55, 0.25],
+            )],
+            LibraryItem::Ramp => vec![(
+                name.into(),
+                // A 0.6 m plank tilted 15 degrees: rising along +y.
+                rotation_x(15.0),
+                Shape::Box {
+                    extents: [0.25, 0.3, 0.01],
+                },
+                grey,
+            )],
+            LibraryItem::Cylinder => vec![(
+                name.into(),
+                Transform::IDENTITY,
+                Shape::Cylinder {
+                    radius: 0.1,
+                    height: 0.4,
+                },
+                [0.5, 0.5, 0.9],
+            )],
+            LibraryItem::Sphere => vec![(
+                name.into(),
+                Transform::IDENTITY,
+                Shape::Sphere { radius: 0.1 },
+                [0.9, 0.4, 0.4],
+            )],
+            LibraryItem::Stairs => (1..=5)
+                .map(|k| {
+                    let h = 0.01 * k as f64;
+                    (
+                        format!("{name}_step{k}"),
+                        Transform::from_translation([0.0, 0.1 * k as f64, h]),
+                        Shape::Box {
+                            extents: [0.5, 1.0, h],
+                        },
+                        grey,
+                    )
+                })
+                .collect(),
+            LibraryItem::Mesh(path) => vec![(
+                name.into(),
+                Transform::IDENTITY,
+                Shape::Trimesh {
+                    file: path.clone(),
+                    scale: 1.0,
+                },
+                [0.6, 0.45, 0.3],
+            )],
+        };
+        let stairs = matches!(self, LibraryItem::Stairs);
+        let bodies = geoms
+            .into_iter()
+            .map(|(body_name, pose, shape, colour)| {
+                // Stairs: each step is a body placed by its translation; others: the
+                // geometry carries the tilt.
+                let (body_pose, geom_pose) = if stairs {
+                    (pose, Transform::IDENTITY)
+                } else {
+                    (Transform::IDENTITY, pose)
+                };
+                Body {
+                    name: body_name,
+                    kind: BodyKind::Static,
+                    pose: body_pose,
+                    geoms: vec![Geom {
+                        shape,
+                        pose: geom_pose,
+                        diffuse_color: Some(colour),
+                        ambient_color: None,
+                        transparency: None,
+                        friction: Some(0.5),
+                        visible: true,
+                        pos: Pos::new(0, 0),
+                    }],
+                    mass: None,
+                    pos: Pos::new(0, 0),
+                }
+            })
+            .collect();
+        KinBody {
+            name: Some(name.to_string()),
+            pose: Transform::IDENTITY,
+            includes: Vec::new(),
+            bodies,
+            joints: Vec::new(),
+            sensors: Vec::new(),
+            pos: Pos::new(0, 0),
+        }
+    }
+}
+
+/// A rotation about the x axis by `deg` degrees.
+pub fn rotation_x(deg: f64) -> Transform {
+    let h = deg.to_radians() / 2.0;
+    Transform {
+        translation: [0.0; 3],
+        rotation: [h.cos(), h.sin(), 0.0, 0.0],
+    }
+}
+
+/// The library: the primitives, then every `*.obj` under `assets_dir/meshes`, named as
+/// `assets/meshes/NAME.obj` (found from any configuration folder by the include search).
+pub fn library(assets_dir: &Path) -> Vec<LibraryItem> {
+    let mut items = vec![
+        LibraryItem::Box,
+        LibraryItem::Ramp,
+        LibraryItem::Cylinder,
+        LibraryItem::Sphere,
+        LibraryItem::Stairs,
+    ];
+    let mut meshes: Vec<String> = std::fs::read_dir(assets_dir.join("meshes"))
+        .into_iter()
+        .flatten()
+        .flatten()
+        .filter_map(|e| {
+            let name = e.file_name().to_string_lossy().into_owned();
+            name.to_ascii_lowercase()
+                .ends_with(".obj")
+                .then(|| format!("assets/meshes/{name}"))
+        })
+        .collect();
+    meshes.sort();
+    items.extend(meshes.into_iter().map(LibraryItem::Mesh));
+    items
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn library_holds_primitives_and_the_obstacle_mesh() {
+        let lib = library(Path::new("assets"));
+        assert!(lib.contains(&LibraryItem::Stairs));
+        assert!(lib.contains(&LibraryItem::Mesh(
+            "assets/meshes/irregular_obstacle.obj".into()
+        )));
+        assert_eq!(LibraryItem::parse("Stairs"), Some(LibraryItem::Stairs));
+        assert_eq!(LibraryItem::parse("teapot"), None);
+        assert_eq!(LibraryItem::Stairs.kinbody("s").bodies.len(), 5);
+    }
+}

@@ -1,0 +1,226 @@
+//! The optimization page (thesis 4.4.8): module parameters registered for the genetic
+//! algorithm or the modified great deluge, each on all or selected joints, uniform (one
+//! gene) or individual (one gene per joint), with a value set (a range with an increment,
+//! or listed values), and the algorithm settings with the thesis's defaults
+//! (tables 6.1 and 6.3).
+
+use crate::config::error::Pos;
+use crate::config::mask::JointMask;
+use crate::config::optimizer::{
+    Algorithm, BoundType, GaSettings, GdSettings, GenomeConfig, OptimizerFile,
+    RegisteredParameter,
+};
+use crate::optimize::fitness::Fitness;
+
+/// The values a registered parameter may take.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ValueSet {
+    Range { lower: f64, upper: f64, increment: f64 },
+    List(Vec<f64>),
+}
+
+/// One parameter registered for optimization.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Registration {
+    pub module: String,
+    pub parameter: String,
+    /// Every joint the module drives (`allJoints`), or the joints in `joints`.
+    pub all_joints: bool,
+    pub joints: Vec<bool>,
+    /// One gene for all its joints, or one gene per joint.
+    pub uniform: bool,
+    pub values: ValueSet,
+}
+
+/// Which optimizer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    Genetic,
+    GreatDeluge,
+}
+
+/// The optimization page's content.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OptimizationSpec {
+    pub method: Method,
+    pub ga: GaSettings,
+    pub gd: GdSettings,
+    pub params: Vec<Registration>,
+    pub fitness: Fitness,
+    pub max_evaluations: Option<u64>,
+}
+
+impl OptimizationSpec {
+    /// The thesis's settings: GA of table 6.3, great deluge of table 6.1.
+    pub fn new(method: Method) -> Self {
+        OptimizationSpec {
+            method,
+            ga: GaSettings {
+                popsize: 30,
+                pmut: 0.8,
+                pcross: 0.2,
+                n_convergence: 50,
+                p_convergence: 0.99,
+                flush_frequency: 1,
+                ga_mode: 1,
+            },
+            gd: GdSettings {
+                credits: 10,
+                retries: 200,
+                initial_water_level: 0.15,
+                rain: 0.01,
+                confidence: 20,
+            },
+            params: Vec::new(),
+            fitness: Fitness::Displacement,
+            max_evaluations: None,
+        }
+    }
+
+    /// Why the settings cannot be written, if they cannot (the joints are checked
+    /// against the robot when the whole simulation is checked).
+    pub fn validate(&self) -> Result<(), String> {
+        if self.params.is_empty() {
+            return Err("register at least one parameter to optimize".into());
+        }
+        for (i, p) in self.params.iter().enumerate() {
+            let what = format!("parameter {} ({} {})", i + 1, p.module, p.parameter);
+            match &p.values {
+                ValueSet::Range {
+                    lower,
+                    upper,
+                    increment,
+                } => {
+                    if ![lower, upper, increment].iter().all(|v| v.is_finite()) {
+                        return Err(format!("{what}: range values must be numbers"));
+                    }
+                    if lower > upper {
+                        return Err(format!("{what}: lower bound {lower} is above upper bound {upper}"));
+                    }
+                    if *increment < 0.0 {
+                        return Err(format!("{what}: increment {increment} is negative"));
+                    }
+                }
+                ValueSet::List(v) => {
+                    if v.is_empty() || v.iter().any(|x| !x.is_finite()) {
+                        return Err(format!("{what}: list at least one value, all numbers"));
+                    }
+                }
+            }
+            if !p.all_joints && !p.joints.iter().any(|b| *b) {
+                return Err(format!("{what}: select at least one joint"));
+            }
+        }
+        if self.method == Method::Genetic && self.ga.popsize < 2 {
+            return Err("population size must be at least 2".into());
+        }
+        Ok(())
+    }
+
+    /// The optimizer file; `module_joints(module)` gives the joints a module drives (for
+    /// registrations on all of them).
+    pub fn to_optimizer_file(&self, module_joints: &dyn Fn(&str) -> Vec<bool>) -> OptimizerFile {
+        let parameters = self
+            .params
+            .iter()
+            .enumerate()
+            .map(|(i, p)| RegisteredParameter {
+                number: i as u32,
+                module: p.module.clone(),
+                parameter: p.parameter.clone(),
+                pos: Pos::new(0, 0),
+            })
+            .collect();
+        let genome = self
+            .params
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let mask = if p.all_joints {
+                    module_joints(&p.module)
+                } else {
+                    p.joints.clone()
+                };
+                let (lower, upper, increments, values, space) = match &p.values {
+                    ValueSet::Range {
+                        lower,
+                        upper,
+                        increment,
+                    } => (vec![*lower], vec![*upper], vec![*increment], Vec::new(), 1),
+                    ValueSet::List(v) => (Vec::new(), Vec::new(), Vec::new(), v.clone(), 0),
+                };
+                GenomeConfig {
+                    number: i as u32,
+                    all_joints: p.all_joints,
+                    genome_type: 1,
+                    value_type: 1,
+                    value_space: space,
+                    active_joints: JointMask(mask),
+                    upper,
+                    lower,
+                    increments,
+                    lower_bound_type: BoundType::Inclusive,
+                    upper_bound_type: BoundType::Inclusive,
+                    values,
+                    uniform: p.uniform,
+                    pos: Pos::new(0, 0),
+                    mask_pos: Pos::new(0, 0),
+                }
+            })
+            .collect();
+        OptimizerFile {
+            algorithm: match self.method {
+                Method::Genetic => Algorithm::Genetic(self.ga.clone()),
+                Method::GreatDeluge => Algorithm::GreatDeluge(self.gd.clone()),
+            },
+            parameters,
+            genome,
+            fitness: self.fitness,
+            max_evaluations: self.max_evaluations,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::optimizer::{parse_optimizer_file, write_optimizer_file};
+
+    #[test]
+    fn experiment_one_registration_round_trips() {
+        let mut s = OptimizationSpec::new(Method::GreatDeluge);
+        assert!(s.validate().is_err());
+        s.params.push(Registration {
+            module: "PatternGenerator_sinusoidal".into(),
+            parameter: "Amplitude".into(),
+            all_joints: true,
+            joints: Vec::new(),
+            uniform: false,
+            values: ValueSet::Range {
+                lower: 0.0,
+                upper: 40.0,
+                increment: 0.25,
+            },
+        });
+        s.validate().unwrap();
+        let f = s.to_optimizer_file(&|_| vec![true; 5]);
+        assert_eq!(f.genome[0].active_joints.to_string(), "11111");
+        let text = write_optimizer_file(&f);
+        let back = parse_optimizer_file("o.xml", &text).unwrap();
+        assert_eq!(back, f);
+        // The same settings as the hand-written experiment-1 file.
+        let hand = parse_optimizer_file(
+            "e.xml",
+            &std::fs::read_to_string("configs/optimizer/experiment1.gd.xml").unwrap(),
+        )
+        .unwrap();
+        assert_eq!(back.algorithm, hand.algorithm);
+        assert_eq!(back.genome, hand.genome);
+        s.params[0].values = ValueSet::Range {
+            lower: 5.0,
+            upper: 1.0,
+            increment: 0.1,
+        };
+        assert!(s.validate().unwrap_err().contains("above upper"));
+    }
+}
