@@ -30,6 +30,24 @@ enum Command {
         #[arg(long)]
         script: Option<PathBuf>,
     },
+    /// Open the configuration window: beginner wizard, expert composition, environment editor.
+    Wizard {
+        /// The configuration folder (module parts, robots, environments, ...).
+        #[arg(long, default_value = "configs")]
+        configs: PathBuf,
+        /// Where new files are written.
+        #[arg(long, default_value = "configs/user")]
+        out: PathBuf,
+        /// Open this `*.env.xml` in the environment editor.
+        #[arg(long, conflicts_with = "expert")]
+        env: Option<PathBuf>,
+        /// Open this `*.simulation.xml` in the expert composition.
+        #[arg(long)]
+        expert: Option<PathBuf>,
+        /// Drive the window from a script (tests, screenshots; see proleg::gui::setup::script).
+        #[arg(long)]
+        script: Option<PathBuf>,
+    },
     /// Validate a simulation file and everything it includes, and print a summary.
     Check {
         /// A `*.simulation.xml` file.
@@ -168,6 +186,35 @@ fn gui(config: &std::path::Path, script: Option<&std::path::Path>) -> Result<Str
     }
 }
 
+/// Opens the configuration window.
+fn wizard(opts: WizardOptions) -> Result<String, String> {
+    #[cfg(feature = "gui")]
+    {
+        proleg::gui::setup::run(&proleg::gui::setup::SetupOptions {
+            configs: opts.configs,
+            out: opts.out,
+            env: opts.env,
+            expert: opts.expert,
+            script: opts.script,
+        })
+        .map(|()| String::new())
+    }
+    #[cfg(not(feature = "gui"))]
+    {
+        let _ = opts;
+        Err("this proleg was built without the `gui` feature; use the headless commands (proleg --help)".into())
+    }
+}
+
+/// The `wizard` command's arguments.
+struct WizardOptions {
+    configs: PathBuf,
+    out: PathBuf,
+    env: Option<PathBuf>,
+    expert: Option<PathBuf>,
+    script: Option<PathBuf>,
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let Some(command) = cli.command else {
@@ -175,6 +222,19 @@ fn main() -> ExitCode {
     };
     finish(match command {
         Command::Gui { config, script } => gui(&config, script.as_deref()),
+        Command::Wizard {
+            configs,
+            out,
+            env,
+            expert,
+            script,
+        } => wizard(WizardOptions {
+            configs,
+            out,
+            env,
+            expert,
+            script,
+        }),
         Command::Bench {
             config,
             seconds,

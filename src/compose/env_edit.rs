@@ -326,6 +326,13 @@ impl EnvEditor {
                         None => continue,
                     },
                 };
+                if let Shape::Sphere { radius } = &g.shape {
+                    // Turning a sphere changes nothing.
+                    let t = gp.translation;
+                    out.add(t.map(|v| v - radius));
+                    out.add(t.map(|v| v + radius));
+                    continue;
+                }
                 for k in 0..8 {
                     let c = [0, 1, 2].map(|i| {
                         if k >> i & 1 == 0 {

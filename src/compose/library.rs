@@ -89,14 +89,17 @@ impl LibraryItem {
                 Shape::Sphere { radius: 0.1 },
                 [0.9, 0.4, 0.4],
             )],
+            // Five 20 mm steps, 100 mm deep, the whole flight 0.5 m deep and 1 m wide,
+            // centred on the origin; it rises along +y.
             LibraryItem::Stairs => (1..=5)
                 .map(|k| {
+                    let front = 0.1 * (k - 1) as f64;
                     let h = 0.01 * k as f64;
                     (
                         format!("{name}_step{k}"),
-                        Transform::from_translation([0.0, 0.1 * k as f64, h]),
+                        Transform::from_translation([0.0, (front + 0.5) / 2.0 - 0.25, h]),
                         Shape::Box {
-                            extents: [0.5, 1.0, h],
+                            extents: [0.5, (0.5 - front) / 2.0, h],
                         },
                         grey,
                     )

@@ -159,6 +159,8 @@ impl RobotSpec {
         let n = self.joints.len();
         let d = self.parts.spacing();
         let part = |file: &str| format!("{}/{file}.kinbody.xml", parts_dir.trim_end_matches('/'));
+        let cube = self.parts == PartSet::Cube;
+        let slot = |m: usize| if cube { m } else { m.saturating_sub(1) };
         let mut includes = Vec::with_capacity(n + 1);
         let mut bodies = Vec::with_capacity(n + 1);
         for m in 0..=n {
@@ -184,8 +186,10 @@ impl RobotSpec {
             includes.push(Include {
                 file: part(&file),
                 prefix,
-                // Rounded to µm so files show 0.216, not 0.21599999999999997.
-                pose: Transform::from_translation([0.0, (d * m as f64 * 1e6).round() / 1e6, 0.0]),
+                // The tail reaches back from the first joint, every other module forward
+                // from its joint, so the tail and module 1 both sit at 0. Rounded to µm
+                // so files show 0.216, not 0.21599999999999997.
+                pose: Transform::from_translation([0.0, (d * slot(m) as f64 * 1e6).round() / 1e6, 0.0]),
                 pos: Pos::new(0, 0),
             });
             bodies.push(body);
@@ -253,13 +257,43 @@ mod tests {
         let mut hand = parse_robot_file("snake8py.robot.xml", &text).unwrap();
         hand.sensors.clear(); // the hand-written one carries a laser
         assert_eq!(built.kinbody.joints, hand.kinbody.joints);
-        let files = |r: &RobotFile| -> Vec<String> {
-            r.kinbody.includes.iter().map(|i| i.file.clone()).collect()
+        let includes = |r: &RobotFile| -> Vec<(String, String, [f64; 3])> {
+            r.kinbody
+                .includes
+                .iter()
+                .map(|i| (i.file.clone(), i.prefix.clone(), i.pose.translation))
+                .collect()
         };
-        assert_eq!(files(&built), files(&hand));
+        assert_eq!(includes(&built), includes(&hand));
         // Writing and reading back gives the same robot.
         let back = parse_robot_file("b.robot.xml", &write_robot_file(&built)).unwrap();
         assert_eq!(back, built);
+    }
+
+    #[test]
+    fn built_touch_and_cube_robots_match_the_hand_written_ones() {
+        for (file, topology, parts) in [
+            ("tactile5p", "ppppp", PartSet::Touch),
+            ("cube5", "ppppp", PartSet::Cube),
+        ] {
+            let spec = RobotSpec {
+                name: file.into(),
+                joints: parse_topology(topology).unwrap(),
+                parts,
+            };
+            let built = spec.to_robot_file("../parts");
+            let path = format!("configs/robots/{file}.robot.xml");
+            let hand = parse_robot_file(&path, &std::fs::read_to_string(&path).unwrap()).unwrap();
+            let poses = |r: &RobotFile| -> Vec<(String, [f64; 3])> {
+                r.kinbody
+                    .includes
+                    .iter()
+                    .map(|i| (i.file.clone(), i.pose.translation))
+                    .collect()
+            };
+            assert_eq!(poses(&built), poses(&hand), "{file}");
+            assert_eq!(built.kinbody.joints, hand.kinbody.joints, "{file}");
+        }
     }
 
     #[test]

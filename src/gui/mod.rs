@@ -3,10 +3,10 @@
 //!
 //! - [`control`]: the control window (thesis 4.5) — 3D viewer, toolbar, live plots,
 //!   control-algorithm properties, data file inspection, optimization view.
-//!
-//! The configuration GUI (wizard, expert dialog, environment editor; thesis 4.4) will sit
-//! beside it in `setup/`.
+//! - [`setup`]: the configuration window (thesis 4.4) — beginner wizard, expert
+//!   composition, 3D environment editor.
 
 pub mod control;
+pub mod setup;
 
 pub use control::run;

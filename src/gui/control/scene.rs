@@ -210,24 +210,7 @@ fn spawn_body(
         let Some(mesh) = geom_mesh(&g.shape) else {
             continue;
         };
-        let [r, gr, b] = g.diffuse_color.unwrap_or([0.7, 0.7, 0.7]);
-        let alpha = 1.0 - g.transparency.unwrap_or(0.0).clamp(0.0, 1.0);
-        let material = StandardMaterial {
-            base_color: Color::srgba(r as f32, gr as f32, b as f32, alpha as f32),
-            alpha_mode: if alpha < 0.9 {
-                AlphaMode::Blend
-            } else {
-                AlphaMode::Opaque
-            },
-            perceptual_roughness: 0.8,
-            // Terrain meshes often lie flush on the floor: draw them in front of it.
-            depth_bias: if matches!(g.shape, Shape::Trimesh { .. }) {
-                1000.0
-            } else {
-                0.0
-            },
-            ..default()
-        };
+        let material = geom_material(g);
         let child = commands
             .spawn((
                 Name::new(format!("geom {i}")),
@@ -241,9 +224,31 @@ fn spawn_body(
     parent
 }
 
+/// The material of a geometry: its diffuse colour and transparency.
+pub fn geom_material(g: &Geom) -> StandardMaterial {
+    let [r, gr, b] = g.diffuse_color.unwrap_or([0.7, 0.7, 0.7]);
+    let alpha = 1.0 - g.transparency.unwrap_or(0.0).clamp(0.0, 1.0);
+    StandardMaterial {
+        base_color: Color::srgba(r as f32, gr as f32, b as f32, alpha as f32),
+        alpha_mode: if alpha < 0.9 {
+            AlphaMode::Blend
+        } else {
+            AlphaMode::Opaque
+        },
+        perceptual_roughness: 0.8,
+        // Terrain meshes often lie flush on the floor: draw them in front of it.
+        depth_bias: if matches!(g.shape, Shape::Trimesh { .. }) {
+            1000.0
+        } else {
+            0.0
+        },
+        ..default()
+    }
+}
+
 /// The mesh of a geometry (None: a mesh file that cannot be read; the simulation would
-/// not have built either).
-fn geom_mesh(shape: &Shape) -> Option<Mesh> {
+/// not have built either). Mesh file paths must be resolved (as the simulation does).
+pub fn geom_mesh(shape: &Shape) -> Option<Mesh> {
     Some(match shape {
         Shape::Box { extents: [x, y, z] } => {
             Cuboid::new(2.0 * *x as f32, 2.0 * *y as f32, 2.0 * *z as f32).into()

@@ -1,0 +1,129 @@
+//! The expert dialog (thesis 4.4.2): one screen composing a simulation from the robot,
+//! actuation, environment and optimizer files found in the configuration and user
+//! folders, with the simulation properties; check, save, open in the control window, or
+//! edit the environment in the editor.
+
+use std::path::{Path, PathBuf};
+
+use bevy_egui::egui;
+
+use crate::compose::env_edit::EnvEditor;
+use crate::compose::expert::{Composition, Part, catalog};
+use crate::config::simulation::Mode;
+use crate::gui::setup::state::{SetupState, Tool};
+
+fn short(p: &Path) -> String {
+    let s = p.display().to_string();
+    match s.find("configs/") {
+        Some(i) => s[i..].to_string(),
+        None => s,
+    }
+}
+
+/// One file choice; `optional` adds "none".
+fn choose(ui: &mut egui::Ui, part: Part, current: &mut Option<PathBuf>, files: &[PathBuf], optional: bool) {
+    egui::ComboBox::from_label(part.label())
+        .width(420.0)
+        .selected_text(current.as_deref().map_or("none".into(), short))
+        .show_ui(ui, |ui| {
+            if optional {
+                ui.selectable_value(current, None, "none");
+            }
+            for f in files {
+                ui.selectable_value(current, Some(f.clone()), short(f));
+            }
+        });
+}
+
+/// The expert dialog.
+pub fn show(ui: &mut egui::Ui, state: &mut SetupState) {
+    ui.heading("Compose a simulation from existing files");
+    let dirs = [state.wizard.configs_dir.clone(), state.wizard.out_dir.clone()];
+    let c = &mut state.expert.composition;
+    for part in Part::ALL {
+        let files = catalog(part, &dirs);
+        match part {
+            Part::Robot => {
+                let mut v = Some(c.robot.clone());
+                choose(ui, part, &mut v, &files, false);
+                c.robot = v.unwrap_or_else(|| c.robot.clone());
+            }
+            Part::Actuation => {
+                let mut v = Some(c.actuation.clone());
+                choose(ui, part, &mut v, &files, false);
+                c.actuation = v.unwrap_or_else(|| c.actuation.clone());
+            }
+            Part::Environment => choose(ui, part, &mut c.environment, &files, true),
+            Part::Optimizer => choose(ui, part, &mut c.optimizer, &files, true),
+        }
+    }
+    ui.separator();
+    let p = &mut c.properties;
+    egui::ComboBox::from_label("mode")
+        .selected_text(p.mode.name())
+        .show_ui(ui, |ui| {
+            for m in [Mode::SingleRun, Mode::GeneticAlgorithm, Mode::GreatDeluge] {
+                ui.selectable_value(&mut p.mode, m, m.name());
+            }
+        });
+    let mut ms = p.step_width * 1000.0;
+    if ui
+        .add(egui::DragValue::new(&mut ms).range(0.01..=100.0).speed(0.05).prefix("step width ").suffix(" ms"))
+        .changed()
+    {
+        p.step_width = ms / 1000.0;
+    }
+    ui.add(egui::DragValue::new(&mut p.duration).range(0.1..=100_000.0).prefix("duration ").suffix(" s"));
+    ui.add(egui::DragValue::new(&mut p.accuracy).range(1..=10_000).prefix("accuracy ").suffix(" steps"));
+    ui.checkbox(&mut p.storing_data, "store data in a file");
+    ui.horizontal(|ui| {
+        ui.label("description");
+        ui.text_edit_singleline(&mut c.description);
+    });
+    ui.separator();
+    ui.horizontal(|ui| {
+        ui.label("simulation file");
+        ui.add(egui::TextEdit::singleline(&mut state.expert.path).desired_width(420.0));
+    });
+    let path = PathBuf::from(state.expert.path.trim());
+    ui.horizontal(|ui| {
+        if ui.button("Open").on_hover_text("Load the composition of this simulation file").clicked() {
+            let r = Composition::open(&path);
+            if let Some(c) = state.report(r, |_| format!("opened {}", path.display())) {
+                state.expert.composition = c;
+            }
+        }
+        if ui.button("Check").clicked() {
+            state.expert.check = Some(state.expert.composition.check(&path));
+        }
+        if ui.button("Save").clicked() {
+            let r = state.expert.composition.save(&path);
+            state.report(r, |_| format!("saved {}", path.display()));
+        }
+        if ui.button("Open in control window").clicked() {
+            match state.expert.composition.save(&path) {
+                Ok(()) => crate::gui::setup::open_control_window(state, &path),
+                Err(e) => state.expert.check = Some(Err(e)),
+            }
+        }
+        if let Some(env) = state.expert.composition.environment.clone()
+            && ui.button("Edit environment").clicked()
+        {
+            let r = EnvEditor::load(&env);
+            if let Some(e) = state.report(r, |_| format!("editing {}", env.display())) {
+                state.editor = e;
+                state.editor_path = env.display().to_string();
+                state.tool = Tool::Editor;
+            }
+        }
+    });
+    match &state.expert.check {
+        Some(Ok(s)) => {
+            ui.colored_label(egui::Color32::DARK_GREEN, format!("✔ {s}"));
+        }
+        Some(Err(e)) => {
+            ui.colored_label(egui::Color32::RED, e);
+        }
+        None => {}
+    }
+}

@@ -1,0 +1,259 @@
+//! The configuration window (thesis 4.4): `proleg wizard` — the beginner wizard, the
+//! expert dialog and the 3D environment editor — on the Bevy-free models of
+//! [`crate::compose`]. Everything it writes is the ordinary XML of configs/.
+//!
+//! - [`state`]: what the window shows and edits; [`preview`]: robot preview, preview runs
+//! - [`wizard_view`], [`expert_view`], [`editor_view`]: the egui views
+//! - [`scene`]: the 3D scene; [`cameras`]: perspective, top and side views
+//! - [`picking`]: select, drag and drop with the mouse
+//! - [`script`], [`script_run`]: scripted driving for tests and screenshots
+
+pub mod cameras;
+pub mod editor_view;
+pub mod expert_view;
+pub mod picking;
+pub mod preview;
+pub mod scene;
+pub mod script;
+pub mod script_run;
+pub mod state;
+pub mod wizard_view;
+
+use std::path::{Path, PathBuf};
+
+use bevy::prelude::*;
+use bevy::window::WindowResolution;
+use bevy_egui::{EguiContexts, EguiGlobalSettings, EguiPlugin, EguiPrimaryContextPass, egui};
+
+use crate::compose::wizard::Page;
+use crate::gui::setup::picking::EditorDrag;
+use crate::gui::setup::scene::SceneCache;
+use crate::gui::setup::script::SetupScript;
+use crate::gui::setup::state::{SetupState, Status, Tool};
+
+/// How `proleg wizard` starts.
+#[derive(Debug, Clone)]
+pub struct SetupOptions {
+    /// The configuration folder (parts, robots, ...).
+    pub configs: PathBuf,
+    /// Where new files go.
+    pub out: PathBuf,
+    /// Open this environment file in the editor.
+    pub env: Option<PathBuf>,
+    /// Open this simulation in the expert dialog.
+    pub expert: Option<PathBuf>,
+    pub script: Option<PathBuf>,
+}
+
+/// Ordering of the window's per-frame work.
+#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SetupSystems {
+    /// Script commands.
+    Script,
+    /// Drops and the scene follow the models.
+    Scene,
+    /// Cameras and viewports.
+    Views,
+}
+
+/// Opens the configuration window.
+pub fn run(opts: &SetupOptions) -> Result<(), String> {
+    let script = match &opts.script {
+        Some(p) => SetupScript(Some(script::load(p)?)),
+        None => SetupScript::default(),
+    };
+    let mut state = SetupState::new(
+        &opts.configs,
+        &opts.out,
+        &crate::compose::paths::timestamp_now(),
+    );
+    if let Some(env) = &opts.env {
+        state.editor = crate::compose::env_edit::EnvEditor::load(env)?;
+        state.editor_path = env.display().to_string();
+        state.tool = Tool::Editor;
+    }
+    if let Some(sim) = &opts.expert {
+        state.expert.composition = crate::compose::expert::Composition::open(sim)?;
+        state.expert.path = sim.display().to_string();
+        state.tool = Tool::Expert;
+    }
+    let mut app = App::new();
+    app.add_plugins(DefaultPlugins.set(WindowPlugin {
+        primary_window: Some(Window {
+            title: "proleg — new / edit configuration".into(),
+            resolution: WindowResolution::new(1280, 800),
+            ..default()
+        }),
+        ..default()
+    }))
+    .add_plugins((EguiPlugin::default(), MeshPickingPlugin))
+    .insert_resource(ClearColor(Color::srgb(0.62, 0.74, 0.86)))
+    .insert_resource(state)
+    .insert_resource(script)
+    .add_plugins(SetupWindowPlugin);
+    match app.run() {
+        AppExit::Success => Ok(()),
+        AppExit::Error(code) => Err(format!("the configuration window closed with status {code}")),
+    }
+}
+
+/// The configuration window's systems (everything but the window and the state).
+pub struct SetupWindowPlugin;
+
+impl Plugin for SetupWindowPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<EditorDrag>()
+            .init_resource::<SceneCache>()
+            .add_observer(picking::on_click)
+            .add_observer(picking::on_drag_start)
+            .add_observer(picking::on_drag)
+            .add_observer(picking::on_drag_end)
+            .configure_sets(
+                Update,
+                (SetupSystems::Script, SetupSystems::Scene, SetupSystems::Views).chain(),
+            )
+            .add_systems(
+                Startup,
+                (
+                    manual_egui_context,
+                    cameras::spawn_cameras,
+                    crate::gui::control::scene::spawn_lights,
+                ),
+            )
+            .add_systems(Update, script_run::run_script.in_set(SetupSystems::Script))
+            .add_systems(
+                Update,
+                (picking::apply_drop, scene::sync_scene, scene::draw_selection)
+                    .chain()
+                    .in_set(SetupSystems::Scene),
+            )
+            .add_systems(
+                Update,
+                (cameras::orbit_camera, cameras::layout_views)
+                    .chain()
+                    .in_set(SetupSystems::Views),
+            )
+            .add_systems(EguiPrimaryContextPass, draw_ui);
+    }
+}
+
+/// egui draws through its own camera (see [`cameras`]).
+fn manual_egui_context(mut settings: ResMut<EguiGlobalSettings>) {
+    settings.auto_create_primary_context = false;
+}
+
+/// Opens a simulation in a control window (a new proleg process).
+pub fn open_control_window(state: &mut SetupState, sim: &Path) {
+    let exe = std::env::current_exe();
+    let r = exe
+        .map_err(|e| e.to_string())
+        .and_then(|exe| {
+            std::process::Command::new(exe)
+                .arg("gui")
+                .arg(sim)
+                .spawn()
+                .map_err(|e| e.to_string())
+        });
+    match r {
+        Ok(_) => {
+            state.opened.push(sim.to_path_buf());
+            state.status = Some(Status::Info(format!("opened {} in a control window", sim.display())));
+        }
+        Err(e) => state.status = Some(Status::Error(format!("cannot open a control window: {e}"))),
+    }
+}
+
+/// The panels of the current tool; records the area left to the 3D views and turns a
+/// library item released over it into a drop.
+fn draw_ui(mut contexts: EguiContexts, mut state: ResMut<SetupState>, cache: Res<SceneCache>) -> Result {
+    let ctx = contexts.ctx_mut()?.clone();
+    let state = state.as_mut();
+    let mut root = egui::Ui::new(
+        ctx.clone(),
+        "configuration window".into(),
+        egui::UiBuilder::new()
+            .layer_id(egui::LayerId::background())
+            .max_rect(ctx.viewport_rect()),
+    );
+    egui::Panel::top("tools").show(&mut root, |ui| {
+        ui.horizontal(|ui| {
+            ui.selectable_value(&mut state.tool, Tool::Wizard, "Wizard (beginner)");
+            ui.selectable_value(&mut state.tool, Tool::Expert, "Expert composition");
+            ui.selectable_value(&mut state.tool, Tool::Editor, "Environment editor");
+        });
+    });
+    egui::Panel::bottom("status").show(&mut root, |ui| match &state.status {
+        Some(Status::Info(s)) => {
+            ui.label(s);
+        }
+        Some(Status::Error(s)) => {
+            ui.colored_label(egui::Color32::RED, s);
+        }
+        None => {
+            ui.label("Ready.");
+        }
+    });
+    let editing = state.editing_env();
+    if editing {
+        egui::Panel::left("library")
+            .resizable(true)
+            .default_size(250.0)
+            .show(&mut root, |ui| editor_view::show_library(ui, state));
+    }
+    match state.tool {
+        Tool::Wizard => {
+            egui::Panel::right("wizard")
+                .resizable(true)
+                .default_size(if editing { 330.0 } else { 470.0 })
+                .show(&mut root, |ui| {
+                    if editing {
+                        egui::Panel::bottom("wizard nav").show(ui, |ui| {
+                            wizard_view::show(ui, state)
+                        });
+                        editor_view::show_selection(ui, state);
+                    } else {
+                        wizard_view::show(ui, state);
+                    }
+                });
+        }
+        Tool::Expert => {
+            egui::Panel::right("expert")
+                .resizable(true)
+                .default_size(620.0)
+                .show(&mut root, |ui| expert_view::show(ui, state));
+        }
+        Tool::Editor => {
+            egui::Panel::right("selection")
+                .resizable(true)
+                .default_size(330.0)
+                .show(&mut root, |ui| editor_view::show_selection(ui, state));
+        }
+    }
+    let central = root.available_rect_before_wrap();
+    state.central = Some(central);
+    if editing {
+        editor_view::label_views(&ctx, state);
+    } else if state.tool == Tool::Wizard
+        && matches!(state.wizard.page, Page::Robot | Page::Behaviour)
+        && let Some(Err(e)) = &cache.robot
+    {
+        egui::Area::new(egui::Id::new("robot preview error"))
+            .fixed_pos(central.min + egui::vec2(10.0, 10.0))
+            .show(&ctx, |ui| {
+                ui.colored_label(egui::Color32::RED, format!("robot preview: {e}"));
+            });
+    }
+    // A library item released over the 3D views is dropped there.
+    if editing
+        && let Some(i) = egui::DragAndDrop::payload::<usize>(&ctx)
+        && ctx.input(|inp| inp.pointer.any_released())
+        && let Some(pos) = ctx.input(|inp| inp.pointer.interact_pos())
+        && central.contains(pos)
+    {
+        if let Some(item) = state.library.get(*i).cloned() {
+            state.drop = Some((item, Vec2::new(pos.x, pos.y)));
+        }
+        egui::DragAndDrop::clear_payload(&ctx);
+    }
+    Ok(())
+}

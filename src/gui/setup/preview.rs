@@ -1,0 +1,67 @@
+//! Previews of what the wizard composes: the robot's links for the 3D view (built in
+//! memory, nothing written), and a short headless run of the whole configuration in its
+//! scene ("Preview": how far does the robot get?).
+
+use std::path::{Path, PathBuf};
+
+use crate::compose::paths::OverlaySource;
+use crate::compose::wizard::{RobotChoice, Wizard};
+use crate::config::load_simulation;
+use crate::config::resolve::robot::{RobotModel, resolve_robot};
+use crate::config::robot::{parse_robot_file, write_robot_file};
+use crate::config::source::FsSource;
+use crate::sim::{BuildOptions, Simulator};
+
+/// A key that changes whenever the robot the wizard describes changes.
+pub fn robot_key(w: &Wizard) -> String {
+    match &w.robot {
+        RobotChoice::Build(s) => format!("{}:{}:{:?}", s.name, w.topology(), s.parts),
+        RobotChoice::Existing(p) => p.display().to_string(),
+    }
+}
+
+/// The robot's links (robot frame), resolved the way a simulation resolves them.
+pub fn robot_model(w: &Wizard) -> Result<RobotModel, String> {
+    match &w.robot {
+        RobotChoice::Build(spec) => {
+            spec.validate()?;
+            let path = w.files().robot.unwrap_or_else(|| w.out_dir.join("preview.robot.xml"));
+            let parts = crate::compose::paths::relative_path(&w.out_dir, &w.configs_dir.join("parts"));
+            let file = spec.to_robot_file(&parts);
+            let mut src = OverlaySource::default();
+            src.unsaved.insert(&path, write_robot_file(&file));
+            resolve_robot(&src, &path, &file).map_err(|e| e.to_string())
+        }
+        RobotChoice::Existing(p) => robot_file_model(p),
+    }
+}
+
+/// The links of a robot file.
+pub fn robot_file_model(p: &Path) -> Result<RobotModel, String> {
+    let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
+    let file = parse_robot_file(&p.display().to_string(), &text).map_err(|e| e.to_string())?;
+    resolve_robot(&FsSource, p, &file).map_err(|e| e.to_string())
+}
+
+/// Writes the configuration into a preview folder and runs it headless for `seconds`:
+/// the simulation file and the distance robot 0 crawled (eq. 3.7).
+pub fn run_preview(w: &Wizard, seconds: f64) -> Result<(PathBuf, f64), String> {
+    let mut p = w.clone();
+    p.out_dir = std::env::temp_dir().join(format!("proleg_preview_{}", std::process::id()));
+    p.stamp = "preview".into();
+    // Preview in the single-run mode whatever the wizard's mode.
+    p.props.mode = crate::config::simulation::Mode::SingleRun;
+    let sim_path = p.save()?;
+    let sim = load_simulation(&sim_path).map_err(|e| e.to_string())?;
+    let opts = BuildOptions {
+        robots: 1,
+        seed: sim.files.simulation.properties.seed,
+        record: false,
+    };
+    let mut s = Simulator::new(&sim, &opts).map_err(|e| e.to_string())?;
+    let dt = sim.files.simulation.properties.step_width;
+    let start = s.com(0).map_err(|e| e.to_string())?;
+    s.run_steps((seconds / dt).round() as u64);
+    let end = s.com(0).map_err(|e| e.to_string())?;
+    Ok((sim_path, (end[0] - start[0]).hypot(end[1] - start[1])))
+}

@@ -1,0 +1,314 @@
+//! The configuration window's 3D scene: the robot preview on the robot and behaviour
+//! pages, the edited environment with the robot placeholder at its start pose in the
+//! environment editor. Rebuilt when what it shows changes; while an object is dragged
+//! only its transform follows, so the picking target stays alive. The selection is
+//! outlined with its bounding box.
+
+use std::collections::HashMap;
+
+use bevy::prelude::*;
+
+use crate::compose::env_edit::{EnvEditor, Selected};
+use crate::config::body::{Geom, Shape};
+use crate::config::environment::EnvObject;
+use crate::config::kinbody::parse_kinbody_file;
+use crate::config::resolve::robot::RobotModel;
+use crate::config::source::{FsSource, resolve_include};
+use crate::config::transform::Transform as Pose;
+use crate::gui::control::camera::to_bevy;
+use crate::gui::control::scene::{geom_material, geom_mesh, to_transform};
+use crate::gui::setup::picking::EditorDrag;
+use crate::gui::setup::preview::{robot_file_model, robot_key, robot_model};
+use crate::gui::setup::state::{SetupState, Tool};
+
+/// The root of the scene (configuration frame, z up -> Bevy's y up).
+#[derive(Component)]
+pub struct SetupSceneRoot;
+
+/// A pickable item of the scene: an environment object or the robot.
+#[derive(Component, Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ItemVisual(pub Selected);
+
+/// What the scene was built from, the robot preview, and meshes by shape.
+#[derive(Resource, Default)]
+pub struct SceneCache {
+    key: Option<String>,
+    robot_key: Option<String>,
+    /// The expert composition's environment, shown read-only.
+    expert_env: Option<(std::path::PathBuf, Option<EnvEditor>)>,
+    pub robot: Option<Result<RobotModel, String>>,
+    meshes: HashMap<String, Handle<Mesh>>,
+}
+
+fn shape_key(s: &Shape) -> String {
+    format!("{s:?}")
+}
+
+/// Keeps the robot preview up to date and rebuilds the scene when it changed.
+#[allow(clippy::too_many_arguments)]
+pub fn sync_scene(
+    mut commands: Commands,
+    state: Res<SetupState>,
+    drag: Res<EditorDrag>,
+    mut cache: ResMut<SceneCache>,
+    roots: Query<Entity, With<SetupSceneRoot>>,
+    mut items: Query<(&ItemVisual, &mut Transform)>,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<StandardMaterial>>,
+) {
+    // The expert dialog shows its composition; the wizard and editor the wizard's robot.
+    let expert = state.tool == Tool::Expert;
+    let composition = &state.expert.composition;
+    let rk = if expert {
+        format!("expert:{}", composition.robot.display())
+    } else {
+        robot_key(&state.wizard)
+    };
+    if cache.robot_key.as_deref() != Some(rk.as_str()) {
+        cache.robot = Some(if expert {
+            robot_file_model(&composition.robot)
+        } else {
+            robot_model(&state.wizard)
+        });
+        cache.robot_key = Some(rk.clone());
+    }
+    let expert_env = composition.environment.clone().filter(|_| expert);
+    if cache.expert_env.as_ref().map(|(p, _)| p) != expert_env.as_ref() {
+        cache.expert_env = expert_env.map(|p| {
+            let e = EnvEditor::load(&p).ok();
+            (p, e)
+        });
+    }
+    let editing = state.editing_env();
+    if drag.dragging {
+        // Only the dragged item moves: keep its entity (the drag's target) alive.
+        let env = state.env();
+        for (item, mut t) in &mut items {
+            if let Some(p) = env.pose(item.0) {
+                *t = to_transform(&p);
+            }
+        }
+        return;
+    }
+    let key = format!(
+        "{editing}|{:?}|{}|{rk}|{:?}",
+        state.tool,
+        if editing { state.env().revision } else { 0 },
+        cache.expert_env.as_ref().map(|(p, _)| p),
+    );
+    if cache.key.as_deref() == Some(key.as_str()) {
+        return;
+    }
+    cache.key = Some(key);
+    for e in &roots {
+        commands.entity(e).despawn();
+    }
+    let root = commands
+        .spawn((
+            Name::new("setup scene (z-up configuration frame)"),
+            SetupSceneRoot,
+            Transform::from_rotation(Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2)),
+            Visibility::default(),
+        ))
+        .id();
+    let robot = match &cache.robot {
+        Some(Ok(model)) => Some(model.clone()),
+        _ => None,
+    };
+    let shown_env: Option<EnvEditor> = if editing {
+        Some(state.env().clone())
+    } else {
+        cache.expert_env.as_ref().and_then(|(_, e)| e.clone())
+    };
+    let mut spawner = Spawner {
+        commands: &mut commands,
+        meshes: &mut meshes,
+        materials: &mut materials,
+        cache: &mut cache.meshes,
+    };
+    let robot_pose = shown_env.as_ref().map_or(Pose::IDENTITY, |e| e.robot_pose);
+    let robot_entity = spawner.item(ItemVisual(Selected::Robot), "robot", &robot_pose);
+    match &robot {
+        Some(model) => {
+            for link in &model.links {
+                spawner.body(robot_entity, &link.name, &link.pose, &link.geoms, None);
+            }
+        }
+        None => {
+            // No valid robot yet: a placeholder bar where it would lie.
+            let g = placeholder();
+            spawner.body(robot_entity, "robot placeholder", &Pose::IDENTITY, &[g], None);
+        }
+    }
+    spawner.commands.entity(root).add_child(robot_entity);
+    if let Some(env) = &shown_env {
+        for (i, o) in env.objects.iter().enumerate() {
+            let (pose, kb, name) = match o {
+                EnvObject::Inline(kb) => (kb.pose, Some(kb.clone()), kb.name.clone()),
+                EnvObject::Include(inc) => {
+                    let kb = resolve_include(&FsSource, &env.file, &inc.file).and_then(|p| {
+                        let text = std::fs::read_to_string(&p).ok()?;
+                        parse_kinbody_file(&p.display().to_string(), &text).ok()
+                    });
+                    let kb = kb.map(|mut k| {
+                        // The file's own placement sits under the include's pose.
+                        let inner = k.pose;
+                        for b in &mut k.bodies {
+                            b.pose = inner.mul(&b.pose);
+                        }
+                        k
+                    });
+                    (inc.pose, kb, Some(inc.file.clone()))
+                }
+            };
+            let e = spawner.item(
+                ItemVisual(Selected::Object(i)),
+                &name.unwrap_or_else(|| format!("object {i}")),
+                &pose,
+            );
+            if let Some(kb) = kb {
+                for b in &kb.bodies {
+                    spawner.body(e, &b.name, &b.pose, &b.geoms, Some(env));
+                }
+            }
+            spawner.commands.entity(root).add_child(e);
+        }
+    }
+}
+
+/// A thin bar standing in for a robot that cannot be built yet.
+fn placeholder() -> Geom {
+    Geom {
+        shape: Shape::Box {
+            extents: [0.026, 0.18, 0.026],
+        },
+        pose: Pose::from_translation([0.0, 0.144, 0.026]),
+        diffuse_color: Some([1.0, 0.8, 0.1]),
+        ambient_color: None,
+        transparency: Some(0.4),
+        friction: None,
+        visible: true,
+        pos: crate::config::error::Pos::new(0, 0),
+    }
+}
+
+struct Spawner<'a, 'w, 's> {
+    commands: &'a mut Commands<'w, 's>,
+    meshes: &'a mut Assets<Mesh>,
+    materials: &'a mut Assets<StandardMaterial>,
+    cache: &'a mut HashMap<String, Handle<Mesh>>,
+}
+
+impl Spawner<'_, '_, '_> {
+    fn item(&mut self, item: ItemVisual, name: &str, pose: &Pose) -> Entity {
+        self.commands
+            .spawn((
+                Name::new(format!("scene item: {name}")),
+                item,
+                to_transform(pose),
+                Visibility::default(),
+            ))
+            .id()
+    }
+
+    /// A body under `parent` with a mesh per geometry; mesh files resolve from `env`'s file.
+    fn body(
+        &mut self,
+        parent: Entity,
+        name: &str,
+        pose: &Pose,
+        geoms: &[Geom],
+        env: Option<&EnvEditor>,
+    ) {
+        let body = self
+            .commands
+            .spawn((
+                Name::new(format!("body {name}")),
+                to_transform(pose),
+                Visibility::default(),
+            ))
+            .id();
+        self.commands.entity(parent).add_child(body);
+        for (i, g) in geoms.iter().enumerate().filter(|(_, g)| g.visible) {
+            let mut shape = g.shape.clone();
+            if let (Shape::Trimesh { file, .. }, Some(env)) = (&mut shape, env)
+                && let Some(p) = resolve_include(&FsSource, &env.file, file)
+            {
+                *file = p.display().to_string();
+            }
+            let key = shape_key(&shape);
+            let mesh = match self.cache.get(&key) {
+                Some(h) => h.clone(),
+                None => {
+                    let Some(m) = geom_mesh(&shape) else {
+                        continue;
+                    };
+                    let h = self.meshes.add(m);
+                    self.cache.insert(key, h.clone());
+                    h
+                }
+            };
+            let child = self
+                .commands
+                .spawn((
+                    Name::new(format!("geom {i}")),
+                    Mesh3d(mesh),
+                    MeshMaterial3d(self.materials.add(geom_material(g))),
+                    to_transform(&g.pose),
+                ))
+                .id();
+            self.commands.entity(body).add_child(child);
+        }
+    }
+}
+
+/// Outlines the selection's bounding box and marks the robot's heading.
+pub fn draw_selection(mut state: ResMut<SetupState>, mut gizmos: Gizmos) {
+    if !state.editing_env() {
+        if state.tool == Tool::Wizard {
+            // A 10 cm grid on the ground under the robot preview.
+            gizmos.grid(
+                Isometry3d::new(
+                    Vec3::new(0.0, 0.0, -0.15),
+                    Quat::from_rotation_x(std::f32::consts::FRAC_PI_2),
+                ),
+                UVec2::splat(16),
+                Vec2::splat(0.1),
+                Color::srgba(1.0, 1.0, 1.0, 0.5),
+            );
+        }
+        return;
+    }
+    let robot = state.env().robot_pose;
+    let start = to_bevy(robot.translation);
+    let ahead = robot.rotate([0.0, 0.5, 0.0]);
+    let tip = to_bevy([
+        robot.translation[0] + ahead[0],
+        robot.translation[1] + ahead[1],
+        robot.translation[2] + ahead[2],
+    ]);
+    // Above the robot's modules, so it shows over them.
+    gizmos.arrow(start + Vec3::Y * 0.08, tip + Vec3::Y * 0.08, Color::srgb(1.0, 0.8, 0.1));
+    let Some(sel) = state.env().selected else {
+        return;
+    };
+    let bounds = match sel {
+        Selected::Object(i) => state.env_mut().bounds(i),
+        Selected::Robot => {
+            let t = robot.translation;
+            crate::compose::env_edit::Aabb {
+                min: [t[0] - 0.05, t[1] - 0.05, t[2]],
+                max: [t[0] + 0.05, t[1] + 0.45, t[2] + 0.06],
+            }
+        }
+    };
+    let (lo, hi) = (to_bevy(bounds.min), to_bevy(bounds.max));
+    let centre = (lo + hi) / 2.0;
+    let size = (hi - lo).abs() + Vec3::splat(0.004);
+    if size.is_finite() {
+        gizmos.cube(
+            Transform::from_translation(centre).with_scale(size),
+            Color::srgb(1.0, 1.0, 0.0),
+        );
+    }
+}

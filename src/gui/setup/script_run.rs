@@ -1,0 +1,296 @@
+//! Runs a [`crate::gui::setup::script`] in the configuration window: each frame, commands
+//! are carried out until one has to wait (frames, a screenshot being written). A failing
+//! command prints `error: FILE:LINE: cause` and closes the window with a failure.
+
+use std::path::PathBuf;
+
+use bevy::prelude::*;
+use bevy::render::view::screenshot::{Screenshot, save_to_disk};
+
+use crate::compose::env_edit::{EnvEditor, Selected};
+use crate::compose::expert::Part;
+use crate::compose::library::LibraryItem;
+use crate::gui::control::script::state_report;
+use crate::gui::setup::editor_view::preview;
+use crate::gui::setup::script::{Command, Script, SetupScript};
+use crate::gui::setup::state::{SetupState, Status, Tool};
+
+/// Frames to wait for a screenshot file before giving up.
+const SHOT_FRAMES: u32 = 600;
+
+enum Flow {
+    Next,
+    Yield,
+    Quit,
+}
+
+/// Carries out script commands (before the views update).
+pub fn run_script(
+    mut commands: Commands,
+    mut runner: ResMut<SetupScript>,
+    mut state: ResMut<SetupState>,
+    mut exit: MessageWriter<AppExit>,
+) {
+    let Some(script) = runner.0.as_mut() else {
+        return;
+    };
+    if script.waiting > 0 {
+        script.waiting -= 1;
+        return;
+    }
+    if let Some((path, waited)) = script.pending_shot.as_mut() {
+        if !path.exists() && *waited < SHOT_FRAMES {
+            *waited += 1;
+            return;
+        }
+        let missing = !path.exists();
+        let shot = path.display().to_string();
+        script.pending_shot = None;
+        if missing {
+            eprintln!("error: {}: screenshot {shot} was not written", script.file.display());
+            exit.write(AppExit::error());
+            runner.0 = None;
+            return;
+        }
+    }
+    while let Some((line, c)) = script.commands.get(script.next).cloned() {
+        let flow = match carry_out(c, &mut commands, script, &mut state) {
+            Ok(f) => f,
+            Err(e) => {
+                eprintln!("error: {}:{line}: {e}", script.file.display());
+                exit.write(AppExit::error());
+                runner.0 = None;
+                return;
+            }
+        };
+        script.next += 1;
+        match flow {
+            Flow::Next => {}
+            Flow::Yield => return,
+            Flow::Quit => {
+                exit.write(AppExit::Success);
+                runner.0 = None;
+                return;
+            }
+        }
+    }
+}
+
+fn item(state: &SetupState, name: &str) -> Result<LibraryItem, String> {
+    state
+        .library
+        .iter()
+        .find(|i| i.label().eq_ignore_ascii_case(name))
+        .cloned()
+        .or_else(|| LibraryItem::parse(name))
+        .ok_or_else(|| {
+            let names: Vec<String> = state.library.iter().map(|i| i.label()).collect();
+            format!("no library item {name:?}; the library holds: {}", names.join(", "))
+        })
+}
+
+fn carry_out(
+    c: Command,
+    commands: &mut Commands,
+    script: &mut Script,
+    state: &mut SetupState,
+) -> Result<Flow, String> {
+    let env_only = |state: &SetupState| {
+        if state.editing_env() {
+            Ok(())
+        } else {
+            Err("not in the environment editor (tool editor, or the wizard's environment page)".to_string())
+        }
+    };
+    match c {
+        Command::Wait(n) => {
+            script.waiting = n;
+            return Ok(Flow::Yield);
+        }
+        Command::Tool(t) => {
+            state.tool = match t.as_str() {
+                "wizard" => Tool::Wizard,
+                "expert" => Tool::Expert,
+                "editor" => Tool::Editor,
+                other => return Err(format!("tool {other:?}: expected wizard, expert or editor")),
+            }
+        }
+        Command::Set(k, v) => state.wizard.set(&k, &v)?,
+        Command::Next => state.wizard.next()?,
+        Command::Back => state.wizard.back(),
+        Command::Skip => state.wizard.skip()?,
+        Command::Save => {
+            let p = state.wizard.save()?;
+            state.status = Some(Status::Info(format!("saved {}", p.display())));
+        }
+        Command::Add(name, at) => {
+            env_only(state)?;
+            let it = item(state, &name)?;
+            let env = state.env_mut();
+            let [x, y] = at.unwrap_or_else(|| {
+                let r = env.robot_pose;
+                let a = r.rotate([0.0, 1.0, 0.0]);
+                [r.translation[0] + a[0], r.translation[1] + a[1]]
+            });
+            env.add(&it, x, y);
+        }
+        Command::Drop(name, [x, y]) => {
+            env_only(state)?;
+            state.drop = Some((item(state, &name)?, Vec2::new(x, y)));
+            // The drop is placed by the picking system this frame.
+            return Ok(Flow::Yield);
+        }
+        Command::Select(s) => {
+            env_only(state)?;
+            let sel = match s.as_str() {
+                "robot" => Some(Selected::Robot),
+                "none" => None,
+                n => Some(Selected::Object(n.parse().map_err(|_| {
+                    format!("select {n:?}: expected an object number, robot or none")
+                })?)),
+            };
+            state.env_mut().select(sel)?;
+        }
+        Command::MoveTo(p) => state.env_mut().move_to(p)?,
+        Command::MoveBy(d) => state.env_mut().move_by(d)?,
+        Command::DragTo([x, y]) => {
+            let env = state.env_mut();
+            env.begin_drag();
+            let r = env.drag_to(x, y);
+            env.end_drag();
+            r?
+        }
+        Command::Rotate(d) => state.env_mut().rotate_by(d)?,
+        Command::Yaw(d) => state.env_mut().set_yaw(d)?,
+        Command::Scale(f) => state.env_mut().scale(f)?,
+        Command::Friction(mu) => state.env_mut().set_friction(mu)?,
+        Command::Dynamic(on) => state.env_mut().set_dynamic(on)?,
+        Command::Mass(kg) => state.env_mut().set_mass(kg)?,
+        Command::Colour(rgb) => state.env_mut().set_colour(rgb)?,
+        Command::Delete => state.env_mut().delete()?,
+        Command::Undo => {
+            if !state.env_mut().undo() {
+                return Err("nothing to undo".into());
+            }
+        }
+        Command::Redo => {
+            if !state.env_mut().redo() {
+                return Err("nothing to redo".into());
+            }
+        }
+        Command::EnvSave(p) => {
+            state.editor_path = p.display().to_string();
+            state.env_mut().save(&p)?;
+            state.status = Some(Status::Info(format!("saved {}", p.display())));
+        }
+        Command::EnvLoad(p) => {
+            state.editor = EnvEditor::load(&p)?;
+            state.editor_path = p.display().to_string();
+        }
+        Command::Expert(part, path) => {
+            let c = &mut state.expert.composition;
+            let p = (path != "none").then(|| PathBuf::from(&path));
+            let part = Part::ALL
+                .into_iter()
+                .find(|k| k.label().eq_ignore_ascii_case(&part))
+                .ok_or_else(|| format!("part {part:?}: expected robot, actuation, environment or optimizer"))?;
+            match (part, p) {
+                (Part::Robot, Some(p)) => c.robot = p,
+                (Part::Actuation, Some(p)) => c.actuation = p,
+                (Part::Environment, p) => c.environment = p,
+                (Part::Optimizer, p) => c.optimizer = p,
+                (k, None) => return Err(format!("the {} cannot be none", k.label())),
+            }
+        }
+        Command::ExpertSave(p) => {
+            state.expert.path = p.display().to_string();
+            state.expert.composition.save(&p)?;
+            state.expert.check = Some(state.expert.composition.check(&p));
+        }
+        Command::Preview => {
+            preview(state);
+            if let Some(Err(e)) = &state.preview {
+                return Err(e.clone());
+            }
+        }
+        Command::Zoom(h) => state.ortho_height = h.clamp(0.05, 40.0),
+        Command::Screenshot(path) => {
+            crate::gui::control::widgets::ensure_parent(&path);
+            let _ = std::fs::remove_file(&path);
+            commands
+                .spawn(Screenshot::primary_window())
+                .observe(save_to_disk(path.clone()));
+            script.pending_shot = Some((path, 0));
+            return Ok(Flow::Yield);
+        }
+        Command::State(path) => {
+            crate::gui::control::widgets::ensure_parent(&path);
+            std::fs::write(&path, state_lines(state))
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+        }
+        Command::Quit => return Ok(Flow::Quit),
+    }
+    Ok(Flow::Next)
+}
+
+/// The state a GUI test checks.
+fn state_lines(state: &mut SetupState) -> String {
+    let (i, n) = state.wizard.progress();
+    let w = &state.wizard;
+    let mut pairs: Vec<(&str, String)> = vec![
+        ("tool", format!("{:?}", state.tool).to_lowercase()),
+        ("page", w.page.title().to_string()),
+        ("page_number", format!("{i}/{n}")),
+        ("robot", w.robot_name()),
+        ("joints", w.joint_count().map_or_else(|e| e, |n| n.to_string())),
+        ("topology", w.topology()),
+        ("groups", w.behaviour.groups.len().to_string()),
+        ("saved", w.saved.as_ref().map_or(String::new(), |p| p.display().to_string())),
+        (
+            "preview_displacement",
+            match &state.preview {
+                Some(Ok((_, d))) => format!("{d:.4}"),
+                _ => String::new(),
+            },
+        ),
+        (
+            "status",
+            match &state.status {
+                Some(Status::Info(s)) => s.clone(),
+                Some(Status::Error(s)) => format!("error: {s}"),
+                None => String::new(),
+            },
+        ),
+        (
+            "expert_check",
+            match &state.expert.check {
+                Some(Ok(s)) => s.clone(),
+                Some(Err(e)) => format!("error: {e}"),
+                None => String::new(),
+            },
+        ),
+    ];
+    let env = state.env_mut();
+    pairs.push(("env_objects", env.objects.len().to_string()));
+    pairs.push(("env_undo", env.can_undo().to_string()));
+    let sel = env.selected;
+    pairs.push((
+        "selected",
+        match sel {
+            Some(Selected::Robot) => "robot".into(),
+            Some(Selected::Object(i)) => i.to_string(),
+            None => "none".into(),
+        },
+    ));
+    if let Some(p) = sel.and_then(|s| env.props(s)) {
+        let f = |v: &[f64]| v.iter().map(|x| format!("{x:.4}")).collect::<Vec<_>>().join(" ");
+        pairs.push(("selected_name", p.name));
+        pairs.push(("selected_position", f(&p.position)));
+        pairs.push(("selected_yaw", format!("{:.2}", p.yaw_deg)));
+        pairs.push(("selected_size", f(&p.size)));
+        pairs.push(("selected_friction", p.friction.map_or(String::new(), |v| format!("{v}"))));
+    }
+    let rp = env.robot_pose.translation;
+    pairs.push(("robot_pose", format!("{:.4} {:.4} {:.4}", rp[0], rp[1], rp[2])));
+    state_report(&pairs)
+}

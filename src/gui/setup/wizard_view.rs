@@ -1,0 +1,430 @@
+//! The beginner wizard's pages (thesis 4.4.1, figs. 4.10-4.14): robot (topology, part set,
+//! or an existing robot), behaviour (simple or grouped actuation, joints chosen in a
+//! topological strip), environment (the editor), simulation properties, optimization
+//! (registered parameters, algorithm settings) and the summary that saves and opens the
+//! result. Every page explains itself; "Next" validates first.
+
+use bevy_egui::egui;
+
+use crate::compose::behaviour::{BehaviourSpec, Group, ModuleChoice};
+use crate::compose::optimization::{Method, Registration, ValueSet};
+use crate::compose::robot_builder::{MAX_JOINTS, Orientation, PartSet};
+use crate::compose::wizard::{Page, RobotChoice, Wizard};
+use crate::config::actuation::ParamValue;
+use crate::config::simulation::Mode;
+use crate::gui::setup::state::{SetupState, Status};
+
+/// What each page is for.
+fn explanation(page: Page) -> &'static str {
+    match page {
+        Page::Robot => "Describe the robot: how many joints it has and whether each turns up and down (pitch) or left and right (yaw). Choose the module parts; the touch set carries 12 pads under the links, which sensing modules need. Or pick a robot that already exists.",
+        Page::Behaviour => "Choose how the joints move. Simple: one module drives every joint. Grouped: select joints in the strip, make a group of them, and give it one or more modules (their outputs add up).",
+        Page::Environment => "Build the terrain: drag objects from the library onto the views, click to select, drag to move. The yellow arrow is the robot's start pose. You may skip this page: the robot then crawls on a flat floor.",
+        Page::Simulation => "How the simulation runs: the mode (a single run or an optimization), the physics step width, how often data is sampled, how long a run lasts. You may skip this page to keep the defaults.",
+        Page::Optimization => "Register the module parameters the optimizer may change, the joints they apply to, and the values they may take. The algorithm settings start at the thesis's values.",
+        Page::Summary => "The files below will be written. Save them, then open the simulation in the control window.",
+    }
+}
+
+/// The current page with its navigation.
+pub fn show(ui: &mut egui::Ui, state: &mut SetupState) {
+    let (i, n) = state.wizard.progress();
+    let page = state.wizard.page;
+    ui.heading(format!("Step {i} of {n}: {}", page.title()));
+    ui.label(explanation(page));
+    ui.separator();
+    egui::ScrollArea::vertical()
+        .max_height(ui.available_height() - 40.0)
+        .show(ui, |ui| match page {
+            Page::Robot => robot_page(ui, &mut state.wizard),
+            Page::Behaviour => behaviour_page(ui, &mut state.wizard),
+            Page::Environment => {
+                ui.label(format!(
+                    "{} objects in the scene; the library is on the left, the selection's properties on the right.",
+                    state.wizard.env.objects.len()
+                ));
+            }
+            Page::Simulation => simulation_page(ui, &mut state.wizard),
+            Page::Optimization => optimization_page(ui, &mut state.wizard),
+            Page::Summary => summary_page(ui, state),
+        });
+    ui.separator();
+    ui.horizontal(|ui| {
+        if ui.add_enabled(i > 1, egui::Button::new("◀ Back")).clicked() {
+            state.wizard.back();
+        }
+        if page.optional() && ui.button("Skip").clicked() {
+            let r = state.wizard.skip();
+            state.report(r, |_| "page skipped: defaults kept".into());
+        }
+        if page != Page::Summary && ui.button("Next ▶").clicked() {
+            let r = state.wizard.next();
+            state.report(r, |_| String::new());
+            if matches!(state.status, Some(Status::Info(ref s)) if s.is_empty()) {
+                state.status = None;
+            }
+        }
+    });
+}
+
+fn robot_page(ui: &mut egui::Ui, w: &mut Wizard) {
+    let mut existing = matches!(w.robot, RobotChoice::Existing(_));
+    ui.horizontal(|ui| {
+        if ui.radio(!existing, "Build a robot").clicked() {
+            existing = false;
+            w.robot = RobotChoice::Build(w.spec.clone());
+        }
+        if ui.radio(existing, "Use an existing robot").clicked() && !existing {
+            if let Some(p) = w.existing_robots().first().cloned() {
+                w.robot = RobotChoice::Existing(p);
+            }
+        }
+    });
+    if let RobotChoice::Existing(current) = &w.robot {
+        let mut chosen = current.clone();
+        egui::ComboBox::from_label("robot file")
+            .selected_text(chosen.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default())
+            .show_ui(ui, |ui| {
+                for p in w.existing_robots() {
+                    let label = p.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
+                    ui.selectable_value(&mut chosen, p, label);
+                }
+            });
+        w.robot = RobotChoice::Existing(chosen);
+        match w.joint_count() {
+            Ok(n) => ui.label(format!("{n} joints")),
+            Err(e) => ui.colored_label(egui::Color32::RED, e),
+        };
+        return;
+    }
+    let spec = &mut w.spec;
+    ui.horizontal(|ui| {
+        ui.label("Name");
+        ui.text_edit_singleline(&mut spec.name);
+    });
+    let mut n = spec.joints.len();
+    if ui
+        .add(egui::Slider::new(&mut n, 1..=MAX_JOINTS).text("joints"))
+        .changed()
+    {
+        spec.joints.resize(n, Orientation::Pitch);
+    }
+    ui.label("Joint orientations (click to switch pitch / yaw):");
+    ui.horizontal_wrapped(|ui| {
+        for (i, o) in spec.joints.iter_mut().enumerate() {
+            let label = match o {
+                Orientation::Pitch => format!("J{} pitch", i + 1),
+                Orientation::Yaw => format!("J{} yaw", i + 1),
+            };
+            if ui.button(label).clicked() {
+                *o = match o {
+                    Orientation::Pitch => Orientation::Yaw,
+                    Orientation::Yaw => Orientation::Pitch,
+                };
+            }
+        }
+    });
+    ui.horizontal(|ui| {
+        if ui.button("all pitch").clicked() {
+            spec.joints.fill(Orientation::Pitch);
+        }
+        if ui.button("alternate pitch / yaw").clicked() {
+            for (i, o) in spec.joints.iter_mut().enumerate() {
+                *o = if i % 2 == 0 { Orientation::Pitch } else { Orientation::Yaw };
+            }
+        }
+    });
+    egui::ComboBox::from_label("module parts")
+        .selected_text(spec.parts.describe())
+        .show_ui(ui, |ui| {
+            for p in PartSet::ALL {
+                ui.selectable_value(&mut spec.parts, p, p.describe());
+            }
+        });
+    ui.label(format!(
+        "{} modules, {} m long; touch sensors: {}",
+        spec.modules(),
+        match spec.parts {
+            PartSet::Cube => 0.06,
+            _ => 0.072,
+        } * spec.modules() as f64,
+        if spec.parts == PartSet::Touch {
+            "12 pads per module, under the links"
+        } else {
+            "none"
+        }
+    ));
+    if let Err(e) = spec.validate() {
+        ui.colored_label(egui::Color32::RED, e);
+    }
+    w.robot = RobotChoice::Build(w.spec.clone());
+}
+
+/// Joint selection state of the behaviour page (egui memory).
+fn selection_id() -> egui::Id {
+    egui::Id::new("behaviour joint selection")
+}
+
+fn behaviour_page(ui: &mut egui::Ui, w: &mut Wizard) {
+    let joints = w.joint_count().unwrap_or(0);
+    let topology: Vec<char> = w.topology().chars().collect();
+    let mut sel: Vec<bool> = ui
+        .data_mut(|d| d.get_temp::<Vec<bool>>(selection_id()))
+        .filter(|s| s.len() == joints)
+        .unwrap_or_else(|| vec![false; joints]);
+    let names = w.registry.names();
+    let simple = w.behaviour.groups.len() == 1 && w.behaviour.groups[0].joints.iter().all(|b| *b);
+    ui.horizontal(|ui| {
+        if ui.radio(simple, "Simple: one module on all joints").clicked() && !simple {
+            if let Some(m) = ModuleChoice::with_defaults(&w.registry, "PatternGenerator_sinusoidal") {
+                w.behaviour = BehaviourSpec::simple(joints, m);
+            }
+        }
+        if ui.radio(!simple, "Grouped").clicked() && simple {
+            w.behaviour.groups.clear();
+        }
+    });
+    ui.label("Topology (click joints to select them for a new group):");
+    ui.horizontal_wrapped(|ui| {
+        for (i, s) in sel.iter_mut().enumerate() {
+            let kind = topology.get(i).map_or('?', |c| c.to_ascii_uppercase());
+            ui.toggle_value(s, format!("J{} {kind}", i + 1));
+        }
+    });
+    ui.horizontal(|ui| {
+        if ui.button("Make a group of the selected joints").clicked() && sel.iter().any(|b| *b) {
+            if let Some(m) = ModuleChoice::with_defaults(&w.registry, "PatternGenerator_sinusoidal") {
+                w.behaviour.groups.push(Group {
+                    joints: sel.clone(),
+                    modules: vec![m],
+                });
+            }
+            sel.fill(false);
+        }
+        if ui.button("select none").clicked() {
+            sel.fill(false);
+        }
+    });
+    ui.data_mut(|d| d.insert_temp(selection_id(), sel));
+    let mut remove_group = None;
+    for (gi, g) in w.behaviour.groups.iter_mut().enumerate() {
+        egui::CollapsingHeader::new(format!(
+            "Group {}: joints {}",
+            gi + 1,
+            g.joints.iter().map(|b| if *b { '1' } else { '0' }).collect::<String>()
+        ))
+        .default_open(true)
+        .show(ui, |ui| {
+            let mut remove_module = None;
+            for (mi, m) in g.modules.iter_mut().enumerate() {
+                ui.horizontal(|ui| {
+                    ui.strong(&m.name);
+                    if ui.small_button("remove").clicked() {
+                        remove_module = Some(mi);
+                    }
+                });
+                let Some(d) = w.registry.get(&m.name) else {
+                    continue;
+                };
+                for p in d.parameters {
+                    let Some((_, value)) = m.params.iter_mut().find(|(n, _)| p.answers_to(n)) else {
+                        continue;
+                    };
+                    ui.horizontal(|ui| {
+                        ui.label(format!("{} ({})", p.name, p.unit));
+                        match value {
+                            ParamValue::Uniform(v) => {
+                                ui.add(egui::DragValue::new(v).range(p.min..=p.max).speed((p.max - p.min) / 500.0))
+                                    .on_hover_text(p.help);
+                            }
+                            ParamValue::PerJoint(v) => {
+                                for x in v.iter_mut() {
+                                    ui.add(egui::DragValue::new(x).range(p.min..=p.max));
+                                }
+                            }
+                        }
+                    });
+                }
+            }
+            if let Some(mi) = remove_module {
+                g.modules.remove(mi);
+            }
+            ui.horizontal(|ui| {
+                egui::ComboBox::from_id_salt(("add module", gi))
+                    .selected_text("add a module…")
+                    .show_ui(ui, |ui| {
+                        for n in &names {
+                            if ui.selectable_label(false, *n).clicked()
+                                && let Some(m) = ModuleChoice::with_defaults(&w.registry, n)
+                            {
+                                g.modules.push(m);
+                            }
+                        }
+                    });
+                if ui.button("remove group").clicked() {
+                    remove_group = Some(gi);
+                }
+            });
+        });
+    }
+    if let Some(gi) = remove_group {
+        w.behaviour.groups.remove(gi);
+    }
+    if let Err(e) = w.behaviour.validate(&w.registry, joints) {
+        ui.colored_label(egui::Color32::RED, e);
+    }
+}
+
+fn simulation_page(ui: &mut egui::Ui, w: &mut Wizard) {
+    let p = &mut w.props;
+    egui::ComboBox::from_label("mode")
+        .selected_text(p.mode.name())
+        .show_ui(ui, |ui| {
+            for m in [Mode::SingleRun, Mode::GeneticAlgorithm, Mode::GreatDeluge] {
+                ui.selectable_value(&mut p.mode, m, m.name());
+            }
+        });
+    match p.mode {
+        Mode::GeneticAlgorithm => w.optimization.method = Method::Genetic,
+        Mode::GreatDeluge => w.optimization.method = Method::GreatDeluge,
+        _ => {}
+    }
+    let mut ms = p.step_width * 1000.0;
+    if ui
+        .add(egui::DragValue::new(&mut ms).range(0.01..=100.0).speed(0.05).prefix("step width ").suffix(" ms"))
+        .changed()
+    {
+        p.step_width = ms / 1000.0;
+    }
+    ui.add(egui::DragValue::new(&mut p.accuracy).range(1..=10_000).prefix("accuracy (sample every) ").suffix(" steps"));
+    ui.add(egui::DragValue::new(&mut p.duration).range(0.1..=100_000.0).prefix("duration ").suffix(" s"));
+    ui.add(egui::DragValue::new(&mut p.seed).prefix("seed "));
+    ui.checkbox(&mut p.storing_data, "store data in a file");
+    ui.checkbox(&mut p.show_viewer, "show the viewer");
+    ui.horizontal(|ui| {
+        ui.label("description");
+        ui.text_edit_singleline(&mut w.description);
+    });
+}
+
+fn optimization_page(ui: &mut egui::Ui, w: &mut Wizard) {
+    let joints = w.joint_count().unwrap_or(0);
+    let parameters = w.behaviour.parameters(&w.registry);
+    let o = &mut w.optimization;
+    ui.label(match o.method {
+        Method::Genetic => "Genetic algorithm",
+        Method::GreatDeluge => "Modified great deluge",
+    });
+    let mut remove = None;
+    for (i, r) in o.params.iter_mut().enumerate() {
+        ui.group(|ui| {
+            ui.horizontal(|ui| {
+                ui.strong(format!("{}. {} / {}", i + 1, r.module, r.parameter));
+                if ui.small_button("remove").clicked() {
+                    remove = Some(i);
+                }
+            });
+            ui.horizontal(|ui| {
+                ui.checkbox(&mut r.all_joints, "all joints of the module");
+                ui.checkbox(&mut r.uniform, "uniform (one gene)");
+            });
+            if !r.all_joints {
+                r.joints.resize(joints, false);
+                ui.horizontal_wrapped(|ui| {
+                    for (j, b) in r.joints.iter_mut().enumerate() {
+                        ui.toggle_value(b, format!("J{}", j + 1));
+                    }
+                });
+            }
+            match &mut r.values {
+                ValueSet::Range { lower, upper, increment } => {
+                    ui.horizontal(|ui| {
+                        ui.add(egui::DragValue::new(lower).prefix("from "));
+                        ui.add(egui::DragValue::new(upper).prefix("to "));
+                        ui.add(egui::DragValue::new(increment).prefix("step ").range(0.0..=f64::MAX));
+                    });
+                }
+                ValueSet::List(v) => {
+                    ui.label(format!("values: {v:?}"));
+                }
+            }
+        });
+    }
+    if let Some(i) = remove {
+        o.params.remove(i);
+    }
+    egui::ComboBox::from_label("register a parameter")
+        .selected_text("choose…")
+        .show_ui(ui, |ui| {
+            for (m, p) in parameters {
+                if ui.selectable_label(false, format!("{m} / {p}")).clicked() {
+                    let d = w.registry.get(&m).and_then(|d| d.parameter(&p).cloned());
+                    let (lo, hi) = d.map_or((0.0, 1.0), |d| (d.min, d.max));
+                    o.params.push(Registration {
+                        module: m.clone(),
+                        parameter: p.clone(),
+                        all_joints: true,
+                        joints: Vec::new(),
+                        uniform: true,
+                        values: ValueSet::Range {
+                            lower: lo.max(-1e3),
+                            upper: hi.min(1e3),
+                            increment: ((hi.min(1e3) - lo.max(-1e3)) / 100.0).max(0.0),
+                        },
+                    });
+                }
+            }
+        });
+    ui.separator();
+    match o.method {
+        Method::Genetic => {
+            ui.add(egui::DragValue::new(&mut o.ga.popsize).range(2..=10_000).prefix("population "));
+            ui.add(egui::Slider::new(&mut o.ga.pmut, 0.0..=1.0).text("mutation probability"));
+            ui.add(egui::Slider::new(&mut o.ga.pcross, 0.0..=1.0).text("crossover probability"));
+            ui.add(egui::DragValue::new(&mut o.ga.n_convergence).range(1..=10_000).prefix("convergence generations "));
+            ui.add(egui::Slider::new(&mut o.ga.p_convergence, 0.0..=1.0).text("convergence ratio"));
+        }
+        Method::GreatDeluge => {
+            ui.add(egui::DragValue::new(&mut o.gd.credits).range(1..=10_000).prefix("credits "));
+            ui.add(egui::DragValue::new(&mut o.gd.retries).range(1..=100_000).prefix("retries "));
+            ui.add(egui::DragValue::new(&mut o.gd.initial_water_level).speed(0.01).prefix("initial water level "));
+            ui.add(egui::DragValue::new(&mut o.gd.rain).speed(0.001).prefix("rain "));
+            ui.add(egui::DragValue::new(&mut o.gd.confidence).range(1..=10_000).prefix("confidence "));
+        }
+    }
+    let mut limit = o.max_evaluations.is_some();
+    ui.horizontal(|ui| {
+        ui.checkbox(&mut limit, "stop after");
+        let mut n = o.max_evaluations.unwrap_or(1000);
+        ui.add_enabled(limit, egui::DragValue::new(&mut n).range(1..=10_000_000).suffix(" evaluations"));
+        o.max_evaluations = limit.then_some(n);
+    });
+    if let Err(e) = o.validate() {
+        ui.colored_label(egui::Color32::RED, e);
+    }
+}
+
+fn summary_page(ui: &mut egui::Ui, state: &mut SetupState) {
+    let files = state.wizard.files();
+    for p in [files.robot.clone(), Some(files.actuation.clone()), Some(files.environment.clone()), files.optimizer.clone(), Some(files.simulation.clone())]
+        .into_iter()
+        .flatten()
+    {
+        ui.monospace(p.display().to_string());
+    }
+    match state.wizard.compose() {
+        Ok(_) => ui.colored_label(egui::Color32::DARK_GREEN, "✔ the configuration checks (as proleg check)"),
+        Err(e) => ui.colored_label(egui::Color32::RED, e),
+    };
+    ui.horizontal(|ui| {
+        if ui.button("Save").clicked() {
+            let r = state.wizard.save();
+            state.report(r, |p| format!("saved {}", p.display()));
+        }
+        if let Some(sim) = state.wizard.saved.clone()
+            && ui.button("Open in control window").clicked()
+        {
+            crate::gui::setup::open_control_window(state, &sim);
+        }
+    });
+}
