@@ -49,7 +49,7 @@ fn wizard_made_simulation_checks_and_crawls() {
     ] {
         w.set(k, v).unwrap();
     }
-    w.next().unwrap();
+    w.next_page().unwrap();
     w.set("behaviour.simple", "PatternGenerator_sinusoidal")
         .unwrap();
     w.set(
@@ -57,12 +57,12 @@ fn wizard_made_simulation_checks_and_crawls() {
         "1 PatternGenerator_sinusoidal Amplitude 40",
     )
     .unwrap();
-    w.next().unwrap();
+    w.next_page().unwrap();
     // Environment: a box ahead of the robot, dropped onto the default floor.
     w.env.add(&LibraryItem::Box, 0.0, 1.5);
-    w.next().unwrap();
+    w.next_page().unwrap();
     w.set("sim.duration", "4").unwrap();
-    w.next().unwrap();
+    w.next_page().unwrap();
     assert_eq!(w.page, Page::Summary);
     let sim = w.save().unwrap();
     let sim = sim.to_string_lossy().into_owned();
@@ -77,7 +77,10 @@ fn wizard_made_simulation_checks_and_crawls() {
         .and_then(|r| r.split_whitespace().next())
         .and_then(|v| v.parse().ok())
         .unwrap_or_else(|| panic!("no displacement in:\n{text}"));
-    assert!(disp > 0.2, "the wizard's snake crawled only {disp} m in 4 s");
+    assert!(
+        disp > 0.2,
+        "the wizard's snake crawled only {disp} m in 4 s"
+    );
     std::fs::remove_dir_all(out).ok();
 }
 
@@ -92,7 +95,10 @@ fn irregular_obstacle_terrain_is_rebuilt_in_the_editor() {
     let root = common::root();
     // Saved below the repository so `assets/meshes/...` is found as the original finds it
     // (not in configs/, which other tests list).
-    let out = root.join(format!("target/test-scratch/compose_irregular_{}", std::process::id()));
+    let out = root.join(format!(
+        "target/test-scratch/compose_irregular_{}",
+        std::process::id()
+    ));
     let path = out.join("rebuilt_irregular.env.xml");
     let mut e = EnvEditor::new(&path);
     // The default floor, doubled to 16 m x 16 m.
@@ -122,7 +128,10 @@ fn irregular_obstacle_terrain_is_rebuilt_in_the_editor() {
     std::fs::remove_dir_all(out).ok();
     let original = env_model(&root.join("configs/environments/irregular.env.xml"));
     assert_eq!(rebuilt.physics.gravity, original.physics.gravity);
-    assert_eq!(rebuilt.physics.self_collision, original.physics.self_collision);
+    assert_eq!(
+        rebuilt.physics.self_collision,
+        original.physics.self_collision
+    );
     assert_eq!(rebuilt.robot_pose, original.robot_pose);
     assert_eq!(rebuilt.bodies.len(), original.bodies.len());
     let close = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-9);

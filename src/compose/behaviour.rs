@@ -214,11 +214,11 @@ impl BehaviourSpec {
     /// The joints a module type drives (union of its groups).
     pub fn joints_of(&self, module: &str, joints: usize) -> Vec<bool> {
         let mut mask = vec![false; joints];
-        for g in self.groups.iter().filter(|g| {
-            g.modules
-                .iter()
-                .any(|m| same_name(&m.name, module))
-        }) {
+        for g in self
+            .groups
+            .iter()
+            .filter(|g| g.modules.iter().any(|m| same_name(&m.name, module)))
+        {
             for (m, b) in mask.iter_mut().zip(&g.joints) {
                 *m |= *b;
             }
@@ -260,7 +260,10 @@ mod tests {
         assert_eq!(a.modules[0].joints.to_string(), "10101");
         let back = parse_actuation_file("a.xml", &write_actuation_file(&a)).unwrap();
         assert_eq!(back, a);
-        assert_eq!(b.joints_of("DirectJointAccess", 5), vec![false, true, false, true, false]);
+        assert_eq!(
+            b.joints_of("DirectJointAccess", 5),
+            vec![false, true, false, true, false]
+        );
         assert_eq!(BehaviourSpec::from_actuation_file(&back), b);
     }
 
@@ -274,11 +277,23 @@ mod tests {
         let e = b.validate(&reg, 5).unwrap_err();
         assert!(e.contains("Amplitude") && e.contains("NaN"), "{e}");
         b.groups[0].modules[0].set_value("Amplitude", ParamValue::PerJoint(vec![10.0; 4]));
-        assert!(b.validate(&reg, 5).unwrap_err().contains("4 values for 5 joints"));
+        assert!(
+            b.validate(&reg, 5)
+                .unwrap_err()
+                .contains("4 values for 5 joints")
+        );
         b.groups[0].modules[0].name = "Wobble".into();
-        assert!(b.validate(&reg, 5).unwrap_err().contains("unknown module \"Wobble\""));
+        assert!(
+            b.validate(&reg, 5)
+                .unwrap_err()
+                .contains("unknown module \"Wobble\"")
+        );
         b.groups[0].joints = vec![false; 5];
-        assert!(b.validate(&reg, 5).unwrap_err().contains("at least one joint"));
+        assert!(
+            b.validate(&reg, 5)
+                .unwrap_err()
+                .contains("at least one joint")
+        );
     }
 
     #[test]

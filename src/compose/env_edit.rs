@@ -49,9 +49,9 @@ impl Aabb {
     };
 
     fn add(&mut self, p: [f64; 3]) {
-        for i in 0..3 {
-            self.min[i] = self.min[i].min(p[i]);
-            self.max[i] = self.max[i].max(p[i]);
+        for ((lo, hi), v) in self.min.iter_mut().zip(&mut self.max).zip(p) {
+            *lo = lo.min(v);
+            *hi = hi.max(v);
         }
     }
 
@@ -291,14 +291,10 @@ impl EnvEditor {
                 });
             self.mesh_bounds.insert(key.clone(), b);
         }
-        self.mesh_bounds
-            .get(&key)
-            .copied()
-            .flatten()
-            .map(|b| Aabb {
-                min: b.min.map(|v| v * scale),
-                max: b.max.map(|v| v * scale),
-            })
+        self.mesh_bounds.get(&key).copied().flatten().map(|b| Aabb {
+            min: b.min.map(|v| v * scale),
+            max: b.max.map(|v| v * scale),
+        })
     }
 
     /// World bounds of a kinbody placed at `pose`.
@@ -359,8 +355,7 @@ impl EnvEditor {
             EnvObject::Include(inc) => {
                 let kb = resolve_include(&FsSource, &self.file, &inc.file).and_then(|p| {
                     let text = std::fs::read_to_string(&p).ok()?;
-                    crate::config::kinbody::parse_kinbody_file(&p.display().to_string(), &text)
-                        .ok()
+                    crate::config::kinbody::parse_kinbody_file(&p.display().to_string(), &text).ok()
                 });
                 match kb {
                     Some(kb) => self.kinbody_aabb(&kb, &inc.pose.mul(&kb.pose)),
@@ -661,7 +656,9 @@ impl EnvEditor {
     /// Deletes the selected object (the robot placeholder stays).
     pub fn delete(&mut self) -> Result<(), String> {
         match self.need_selection()? {
-            Selected::Robot => Err("the robot placeholder is obligatory: it sets the start pose".into()),
+            Selected::Robot => {
+                Err("the robot placeholder is obligatory: it sets the start pose".into())
+            }
             Selected::Object(i) => {
                 self.checkpoint();
                 self.objects.remove(i);

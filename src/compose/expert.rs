@@ -23,7 +23,12 @@ pub enum Part {
 }
 
 impl Part {
-    pub const ALL: [Part; 4] = [Part::Robot, Part::Actuation, Part::Environment, Part::Optimizer];
+    pub const ALL: [Part; 4] = [
+        Part::Robot,
+        Part::Actuation,
+        Part::Environment,
+        Part::Optimizer,
+    ];
 
     pub fn label(self) -> &'static str {
         match self {
@@ -40,7 +45,9 @@ impl Part {
             Part::Actuation => name.ends_with(".actuation.xml"),
             Part::Environment => name.ends_with(".env.xml"),
             Part::Optimizer => {
-                name.ends_with(".ga.xml") || name.ends_with(".gd.xml") || name.ends_with(".optimizer.xml")
+                name.ends_with(".ga.xml")
+                    || name.ends_with(".gd.xml")
+                    || name.ends_with(".optimizer.xml")
             }
         }
     }
@@ -83,18 +90,12 @@ impl Composition {
     /// simulation load finds them).
     pub fn open(path: &Path) -> Result<Composition, String> {
         let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let sim = parse_simulation_file(&path.display().to_string(), &text)
-            .map_err(|e| e.to_string())?;
+        let sim =
+            parse_simulation_file(&path.display().to_string(), &text).map_err(|e| e.to_string())?;
         let src = OverlaySource::default();
         let find = |r: &FileRef| {
-            resolve_include(&src, path, &r.path).ok_or_else(|| {
-                format!(
-                    "{}:{}: cannot find {}",
-                    path.display(),
-                    r.pos.line,
-                    r.path
-                )
-            })
+            resolve_include(&src, path, &r.path)
+                .ok_or_else(|| format!("{}:{}: cannot find {}", path.display(), r.pos.line, r.path))
         };
         Ok(Composition {
             robot: find(&sim.robot)?,
@@ -163,14 +164,23 @@ mod tests {
     #[test]
     fn catalog_lists_each_kind() {
         let dirs = [PathBuf::from("configs")];
-        assert!(catalog(Part::Robot, &dirs).iter().any(|p| p.ends_with("snake5p.robot.xml")));
+        assert!(
+            catalog(Part::Robot, &dirs)
+                .iter()
+                .any(|p| p.ends_with("snake5p.robot.xml"))
+        );
         assert!(catalog(Part::Optimizer, &dirs).len() >= 4);
-        assert!(catalog(Part::Environment, &dirs).iter().all(|p| p.to_string_lossy().ends_with(".env.xml")));
+        assert!(
+            catalog(Part::Environment, &dirs)
+                .iter()
+                .all(|p| p.to_string_lossy().ends_with(".env.xml"))
+        );
     }
 
     #[test]
     fn recomposed_experiment_checks_and_saves() {
-        let mut c = Composition::open(Path::new("configs/experiment2_adaptive.simulation.xml")).unwrap();
+        let mut c =
+            Composition::open(Path::new("configs/experiment2_adaptive.simulation.xml")).unwrap();
         c.environment = Some(PathBuf::from("configs/environments/stairs.env.xml"));
         let dir = std::env::temp_dir().join(format!("proleg_expert_{}", std::process::id()));
         let path = dir.join("stairs2.simulation.xml");
@@ -178,7 +188,14 @@ mod tests {
         assert!(summary.contains("tactile5p"), "{summary}");
         c.save(&path).unwrap();
         let back = Composition::open(&path).unwrap();
-        assert_eq!(normalize(&back.environment.clone().unwrap()), normalize(&std::env::current_dir().unwrap().join("configs/environments/stairs.env.xml")));
+        assert_eq!(
+            normalize(&back.environment.clone().unwrap()),
+            normalize(
+                &std::env::current_dir()
+                    .unwrap()
+                    .join("configs/environments/stairs.env.xml")
+            )
+        );
         // A wrong pairing is refused with the file that does not fit.
         c.actuation = PathBuf::from("configs/actuation/snake8py_sine.actuation.xml");
         let e = c.check(&path).unwrap_err();

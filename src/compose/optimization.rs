@@ -7,15 +7,18 @@
 use crate::config::error::Pos;
 use crate::config::mask::JointMask;
 use crate::config::optimizer::{
-    Algorithm, BoundType, GaSettings, GdSettings, GenomeConfig, OptimizerFile,
-    RegisteredParameter,
+    Algorithm, BoundType, GaSettings, GdSettings, GenomeConfig, OptimizerFile, RegisteredParameter,
 };
 use crate::optimize::fitness::Fitness;
 
 /// The values a registered parameter may take.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ValueSet {
-    Range { lower: f64, upper: f64, increment: f64 },
+    Range {
+        lower: f64,
+        upper: f64,
+        increment: f64,
+    },
     List(Vec<f64>),
 }
 
@@ -95,7 +98,9 @@ impl OptimizationSpec {
                         return Err(format!("{what}: range values must be numbers"));
                     }
                     if lower > upper {
-                        return Err(format!("{what}: lower bound {lower} is above upper bound {upper}"));
+                        return Err(format!(
+                            "{what}: lower bound {lower} is above upper bound {upper}"
+                        ));
                     }
                     if *increment < 0.0 {
                         return Err(format!("{what}: increment {increment} is negative"));

@@ -96,7 +96,10 @@ mod tests {
     #[test]
     fn relative_paths_climb_and_descend() {
         assert_eq!(
-            relative_path(Path::new("/a/configs/user"), Path::new("/a/configs/parts/PP.xml")),
+            relative_path(
+                Path::new("/a/configs/user"),
+                Path::new("/a/configs/parts/PP.xml")
+            ),
             "../parts/PP.xml"
         );
         assert_eq!(

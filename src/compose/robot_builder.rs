@@ -189,7 +189,11 @@ impl RobotSpec {
                 // The tail reaches back from the first joint, every other module forward
                 // from its joint, so the tail and module 1 both sit at 0. Rounded to µm
                 // so files show 0.216, not 0.21599999999999997.
-                pose: Transform::from_translation([0.0, (d * slot(m) as f64 * 1e6).round() / 1e6, 0.0]),
+                pose: Transform::from_translation([
+                    0.0,
+                    (d * slot(m) as f64 * 1e6).round() / 1e6,
+                    0.0,
+                ]),
                 pos: Pos::new(0, 0),
             });
             bodies.push(body);

@@ -129,8 +129,8 @@ impl Wizard {
     pub fn new(configs_dir: &Path, out_dir: &Path, stamp: &str) -> Self {
         let registry = ModuleRegistry::default();
         let spec = RobotSpec::default();
-        let sine = ModuleChoice::with_defaults(&registry, "PatternGenerator_sinusoidal")
-            .or_else(|| {
+        let sine =
+            ModuleChoice::with_defaults(&registry, "PatternGenerator_sinusoidal").or_else(|| {
                 registry
                     .names()
                     .first()
@@ -204,8 +204,8 @@ impl Wizard {
             RobotChoice::Existing(p) => {
                 let text =
                     std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
-                let file = parse_robot_file(&p.display().to_string(), &text)
-                    .map_err(|e| e.to_string())?;
+                let file =
+                    parse_robot_file(&p.display().to_string(), &text).map_err(|e| e.to_string())?;
                 let model = resolve_robot(&FsSource, p, &file).map_err(|e| e.to_string())?;
                 Ok(model.joints.len())
             }
@@ -258,9 +258,7 @@ impl Wizard {
                 RobotChoice::Build(s) => s.validate(),
                 RobotChoice::Existing(_) => self.joint_count().map(|_| ()),
             },
-            Page::Behaviour => self
-                .behaviour
-                .validate(&self.registry, self.joint_count()?),
+            Page::Behaviour => self.behaviour.validate(&self.registry, self.joint_count()?),
             Page::Environment => Ok(()),
             Page::Simulation => {
                 let p = &self.props;
@@ -287,8 +285,8 @@ impl Wizard {
         }
     }
 
-    /// Goes to the next page after validating this one.
-    pub fn next(&mut self) -> Result<(), String> {
+    /// Goes to the next page after validating this one ("Next").
+    pub fn next_page(&mut self) -> Result<(), String> {
         self.validate(self.page)?;
         self.advance();
         Ok(())
@@ -602,26 +600,29 @@ mod tests {
         let (mut w, _) = wizard("pages");
         assert_eq!(w.pages().len(), 5);
         w.set("robot.topology", "").unwrap();
-        assert!(w.next().unwrap_err().contains("1 to"));
+        assert!(w.next_page().unwrap_err().contains("1 to"));
         w.set("robot.topology", "pyp").unwrap();
-        w.next().unwrap();
+        w.next_page().unwrap();
         assert_eq!(w.page, Page::Behaviour);
         // The simple actuation followed the robot to 3 joints.
         assert_eq!(w.behaviour.groups[0].joints.len(), 3);
         assert!(w.skip().unwrap_err().contains("cannot be skipped"));
-        w.next().unwrap();
+        w.next_page().unwrap();
         w.skip().unwrap();
         assert_eq!(w.page, Page::Simulation);
         w.set("sim.mode", "gd").unwrap();
         assert_eq!(w.pages().len(), 6);
-        w.next().unwrap();
+        w.next_page().unwrap();
         assert_eq!(w.page, Page::Optimization);
-        assert!(w.next().unwrap_err().contains("register"));
+        assert!(w.next_page().unwrap_err().contains("register"));
         w.back();
         assert_eq!(w.page, Page::Simulation);
         assert!(w.set("robot.parts", "gold").is_err());
         assert!(w.set("behaviour.group", "10 Sine").is_err());
-        assert!(w.set("opt.register PatternGenerator_sinusoidal", "x").is_err());
+        assert!(
+            w.set("opt.register PatternGenerator_sinusoidal", "x")
+                .is_err()
+        );
     }
 
     #[test]
@@ -630,23 +631,27 @@ mod tests {
         w.set("robot.name", "wiz").unwrap();
         w.set("robot.topology", "pypyp").unwrap();
         w.set("robot.parts", "plain").unwrap();
-        w.next().unwrap();
+        w.next_page().unwrap();
         w.set("behaviour.clear", "").unwrap();
-        w.set("behaviour.group", "10101 PatternGenerator_sinusoidal").unwrap();
-        w.set("behaviour.group", "01010 DirectJointAccess").unwrap();
-        w.set("behaviour.param", "1 PatternGenerator_sinusoidal Amplitude 30")
+        w.set("behaviour.group", "10101 PatternGenerator_sinusoidal")
             .unwrap();
-        w.next().unwrap();
-        w.next().unwrap();
+        w.set("behaviour.group", "01010 DirectJointAccess").unwrap();
+        w.set(
+            "behaviour.param",
+            "1 PatternGenerator_sinusoidal Amplitude 30",
+        )
+        .unwrap();
+        w.next_page().unwrap();
+        w.next_page().unwrap();
         w.set("sim.mode", "ga").unwrap();
         w.set("sim.duration", "5").unwrap();
-        w.next().unwrap();
+        w.next_page().unwrap();
         w.set(
             "opt.register",
             "PatternGenerator_sinusoidal Amplitude all individual 0 40 0.25",
         )
         .unwrap();
-        w.next().unwrap();
+        w.next_page().unwrap();
         assert_eq!(w.page, Page::Summary);
         let sim = w.save().unwrap();
         assert!(sim.ends_with("wiz_20261122_120000.simulation.xml"));

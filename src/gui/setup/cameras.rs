@@ -3,8 +3,8 @@
 //! two projections) beside it, all centred on the selection; egui draws through a camera
 //! of its own on top. Viewports follow the area the egui panels leave free.
 
-use bevy::camera::{ClearColorConfig, Viewport};
 use bevy::camera::visibility::RenderLayers;
+use bevy::camera::{ClearColorConfig, Viewport};
 use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
 use bevy::prelude::*;
 use bevy_egui::PrimaryEguiContext;
@@ -95,7 +95,10 @@ pub fn layout_views(
     state: Res<SetupState>,
     window: Single<&Window>,
     mut persp: Query<&mut Camera, (Without<OrthoView>, With<OrbitCamera>)>,
-    mut ortho: Query<(&mut Camera, &OrthoView, &mut Transform, &mut Projection), Without<OrbitCamera>>,
+    mut ortho: Query<
+        (&mut Camera, &OrthoView, &mut Transform, &mut Projection),
+        Without<OrbitCamera>,
+    >,
 ) {
     let Some(area) = state.central else {
         return;
@@ -134,10 +137,12 @@ pub fn layout_views(
         };
         c.viewport = to_vp(Vec2::new(min.x + persp_w, y0), Vec2::new(side_w, h));
         *t = match view {
-            OrthoView::Top => Transform::from_translation(centre + Vec3::Y * 40.0)
-                .looking_at(centre, Vec3::NEG_Z),
-            OrthoView::Side => Transform::from_translation(centre + Vec3::X * 40.0)
-                .looking_at(centre, Vec3::Y),
+            OrthoView::Top => {
+                Transform::from_translation(centre + Vec3::Y * 40.0).looking_at(centre, Vec3::NEG_Z)
+            }
+            OrthoView::Side => {
+                Transform::from_translation(centre + Vec3::X * 40.0).looking_at(centre, Vec3::Y)
+            }
         };
         if let Projection::Orthographic(o) = proj.as_mut() {
             o.scaling_mode = bevy::camera::ScalingMode::FixedVertical {
@@ -150,6 +155,7 @@ pub fn layout_views(
 
 /// Mouse orbit (left drag on empty space), pan (right / middle drag), zoom (wheel) of the
 /// perspective view; the wheel over a side or top view zooms both.
+#[allow(clippy::too_many_arguments)]
 pub fn orbit_camera(
     buttons: Res<ButtonInput<MouseButton>>,
     motion: Res<AccumulatedMouseMotion>,
@@ -185,7 +191,8 @@ pub fn orbit_camera(
                 orbit.distance = (orbit.distance * (1.0 - 0.1 * scroll.delta.y)).clamp(0.05, 50.0);
             }
         } else if !inside && cursor.is_some() && scroll.delta.y != 0.0 && state.editing_env() {
-            state.ortho_height = (state.ortho_height * (1.0 - 0.1 * scroll.delta.y)).clamp(0.05, 40.0);
+            state.ortho_height =
+                (state.ortho_height * (1.0 - 0.1 * scroll.delta.y)).clamp(0.05, 40.0);
         }
         *t = orbit.transform();
     }

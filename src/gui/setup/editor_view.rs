@@ -37,15 +37,25 @@ pub fn show_library(ui: &mut egui::Ui, state: &mut SetupState) {
         let env = state.env_mut();
         let r = env.robot_pose;
         let ahead = r.rotate([0.0, 1.0, 0.0]);
-        env.add(&item, r.translation[0] + ahead[0], r.translation[1] + ahead[1]);
+        env.add(
+            &item,
+            r.translation[0] + ahead[0],
+            r.translation[1] + ahead[1],
+        );
     }
     ui.separator();
     ui.horizontal(|ui| {
         let env = state.env_mut();
-        if ui.add_enabled(env.can_undo(), egui::Button::new("Undo")).clicked() {
+        if ui
+            .add_enabled(env.can_undo(), egui::Button::new("Undo"))
+            .clicked()
+        {
             env.undo();
         }
-        if ui.add_enabled(env.can_redo(), egui::Button::new("Redo")).clicked() {
+        if ui
+            .add_enabled(env.can_redo(), egui::Button::new("Redo"))
+            .clicked()
+        {
             env.redo();
         }
     });
@@ -58,22 +68,28 @@ pub fn show_library(ui: &mut egui::Ui, state: &mut SetupState) {
     {
         pick = Some(Selected::Robot);
     }
-    egui::ScrollArea::vertical().max_height(220.0).show(ui, |ui| {
-        for (i, o) in env.objects.iter().enumerate() {
-            if ui
-                .selectable_label(env.selected == Some(Selected::Object(i)), object_name(o, i))
-                .clicked()
-            {
-                pick = Some(Selected::Object(i));
+    egui::ScrollArea::vertical()
+        .max_height(220.0)
+        .show(ui, |ui| {
+            for (i, o) in env.objects.iter().enumerate() {
+                if ui
+                    .selectable_label(env.selected == Some(Selected::Object(i)), object_name(o, i))
+                    .clicked()
+                {
+                    pick = Some(Selected::Object(i));
+                }
             }
-        }
-    });
+        });
     if let Some(p) = pick {
         let _ = env.select(Some(p));
     }
     ui.separator();
     ui.label("Top and side views: mouse wheel over them zooms.");
-    ui.add(egui::Slider::new(&mut state.ortho_height, 0.1..=20.0).text("view height (m)").logarithmic(true));
+    ui.add(
+        egui::Slider::new(&mut state.ortho_height, 0.1..=20.0)
+            .text("view height (m)")
+            .logarithmic(true),
+    );
     ui.separator();
     file_buttons(ui, state);
 }
@@ -112,7 +128,9 @@ fn file_buttons(ui: &mut egui::Ui, state: &mut SetupState) {
     }
     if let Some(p) = &state.preview {
         match p {
-            Ok((_, d)) => ui.label(format!("Preview: the robot crawled {d:.3} m in {PREVIEW_SECONDS} s")),
+            Ok((_, d)) => ui.label(format!(
+                "Preview: the robot crawled {d:.3} m in {PREVIEW_SECONDS} s"
+            )),
             Err(e) => ui.colored_label(egui::Color32::RED, e),
         };
     }
@@ -124,7 +142,9 @@ pub fn preview(state: &mut SetupState) {
     w.env = state.env().clone();
     let r = run_preview(&w, PREVIEW_SECONDS);
     state.status = Some(match &r {
-        Ok((_, d)) => Status::Info(format!("preview: the robot crawled {d:.3} m in {PREVIEW_SECONDS} s")),
+        Ok((_, d)) => Status::Info(format!(
+            "preview: the robot crawled {d:.3} m in {PREVIEW_SECONDS} s"
+        )),
         Err(e) => Status::Error(format!("preview: {e}")),
     });
     state.preview = Some(r);
@@ -153,7 +173,9 @@ pub fn show_selection(ui: &mut egui::Ui, state: &mut SetupState) {
         ui.label("position (m)");
         let mut changed = false;
         for v in &mut pos {
-            changed |= ui.add(egui::DragValue::new(v).speed(0.01).max_decimals(4)).changed();
+            changed |= ui
+                .add(egui::DragValue::new(v).speed(0.01).max_decimals(4))
+                .changed();
         }
         if changed {
             result = env.move_to(pos);
@@ -168,7 +190,11 @@ pub fn show_selection(ui: &mut egui::Ui, state: &mut SetupState) {
         }
     });
     ui.horizontal(|ui| {
-        ui.add(egui::DragValue::new(typed_yaw).suffix("°").range(-180.0..=180.0));
+        ui.add(
+            egui::DragValue::new(typed_yaw)
+                .suffix("°")
+                .range(-180.0..=180.0),
+        );
         if ui.button("Set heading").clicked() {
             result = env.set_yaw(*typed_yaw);
         }
@@ -208,7 +234,10 @@ pub fn show_selection(ui: &mut egui::Ui, state: &mut SetupState) {
             result = env.set_friction(mu);
         }
         let mut dynamic = props.dynamic;
-        if ui.checkbox(&mut dynamic, "dynamic (pushed around)").changed() {
+        if ui
+            .checkbox(&mut dynamic, "dynamic (pushed around)")
+            .changed()
+        {
             result = env.set_dynamic(dynamic);
         }
         if props.dynamic {
@@ -216,7 +245,12 @@ pub fn show_selection(ui: &mut egui::Ui, state: &mut SetupState) {
             ui.horizontal(|ui| {
                 ui.label("mass");
                 if ui
-                    .add(egui::DragValue::new(&mut kg).speed(0.01).range(0.001..=1000.0).suffix(" kg"))
+                    .add(
+                        egui::DragValue::new(&mut kg)
+                            .speed(0.01)
+                            .range(0.001..=1000.0)
+                            .suffix(" kg"),
+                    )
                     .changed()
                 {
                     result = env.set_mass(kg);
@@ -252,13 +286,21 @@ pub fn label_views(ctx: &egui::Context, state: &SetupState) {
     let x = area.min.x + area.width() * 2.0 / 3.0 + 6.0;
     for (name, y) in [
         ("Top view: x to the right, y up", area.min.y + 4.0),
-        ("Side view: y to the right, z up", area.min.y + area.height() / 2.0 + 4.0),
+        (
+            "Side view: y to the right, z up",
+            area.min.y + area.height() / 2.0 + 4.0,
+        ),
     ] {
         egui::Area::new(egui::Id::new(name))
             .fixed_pos(egui::pos2(x, y))
             .interactable(false)
             .show(ctx, |ui| {
-                ui.label(egui::RichText::new(name).strong().background_color(egui::Color32::from_black_alpha(120)).color(egui::Color32::WHITE));
+                ui.label(
+                    egui::RichText::new(name)
+                        .strong()
+                        .background_color(egui::Color32::from_black_alpha(120))
+                        .color(egui::Color32::WHITE),
+                );
             });
     }
 }

@@ -21,7 +21,13 @@ fn short(p: &Path) -> String {
 }
 
 /// One file choice; `optional` adds "none".
-fn choose(ui: &mut egui::Ui, part: Part, current: &mut Option<PathBuf>, files: &[PathBuf], optional: bool) {
+fn choose(
+    ui: &mut egui::Ui,
+    part: Part,
+    current: &mut Option<PathBuf>,
+    files: &[PathBuf],
+    optional: bool,
+) {
     egui::ComboBox::from_label(part.label())
         .width(420.0)
         .selected_text(current.as_deref().map_or("none".into(), short))
@@ -38,7 +44,10 @@ fn choose(ui: &mut egui::Ui, part: Part, current: &mut Option<PathBuf>, files: &
 /// The expert dialog.
 pub fn show(ui: &mut egui::Ui, state: &mut SetupState) {
     ui.heading("Compose a simulation from existing files");
-    let dirs = [state.wizard.configs_dir.clone(), state.wizard.out_dir.clone()];
+    let dirs = [
+        state.wizard.configs_dir.clone(),
+        state.wizard.out_dir.clone(),
+    ];
     let c = &mut state.expert.composition;
     for part in Part::ALL {
         let files = catalog(part, &dirs);
@@ -68,13 +77,29 @@ pub fn show(ui: &mut egui::Ui, state: &mut SetupState) {
         });
     let mut ms = p.step_width * 1000.0;
     if ui
-        .add(egui::DragValue::new(&mut ms).range(0.01..=100.0).speed(0.05).prefix("step width ").suffix(" ms"))
+        .add(
+            egui::DragValue::new(&mut ms)
+                .range(0.01..=100.0)
+                .speed(0.05)
+                .prefix("step width ")
+                .suffix(" ms"),
+        )
         .changed()
     {
         p.step_width = ms / 1000.0;
     }
-    ui.add(egui::DragValue::new(&mut p.duration).range(0.1..=100_000.0).prefix("duration ").suffix(" s"));
-    ui.add(egui::DragValue::new(&mut p.accuracy).range(1..=10_000).prefix("accuracy ").suffix(" steps"));
+    ui.add(
+        egui::DragValue::new(&mut p.duration)
+            .range(0.1..=100_000.0)
+            .prefix("duration ")
+            .suffix(" s"),
+    );
+    ui.add(
+        egui::DragValue::new(&mut p.accuracy)
+            .range(1..=10_000)
+            .prefix("accuracy ")
+            .suffix(" steps"),
+    );
     ui.checkbox(&mut p.storing_data, "store data in a file");
     ui.horizontal(|ui| {
         ui.label("description");
@@ -87,7 +112,11 @@ pub fn show(ui: &mut egui::Ui, state: &mut SetupState) {
     });
     let path = PathBuf::from(state.expert.path.trim());
     ui.horizontal(|ui| {
-        if ui.button("Open").on_hover_text("Load the composition of this simulation file").clicked() {
+        if ui
+            .button("Open")
+            .on_hover_text("Load the composition of this simulation file")
+            .clicked()
+        {
             let r = Composition::open(&path);
             if let Some(c) = state.report(r, |_| format!("opened {}", path.display())) {
                 state.expert.composition = c;

@@ -93,7 +93,9 @@ pub fn run(opts: &SetupOptions) -> Result<(), String> {
     .add_plugins(SetupWindowPlugin);
     match app.run() {
         AppExit::Success => Ok(()),
-        AppExit::Error(code) => Err(format!("the configuration window closed with status {code}")),
+        AppExit::Error(code) => Err(format!(
+            "the configuration window closed with status {code}"
+        )),
     }
 }
 
@@ -110,7 +112,12 @@ impl Plugin for SetupWindowPlugin {
             .add_observer(picking::on_drag_end)
             .configure_sets(
                 Update,
-                (SetupSystems::Script, SetupSystems::Scene, SetupSystems::Views).chain(),
+                (
+                    SetupSystems::Script,
+                    SetupSystems::Scene,
+                    SetupSystems::Views,
+                )
+                    .chain(),
             )
             .add_systems(
                 Startup,
@@ -123,7 +130,11 @@ impl Plugin for SetupWindowPlugin {
             .add_systems(Update, script_run::run_script.in_set(SetupSystems::Script))
             .add_systems(
                 Update,
-                (picking::apply_drop, scene::sync_scene, scene::draw_selection)
+                (
+                    picking::apply_drop,
+                    scene::sync_scene,
+                    scene::draw_selection,
+                )
                     .chain()
                     .in_set(SetupSystems::Scene),
             )
@@ -145,19 +156,20 @@ fn manual_egui_context(mut settings: ResMut<EguiGlobalSettings>) {
 /// Opens a simulation in a control window (a new proleg process).
 pub fn open_control_window(state: &mut SetupState, sim: &Path) {
     let exe = std::env::current_exe();
-    let r = exe
-        .map_err(|e| e.to_string())
-        .and_then(|exe| {
-            std::process::Command::new(exe)
-                .arg("gui")
-                .arg(sim)
-                .spawn()
-                .map_err(|e| e.to_string())
-        });
+    let r = exe.map_err(|e| e.to_string()).and_then(|exe| {
+        std::process::Command::new(exe)
+            .arg("gui")
+            .arg(sim)
+            .spawn()
+            .map_err(|e| e.to_string())
+    });
     match r {
         Ok(_) => {
             state.opened.push(sim.to_path_buf());
-            state.status = Some(Status::Info(format!("opened {} in a control window", sim.display())));
+            state.status = Some(Status::Info(format!(
+                "opened {} in a control window",
+                sim.display()
+            )));
         }
         Err(e) => state.status = Some(Status::Error(format!("cannot open a control window: {e}"))),
     }
@@ -165,7 +177,11 @@ pub fn open_control_window(state: &mut SetupState, sim: &Path) {
 
 /// The panels of the current tool; records the area left to the 3D views and turns a
 /// library item released over it into a drop.
-fn draw_ui(mut contexts: EguiContexts, mut state: ResMut<SetupState>, cache: Res<SceneCache>) -> Result {
+fn draw_ui(
+    mut contexts: EguiContexts,
+    mut state: ResMut<SetupState>,
+    cache: Res<SceneCache>,
+) -> Result {
     let ctx = contexts.ctx_mut()?.clone();
     let state = state.as_mut();
     let mut root = egui::Ui::new(
@@ -207,9 +223,8 @@ fn draw_ui(mut contexts: EguiContexts, mut state: ResMut<SetupState>, cache: Res
                 .default_size(if editing { 330.0 } else { 470.0 })
                 .show(&mut root, |ui| {
                     if editing {
-                        egui::Panel::bottom("wizard nav").show(ui, |ui| {
-                            wizard_view::show(ui, state)
-                        });
+                        egui::Panel::bottom("wizard nav")
+                            .show(ui, |ui| wizard_view::show(ui, state));
                         editor_view::show_selection(ui, state);
                     } else {
                         wizard_view::show(ui, state);

@@ -55,8 +55,16 @@ fn plane_point(
     Some(to_config(ray.get_point(d)))
 }
 
-type CameraQuery<'w, 's> =
-    Query<'w, 's, (Entity, &'static Camera, &'static GlobalTransform, Option<&'static OrthoView>)>;
+type CameraQuery<'w, 's> = Query<
+    'w,
+    's,
+    (
+        Entity,
+        &'static Camera,
+        &'static GlobalTransform,
+        Option<&'static OrthoView>,
+    ),
+>;
 
 /// The active 3D camera whose viewport holds `pos` (the UI camera has no viewport).
 pub fn camera_at(cameras: &CameraQuery, pos: Vec2) -> Option<Entity> {
@@ -133,7 +141,11 @@ pub fn on_drag(
         return;
     };
     let env = state.env_mut();
-    let Some(at) = env.selected.and_then(|s| env.pose(s)).map(|p| p.translation) else {
+    let Some(at) = env
+        .selected
+        .and_then(|s| env.pose(s))
+        .map(|p| p.translation)
+    else {
         return;
     };
     let Some(p) = plane_point((c, gt, view), ev.pointer_location.position, at[0]) else {
@@ -174,7 +186,10 @@ pub fn apply_drop(mut state: ResMut<SetupState>, cameras: CameraQuery) {
     match hit {
         Some(p) => {
             let i = state.env_mut().add(&item, p[0], p[1]);
-            let at = state.env().pose(Selected::Object(i)).map_or([0.0; 3], |p| p.translation);
+            let at = state
+                .env()
+                .pose(Selected::Object(i))
+                .map_or([0.0; 3], |p| p.translation);
             state.status = Some(crate::gui::setup::state::Status::Info(format!(
                 "{} placed at {:.2} {:.2} {:.3} m",
                 item.label(),

@@ -25,8 +25,12 @@ pub fn robot_model(w: &Wizard) -> Result<RobotModel, String> {
     match &w.robot {
         RobotChoice::Build(spec) => {
             spec.validate()?;
-            let path = w.files().robot.unwrap_or_else(|| w.out_dir.join("preview.robot.xml"));
-            let parts = crate::compose::paths::relative_path(&w.out_dir, &w.configs_dir.join("parts"));
+            let path = w
+                .files()
+                .robot
+                .unwrap_or_else(|| w.out_dir.join("preview.robot.xml"));
+            let parts =
+                crate::compose::paths::relative_path(&w.out_dir, &w.configs_dir.join("parts"));
             let file = spec.to_robot_file(&parts);
             let mut src = OverlaySource::default();
             src.unsaved.insert(&path, write_robot_file(&file));

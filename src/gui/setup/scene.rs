@@ -137,7 +137,13 @@ pub fn sync_scene(
         None => {
             // No valid robot yet: a placeholder bar where it would lie.
             let g = placeholder();
-            spawner.body(robot_entity, "robot placeholder", &Pose::IDENTITY, &[g], None);
+            spawner.body(
+                robot_entity,
+                "robot placeholder",
+                &Pose::IDENTITY,
+                &[g],
+                None,
+            );
         }
     }
     spawner.commands.entity(root).add_child(robot_entity);
@@ -288,7 +294,11 @@ pub fn draw_selection(mut state: ResMut<SetupState>, mut gizmos: Gizmos) {
         robot.translation[2] + ahead[2],
     ]);
     // Above the robot's modules, so it shows over them.
-    gizmos.arrow(start + Vec3::Y * 0.08, tip + Vec3::Y * 0.08, Color::srgb(1.0, 0.8, 0.1));
+    gizmos.arrow(
+        start + Vec3::Y * 0.08,
+        tip + Vec3::Y * 0.08,
+        Color::srgb(1.0, 0.8, 0.1),
+    );
     let Some(sel) = state.env().selected else {
         return;
     };

@@ -148,7 +148,9 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             "friction" => Command::Friction(num(1, "coefficient")?),
             "dynamic" => Command::Dynamic(arg(1, "on or off")? == "on"),
             "mass" => Command::Mass(num(1, "kg")?),
-            "colour" | "color" => Command::Colour([num(1, "red")?, num(2, "green")?, num(3, "blue")?]),
+            "colour" | "color" => {
+                Command::Colour([num(1, "red")?, num(2, "green")?, num(3, "blue")?])
+            }
             "delete" => Command::Delete,
             "undo" => Command::Undo,
             "redo" => Command::Redo,

@@ -47,7 +47,10 @@ pub fn run_script(
         let shot = path.display().to_string();
         script.pending_shot = None;
         if missing {
-            eprintln!("error: {}: screenshot {shot} was not written", script.file.display());
+            eprintln!(
+                "error: {}: screenshot {shot} was not written",
+                script.file.display()
+            );
             exit.write(AppExit::error());
             runner.0 = None;
             return;
@@ -85,7 +88,10 @@ fn item(state: &SetupState, name: &str) -> Result<LibraryItem, String> {
         .or_else(|| LibraryItem::parse(name))
         .ok_or_else(|| {
             let names: Vec<String> = state.library.iter().map(|i| i.label()).collect();
-            format!("no library item {name:?}; the library holds: {}", names.join(", "))
+            format!(
+                "no library item {name:?}; the library holds: {}",
+                names.join(", ")
+            )
         })
 }
 
@@ -99,7 +105,10 @@ fn carry_out(
         if state.editing_env() {
             Ok(())
         } else {
-            Err("not in the environment editor (tool editor, or the wizard's environment page)".to_string())
+            Err(
+                "not in the environment editor (tool editor, or the wizard's environment page)"
+                    .to_string(),
+            )
         }
     };
     match c {
@@ -116,7 +125,7 @@ fn carry_out(
             }
         }
         Command::Set(k, v) => state.wizard.set(&k, &v)?,
-        Command::Next => state.wizard.next()?,
+        Command::Next => state.wizard.next_page()?,
         Command::Back => state.wizard.back(),
         Command::Skip => state.wizard.skip()?,
         Command::Save => {
@@ -193,7 +202,9 @@ fn carry_out(
             let part = Part::ALL
                 .into_iter()
                 .find(|k| k.label().eq_ignore_ascii_case(&part))
-                .ok_or_else(|| format!("part {part:?}: expected robot, actuation, environment or optimizer"))?;
+                .ok_or_else(|| {
+                    format!("part {part:?}: expected robot, actuation, environment or optimizer")
+                })?;
             match (part, p) {
                 (Part::Robot, Some(p)) => c.robot = p,
                 (Part::Actuation, Some(p)) => c.actuation = p,
@@ -242,10 +253,18 @@ fn state_lines(state: &mut SetupState) -> String {
         ("page", w.page.title().to_string()),
         ("page_number", format!("{i}/{n}")),
         ("robot", w.robot_name()),
-        ("joints", w.joint_count().map_or_else(|e| e, |n| n.to_string())),
+        (
+            "joints",
+            w.joint_count().map_or_else(|e| e, |n| n.to_string()),
+        ),
         ("topology", w.topology()),
         ("groups", w.behaviour.groups.len().to_string()),
-        ("saved", w.saved.as_ref().map_or(String::new(), |p| p.display().to_string())),
+        (
+            "saved",
+            w.saved
+                .as_ref()
+                .map_or(String::new(), |p| p.display().to_string()),
+        ),
         (
             "preview_displacement",
             match &state.preview {
@@ -283,14 +302,25 @@ fn state_lines(state: &mut SetupState) -> String {
         },
     ));
     if let Some(p) = sel.and_then(|s| env.props(s)) {
-        let f = |v: &[f64]| v.iter().map(|x| format!("{x:.4}")).collect::<Vec<_>>().join(" ");
+        let f = |v: &[f64]| {
+            v.iter()
+                .map(|x| format!("{x:.4}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
         pairs.push(("selected_name", p.name));
         pairs.push(("selected_position", f(&p.position)));
         pairs.push(("selected_yaw", format!("{:.2}", p.yaw_deg)));
         pairs.push(("selected_size", f(&p.size)));
-        pairs.push(("selected_friction", p.friction.map_or(String::new(), |v| format!("{v}"))));
+        pairs.push((
+            "selected_friction",
+            p.friction.map_or(String::new(), |v| format!("{v}")),
+        ));
     }
     let rp = env.robot_pose.translation;
-    pairs.push(("robot_pose", format!("{:.4} {:.4} {:.4}", rp[0], rp[1], rp[2])));
+    pairs.push((
+        "robot_pose",
+        format!("{:.4} {:.4} {:.4}", rp[0], rp[1], rp[2]),
+    ));
     state_report(&pairs)
 }

@@ -71,10 +71,7 @@ impl SetupState {
     pub fn new(configs: &Path, out: &Path, stamp: &str) -> Self {
         let wizard = Wizard::new(configs, out, stamp);
         let editor_file = out.join(format!("scene_{stamp}.env.xml"));
-        let assets = configs
-            .parent()
-            .unwrap_or(Path::new("."))
-            .join("assets");
+        let assets = configs.parent().unwrap_or(Path::new(".")).join("assets");
         let expert_path = out.join(format!("composed_{stamp}.simulation.xml"));
         SetupState {
             tool: Tool::Wizard,
@@ -107,7 +104,8 @@ impl SetupState {
 
     /// Whether the environment editor is on screen (its 3D views, library, side panel).
     pub fn editing_env(&self) -> bool {
-        self.tool == Tool::Editor || (self.tool == Tool::Wizard && self.wizard.page == Page::Environment)
+        self.tool == Tool::Editor
+            || (self.tool == Tool::Wizard && self.wizard.page == Page::Environment)
     }
 
     /// The environment being edited.

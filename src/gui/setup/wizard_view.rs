@@ -17,12 +17,24 @@ use crate::gui::setup::state::{SetupState, Status};
 /// What each page is for.
 fn explanation(page: Page) -> &'static str {
     match page {
-        Page::Robot => "Describe the robot: how many joints it has and whether each turns up and down (pitch) or left and right (yaw). Choose the module parts; the touch set carries 12 pads under the links, which sensing modules need. Or pick a robot that already exists.",
-        Page::Behaviour => "Choose how the joints move. Simple: one module drives every joint. Grouped: select joints in the strip, make a group of them, and give it one or more modules (their outputs add up).",
-        Page::Environment => "Build the terrain: drag objects from the library onto the views, click to select, drag to move. The yellow arrow is the robot's start pose. You may skip this page: the robot then crawls on a flat floor.",
-        Page::Simulation => "How the simulation runs: the mode (a single run or an optimization), the physics step width, how often data is sampled, how long a run lasts. You may skip this page to keep the defaults.",
-        Page::Optimization => "Register the module parameters the optimizer may change, the joints they apply to, and the values they may take. The algorithm settings start at the thesis's values.",
-        Page::Summary => "The files below will be written. Save them, then open the simulation in the control window.",
+        Page::Robot => {
+            "Describe the robot: how many joints it has and whether each turns up and down (pitch) or left and right (yaw). Choose the module parts; the touch set carries 12 pads under the links, which sensing modules need. Or pick a robot that already exists."
+        }
+        Page::Behaviour => {
+            "Choose how the joints move. Simple: one module drives every joint. Grouped: select joints in the strip, make a group of them, and give it one or more modules (their outputs add up)."
+        }
+        Page::Environment => {
+            "Build the terrain: drag objects from the library onto the views, click to select, drag to move. The yellow arrow is the robot's start pose. You may skip this page: the robot then crawls on a flat floor."
+        }
+        Page::Simulation => {
+            "How the simulation runs: the mode (a single run or an optimization), the physics step width, how often data is sampled, how long a run lasts. You may skip this page to keep the defaults."
+        }
+        Page::Optimization => {
+            "Register the module parameters the optimizer may change, the joints they apply to, and the values they may take. The algorithm settings start at the thesis's values."
+        }
+        Page::Summary => {
+            "The files below will be written. Save them, then open the simulation in the control window."
+        }
     }
 }
 
@@ -58,7 +70,7 @@ pub fn show(ui: &mut egui::Ui, state: &mut SetupState) {
             state.report(r, |_| "page skipped: defaults kept".into());
         }
         if page != Page::Summary && ui.button("Next ▶").clicked() {
-            let r = state.wizard.next();
+            let r = state.wizard.next_page();
             state.report(r, |_| String::new());
             if matches!(state.status, Some(Status::Info(ref s)) if s.is_empty()) {
                 state.status = None;
@@ -74,19 +86,28 @@ fn robot_page(ui: &mut egui::Ui, w: &mut Wizard) {
             existing = false;
             w.robot = RobotChoice::Build(w.spec.clone());
         }
-        if ui.radio(existing, "Use an existing robot").clicked() && !existing {
-            if let Some(p) = w.existing_robots().first().cloned() {
-                w.robot = RobotChoice::Existing(p);
-            }
+        if ui.radio(existing, "Use an existing robot").clicked()
+            && !existing
+            && let Some(p) = w.existing_robots().first().cloned()
+        {
+            w.robot = RobotChoice::Existing(p);
         }
     });
     if let RobotChoice::Existing(current) = &w.robot {
         let mut chosen = current.clone();
         egui::ComboBox::from_label("robot file")
-            .selected_text(chosen.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default())
+            .selected_text(
+                chosen
+                    .file_name()
+                    .map(|f| f.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
+            )
             .show_ui(ui, |ui| {
                 for p in w.existing_robots() {
-                    let label = p.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
+                    let label = p
+                        .file_name()
+                        .map(|f| f.to_string_lossy().into_owned())
+                        .unwrap_or_default();
                     ui.selectable_value(&mut chosen, p, label);
                 }
             });
@@ -130,7 +151,11 @@ fn robot_page(ui: &mut egui::Ui, w: &mut Wizard) {
         }
         if ui.button("alternate pitch / yaw").clicked() {
             for (i, o) in spec.joints.iter_mut().enumerate() {
-                *o = if i % 2 == 0 { Orientation::Pitch } else { Orientation::Yaw };
+                *o = if i % 2 == 0 {
+                    Orientation::Pitch
+                } else {
+                    Orientation::Yaw
+                };
             }
         }
     });
@@ -175,10 +200,13 @@ fn behaviour_page(ui: &mut egui::Ui, w: &mut Wizard) {
     let names = w.registry.names();
     let simple = w.behaviour.groups.len() == 1 && w.behaviour.groups[0].joints.iter().all(|b| *b);
     ui.horizontal(|ui| {
-        if ui.radio(simple, "Simple: one module on all joints").clicked() && !simple {
-            if let Some(m) = ModuleChoice::with_defaults(&w.registry, "PatternGenerator_sinusoidal") {
-                w.behaviour = BehaviourSpec::simple(joints, m);
-            }
+        if ui
+            .radio(simple, "Simple: one module on all joints")
+            .clicked()
+            && !simple
+            && let Some(m) = ModuleChoice::with_defaults(&w.registry, "PatternGenerator_sinusoidal")
+        {
+            w.behaviour = BehaviourSpec::simple(joints, m);
         }
         if ui.radio(!simple, "Grouped").clicked() && simple {
             w.behaviour.groups.clear();
@@ -193,7 +221,8 @@ fn behaviour_page(ui: &mut egui::Ui, w: &mut Wizard) {
     });
     ui.horizontal(|ui| {
         if ui.button("Make a group of the selected joints").clicked() && sel.iter().any(|b| *b) {
-            if let Some(m) = ModuleChoice::with_defaults(&w.registry, "PatternGenerator_sinusoidal") {
+            if let Some(m) = ModuleChoice::with_defaults(&w.registry, "PatternGenerator_sinusoidal")
+            {
                 w.behaviour.groups.push(Group {
                     joints: sel.clone(),
                     modules: vec![m],
@@ -211,7 +240,10 @@ fn behaviour_page(ui: &mut egui::Ui, w: &mut Wizard) {
         egui::CollapsingHeader::new(format!(
             "Group {}: joints {}",
             gi + 1,
-            g.joints.iter().map(|b| if *b { '1' } else { '0' }).collect::<String>()
+            g.joints
+                .iter()
+                .map(|b| if *b { '1' } else { '0' })
+                .collect::<String>()
         ))
         .default_open(true)
         .show(ui, |ui| {
@@ -227,15 +259,20 @@ fn behaviour_page(ui: &mut egui::Ui, w: &mut Wizard) {
                     continue;
                 };
                 for p in d.parameters {
-                    let Some((_, value)) = m.params.iter_mut().find(|(n, _)| p.answers_to(n)) else {
+                    let Some((_, value)) = m.params.iter_mut().find(|(n, _)| p.answers_to(n))
+                    else {
                         continue;
                     };
                     ui.horizontal(|ui| {
                         ui.label(format!("{} ({})", p.name, p.unit));
                         match value {
                             ParamValue::Uniform(v) => {
-                                ui.add(egui::DragValue::new(v).range(p.min..=p.max).speed((p.max - p.min) / 500.0))
-                                    .on_hover_text(p.help);
+                                ui.add(
+                                    egui::DragValue::new(v)
+                                        .range(p.min..=p.max)
+                                        .speed((p.max - p.min) / 500.0),
+                                )
+                                .on_hover_text(p.help);
                             }
                             ParamValue::PerJoint(v) => {
                                 for x in v.iter_mut() {
@@ -291,13 +328,29 @@ fn simulation_page(ui: &mut egui::Ui, w: &mut Wizard) {
     }
     let mut ms = p.step_width * 1000.0;
     if ui
-        .add(egui::DragValue::new(&mut ms).range(0.01..=100.0).speed(0.05).prefix("step width ").suffix(" ms"))
+        .add(
+            egui::DragValue::new(&mut ms)
+                .range(0.01..=100.0)
+                .speed(0.05)
+                .prefix("step width ")
+                .suffix(" ms"),
+        )
         .changed()
     {
         p.step_width = ms / 1000.0;
     }
-    ui.add(egui::DragValue::new(&mut p.accuracy).range(1..=10_000).prefix("accuracy (sample every) ").suffix(" steps"));
-    ui.add(egui::DragValue::new(&mut p.duration).range(0.1..=100_000.0).prefix("duration ").suffix(" s"));
+    ui.add(
+        egui::DragValue::new(&mut p.accuracy)
+            .range(1..=10_000)
+            .prefix("accuracy (sample every) ")
+            .suffix(" steps"),
+    );
+    ui.add(
+        egui::DragValue::new(&mut p.duration)
+            .range(0.1..=100_000.0)
+            .prefix("duration ")
+            .suffix(" s"),
+    );
     ui.add(egui::DragValue::new(&mut p.seed).prefix("seed "));
     ui.checkbox(&mut p.storing_data, "store data in a file");
     ui.checkbox(&mut p.show_viewer, "show the viewer");
@@ -337,11 +390,19 @@ fn optimization_page(ui: &mut egui::Ui, w: &mut Wizard) {
                 });
             }
             match &mut r.values {
-                ValueSet::Range { lower, upper, increment } => {
+                ValueSet::Range {
+                    lower,
+                    upper,
+                    increment,
+                } => {
                     ui.horizontal(|ui| {
                         ui.add(egui::DragValue::new(lower).prefix("from "));
                         ui.add(egui::DragValue::new(upper).prefix("to "));
-                        ui.add(egui::DragValue::new(increment).prefix("step ").range(0.0..=f64::MAX));
+                        ui.add(
+                            egui::DragValue::new(increment)
+                                .prefix("step ")
+                                .range(0.0..=f64::MAX),
+                        );
                     });
                 }
                 ValueSet::List(v) => {
@@ -378,25 +439,58 @@ fn optimization_page(ui: &mut egui::Ui, w: &mut Wizard) {
     ui.separator();
     match o.method {
         Method::Genetic => {
-            ui.add(egui::DragValue::new(&mut o.ga.popsize).range(2..=10_000).prefix("population "));
+            ui.add(
+                egui::DragValue::new(&mut o.ga.popsize)
+                    .range(2..=10_000)
+                    .prefix("population "),
+            );
             ui.add(egui::Slider::new(&mut o.ga.pmut, 0.0..=1.0).text("mutation probability"));
             ui.add(egui::Slider::new(&mut o.ga.pcross, 0.0..=1.0).text("crossover probability"));
-            ui.add(egui::DragValue::new(&mut o.ga.n_convergence).range(1..=10_000).prefix("convergence generations "));
+            ui.add(
+                egui::DragValue::new(&mut o.ga.n_convergence)
+                    .range(1..=10_000)
+                    .prefix("convergence generations "),
+            );
             ui.add(egui::Slider::new(&mut o.ga.p_convergence, 0.0..=1.0).text("convergence ratio"));
         }
         Method::GreatDeluge => {
-            ui.add(egui::DragValue::new(&mut o.gd.credits).range(1..=10_000).prefix("credits "));
-            ui.add(egui::DragValue::new(&mut o.gd.retries).range(1..=100_000).prefix("retries "));
-            ui.add(egui::DragValue::new(&mut o.gd.initial_water_level).speed(0.01).prefix("initial water level "));
-            ui.add(egui::DragValue::new(&mut o.gd.rain).speed(0.001).prefix("rain "));
-            ui.add(egui::DragValue::new(&mut o.gd.confidence).range(1..=10_000).prefix("confidence "));
+            ui.add(
+                egui::DragValue::new(&mut o.gd.credits)
+                    .range(1..=10_000)
+                    .prefix("credits "),
+            );
+            ui.add(
+                egui::DragValue::new(&mut o.gd.retries)
+                    .range(1..=100_000)
+                    .prefix("retries "),
+            );
+            ui.add(
+                egui::DragValue::new(&mut o.gd.initial_water_level)
+                    .speed(0.01)
+                    .prefix("initial water level "),
+            );
+            ui.add(
+                egui::DragValue::new(&mut o.gd.rain)
+                    .speed(0.001)
+                    .prefix("rain "),
+            );
+            ui.add(
+                egui::DragValue::new(&mut o.gd.confidence)
+                    .range(1..=10_000)
+                    .prefix("confidence "),
+            );
         }
     }
     let mut limit = o.max_evaluations.is_some();
     ui.horizontal(|ui| {
         ui.checkbox(&mut limit, "stop after");
         let mut n = o.max_evaluations.unwrap_or(1000);
-        ui.add_enabled(limit, egui::DragValue::new(&mut n).range(1..=10_000_000).suffix(" evaluations"));
+        ui.add_enabled(
+            limit,
+            egui::DragValue::new(&mut n)
+                .range(1..=10_000_000)
+                .suffix(" evaluations"),
+        );
         o.max_evaluations = limit.then_some(n);
     });
     if let Err(e) = o.validate() {
@@ -406,14 +500,23 @@ fn optimization_page(ui: &mut egui::Ui, w: &mut Wizard) {
 
 fn summary_page(ui: &mut egui::Ui, state: &mut SetupState) {
     let files = state.wizard.files();
-    for p in [files.robot.clone(), Some(files.actuation.clone()), Some(files.environment.clone()), files.optimizer.clone(), Some(files.simulation.clone())]
-        .into_iter()
-        .flatten()
+    for p in [
+        files.robot.clone(),
+        Some(files.actuation.clone()),
+        Some(files.environment.clone()),
+        files.optimizer.clone(),
+        Some(files.simulation.clone()),
+    ]
+    .into_iter()
+    .flatten()
     {
         ui.monospace(p.display().to_string());
     }
     match state.wizard.compose() {
-        Ok(_) => ui.colored_label(egui::Color32::DARK_GREEN, "✔ the configuration checks (as proleg check)"),
+        Ok(_) => ui.colored_label(
+            egui::Color32::DARK_GREEN,
+            "✔ the configuration checks (as proleg check)",
+        ),
         Err(e) => ui.colored_label(egui::Color32::RED, e),
     };
     ui.horizontal(|ui| {
