@@ -7,8 +7,11 @@ use std::path::{Path, PathBuf};
 
 use bevy_egui::egui;
 
+use crate::compose::behaviour::BehaviourSpec;
 use crate::compose::env_edit::EnvEditor;
 use crate::compose::expert::{Composition, Part, catalog};
+use crate::compose::wizard::{Page, RobotChoice};
+use crate::config::actuation::parse_actuation_file;
 use crate::config::simulation::Mode;
 use crate::gui::setup::state::{SetupState, Tool};
 
@@ -39,6 +42,38 @@ fn choose(
                 ui.selectable_value(current, Some(f.clone()), short(f));
             }
         });
+}
+
+/// Hands the composition to the wizard (existing robot, its actuation as groups, the
+/// environment, the properties) and opens it on the behaviour page.
+pub fn edit_in_wizard(state: &mut SetupState) {
+    let c = state.expert.composition.clone();
+    let r = (|| -> Result<(), String> {
+        let text = std::fs::read_to_string(&c.actuation)
+            .map_err(|e| format!("{}: {e}", c.actuation.display()))?;
+        let a = parse_actuation_file(&c.actuation.display().to_string(), &text)
+            .map_err(|e| e.to_string())?;
+        let env = match &c.environment {
+            Some(p) => EnvEditor::load(p)?,
+            None => EnvEditor::new(state.wizard.files().environment),
+        };
+        let w = &mut state.wizard;
+        w.robot = RobotChoice::Existing(c.robot.clone());
+        w.joint_count()?;
+        w.behaviour = BehaviourSpec::from_actuation_file(&a);
+        w.env = env;
+        w.props = c.properties.clone();
+        w.description = c.description.clone();
+        w.page = Page::Behaviour;
+        w.env.file = w.files().environment;
+        Ok(())
+    })();
+    if state
+        .report(r, |_| "the wizard took over the composition".into())
+        .is_some()
+    {
+        state.tool = Tool::Wizard;
+    }
 }
 
 /// The expert dialog.
@@ -134,6 +169,15 @@ pub fn show(ui: &mut egui::Ui, state: &mut SetupState) {
                 Ok(()) => crate::gui::setup::open_control_window(state, &path),
                 Err(e) => state.expert.check = Some(Err(e)),
             }
+        }
+        if ui
+            .button("Edit in the wizard")
+            .on_hover_text(
+                "The wizard takes this robot, its actuation groups, environment and properties",
+            )
+            .clicked()
+        {
+            edit_in_wizard(state);
         }
         if let Some(env) = state.expert.composition.environment.clone()
             && ui.button("Edit environment").clicked()

@@ -258,6 +258,29 @@ fn draw_ui(
                 ui.colored_label(egui::Color32::RED, format!("robot preview: {e}"));
             });
     }
+    // Keyboard: Ctrl+Z undo, Ctrl+Y / Ctrl+Shift+Z redo, Delete removes the selection.
+    if editing && !ctx.egui_wants_keyboard_input() {
+        let (undo, redo, delete) = ctx.input(|i| {
+            let cmd = i.modifiers.command;
+            (
+                cmd && !i.modifiers.shift && i.key_pressed(egui::Key::Z),
+                cmd && (i.key_pressed(egui::Key::Y)
+                    || (i.modifiers.shift && i.key_pressed(egui::Key::Z))),
+                i.key_pressed(egui::Key::Delete),
+            )
+        });
+        let env = state.env_mut();
+        if undo {
+            env.undo();
+        }
+        if redo {
+            env.redo();
+        }
+        if delete && env.selected.is_some() {
+            let r = env.delete();
+            state.report(r, |_| "deleted".into());
+        }
+    }
     // A library item released over the 3D views is dropped there.
     if editing
         && let Some(i) = egui::DragAndDrop::payload::<usize>(&ctx)

@@ -16,6 +16,7 @@
 //! env-save PATH | env-load PATH        # the standalone editor's file
 //! expert robot|actuation|environment|optimizer PATH|none
 //! expert-save PATH
+//! expert-edit                          # hand the composition to the wizard
 //! preview                              # run the robot in the scene for 5 s
 //! zoom 3                               # height of the top and side views (m)
 //! screenshot docs/wizard_robot.png
@@ -58,6 +59,7 @@ pub enum Command {
     EnvLoad(PathBuf),
     Expert(String, String),
     ExpertSave(PathBuf),
+    ExpertEdit,
     Preview,
     Zoom(f32),
     Screenshot(PathBuf),
@@ -158,6 +160,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             "env-load" => Command::EnvLoad(PathBuf::from(arg(1, "path")?)),
             "expert" => Command::Expert(arg(1, "part")?, arg(2, "path or none")?),
             "expert-save" => Command::ExpertSave(PathBuf::from(arg(1, "path")?)),
+            "expert-edit" => Command::ExpertEdit,
             "preview" => Command::Preview,
             "zoom" => Command::Zoom(num(1, "view height (m)")? as f32),
             "screenshot" => Command::Screenshot(PathBuf::from(arg(1, "path")?)),

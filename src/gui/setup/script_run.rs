@@ -218,6 +218,12 @@ fn carry_out(
             state.expert.composition.save(&p)?;
             state.expert.check = Some(state.expert.composition.check(&p));
         }
+        Command::ExpertEdit => {
+            crate::gui::setup::expert_view::edit_in_wizard(state);
+            if let Some(Status::Error(e)) = &state.status {
+                return Err(e.clone());
+            }
+        }
         Command::Preview => {
             preview(state);
             if let Some(Err(e)) = &state.preview {

@@ -65,6 +65,8 @@ pub struct SetupState {
     pub preview: Option<Result<(PathBuf, f64), String>>,
     /// Simulation files opened in a control window.
     pub opened: Vec<PathBuf>,
+    /// The summary page's check, made when the page is entered (it loads every file).
+    pub summary_check: Option<Result<(), String>>,
 }
 
 impl SetupState {
@@ -99,6 +101,7 @@ impl SetupState {
             drop: None,
             preview: None,
             opened: Vec::new(),
+            summary_check: None,
         }
     }
 

@@ -42,6 +42,9 @@ fn explanation(page: Page) -> &'static str {
 pub fn show(ui: &mut egui::Ui, state: &mut SetupState) {
     let (i, n) = state.wizard.progress();
     let page = state.wizard.page;
+    if page != Page::Summary {
+        state.summary_check = None;
+    }
     ui.heading(format!("Step {i} of {n}: {}", page.title()));
     ui.label(explanation(page));
     ui.separator();
