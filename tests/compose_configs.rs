@@ -159,3 +159,50 @@ fn irregular_obstacle_terrain_is_rebuilt_in_the_editor() {
         assert!(found, "no rebuilt body matches {} ({:?})", o.name, og.shape);
     }
 }
+
+#[test]
+fn obstacle_pieces_from_the_library_make_the_whole_obstacle() {
+    let root = common::root();
+    let mut e = EnvEditor::new(root.join("configs/environments/_pieces.env.xml"));
+    let whole = e.add(
+        &LibraryItem::Mesh("assets/meshes/irregular_obstacle.obj".into()),
+        0.0,
+        0.0,
+    );
+    let whole = e.bounds(whole);
+    let mut e = EnvEditor::new(root.join("configs/environments/_pieces.env.xml"));
+    // Each piece is centred on its origin; the obstacle runs from y = 0.6 m over 3.6 m.
+    let mut union: Option<proleg::compose::env_edit::Aabb> = None;
+    for (name, s0, s1) in [
+        ("hump", 0.0, 0.24),
+        ("plateau_trough", 0.24, 0.80),
+        ("hill", 0.80, 1.0),
+    ] {
+        let y = 0.6 + 3.6 * (s0 + s1) / 2.0;
+        let i = e.add(
+            &LibraryItem::Mesh(format!("assets/meshes/obstacle_{name}.obj")),
+            0.0,
+            y,
+        );
+        let b = e.bounds(i);
+        assert!(b.min[2].abs() < 1e-9, "{name} does not stand on the floor");
+        union = Some(match union {
+            None => b,
+            Some(u) => proleg::compose::env_edit::Aabb {
+                min: [0, 1, 2].map(|k| u.min[k].min(b.min[k])),
+                max: [0, 1, 2].map(|k| u.max[k].max(b.max[k])),
+            },
+        });
+    }
+    let union = union.unwrap();
+    for k in 0..3 {
+        assert!(
+            (union.min[k] - whole.min[k]).abs() < 1e-4,
+            "min {k}: {union:?} vs {whole:?}"
+        );
+        assert!(
+            (union.max[k] - whole.max[k]).abs() < 1e-4,
+            "max {k}: {union:?} vs {whole:?}"
+        );
+    }
+}
