@@ -14,6 +14,7 @@
 //!   standard module library and the control kernel.
 //! - `gui` (feature `gui`): the control window, a Bevy 3D viewer with egui views on the
 //!   same core.
+//! - [`remote`]: remote controls (gamepads) bound to module parameters.
 //! - [`rng`]: the seeded random numbers of a run.
 //! - [`sensing`]: sensor readings as modules see them, touch debouncing.
 //! - [`sim`]: the simulated world as ECS (rapier physics, servos, the fixed-step pipeline)
@@ -29,6 +30,7 @@ pub mod data;
 #[cfg(feature = "gui")]
 pub mod gui;
 pub mod optimize;
+pub mod remote;
 pub mod rng;
 pub mod sensing;
 pub mod sim;

@@ -29,6 +29,9 @@ enum Command {
         /// Drive the window from a script (tests, screenshots; see proleg::gui::control::script).
         #[arg(long)]
         script: Option<PathBuf>,
+        /// Gamepad bindings (`*.remote.xml`; default: configs/remote/default.remote.xml).
+        #[arg(long)]
+        remote: Option<PathBuf>,
     },
     /// Open the configuration window: beginner wizard, expert composition, environment editor.
     Wizard {
@@ -174,14 +177,18 @@ fn finish(result: Result<String, String>) -> ExitCode {
 const DEMO_CONFIG: &str = "configs/demo.simulation.xml";
 
 /// The control window, or why there is none in this build.
-fn gui(config: &std::path::Path, script: Option<&std::path::Path>) -> Result<String, String> {
+fn gui(
+    config: &std::path::Path,
+    script: Option<&std::path::Path>,
+    remote: Option<&std::path::Path>,
+) -> Result<String, String> {
     #[cfg(feature = "gui")]
     {
-        proleg::gui::run(config, script).map(|()| String::new())
+        proleg::gui::run(config, script, remote).map(|()| String::new())
     }
     #[cfg(not(feature = "gui"))]
     {
-        let _ = (config, script);
+        let _ = (config, script, remote);
         Err("this proleg was built without the `gui` feature; use the headless commands (proleg --help)".into())
     }
 }
@@ -218,10 +225,14 @@ struct WizardOptions {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let Some(command) = cli.command else {
-        return finish(gui(std::path::Path::new(DEMO_CONFIG), None));
+        return finish(gui(std::path::Path::new(DEMO_CONFIG), None, None));
     };
     finish(match command {
-        Command::Gui { config, script } => gui(&config, script.as_deref()),
+        Command::Gui {
+            config,
+            script,
+            remote,
+        } => gui(&config, script.as_deref(), remote.as_deref()),
         Command::Wizard {
             configs,
             out,

@@ -174,3 +174,43 @@ fn a_selected_robot_moves_with_the_drag_path_and_the_debug_view_draws() {
     );
     assert!(com[2] > 0.0 && com[2] < 0.1, "centre of mass {com:?}");
 }
+
+#[test]
+fn remote_dialog_steers_the_robot_and_saves_bindings() {
+    let dir = scratch("remote");
+    let saved = dir.join("mine.remote.xml");
+    let shot = dir.join("remote.png");
+    let commands = format!(
+        "wait 2\nremote open\nspeed 0\nstart\nremote-set LeftStickX 1\nrun-until 6\npause\n\
+         remote-bind RightStickX rate PatternGenerator_sinusoidal Phase_Difference all 20\n\
+         remote-save {}\nwait 2\nscreenshot {}\n",
+        saved.display(),
+        shot.display()
+    );
+    let s = scripted_state(
+        "remote",
+        "configs/snake8py_remote.simulation.xml",
+        &commands,
+    );
+    assert_eq!(get(&s, "remote_open"), "true");
+    assert_eq!(get(&s, "remote_error"), "");
+    // The stick bent the yaw joints (through the same API as the properties dialog)...
+    let params = get(&s, "parameters");
+    assert!(
+        params.contains("PatternGenerator_sinusoidal:Offset=0,-20,0,-20,0,-20,0;"),
+        "{params}"
+    );
+    // ...and the robot turned right (heading falls from 90 deg).
+    let heading: f64 = get(&s, "heading").parse().expect("heading");
+    assert!(
+        heading < 60.0,
+        "heading after 6 s steering right: {heading}"
+    );
+    assert_eq!(get(&s, "remote_bindings"), "8");
+    let text = std::fs::read_to_string(&saved).expect("bindings saved");
+    let file = proleg::config::remote::parse_remote_file("mine.remote.xml", &text).expect("valid");
+    assert_eq!(file.bindings[7].element, "RightStickX");
+    let (w, h, colours) = png_colours(&shot);
+    assert_eq!((w, h), (1280, 800));
+    assert!(colours > 50);
+}

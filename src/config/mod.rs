@@ -6,6 +6,7 @@
 //! - [`actuation`]: which modules drive which joints (B.5)
 //! - [`environment`]: physics and terrain (B.6)
 //! - [`optimizer`]: genetic algorithm and great-deluge settings (B.7)
+//! - [`remote`]: remote (gamepad) bindings to module parameters (our extension)
 //! - [`resolve`]: loading a simulation with all its includes into checked models
 //!
 //! Every error names the file, line and column and says what was expected
@@ -20,6 +21,7 @@ pub mod kinbody;
 pub mod mask;
 pub mod mesh;
 pub mod optimizer;
+pub mod remote;
 pub mod resolve;
 pub mod robot;
 pub mod sensor;

@@ -7,8 +7,8 @@
 //! - [`scene`]: meshes, lights and pads following the physics bodies
 //! - [`camera`]: orbit / pan / zoom / follow; [`picking`]: select and drag bodies
 //! - [`debug_view`]: collider outlines and contacts from the physics world
-//! - [`toolbar`], [`params`], [`plots`], [`overlay`], [`inspect`], [`optimizer_view`]: the
-//!   egui views
+//! - [`toolbar`], [`params`], [`plots`], [`overlay`], [`inspect`], [`optimizer_view`],
+//!   [`remote_view`]: the egui views
 //! - [`script`], [`script_run`]: scripted driving for tests and screenshots
 
 pub mod camera;
@@ -19,6 +19,7 @@ pub mod overlay;
 pub mod params;
 pub mod picking;
 pub mod plots;
+pub mod remote_view;
 pub mod scene;
 pub mod script;
 pub mod script_run;
@@ -41,11 +42,13 @@ use crate::gui::control::overlay::RobotOverlay;
 use crate::gui::control::params::ParamsState;
 use crate::gui::control::picking::Selection;
 use crate::gui::control::plots::PlotsState;
+use crate::gui::control::remote_view::RemoteView;
 use crate::gui::control::scene::BodyVisual;
 use crate::gui::control::scene::SceneBuilt;
 use crate::gui::control::script::ScriptRunner;
 use crate::gui::control::session::SimSession;
 use crate::gui::control::toolbar::ToolbarState;
+use crate::remote::gamepad::{GamepadRemote, GamepadRemotePlugin};
 
 /// Which of the docked views are open.
 #[derive(Resource, Debug, Clone, Copy, PartialEq, Eq)]
@@ -65,6 +68,8 @@ pub struct Views<'w> {
     pub optimizer: ResMut<'w, OptimizerView>,
     pub debug: ResMut<'w, DebugView>,
     pub selection: ResMut<'w, Selection>,
+    pub remote: ResMut<'w, RemoteView>,
+    pub gamepad: ResMut<'w, GamepadRemote>,
 }
 
 /// Ordering of the window's per-frame work.
@@ -78,9 +83,14 @@ pub enum GuiSystems {
     Present,
 }
 
-/// Opens the control window on `config`; with `script`, runs it (see [`script`]).
-pub fn run(config: &Path, script: Option<&Path>) -> Result<(), String> {
+/// Opens the control window on `config`; with `script`, runs it (see [`script`]); with
+/// `remote`, binds the gamepad as that `*.remote.xml` says (else the default binding).
+pub fn run(config: &Path, script: Option<&Path>, remote: Option<&Path>) -> Result<(), String> {
     let session = SimSession::open(config)?;
+    let mut remote_view = RemoteView::default();
+    if let Some(r) = remote {
+        remote_view.load(r)?;
+    }
     let runner = match script {
         Some(p) => ScriptRunner::new(script::load(p)?),
         None => ScriptRunner::default(),
@@ -100,6 +110,7 @@ pub fn run(config: &Path, script: Option<&Path>) -> Result<(), String> {
     .insert_resource(ToolbarState::new(config))
     .insert_resource(runner)
     .insert_non_send(session)
+    .insert_resource(remote_view)
     .add_plugins(ControlWindowPlugin);
     match app.run() {
         AppExit::Success => Ok(()),
@@ -112,7 +123,9 @@ pub struct ControlWindowPlugin;
 
 impl Plugin for ControlWindowPlugin {
     fn build(&self, app: &mut App) {
-        app.init_resource::<ParamsState>()
+        app.add_plugins(GamepadRemotePlugin)
+            .init_resource::<RemoteView>()
+            .init_resource::<ParamsState>()
             .init_resource::<InspectState>()
             .init_resource::<DebugView>()
             .init_resource::<Selection>()
@@ -143,7 +156,7 @@ impl Plugin for ControlWindowPlugin {
             .add_systems(Update, script_run::run_script.in_set(GuiSystems::Script))
             .add_systems(
                 Update,
-                (picking::apply_moves, simulate)
+                (picking::apply_moves, remote_view::apply_remote, simulate)
                     .chain()
                     .in_set(GuiSystems::Simulate),
             )
@@ -196,6 +209,8 @@ fn draw_ui(
         optimizer,
         debug,
         selection,
+        remote,
+        gamepad,
     } = &mut views;
     let ctx = contexts.ctx_mut()?.clone();
     let mut root = egui::Ui::new(
@@ -215,6 +230,7 @@ fn draw_ui(
                 ui.toggle_value(&mut optimizer.open, "Optimization");
             }
             ui.toggle_value(&mut debug.0, "Physics debug view");
+            ui.toggle_value(&mut remote.open, "Remote control");
         });
     });
     if panels.plots {
@@ -241,6 +257,9 @@ fn draw_ui(
         optimizer_view::show(&ctx, &mut session, optimizer);
     } else {
         optimizer.poll();
+    }
+    if remote.open {
+        remote_view::show(&ctx, remote, gamepad, &session);
     }
     for mut c in &mut cameras {
         c.follow = follow;

@@ -17,6 +17,11 @@
 //! inspect out/demo.data.xml Robot_Data/y_pos   # data file inspection with a graph
 //! optimize 8                    # run the optimization mode for 8 evaluations, wait
 //! replay-best                    # show the best candidate in the viewer
+//! remote open|close              # the remote control dialog
+//! remote-set LeftStickX 1        # a gamepad element's value, as if the pad sent it
+//! remote-bind RightStickX rate PatternGenerator_sinusoidal Phase_Difference all 20
+//! remote-remove 0                # binding N (from 0)
+//! remote-load F.remote.xml | remote-save F.remote.xml
 //! screenshot docs/control_window.png
 //! state out/state.txt            # the app state as key = value lines
 //! quit
@@ -67,6 +72,22 @@ pub enum Command {
     Optimize(u64),
     /// Replay the best candidate found in the viewer.
     ReplayBest,
+    /// Open or close the remote control dialog.
+    Remote(bool),
+    /// Set a remote element's value (standing in for the gamepad).
+    RemoteSet(String, f64),
+    /// Add a binding: element, mode, module, parameter, joints, scale.
+    RemoteBind {
+        element: String,
+        mode: crate::config::remote::BindMode,
+        module: String,
+        parameter: String,
+        joints: crate::config::remote::JointSelection,
+        scale: f64,
+    },
+    RemoteRemove(usize),
+    RemoteLoad(PathBuf),
+    RemoteSave(PathBuf),
     Screenshot(PathBuf),
     State(PathBuf),
     Quit,
@@ -158,6 +179,35 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             "state" if words.len() == 2 => Command::State(PathBuf::from(words[1])),
             "optimize" => Command::Optimize(num(words.get(1), "evaluations")?.max(1.0) as u64),
             "replay-best" => Command::ReplayBest,
+            "remote" if words.len() == 2 => Command::Remote(words[1] == "open"),
+            "remote-set" if words.len() == 3 => {
+                Command::RemoteSet(words[1].to_string(), num(words.get(2), "value")?)
+            }
+            "remote-bind" if words.len() == 7 => Command::RemoteBind {
+                element: words[1].to_string(),
+                mode: crate::config::remote::BindMode::parse(words[2]).ok_or_else(|| {
+                    at(format!(
+                        "mode {:?}: rate, absolute, increment, decrement or toggle",
+                        words[2]
+                    ))
+                })?,
+                module: words[3].to_string(),
+                parameter: words[4].to_string(),
+                joints: crate::config::remote::JointSelection::parse(words[5]).ok_or_else(
+                    || {
+                        at(format!(
+                            "joints {:?}: all, pitch, yaw or a 0/1 mask",
+                            words[5]
+                        ))
+                    },
+                )?,
+                scale: num(words.get(6), "scale")?,
+            },
+            "remote-remove" => {
+                Command::RemoteRemove(num(words.get(1), "binding")?.max(0.0) as usize)
+            }
+            "remote-load" if words.len() == 2 => Command::RemoteLoad(PathBuf::from(words[1])),
+            "remote-save" if words.len() == 2 => Command::RemoteSave(PathBuf::from(words[1])),
             "quit" => Command::Quit,
             other => return Err(at(format!("unknown or incomplete command {other:?}"))),
         };

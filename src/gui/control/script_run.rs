@@ -183,6 +183,47 @@ fn carry_out(
             }
             Flow::Next
         }
+        Command::Remote(open) => {
+            views.remote.open = open;
+            Flow::Next
+        }
+        Command::RemoteSet(element, value) => {
+            views.remote.injected.set(&element, value);
+            Flow::Next
+        }
+        Command::RemoteBind {
+            element,
+            mode,
+            module,
+            parameter,
+            joints,
+            scale,
+        } => {
+            views.remote.add_binding(
+                &element,
+                mode,
+                crate::config::remote::BindTarget {
+                    module,
+                    parameter,
+                    joints,
+                    scale,
+                    pos: crate::config::error::Pos::new(0, 0),
+                },
+            );
+            Flow::Next
+        }
+        Command::RemoteRemove(i) => {
+            views.remote.remove(i)?;
+            Flow::Next
+        }
+        Command::RemoteLoad(p) => {
+            views.remote.load(&p)?;
+            Flow::Next
+        }
+        Command::RemoteSave(p) => {
+            views.remote.save(&p)?;
+            Flow::Next
+        }
         Command::Debug(on) => {
             views.debug.0 = on;
             Flow::Next
@@ -291,6 +332,19 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
     if let Ok(c) = session.simulator.com(0) {
         pairs.push(("com", format!("{:.6} {:.6} {:.6}", c[0], c[1], c[2])));
     }
+    if let Ok(h) = session.simulator.heading(0) {
+        pairs.push(("heading", format!("{h:.3}")));
+    }
+    pairs.push(("remote_open", views.remote.open.to_string()));
+    pairs.push((
+        "remote_bindings",
+        views.remote.file.bindings.len().to_string(),
+    ));
+    pairs.push(("remote_actions", views.remote.actions.to_string()));
+    pairs.push((
+        "remote_error",
+        views.remote.error.clone().unwrap_or_default(),
+    ));
     let mut params = String::new();
     if let Ok(k) = session.simulator.kernel(0) {
         for (i, a) in k.actuators().iter().enumerate() {
