@@ -50,6 +50,11 @@ fn every_simulation_loads_and_every_file_is_used() {
     }
     for f in common::files_ending(&configs, ".xml") {
         let f = std::fs::canonicalize(&f).unwrap();
+        if f.to_string_lossy().ends_with(".remote.xml") {
+            // Gamepad bindings are chosen at run time: they must fit the remote demo.
+            check_remote_file(&f);
+            continue;
+        }
         assert!(
             used.contains(&f),
             "{} is used by no simulation in configs/",
@@ -231,4 +236,23 @@ fn cli_check_fails_with_the_location() {
         stderr.contains("bad.simulation.xml:2:10: robot file \"missing.robot.xml\" not found"),
         "{stderr}"
     );
+}
+
+/// A binding file parses and fits the gamepad demo's robot.
+fn check_remote_file(path: &std::path::Path) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let name = path.display().to_string();
+    let file =
+        proleg::config::remote::parse_remote_file(&name, &text).unwrap_or_else(|e| panic!("{e}"));
+    let sim = load_simulation("configs/snake8py_remote.simulation.xml").unwrap();
+    let limits = sim.robot.joints.iter().map(|j| j.limits_deg).collect();
+    let kernel = proleg::control::ControlKernel::from_actuation(
+        &sim.actuation,
+        &proleg::control::ModuleRegistry::default(),
+        limits,
+    )
+    .unwrap();
+    let orientations: Vec<_> = sim.robot.joints.iter().map(|j| j.orientation).collect();
+    proleg::remote::RemoteMapper::new(&file, &name, &kernel, &orientations)
+        .unwrap_or_else(|e| panic!("{e}"));
 }
