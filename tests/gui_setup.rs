@@ -163,7 +163,7 @@ fn editor_adds_drops_moves_turns_scales_and_saves() {
             "tool editor\nwait 2\n\
              add box 0.5 1\nmove-to 0.5 1.5 0.1\nrotate 30\nrotate 15\nscale 2 1 0.5\nfriction 0.9\n\
              add cylinder 0.5 1.5\n\
-             add irregular_obstacle 0 0\nfriction 1\n\
+             add irregular_obstacle 0 0\nfriction 1\npreview\n\
              drop sphere 430 520\nstate {}\nundo\nredo\nselect 4\ndelete\n\
              select robot\nmove-by 0 -0.2 0\n\
              select 1\ndrag-to -1.5 2\nwait 2\nscreenshot {}\nenv-save {}",

@@ -47,11 +47,13 @@ pub fn robot_file_model(p: &Path) -> Result<RobotModel, String> {
     resolve_robot(&FsSource, p, &file).map_err(|e| e.to_string())
 }
 
-/// Writes the configuration into a preview folder and runs it headless for `seconds`:
+/// Writes the configuration into a preview folder (`.preview/` in the output folder) and
+/// runs it headless for `seconds`:
 /// the simulation file and the distance robot 0 crawled (eq. 3.7).
 pub fn run_preview(w: &Wizard, seconds: f64) -> Result<(PathBuf, f64), String> {
     let mut p = w.clone();
-    p.out_dir = std::env::temp_dir().join(format!("proleg_preview_{}", std::process::id()));
+    // Beside the real files, so meshes and parts are found the same way.
+    p.out_dir = w.out_dir.join(".preview");
     p.stamp = "preview".into();
     // Preview in the single-run mode whatever the wizard's mode.
     p.props.mode = crate::config::simulation::Mode::SingleRun;
