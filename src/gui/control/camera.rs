@@ -34,6 +34,33 @@ impl Default for OrbitCamera {
 }
 
 impl OrbitCamera {
+    /// Mouse steering: left drag orbits, right or middle drag pans the focus over the
+    /// ground, the wheel zooms. `t` is the camera's current transform; returns whether it
+    /// panned.
+    pub fn steer(
+        &mut self,
+        t: &Transform,
+        buttons: &ButtonInput<MouseButton>,
+        drag: Vec2,
+        wheel: f32,
+    ) -> bool {
+        let mut panned = false;
+        if buttons.pressed(MouseButton::Left) {
+            self.yaw -= drag.x * 0.006;
+            self.pitch = (self.pitch + drag.y * 0.006).clamp(-0.2, 1.5);
+        } else if buttons.pressed(MouseButton::Right) || buttons.pressed(MouseButton::Middle) {
+            let right = t.right().as_vec3();
+            let forward = Vec3::new(t.forward().x, 0.0, t.forward().z).normalize_or_zero();
+            let k = self.distance * 0.0015;
+            self.focus += (-right * drag.x + forward * drag.y) * k;
+            panned = true;
+        }
+        if wheel != 0.0 {
+            self.distance = (self.distance * (1.0 - 0.1 * wheel)).clamp(0.05, 50.0);
+        }
+        panned
+    }
+
     /// The camera transform for this orbit.
     pub fn transform(&self) -> Transform {
         let dir = Vec3::new(
@@ -74,21 +101,14 @@ pub fn orbit_camera(
 ) {
     for (mut orbit, mut t) in &mut cameras {
         if !egui.wants_any_pointer_input() {
-            let d = motion.delta;
-            if selection.dragging {
-                // The left drag moves a body (see picking).
-            } else if buttons.pressed(MouseButton::Left) {
-                orbit.yaw -= d.x * 0.006;
-                orbit.pitch = (orbit.pitch + d.y * 0.006).clamp(-0.2, 1.5);
-            } else if buttons.pressed(MouseButton::Right) || buttons.pressed(MouseButton::Middle) {
-                let right = t.right().as_vec3();
-                let forward = Vec3::new(t.forward().x, 0.0, t.forward().z).normalize_or_zero();
-                let k = orbit.distance * 0.0015;
-                orbit.focus += (-right * d.x + forward * d.y) * k;
+            // A left drag on a body moves the body (see picking), not the camera.
+            let drag = if selection.dragging && buttons.pressed(MouseButton::Left) {
+                Vec2::ZERO
+            } else {
+                motion.delta
+            };
+            if orbit.steer(&t, &buttons, drag, scroll.delta.y) {
                 orbit.follow = false;
-            }
-            if scroll.delta.y != 0.0 {
-                orbit.distance = (orbit.distance * (1.0 - 0.1 * scroll.delta.y)).clamp(0.05, 50.0);
             }
         }
         if orbit.follow

@@ -176,20 +176,8 @@ pub fn orbit_camera(
                 .logical_viewport_rect()
                 .is_some_and(|r| r.contains(c))
         });
-        let d = motion.delta;
         if inside && !drag.dragging {
-            if buttons.pressed(MouseButton::Left) {
-                orbit.yaw -= d.x * 0.006;
-                orbit.pitch = (orbit.pitch + d.y * 0.006).clamp(-0.2, 1.5);
-            } else if buttons.pressed(MouseButton::Right) || buttons.pressed(MouseButton::Middle) {
-                let right = t.right().as_vec3();
-                let forward = Vec3::new(t.forward().x, 0.0, t.forward().z).normalize_or_zero();
-                let k = orbit.distance * 0.0015;
-                orbit.focus += (-right * d.x + forward * d.y) * k;
-            }
-            if scroll.delta.y != 0.0 {
-                orbit.distance = (orbit.distance * (1.0 - 0.1 * scroll.delta.y)).clamp(0.05, 50.0);
-            }
+            orbit.steer(&t, &buttons, motion.delta, scroll.delta.y);
         } else if !inside && cursor.is_some() && scroll.delta.y != 0.0 && state.editing_env() {
             state.ortho_height =
                 (state.ortho_height * (1.0 - 0.1 * scroll.delta.y)).clamp(0.05, 40.0);
