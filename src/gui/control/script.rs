@@ -98,10 +98,8 @@ pub enum Command {
 pub struct Script {
     pub commands: Vec<(usize, Command)>,
     pub next: usize,
-    /// Frames left of a `wait`.
-    pub waiting: u32,
-    /// A screenshot being written: path and frames waited for it.
-    pub pending_shot: Option<(PathBuf, u32)>,
+    /// Waits and screenshots in progress.
+    pub pacing: crate::gui::script_pacing::Pacing,
     pub file: PathBuf,
 }
 

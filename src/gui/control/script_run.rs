@@ -5,7 +5,6 @@
 use std::fmt::Write as _;
 
 use bevy::prelude::*;
-use bevy::render::view::screenshot::{Screenshot, save_to_disk};
 
 use crate::data::export::resolve;
 use crate::gui::control::optimizer_view::replay;
@@ -14,9 +13,6 @@ use crate::gui::control::scene::BodyVisual;
 use crate::gui::control::script::{Command, ScriptRunner, state_report};
 use crate::gui::control::session::SimSession;
 use crate::gui::control::{Panels, Views};
-
-/// Frames to wait for a screenshot file before giving up.
-const SHOT_FRAMES: u32 = 600;
 
 /// What a command leaves the script to do.
 enum Flow {
@@ -41,23 +37,11 @@ pub fn run_script(
     let Some(script) = runner.0.as_mut() else {
         return;
     };
-    if script.waiting > 0 {
-        script.waiting -= 1;
-        return;
-    }
-    if let Some((path, waited)) = script.pending_shot.as_mut() {
-        if !path.exists() && *waited < SHOT_FRAMES {
-            *waited += 1;
-            return;
-        }
-        let missing = !path.exists();
-        let shot = path.display().to_string();
-        script.pending_shot = None;
-        if missing {
-            eprintln!(
-                "error: {}: screenshot {shot} was not written",
-                script.file.display()
-            );
+    match script.pacing.hold() {
+        Ok(true) => return,
+        Ok(false) => {}
+        Err(e) => {
+            eprintln!("error: {}: {e}", script.file.display());
             exit.write(AppExit::error());
             runner.0 = None;
             return;
@@ -100,7 +84,7 @@ fn carry_out(
 ) -> Result<Flow, String> {
     Ok(match c {
         Command::Wait(n) => {
-            script.waiting = n;
+            script.pacing.waiting = n;
             Flow::Yield
         }
         Command::Start => {
@@ -286,12 +270,7 @@ fn carry_out(
             Flow::Next
         }
         Command::Screenshot(path) => {
-            crate::gui::control::widgets::ensure_parent(&path);
-            let _ = std::fs::remove_file(&path);
-            commands
-                .spawn(Screenshot::primary_window())
-                .observe(save_to_disk(path.clone()));
-            script.pending_shot = Some((path, 0));
+            script.pacing.screenshot(commands, path);
             Flow::Yield
         }
         Command::State(path) => {

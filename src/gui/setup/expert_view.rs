@@ -12,7 +12,6 @@ use crate::compose::env_edit::EnvEditor;
 use crate::compose::expert::{Composition, Part, catalog};
 use crate::compose::wizard::{Page, RobotChoice};
 use crate::config::actuation::parse_actuation_file;
-use crate::config::simulation::Mode;
 use crate::gui::setup::state::{SetupState, Tool};
 
 fn short(p: &Path) -> String {
@@ -102,44 +101,7 @@ pub fn show(ui: &mut egui::Ui, state: &mut SetupState) {
         }
     }
     ui.separator();
-    let p = &mut c.properties;
-    egui::ComboBox::from_label("mode")
-        .selected_text(p.mode.name())
-        .show_ui(ui, |ui| {
-            for m in [Mode::SingleRun, Mode::GeneticAlgorithm, Mode::GreatDeluge] {
-                ui.selectable_value(&mut p.mode, m, m.name());
-            }
-        });
-    let mut ms = p.step_width * 1000.0;
-    if ui
-        .add(
-            egui::DragValue::new(&mut ms)
-                .range(0.01..=100.0)
-                .speed(0.05)
-                .prefix("step width ")
-                .suffix(" ms"),
-        )
-        .changed()
-    {
-        p.step_width = ms / 1000.0;
-    }
-    ui.add(
-        egui::DragValue::new(&mut p.duration)
-            .range(0.1..=100_000.0)
-            .prefix("duration ")
-            .suffix(" s"),
-    );
-    ui.add(
-        egui::DragValue::new(&mut p.accuracy)
-            .range(1..=10_000)
-            .prefix("accuracy ")
-            .suffix(" steps"),
-    );
-    ui.checkbox(&mut p.storing_data, "store data in a file");
-    ui.horizontal(|ui| {
-        ui.label("description");
-        ui.text_edit_singleline(&mut c.description);
-    });
+    crate::gui::setup::properties_view::show(ui, &mut c.properties, &mut c.description);
     ui.separator();
     ui.horizontal(|ui| {
         ui.label("simulation file");

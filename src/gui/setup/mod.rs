@@ -3,7 +3,7 @@
 //! [`crate::compose`]. Everything it writes is the ordinary XML of configs/.
 //!
 //! - [`state`]: what the window shows and edits; [`preview`]: robot preview, preview runs
-//! - [`wizard_view`], [`expert_view`], [`editor_view`]: the egui views
+//! - [`wizard_view`], [`expert_view`], [`editor_view`], [`properties_view`]: the egui views
 //! - [`scene`]: the 3D scene; [`cameras`]: perspective, top and side views
 //! - [`picking`]: select, drag and drop with the mouse
 //! - [`script`], [`script_run`]: scripted driving for tests and screenshots
@@ -13,6 +13,7 @@ pub mod editor_view;
 pub mod expert_view;
 pub mod picking;
 pub mod preview;
+pub mod properties_view;
 pub mod scene;
 pub mod script;
 pub mod script_run;

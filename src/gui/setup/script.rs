@@ -72,8 +72,8 @@ pub enum Command {
 pub struct Script {
     pub commands: Vec<(usize, Command)>,
     pub next: usize,
-    pub waiting: u32,
-    pub pending_shot: Option<(PathBuf, u32)>,
+    /// Waits and screenshots in progress.
+    pub pacing: crate::gui::script_pacing::Pacing,
     pub file: PathBuf,
 }
 

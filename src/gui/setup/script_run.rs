@@ -5,7 +5,6 @@
 use std::path::PathBuf;
 
 use bevy::prelude::*;
-use bevy::render::view::screenshot::{Screenshot, save_to_disk};
 
 use crate::compose::env_edit::{EnvEditor, Selected};
 use crate::compose::expert::Part;
@@ -14,9 +13,6 @@ use crate::gui::control::script::state_report;
 use crate::gui::setup::editor_view::preview;
 use crate::gui::setup::script::{Command, Script, SetupScript};
 use crate::gui::setup::state::{SetupState, Status, Tool};
-
-/// Frames to wait for a screenshot file before giving up.
-const SHOT_FRAMES: u32 = 600;
 
 enum Flow {
     Next,
@@ -34,23 +30,11 @@ pub fn run_script(
     let Some(script) = runner.0.as_mut() else {
         return;
     };
-    if script.waiting > 0 {
-        script.waiting -= 1;
-        return;
-    }
-    if let Some((path, waited)) = script.pending_shot.as_mut() {
-        if !path.exists() && *waited < SHOT_FRAMES {
-            *waited += 1;
-            return;
-        }
-        let missing = !path.exists();
-        let shot = path.display().to_string();
-        script.pending_shot = None;
-        if missing {
-            eprintln!(
-                "error: {}: screenshot {shot} was not written",
-                script.file.display()
-            );
+    match script.pacing.hold() {
+        Ok(true) => return,
+        Ok(false) => {}
+        Err(e) => {
+            eprintln!("error: {}: {e}", script.file.display());
             exit.write(AppExit::error());
             runner.0 = None;
             return;
@@ -113,7 +97,7 @@ fn carry_out(
     };
     match c {
         Command::Wait(n) => {
-            script.waiting = n;
+            script.pacing.waiting = n;
             return Ok(Flow::Yield);
         }
         Command::Tool(t) => {
@@ -232,12 +216,7 @@ fn carry_out(
         }
         Command::Zoom(h) => state.ortho_height = h.clamp(0.05, 40.0),
         Command::Screenshot(path) => {
-            crate::gui::control::widgets::ensure_parent(&path);
-            let _ = std::fs::remove_file(&path);
-            commands
-                .spawn(Screenshot::primary_window())
-                .observe(save_to_disk(path.clone()));
-            script.pending_shot = Some((path, 0));
+            script.pacing.screenshot(commands, path);
             return Ok(Flow::Yield);
         }
         Command::State(path) => {

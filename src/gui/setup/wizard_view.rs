@@ -316,51 +316,12 @@ fn behaviour_page(ui: &mut egui::Ui, w: &mut Wizard) {
 }
 
 fn simulation_page(ui: &mut egui::Ui, w: &mut Wizard) {
-    let p = &mut w.props;
-    egui::ComboBox::from_label("mode")
-        .selected_text(p.mode.name())
-        .show_ui(ui, |ui| {
-            for m in [Mode::SingleRun, Mode::GeneticAlgorithm, Mode::GreatDeluge] {
-                ui.selectable_value(&mut p.mode, m, m.name());
-            }
-        });
-    match p.mode {
+    crate::gui::setup::properties_view::show(ui, &mut w.props, &mut w.description);
+    match w.props.mode {
         Mode::GeneticAlgorithm => w.optimization.method = Method::Genetic,
         Mode::GreatDeluge => w.optimization.method = Method::GreatDeluge,
         _ => {}
     }
-    let mut ms = p.step_width * 1000.0;
-    if ui
-        .add(
-            egui::DragValue::new(&mut ms)
-                .range(0.01..=100.0)
-                .speed(0.05)
-                .prefix("step width ")
-                .suffix(" ms"),
-        )
-        .changed()
-    {
-        p.step_width = ms / 1000.0;
-    }
-    ui.add(
-        egui::DragValue::new(&mut p.accuracy)
-            .range(1..=10_000)
-            .prefix("accuracy (sample every) ")
-            .suffix(" steps"),
-    );
-    ui.add(
-        egui::DragValue::new(&mut p.duration)
-            .range(0.1..=100_000.0)
-            .prefix("duration ")
-            .suffix(" s"),
-    );
-    ui.add(egui::DragValue::new(&mut p.seed).prefix("seed "));
-    ui.checkbox(&mut p.storing_data, "store data in a file");
-    ui.checkbox(&mut p.show_viewer, "show the viewer");
-    ui.horizontal(|ui| {
-        ui.label("description");
-        ui.text_edit_singleline(&mut w.description);
-    });
 }
 
 fn optimization_page(ui: &mut egui::Ui, w: &mut Wizard) {
