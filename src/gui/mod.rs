@@ -3,12 +3,12 @@
 //!
 //! - [`control`]: the control window (thesis 4.5) — 3D viewer, toolbar, live plots,
 //!   control-algorithm properties, data file inspection, optimization view.
-//! - [`script_pacing`]: waits and screenshots of both windows' scripts
+//! - [`scripting`]: what both windows' scripts share (parsing, waits, screenshots)
 //! - [`setup`]: the configuration window (thesis 4.4) — beginner wizard, expert
 //!   composition, 3D environment editor.
 
 pub mod control;
-pub mod script_pacing;
+pub mod scripting;
 pub mod setup;
 
 pub use control::run;

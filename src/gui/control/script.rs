@@ -93,32 +93,17 @@ pub enum Command {
     Quit,
 }
 
-/// A parsed script and where it is.
-#[derive(Debug, Clone, Default)]
-pub struct Script {
-    pub commands: Vec<(usize, Command)>,
-    pub next: usize,
-    /// Waits and screenshots in progress.
-    pub pacing: crate::gui::script_pacing::Pacing,
-    pub file: PathBuf,
-}
+/// A parsed script of this window's commands.
+pub type Script = crate::gui::scripting::Script<Command>;
 
 /// Reads a script file.
 pub fn load(path: &Path) -> Result<Script, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    parse(path, &text)
+    crate::gui::scripting::load_script(path, parse)
 }
 
 /// Parses script text (`path` names it in errors).
 pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
-    let mut commands = Vec::new();
-    for (i, raw) in text.lines().enumerate() {
-        let line = raw.split('#').next().unwrap_or("").trim();
-        if line.is_empty() {
-            continue;
-        }
-        let at = |msg: String| format!("{}:{}: {msg}", path.display(), i + 1);
-        let words: Vec<&str> = line.split_whitespace().collect();
+    crate::gui::scripting::parse_script(path, text, |line, words, at| {
         let num = |w: Option<&&str>, what: &str| -> Result<f64, String> {
             let w = w.ok_or_else(|| at(format!("{line:?}: missing {what}")))?;
             w.parse::<f64>()
@@ -209,12 +194,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             "quit" => Command::Quit,
             other => return Err(at(format!("unknown or incomplete command {other:?}"))),
         };
-        commands.push((i + 1, c));
-    }
-    Ok(Script {
-        commands,
-        file: path.to_path_buf(),
-        ..Script::default()
+        Ok(c)
     })
 }
 

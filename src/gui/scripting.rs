@@ -1,0 +1,110 @@
+//! What the scripts of both windows share: the parsed script (commands with their
+//! lines, located parse errors), frames left of a `wait`, and screenshots asked of Bevy
+//! that the script waits for until the file is written. Each window defines its own
+//! commands (`control::script`, `setup::script`).
+
+use std::path::PathBuf;
+
+use bevy::prelude::*;
+use bevy::render::view::screenshot::{Screenshot, save_to_disk};
+
+/// Frames to wait for a screenshot file before giving up.
+pub const SHOT_FRAMES: u32 = 600;
+
+/// A script's pauses.
+#[derive(Debug, Clone, Default)]
+pub struct Pacing {
+    /// Frames left of a `wait`.
+    pub waiting: u32,
+    /// A screenshot being written: path and frames waited for it.
+    pub pending_shot: Option<(PathBuf, u32)>,
+}
+
+impl Pacing {
+    /// Whether the script waits this frame; an error when a screenshot never appeared.
+    pub fn hold(&mut self) -> Result<bool, String> {
+        if self.waiting > 0 {
+            self.waiting -= 1;
+            return Ok(true);
+        }
+        if let Some((path, waited)) = self.pending_shot.as_mut() {
+            if !path.exists() && *waited < SHOT_FRAMES {
+                *waited += 1;
+                return Ok(true);
+            }
+            let missing = !path.exists();
+            let shot = path.display().to_string();
+            self.pending_shot = None;
+            if missing {
+                return Err(format!("screenshot {shot} was not written"));
+            }
+        }
+        Ok(false)
+    }
+
+    /// Asks for a screenshot of the window into `path`; the script waits for the file.
+    pub fn screenshot(&mut self, commands: &mut Commands, path: PathBuf) {
+        crate::gui::control::widgets::ensure_parent(&path);
+        let _ = std::fs::remove_file(&path);
+        commands
+            .spawn(Screenshot::primary_window())
+            .observe(save_to_disk(path.clone()));
+        self.pending_shot = Some((path, 0));
+    }
+}
+
+/// A parsed script: its commands with their line numbers, the next one to run, its
+/// pauses, and the file (named in errors).
+#[derive(Debug, Clone)]
+pub struct Script<C> {
+    pub commands: Vec<(usize, C)>,
+    pub next: usize,
+    /// Waits and screenshots in progress.
+    pub pacing: Pacing,
+    pub file: PathBuf,
+}
+
+impl<C> Default for Script<C> {
+    fn default() -> Self {
+        Script {
+            commands: Vec::new(),
+            next: 0,
+            pacing: Pacing::default(),
+            file: PathBuf::new(),
+        }
+    }
+}
+
+/// Parses script text: one command per line, `#` comments and blank lines skipped.
+/// `command` turns a line (and its words) into a command; the function it is given
+/// prefixes a message with `FILE:LINE:`.
+pub fn parse_script<C>(
+    path: &std::path::Path,
+    text: &str,
+    command: impl Fn(&str, &[&str], &dyn Fn(String) -> String) -> Result<C, String>,
+) -> Result<Script<C>, String> {
+    let mut commands = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let line = raw.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        let at = |msg: String| format!("{}:{}: {msg}", path.display(), i + 1);
+        let words: Vec<&str> = line.split_whitespace().collect();
+        commands.push((i + 1, command(line, &words, &at)?));
+    }
+    Ok(Script {
+        commands,
+        file: path.to_path_buf(),
+        ..Script::default()
+    })
+}
+
+/// Reads a script file and parses it with `parse`.
+pub fn load_script<C>(
+    path: &std::path::Path,
+    parse: fn(&std::path::Path, &str) -> Result<Script<C>, String>,
+) -> Result<Script<C>, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    parse(path, &text)
+}
