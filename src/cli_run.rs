@@ -129,6 +129,11 @@ pub fn run(
     if let Some(file) = data.file {
         let _ = writeln!(out, "data            {} ({rounds} rounds)", file.display());
     }
+    if let Ok(kernel) = simulator.kernel(0) {
+        for (module, cause) in kernel.failures() {
+            let _ = writeln!(out, "module failed   {module}: {cause}");
+        }
+    }
     if interrupted {
         let _ = writeln!(
             out,

@@ -14,6 +14,8 @@
 //!   standard module library and the control kernel.
 //! - `gui` (feature `gui`): the control window, a Bevy 3D viewer with egui views on the
 //!   same core.
+//! - [`plugin_host`]: user actuation modules in runtime-loaded libraries (the
+//!   `proleg-plugin-api` C ABI), their building and templates.
 //! - [`remote`]: remote controls (gamepads) bound to module parameters.
 //! - [`rng`]: the seeded random numbers of a run.
 //! - [`sensing`]: sensor readings as modules see them, touch debouncing.
@@ -30,6 +32,7 @@ pub mod data;
 #[cfg(feature = "gui")]
 pub mod gui;
 pub mod optimize;
+pub mod plugin_host;
 pub mod remote;
 pub mod rng;
 pub mod sensing;

@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand};
 
 mod cli_data;
 mod cli_optimize;
+mod cli_plugin;
 mod cli_results;
 mod cli_run;
 
@@ -104,6 +105,11 @@ enum Command {
         /// Write every evaluation as TSV.
         #[arg(long)]
         export: Option<PathBuf>,
+    },
+    /// The user module library: new plugin crates, building, the loaded modules.
+    Plugin {
+        #[command(subcommand)]
+        command: cli_plugin::PluginCommand,
     },
     /// Inspect recorded data files.
     Data {
@@ -224,6 +230,14 @@ struct WizardOptions {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // The user module library: every command sees the plugin modules.
+    let plugins = proleg::plugin_host::scan_default();
+    let listing = matches!(cli.command, Some(Command::Plugin { .. }));
+    if !listing {
+        for message in plugins.messages() {
+            eprintln!("warning: {message}");
+        }
+    }
     let Some(command) = cli.command else {
         return finish(gui(std::path::Path::new(DEMO_CONFIG), None, None));
     };
@@ -289,6 +303,7 @@ fn main() -> ExitCode {
                 cli_data::plot_png(&pick.file, &pick.x, &pick.series, &pick.output, size)
             }
         },
+        Command::Plugin { command } => cli_plugin::run(command, &plugins),
         Command::Check { config } => proleg::config::load_simulation(&config)
             .map(|sim| format!("{}ok\n", proleg::config::summary::summary(&sim)))
             .map_err(|e| e.to_string()),

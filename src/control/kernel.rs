@@ -190,6 +190,15 @@ impl ControlKernel {
         &self.actuators
     }
 
+    /// Modules that stopped working (a plugin that panicked): type name and cause.
+    pub fn failures(&self) -> impl Iterator<Item = (&'static str, &str)> {
+        self.actuators.iter().filter_map(|a| {
+            a.module
+                .failure()
+                .map(|f| (a.module.descriptor().type_name, f))
+        })
+    }
+
     /// Number of robot joints.
     pub fn joints(&self) -> usize {
         self.limits.len()

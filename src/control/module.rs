@@ -153,6 +153,11 @@ impl Parameters {
         self.values[param * self.joints + joint]
     }
 
+    /// Every value, row-major (`values[param * joints + joint]`).
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
     /// All joints' values of one parameter.
     pub fn row(&self, param: usize) -> &[f64] {
         &self.values[param * self.joints..(param + 1) * self.joints]
@@ -245,6 +250,11 @@ impl InternalData {
         &self.values[series * self.joints..(series + 1) * self.joints]
     }
 
+    /// Every value, row-major (`values[series * joints + joint]`), for the owning module.
+    pub fn values_mut(&mut self) -> &mut [f64] {
+        &mut self.values
+    }
+
     /// Mutable access for the module that owns it.
     #[inline]
     pub fn series_mut(&mut self, series: usize) -> &mut [f64] {
@@ -303,6 +313,11 @@ pub trait ActuationModule: Send + Sync {
     /// [`crate::control::ControlKernel::set_distortion`]).
     fn perturb(&mut self, _joint: usize, _amount: f64) -> bool {
         false
+    }
+    /// Why the module stopped working, when it did (a plugin that panicked or produced a
+    /// non-finite angle): it then outputs 0 for its joints until it is rebuilt.
+    fn failure(&self) -> Option<&str> {
+        None
     }
 }
 

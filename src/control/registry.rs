@@ -1,8 +1,10 @@
 //! The registry of actuation-module types: descriptors looked up by name, and factories
-//! that create module instances. The standard library registers into it; runtime-loaded
-//! plugins will too.
+//! that create module instances. The standard library registers into it, and so do
+//! runtime-loaded plugins ([`crate::plugin_host`]) through the process-wide list that
+//! every new registry ([`ModuleRegistry::default`]) includes.
 
 use std::fmt;
+use std::sync::{Arc, PoisonError, RwLock};
 
 use crate::config::xml::read::same_name;
 use crate::control::descriptor::ModuleDescriptor;
@@ -10,13 +12,30 @@ use crate::control::library;
 use crate::control::module::ActuationModule;
 
 /// Creates a module for a number of connected joints.
-pub type ModuleFactory = fn(joints: usize) -> Box<dyn ActuationModule>;
+pub type ModuleFactory = Arc<dyn Fn(usize) -> Box<dyn ActuationModule> + Send + Sync>;
 
-#[derive(Debug, Clone)]
+/// A factory from a plain function.
+pub fn factory(f: fn(usize) -> Box<dyn ActuationModule>) -> Option<ModuleFactory> {
+    Some(Arc::new(f))
+}
+
+#[derive(Clone)]
 struct Entry {
     descriptor: ModuleDescriptor,
     factory: Option<ModuleFactory>,
 }
+
+impl fmt::Debug for Entry {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Entry")
+            .field("descriptor", &self.descriptor.type_name)
+            .field("factory", &self.factory.is_some())
+            .finish()
+    }
+}
+
+/// Module types registered for the whole process (loaded plugins), in load order.
+static PROCESS_WIDE: RwLock<Vec<Entry>> = RwLock::new(Vec::new());
 
 /// Known module types.
 #[derive(Debug, Clone)]
@@ -59,10 +78,14 @@ impl fmt::Display for CreateError {
 impl std::error::Error for CreateError {}
 
 impl Default for ModuleRegistry {
-    /// The registry with the standard module library.
+    /// The registry with the standard module library and every process-wide type
+    /// (loaded plugins).
     fn default() -> Self {
-        let mut r = ModuleRegistry::empty();
-        library::register(&mut r);
+        let mut r = ModuleRegistry::standard();
+        let extra = PROCESS_WIDE.read().unwrap_or_else(PoisonError::into_inner);
+        for e in extra.iter() {
+            r.register(e.descriptor.clone(), e.factory.clone());
+        }
         r
     }
 }
@@ -72,6 +95,32 @@ impl ModuleRegistry {
         ModuleRegistry {
             entries: Vec::new(),
         }
+    }
+
+    /// The standard module library only.
+    pub fn standard() -> Self {
+        let mut r = ModuleRegistry::empty();
+        library::register(&mut r);
+        r
+    }
+
+    /// Registers a type for the whole process: every registry made afterwards by
+    /// [`ModuleRegistry::default`] has it (a later one of the same name replaces it).
+    pub fn register_process_wide(descriptor: ModuleDescriptor, factory: ModuleFactory) {
+        let mut all = PROCESS_WIDE.write().unwrap_or_else(PoisonError::into_inner);
+        all.retain(|e| !same_name(e.descriptor.type_name, descriptor.type_name));
+        all.push(Entry {
+            descriptor,
+            factory: Some(factory),
+        });
+    }
+
+    /// Removes a process-wide type (a plugin that failed); true when it was there.
+    pub fn unregister_process_wide(name: &str) -> bool {
+        let mut all = PROCESS_WIDE.write().unwrap_or_else(PoisonError::into_inner);
+        let before = all.len();
+        all.retain(|e| !same_name(e.descriptor.type_name, name));
+        all.len() != before
     }
 
     /// Adds a module type; a later registration under the same name replaces the earlier.
@@ -114,7 +163,7 @@ impl ModuleRegistry {
             name: name.to_string(),
             known: self.names(),
         })?;
-        let factory = entry.factory.ok_or(CreateError::NotImplemented {
+        let factory = entry.factory.as_ref().ok_or(CreateError::NotImplemented {
             name: entry.descriptor.type_name,
         })?;
         Ok(factory(joints))

@@ -6,20 +6,20 @@ pub mod cpg_phase;
 pub mod direct;
 pub mod sinusoidal;
 
-use crate::control::registry::ModuleRegistry;
+use crate::control::registry::{ModuleRegistry, factory};
 
 /// Registers every standard module type.
 pub fn register(r: &mut ModuleRegistry) {
     r.register(
         direct::descriptor(),
-        Some(|n| Box::new(direct::DirectJointAccess::new(n))),
+        factory(|n| Box::new(direct::DirectJointAccess::new(n))),
     );
     r.register(
         sinusoidal::descriptor(),
-        Some(|n| Box::new(sinusoidal::Sinusoidal::new(n))),
+        factory(|n| Box::new(sinusoidal::Sinusoidal::new(n))),
     );
     r.register(
         adaptive_touch::descriptor(),
-        Some(|n| Box::new(adaptive_touch::AdaptiveTouch::new(n))),
+        factory(|n| Box::new(adaptive_touch::AdaptiveTouch::new(n))),
     );
 }

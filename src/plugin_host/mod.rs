@@ -1,0 +1,229 @@
+//! Runtime-loaded actuation modules (thesis 4.4.4, 5.2.3): the user module library.
+//!
+//! Plugins are `cdylib`s written against the `proleg-plugin-api` crate (`plugins/api`),
+//! which exports a versioned `#[repr(C)]` function table. The host
+//! - scans the library folders ([`library_dirs`]: `plugins/lib`, where
+//!   `proleg plugin build` puts libraries, and the user folder
+//!   `$XDG_DATA_HOME/proleg/plugins`; `PROLEG_PLUGINS` replaces both) at start-up and on
+//!   request ([`scan`]), loading every new or changed library ([`load_file`]);
+//! - checks each library's ABI version and symbols ([`library::open`]); a bad one is
+//!   skipped with a [`LoadError`] naming the file and the cause;
+//! - registers every module process-wide, so every registry made afterwards
+//!   ([`crate::control::ModuleRegistry::default`]) offers it next to the standard modules;
+//! - keeps libraries loaded for the life of the process (a rebuilt library is loaded from
+//!   a fresh copy, replacing the module for new instances; running ones keep the old code).
+//!
+//! [`build`] compiles plugin crates with cargo, [`template`] writes new ones.
+
+pub mod build;
+pub mod library;
+pub mod module;
+pub mod template;
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, PoisonError};
+use std::time::SystemTime;
+
+use crate::control::descriptor::ModuleDescriptor;
+use crate::control::registry::ModuleRegistry;
+pub use library::{LoadError, PluginLibrary};
+pub use module::PluginModule;
+
+/// Environment variable with the library folders (path list) replacing the defaults.
+pub const ENV_VAR: &str = "PROLEG_PLUGINS";
+/// Where `proleg plugin build` puts libraries, relative to the working folder.
+pub const DEFAULT_LIBRARY: &str = "plugins/lib";
+
+/// The folders scanned for plugin libraries.
+pub fn library_dirs() -> Vec<PathBuf> {
+    match std::env::var_os(ENV_VAR) {
+        Some(list) => std::env::split_paths(&list)
+            .filter(|p| !p.as_os_str().is_empty())
+            .collect(),
+        None => {
+            let mut dirs = vec![PathBuf::from(DEFAULT_LIBRARY)];
+            dirs.extend(user_dir());
+            dirs
+        }
+    }
+}
+
+/// The per-user library folder (`$XDG_DATA_HOME/proleg/plugins`).
+pub fn user_dir() -> Option<PathBuf> {
+    let data = std::env::var_os("XDG_DATA_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".local/share")))?;
+    Some(data.join("proleg").join("plugins"))
+}
+
+/// A loaded plugin module.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PluginInfo {
+    pub descriptor: ModuleDescriptor,
+    pub file: PathBuf,
+}
+
+/// What a scan did.
+#[derive(Debug, Default)]
+pub struct ScanReport {
+    /// Modules loaded (or reloaded) now.
+    pub loaded: Vec<PluginInfo>,
+    /// Libraries already loaded and unchanged.
+    pub unchanged: usize,
+    /// Libraries skipped, with the cause.
+    pub skipped: Vec<LoadError>,
+}
+
+impl ScanReport {
+    /// One line per skipped library, for stderr or the GUI.
+    pub fn messages(&self) -> Vec<String> {
+        self.skipped.iter().map(|e| e.to_string()).collect()
+    }
+}
+
+/// A library loaded in this process.
+struct Loaded {
+    file: PathBuf,
+    stamp: Option<(SystemTime, u64)>,
+    info: PluginInfo,
+    _library: Arc<PluginLibrary>,
+}
+
+static LOADED: Mutex<Vec<Loaded>> = Mutex::new(Vec::new());
+static COPIES: AtomicUsize = AtomicUsize::new(0);
+
+/// Whether `path` names a shared library of this platform.
+fn is_library(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e == std::env::consts::DLL_EXTENSION)
+}
+
+fn stamp(path: &Path) -> Option<(SystemTime, u64)> {
+    let meta = std::fs::metadata(path).ok()?;
+    Some((meta.modified().ok()?, meta.len()))
+}
+
+/// Loads every new or changed library in `dirs` (missing folders are passed over).
+pub fn scan(dirs: &[PathBuf]) -> ScanReport {
+    let mut report = ScanReport::default();
+    for dir in dirs {
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            continue;
+        };
+        let mut files: Vec<PathBuf> = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.is_file() && is_library(p))
+            .collect();
+        files.sort();
+        for file in files {
+            match load_file(&file) {
+                Ok(Some(info)) => report.loaded.push(info),
+                Ok(None) => report.unchanged += 1,
+                Err(e) => report.skipped.push(e),
+            }
+        }
+    }
+    report
+}
+
+/// [`scan`] of the configured [`library_dirs`].
+pub fn scan_default() -> ScanReport {
+    scan(&library_dirs())
+}
+
+/// Loads one library and registers its module; `None` when it is loaded and unchanged.
+pub fn load_file(file: &Path) -> Result<Option<PluginInfo>, LoadError> {
+    let err = |cause: String| LoadError {
+        file: file.to_path_buf(),
+        cause,
+    };
+    let file = std::fs::canonicalize(file).map_err(|e| err(e.to_string()))?;
+    let stamp = stamp(&file);
+    let mut loaded = LOADED.lock().unwrap_or_else(PoisonError::into_inner);
+    let previous = loaded.iter().position(|l| l.file == file);
+    if let Some(i) = previous
+        && loaded[i].stamp == stamp
+    {
+        return Ok(None);
+    }
+    // The dynamic loader hands out the already loaded library for a path it has seen, so
+    // a changed library is loaded from a fresh copy.
+    let copy = match previous {
+        Some(_) => Some(fresh_copy(&file).map_err(err)?),
+        None => None,
+    };
+    let (library, descriptor) = library::open(&file, copy.as_deref().unwrap_or(&file))?;
+    let name = descriptor.type_name;
+    if ModuleRegistry::standard().get(name).is_some() {
+        return Err(err(format!(
+            "module name {name} is taken by a standard module; rename the plugin's module"
+        )));
+    }
+    if let Some(other) = loaded.iter().find(|l| {
+        l.file != file && crate::config::xml::read::same_name(l.info.descriptor.type_name, name)
+    }) {
+        return Err(err(format!(
+            "module {name} is already loaded from {}",
+            other.file.display()
+        )));
+    }
+    let library = Arc::new(library);
+    let for_factory = (library.clone(), descriptor.clone());
+    ModuleRegistry::register_process_wide(
+        descriptor.clone(),
+        Arc::new(move |joints| {
+            Box::new(PluginModule::new(
+                for_factory.0.clone(),
+                for_factory.1.clone(),
+                joints,
+            ))
+        }),
+    );
+    let info = PluginInfo {
+        descriptor,
+        file: file.clone(),
+    };
+    let entry = Loaded {
+        file,
+        stamp,
+        info: info.clone(),
+        _library: library,
+    };
+    match previous {
+        Some(i) => {
+            let old = std::mem::replace(&mut loaded[i], entry);
+            if !crate::config::xml::read::same_name(old.info.descriptor.type_name, name) {
+                ModuleRegistry::unregister_process_wide(old.info.descriptor.type_name);
+            }
+            // The old library stays loaded: running modules may still use it.
+            std::mem::forget(old._library);
+        }
+        None => loaded.push(entry),
+    }
+    Ok(Some(info))
+}
+
+/// A copy of `file` under a name the loader has not seen (in the temp folder).
+fn fresh_copy(file: &Path) -> Result<PathBuf, String> {
+    let dir = std::env::temp_dir().join(format!("proleg-plugins-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let n = COPIES.fetch_add(1, Ordering::Relaxed);
+    let name = file
+        .file_name()
+        .map(|f| f.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let copy = dir.join(format!("{n}-{name}"));
+    std::fs::copy(file, &copy).map_err(|e| format!("copying to {}: {e}", copy.display()))?;
+    Ok(copy)
+}
+
+/// The plugin modules loaded in this process, in load order.
+pub fn loaded() -> Vec<PluginInfo> {
+    LOADED
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .iter()
+        .map(|l| l.info.clone())
+        .collect()
+}
