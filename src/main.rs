@@ -68,6 +68,13 @@ enum Command {
         /// Batch sizes (robots sharing one world) to measure besides 1.
         #[arg(long, value_delimiter = ',', default_values_t = vec![8, 31])]
         batches: Vec<usize>,
+        /// Instead: compare this module (e.g. the plugin Plugin_sine) with the scenario's
+        /// --reference module it replaces, pipeline and control kernel alone.
+        #[arg(long)]
+        module: Option<String>,
+        /// The scenario's module that --module replaces.
+        #[arg(long, default_value = "PatternGenerator_sinusoidal")]
+        reference: String,
     },
     /// Run one simulation headless and print what the robot did.
     Run {
@@ -264,7 +271,12 @@ fn main() -> ExitCode {
             config,
             seconds,
             batches,
-        } => proleg::bench::report(&config, seconds, &batches),
+            module,
+            reference,
+        } => match module {
+            Some(module) => proleg::bench::modules::report(&config, seconds, &reference, &module),
+            None => proleg::bench::report(&config, seconds, &batches),
+        },
         Command::Run {
             config,
             duration,

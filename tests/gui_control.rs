@@ -214,3 +214,113 @@ fn remote_dialog_steers_the_robot_and_saves_bindings() {
     assert_eq!((w, h), (1280, 800));
     assert!(colours > 50);
 }
+
+/// The step function a user writes in the module editor (a travelling sine).
+const GUI_WAVE: &str = r#"//! GuiWave: written in the module editor.
+use proleg_plugin_api::{Context, Data, Module, Param, Params, export_module, helpers};
+
+const AMPLITUDE: usize = 0;
+const FREQUENCY: usize = 1;
+
+#[derive(Clone)]
+struct GuiWave {
+    theta: f64,
+}
+
+impl Module for GuiWave {
+    const NAME: &'static str = "GuiWave";
+    const PARAMETERS: &'static [Param] = &[
+        Param::new("Amplitude", 40.0, 0.0, 90.0),
+        Param::new("Frequency", 1.0, 0.0, 5.0),
+    ];
+    const SERIES: &'static [&'static str] = &["Phase"];
+
+    fn new(_joints: usize) -> Self {
+        GuiWave { theta: 0.0 }
+    }
+
+    fn reset(&mut self, _seed: u64) {
+        self.theta = 0.0;
+    }
+
+    fn compute(&mut self, ctx: &Context, p: &Params, out: &mut [f64], data: &mut Data) {
+        for (j, angle) in out.iter_mut().enumerate() {
+            let phase = self.theta - (55.0f64).to_radians() * j as f64;
+            *angle = p.get(AMPLITUDE, j) * phase.sin();
+            data.set(0, j, phase);
+        }
+        self.theta = helpers::wrap_tau(
+            self.theta + std::f64::consts::TAU * p.get(FREQUENCY, 0) * ctx.dt,
+        );
+    }
+}
+
+export_module!(GuiWave);
+"#;
+
+#[test]
+fn module_library_declares_compiles_and_assigns_a_new_module() {
+    let dir = scratch("modules-files");
+    // A plugin workspace of its own: the API crate and the workspace manifest.
+    let ws = dir.join("plugins");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    std::fs::create_dir_all(ws.join("api/src")).expect("workspace");
+    std::fs::copy(root.join("plugins/Cargo.toml"), ws.join("Cargo.toml")).expect("manifest");
+    for f in ["Cargo.toml", "src/lib.rs"] {
+        std::fs::copy(root.join("plugins/api").join(f), ws.join("api").join(f)).expect("api");
+    }
+    let (bad, good) = (dir.join("bad.rs"), dir.join("good.rs"));
+    std::fs::write(&bad, GUI_WAVE.replace("*angle = p.get", "*angle = q.get")).expect("bad");
+    std::fs::write(&good, GUI_WAVE).expect("good");
+    let (first, shot) = (dir.join("first.txt"), dir.join("modules.png"));
+    let commands = format!(
+        "wait 2\nmodules open\nmodule-workspace {ws}\n\
+         module-declare GuiWave Amplitude=40:0..90 Frequency=1:0..5 data=Phase helpers=smooth\n\
+         module-source {bad}\nmodule-compile\nstate {first}\n\
+         module-source {good}\nmodule-compile\nwait 3\nscreenshot {shot}\n\
+         assign GuiWave 11111\nset PatternGenerator_sinusoidal Amplitude 0\n\
+         speed 0\nrun-until 4\npause\n",
+        ws = ws.display(),
+        bad = bad.display(),
+        good = good.display(),
+        first = first.display(),
+        shot = shot.display(),
+    );
+    let s = scripted_state("modules", "configs/demo.simulation.xml", &commands);
+    // The declaration made a crate; the broken source failed with the compiler's errors.
+    let f = state(&first);
+    assert_eq!(get(&f, "module_crate"), "gui_wave");
+    assert!(
+        get(&f, "module_status").starts_with("error: the build failed"),
+        "{f:?}"
+    );
+    let errors: usize = get(&f, "module_log_errors").parse().expect("count");
+    assert!(errors >= 1, "{f:?}");
+    // The fixed source compiled and loaded; assigned to the joints it drives the robot
+    // (the built-in sine at amplitude 0), without restarting proleg.
+    assert_eq!(get(&s, "module_builds"), "2");
+    assert_eq!(get(&s, "module_loaded"), "GuiWave");
+    assert!(
+        get(&s, "module_status").starts_with("info: compiled"),
+        "{s:?}"
+    );
+    let params = get(&s, "parameters");
+    assert!(
+        params.contains("1:GuiWave:Amplitude=40,40,40,40,40;"),
+        "{params}"
+    );
+    assert!(
+        params.contains("0:PatternGenerator_sinusoidal:Amplitude=0,0,0,0,0;"),
+        "{params}"
+    );
+    assert_eq!(get(&s, "module_failures"), "");
+    let com: Vec<f64> = get(&s, "com")
+        .split(' ')
+        .map(|v| v.parse().expect("number"))
+        .collect();
+    assert!(com[1] > 0.25, "the robot's centre after 4 s: {com:?}");
+    assert!(ws.join("lib/libgui_wave.so").is_file());
+    let (w, h, colours) = png_colours(&shot);
+    assert_eq!((w, h), (1280, 800));
+    assert!(colours > 50);
+}

@@ -252,3 +252,38 @@ fn expert_composes_existing_files() {
     assert!(loaded.environment.bodies.iter().any(|b| b.name == "step5"));
     std::fs::remove_dir_all(out).ok();
 }
+
+#[test]
+fn a_module_compiled_in_the_library_is_offered_by_the_wizard() {
+    let out = scratch("modules");
+    let ws = out.join("plugins");
+    let root = common::root();
+    std::fs::create_dir_all(ws.join("api/src")).expect("workspace");
+    std::fs::copy(root.join("plugins/Cargo.toml"), ws.join("Cargo.toml")).expect("manifest");
+    for f in ["Cargo.toml", "src/lib.rs"] {
+        std::fs::copy(root.join("plugins/api").join(f), ws.join("api").join(f)).expect("api");
+    }
+    // The generated crate builds as it is; a line of the step is filled in, as a user would.
+    let shot = out.join("modules.png");
+    let s = scripted(
+        "modules",
+        &out,
+        &format!(
+            "wait 2\nmodules open\nmodule-workspace {ws}\n\
+             module-declare WizWave Amplitude=30:0..90 Period=2:0.1..10 data=Phase helpers=smooth\n\
+             module-compile\n\
+             set robot.topology ppppp\nnext\nset behaviour.simple WizWave\nnext\n\
+             wait 3\nscreenshot {shot}",
+            ws = ws.display(),
+            shot = shot.display()
+        ),
+    );
+    assert_eq!(get(&s, "module_loaded"), "WizWave", "{s:?}");
+    assert!(get(&s, "registry_modules").contains("WizWave"), "{s:?}");
+    // The behaviour page accepted the new module (the wizard went on to the next page).
+    assert_eq!(get(&s, "page"), "Environment", "{s:?}");
+    assert!(ws.join("wiz_wave/src/lib.rs").is_file());
+    let (w, h, colours) = png_colours(&shot);
+    assert_eq!((w, h), (1280, 800));
+    assert!(colours > 50);
+}

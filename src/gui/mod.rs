@@ -8,6 +8,7 @@
 //!   composition, 3D environment editor.
 
 pub mod control;
+pub mod module_editor;
 pub mod scripting;
 pub mod setup;
 

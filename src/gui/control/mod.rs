@@ -7,10 +7,11 @@
 //! - [`scene`]: meshes, lights and pads following the physics bodies
 //! - [`camera`]: orbit / pan / zoom / follow; [`picking`]: select and drag bodies
 //! - [`debug_view`]: collider outlines and contacts from the physics world
-//! - [`toolbar`], [`params`], [`plots`], [`overlay`], [`inspect`], [`optimizer_view`],
+//! - [`toolbar`], [`params`], [`assign_view`], [`plots`], [`overlay`], [`inspect`], [`optimizer_view`],
 //!   [`remote_view`]: the egui views
 //! - [`script`], [`script_run`]: scripted driving for tests and screenshots
 
+pub mod assign_view;
 pub mod camera;
 pub mod debug_view;
 pub mod inspect;
@@ -34,6 +35,7 @@ use bevy::prelude::*;
 use bevy::window::WindowResolution;
 use bevy_egui::{EguiContexts, EguiPlugin, EguiPrimaryContextPass, egui};
 
+use crate::gui::control::assign_view::AssignState;
 use crate::gui::control::camera::OrbitCamera;
 use crate::gui::control::debug_view::DebugView;
 use crate::gui::control::inspect::InspectState;
@@ -48,6 +50,7 @@ use crate::gui::control::scene::SceneBuilt;
 use crate::gui::control::script::ScriptRunner;
 use crate::gui::control::session::SimSession;
 use crate::gui::control::toolbar::ToolbarState;
+use crate::gui::module_editor::ModuleEditor;
 use crate::remote::gamepad::{GamepadRemote, GamepadRemotePlugin};
 
 /// Which of the docked views are open.
@@ -70,6 +73,8 @@ pub struct Views<'w> {
     pub selection: ResMut<'w, Selection>,
     pub remote: ResMut<'w, RemoteView>,
     pub gamepad: ResMut<'w, GamepadRemote>,
+    pub modules: ResMut<'w, ModuleEditor>,
+    pub assign: ResMut<'w, AssignState>,
 }
 
 /// Ordering of the window's per-frame work.
@@ -125,6 +130,8 @@ impl Plugin for ControlWindowPlugin {
     fn build(&self, app: &mut App) {
         app.add_plugins(GamepadRemotePlugin)
             .init_resource::<RemoteView>()
+            .init_resource::<ModuleEditor>()
+            .init_resource::<AssignState>()
             .init_resource::<ParamsState>()
             .init_resource::<InspectState>()
             .init_resource::<DebugView>()
@@ -211,6 +218,8 @@ fn draw_ui(
         selection,
         remote,
         gamepad,
+        modules,
+        assign,
     } = &mut views;
     let ctx = contexts.ctx_mut()?.clone();
     let mut root = egui::Ui::new(
@@ -231,6 +240,7 @@ fn draw_ui(
             }
             ui.toggle_value(&mut debug.0, "Physics debug view");
             ui.toggle_value(&mut remote.open, "Remote control");
+            ui.toggle_value(&mut modules.open, "Module library");
         });
     });
     if panels.plots {
@@ -245,7 +255,11 @@ fn draw_ui(
         egui::Panel::right("params")
             .resizable(true)
             .default_size(330.0)
-            .show(&mut root, |ui| params::show(ui, &mut session, params));
+            .show(&mut root, |ui| {
+                assign_view::show(ui, &mut session, assign);
+                ui.separator();
+                params::show(ui, &mut session, params);
+            });
     }
     let mut follow = cameras.iter().next().is_some_and(|c| c.follow);
     overlay::show(&ctx, &overlay, toolbar, &mut follow);
@@ -261,6 +275,7 @@ fn draw_ui(
     if remote.open {
         remote_view::show(&ctx, remote, gamepad, &session);
     }
+    crate::gui::module_editor::view::show(&ctx, modules);
     for mut c in &mut cameras {
         c.follow = follow;
     }

@@ -22,6 +22,8 @@
 //! remote-bind RightStickX rate PatternGenerator_sinusoidal Phase_Difference all 20
 //! remote-remove 0                # binding N (from 0)
 //! remote-load F.remote.xml | remote-save F.remote.xml
+//! modules open | module-declare ... | module-compile   # see gui::module_editor::script
+//! assign MODULE 10101            # add a module on these joints (rebuilds the world)
 //! screenshot docs/control_window.png
 //! state out/state.txt            # the app state as key = value lines
 //! quit
@@ -88,6 +90,9 @@ pub enum Command {
     RemoteRemove(usize),
     RemoteLoad(PathBuf),
     RemoteSave(PathBuf),
+    /// A module library command.
+    Module(crate::gui::module_editor::script::ModuleCommand),
+    Assign(String, String),
     Screenshot(PathBuf),
     State(PathBuf),
     Quit,
@@ -111,6 +116,9 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
                 .filter(|v| v.is_finite())
                 .ok_or_else(|| at(format!("{w:?} is not a number ({what})")))
         };
+        if let Some(m) = crate::gui::module_editor::script::parse(words) {
+            return Ok(Command::Module(m));
+        }
         let c = match words[0] {
             "wait" => Command::Wait(num(words.get(1), "frames")?.max(0.0) as u32),
             "start" => Command::Start,
@@ -191,6 +199,9 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             }
             "remote-load" if words.len() == 2 => Command::RemoteLoad(PathBuf::from(words[1])),
             "remote-save" if words.len() == 2 => Command::RemoteSave(PathBuf::from(words[1])),
+            "assign" if words.len() == 3 => {
+                Command::Assign(words[1].to_string(), words[2].to_string())
+            }
             "quit" => Command::Quit,
             other => return Err(at(format!("unknown or incomplete command {other:?}"))),
         };

@@ -208,6 +208,19 @@ fn carry_out(
             views.remote.save(&p)?;
             Flow::Next
         }
+        Command::Module(m) => {
+            if crate::gui::module_editor::script::run(&mut views.modules, m)? {
+                Flow::Next
+            } else {
+                Flow::Again
+            }
+        }
+        Command::Assign(module, mask) => {
+            views.assign.module = module;
+            views.assign.mask = mask;
+            views.assign.assign(session)?;
+            Flow::Next
+        }
         Command::Debug(on) => {
             views.debug.0 = on;
             Flow::Next
@@ -320,6 +333,15 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
         views.remote.file.bindings.len().to_string(),
     ));
     pairs.push(("remote_actions", views.remote.actions.to_string()));
+    pairs.extend(crate::gui::module_editor::script::state_pairs(
+        &views.modules,
+    ));
+    let failures: Vec<String> = session
+        .simulator
+        .kernel(0)
+        .map(|k| k.failures().map(|(n, c)| format!("{n}: {c}")).collect())
+        .unwrap_or_default();
+    pairs.push(("module_failures", failures.join(" | ")));
     pairs.push((
         "remote_error",
         views.remote.error.clone().unwrap_or_default(),

@@ -92,6 +92,59 @@ impl SimSession {
         }
     }
 
+    /// Adds a module of type `name` (any registered type, plugins too) driving the joints
+    /// whose mask character is `1` to the configuration shown, and rebuilds the world
+    /// (paused at 0). The configuration files are not changed.
+    pub fn add_module(&mut self, name: &str, mask: &str) -> Result<(), String> {
+        let registry = crate::control::ModuleRegistry::default();
+        let descriptor = registry
+            .get(name)
+            .ok_or_else(|| {
+                format!(
+                    "unknown module {name}; known: {}",
+                    registry.names().join(", ")
+                )
+            })?
+            .clone();
+        let joints = self.sim.robot.joints.len();
+        let bits = mask
+            .trim()
+            .chars()
+            .map(|c| match c {
+                '0' => Ok(false),
+                '1' => Ok(true),
+                other => Err(format!("joint mask {mask:?}: {other:?} is not 0 or 1")),
+            })
+            .collect::<Result<Vec<bool>, String>>()?;
+        if bits.len() != joints {
+            return Err(format!(
+                "joint mask {mask:?} has {} characters; the robot has {joints} joints",
+                bits.len()
+            ));
+        }
+        if !bits.contains(&true) {
+            return Err(format!("joint mask {mask:?} selects no joint"));
+        }
+        let mut sim = self.sim.clone();
+        sim.actuation
+            .modules
+            .push(crate::config::resolve::actuation::ModuleInstance {
+                descriptor,
+                joints: crate::config::mask::JointMask(bits),
+                params: Vec::new(),
+            });
+        let (simulator, kernel) = build(&sim, self.step_width)?;
+        self.sim = sim;
+        self.simulator = simulator;
+        self.initial_kernel = kernel;
+        self.real_time = 0.0;
+        self.owed = 0.0;
+        self.running = false;
+        self.error = None;
+        self.generation += 1;
+        Ok(())
+    }
+
     /// Simulated seconds so far.
     pub fn sim_time(&self) -> f64 {
         self.simulator.clock().time()

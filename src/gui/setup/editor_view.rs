@@ -293,6 +293,7 @@ pub fn label_views(ctx: &egui::Context, state: &SetupState) {
     ] {
         egui::Area::new(egui::Id::new(name))
             .fixed_pos(egui::pos2(x, y))
+            .order(egui::Order::Background)
             .interactable(false)
             .show(ctx, |ui| {
                 ui.label(

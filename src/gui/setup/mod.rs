@@ -106,6 +106,7 @@ pub struct SetupWindowPlugin;
 impl Plugin for SetupWindowPlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<EditorDrag>()
+            .init_resource::<crate::gui::module_editor::ModuleEditor>()
             .init_resource::<SceneCache>()
             .add_observer(picking::on_click)
             .add_observer(picking::on_drag_start)
@@ -181,10 +182,13 @@ pub fn open_control_window(state: &mut SetupState, sim: &Path) {
 fn draw_ui(
     mut contexts: EguiContexts,
     mut state: ResMut<SetupState>,
+    mut modules: ResMut<crate::gui::module_editor::ModuleEditor>,
     cache: Res<SceneCache>,
 ) -> Result {
     let ctx = contexts.ctx_mut()?.clone();
     let state = state.as_mut();
+    crate::gui::module_editor::view::show(&ctx, &mut modules);
+    state.sync_modules(modules.revision);
     let mut root = egui::Ui::new(
         ctx.clone(),
         "configuration window".into(),
@@ -197,6 +201,9 @@ fn draw_ui(
             ui.selectable_value(&mut state.tool, Tool::Wizard, "Wizard (beginner)");
             ui.selectable_value(&mut state.tool, Tool::Expert, "Expert composition");
             ui.selectable_value(&mut state.tool, Tool::Editor, "Environment editor");
+            ui.separator();
+            ui.toggle_value(&mut modules.open, "Module library")
+                .on_hover_text("declare, write and compile your own actuation modules");
         });
     });
     egui::Panel::bottom("status").show(&mut root, |ui| match &state.status {

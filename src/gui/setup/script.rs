@@ -19,6 +19,7 @@
 //! expert-edit                          # hand the composition to the wizard
 //! preview                              # run the robot in the scene for 5 s
 //! zoom 3                               # height of the top and side views (m)
+//! modules open | module-declare ... | module-compile   # see gui::module_editor::script
 //! screenshot docs/wizard_robot.png
 //! state out/state.txt                  # key = value lines
 //! quit
@@ -64,6 +65,8 @@ pub enum Command {
     Zoom(f32),
     Screenshot(PathBuf),
     State(PathBuf),
+    /// A module library command.
+    Module(crate::gui::module_editor::script::ModuleCommand),
     Quit,
 }
 
@@ -98,6 +101,9 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
                 .ok_or_else(|| at(format!("{line:?}: missing {what}")))
         };
         let rest = |k: usize| words.get(k..).map(|w| w.join(" ")).unwrap_or_default();
+        if let Some(m) = crate::gui::module_editor::script::parse(words) {
+            return Ok(Command::Module(m));
+        }
         let c = match words[0] {
             "wait" => Command::Wait(num(1, "frames")?.max(0.0) as u32),
             "tool" => Command::Tool(arg(1, "wizard, expert or editor")?),

@@ -10,12 +10,15 @@ use crate::compose::env_edit::{EnvEditor, Selected};
 use crate::compose::expert::Part;
 use crate::compose::library::LibraryItem;
 use crate::gui::control::script::state_report;
+use crate::gui::module_editor::ModuleEditor;
 use crate::gui::setup::editor_view::preview;
 use crate::gui::setup::script::{Command, Script, SetupScript};
 use crate::gui::setup::state::{SetupState, Status, Tool};
 
 enum Flow {
     Next,
+    /// Come back to this command next frame.
+    Again,
     Yield,
     Quit,
 }
@@ -25,6 +28,7 @@ pub fn run_script(
     mut commands: Commands,
     mut runner: ResMut<SetupScript>,
     mut state: ResMut<SetupState>,
+    mut modules: ResMut<ModuleEditor>,
     mut exit: MessageWriter<AppExit>,
 ) {
     let Some(script) = runner.0.as_mut() else {
@@ -41,7 +45,7 @@ pub fn run_script(
         }
     }
     while let Some((line, c)) = script.commands.get(script.next).cloned() {
-        let flow = match carry_out(c, &mut commands, script, &mut state) {
+        let flow = match carry_out(c, &mut commands, script, &mut state, &mut modules) {
             Ok(f) => f,
             Err(e) => {
                 eprintln!("error: {}:{line}: {e}", script.file.display());
@@ -50,9 +54,12 @@ pub fn run_script(
                 return;
             }
         };
+        if matches!(flow, Flow::Again) {
+            return;
+        }
         script.next += 1;
         match flow {
-            Flow::Next => {}
+            Flow::Next | Flow::Again => {}
             Flow::Yield => return,
             Flow::Quit => {
                 exit.write(AppExit::Success);
@@ -84,6 +91,7 @@ fn carry_out(
     commands: &mut Commands,
     script: &mut Script,
     state: &mut SetupState,
+    modules: &mut ModuleEditor,
 ) -> Result<Flow, String> {
     let env_only = |state: &SetupState| {
         if state.editing_env() {
@@ -221,8 +229,14 @@ fn carry_out(
         }
         Command::State(path) => {
             crate::gui::control::widgets::ensure_parent(&path);
-            std::fs::write(&path, state_lines(state))
+            std::fs::write(&path, state_lines(state, modules))
                 .map_err(|e| format!("{}: {e}", path.display()))?;
+        }
+        Command::Module(m) => {
+            if !crate::gui::module_editor::script::run(modules, m)? {
+                return Ok(Flow::Again);
+            }
+            state.sync_modules(modules.revision);
         }
         Command::Quit => return Ok(Flow::Quit),
     }
@@ -230,7 +244,7 @@ fn carry_out(
 }
 
 /// The state a GUI test checks.
-fn state_lines(state: &mut SetupState) -> String {
+fn state_lines(state: &mut SetupState, modules: &ModuleEditor) -> String {
     let (i, n) = state.wizard.progress();
     let w = &state.wizard;
     let mut pairs: Vec<(&str, String)> = vec![
@@ -307,5 +321,7 @@ fn state_lines(state: &mut SetupState) -> String {
         "robot_pose",
         format!("{:.4} {:.4} {:.4}", rp[0], rp[1], rp[2]),
     ));
+    pairs.extend(crate::gui::module_editor::script::state_pairs(modules));
+    pairs.push(("registry_modules", state.wizard.registry.names().join(",")));
     state_report(&pairs)
 }

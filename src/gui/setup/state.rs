@@ -43,6 +43,8 @@ pub enum Status {
 #[derive(Resource)]
 pub struct SetupState {
     pub tool: Tool,
+    /// The module library's revision the wizard's registry was made at.
+    pub module_revision: u64,
     pub wizard: Wizard,
     /// The standalone environment editor (the wizard's environment page has its own).
     pub editor: EnvEditor,
@@ -70,6 +72,15 @@ pub struct SetupState {
 }
 
 impl SetupState {
+    /// Offers the modules compiled in the module library since the last call (the
+    /// library's `revision` counts its loads).
+    pub fn sync_modules(&mut self, revision: u64) {
+        if revision != self.module_revision {
+            self.module_revision = revision;
+            self.wizard.registry = crate::control::ModuleRegistry::default();
+        }
+    }
+
     pub fn new(configs: &Path, out: &Path, stamp: &str) -> Self {
         let wizard = Wizard::new(configs, out, stamp);
         let editor_file = out.join(format!("scene_{stamp}.env.xml"));
@@ -77,6 +88,7 @@ impl SetupState {
         let expert_path = out.join(format!("composed_{stamp}.simulation.xml"));
         SetupState {
             tool: Tool::Wizard,
+            module_revision: 0,
             editor: EnvEditor::new(&editor_file),
             editor_path: editor_file.display().to_string(),
             expert: ExpertState {

@@ -10,6 +10,9 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
+pub mod modules;
+
+use crate::config::Simulation;
 use crate::config::load_simulation;
 use crate::data::store::DataStore;
 use crate::sim::datalog::{DataSettings, handlers_for};
@@ -44,10 +47,9 @@ impl Figure {
     }
 }
 
-fn world(config: &Path, robots: usize) -> Result<Simulator, String> {
-    let sim = load_simulation(config).map_err(|e| e.to_string())?;
+pub(crate) fn world_of(sim: &Simulation, robots: usize) -> Result<Simulator, String> {
     Simulator::new(
-        &sim,
+        sim,
         &BuildOptions {
             robots,
             seed: 1,
@@ -66,9 +68,21 @@ fn best(
     label: &str,
     measure: impl Fn(&mut Simulator, u64) -> f64,
 ) -> Result<Figure, String> {
+    let sim = load_simulation(config).map_err(|e| e.to_string())?;
+    best_of(&sim, robots, seconds, label, measure)
+}
+
+/// [`best`] on a loaded simulation.
+fn best_of(
+    sim: &Simulation,
+    robots: usize,
+    seconds: f64,
+    label: &str,
+    measure: impl Fn(&mut Simulator, u64) -> f64,
+) -> Result<Figure, String> {
     let mut fastest: Option<Figure> = None;
     for _ in 0..REPEATS {
-        let mut s = world(config, robots)?;
+        let mut s = world_of(sim, robots)?;
         let dt = s.clock().dt;
         s.run_steps((1.0 / dt).round() as u64);
         let steps = (seconds / dt).round() as u64;

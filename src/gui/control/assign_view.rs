@@ -1,0 +1,77 @@
+//! Assigning a module to joints in the running window: any registered type — standard
+//! or a plugin module compiled a moment ago in the module library — on the joints of a
+//! 0/1 mask. The world is rebuilt with the module added (the files stay as they are).
+
+use bevy::prelude::*;
+use bevy_egui::egui;
+
+use crate::control::ModuleRegistry;
+use crate::gui::control::session::SimSession;
+
+/// The form's state.
+#[derive(Resource, Debug, Clone, Default)]
+pub struct AssignState {
+    pub module: String,
+    pub mask: String,
+    pub message: Option<Result<String, String>>,
+}
+
+impl AssignState {
+    /// Adds the chosen module; the outcome is kept for the form.
+    pub fn assign(&mut self, session: &mut SimSession) -> Result<(), String> {
+        let result = session.add_module(&self.module, &self.mask);
+        self.message = Some(match &result {
+            Ok(()) => Ok(format!(
+                "{} drives {} (world rebuilt)",
+                self.module, self.mask
+            )),
+            Err(e) => Err(e.clone()),
+        });
+        result
+    }
+}
+
+/// Draws the form.
+pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut AssignState) {
+    ui.strong("Assign a module to joints");
+    let joints = session.sim.robot.joints.len();
+    if state.mask.len() != joints {
+        state.mask = "1".repeat(joints);
+    }
+    ui.horizontal(|ui| {
+        let shown = if state.module.is_empty() {
+            "choose…".to_string()
+        } else {
+            state.module.clone()
+        };
+        egui::ComboBox::from_id_salt("assign module")
+            .selected_text(shown)
+            .show_ui(ui, |ui| {
+                // Built when opened, so modules compiled meanwhile are offered.
+                let registry = ModuleRegistry::default();
+                for name in registry.names() {
+                    let summary = registry.get(name).map_or("", |d| d.summary);
+                    ui.selectable_value(&mut state.module, name.to_string(), name)
+                        .on_hover_text(summary);
+                }
+            });
+        ui.label("joints");
+        ui.add(egui::TextEdit::singleline(&mut state.mask).desired_width(120.0))
+            .on_hover_text("one 0/1 per joint, J1 first");
+        if ui
+            .add_enabled(!state.module.is_empty(), egui::Button::new("Add"))
+            .clicked()
+        {
+            let _ = state.assign(session);
+        }
+    });
+    match &state.message {
+        Some(Ok(m)) => {
+            ui.label(m);
+        }
+        Some(Err(e)) => {
+            ui.colored_label(egui::Color32::LIGHT_RED, e);
+        }
+        None => {}
+    }
+}
