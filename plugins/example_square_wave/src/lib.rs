@@ -52,8 +52,8 @@ impl Module for SquareWave {
                 lead -= p.get(PHASE_DIFFERENCE, j).to_radians();
             }
             let phase = helpers::wrap_tau(self.theta[j] + lead);
-            *angle = p.get(AMPLITUDE, j) * rounded_square(phase, p.get(SHARPNESS, j))
-                + p.get(OFFSET, j);
+            *angle =
+                p.get(AMPLITUDE, j) * rounded_square(phase, p.get(SHARPNESS, j)) + p.get(OFFSET, j);
             data.set(0, j, *angle);
             data.set(1, j, phase.to_degrees());
             self.theta[j] = helpers::wrap_tau(
