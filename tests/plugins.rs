@@ -173,6 +173,17 @@ fn the_cli_builds_lists_and_runs_the_example_plugins() {
         .and_then(|v| v.parse().ok())
         .unwrap();
     assert!(moved > 0.1, "{out}");
+    // The plugin's series are recorded like a standard module's.
+    let data = common::scratch("plugin-data").join("square.data.xml");
+    let data = data.to_str().unwrap();
+    let (ok, _, err) = proleg_with(lib, &["run", config, "--duration", "1", "--data", data]);
+    assert!(ok, "{err}");
+    let (ok, out, err) = proleg_with(lib, &["data", "info", data]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("handler   Square_wave") && out.contains("  Angle [5]\n  Phase [5]"),
+        "{out}"
+    );
     // Without the library the module is unknown, with the file and line named.
     let (ok, _, err) = proleg_with("", &["check", config]);
     assert!(!ok);

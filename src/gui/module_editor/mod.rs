@@ -135,6 +135,8 @@ pub struct ModuleEditor {
     pub builds: u64,
     /// A script waits for the build after this many builds.
     pub awaited_build: Option<u64>,
+    /// Libraries the last rescan skipped, with the cause.
+    pub scan_messages: Vec<String>,
 }
 
 impl Default for ModuleEditor {
@@ -155,6 +157,7 @@ impl Default for ModuleEditor {
             last_loaded: Vec::new(),
             builds: 0,
             awaited_build: None,
+            scan_messages: Vec::new(),
         }
     }
 }
@@ -218,6 +221,27 @@ impl ModuleEditor {
 
     pub fn building(&self) -> bool {
         self.job.is_some()
+    }
+
+    /// Loads new or changed libraries from the library folders.
+    pub fn rescan(&mut self) {
+        let report = plugin_host::scan_default();
+        self.scan_messages = report.messages();
+        if !report.loaded.is_empty() {
+            self.revision += 1;
+        }
+        let names: Vec<&str> = report
+            .loaded
+            .iter()
+            .map(|p| p.descriptor.type_name)
+            .collect();
+        self.status = Status::Info(format!(
+            "rescanned: {} loaded ({}), {} unchanged, {} skipped",
+            names.len(),
+            names.join(", "),
+            report.unchanged,
+            report.skipped.len()
+        ));
     }
 
     /// Saves and starts building the open crate in the background.

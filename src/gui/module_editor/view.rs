@@ -45,7 +45,7 @@ pub fn show(ctx: &egui::Context, editor: &mut ModuleEditor) {
                     .default_open(true)
                     .show(ui, |ui| build_log(ui, &editor.log));
             }
-            egui::CollapsingHeader::new("Loaded plugin modules").show(ui, loaded);
+            egui::CollapsingHeader::new("Loaded plugin modules").show(ui, |ui| loaded(ui, editor));
         });
     editor.open = open;
 }
@@ -188,7 +188,23 @@ fn build_log(ui: &mut egui::Ui, log: &str) {
         });
 }
 
-fn loaded(ui: &mut egui::Ui) {
+fn loaded(ui: &mut egui::Ui, editor: &mut ModuleEditor) {
+    ui.horizontal(|ui| {
+        let dirs: Vec<String> = plugin_host::library_dirs()
+            .iter()
+            .map(|d| d.display().to_string())
+            .collect();
+        if ui
+            .button("Rescan library folders")
+            .on_hover_text(dirs.join(", "))
+            .clicked()
+        {
+            editor.rescan();
+        }
+    });
+    for m in &editor.scan_messages {
+        ui.colored_label(egui::Color32::LIGHT_RED, m);
+    }
     let modules = plugin_host::loaded();
     if modules.is_empty() {
         ui.label("none");
