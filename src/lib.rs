@@ -17,6 +17,8 @@
 //! - [`plugin_host`]: user actuation modules in runtime-loaded libraries (the
 //!   `proleg-plugin-api` C ABI), their building and templates.
 //! - [`remote`]: remote controls (gamepads) bound to module parameters.
+//! - [`robot_io`]: real robots — the robot-control interface, the Dynamixel driver, an
+//!   emulated bus, the real-robot mode.
 //! - [`rng`]: the seeded random numbers of a run.
 //! - [`sensing`]: sensor readings as modules see them, touch debouncing.
 //! - [`sim`]: the simulated world as ECS (rapier physics, servos, the fixed-step pipeline)
@@ -35,5 +37,6 @@ pub mod optimize;
 pub mod plugin_host;
 pub mod remote;
 pub mod rng;
+pub mod robot_io;
 pub mod sensing;
 pub mod sim;

@@ -9,6 +9,7 @@ mod cli_data;
 mod cli_optimize;
 mod cli_plugin;
 mod cli_results;
+mod cli_robot;
 mod cli_run;
 
 /// Design, simulate, optimize and drive chain-like modular robots.
@@ -113,6 +114,10 @@ enum Command {
         #[arg(long)]
         export: Option<PathBuf>,
     },
+    /// Real-robot mode: the simulation's control kernel drives Dynamixel servos on a port.
+    Robot(cli_robot::RobotOptions),
+    /// An emulated Dynamixel bus on a pseudo-terminal (try `proleg robot` without hardware).
+    RobotEmulator(cli_robot::EmulatorOptions),
     /// The user module library: new plugin crates, building, the loaded modules.
     Plugin {
         #[command(subcommand)]
@@ -316,6 +321,8 @@ fn main() -> ExitCode {
             }
         },
         Command::Plugin { command } => cli_plugin::run(command, &plugins),
+        Command::Robot(options) => cli_robot::robot(&options),
+        Command::RobotEmulator(options) => cli_robot::emulator(&options),
         Command::Check { config } => proleg::config::load_simulation(&config)
             .map(|sim| format!("{}ok\n", proleg::config::summary::summary(&sim)))
             .map_err(|e| e.to_string()),

@@ -324,3 +324,44 @@ fn module_library_declares_compiles_and_assigns_a_new_module() {
     assert_eq!((w, h), (1280, 800));
     assert!(colours > 50);
 }
+
+#[test]
+fn real_robot_tab_drives_the_emulated_servos_and_shows_the_twin() {
+    let bus = proleg::robot_io::emulator::EmulatedBus::start(&[1, 2, 3, 4, 5], 600.0)
+        .expect("emulated bus");
+    let shot = scratch("robot-files").join("robot.png");
+    let commands = format!(
+        "wait 2\nrobot open\nrobot-connect {}\nrobot-torque on\nrobot-drive on\n\
+         speed 1\nstart\nrun-until 2\npause\nwait 2\nscreenshot {}\n",
+        bus.path().display(),
+        shot.display()
+    );
+    let s = scripted_state("robot", "configs/snake5p_real.simulation.xml", &commands);
+    assert_eq!(get(&s, "robot_connected"), "true", "{s:?}");
+    assert_eq!(get(&s, "robot_torque"), "true");
+    assert_eq!(get(&s, "robot_error"), "");
+    let reads: u64 = get(&s, "robot_reads").parse().expect("reads");
+    let writes: u64 = get(&s, "robot_writes").parse().expect("writes");
+    assert!(reads >= 3 && writes >= 2, "{reads} reads, {writes} writes");
+    // The kernel's angles reached the servos, which moved; the tab saw them move.
+    let servos = bus.servos();
+    assert!(servos.iter().all(|s| s.goals_written >= 2));
+    assert!(
+        servos.iter().any(|s| (s.present() - 2048.0).abs() > 20.0),
+        "{:?}",
+        servos.iter().map(|s| s.present()).collect::<Vec<_>>()
+    );
+    let measured: Vec<f64> = get(&s, "robot_positions")
+        .split(' ')
+        .map(|v| v.parse().expect("angle"))
+        .collect();
+    assert!(measured.iter().any(|a| a.abs() > 2.0), "{measured:?}");
+    // Closing the window switched the torque off.
+    assert!(
+        bus.servos().iter().all(|s| !s.torque()),
+        "torque left on after the window closed"
+    );
+    let (w, h, colours) = png_colours(&shot);
+    assert_eq!((w, h), (1280, 800));
+    assert!(colours > 50);
+}

@@ -227,6 +227,7 @@ impl RobotSpec {
                 pos: Pos::new(0, 0),
             },
             sensors: Vec::new(),
+            servos: None,
             pos: Pos::new(0, 0),
         }
     }

@@ -25,6 +25,7 @@ pub mod remote;
 pub mod resolve;
 pub mod robot;
 pub mod sensor;
+pub mod servos;
 pub mod simulation;
 pub mod source;
 pub mod summary;

@@ -1,9 +1,12 @@
 //! Robot files (`*.robot.xml`, thesis listing B.2): `<Robot name>` holding one
 //! `<KinBody>` (parts included by file and prefix, hinge joints) and attached sensors.
+//! Our extension: `<Servos>` maps the joints to the real robot's servos
+//! ([`crate::config::servos`]).
 
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::kinbody::KinBody;
 use crate::config::sensor::AttachedSensor;
+use crate::config::servos::ServoSection;
 use crate::config::xml::read::read_document;
 use crate::config::xml::write::XmlWriter;
 
@@ -13,6 +16,8 @@ pub struct RobotFile {
     pub name: String,
     pub kinbody: KinBody,
     pub sensors: Vec<AttachedSensor>,
+    /// The real robot's servos, when the file says.
+    pub servos: Option<ServoSection>,
     pub pos: Pos,
 }
 
@@ -20,7 +25,7 @@ pub struct RobotFile {
 pub fn parse_robot_file(file: &str, text: &str) -> ConfigResult<RobotFile> {
     let (doc, r) = read_document(file, text, "Robot", "a robot file")?;
     let root = &doc.root;
-    r.only_children(root, &["kinbody", "attachedsensor"])?;
+    r.only_children(root, &["kinbody", "attachedsensor", "servos"])?;
     r.only_attrs(root, &["name"])?;
     let kb = r.required(root, "kinbody")?;
     if kb.attr("file").is_some() {
@@ -37,6 +42,10 @@ pub fn parse_robot_file(file: &str, text: &str) -> ConfigResult<RobotFile> {
             .children_named("attachedsensor")
             .map(|s| AttachedSensor::read(&r, s))
             .collect::<ConfigResult<_>>()?,
+        servos: r
+            .at_most_one(root, "servos")?
+            .map(|s| ServoSection::read(&r, s))
+            .transpose()?,
         pos: root.pos,
     })
 }
@@ -47,6 +56,9 @@ pub fn write_robot_file(robot: &RobotFile) -> String {
     w.open("Robot", &[("name", robot.name.clone())]);
     robot.kinbody.write(&mut w);
     for s in &robot.sensors {
+        s.write(&mut w);
+    }
+    if let Some(s) = &robot.servos {
         s.write(&mut w);
     }
     w.finish()

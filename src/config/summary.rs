@@ -73,6 +73,24 @@ pub fn summary(sim: &Simulation) -> String {
         "  sensors {}: {tactile} tactile, {lasers} laser",
         r.sensors.len()
     );
+    let servos: Vec<String> = r
+        .servos
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(j, v)| {
+            let sign = if v.direction < 0.0 { "-" } else { "" };
+            format!("J{}={sign}{}", j + 1, v.id)
+        })
+        .collect();
+    let _ = writeln!(
+        s,
+        "  servos ({} at {} baud, read every {} steps): {}",
+        r.servos.driver,
+        r.servos.baud,
+        r.servos.read_every,
+        servos.join(" ")
+    );
 
     let _ = writeln!(s, "actuation   {}", sim.actuation.file.display());
     for m in &sim.actuation.modules {

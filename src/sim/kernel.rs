@@ -26,6 +26,11 @@ pub struct SimRobot {
 #[derive(Component, Debug, Clone)]
 pub struct Kernel(pub ControlKernel);
 
+/// Servo targets (degrees, one per joint) that replace the kernel's sums: the simulated
+/// twin of a real robot follows the real robot's angles with it.
+#[derive(Component, Debug, Clone, PartialEq)]
+pub struct JointOverride(pub Vec<f64>);
+
 /// Gathers the measured angles and lets every module compute (the `Actuate` set).
 pub fn actuate(
     clock: Res<SimClock>,
@@ -45,9 +50,13 @@ pub fn actuate(
 }
 
 /// Sums the module outputs joint-wise and sets the servo targets (the `Kernel` set).
-pub fn sum_outputs(mut robots: Query<(&SimRobot, &mut Kernel)>, mut servos: Query<&mut Servo>) {
-    for (robot, mut kernel) in &mut robots {
-        let desired = kernel.0.sum();
+pub fn sum_outputs(
+    mut robots: Query<(&SimRobot, &mut Kernel, Option<&JointOverride>)>,
+    mut servos: Query<&mut Servo>,
+) {
+    for (robot, mut kernel, over) in &mut robots {
+        let sums = kernel.0.sum();
+        let desired = over.map_or(sums, |o| o.0.as_slice());
         for (e, d) in robot.joints.iter().zip(desired) {
             if let Ok(mut s) = servos.get_mut(*e) {
                 s.target = *d;

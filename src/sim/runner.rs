@@ -245,6 +245,32 @@ impl Simulator {
         self.robot_component::<Kernel>(index).map(|k| &k.0)
     }
 
+    /// Makes robot `index`'s servos follow `angles` (degrees, one per joint) instead of
+    /// its kernel — the twin of a real robot — or the kernel again with `None`.
+    pub fn set_joint_override(
+        &mut self,
+        index: usize,
+        angles: Option<Vec<f64>>,
+    ) -> Result<(), SimError> {
+        let e = self.robot(index)?;
+        let mut entity = self.app.world_mut().entity_mut(e);
+        match angles {
+            Some(a) => match entity.get_mut::<crate::sim::kernel::JointOverride>() {
+                Some(mut o) => {
+                    o.0.clear();
+                    o.0.extend_from_slice(&a);
+                }
+                None => {
+                    entity.insert(crate::sim::kernel::JointOverride(a));
+                }
+            },
+            None => {
+                entity.remove::<crate::sim::kernel::JointOverride>();
+            }
+        }
+        Ok(())
+    }
+
     /// The control kernel of robot `index`, to change between steps (parameters,
     /// distortions, perturbations; see [`ControlKernel`]).
     pub fn kernel_mut(&mut self, index: usize) -> Result<&mut ControlKernel, SimError> {

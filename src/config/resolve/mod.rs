@@ -22,7 +22,9 @@ use crate::control::ModuleRegistry;
 pub use actuation::{ActuationModel, ModuleInstance, ParamAssignment};
 pub use environment::{EnvBody, EnvironmentModel};
 pub use optimizer::{OptimizedParameter, OptimizerModel};
-pub use robot::{JointOrientation, Link, RobotJoint, RobotModel, RobotSensor};
+pub use robot::{
+    JointOrientation, JointServo, Link, RobotJoint, RobotModel, RobotSensor, ServoMap,
+};
 
 /// The files of a simulation as written (what an editor changes and saves).
 #[derive(Debug, Clone, PartialEq)]

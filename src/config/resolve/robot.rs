@@ -11,6 +11,7 @@ use crate::config::robot::RobotFile;
 use crate::config::sensor::{Sensor, SensorSource, parse_sensor_file};
 use crate::config::source::FileSource;
 use crate::config::transform::Transform;
+use crate::config::xml::read::Reader;
 
 /// Default joint limits (deg), torque (N·m) and speed (rad/s): the thesis's servo (B.2).
 pub const DEFAULT_LIMITS_DEG: [f64; 2] = [-90.0, 90.0];
@@ -118,6 +119,129 @@ pub struct RobotModel {
     pub sensors: Vec<RobotSensor>,
     /// Every file read to build it (robot, parts, sensors, meshes).
     pub files: Vec<PathBuf>,
+    /// The real robot's servos, one per joint in joint order.
+    pub servos: ServoMap,
+}
+
+/// The real robot's servo of one joint.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointServo {
+    /// Bus id.
+    pub id: u8,
+    /// Servo angle (degrees) with the joint straight.
+    pub offset: f64,
+    /// +1 or −1.
+    pub direction: f64,
+}
+
+impl JointServo {
+    /// The servo angle (degrees) that puts the joint at `joint_deg`.
+    pub fn servo_angle(&self, joint_deg: f64) -> f64 {
+        self.direction * joint_deg + self.offset
+    }
+
+    /// The joint angle (degrees) of a servo angle.
+    pub fn joint_angle(&self, servo_deg: f64) -> f64 {
+        self.direction * (servo_deg - self.offset)
+    }
+}
+
+/// The bus settings and the servo of every joint.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ServoMap {
+    pub driver: String,
+    pub baud: u32,
+    /// Read positions, currents and speeds back every this many control steps.
+    pub read_every: u32,
+    /// One per robot joint, in joint order.
+    pub joints: Vec<JointServo>,
+}
+
+impl ServoMap {
+    /// Ids 1..=n in joint order, offset 0, direction 1, the default bus.
+    pub fn default_for(joints: usize) -> ServoMap {
+        ServoMap {
+            driver: crate::config::servos::DRIVERS[0].to_string(),
+            baud: crate::config::servos::DEFAULT_BAUD,
+            read_every: crate::config::servos::DEFAULT_READ_EVERY,
+            joints: (0..joints)
+                .map(|j| JointServo {
+                    id: (j + 1).min(252) as u8,
+                    offset: 0.0,
+                    direction: 1.0,
+                })
+                .collect(),
+        }
+    }
+}
+
+/// The servo map of a robot file's `<Servos>` against its joints.
+fn resolve_servos(path: &Path, file: &RobotFile, joints: &[RobotJoint]) -> ConfigResult<ServoMap> {
+    let Some(section) = &file.servos else {
+        return Ok(ServoMap::default_for(joints.len()));
+    };
+    let r = Reader::new(path);
+    let mut mapped: Vec<Option<JointServo>> = vec![None; joints.len()];
+    let mut ids = Vec::new();
+    for s in &section.servos {
+        let j = joints
+            .iter()
+            .position(|j| j.name.eq_ignore_ascii_case(&s.joint))
+            .ok_or_else(|| {
+                let names: Vec<&str> = joints.iter().map(|j| j.name.as_str()).collect();
+                r.err(
+                    s.pos,
+                    ErrorKind::UnknownReference,
+                    format!(
+                        "<Servo joint=\"{}\">: the robot has no such joint; its joints: {}",
+                        s.joint,
+                        names.join(", ")
+                    ),
+                )
+            })?;
+        if mapped[j].is_some() {
+            return Err(r.err(
+                s.pos,
+                ErrorKind::InvalidValue,
+                format!("joint {} has two servos", s.joint),
+            ));
+        }
+        if ids.contains(&s.id) {
+            return Err(r.err(
+                s.pos,
+                ErrorKind::InvalidValue,
+                format!("servo id {} is used twice", s.id),
+            ));
+        }
+        ids.push(s.id);
+        mapped[j] = Some(JointServo {
+            id: s.id,
+            offset: s.offset,
+            direction: f64::from(s.direction),
+        });
+    }
+    let missing: Vec<&str> = joints
+        .iter()
+        .zip(&mapped)
+        .filter(|(_, m)| m.is_none())
+        .map(|(j, _)| j.name.as_str())
+        .collect();
+    if !missing.is_empty() {
+        return Err(r.err(
+            section.pos,
+            ErrorKind::Missing,
+            format!(
+                "<Servos> gives no servo for joint(s) {}",
+                missing.join(", ")
+            ),
+        ));
+    }
+    Ok(ServoMap {
+        driver: section.driver.clone(),
+        baud: section.baud,
+        read_every: section.read_every,
+        joints: mapped.into_iter().flatten().collect(),
+    })
 }
 
 impl RobotModel {
@@ -304,6 +428,7 @@ pub fn resolve_robot(
     }
     files.sort();
     files.dedup();
+    let servos = resolve_servos(path, file, &joints)?;
     Ok(RobotModel {
         name: file.name.clone(),
         file: path.to_path_buf(),
@@ -311,5 +436,6 @@ pub fn resolve_robot(
         joints,
         sensors,
         files,
+        servos,
     })
 }

@@ -7,7 +7,8 @@
 //! - [`scene`]: meshes, lights and pads following the physics bodies
 //! - [`camera`]: orbit / pan / zoom / follow; [`picking`]: select and drag bodies
 //! - [`debug_view`]: collider outlines and contacts from the physics world
-//! - [`toolbar`], [`params`], [`assign_view`], [`plots`], [`overlay`], [`inspect`], [`optimizer_view`],
+//! - [`toolbar`], [`params`], [`assign_view`], [`robot_view`] (the real robot),
+//!   [`plots`], [`overlay`], [`inspect`], [`optimizer_view`],
 //!   [`remote_view`]: the egui views
 //! - [`script`], [`script_run`]: scripted driving for tests and screenshots
 
@@ -21,6 +22,7 @@ pub mod params;
 pub mod picking;
 pub mod plots;
 pub mod remote_view;
+pub mod robot_view;
 pub mod scene;
 pub mod script;
 pub mod script_run;
@@ -45,6 +47,7 @@ use crate::gui::control::params::ParamsState;
 use crate::gui::control::picking::Selection;
 use crate::gui::control::plots::PlotsState;
 use crate::gui::control::remote_view::RemoteView;
+use crate::gui::control::robot_view::RobotView;
 use crate::gui::control::scene::BodyVisual;
 use crate::gui::control::scene::SceneBuilt;
 use crate::gui::control::script::ScriptRunner;
@@ -75,6 +78,7 @@ pub struct Views<'w> {
     pub gamepad: ResMut<'w, GamepadRemote>,
     pub modules: ResMut<'w, ModuleEditor>,
     pub assign: ResMut<'w, AssignState>,
+    pub robot: ResMut<'w, RobotView>,
 }
 
 /// Ordering of the window's per-frame work.
@@ -101,6 +105,10 @@ pub fn run(config: &Path, script: Option<&Path>, remote: Option<&Path>) -> Resul
         None => ScriptRunner::default(),
     };
     let title = format!("proleg — {}", config.display());
+    // A real-robot configuration opens with the real-robot tab.
+    let mut robot_view = RobotView::default();
+    robot_view.open =
+        session.sim.files.simulation.properties.mode == crate::config::simulation::Mode::RealRobot;
     let mut app = App::new();
     app.add_plugins(DefaultPlugins.set(WindowPlugin {
         primary_window: Some(Window {
@@ -116,6 +124,7 @@ pub fn run(config: &Path, script: Option<&Path>, remote: Option<&Path>) -> Resul
     .insert_resource(runner)
     .insert_non_send(session)
     .insert_resource(remote_view)
+    .insert_resource(robot_view)
     .add_plugins(ControlWindowPlugin);
     match app.run() {
         AppExit::Success => Ok(()),
@@ -132,6 +141,7 @@ impl Plugin for ControlWindowPlugin {
             .init_resource::<RemoteView>()
             .init_resource::<ModuleEditor>()
             .init_resource::<AssignState>()
+            .init_resource::<RobotView>()
             .init_resource::<ParamsState>()
             .init_resource::<InspectState>()
             .init_resource::<DebugView>()
@@ -163,7 +173,12 @@ impl Plugin for ControlWindowPlugin {
             .add_systems(Update, script_run::run_script.in_set(GuiSystems::Script))
             .add_systems(
                 Update,
-                (picking::apply_moves, remote_view::apply_remote, simulate)
+                (
+                    picking::apply_moves,
+                    remote_view::apply_remote,
+                    robot_view::exchange,
+                    simulate,
+                )
                     .chain()
                     .in_set(GuiSystems::Simulate),
             )
@@ -220,6 +235,7 @@ fn draw_ui(
         gamepad,
         modules,
         assign,
+        robot,
     } = &mut views;
     let ctx = contexts.ctx_mut()?.clone();
     let mut root = egui::Ui::new(
@@ -241,6 +257,7 @@ fn draw_ui(
             ui.toggle_value(&mut debug.0, "Physics debug view");
             ui.toggle_value(&mut remote.open, "Remote control");
             ui.toggle_value(&mut modules.open, "Module library");
+            ui.toggle_value(&mut robot.open, "Real robot");
         });
     });
     if panels.plots {
@@ -276,6 +293,9 @@ fn draw_ui(
         remote_view::show(&ctx, remote, gamepad, &session);
     }
     crate::gui::module_editor::view::show(&ctx, modules);
+    if robot.open {
+        robot_view::show(&ctx, robot, &mut session);
+    }
     for mut c in &mut cameras {
         c.follow = follow;
     }

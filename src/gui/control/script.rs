@@ -24,6 +24,9 @@
 //! remote-load F.remote.xml | remote-save F.remote.xml
 //! modules open | module-declare ... | module-compile   # see gui::module_editor::script
 //! assign MODULE 10101            # add a module on these joints (rebuilds the world)
+//! robot open|close               # the real-robot tab
+//! robot-connect PORT             # connect to the servos on PORT (e.g. an emulator's pty)
+//! robot-torque on|off | robot-drive on|off | robot-twin on|off | robot-disconnect
 //! screenshot docs/control_window.png
 //! state out/state.txt            # the app state as key = value lines
 //! quit
@@ -93,6 +96,13 @@ pub enum Command {
     /// A module library command.
     Module(crate::gui::module_editor::script::ModuleCommand),
     Assign(String, String),
+    /// The real-robot tab: open/close, connect, torque, drive, twin, disconnect.
+    RobotOpen(bool),
+    RobotConnect(String),
+    RobotTorque(bool),
+    RobotDrive(bool),
+    RobotTwin(bool),
+    RobotDisconnect,
     Screenshot(PathBuf),
     State(PathBuf),
     Quit,
@@ -199,6 +209,12 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             }
             "remote-load" if words.len() == 2 => Command::RemoteLoad(PathBuf::from(words[1])),
             "remote-save" if words.len() == 2 => Command::RemoteSave(PathBuf::from(words[1])),
+            "robot" if words.len() == 2 => Command::RobotOpen(words[1] == "open"),
+            "robot-connect" if words.len() == 2 => Command::RobotConnect(words[1].to_string()),
+            "robot-torque" if words.len() == 2 => Command::RobotTorque(words[1] == "on"),
+            "robot-drive" if words.len() == 2 => Command::RobotDrive(words[1] == "on"),
+            "robot-twin" if words.len() == 2 => Command::RobotTwin(words[1] == "on"),
+            "robot-disconnect" => Command::RobotDisconnect,
             "assign" if words.len() == 3 => {
                 Command::Assign(words[1].to_string(), words[2].to_string())
             }

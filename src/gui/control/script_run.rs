@@ -215,6 +215,31 @@ fn carry_out(
                 Flow::Again
             }
         }
+        Command::RobotOpen(open) => {
+            views.robot.open = open;
+            Flow::Next
+        }
+        Command::RobotConnect(port) => {
+            views.robot.port = port;
+            views.robot.connect(session)?;
+            Flow::Next
+        }
+        Command::RobotTorque(on) => {
+            views.robot.set_torque(on)?;
+            Flow::Next
+        }
+        Command::RobotDrive(on) => {
+            views.robot.drive = on;
+            Flow::Next
+        }
+        Command::RobotTwin(on) => {
+            views.robot.twin = on;
+            Flow::Next
+        }
+        Command::RobotDisconnect => {
+            views.robot.disconnect(session);
+            Flow::Next
+        }
         Command::Assign(module, mask) => {
             views.assign.module = module;
             views.assign.mask = mask;
@@ -342,6 +367,21 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
         .map(|k| k.failures().map(|(n, c)| format!("{n}: {c}")).collect())
         .unwrap_or_default();
     pairs.push(("module_failures", failures.join(" | ")));
+    let r = &views.robot;
+    pairs.push(("robot_connected", r.connected().to_string()));
+    pairs.push(("robot_torque", r.torque.to_string()));
+    pairs.push(("robot_reads", r.reads.to_string()));
+    pairs.push(("robot_writes", r.writes.to_string()));
+    pairs.push((
+        "robot_positions",
+        r.readings
+            .positions
+            .iter()
+            .map(|a| format!("{a:.2}"))
+            .collect::<Vec<_>>()
+            .join(" "),
+    ));
+    pairs.push(("robot_error", r.error.clone().unwrap_or_default()));
     pairs.push((
         "remote_error",
         views.remote.error.clone().unwrap_or_default(),

@@ -1,0 +1,149 @@
+//! `proleg robot` (the real-robot mode on a serial port) and `proleg robot-emulator` (an
+//! emulated Dynamixel bus on a pseudo-terminal to try it without hardware).
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use proleg::config::load_simulation;
+use proleg::robot_io::dynamixel::DynamixelChain;
+use proleg::robot_io::emulator::EmulatedBus;
+use proleg::robot_io::real_mode::{RealOptions, run};
+
+/// `proleg robot`'s arguments.
+#[derive(clap::Args)]
+pub struct RobotOptions {
+    /// A `*.simulation.xml` file (its robot file's `<Servos>` maps joints to servos).
+    pub config: PathBuf,
+    /// The serial port of the servo bus (e.g. /dev/ttyUSB0).
+    #[arg(long)]
+    pub port: PathBuf,
+    /// Baud rate (default: the robot file's, else 1000000).
+    #[arg(long)]
+    pub baud: Option<u32>,
+    /// Seconds to run (default: until Ctrl-C).
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// Record every data handler to this B.8 data file.
+    #[arg(long)]
+    pub data: Option<PathBuf>,
+    /// Sample every this many steps (default: the file's accuracy).
+    #[arg(long)]
+    pub every: Option<u32>,
+    /// Read positions, currents and speeds back every this many steps.
+    #[arg(long)]
+    pub read_every: Option<u32>,
+    /// Seed of the modules' random numbers (default: the file's).
+    #[arg(long)]
+    pub seed: Option<u64>,
+}
+
+fn stop_flag() -> Arc<AtomicBool> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let s = stop.clone();
+    // Only one handler per process; a second call keeps the first.
+    let _ = ctrlc::set_handler(move || s.store(true, Ordering::SeqCst));
+    stop
+}
+
+/// Runs the real-robot mode and summarizes it.
+pub fn robot(o: &RobotOptions) -> Result<String, String> {
+    if let Some(d) = o.duration
+        && !(d.is_finite() && d >= 0.0)
+    {
+        return Err(format!("--duration {d}: give a number of seconds >= 0"));
+    }
+    let sim = load_simulation(&o.config).map_err(|e| e.to_string())?;
+    let mut chain = DynamixelChain::new(
+        &o.port,
+        o.baud,
+        sim.robot.servos.clone(),
+        &sim.robot.pattern(),
+    );
+    let stop = stop_flag();
+    let opts = RealOptions {
+        duration: o.duration,
+        read_every: o.read_every,
+        every: o.every,
+        seed: o.seed.unwrap_or(sim.files.simulation.properties.seed),
+    };
+    let s = run(&sim, &mut chain, &opts, o.data.as_deref(), &stop)?;
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "robot           {} on {}",
+        sim.robot.name,
+        o.port.display()
+    );
+    let _ = writeln!(out, "steps           {} ({} read-backs)", s.steps, s.reads);
+    let _ = writeln!(out, "wall time       {:.3} s", s.wall);
+    let _ = writeln!(out, "late steps      {}", s.late_steps);
+    let f: Vec<String> = s
+        .readings
+        .positions
+        .iter()
+        .map(|a| format!("{a:.1}"))
+        .collect();
+    let _ = writeln!(out, "last angles     {} deg", f.join(" "));
+    if let Some(d) = &o.data {
+        let _ = writeln!(
+            out,
+            "data            {} ({} samples)",
+            d.display(),
+            s.samples
+        );
+    }
+    match &s.shutdown_error {
+        Some(e) => {
+            let _ = writeln!(out, "torque off      FAILED: {e}");
+        }
+        None => {
+            let _ = writeln!(out, "torque off      yes");
+        }
+    }
+    match s.error {
+        Some(e) => Err(format!("{out}the run stopped: {e}")),
+        None => Ok(out),
+    }
+}
+
+/// `proleg robot-emulator`'s arguments.
+#[derive(clap::Args)]
+pub struct EmulatorOptions {
+    /// Number of servos (ids 1..N).
+    #[arg(long, default_value_t = 5)]
+    pub servos: u8,
+    /// Servo speed toward the goal (degrees/s).
+    #[arg(long, default_value_t = 300.0)]
+    pub speed: f64,
+}
+
+/// Runs an emulated bus until Ctrl-C.
+pub fn emulator(o: &EmulatorOptions) -> Result<String, String> {
+    if o.servos == 0 || o.servos > 252 {
+        return Err(format!("--servos {}: give 1..252", o.servos));
+    }
+    let ids: Vec<u8> = (1..=o.servos).collect();
+    let bus = EmulatedBus::start(&ids, o.speed)?;
+    println!(
+        "emulating {} Dynamixel servos (ids 1..{}) on {}",
+        o.servos,
+        o.servos,
+        bus.path().display()
+    );
+    println!(
+        "run e.g.: proleg robot configs/snake5p_real.simulation.xml --port {}",
+        bus.path().display()
+    );
+    println!("Ctrl-C stops the emulator");
+    let stop = stop_flag();
+    while !stop.load(Ordering::SeqCst) {
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let stats = bus.stats();
+    Ok(format!(
+        "stopped after {} packets ({} sync writes, {} sync reads)\n",
+        stats.packets, stats.sync_writes, stats.sync_reads
+    ))
+}

@@ -1,0 +1,280 @@
+//! An emulated Dynamixel bus on a pseudo-terminal, for using and testing the real-robot
+//! mode without hardware (`proleg robot-emulator`, the integration tests). A thread
+//! answers Protocol 2.0 on the pty's master side for N servos ([`servo`]): ping, read,
+//! write, sync read, sync write, reboot; servos move toward their goal at a set speed
+//! while torque is on. A servo can be made silent to test timeouts.
+//!
+//! The driver opens the pty's slave side ([`EmulatedBus::path`]) like a USB adapter.
+
+pub mod packet;
+pub mod servo;
+
+use std::io::{Read, Write};
+use std::os::fd::AsFd;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, PoisonError};
+use std::thread::JoinHandle;
+use std::time::Instant;
+
+use nix::fcntl::OFlag;
+use nix::poll::{PollFd, PollFlags, PollTimeout, poll};
+use nix::pty::{PtyMaster, grantpt, posix_openpt, ptsname_r, unlockpt};
+use nix::sys::termios::{SetArg, cfmakeraw, tcgetattr, tcsetattr};
+
+use crate::robot_io::emulator::packet::{Instruction, Parsed, parse, status};
+use crate::robot_io::emulator::servo::EmulatedServo;
+
+const PING: u8 = 0x01;
+const READ: u8 = 0x02;
+const WRITE: u8 = 0x03;
+const REBOOT: u8 = 0x08;
+const SYNC_READ: u8 = 0x82;
+const SYNC_WRITE: u8 = 0x83;
+const BROADCAST: u8 = 0xFE;
+/// Status error numbers.
+const INSTRUCTION_ERROR: u8 = 2;
+const DATA_LENGTH_ERROR: u8 = 5;
+const ACCESS_ERROR: u8 = 7;
+
+/// Counts of what the bus was asked.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct BusStats {
+    pub packets: u64,
+    pub sync_writes: u64,
+    pub sync_reads: u64,
+    pub bad_packets: u64,
+}
+
+#[derive(Debug, Default)]
+struct Shared {
+    servos: Vec<EmulatedServo>,
+    stats: BusStats,
+}
+
+/// A running emulated bus; stops when dropped.
+pub struct EmulatedBus {
+    path: PathBuf,
+    shared: Arc<Mutex<Shared>>,
+    stop: Arc<AtomicBool>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl std::fmt::Debug for EmulatedBus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("EmulatedBus")
+            .field("path", &self.path)
+            .finish()
+    }
+}
+
+impl EmulatedBus {
+    /// Servos with these ids, moving at `speed_deg_s`, on a new pseudo-terminal.
+    pub fn start(ids: &[u8], speed_deg_s: f64) -> Result<EmulatedBus, String> {
+        let err = |what: &str, e: nix::Error| format!("pseudo-terminal: {what}: {e}");
+        let master = posix_openpt(OFlag::O_RDWR | OFlag::O_NOCTTY).map_err(|e| err("open", e))?;
+        grantpt(&master).map_err(|e| err("grantpt", e))?;
+        unlockpt(&master).map_err(|e| err("unlockpt", e))?;
+        let path = PathBuf::from(ptsname_r(&master).map_err(|e| err("ptsname", e))?);
+        // Our own raw-mode handle on the slave side: no echo or line editing before the
+        // driver opens it, and the master never sees a hang-up between connections.
+        let slave = std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .open(&path)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        let mut t = tcgetattr(&slave).map_err(|e| err("tcgetattr", e))?;
+        cfmakeraw(&mut t);
+        tcsetattr(&slave, SetArg::TCSANOW, &t).map_err(|e| err("tcsetattr", e))?;
+        let shared = Arc::new(Mutex::new(Shared {
+            servos: ids
+                .iter()
+                .map(|id| EmulatedServo::new(*id, speed_deg_s))
+                .collect(),
+            stats: BusStats::default(),
+        }));
+        let stop = Arc::new(AtomicBool::new(false));
+        let thread = {
+            let (shared, stop) = (shared.clone(), stop.clone());
+            std::thread::Builder::new()
+                .name("dynamixel emulator".into())
+                .spawn(move || serve(master, slave, &shared, &stop))
+                .map_err(|e| format!("emulator thread: {e}"))?
+        };
+        Ok(EmulatedBus {
+            path,
+            shared,
+            stop,
+            thread: Some(thread),
+        })
+    }
+
+    /// The serial port to open (the pty's slave side).
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, Shared> {
+        self.shared.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// A snapshot of every servo.
+    pub fn servos(&self) -> Vec<EmulatedServo> {
+        self.lock().servos.clone()
+    }
+
+    pub fn stats(&self) -> BusStats {
+        self.lock().stats
+    }
+
+    /// Makes servo `id` stop answering once the bus has seen `packets` packets.
+    pub fn set_silent_after(&self, id: u8, packets: u64) {
+        for s in self.lock().servos.iter_mut().filter(|s| s.id == id) {
+            s.silent_after = Some(packets);
+        }
+    }
+
+    /// Makes servo `id` stop (or resume) answering.
+    pub fn set_silent(&self, id: u8, silent: bool) {
+        for s in self.lock().servos.iter_mut().filter(|s| s.id == id) {
+            s.silent = silent;
+        }
+    }
+}
+
+impl Drop for EmulatedBus {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::SeqCst);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+/// The emulator thread: reads instructions, answers, moves the servos.
+fn serve(mut master: PtyMaster, _slave: std::fs::File, shared: &Mutex<Shared>, stop: &AtomicBool) {
+    let mut buf: Vec<u8> = Vec::with_capacity(1024);
+    let mut chunk = [0u8; 512];
+    let mut last = Instant::now();
+    while !stop.load(Ordering::SeqCst) {
+        let readable = {
+            let mut fds = [PollFd::new(master.as_fd(), PollFlags::POLLIN)];
+            matches!(poll(&mut fds, PollTimeout::from(1u8)), Ok(n) if n > 0)
+                && fds[0]
+                    .revents()
+                    .is_some_and(|r| r.contains(PollFlags::POLLIN))
+        };
+        if readable {
+            match master.read(&mut chunk) {
+                Ok(n) => buf.extend_from_slice(&chunk[..n]),
+                Err(_) => std::thread::sleep(std::time::Duration::from_millis(1)),
+            }
+        }
+        let now = Instant::now();
+        let dt = now.duration_since(last).as_secs_f64();
+        last = now;
+        let mut shared = shared.lock().unwrap_or_else(PoisonError::into_inner);
+        for s in shared.servos.iter_mut() {
+            s.advance(dt);
+        }
+        loop {
+            match parse(&buf) {
+                Parsed::Incomplete => break,
+                Parsed::Skip(n) => {
+                    shared.stats.bad_packets += u64::from(n >= 4);
+                    buf.drain(..n.min(buf.len()));
+                }
+                Parsed::Packet(instruction, used) => {
+                    buf.drain(..used);
+                    shared.stats.packets += 1;
+                    let answer = answer(&mut shared, &instruction);
+                    if !answer.is_empty() && master.write_all(&answer).is_err() {
+                        break;
+                    }
+                }
+            }
+        }
+    }
+}
+
+fn u16_at(p: &[u8], i: usize) -> Option<u16> {
+    Some(u16::from_le_bytes([*p.get(i)?, *p.get(i + 1)?]))
+}
+
+/// The status packets an instruction gets (empty for broadcasts and silent servos).
+fn answer(shared: &mut Shared, i: &Instruction) -> Vec<u8> {
+    let mut out = Vec::new();
+    let p = &i.params;
+    let packets = shared.stats.packets;
+    match i.instruction {
+        SYNC_WRITE => {
+            shared.stats.sync_writes += 1;
+            let (Some(address), Some(len)) = (u16_at(p, 0), u16_at(p, 2)) else {
+                return out;
+            };
+            let stride = usize::from(len) + 1;
+            for rec in p[4..].chunks_exact(stride) {
+                if let Some(s) = shared.servos.iter_mut().find(|s| s.id == rec[0]) {
+                    s.write(address, &rec[1..]);
+                }
+            }
+        }
+        SYNC_READ => {
+            shared.stats.sync_reads += 1;
+            let (Some(address), Some(len)) = (u16_at(p, 0), u16_at(p, 2)) else {
+                return out;
+            };
+            for id in &p[4..] {
+                if let Some(s) = shared
+                    .servos
+                    .iter()
+                    .find(|s| s.id == *id && s.answers(packets))
+                {
+                    match s.read(address, len) {
+                        Some(data) => out.extend(status(s.id, 0, data)),
+                        None => out.extend(status(s.id, ACCESS_ERROR, &[])),
+                    }
+                }
+            }
+        }
+        _ => {
+            let broadcast = i.id == BROADCAST;
+            for s in shared
+                .servos
+                .iter_mut()
+                .filter(|s| (broadcast || s.id == i.id) && s.answers(packets))
+            {
+                let reply = match i.instruction {
+                    PING => {
+                        let model = crate::robot_io::dynamixel::table::XM430_W350.to_le_bytes();
+                        status(s.id, 0, &[model[0], model[1], 45])
+                    }
+                    READ => match (u16_at(p, 0), u16_at(p, 2)) {
+                        (Some(a), Some(n)) => match s.read(a, n) {
+                            Some(data) => status(s.id, 0, data),
+                            None => status(s.id, ACCESS_ERROR, &[]),
+                        },
+                        _ => status(s.id, DATA_LENGTH_ERROR, &[]),
+                    },
+                    WRITE => match u16_at(p, 0) {
+                        Some(a) if p.len() > 2 => {
+                            let e = if s.write(a, &p[2..]) { 0 } else { ACCESS_ERROR };
+                            status(s.id, e, &[])
+                        }
+                        _ => status(s.id, DATA_LENGTH_ERROR, &[]),
+                    },
+                    REBOOT => {
+                        s.write(crate::robot_io::dynamixel::table::TORQUE_ENABLE, &[0]);
+                        status(s.id, 0, &[])
+                    }
+                    _ => status(s.id, INSTRUCTION_ERROR, &[]),
+                };
+                // Broadcast pings are answered; other broadcasts are not.
+                if !broadcast || i.instruction == PING {
+                    out.extend(reply);
+                }
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,267 @@
+//! The real-robot mode (thesis 4.3.3): the control kernel of a simulation file drives a
+//! real robot in real time. Each step of the file's step width the kernel computes from
+//! the latest measured angles and its goal angles go to the servos; every
+//! `read_every` steps positions, currents and speeds are read back and feed the kernel
+//! and the data file (the same B.8 format and handlers as a simulation: `Robot_Data`'s
+//! joint series are the robot's readings, its body series are 0 — a real robot has no
+//! ground-truth pose). On exit — the duration reached, Ctrl-C, or an error — the servos'
+//! torque is switched off and the data file is closed.
+
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+
+use crate::config::Simulation;
+use crate::control::{ControlKernel, ModuleRegistry};
+use crate::data::FrameMeta;
+use crate::data::store::DataStore;
+use crate::data::write::HandlerFrames;
+use crate::rng::SimRng;
+use crate::robot_io::{Readings, RobotControl, RobotError};
+use crate::sensing::SensorData;
+use crate::sim::datalog::{ROBOT_SCALARS, handlers_for};
+
+/// How the loop runs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RealOptions {
+    /// Seconds to run; `None`: until stopped.
+    pub duration: Option<f64>,
+    /// Read back every this many steps (default: the robot file's `readEvery`).
+    pub read_every: Option<u32>,
+    /// Record a sample every this many steps (default: the file's accuracy).
+    pub every: Option<u32>,
+    pub seed: u64,
+}
+
+/// What a run did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RealSummary {
+    pub steps: u64,
+    pub reads: u64,
+    pub wall: f64,
+    /// Steps that started later than one step width behind their time.
+    pub late_steps: u64,
+    /// The last readings.
+    pub readings: Readings,
+    /// Samples written to the data file.
+    pub samples: u64,
+    /// The error that stopped the run, if one did (the servos were switched off).
+    pub error: Option<String>,
+    /// Switching the torque off at the end failed.
+    pub shutdown_error: Option<String>,
+}
+
+/// Samples per round handed to the data writer.
+const ROUND: usize = 100;
+
+/// The data file side of the loop: frames gathered and sent in rounds.
+struct Recorder {
+    store: DataStore,
+    round: Vec<HandlerFrames>,
+    samples: u64,
+}
+
+impl Recorder {
+    fn sample(
+        &mut self,
+        kernel: &ControlKernel,
+        r: &Readings,
+        step: u64,
+        dt: f64,
+    ) -> Result<(), String> {
+        let meta = FrameMeta {
+            index: self.samples,
+            realtime_ms: SystemTime::now()
+                .duration_since(UNIX_EPOCH)
+                .map(|d| d.as_millis() as u64)
+                .unwrap_or(0),
+            simtime_ms: (step + 1) as f64 * dt * 1000.0,
+            step: step + 1,
+        };
+        let actuators = kernel.actuators();
+        for (h, frames) in self.round.iter_mut().enumerate() {
+            frames.meta.push(meta);
+            if let Some(a) = actuators.get(h) {
+                let d = a.module.internal_data();
+                for s in 0..d.names().len() {
+                    frames.values.extend_from_slice(d.series(s));
+                }
+            } else {
+                // Robot_Data: no ground-truth body series on a real robot.
+                frames
+                    .values
+                    .extend(std::iter::repeat_n(0.0, ROBOT_SCALARS.len()));
+                frames.values.extend_from_slice(kernel.desired());
+                frames.values.extend_from_slice(&r.positions);
+                frames.values.extend_from_slice(&r.currents);
+                frames.values.extend_from_slice(&r.speeds);
+            }
+        }
+        self.samples += 1;
+        if self.round[0].len() >= ROUND {
+            self.flush()?;
+        }
+        Ok(())
+    }
+
+    fn flush(&mut self) -> Result<(), String> {
+        if self.round.iter().all(HandlerFrames::is_empty) {
+            return Ok(());
+        }
+        let round = self
+            .round
+            .iter_mut()
+            .map(|f| HandlerFrames {
+                meta: std::mem::take(&mut f.meta),
+                values: std::mem::take(&mut f.values),
+            })
+            .collect();
+        self.store.send(round)
+    }
+}
+
+/// The kernel of `sim` for the real robot, reset.
+pub fn kernel_for(sim: &Simulation, seed: u64) -> Result<ControlKernel, String> {
+    let limits: Vec<[f64; 2]> = sim.robot.joints.iter().map(|j| j.limits_deg).collect();
+    let mut k = ControlKernel::from_actuation(&sim.actuation, &ModuleRegistry::default(), limits)
+        .map_err(|e| e.to_string())?;
+    k.reset(&mut SimRng::new(seed));
+    Ok(k)
+}
+
+/// Runs `sim`'s kernel on `robot` until the duration or `stop`; records into `data`.
+/// The robot is connected and its servos enabled here; torque is off again at the end.
+pub fn run(
+    sim: &Simulation,
+    robot: &mut dyn RobotControl,
+    opts: &RealOptions,
+    data: Option<&Path>,
+    stop: &AtomicBool,
+) -> Result<RealSummary, String> {
+    let props = &sim.files.simulation.properties;
+    let dt = props.step_width;
+    let mut kernel = kernel_for(sim, opts.seed)?;
+    let joints = kernel.joints();
+    if robot.meta().joints != joints {
+        return Err(format!(
+            "the robot has {} servos, the configuration {joints} joints",
+            robot.meta().joints
+        ));
+    }
+    let read_every = u64::from(
+        opts.read_every
+            .unwrap_or(sim.robot.servos.read_every)
+            .max(1),
+    );
+    let every = u64::from(opts.every.unwrap_or(props.accuracy).max(1));
+    robot.connect().map_err(|e| e.to_string())?;
+    let recorder = data.map(|path| -> Result<Recorder, String> {
+        let handlers = handlers_for(&kernel, &SensorData::default());
+        let round = handlers
+            .iter()
+            .map(|h| HandlerFrames {
+                meta: Vec::with_capacity(ROUND),
+                values: Vec::with_capacity(ROUND * h.width()),
+            })
+            .collect();
+        Ok(Recorder {
+            store: DataStore::create(path, handlers)?,
+            round,
+            samples: 0,
+        })
+    });
+    let mut recorder = match recorder.transpose() {
+        Ok(r) => r,
+        Err(e) => {
+            robot.disconnect();
+            return Err(e);
+        }
+    };
+    let mut summary = RealSummary {
+        steps: 0,
+        reads: 0,
+        wall: 0.0,
+        late_steps: 0,
+        readings: Readings::new(joints),
+        samples: 0,
+        error: None,
+        shutdown_error: None,
+    };
+    let result = control_loop(
+        &mut kernel,
+        robot,
+        dt,
+        read_every,
+        every,
+        opts.duration,
+        stop,
+        &mut recorder,
+        &mut summary,
+    );
+    if let Err(e) = &result {
+        summary.error = Some(e.clone());
+    }
+    // Safe state whatever happened: torque off, then close.
+    if let Err(e) = robot.enable_servos(false) {
+        summary.shutdown_error = Some(e.to_string());
+    }
+    robot.disconnect();
+    if let Some(mut r) = recorder {
+        let flushed = r.flush();
+        summary.samples = r.samples;
+        let closed = r.store.finish();
+        if summary.error.is_none() {
+            flushed?;
+            closed?;
+        }
+    }
+    Ok(summary)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn control_loop(
+    kernel: &mut ControlKernel,
+    robot: &mut dyn RobotControl,
+    dt: f64,
+    read_every: u64,
+    every: u64,
+    duration: Option<f64>,
+    stop: &AtomicBool,
+    recorder: &mut Option<Recorder>,
+    summary: &mut RealSummary,
+) -> Result<(), String> {
+    let fail = |e: RobotError| e.to_string();
+    robot.read(&mut summary.readings).map_err(fail)?;
+    summary.reads += 1;
+    robot
+        .set_joint_angles(&summary.readings.positions.clone())
+        .map_err(fail)?;
+    robot.enable_servos(true).map_err(fail)?;
+    let steps = duration.map(|d| (d / dt).round() as u64);
+    let start = Instant::now();
+    let mut step = 0u64;
+    while steps.is_none_or(|n| step < n) && !stop.load(Ordering::SeqCst) {
+        let due = start + Duration::from_secs_f64(step as f64 * dt);
+        let now = Instant::now();
+        if now > due + Duration::from_secs_f64(dt) {
+            summary.late_steps += 1;
+        } else if due > now {
+            std::thread::sleep(due - now);
+        }
+        let desired = kernel.compute(step as f64 * dt, dt, step, &summary.readings.positions);
+        robot.set_joint_angles(desired).map_err(fail)?;
+        if (step + 1).is_multiple_of(read_every) {
+            robot.read(&mut summary.readings).map_err(fail)?;
+            summary.reads += 1;
+        }
+        if (step + 1).is_multiple_of(every)
+            && let Some(r) = recorder.as_mut()
+        {
+            r.sample(kernel, &summary.readings, step, dt)?;
+        }
+        step += 1;
+        summary.steps = step;
+    }
+    summary.wall = start.elapsed().as_secs_f64();
+    Ok(())
+}
