@@ -76,7 +76,14 @@ pub fn robot(o: &RobotOptions) -> Result<String, String> {
         sim.robot.name,
         o.port.display()
     );
-    let _ = writeln!(out, "steps           {} ({} read-backs)", s.steps, s.reads);
+    let _ = writeln!(
+        out,
+        "steps           {} ({} read-backs, {} failed)",
+        s.steps, s.reads, s.failed_reads
+    );
+    if let Some(e) = &s.last_read_error {
+        let _ = writeln!(out, "last failed read {e}");
+    }
     let _ = writeln!(out, "wall time       {:.3} s", s.wall);
     let _ = writeln!(out, "late steps      {}", s.late_steps);
     let f: Vec<String> = s

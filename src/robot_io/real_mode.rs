@@ -37,7 +37,13 @@ pub struct RealOptions {
 #[derive(Debug, Clone, PartialEq)]
 pub struct RealSummary {
     pub steps: u64,
+    /// Read-backs that succeeded.
     pub reads: u64,
+    /// Read-backs that failed (a garbled or missing answer); the run goes on with the
+    /// last good readings until [`MAX_FAILED_READS`] fail in a row.
+    pub failed_reads: u64,
+    /// Why the last failed read-back failed.
+    pub last_read_error: Option<String>,
     pub wall: f64,
     /// Steps that started later than one step width behind their time.
     pub late_steps: u64,
@@ -50,6 +56,10 @@ pub struct RealSummary {
     /// Switching the torque off at the end failed.
     pub shutdown_error: Option<String>,
 }
+
+/// Consecutive failed read-backs that stop the run (a bus has the odd garbled packet; a
+/// servo that stopped answering fails every time).
+pub const MAX_FAILED_READS: u32 = 3;
 
 /// Samples per round handed to the data writer.
 const ROUND: usize = 100;
@@ -180,6 +190,8 @@ pub fn run(
     let mut summary = RealSummary {
         steps: 0,
         reads: 0,
+        failed_reads: 0,
+        last_read_error: None,
         wall: 0.0,
         late_steps: 0,
         readings: Readings::new(joints),
@@ -240,6 +252,7 @@ fn control_loop(
     let steps = duration.map(|d| (d / dt).round() as u64);
     let start = Instant::now();
     let mut step = 0u64;
+    let mut failed_in_a_row = 0;
     while steps.is_none_or(|n| step < n) && !stop.load(Ordering::SeqCst) {
         let due = start + Duration::from_secs_f64(step as f64 * dt);
         let now = Instant::now();
@@ -251,8 +264,20 @@ fn control_loop(
         let desired = kernel.compute(step as f64 * dt, dt, step, &summary.readings.positions);
         robot.set_joint_angles(desired).map_err(fail)?;
         if (step + 1).is_multiple_of(read_every) {
-            robot.read(&mut summary.readings).map_err(fail)?;
-            summary.reads += 1;
+            match robot.read(&mut summary.readings) {
+                Ok(()) => {
+                    summary.reads += 1;
+                    failed_in_a_row = 0;
+                }
+                Err(e) => {
+                    summary.failed_reads += 1;
+                    summary.last_read_error = Some(e.to_string());
+                    failed_in_a_row += 1;
+                    if failed_in_a_row >= MAX_FAILED_READS {
+                        return Err(fail(e));
+                    }
+                }
+            }
         }
         if (step + 1).is_multiple_of(every)
             && let Some(r) = recorder.as_mut()

@@ -32,9 +32,11 @@ pub struct RobotView {
     pub readings: Readings,
     pub temperatures: Vec<f64>,
     pub errors: Vec<f64>,
-    /// Read-backs and goal writes so far.
+    /// Read-backs and goal writes so far, failed read-backs, and those in a row.
     pub reads: u64,
     pub writes: u64,
+    pub failed_reads: u64,
+    failed_in_a_row: u32,
     frames: u64,
     pub error: Option<String>,
     /// The command line: `COMMAND [VALUE]` and the servo id it goes to (0: all).
@@ -57,6 +59,8 @@ impl Default for RobotView {
             errors: Vec::new(),
             reads: 0,
             writes: 0,
+            failed_reads: 0,
+            failed_in_a_row: 0,
             frames: 0,
             error: None,
             command: "led 1".into(),
@@ -155,16 +159,31 @@ impl RobotView {
             r.set_joint_angles(g).map_err(|e| e.to_string())?;
             self.writes += 1;
         }
-        r.read(&mut self.readings).map_err(|e| e.to_string())?;
-        self.reads += 1;
-        if self.frames.is_multiple_of(SLOW_READ_FRAMES) {
-            r.request(Info::Temperatures, &mut self.temperatures)
-                .map_err(|e| e.to_string())?;
-            r.request(Info::Errors, &mut self.errors)
-                .map_err(|e| e.to_string())?;
-        }
         self.frames += 1;
-        Ok(())
+        // A garbled answer now and then is survived; a servo that keeps failing is not.
+        let read = r.read(&mut self.readings).and_then(|()| {
+            if (self.frames - 1).is_multiple_of(SLOW_READ_FRAMES) {
+                r.request(Info::Temperatures, &mut self.temperatures)?;
+                r.request(Info::Errors, &mut self.errors)?;
+            }
+            Ok(())
+        });
+        match read {
+            Ok(()) => {
+                self.reads += 1;
+                self.failed_in_a_row = 0;
+                Ok(())
+            }
+            Err(e) => {
+                self.failed_reads += 1;
+                self.failed_in_a_row += 1;
+                if self.failed_in_a_row >= crate::robot_io::real_mode::MAX_FAILED_READS {
+                    Err(e.to_string())
+                } else {
+                    Ok(())
+                }
+            }
+        }
     }
 
     /// The frame's exchange with the robot and the twin's targets; an error switches
@@ -254,7 +273,10 @@ pub fn show(ctx: &egui::Context, view: &mut RobotView, session: &mut SimSession)
                 ui.checkbox(&mut view.drive, "Kernel drives the servos")
                     .on_hover_text("start the simulation: each frame the kernel's angles go out");
                 ui.checkbox(&mut view.twin, "Viewer shows the measured pose");
-                ui.label(format!("{} reads, {} writes", view.reads, view.writes));
+                ui.label(format!(
+                    "{} reads ({} failed), {} writes",
+                    view.reads, view.failed_reads, view.writes
+                ));
             });
             servo_table(ui, view, session);
             ui.horizontal(|ui| {

@@ -150,6 +150,89 @@ impl DynamixelChain {
     }
 }
 
+/// A failed read-back, telling the stuffing quirk apart.
+enum Garbled {
+    /// An answer one or more bytes too long (see [`DynamixelChain::read`]).
+    Stuffing,
+    Other(RobotError),
+}
+
+impl Garbled {
+    fn into_error(self) -> RobotError {
+        match self {
+            Garbled::Stuffing => {
+                RobotError::Bus("an answer with unremoved byte stuffing".to_string())
+            }
+            Garbled::Other(e) => e,
+        }
+    }
+}
+
+impl DynamixelChain {
+    /// Reads registers `address .. address + len` of every servo, a part of the present
+    /// current (126, 2 bytes) / velocity (128, 4) / position (132, 4) block, into
+    /// `readings`.
+    fn read_span(
+        &mut self,
+        readings: &mut Readings,
+        address: u16,
+        len: u16,
+    ) -> Result<(), Garbled> {
+        let map = &self.map.joints;
+        let ids = &self.meta.ids;
+        let bus = self
+            .bus
+            .as_mut()
+            .ok_or(Garbled::Other(RobotError::NotConnected))?;
+        let mut failure = None;
+        let mut k = 0;
+        bus.sync_read_cb(ids, address, len, |r| {
+            match r {
+                Ok(resp) if k < map.len() => {
+                    let s = map[k];
+                    let d = resp.data;
+                    let at = |reg: u16, n: usize| {
+                        let i = usize::from(reg.checked_sub(address)?);
+                        d.get(i..i + n)
+                    };
+                    if let (Some(b), Some(c)) =
+                        (at(table::PRESENT_CURRENT, 2), readings.currents.get_mut(k))
+                    {
+                        *c = f64::from(i16::from_le_bytes([b[0], b[1]])) * table::CURRENT_UNIT_A;
+                    }
+                    if let (Some(b), Some(v)) =
+                        (at(table::PRESENT_VELOCITY, 4), readings.speeds.get_mut(k))
+                    {
+                        let raw = i32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+                        *v = s.direction * f64::from(raw) * table::VELOCITY_UNIT_DEG_S;
+                    }
+                    if let (Some(b), Some(p)) = (
+                        at(table::PRESENT_POSITION, 4),
+                        readings.positions.get_mut(k),
+                    ) {
+                        let raw = i32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+                        *p = s.joint_angle(table::position_deg(raw));
+                    }
+                }
+                Ok(_) => {}
+                Err(ReadError::InvalidMessage(
+                    dynamixel2::InvalidMessage::InvalidParameterCount(c),
+                )) if failure.is_none() && c.actual > usize::from(len) => {
+                    failure = Some(Garbled::Stuffing);
+                }
+                Err(e) if failure.is_none() => {
+                    let id = ids.get(k).copied().unwrap_or(0);
+                    failure = Some(Garbled::Other(read_error(e, id, ids)));
+                }
+                Err(_) => {}
+            }
+            k += 1;
+        })
+        .map_err(|e| Garbled::Other(write_error(e)))?;
+        failure.map_or(Ok(()), Err)
+    }
+}
+
 impl RobotControl for DynamixelChain {
     fn connect(&mut self) -> Result<(), RobotError> {
         let bus = Bus::open(&self.port, self.baud).map_err(|e| RobotError::Port {
@@ -276,40 +359,19 @@ impl RobotControl for DynamixelChain {
     }
 
     fn read(&mut self, readings: &mut Readings) -> Result<(), RobotError> {
-        let map = &self.map.joints;
-        let ids = &self.meta.ids;
-        let bus = self.bus.as_mut().ok_or(RobotError::NotConnected)?;
-        let mut failure = None;
-        let mut k = 0;
-        bus.sync_read_cb(ids, table::PRESENT_CURRENT, table::PRESENT_BLOCK_LEN, |r| {
-            match r {
-                Ok(resp) if resp.data.len() >= 10 && k < map.len() => {
-                    let d = resp.data;
-                    let current = i16::from_le_bytes([d[0], d[1]]);
-                    let velocity = i32::from_le_bytes([d[2], d[3], d[4], d[5]]);
-                    let position = i32::from_le_bytes([d[6], d[7], d[8], d[9]]);
-                    let s = map[k];
-                    if let (Some(c), Some(v), Some(p)) = (
-                        readings.currents.get_mut(k),
-                        readings.speeds.get_mut(k),
-                        readings.positions.get_mut(k),
-                    ) {
-                        *c = f64::from(current) * table::CURRENT_UNIT_A;
-                        *v = s.direction * f64::from(velocity) * table::VELOCITY_UNIT_DEG_S;
-                        *p = s.joint_angle(table::position_deg(position));
-                    }
-                }
-                Ok(_) => {}
-                Err(e) if failure.is_none() => {
-                    let id = ids.get(k).copied().unwrap_or(0);
-                    failure = Some(read_error(e, id, ids));
-                }
-                Err(_) => {}
+        match self.read_span(readings, table::PRESENT_CURRENT, table::PRESENT_BLOCK_LEN) {
+            // dynamixel2 0.9.1 does not remove the stuffing byte of `FF FF FF FD` (a small
+            // negative velocity followed by a position whose low byte is FD): the answer
+            // arrives one byte long. Read the two halves apart then — the pattern cannot
+            // form inside either.
+            Err(Garbled::Stuffing) => {
+                self.read_span(readings, table::PRESENT_CURRENT, 6)
+                    .map_err(Garbled::into_error)?;
+                self.read_span(readings, table::PRESENT_POSITION, 4)
+                    .map_err(Garbled::into_error)
             }
-            k += 1;
-        })
-        .map_err(write_error)?;
-        failure.map_or(Ok(()), Err)
+            other => other.map_err(Garbled::into_error),
+        }
     }
 
     fn meta(&self) -> &RobotMeta {

@@ -50,6 +50,8 @@ pub struct BusStats {
 struct Shared {
     servos: Vec<EmulatedServo>,
     stats: BusStats,
+    /// Corrupt (bad checksum) the first answer once the bus has seen this many packets.
+    garble_after: Option<u64>,
 }
 
 /// A running emulated bus; stops when dropped.
@@ -92,6 +94,7 @@ impl EmulatedBus {
                 .map(|id| EmulatedServo::new(*id, speed_deg_s))
                 .collect(),
             stats: BusStats::default(),
+            garble_after: None,
         }));
         let stop = Arc::new(AtomicBool::new(false));
         let thread = {
@@ -127,10 +130,22 @@ impl EmulatedBus {
         self.lock().stats
     }
 
+    /// Sends the first answer after `packets` packets with a wrong checksum (line noise).
+    pub fn garble_after(&self, packets: u64) {
+        self.lock().garble_after = Some(packets);
+    }
+
     /// Makes servo `id` stop answering once the bus has seen `packets` packets.
     pub fn set_silent_after(&self, id: u8, packets: u64) {
         for s in self.lock().servos.iter_mut().filter(|s| s.id == id) {
             s.silent_after = Some(packets);
+        }
+    }
+
+    /// Holds servo `id`'s present position and velocity (register units) at these values.
+    pub fn hold_present(&self, id: u8, position: i32, velocity: i32) {
+        for s in self.lock().servos.iter_mut().filter(|s| s.id == id) {
+            s.held = Some((position, velocity));
         }
     }
 
@@ -187,7 +202,17 @@ fn serve(mut master: PtyMaster, _slave: std::fs::File, shared: &Mutex<Shared>, s
                 Parsed::Packet(instruction, used) => {
                     buf.drain(..used);
                     shared.stats.packets += 1;
-                    let answer = answer(&mut shared, &instruction);
+                    let mut answer = answer(&mut shared, &instruction);
+                    if !answer.is_empty()
+                        && shared
+                            .garble_after
+                            .is_some_and(|n| shared.stats.packets > n)
+                    {
+                        shared.garble_after = None;
+                        if let Some(last) = answer.last_mut() {
+                            *last ^= 0x5A;
+                        }
+                    }
                     if !answer.is_empty() && master.write_all(&answer).is_err() {
                         break;
                     }

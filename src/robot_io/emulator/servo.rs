@@ -19,6 +19,8 @@ pub struct EmulatedServo {
     pub silent_after: Option<u64>,
     /// Goal positions written so far (units), for tests.
     pub goals_written: u64,
+    /// Present position and velocity (register units) held whatever the goal (tests).
+    pub held: Option<(i32, i32)>,
 }
 
 impl EmulatedServo {
@@ -32,6 +34,7 @@ impl EmulatedServo {
             silent: false,
             silent_after: None,
             goals_written: 0,
+            held: None,
         };
         s.put(table::MODEL_NUMBER, &table::XM430_W350.to_le_bytes());
         s.memory[7] = id;
@@ -109,11 +112,12 @@ impl EmulatedServo {
     }
 
     fn sync_present(&mut self, velocity_units_s: f64) {
-        let position = self.position.round() as i32;
         // Units of 0.229 rpm = 1.374 deg/s = 15.63 position units/s.
-        let velocity =
+        let (position, velocity) = self.held.unwrap_or((
+            self.position.round() as i32,
             (velocity_units_s * 360.0 / table::POSITION_UNITS / table::VELOCITY_UNIT_DEG_S).round()
-                as i32;
+                as i32,
+        ));
         // A load current that grows with the speed (emulated, in 2.69 mA units).
         let current = if self.torque() {
             (40 + velocity.unsigned_abs() / 4).min(1000) as i16
