@@ -263,12 +263,7 @@ fn module_library_declares_compiles_and_assigns_a_new_module() {
     let dir = scratch("modules-files");
     // A plugin workspace of its own: the API crate and the workspace manifest.
     let ws = dir.join("plugins");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    std::fs::create_dir_all(ws.join("api/src")).expect("workspace");
-    std::fs::copy(root.join("plugins/Cargo.toml"), ws.join("Cargo.toml")).expect("manifest");
-    for f in ["Cargo.toml", "src/lib.rs"] {
-        std::fs::copy(root.join("plugins/api").join(f), ws.join("api").join(f)).expect("api");
-    }
+    common::plugin_workspace(&ws);
     let (bad, good) = (dir.join("bad.rs"), dir.join("good.rs"));
     std::fs::write(&bad, GUI_WAVE.replace("*angle = p.get", "*angle = q.get")).expect("bad");
     std::fs::write(&good, GUI_WAVE).expect("good");

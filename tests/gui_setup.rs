@@ -257,12 +257,7 @@ fn expert_composes_existing_files() {
 fn a_module_compiled_in_the_library_is_offered_by_the_wizard() {
     let out = scratch("modules");
     let ws = out.join("plugins");
-    let root = common::root();
-    std::fs::create_dir_all(ws.join("api/src")).expect("workspace");
-    std::fs::copy(root.join("plugins/Cargo.toml"), ws.join("Cargo.toml")).expect("manifest");
-    for f in ["Cargo.toml", "src/lib.rs"] {
-        std::fs::copy(root.join("plugins/api").join(f), ws.join("api").join(f)).expect("api");
-    }
+    common::plugin_workspace(&ws);
     // The generated crate builds as it is; a line of the step is filled in, as a user would.
     let shot = out.join("modules.png");
     let s = scripted(

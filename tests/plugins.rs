@@ -276,11 +276,7 @@ fn a_panicking_plugin_is_disabled_and_bad_libraries_are_skipped() {
 fn plugin_new_makes_a_crate_that_builds_and_loads() {
     let ws = common::scratch("plugin-new-workspace");
     let root = common::root();
-    std::fs::copy(root.join("plugins/Cargo.toml"), ws.join("Cargo.toml")).unwrap();
-    std::fs::create_dir_all(ws.join("api/src")).unwrap();
-    for f in ["Cargo.toml", "src/lib.rs"] {
-        std::fs::copy(root.join("plugins/api").join(f), ws.join("api").join(f)).unwrap();
-    }
+    common::plugin_workspace(&ws);
     let w = ws.to_str().unwrap();
     let (ok, out, err) = proleg_with(
         "",

@@ -44,6 +44,17 @@ pub fn scratch(name: &str) -> PathBuf {
     dir
 }
 
+/// A plugin workspace of its own in `ws`: the workspace manifest and the API crate, as in
+/// `plugins/` (for `plugin new`, the module library's Compile).
+pub fn plugin_workspace(ws: &Path) {
+    let root = root();
+    std::fs::create_dir_all(ws.join("api/src")).expect("plugin workspace");
+    std::fs::copy(root.join("plugins/Cargo.toml"), ws.join("Cargo.toml")).expect("manifest");
+    for f in ["Cargo.toml", "src/lib.rs"] {
+        std::fs::copy(root.join("plugins/api").join(f), ws.join("api").join(f)).expect("api");
+    }
+}
+
 /// Runs the `proleg` binary in the repository root: success, stdout, stderr.
 pub fn proleg(args: &[&str]) -> (bool, String, String) {
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_proleg"))
