@@ -55,3 +55,20 @@ pub struct FrameMeta {
     /// Simulation step count.
     pub step: u64,
 }
+
+impl FrameMeta {
+    /// The stamps of sample `index` taken after step `step` (counted from 0) of `dt`
+    /// seconds, at the wall clock's now.
+    pub fn after_step(index: u64, step: u64, dt: f64) -> FrameMeta {
+        FrameMeta {
+            index,
+            realtime_ms: std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map(|d| d.as_millis() as u64)
+                .unwrap_or(0),
+            // Whole steps times the step in ms: exact for millisecond steps.
+            simtime_ms: (step + 1) as f64 * (dt * 1000.0),
+            step: step + 1,
+        }
+    }
+}

@@ -9,7 +9,7 @@
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+use std::time::{Duration, Instant};
 
 use crate::config::Simulation;
 use crate::control::{ControlKernel, ModuleRegistry};
@@ -79,15 +79,7 @@ impl Recorder {
         step: u64,
         dt: f64,
     ) -> Result<(), String> {
-        let meta = FrameMeta {
-            index: self.samples,
-            realtime_ms: SystemTime::now()
-                .duration_since(UNIX_EPOCH)
-                .map(|d| d.as_millis() as u64)
-                .unwrap_or(0),
-            simtime_ms: (step + 1) as f64 * dt * 1000.0,
-            step: step + 1,
-        };
+        let meta = FrameMeta::after_step(self.samples, step, dt);
         let actuators = kernel.actuators();
         for (h, frames) in self.round.iter_mut().enumerate() {
             frames.meta.push(meta);

@@ -5,8 +5,6 @@
 //! data, into the round being gathered, which is handed to the background writer every
 //! `round_frames` samples. Buffers are allocated once; the step never touches the disk.
 
-use std::time::{SystemTime, UNIX_EPOCH};
-
 use bevy::prelude::*;
 
 use crate::control::ControlKernel;
@@ -230,16 +228,7 @@ pub fn log_data(
         if log.samples == 0 {
             log.start_time = clock.time();
         }
-        let meta = FrameMeta {
-            index: log.samples,
-            realtime_ms: SystemTime::now()
-                .duration_since(UNIX_EPOCH)
-                .map(|d| d.as_millis() as u64)
-                .unwrap_or(0),
-            // Whole steps times the step in ms: exact for millisecond steps.
-            simtime_ms: (clock.step + 1) as f64 * (clock.dt * 1000.0),
-            step: clock.step + 1,
-        };
+        let meta = FrameMeta::after_step(log.samples, clock.step, clock.dt);
         let mut h = 0;
         for a in kernel.0.actuators() {
             let f = &mut log.frame[h];

@@ -79,17 +79,20 @@ impl SimSession {
     /// Rebuilds the world from the configuration (with the chosen step width), paused.
     pub fn restart(&mut self) {
         match build(&self.sim, self.step_width) {
-            Ok((simulator, kernel)) => {
-                self.simulator = simulator;
-                self.initial_kernel = kernel;
-                self.real_time = 0.0;
-                self.owed = 0.0;
-                self.running = false;
-                self.error = None;
-                self.generation += 1;
-            }
+            Ok((simulator, kernel)) => self.install(simulator, kernel),
             Err(e) => self.error = Some(e),
         }
+    }
+
+    /// Shows a newly built world, paused at 0.
+    fn install(&mut self, simulator: Simulator, kernel: ControlKernel) {
+        self.simulator = simulator;
+        self.initial_kernel = kernel;
+        self.real_time = 0.0;
+        self.owed = 0.0;
+        self.running = false;
+        self.error = None;
+        self.generation += 1;
     }
 
     /// Adds a module of type `name` (any registered type, plugins too) driving the joints
@@ -135,13 +138,7 @@ impl SimSession {
             });
         let (simulator, kernel) = build(&sim, self.step_width)?;
         self.sim = sim;
-        self.simulator = simulator;
-        self.initial_kernel = kernel;
-        self.real_time = 0.0;
-        self.owed = 0.0;
-        self.running = false;
-        self.error = None;
-        self.generation += 1;
+        self.install(simulator, kernel);
         Ok(())
     }
 

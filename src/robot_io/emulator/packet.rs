@@ -91,11 +91,9 @@ pub fn parse(buf: &[u8]) -> Parsed {
     )
 }
 
-/// A status packet from servo `id` with error byte `error` and `params`.
-pub fn status(id: u8, error: u8, params: &[u8]) -> Vec<u8> {
-    let mut body = vec![STATUS, error];
-    body.extend_from_slice(params);
-    let body = stuff(&body);
+/// A packet to or from `id`: header, id, length, then `body` stuffed, then the CRC.
+fn packet(id: u8, body: &[u8]) -> Vec<u8> {
+    let body = stuff(body);
     let len = (body.len() + 2) as u16;
     let mut out = HEADER.to_vec();
     out.push(id);
@@ -106,19 +104,18 @@ pub fn status(id: u8, error: u8, params: &[u8]) -> Vec<u8> {
     out
 }
 
+/// A status packet from servo `id` with error byte `error` and `params`.
+pub fn status(id: u8, error: u8, params: &[u8]) -> Vec<u8> {
+    let mut body = vec![STATUS, error];
+    body.extend_from_slice(params);
+    packet(id, &body)
+}
+
 /// An instruction packet (what a host sends), for tests.
 pub fn instruction(id: u8, instruction: u8, params: &[u8]) -> Vec<u8> {
     let mut body = vec![instruction];
     body.extend_from_slice(params);
-    let body = stuff(&body);
-    let len = (body.len() + 2) as u16;
-    let mut out = HEADER.to_vec();
-    out.push(id);
-    out.extend_from_slice(&len.to_le_bytes());
-    out.extend_from_slice(&body);
-    let crc = calculate_checksum(0, &out);
-    out.extend_from_slice(&crc.to_le_bytes());
-    out
+    packet(id, &body)
 }
 
 #[cfg(test)]
