@@ -117,6 +117,14 @@ pub fn run(
         "robot           {} (seed {})",
         sim.robot.name, opts.seed
     );
+    if props.mode == proleg::config::simulation::Mode::RealRobot {
+        let _ = writeln!(
+            out,
+            "mode            Real Robot Control: this run simulates the robot's twin; \
+             `proleg robot {} --port PORT` drives the servos",
+            config.display()
+        );
+    }
     let _ = writeln!(out, "steps           {}", s.steps);
     let _ = writeln!(out, "simulated time  {:.3} s", s.sim_time);
     let _ = writeln!(out, "wall time       {:.3} s", s.wall_time);

@@ -128,6 +128,14 @@ fn a_servo_that_stops_answering_ends_the_run_with_torque_off() {
         "{s:?}"
     );
     assert!(s.steps > 100 && s.steps < 5000, "{} steps", s.steps);
+    // Steps are paced in real time: the wall time covers them, error or not.
+    let dt = sim.files.simulation.properties.step_width;
+    assert!(
+        s.wall >= (s.steps - 1) as f64 * dt,
+        "{} s for {} steps",
+        s.wall,
+        s.steps
+    );
     assert_eq!(s.failed_reads, 3, "three failures in a row stop the run");
     assert_eq!(s.shutdown_error, None);
     assert!(bus.servos().iter().all(|servo| !servo.torque()));
@@ -215,6 +223,14 @@ fn the_cli_runs_the_real_robot_mode_on_the_emulator() {
         bus.servos()
             .iter()
             .all(|s| !s.torque() && s.goals_written >= 500)
+    );
+    // `proleg run` on the real-robot file simulates the twin and says how to drive servos.
+    let (ok, out, err) = common::proleg(&["run", CONFIG, "--duration", "0.1"]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("Real Robot Control: this run simulates the robot's twin")
+            && out.contains("--port PORT"),
+        "{out}"
     );
     let (ok, _, err) = common::proleg(&["robot", CONFIG, "--port", "/dev/proleg-no-such-port"]);
     assert!(!ok);

@@ -44,6 +44,7 @@ pub struct RealSummary {
     pub failed_reads: u64,
     /// Why the last failed read-back failed.
     pub last_read_error: Option<String>,
+    /// Wall-clock seconds of the run, also of one an error stopped.
     pub wall: f64,
     /// Steps that started later than one step width behind their time.
     pub late_steps: u64,
@@ -191,6 +192,7 @@ pub fn run(
         error: None,
         shutdown_error: None,
     };
+    let started = Instant::now();
     let result = control_loop(
         &mut kernel,
         robot,
@@ -202,6 +204,8 @@ pub fn run(
         &mut recorder,
         &mut summary,
     );
+    // Also when an error ended the loop.
+    summary.wall = started.elapsed().as_secs_f64();
     if let Err(e) = &result {
         summary.error = Some(e.clone());
     }
@@ -279,6 +283,5 @@ fn control_loop(
         step += 1;
         summary.steps = step;
     }
-    summary.wall = start.elapsed().as_secs_f64();
     Ok(())
 }
