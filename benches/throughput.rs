@@ -14,10 +14,8 @@ fn main() {
         }
     }
     let _ = proleg::plugin_host::scan_default();
-    if proleg::control::ModuleRegistry::default()
-        .get("Plugin_sine")
-        .is_none()
-    {
+    let registry = proleg::plugin_host::registry();
+    if registry.get("Plugin_sine").is_none() {
         println!(
             "(build the example plugins with `proleg plugin build` to compare a plugin module)"
         );
@@ -28,6 +26,7 @@ fn main() {
         10.0,
         "PatternGenerator_sinusoidal",
         "Plugin_sine",
+        &registry,
     ) {
         Ok(text) => print!("{text}"),
         Err(e) => {

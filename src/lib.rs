@@ -5,6 +5,8 @@
 //!
 //! ## Contents
 //! - [`bench`]: throughput figures of the reference scenario.
+//! - [`cli`]: the command line's logic (each `proleg` subcommand as a function returning a
+//!   typed report); `main.rs` only parses and prints.
 //! - [`compose`]: composing configurations without XML — robot builder, behaviour
 //!   groups, environment editor model, the wizard's pages, the expert composition.
 //! - [`config`]: the XML configuration formats (simulation, robot, module parts, sensors,
@@ -14,6 +16,8 @@
 //!   standard module library and the control kernel.
 //! - `gui` (feature `gui`): the control window, a Bevy 3D viewer with egui views on the
 //!   same core.
+//! - [`measure`]: formulas on positions shared by every layer (displacement, potential
+//!   energy).
 //! - [`plugin_host`]: user actuation modules in runtime-loaded libraries (the
 //!   `proleg-plugin-api` C ABI), their building and templates.
 //! - [`remote`]: remote controls (gamepads) bound to module parameters.
@@ -26,13 +30,22 @@
 //!
 //! Pure logic stays free of rendering, so everything here runs and tests headless.
 
+#![warn(missing_docs)]
+
 pub mod bench;
+pub mod cli;
+// Issue 19: compose, config and gui are not fully documented yet (546 public items);
+// every other module is, and the lint keeps it so.
+#[allow(missing_docs)]
 pub mod compose;
+#[allow(missing_docs)]
 pub mod config;
 pub mod control;
 pub mod data;
 #[cfg(feature = "gui")]
+#[allow(missing_docs)]
 pub mod gui;
+pub mod measure;
 pub mod optimize;
 pub mod plugin_host;
 pub mod remote;

@@ -5,12 +5,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-mod cli_data;
-mod cli_optimize;
-mod cli_plugin;
-mod cli_results;
-mod cli_robot;
-mod cli_run;
+use proleg::cli;
 
 /// Design, simulate, optimize and drive chain-like modular robots.
 #[derive(Parser)]
@@ -98,7 +93,7 @@ enum Command {
         every: Option<u32>,
     },
     /// Optimize the registered parameters of a GA / great-deluge simulation, headless.
-    Optimize(cli_optimize::OptimizeOptions),
+    Optimize(cli::optimize::OptimizeOptions),
     /// Runs and best candidates of an experiment store; learning curves and TSV export.
     Results {
         /// SQLite stores written by `proleg optimize` (runs of all are drawn together).
@@ -115,13 +110,13 @@ enum Command {
         export: Option<PathBuf>,
     },
     /// Real-robot mode: the simulation's control kernel drives Dynamixel servos on a port.
-    Robot(cli_robot::RobotOptions),
+    Robot(cli::robot::RobotOptions),
     /// An emulated Dynamixel bus on a pseudo-terminal (try `proleg robot` without hardware).
-    RobotEmulator(cli_robot::EmulatorOptions),
+    RobotEmulator(cli::robot::EmulatorOptions),
     /// The user module library: new plugin crates, building, the loaded modules.
     Plugin {
         #[command(subcommand)]
-        command: cli_plugin::PluginCommand,
+        command: cli::plugin::PluginCommand,
     },
     /// Inspect recorded data files.
     Data {
@@ -250,6 +245,8 @@ fn main() -> ExitCode {
             eprintln!("warning: {message}");
         }
     }
+    // The module types every command may use: the standard library and the plugins.
+    let registry = proleg::plugin_host::registry();
     let Some(command) = cli.command else {
         return finish(gui(std::path::Path::new(DEMO_CONFIG), None, None));
     };
@@ -279,7 +276,9 @@ fn main() -> ExitCode {
             module,
             reference,
         } => match module {
-            Some(module) => proleg::bench::modules::report(&config, seconds, &reference, &module),
+            Some(module) => {
+                proleg::bench::modules::report(&config, seconds, &reference, &module, &registry)
+            }
             None => proleg::bench::report(&config, seconds, &batches),
         },
         Command::Run {
@@ -289,41 +288,45 @@ fn main() -> ExitCode {
             realtime,
             data,
             every,
-        } => cli_run::run(
-            &config,
-            duration,
-            seed,
-            realtime,
-            cli_run::DataOptions {
-                file: data.as_deref(),
+        } => cli::run::run(
+            &cli::run::RunRequest {
+                config,
+                duration,
+                seed,
+                realtime,
+                data,
                 every,
             },
-        ),
-        Command::Optimize(options) => cli_optimize::run(&options),
+            &registry,
+        )
+        .map(|report| report.to_string()),
+        Command::Optimize(options) => {
+            cli::optimize::run(&options, &registry).map(|r| r.to_string())
+        }
         Command::Results {
             stores,
             runs,
             curve,
             export,
-        } => cli_results::run(&cli_results::ResultsOptions {
+        } => cli::results::run(&cli::results::ResultsOptions {
             stores,
             runs,
             curve,
             export,
         }),
         Command::Data { command } => match command {
-            DataCommand::Info { file } => cli_data::show_info(&file),
+            DataCommand::Info { file } => cli::data::show_info(&file),
             DataCommand::Export { pick } => {
-                cli_data::export_table(&pick.file, &pick.x, &pick.series, &pick.output)
+                cli::data::export_table(&pick.file, &pick.x, &pick.series, &pick.output)
             }
             DataCommand::Plot { pick, size } => {
-                cli_data::plot_png(&pick.file, &pick.x, &pick.series, &pick.output, size)
+                cli::data::plot_png(&pick.file, &pick.x, &pick.series, &pick.output, size)
             }
         },
-        Command::Plugin { command } => cli_plugin::run(command, &plugins),
-        Command::Robot(options) => cli_robot::robot(&options),
-        Command::RobotEmulator(options) => cli_robot::emulator(&options),
-        Command::Check { config } => proleg::config::load_simulation(&config)
+        Command::Plugin { command } => cli::plugin::run(command, &plugins),
+        Command::Robot(options) => cli::robot::robot(&options, &registry),
+        Command::RobotEmulator(options) => cli::robot::emulator(&options),
+        Command::Check { config } => proleg::control::load_simulation_in(&config, &registry)
             .map(|sim| format!("{}ok\n", proleg::config::summary::summary(&sim)))
             .map_err(|e| e.to_string()),
     })

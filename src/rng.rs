@@ -8,6 +8,7 @@ pub struct SimRng {
 }
 
 impl SimRng {
+    /// A stream seeded with `seed`.
     pub fn new(seed: u64) -> Self {
         let mut x = seed;
         let mut next = || {
@@ -27,6 +28,7 @@ impl SimRng {
         SimRng::new(self.next_u64() ^ stream.wrapping_mul(0xD1B5_4A32_D192_ED03))
     }
 
+    /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
         let result = self.s[1].wrapping_mul(5).rotate_left(7).wrapping_mul(9);
         let t = self.s[1] << 17;

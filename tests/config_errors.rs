@@ -451,7 +451,7 @@ fn missing_include_file() {
 
 #[test]
 fn missing_top_level_file() {
-    let e = proleg::config::load_simulation("no/such.simulation.xml")
+    let e = proleg::control::load_simulation("no/such.simulation.xml")
         .err()
         .unwrap();
     assert_eq!(e.kind, ErrorKind::MissingFile);

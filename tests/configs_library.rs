@@ -8,11 +8,12 @@ use std::collections::BTreeSet;
 use std::path::PathBuf;
 use std::process::Command;
 
+use proleg::config::Simulation;
 use proleg::config::optimizer::Algorithm;
 use proleg::config::resolve::JointOrientation;
 use proleg::config::sensor::Sensor;
 use proleg::config::simulation::Mode;
-use proleg::config::{Simulation, load_simulation};
+use proleg::control::load_simulation;
 
 fn load(name: &str) -> Simulation {
     load_simulation(common::root().join("configs").join(name)).unwrap_or_else(|e| panic!("{e}"))

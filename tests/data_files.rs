@@ -6,12 +6,10 @@ mod common;
 
 use std::path::Path;
 
-use proleg::config::load_simulation;
+use proleg::control::load_simulation;
 use proleg::data::export::{SeriesSelector, XAxis, export};
 use proleg::data::read::{DataEvent, info, read_file};
-use proleg::data::store::DataStore;
-use proleg::sim::datalog::{DataSettings, handlers_for};
-use proleg::sim::tactile::RobotSensors;
+use proleg::sim::datalog::DataSettings;
 use proleg::sim::{BuildOptions, Simulator};
 
 /// Records `seconds` of experiment 2 (sine + adaptive, tactile pads) into `file`; returns
@@ -28,23 +26,12 @@ fn record(file: &Path, seconds: f64, round_frames: usize) -> Simulator {
         },
     )
     .unwrap();
-    let sensors = s
-        .world()
-        .get::<RobotSensors>(s.robots()[0])
-        .unwrap()
-        .0
-        .clone();
-    let handlers = handlers_for(s.kernel(0).unwrap(), &sensors);
-    let store = DataStore::create(file, handlers).unwrap();
     let settings = DataSettings {
         every: 2,
         ring_frames: 100_000,
         round_frames,
     };
-    s.enable_data(settings, Some(store));
-    s.world_mut()
-        .resource_mut::<proleg::sim::clock::SimClock>()
-        .realtime_factor = 0.0;
+    s.record_to(file, settings).unwrap();
     s.run_for(seconds);
     s
 }

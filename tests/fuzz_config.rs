@@ -35,7 +35,7 @@ fn parse_all(text: &str) {
 /// The files of one configs/ simulation, relative to the repository root.
 fn simulation_files(sim: &str) -> Vec<(PathBuf, String)> {
     let root = common::root();
-    let loaded = proleg::config::load_simulation(root.join("configs").join(sim)).unwrap();
+    let loaded = proleg::control::load_simulation(root.join("configs").join(sim)).unwrap();
     let mut files = vec![loaded.actuation.file.clone()];
     files.extend(loaded.robot.files.iter().cloned());
     files.extend(loaded.environment.files.iter().cloned());

@@ -83,7 +83,7 @@ fn wizard_walks_every_page_and_writes_a_checked_configuration() {
     assert_eq!((w, h), (1280, 800));
     assert!(colours > 50, "a blank screenshot ({colours} colours)");
     // The written files, as proleg reads them.
-    let loaded = proleg::config::load_simulation(&sim).expect("the wizard's files load");
+    let loaded = proleg::control::load_simulation(&sim).expect("the wizard's files load");
     assert_eq!(loaded.robot.pattern(), "PYPYPYP");
     assert_eq!(loaded.robot.joints.len(), 7);
     let masks: Vec<String> = loaded
@@ -248,7 +248,7 @@ fn expert_composes_existing_files() {
         get(&s, "expert_check").starts_with("tactile5p: 5 joints, 2 modules"),
         "{s:?}"
     );
-    let loaded = proleg::config::load_simulation(&sim).expect("composed file loads");
+    let loaded = proleg::control::load_simulation(&sim).expect("composed file loads");
     assert!(loaded.environment.bodies.iter().any(|b| b.name == "step5"));
     std::fs::remove_dir_all(out).ok();
 }

@@ -3,8 +3,9 @@
 
 mod common;
 
-use proleg::config::load_simulation;
 use proleg::config::optimizer::{GaSettings, GdSettings};
+use proleg::control::ModuleRegistry;
+use proleg::control::load_simulation;
 use proleg::optimize::Optimizer;
 use proleg::optimize::deluge::GreatDeluge;
 use proleg::optimize::evaluate::Evaluator;
@@ -142,7 +143,7 @@ fn the_same_seed_gives_the_same_candidates() {
 fn genomes_round_trip_through_a_kernel_and_an_actuation_file() {
     let sim =
         load_simulation(common::root().join("configs/experiment1_gd.simulation.xml")).unwrap();
-    let (space, start) = prepare(&sim).unwrap();
+    let (space, start) = prepare(&sim, &ModuleRegistry::standard()).unwrap();
     assert_eq!(space.genes.len(), 5);
     assert_eq!(
         space.decode(&start),
@@ -177,7 +178,7 @@ fn genomes_round_trip_through_a_kernel_and_an_actuation_file() {
 fn scores_do_not_depend_on_workers_or_batching() {
     let sim =
         load_simulation(common::root().join("configs/experiment1_gd.simulation.xml")).unwrap();
-    let (space, start) = prepare(&sim).unwrap();
+    let (space, start) = prepare(&sim, &ModuleRegistry::standard()).unwrap();
     let genomes: Vec<Genome> = vec![
         start.clone(),
         vec![80; 5],
@@ -187,6 +188,7 @@ fn scores_do_not_depend_on_workers_or_batching() {
     let eval = |workers: usize, batch: usize| {
         Evaluator {
             sim: sim.clone(),
+            registry: ModuleRegistry::standard(),
             space: space.clone(),
             fitness: Fitness::Displacement,
             duration: 2.0,

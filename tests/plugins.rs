@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 
-use proleg::config::load_simulation;
+use proleg::control::load_simulation_in;
 use proleg::plugin_host;
 use proleg::sim::{BuildOptions, Simulator};
 
@@ -81,14 +81,17 @@ fn broken_library() -> PathBuf {
 }
 
 fn simulator(config: &Path, robots: usize) -> Simulator {
-    let sim = load_simulation(config).unwrap_or_else(|e| panic!("{e}"));
-    Simulator::new(
+    // The plugins loaded in this process make their modules: the registry is passed.
+    let registry = plugin_host::registry();
+    let sim = load_simulation_in(config, &registry).unwrap_or_else(|e| panic!("{e}"));
+    Simulator::with_registry(
         &sim,
         &BuildOptions {
             robots,
             seed: 1,
             record: false,
         },
+        &registry,
     )
     .unwrap()
 }

@@ -60,7 +60,7 @@ struct Drive {
 
 impl Drive {
     fn new() -> Self {
-        let model = proleg::config::load_simulation(CONFIG).expect("config");
+        let model = proleg::control::load_simulation(CONFIG).expect("config");
         let orientations: Vec<JointOrientation> =
             model.robot.joints.iter().map(|j| j.orientation).collect();
         let sim = Simulator::new(&model, &BuildOptions::default()).expect("world");

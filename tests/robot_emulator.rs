@@ -8,7 +8,7 @@ mod common;
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
 
-use proleg::config::load_simulation;
+use proleg::control::{ModuleRegistry, load_simulation};
 use proleg::data::export::{SeriesSelector, XAxis, for_each_row};
 use proleg::robot_io::dynamixel::DynamixelChain;
 use proleg::robot_io::dynamixel::table::position_raw;
@@ -61,7 +61,15 @@ fn the_kernel_drives_the_emulated_servos_and_their_readings_are_recorded() {
     let mut robot = chain(&bus, &sim);
     let data = common::scratch("real-mode").join("real.data.xml");
     let stop = AtomicBool::new(false);
-    let s = run(&sim, &mut robot, &options(1.0), Some(&data), &stop).unwrap();
+    let s = run(
+        &sim,
+        &ModuleRegistry::standard(),
+        &mut robot,
+        &options(1.0),
+        Some(&data),
+        &stop,
+    )
+    .unwrap();
     assert_eq!(s.error, None);
     assert_eq!(s.shutdown_error, None);
     assert_eq!(s.steps, 1000);
@@ -72,7 +80,7 @@ fn the_kernel_drives_the_emulated_servos_and_their_readings_are_recorded() {
     assert!(stats.sync_writes >= 1002, "{stats:?}");
     assert_eq!(stats.sync_reads, 101);
     // The last goals are the kernel's angles of the last step, through the servo map.
-    let mut kernel = kernel_for(&sim, 1).unwrap();
+    let mut kernel = kernel_for(&sim, 1, &ModuleRegistry::standard()).unwrap();
     let dt = sim.files.simulation.properties.step_width;
     let mut last = Vec::new();
     let zeros = vec![0.0; 5];
@@ -121,7 +129,15 @@ fn a_servo_that_stops_answering_ends_the_run_with_torque_off() {
     let mut robot = chain(&bus, &sim);
     let data = common::scratch("real-timeout").join("cut.data.xml");
     let stop = AtomicBool::new(false);
-    let s = run(&sim, &mut robot, &options(5.0), Some(&data), &stop).unwrap();
+    let s = run(
+        &sim,
+        &ModuleRegistry::standard(),
+        &mut robot,
+        &options(5.0),
+        Some(&data),
+        &stop,
+    )
+    .unwrap();
     assert_eq!(
         s.error.as_deref(),
         Some("servo 3 did not answer (timeout)"),

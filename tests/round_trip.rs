@@ -5,6 +5,7 @@ mod common;
 
 use std::path::Path;
 
+use proleg::config::ConfigResult;
 use proleg::config::actuation::{parse_actuation_file, write_actuation_file};
 use proleg::config::environment::{parse_environment_file, write_environment_file};
 use proleg::config::kinbody::{parse_kinbody_file, write_kinbody_file};
@@ -12,7 +13,7 @@ use proleg::config::optimizer::{parse_optimizer_file, write_optimizer_file};
 use proleg::config::robot::{parse_robot_file, write_robot_file};
 use proleg::config::sensor::{parse_sensor_file, write_sensor_file};
 use proleg::config::simulation::{parse_simulation_file, write_simulation_file};
-use proleg::config::{ConfigResult, load_simulation};
+use proleg::control::load_simulation;
 
 fn check<T: PartialEq + std::fmt::Debug>(
     path: &Path,

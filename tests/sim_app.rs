@@ -4,8 +4,8 @@
 mod common;
 
 use bevy::prelude::*;
-use proleg::config::load_simulation;
 use proleg::control::ModuleRegistry;
+use proleg::control::load_simulation;
 use proleg::sim::clock::SimClock;
 use proleg::sim::kernel::SimRobot;
 use proleg::sim::servo::{JointState, SimJoint};

@@ -5,8 +5,7 @@
 
 mod common;
 
-use proleg::config::load_simulation;
-use proleg::sim::clock::SimClock;
+use proleg::control::load_simulation;
 use proleg::sim::{BuildOptions, Simulator};
 
 /// The obstacle spans y = 0.6 m to 4.2 m; the robot starts with its centre at y = 0.14 m.
@@ -28,7 +27,6 @@ fn run(config: &str, without_obstacle: bool) -> [f64; 3] {
         },
     )
     .unwrap();
-    s.world_mut().resource_mut::<SimClock>().realtime_factor = 0.0;
     s.run_for(90.0).end_com
 }
 

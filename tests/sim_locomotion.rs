@@ -4,7 +4,8 @@
 
 mod common;
 
-use proleg::config::{Simulation, load_simulation};
+use proleg::config::Simulation;
+use proleg::control::load_simulation;
 use proleg::sim::{BuildOptions, Simulator};
 
 fn demo() -> Simulation {
@@ -12,7 +13,7 @@ fn demo() -> Simulation {
 }
 
 fn simulator(sim: &Simulation) -> Simulator {
-    let mut s = Simulator::new(
+    let s = Simulator::new(
         sim,
         &BuildOptions {
             robots: 1,
@@ -21,9 +22,6 @@ fn simulator(sim: &Simulation) -> Simulator {
         },
     )
     .unwrap();
-    s.world_mut()
-        .resource_mut::<proleg::sim::clock::SimClock>()
-        .realtime_factor = 0.0;
     s
 }
 
@@ -222,19 +220,7 @@ fn joint_limits_stop_a_joint_the_servo_cannot_hold() {
     s.set_parameter(0, 0, "Amplitude", None, 0.0).unwrap();
     s.run_steps(10);
     // Spin the head about the pitch axis, far faster than the weak servo can brake.
-    let head = s
-        .world()
-        .get::<proleg::sim::kernel::SimRobot>(s.robots()[0])
-        .unwrap()
-        .bodies[5]
-        .0;
-    {
-        let mut physics = s
-            .world_mut()
-            .resource_mut::<proleg::sim::physics::Physics>();
-        let body = physics.world.bodies.get_mut(head).unwrap();
-        body.set_angvel(rapier3d::prelude::Vector::new(20.0, 0.0, 0.0), true);
-    }
+    s.set_link_angular_velocity(0, 5, [20.0, 0.0, 0.0]).unwrap();
     let mut worst: f64 = 0.0;
     for _ in 0..500 {
         s.step();

@@ -3,9 +3,8 @@
 
 mod common;
 
-use proleg::config::{Simulation, load_simulation};
-use proleg::sim::clock::SimClock;
-use proleg::sim::tactile::{RobotSensors, TactileSensor};
+use proleg::config::Simulation;
+use proleg::control::load_simulation;
 use proleg::sim::{BuildOptions, Simulator};
 
 fn tactile_sine_only() -> Simulation {
@@ -14,18 +13,12 @@ fn tactile_sine_only() -> Simulation {
 
 fn still(sim: &Simulation) -> Simulator {
     let mut s = Simulator::new(sim, &BuildOptions::default()).unwrap();
-    s.world_mut().resource_mut::<SimClock>().realtime_factor = 0.0;
     s.set_parameter(0, 0, "Amplitude", None, 0.0).unwrap();
     s
 }
 
 fn readings(s: &Simulator) -> Vec<bool> {
-    s.world()
-        .get::<RobotSensors>(s.robots()[0])
-        .unwrap()
-        .0
-        .tactile
-        .clone()
+    s.sensors(0).unwrap().tactile.clone()
 }
 
 #[test]
@@ -35,13 +28,7 @@ fn pads_resting_on_the_floor_read_pressed() {
     let r = readings(&s);
     assert_eq!(r.len(), 12);
     assert!(r.iter().all(|p| *p), "{r:?}");
-    let normals = s
-        .world()
-        .get::<RobotSensors>(s.robots()[0])
-        .unwrap()
-        .0
-        .tactile_normals
-        .clone();
+    let normals = s.sensors(0).unwrap().tactile_normals.clone();
     assert!(
         normals.iter().all(|n| n[2] > 0.99),
         "normals point up from the floor: {normals:?}"
@@ -78,13 +65,11 @@ fn a_landing_is_reported_after_the_debounce_steps() {
     let mut first_pressed = None;
     for step in 0..2000 {
         s.step();
-        let world = s.world_mut();
-        let mut q = world.query::<&TactileSensor>();
-        let pad = q.iter(world).find(|p| p.index == 0).unwrap().clone();
+        let pad = s.tactile_pads(0).unwrap()[0];
         if pad.raw && first_raw.is_none() {
             first_raw = Some(step);
         }
-        if pad.state.pressed && first_pressed.is_none() {
+        if pad.pressed && first_pressed.is_none() {
             first_pressed = Some(step);
         }
     }
@@ -144,13 +129,7 @@ fn laser_measures_a_wall_at_a_known_distance() {
     });
     let mut s = still(&sim);
     s.run_steps(20);
-    let ranges = s
-        .world()
-        .get::<RobotSensors>(s.robots()[0])
-        .unwrap()
-        .0
-        .laser[0]
-        .clone();
+    let ranges = s.sensors(0).unwrap().laser[0].clone();
     assert_eq!(ranges.len(), 5, "beams at -30, -15, 0, 15, 30 deg");
     let origin_y = 0.288 + 0.07;
     let straight = 1.95 - origin_y;

@@ -3,11 +3,11 @@
 mod common;
 
 use proleg::config::actuation::parse_actuation_file;
-use proleg::config::load_simulation;
 use proleg::config::optimizer::{Algorithm, BoundType, parse_optimizer_file};
 use proleg::config::resolve::JointOrientation;
 use proleg::config::sensor::{Sensor, parse_sensor_file};
 use proleg::config::simulation::Mode;
+use proleg::control::load_simulation;
 
 fn read(rel: &str) -> (String, String) {
     let p = common::thesis().join(rel);

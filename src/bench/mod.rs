@@ -13,11 +13,10 @@ use std::time::Instant;
 pub mod modules;
 
 use crate::config::Simulation;
-use crate::config::load_simulation;
+use crate::control::{ModuleRegistry, load_simulation};
 use crate::data::store::DataStore;
-use crate::sim::datalog::{DataSettings, handlers_for};
+use crate::sim::datalog::DataSettings;
 use crate::sim::physics::Physics;
-use crate::sim::tactile::RobotSensors;
 use crate::sim::{BuildOptions, SimError, Simulator};
 
 /// Repetitions of each figure; the fastest counts.
@@ -26,8 +25,11 @@ pub const REPEATS: usize = 3;
 /// One measurement.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Figure {
+    /// What was measured.
     pub label: String,
+    /// Robots sharing the world.
     pub robots: usize,
+    /// Steps run.
     pub steps: u64,
     /// Step width (s).
     pub dt: f64,
@@ -47,14 +49,20 @@ impl Figure {
     }
 }
 
-pub(crate) fn world_of(sim: &Simulation, robots: usize) -> Result<Simulator, String> {
-    Simulator::new(
+/// A world of `robots` copies of `sim`'s robot, modules made by `registry`.
+pub(crate) fn world_of(
+    sim: &Simulation,
+    robots: usize,
+    registry: &ModuleRegistry,
+) -> Result<Simulator, String> {
+    Simulator::with_registry(
         sim,
         &BuildOptions {
             robots,
             seed: 1,
             record: false,
         },
+        registry,
     )
     .map_err(|e: SimError| e.to_string())
 }
@@ -82,7 +90,7 @@ fn best_of(
 ) -> Result<Figure, String> {
     let mut fastest: Option<Figure> = None;
     for _ in 0..REPEATS {
-        let mut s = world_of(sim, robots)?;
+        let mut s = world_of(sim, robots, &ModuleRegistry::standard())?;
         let dt = s.clock().dt;
         s.run_steps((1.0 / dt).round() as u64);
         let steps = (seconds / dt).round() as u64;
@@ -147,16 +155,8 @@ pub fn recording(config: &Path, seconds: f64) -> Result<(Figure, u64), String> {
         seconds,
         "pipeline + data file, 1 robot",
         |s, steps| {
-            let handlers = match (s.kernel(0), s.robots().first()) {
-                (Ok(k), Some(e)) => {
-                    let sensors = s
-                        .world()
-                        .get::<RobotSensors>(*e)
-                        .map(|r| r.0.clone())
-                        .unwrap_or_default();
-                    handlers_for(k, &sensors)
-                }
-                _ => return f64::INFINITY,
+            let Ok(handlers) = s.data_handlers(0) else {
+                return f64::INFINITY;
             };
             let t = Instant::now();
             let Ok(store) = DataStore::create(&file, handlers) else {

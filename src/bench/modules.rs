@@ -8,7 +8,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
-use crate::config::{Simulation, load_simulation};
+use crate::config::Simulation;
+use crate::control::load_simulation;
 use crate::control::{ControlKernel, ModuleRegistry};
 use crate::rng::SimRng;
 
@@ -19,8 +20,12 @@ use super::world_of;
 pub const ROUNDS: usize = 5;
 
 /// The simulation with every module of type `from` replaced by `to` (parameters by name).
-pub fn swap_module(sim: &Simulation, from: &str, to: &str) -> Result<Simulation, String> {
-    let registry = ModuleRegistry::default();
+pub fn swap_module(
+    sim: &Simulation,
+    from: &str,
+    to: &str,
+    registry: &ModuleRegistry,
+) -> Result<Simulation, String> {
     let target = registry
         .get(to)
         .ok_or_else(|| {
@@ -54,9 +59,9 @@ pub fn swap_module(sim: &Simulation, from: &str, to: &str) -> Result<Simulation,
 }
 
 /// A kernel of the scenario's actuation, reset, ready to step.
-fn kernel(sim: &Simulation) -> Result<ControlKernel, String> {
+fn kernel(sim: &Simulation, registry: &ModuleRegistry) -> Result<ControlKernel, String> {
     let limits: Vec<[f64; 2]> = sim.robot.joints.iter().map(|j| j.limits_deg).collect();
-    let mut k = ControlKernel::from_actuation(&sim.actuation, &ModuleRegistry::default(), limits)
+    let mut k = ControlKernel::from_actuation(&sim.actuation, registry, limits)
         .map_err(|e| e.to_string())?;
     k.reset(&mut SimRng::new(1));
     Ok(k)
@@ -79,8 +84,12 @@ fn kernel_once(template: &ControlKernel, dt: f64, steps: u64) -> Result<f64, Str
 }
 
 /// Wall seconds of `seconds` simulated by the full pipeline, after a second of warm-up.
-fn pipeline_once(sim: &Simulation, seconds: f64) -> Result<(f64, u64), String> {
-    let mut s = world_of(sim, 1)?;
+fn pipeline_once(
+    sim: &Simulation,
+    seconds: f64,
+    registry: &ModuleRegistry,
+) -> Result<(f64, u64), String> {
+    let mut s = world_of(sim, 1, registry)?;
     let dt = s.clock().dt;
     s.run_steps((1.0 / dt).round() as u64);
     let steps = (seconds / dt).round() as u64;
@@ -95,20 +104,21 @@ pub fn report(
     seconds: f64,
     reference: &str,
     module: &str,
+    registry: &ModuleRegistry,
 ) -> Result<String, String> {
     let base = load_simulation(config).map_err(|e| e.to_string())?;
-    let swapped = swap_module(&base, reference, module)?;
+    let swapped = swap_module(&base, reference, module, registry)?;
     let dt = base.files.simulation.properties.step_width;
-    let (ka_template, kb_template) = (kernel(&base)?, kernel(&swapped)?);
+    let (ka_template, kb_template) = (kernel(&base, registry)?, kernel(&swapped, registry)?);
     let kernel_steps = 1_000_000;
     let (mut pa, mut pb, mut ka, mut kb) =
         (f64::INFINITY, f64::INFINITY, f64::INFINITY, f64::INFINITY);
     let mut steps = 0;
     for _ in 0..ROUNDS {
-        let (wall, n) = pipeline_once(&base, seconds)?;
+        let (wall, n) = pipeline_once(&base, seconds, registry)?;
         pa = pa.min(wall);
         steps = n;
-        pb = pb.min(pipeline_once(&swapped, seconds)?.0);
+        pb = pb.min(pipeline_once(&swapped, seconds, registry)?.0);
         ka = ka.min(kernel_once(&ka_template, dt, kernel_steps)?);
         kb = kb.min(kernel_once(&kb_template, dt, kernel_steps)?);
     }
@@ -157,11 +167,29 @@ mod tests {
     fn swapping_to_an_unknown_module_or_from_an_absent_one_is_an_error() {
         let config = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/demo.simulation.xml");
         let sim = load_simulation(&config).unwrap();
-        let e = swap_module(&sim, "PatternGenerator_sinusoidal", "Nope").unwrap_err();
+        let e = swap_module(
+            &sim,
+            "PatternGenerator_sinusoidal",
+            "Nope",
+            &ModuleRegistry::standard(),
+        )
+        .unwrap_err();
         assert!(e.contains("no module Nope"), "{e}");
-        let e = swap_module(&sim, "Global_Adaptive_Touch", "DirectJointAccess").unwrap_err();
+        let e = swap_module(
+            &sim,
+            "Global_Adaptive_Touch",
+            "DirectJointAccess",
+            &ModuleRegistry::standard(),
+        )
+        .unwrap_err();
         assert!(e.contains("no Global_Adaptive_Touch module"), "{e}");
-        let e = swap_module(&sim, "PatternGenerator_sinusoidal", "DirectJointAccess").unwrap_err();
+        let e = swap_module(
+            &sim,
+            "PatternGenerator_sinusoidal",
+            "DirectJointAccess",
+            &ModuleRegistry::standard(),
+        )
+        .unwrap_err();
         assert!(
             e.contains("DirectJointAccess has no parameter Amplitude"),
             "{e}"

@@ -9,7 +9,7 @@
 //!
 //! [`library`]: crate::compose::library
 
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use crate::compose::library::LibraryItem;
@@ -18,7 +18,7 @@ use crate::config::environment::{
     EnvObject, EnvironmentFile, Physics, parse_environment_file, write_environment_file,
 };
 use crate::config::kinbody::KinBody;
-use crate::config::mesh::parse_obj;
+use crate::config::mesh::Meshes;
 use crate::config::resolve::environment::resolve_environment;
 use crate::config::source::{FsSource, resolve_include};
 use crate::config::transform::{Transform, quat_mul};
@@ -111,7 +111,10 @@ pub struct EnvEditor {
     redo: Vec<Snapshot>,
     /// Merges a drag's many moves into one undo step.
     dragging: bool,
-    mesh_bounds: HashMap<String, Option<Aabb>>,
+    /// Mesh files read for bounds, parsed once.
+    meshes: Meshes,
+    /// Mesh files that could not be read, by name as written, with the reason.
+    mesh_errors: BTreeMap<String, String>,
     /// Bumped on every change (the 3D view rebuilds when it changes).
     pub revision: u64,
 }
@@ -174,7 +177,8 @@ impl EnvEditor {
             undo: Vec::new(),
             redo: Vec::new(),
             dragging: false,
-            mesh_bounds: HashMap::new(),
+            meshes: Meshes::default(),
+            mesh_errors: BTreeMap::new(),
             revision: 0,
         }
     }
@@ -276,25 +280,34 @@ impl EnvEditor {
         true
     }
 
-    /// Bounds of a mesh file as named in the scene (cached).
+    /// Bounds of a mesh file as named in the scene, read once; a file that cannot be found
+    /// or parsed has none, and its error is kept ([`EnvEditor::mesh_errors`]).
     fn mesh_aabb(&mut self, file: &str, scale: f64) -> Option<Aabb> {
-        let key = file.to_string();
-        if !self.mesh_bounds.contains_key(&key) {
-            let b = resolve_include(&FsSource, &self.file, file)
-                .and_then(|p| {
-                    let text = std::fs::read_to_string(&p).ok()?;
-                    parse_obj(&p, &text).ok()
+        let loaded = match resolve_include(&FsSource, &self.file, file) {
+            Some(path) => self.meshes.load(&path).map_err(|e| e.to_string()),
+            None => Err(format!(
+                "{file}: mesh file not found next to {}",
+                self.file.display()
+            )),
+        };
+        match loaded {
+            Ok(m) => {
+                let (min, max) = m.bounds();
+                Some(Aabb {
+                    min: min.map(|v| v * scale),
+                    max: max.map(|v| v * scale),
                 })
-                .map(|m| {
-                    let (min, max) = m.bounds();
-                    Aabb { min, max }
-                });
-            self.mesh_bounds.insert(key.clone(), b);
+            }
+            Err(e) => {
+                self.mesh_errors.insert(file.to_string(), e);
+                None
+            }
         }
-        self.mesh_bounds.get(&key).copied().flatten().map(|b| Aabb {
-            min: b.min.map(|v| v * scale),
-            max: b.max.map(|v| v * scale),
-        })
+    }
+
+    /// Mesh files the scene names that could not be read, with the reason (file: line).
+    pub fn mesh_errors(&self) -> impl Iterator<Item = &str> {
+        self.mesh_errors.values().map(String::as_str)
     }
 
     /// World bounds of a kinbody placed at `pose`.

@@ -125,14 +125,14 @@ impl Composition {
         }
     }
 
-    /// Checks the composition as `proleg check` would, as if saved at `path`.
-    pub fn check(&self, path: &Path) -> Result<String, String> {
+    /// Checks the composition as `proleg check` would, as if saved at `path`, against the
+    /// module types of `registry`.
+    pub fn check(&self, path: &Path, registry: &ModuleRegistry) -> Result<String, String> {
         let mut src = OverlaySource::default();
         let path = normalize(path);
         src.unsaved
             .insert(&path, write_simulation_file(&self.to_file(&path)));
-        let sim = load_simulation_with(&src, &path, &ModuleRegistry::default())
-            .map_err(|e| e.to_string())?;
+        let sim = load_simulation_with(&src, &path, registry).map_err(|e| e.to_string())?;
         Ok(format!(
             "{}: {} joints, {} modules, {} environment bodies{}",
             sim.robot.name,
@@ -146,9 +146,9 @@ impl Composition {
         ))
     }
 
-    /// Checks and writes the simulation file.
-    pub fn save(&self, path: &Path) -> Result<(), String> {
-        self.check(path)?;
+    /// Checks (against `registry`'s module types) and writes the simulation file.
+    pub fn save(&self, path: &Path, registry: &ModuleRegistry) -> Result<(), String> {
+        self.check(path, registry)?;
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         }
@@ -184,9 +184,9 @@ mod tests {
         c.environment = Some(PathBuf::from("configs/environments/stairs.env.xml"));
         let dir = std::env::temp_dir().join(format!("proleg_expert_{}", std::process::id()));
         let path = dir.join("stairs2.simulation.xml");
-        let summary = c.check(&path).unwrap();
+        let summary = c.check(&path, &ModuleRegistry::standard()).unwrap();
         assert!(summary.contains("tactile5p"), "{summary}");
-        c.save(&path).unwrap();
+        c.save(&path, &ModuleRegistry::standard()).unwrap();
         let back = Composition::open(&path).unwrap();
         assert_eq!(
             normalize(&back.environment.clone().unwrap()),
@@ -198,7 +198,7 @@ mod tests {
         );
         // A wrong pairing is refused with the file that does not fit.
         c.actuation = PathBuf::from("configs/actuation/snake8py_sine.actuation.xml");
-        let e = c.check(&path).unwrap_err();
+        let e = c.check(&path, &ModuleRegistry::standard()).unwrap_err();
         assert!(e.contains("snake8py_sine.actuation.xml"), "{e}");
         std::fs::remove_dir_all(dir).ok();
     }

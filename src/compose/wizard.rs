@@ -423,21 +423,17 @@ impl Wizard {
     /// ```
     pub fn set(&mut self, key: &str, value: &str) -> Result<(), String> {
         let words: Vec<&str> = value.split_whitespace().collect();
-        let want = |n: usize, usage: &str| -> Result<(), String> {
-            if words.len() < n {
-                Err(format!("{key}: expected {usage}"))
-            } else {
-                Ok(())
-            }
-        };
-        let module = |name: &str| -> Result<ModuleChoice, String> {
-            ModuleChoice::with_defaults(&self.registry, name).ok_or_else(|| {
-                format!(
-                    "unknown module \"{name}\"; known: {}",
-                    self.registry.names().join(", ")
-                )
-            })
-        };
+        match key.split('.').next() {
+            Some("robot") => self.set_robot(key, value),
+            Some("behaviour") => self.set_behaviour(key, &words),
+            Some("sim") => self.set_sim(key, value),
+            Some("opt") => self.set_optimization(key, value, &words),
+            _ => Err(format!("unknown wizard field \"{key}\"")),
+        }
+    }
+
+    /// The `robot.*` fields of [`Wizard::set`].
+    fn set_robot(&mut self, key: &str, value: &str) -> Result<(), String> {
         match key {
             "robot.name" => {
                 check_name(value.trim(), "robot name")?;
@@ -463,6 +459,17 @@ impl Wizard {
                 self.robot = RobotChoice::Existing(p);
                 self.joint_count()?;
             }
+            other => return Err(format!("unknown wizard field \"{other}\"")),
+        }
+        Ok(())
+    }
+
+    /// The `behaviour.*` fields of [`Wizard::set`].
+    fn set_behaviour(&mut self, key: &str, words: &[&str]) -> Result<(), String> {
+        let want = |n: usize, usage: &str| want(key, words, n, usage);
+        let registry = &self.registry;
+        let module = |name: &str| module_choice(registry, name);
+        match key {
             "behaviour.simple" => {
                 want(1, "MODULE")?;
                 let n = self.joint_count()?;
@@ -502,6 +509,14 @@ impl Wizard {
                 };
                 m.set_value(words[2], value);
             }
+            other => return Err(format!("unknown wizard field \"{other}\"")),
+        }
+        Ok(())
+    }
+
+    /// The `sim.*` fields of [`Wizard::set`].
+    fn set_sim(&mut self, key: &str, value: &str) -> Result<(), String> {
+        match key {
             "sim.mode" => {
                 self.props.mode = match value.trim().to_ascii_lowercase().as_str() {
                     "single" => Mode::SingleRun,
@@ -524,55 +539,15 @@ impl Wizard {
             "sim.storing" => self.props.storing_data = value.trim() == "1",
             "sim.viewer" => self.props.show_viewer = value.trim() == "1",
             "sim.description" => self.description = value.to_string(),
-            "opt.register" => {
-                want(5, "MODULE PARAM all|MASK uniform|individual LO HI INC")?;
-                let d = self
-                    .registry
-                    .get(words[0])
-                    .ok_or_else(|| format!("unknown module \"{}\"", words[0]))?;
-                let p = d.parameter(words[1]).ok_or_else(|| {
-                    format!(
-                        "module {} has no parameter \"{}\"; its parameters: {}",
-                        d.type_name,
-                        words[1],
-                        d.parameter_names().join(", ")
-                    )
-                })?;
-                let (all_joints, joints) = if words[2] == "all" {
-                    (true, Vec::new())
-                } else {
-                    (false, parse_mask(words[2], self.joint_count()?)?)
-                };
-                let uniform = match words[3] {
-                    "uniform" => true,
-                    "individual" => false,
-                    other => return Err(format!("\"{other}\": expected uniform or individual")),
-                };
-                let values = if words[4] == "list" {
-                    want(6, "... list v1,v2,...")?;
-                    ValueSet::List(
-                        words[5]
-                            .split(',')
-                            .map(|w| parse_num(w, "value"))
-                            .collect::<Result<_, _>>()?,
-                    )
-                } else {
-                    want(7, "... LO HI INC")?;
-                    ValueSet::Range {
-                        lower: parse_num(words[4], "lower bound")?,
-                        upper: parse_num(words[5], "upper bound")?,
-                        increment: parse_num(words[6], "increment")?,
-                    }
-                };
-                self.optimization.params.push(Registration {
-                    module: d.type_name.to_string(),
-                    parameter: p.name.to_string(),
-                    all_joints,
-                    joints,
-                    uniform,
-                    values,
-                });
-            }
+            other => return Err(format!("unknown wizard field \"{other}\"")),
+        }
+        Ok(())
+    }
+
+    /// The `opt.*` fields of [`Wizard::set`].
+    fn set_optimization(&mut self, key: &str, value: &str, words: &[&str]) -> Result<(), String> {
+        match key {
+            "opt.register" => self.register(words)?,
             "opt.clear" => self.optimization.params.clear(),
             "opt.popsize" => self.optimization.ga.popsize = parse_num(value, key)?.max(0.0) as u32,
             "opt.max-evals" => {
@@ -581,6 +556,78 @@ impl Wizard {
             "opt.fitness" => self.optimization.fitness = Fitness::parse(value)?,
             other => return Err(format!("unknown wizard field \"{other}\"")),
         }
+        Ok(())
+    }
+
+    /// `opt.register MODULE PARAM all|MASK uniform|individual (LO HI INC | list v1,...)`.
+    fn register(&mut self, words: &[&str]) -> Result<(), String> {
+        let want = |n: usize, usage: &str| want("opt.register", words, n, usage);
+        want(5, "MODULE PARAM all|MASK uniform|individual LO HI INC")?;
+        let d = self
+            .registry
+            .get(words[0])
+            .ok_or_else(|| format!("unknown module \"{}\"", words[0]))?;
+        let p = d.parameter(words[1]).ok_or_else(|| {
+            format!(
+                "module {} has no parameter \"{}\"; its parameters: {}",
+                d.type_name,
+                words[1],
+                d.parameter_names().join(", ")
+            )
+        })?;
+        let (all_joints, joints) = if words[2] == "all" {
+            (true, Vec::new())
+        } else {
+            (false, parse_mask(words[2], self.joint_count()?)?)
+        };
+        let uniform = match words[3] {
+            "uniform" => true,
+            "individual" => false,
+            other => return Err(format!("\"{other}\": expected uniform or individual")),
+        };
+        let values = if words[4] == "list" {
+            want(6, "... list v1,v2,...")?;
+            ValueSet::List(
+                words[5]
+                    .split(',')
+                    .map(|w| parse_num(w, "value"))
+                    .collect::<Result<_, _>>()?,
+            )
+        } else {
+            want(7, "... LO HI INC")?;
+            ValueSet::Range {
+                lower: parse_num(words[4], "lower bound")?,
+                upper: parse_num(words[5], "upper bound")?,
+                increment: parse_num(words[6], "increment")?,
+            }
+        };
+        self.optimization.params.push(Registration {
+            module: d.type_name.to_string(),
+            parameter: p.name.to_string(),
+            all_joints,
+            joints,
+            uniform,
+            values,
+        });
+        Ok(())
+    }
+}
+
+/// A module of type `name` with its default parameters; the error lists the types.
+fn module_choice(registry: &ModuleRegistry, name: &str) -> Result<ModuleChoice, String> {
+    ModuleChoice::with_defaults(registry, name).ok_or_else(|| {
+        format!(
+            "unknown module \"{name}\"; known: {}",
+            registry.names().join(", ")
+        )
+    })
+}
+
+/// Fails unless `words` holds at least `n` words (`usage` says what `key` expects).
+fn want(key: &str, words: &[&str], n: usize, usage: &str) -> Result<(), String> {
+    if words.len() < n {
+        Err(format!("{key}: expected {usage}"))
+    } else {
         Ok(())
     }
 }
@@ -655,7 +702,7 @@ mod tests {
         assert_eq!(w.page, Page::Summary);
         let sim = w.save().unwrap();
         assert!(sim.ends_with("wiz_20261122_120000.simulation.xml"));
-        let loaded = crate::config::load_simulation(&sim).unwrap();
+        let loaded = crate::control::load_simulation(&sim).unwrap();
         assert_eq!(loaded.robot.joints.len(), 5);
         assert_eq!(loaded.actuation.modules.len(), 2);
         let opt = loaded.optimizer.expect("an optimizer");

@@ -115,49 +115,7 @@ impl Joint {
         let max_torque = r.opt_positive(el, "maxtorque")?;
         let max_vel = r.opt_positive(el, "maxvel")?;
         let servo_gain = r.opt_positive(el, "servogain")?;
-        let mut limits_deg = None;
-        for c in &el.children {
-            let scale = if c.is("limitsdeg") {
-                1.0
-            } else if c.is("limitsrad") || c.is("limits") {
-                180.0 / std::f64::consts::PI
-            } else {
-                continue;
-            };
-            if limits_deg.is_some() {
-                return Err(r.err(
-                    c.pos,
-                    ErrorKind::InvalidValue,
-                    format!("joint {name}: limits given twice"),
-                ));
-            }
-            let [lo, hi] = r.array::<2>(c)?;
-            let (lo, hi) = (lo * scale, hi * scale);
-            if lo > hi {
-                return Err(r.err(
-                    c.text_pos,
-                    ErrorKind::OutOfRange,
-                    format!(
-                        "joint {name}: lower limit {lo} deg is greater than upper limit {hi} deg"
-                    ),
-                ));
-            }
-            r.check_range(
-                lo,
-                -180.0,
-                180.0,
-                c.text_pos,
-                &format!("joint {name}: lower limit (deg)"),
-            )?;
-            r.check_range(
-                hi,
-                -180.0,
-                180.0,
-                c.text_pos,
-                &format!("joint {name}: upper limit (deg)"),
-            )?;
-            limits_deg = Some([lo, hi]);
-        }
+        let limits_deg = read_limits(r, el, &name)?;
         Ok(Joint {
             offset_from: r
                 .at_most_one(el, "offsetfrom")?
@@ -203,6 +161,53 @@ impl Joint {
         }
         w.close();
     }
+}
+
+/// A joint's limits in degrees, from `<limitsdeg>`, or `<limitsrad>` / `<limits>` in
+/// radians; at most one of them, lower <= upper, within ±180°.
+fn read_limits(r: &Reader, el: &Element, name: &str) -> ConfigResult<Option<[f64; 2]>> {
+    let mut limits_deg = None;
+    for c in &el.children {
+        let scale = if c.is("limitsdeg") {
+            1.0
+        } else if c.is("limitsrad") || c.is("limits") {
+            180.0 / std::f64::consts::PI
+        } else {
+            continue;
+        };
+        if limits_deg.is_some() {
+            return Err(r.err(
+                c.pos,
+                ErrorKind::InvalidValue,
+                format!("joint {name}: limits given twice"),
+            ));
+        }
+        let [lo, hi] = r.array::<2>(c)?;
+        let (lo, hi) = (lo * scale, hi * scale);
+        if lo > hi {
+            return Err(r.err(
+                c.text_pos,
+                ErrorKind::OutOfRange,
+                format!("joint {name}: lower limit {lo} deg is greater than upper limit {hi} deg"),
+            ));
+        }
+        r.check_range(
+            lo,
+            -180.0,
+            180.0,
+            c.text_pos,
+            &format!("joint {name}: lower limit (deg)"),
+        )?;
+        r.check_range(
+            hi,
+            -180.0,
+            180.0,
+            c.text_pos,
+            &format!("joint {name}: upper limit (deg)"),
+        )?;
+        limits_deg = Some([lo, hi]);
+    }
+    Ok(limits_deg)
 }
 
 impl KinBody {

@@ -1,9 +1,55 @@
 //! Triangle meshes for `trimesh` geometries: a small Wavefront OBJ reader (vertices and
 //! faces; polygons are fanned into triangles).
 
+use std::collections::BTreeMap;
 use std::path::Path;
+use std::sync::Arc;
 
 use crate::config::error::{ConfigError, ConfigResult, ErrorKind, Pos};
+
+/// The meshes a loaded configuration uses, parsed once at load time and shared (by
+/// reference count) by the physics, the viewer and the editor; keyed by the resolved path
+/// that `trimesh` geometries name after loading.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Meshes(BTreeMap<String, Arc<TriMesh>>);
+
+impl Meshes {
+    /// The mesh of a resolved `trimesh` file name.
+    pub fn get(&self, file: &str) -> Option<&Arc<TriMesh>> {
+        self.0.get(file)
+    }
+
+    /// Adds (or replaces) the mesh read from `file`.
+    pub fn insert(&mut self, file: String, mesh: Arc<TriMesh>) {
+        self.0.insert(file, mesh);
+    }
+
+    /// Adds every mesh of `other` not known yet.
+    pub fn extend(&mut self, other: &Meshes) {
+        for (k, v) in &other.0 {
+            self.0.entry(k.clone()).or_insert_with(|| v.clone());
+        }
+    }
+
+    /// Reads and parses `path` unless it is known; errors name the file and line.
+    pub fn load(&mut self, path: &Path) -> ConfigResult<Arc<TriMesh>> {
+        let key = path.display().to_string();
+        if let Some(m) = self.0.get(&key) {
+            return Ok(m.clone());
+        }
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            ConfigError::new(
+                path,
+                Pos::new(0, 0),
+                ErrorKind::MissingFile,
+                format!("cannot read the mesh: {e}"),
+            )
+        })?;
+        let mesh = Arc::new(parse_obj(path, &text)?);
+        self.0.insert(key, mesh.clone());
+        Ok(mesh)
+    }
+}
 
 /// A triangle mesh in the units of its file.
 #[derive(Debug, Clone, PartialEq)]

@@ -5,7 +5,10 @@
 //! - [`robot`], [`kinbody`], [`body`], [`sensor`]: robots, module parts, sensors (B.2-B.4)
 //! - [`actuation`]: which modules drive which joints (B.5)
 //! - [`environment`]: physics and terrain (B.6)
-//! - [`optimizer`]: genetic algorithm and great-deluge settings (B.7)
+//! - [`optimizer`]: genetic algorithm and great-deluge settings (B.7); [`fitness`]: the
+//!   names of the fitness functions they choose from
+//! - [`module_types`]: what the loader knows of actuation-module types (parameters,
+//!   ranges, series) to check files against
 //! - [`remote`]: remote (gamepad) bindings to module parameters (our extension)
 //! - [`resolve`]: loading a simulation with all its includes into checked models
 //!
@@ -17,9 +20,11 @@ pub mod actuation;
 pub mod body;
 pub mod environment;
 pub mod error;
+pub mod fitness;
 pub mod kinbody;
 pub mod mask;
 pub mod mesh;
+pub mod module_types;
 pub mod optimizer;
 pub mod remote;
 pub mod resolve;
@@ -33,5 +38,5 @@ pub mod transform;
 pub mod xml;
 
 pub use error::{ConfigError, ConfigResult, ErrorKind, Pos};
-pub use resolve::{Simulation, load_simulation, load_simulation_with};
+pub use resolve::{Simulation, load_simulation_with};
 pub use source::{FileSource, FsSource, MemSource};

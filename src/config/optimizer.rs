@@ -11,11 +11,11 @@
 //! `retries`, `initialWaterLevel`, `rain`, `confidence`.
 
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
+use crate::config::fitness::Fitness;
 use crate::config::mask::JointMask;
 use crate::config::xml::dom::Element;
 use crate::config::xml::read::Reader;
 use crate::config::xml::write::{XmlWriter, num};
-use crate::optimize::fitness::Fitness;
 
 /// A module parameter registered for optimization.
 #[derive(Debug, Clone, PartialEq)]
@@ -337,13 +337,37 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
     r.only_children(root, &["properties", "genomeconfig"])?;
     r.only_attrs(root, &[])?;
     let props = r.required(root, "properties")?;
+    let algorithm = read_algorithm(&r, root, props)?;
+    let parameters = read_parameters(&r, props)?;
+    let genome = read_genomes(&r, root, &parameters)?;
+    let fitness = match r.at_most_one(props, "fitness")? {
+        Some(el) => {
+            Fitness::parse(r.text(el)?).map_err(|m| r.err(el.pos, ErrorKind::InvalidValue, m))?
+        }
+        None => Fitness::Displacement,
+    };
+    let max_evaluations = r
+        .at_most_one(props, "maxevaluations")?
+        .map(|el| r.u32(el).map(u64::from))
+        .transpose()?;
+    Ok(OptimizerFile {
+        algorithm,
+        parameters,
+        genome,
+        fitness,
+        max_evaluations,
+    })
+}
+
+/// The algorithm's settings, by the root element: GA or great deluge.
+fn read_algorithm(r: &Reader, root: &Element, props: &Element) -> ConfigResult<Algorithm> {
     let common = [
         "numofparameterstooptimize",
         "registeredparameters",
         "fitness",
         "maxevaluations",
     ];
-    let algorithm = if root.is("geneticalgorithm") {
+    Ok(if root.is("geneticalgorithm") {
         let mut allowed = vec![
             "popsize",
             "pmut",
@@ -356,13 +380,13 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
         allowed.extend(common);
         r.only_children(props, &allowed)?;
         Algorithm::Genetic(GaSettings {
-            popsize: count(&r, props, "popsize", 2)?,
-            pmut: prob(&r, props, "pmut")?,
-            pcross: prob(&r, props, "pcross")?,
-            n_convergence: count(&r, props, "nconvergence", 1)?,
-            p_convergence: prob(&r, props, "pconvergence")?,
-            flush_frequency: count(&r, props, "flushfrequency", 1)?,
-            ga_mode: count(&r, props, "gamode", 0)?,
+            popsize: count(r, props, "popsize", 2)?,
+            pmut: prob(r, props, "pmut")?,
+            pcross: prob(r, props, "pcross")?,
+            n_convergence: count(r, props, "nconvergence", 1)?,
+            p_convergence: prob(r, props, "pconvergence")?,
+            flush_frequency: count(r, props, "flushfrequency", 1)?,
+            ga_mode: count(r, props, "gamode", 0)?,
         })
     } else if root.is("greatdeluge") {
         let mut allowed = vec![
@@ -376,11 +400,11 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
         r.only_children(props, &allowed)?;
         let rain = r.required(props, "rain")?;
         Algorithm::GreatDeluge(GdSettings {
-            credits: count(&r, props, "credits", 0)?,
-            retries: count(&r, props, "retries", 1)?,
+            credits: count(r, props, "credits", 0)?,
+            retries: count(r, props, "retries", 1)?,
             initial_water_level: r.f64(r.required(props, "initialwaterlevel")?)?,
             rain: r.f64_in(rain, 0.0, f64::INFINITY)?,
-            confidence: count(&r, props, "confidence", 1)?,
+            confidence: count(r, props, "confidence", 1)?,
         })
     } else {
         return Err(r.err(
@@ -391,11 +415,18 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
                 root.name
             ),
         ));
-    };
-    let parameters = read_parameters(&r, props)?;
+    })
+}
+
+/// The genome configurations, one per registered parameter.
+fn read_genomes(
+    r: &Reader,
+    root: &Element,
+    parameters: &[RegisteredParameter],
+) -> ConfigResult<Vec<GenomeConfig>> {
     let mut genome: Vec<GenomeConfig> = Vec::new();
     for g in root.children_named("genomeconfig") {
-        let cfg = read_genome(&r, g)?;
+        let cfg = read_genome(r, g)?;
         if genome.iter().any(|o| o.number == cfg.number) {
             return Err(r.err(
                 cfg.pos,
@@ -415,7 +446,7 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
         }
         genome.push(cfg);
     }
-    for p in &parameters {
+    for p in parameters {
         if !genome.iter().any(|g| g.number == p.number) {
             return Err(r.err(
                 p.pos,
@@ -427,23 +458,7 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
             ));
         }
     }
-    let fitness = match r.at_most_one(props, "fitness")? {
-        Some(el) => {
-            Fitness::parse(r.text(el)?).map_err(|m| r.err(el.pos, ErrorKind::InvalidValue, m))?
-        }
-        None => Fitness::Displacement,
-    };
-    let max_evaluations = r
-        .at_most_one(props, "maxevaluations")?
-        .map(|el| r.u32(el).map(u64::from))
-        .transpose()?;
-    Ok(OptimizerFile {
-        algorithm,
-        parameters,
-        genome,
-        fitness,
-        max_evaluations,
-    })
+    Ok(genome)
 }
 
 /// Writes an optimizer file.

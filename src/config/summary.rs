@@ -14,9 +14,22 @@ fn round(v: f64, digits: i32) -> String {
     num((v * f).round() / f)
 }
 
-/// Formats the summary of a loaded simulation.
+/// Formats the summary of a loaded simulation: the simulation's properties, the robot,
+/// the actuation, the environment, the optimizer, and the warnings.
 pub fn summary(sim: &Simulation) -> String {
     let mut s = String::new();
+    simulation_part(&mut s, sim);
+    robot_part(&mut s, sim);
+    actuation_part(&mut s, sim);
+    environment_part(&mut s, sim);
+    optimizer_part(&mut s, sim);
+    for w in &sim.warnings {
+        let _ = writeln!(s, "warning: {w}");
+    }
+    s
+}
+
+fn simulation_part(s: &mut String, sim: &Simulation) {
     let p = &sim.files.simulation.properties;
     let _ = writeln!(s, "simulation  {}", sim.file.display());
     if let Some(d) = &sim.files.simulation.description {
@@ -33,7 +46,9 @@ pub fn summary(sim: &Simulation) -> String {
         p.accuracy,
         if p.storing_data { "on" } else { "off" }
     );
+}
 
+fn robot_part(s: &mut String, sim: &Simulation) {
     let r = &sim.robot;
     let _ = writeln!(s, "robot       {} ({})", r.name, r.file.display());
     let _ = writeln!(
@@ -91,7 +106,9 @@ pub fn summary(sim: &Simulation) -> String {
         r.servos.read_every,
         servos.join(" ")
     );
+}
 
+fn actuation_part(s: &mut String, sim: &Simulation) {
     let _ = writeln!(s, "actuation   {}", sim.actuation.file.display());
     for m in &sim.actuation.modules {
         let params: Vec<String> = m
@@ -110,7 +127,9 @@ pub fn summary(sim: &Simulation) -> String {
             params.join(" ")
         );
     }
+}
 
+fn environment_part(s: &mut String, sim: &Simulation) {
     let e = &sim.environment;
     match &e.file {
         Some(f) => {
@@ -155,8 +174,13 @@ pub fn summary(sim: &Simulation) -> String {
         nums(&e.robot_pose.translation),
         nums(&e.robot_pose.rotation)
     );
+}
 
-    if let Some(o) = &sim.optimizer {
+fn optimizer_part(s: &mut String, sim: &Simulation) {
+    let Some(o) = &sim.optimizer else {
+        return;
+    };
+    {
         let _ = writeln!(s, "optimizer   {} ({})", o.spec.label(), o.file.display());
         match &o.spec.algorithm {
             Algorithm::Genetic(g) => {
@@ -205,8 +229,4 @@ pub fn summary(sim: &Simulation) -> String {
         }
         let _ = writeln!(s, "  search space {:.4e} candidates", o.search_space());
     }
-    for w in &sim.warnings {
-        let _ = writeln!(s, "warning: {w}");
-    }
-    s
 }

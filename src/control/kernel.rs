@@ -19,6 +19,7 @@ use crate::sensing::SensorData;
 /// One module instance and the robot joints it drives.
 #[derive(Clone)]
 pub struct Actuator {
+    /// The module.
     pub module: Box<dyn ActuationModule>,
     /// Robot joint indices, in the module's joint order.
     pub joints: Vec<usize>,
@@ -61,25 +62,41 @@ impl fmt::Debug for Actuator {
 /// Why a kernel could not be built or changed.
 #[derive(Debug, Clone, PartialEq)]
 pub enum KernelError {
+    /// A module could not be created.
     Create(CreateError),
+    /// A module refused a parameter value.
     Param {
+        /// The module type.
         module: &'static str,
+        /// Why.
         error: ParamError,
     },
+    /// A robot joint index beyond the robot's joints.
     JointOutOfRange {
+        /// The index given.
         joint: usize,
+        /// The robot's joints.
         joints: usize,
     },
+    /// An actuator index beyond the kernel's actuators.
     NoSuchActuator {
+        /// The index given.
         index: usize,
+        /// The kernel's actuators.
         count: usize,
     },
+    /// The module does not drive that joint.
     NotDriven {
+        /// The module type.
         module: &'static str,
+        /// The robot joint.
         joint: usize,
     },
+    /// A NaN or infinite value.
     NotFinite {
+        /// What it was for.
         what: &'static str,
+        /// The value.
         value: f64,
     },
 }
@@ -186,6 +203,7 @@ impl ControlKernel {
         Ok(self.actuators.len() - 1)
     }
 
+    /// The kernel's actuators, in actuation-file order.
     pub fn actuators(&self) -> &[Actuator] {
         &self.actuators
     }

@@ -7,7 +7,7 @@
 
 use std::fmt;
 
-use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
+use crate::config::module_types::{ModuleDescriptor, ParamDescriptor};
 use crate::rng::SimRng;
 use crate::sensing::SensorData;
 
@@ -29,29 +29,49 @@ pub struct StepContext<'a> {
 /// Why a parameter could not be read or changed.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ParamError {
+    /// The module has no parameter of that name.
     UnknownParameter {
+        /// The module type.
         module: &'static str,
+        /// The name asked for.
         name: String,
+        /// Its parameters.
         known: Vec<&'static str>,
     },
+    /// A joint index beyond the module's joints.
     JointOutOfRange {
+        /// The index given.
         joint: usize,
+        /// The module's joints.
         joints: usize,
     },
+    /// A NaN or infinite value.
     NotFinite {
+        /// The parameter.
         name: &'static str,
+        /// The value.
         value: f64,
     },
+    /// A value outside the parameter's range.
     OutOfRange {
+        /// The parameter.
         name: &'static str,
+        /// The value.
         value: f64,
+        /// Lowest allowed.
         min: f64,
+        /// Highest allowed.
         max: f64,
+        /// The parameter's unit.
         unit: &'static str,
     },
+    /// Per-joint values whose count is not the module's joints.
     WrongCount {
+        /// The parameter.
         name: &'static str,
+        /// Values given.
         given: usize,
+        /// The module's joints.
         joints: usize,
     },
 }
@@ -127,10 +147,12 @@ impl Parameters {
         }
     }
 
+    /// Joints the values are kept for.
     pub fn joints(&self) -> usize {
         self.joints
     }
 
+    /// The parameters' descriptions, in order.
     pub fn descriptors(&self) -> &'static [ParamDescriptor] {
         self.descriptors
     }
@@ -233,6 +255,7 @@ pub struct InternalData {
 }
 
 impl InternalData {
+    /// Series `names`, each with one value per joint, all 0.
     pub fn new(names: &'static [&'static str], joints: usize) -> Self {
         InternalData {
             names,
@@ -241,6 +264,7 @@ impl InternalData {
         }
     }
 
+    /// The series' names.
     pub fn names(&self) -> &'static [&'static str] {
         self.names
     }
@@ -265,8 +289,11 @@ impl InternalData {
 /// What every module holds: its description, parameter values and logged data.
 #[derive(Debug, Clone)]
 pub struct ModuleCore {
+    /// Type name, parameters, logged series.
     pub descriptor: ModuleDescriptor,
+    /// Current parameter values.
     pub params: Parameters,
+    /// Latest internal data.
     pub data: InternalData,
 }
 
@@ -285,6 +312,7 @@ impl ModuleCore {
 pub trait ActuationModule: Send + Sync {
     /// The module's descriptor, parameters and logged data.
     fn core(&self) -> &ModuleCore;
+    /// The module's descriptor, parameters and logged data, to change.
     fn core_mut(&mut self) -> &mut ModuleCore;
     /// Back to the start state (called before a run; `rng` is the module's own stream).
     fn reset(&mut self, rng: &mut SimRng);
@@ -297,12 +325,15 @@ pub trait ActuationModule: Send + Sync {
     fn descriptor(&self) -> &ModuleDescriptor {
         &self.core().descriptor
     }
+    /// Current parameter values.
     fn parameters(&self) -> &Parameters {
         &self.core().params
     }
+    /// Current parameter values, to change (checked by [`Parameters`]).
     fn parameters_mut(&mut self) -> &mut Parameters {
         &mut self.core_mut().params
     }
+    /// The latest value of each logged series per joint.
     fn internal_data(&self) -> &InternalData {
         &self.core().data
     }

@@ -8,7 +8,7 @@
 //! between a joint's crossing and its neighbour's last one, as a fraction of the period,
 //! is the phase difference (degrees, in (-180, 180], positive when the joint lags).
 
-use crate::control::descriptor::ParamDescriptor;
+use crate::config::module_types::ParamDescriptor;
 use crate::control::module::InternalData;
 use crate::rng::SimRng;
 
@@ -65,6 +65,7 @@ pub struct PatternExtras {
 }
 
 impl PatternExtras {
+    /// Extras for `joints` joints, at rest.
     pub fn new(joints: usize) -> Self {
         PatternExtras {
             prev: vec![0.0; joints],

@@ -1,13 +1,14 @@
 //! The registry of actuation-module types: descriptors looked up by name, and factories
-//! that create module instances. The standard library registers into it, and so do
-//! runtime-loaded plugins ([`crate::plugin_host`]) through the process-wide list that
-//! every new registry ([`ModuleRegistry::default`]) includes.
+//! that create module instances. A registry is a value passed to whoever builds modules
+//! (the loader checks files against it, the simulator and the optimizers create modules
+//! from it): [`ModuleRegistry::standard`] holds the standard library, and the plugin host
+//! builds one that adds the loaded plugins (`crate::plugin_host::registry`).
 
 use std::fmt;
-use std::sync::{Arc, PoisonError, RwLock};
+use std::sync::Arc;
 
+use crate::config::module_types::{ModuleDescriptor, ModuleTypes};
 use crate::config::xml::read::same_name;
-use crate::control::descriptor::ModuleDescriptor;
 use crate::control::library;
 use crate::control::module::ActuationModule;
 
@@ -34,9 +35,6 @@ impl fmt::Debug for Entry {
     }
 }
 
-/// Module types registered for the whole process (loaded plugins), in load order.
-static PROCESS_WIDE: RwLock<Vec<Entry>> = RwLock::new(Vec::new());
-
 /// Known module types.
 #[derive(Debug, Clone)]
 pub struct ModuleRegistry {
@@ -46,11 +44,16 @@ pub struct ModuleRegistry {
 /// Why a module could not be created.
 #[derive(Debug, Clone, PartialEq)]
 pub enum CreateError {
+    /// No type answers to the name.
     Unknown {
+        /// The name asked for.
         name: String,
+        /// The registered names.
         known: Vec<&'static str>,
     },
+    /// The type is described but has no factory.
     NotImplemented {
+        /// Its name.
         name: &'static str,
     },
 }
@@ -78,19 +81,25 @@ impl fmt::Display for CreateError {
 impl std::error::Error for CreateError {}
 
 impl Default for ModuleRegistry {
-    /// The registry with the standard module library and every process-wide type
-    /// (loaded plugins).
+    /// The standard module library (plugins are added by whoever loaded them:
+    /// `crate::plugin_host::registry`).
     fn default() -> Self {
-        let mut r = ModuleRegistry::standard();
-        let extra = PROCESS_WIDE.read().unwrap_or_else(PoisonError::into_inner);
-        for e in extra.iter() {
-            r.register(e.descriptor.clone(), e.factory.clone());
-        }
-        r
+        ModuleRegistry::standard()
+    }
+}
+
+impl ModuleTypes for ModuleRegistry {
+    fn describe(&self, name: &str) -> Option<&ModuleDescriptor> {
+        self.get(name)
+    }
+
+    fn type_names(&self) -> Vec<&'static str> {
+        self.names()
     }
 }
 
 impl ModuleRegistry {
+    /// A registry without any type.
     pub fn empty() -> Self {
         ModuleRegistry {
             entries: Vec::new(),
@@ -102,25 +111,6 @@ impl ModuleRegistry {
         let mut r = ModuleRegistry::empty();
         library::register(&mut r);
         r
-    }
-
-    /// Registers a type for the whole process: every registry made afterwards by
-    /// [`ModuleRegistry::default`] has it (a later one of the same name replaces it).
-    pub fn register_process_wide(descriptor: ModuleDescriptor, factory: ModuleFactory) {
-        let mut all = PROCESS_WIDE.write().unwrap_or_else(PoisonError::into_inner);
-        all.retain(|e| !same_name(e.descriptor.type_name, descriptor.type_name));
-        all.push(Entry {
-            descriptor,
-            factory: Some(factory),
-        });
-    }
-
-    /// Removes a process-wide type (a plugin that failed); true when it was there.
-    pub fn unregister_process_wide(name: &str) -> bool {
-        let mut all = PROCESS_WIDE.write().unwrap_or_else(PoisonError::into_inner);
-        let before = all.len();
-        all.retain(|e| !same_name(e.descriptor.type_name, name));
-        all.len() != before
     }
 
     /// Adds a module type; a later registration under the same name replaces the earlier.

@@ -17,13 +17,17 @@ pub enum XAxis {
     SimTime,
     /// Wall-clock seconds since the first frame.
     RealTime,
+    /// The step counter.
     StepCount,
+    /// The sample's index.
     Index,
 }
 
 impl XAxis {
+    /// The names `--x` accepts.
     pub const NAMES: [&'static str; 4] = ["simtime", "realtime", "stepcount", "index"];
 
+    /// Reads an x-axis name (see [`XAxis::NAMES`]).
     pub fn parse(s: &str) -> Result<XAxis, String> {
         match s {
             "simtime" => Ok(XAxis::SimTime),
@@ -60,7 +64,9 @@ impl XAxis {
 /// A requested series, before it is checked against a file's header.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct SeriesSelector {
+    /// The handler's name.
     pub handler: String,
+    /// The series' name.
     pub series: String,
     /// Inclusive part range; `None` = every part.
     pub parts: Option<(usize, usize)>,
@@ -116,8 +122,11 @@ impl SeriesSelector {
 /// One output column: handler index and value index within its frames.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Column {
+    /// Column title (`Handler/series[part]`).
     pub title: String,
+    /// Index of the handler.
     pub handler: usize,
+    /// Index of the value within the handler's frame.
     pub value: usize,
 }
 
@@ -173,8 +182,11 @@ pub fn resolve(handlers: &[HandlerSpec], wanted: &[SeriesSelector]) -> Result<Ve
 /// What an export wrote.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ExportStats {
+    /// Rows written.
     pub rows: u64,
+    /// Columns per row (x included).
     pub columns: usize,
+    /// What the file holds.
     pub info: DataInfo,
 }
 

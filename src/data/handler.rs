@@ -5,6 +5,7 @@
 /// What one handler records.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HandlerSpec {
+    /// Handler name (a module type, `tactile`, `laser2d`, `Robot_Data`).
     pub name: String,
     /// Series names, in frame order.
     pub series: Vec<String>,

@@ -36,8 +36,11 @@ pub fn unit_of(series: &str) -> &'static str {
 /// What a plot drew.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlotStats {
+    /// Samples read.
     pub rows: u64,
+    /// Series drawn.
     pub series: usize,
+    /// Points drawn over all series.
     pub points_drawn: usize,
 }
 

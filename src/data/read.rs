@@ -18,9 +18,11 @@ use crate::data::write::STAMPS;
 /// Why a data file could not be read.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DataError {
+    /// The data file.
     pub file: PathBuf,
     /// 1-based line, when known.
     pub line: Option<usize>,
+    /// What is wrong.
     pub message: String,
 }
 
@@ -38,6 +40,7 @@ impl std::error::Error for DataError {}
 /// What a file holds.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct DataInfo {
+    /// The handlers the header declares.
     pub handlers: Vec<HandlerSpec>,
     /// Complete frames per handler.
     pub frames: Vec<u64>,
@@ -45,6 +48,7 @@ pub struct DataInfo {
     pub rounds: u64,
     /// Simulated time span of the frames read (ms).
     pub first_simtime_ms: Option<f64>,
+    /// Simulated time of the last frame (ms).
     pub last_simtime_ms: Option<f64>,
     /// The file ends before `</dataRoot>`: data after the last complete round is lost.
     pub cut: bool,
@@ -52,8 +56,11 @@ pub struct DataInfo {
 
 /// One frame handed to the callback.
 pub struct FrameRef<'a> {
+    /// Index of the handler.
     pub handler: usize,
+    /// Round number.
     pub round: u64,
+    /// The frame's stamps.
     pub meta: FrameMeta,
     /// `handlers[handler].width()` values.
     pub values: &'a [f64],
@@ -82,8 +89,9 @@ pub fn info(path: &Path) -> Result<DataInfo, DataError> {
     read_file(path, |_| {})
 }
 
-#[derive(PartialEq)]
+#[derive(PartialEq, Default)]
 enum At {
+    #[default]
     Top,
     Header,
     HeaderHandler,
@@ -110,21 +118,7 @@ pub fn read_stream<R: BufRead>(
     let mut reader = Reader::from_reader(input);
     reader.config_mut().check_end_names = true;
     let mut buf = Vec::new();
-    let mut info = DataInfo::default();
-    let mut parts_known: Vec<bool> = Vec::new();
-    let mut at = At::Top;
-    let mut handler: Option<usize> = None;
-    let mut round = 0u64;
-    let mut series: usize = 0;
-    // The round being read: frame stamps and all values, flat.
-    let mut pending: Vec<Pending> = Vec::new();
-    let mut values: Vec<f64> = Vec::new();
-    // The frame being read, per series (reused).
-    let mut frame_series: Vec<Vec<f64>> = Vec::new();
-    let mut meta = FrameMeta::default();
-    let mut closed = false;
-    let mut in_root = false;
-    let mut header_done = false;
+    let mut st = Stream::default();
     let err = |reader: &Reader<R>, message: String| DataError {
         file: path.to_path_buf(),
         line: line_of(path, reader.buffer_position() as usize),
@@ -135,209 +129,265 @@ pub fn read_stream<R: BufRead>(
         let event = match reader.read_event_into(&mut buf) {
             Ok(e) => e,
             Err(e) => {
-                if info.rounds > 0 || header_done {
+                if st.info.rounds > 0 || st.header_done {
                     // A cut in the middle of an element: keep the complete rounds.
-                    info.cut = true;
+                    st.info.cut = true;
                     break;
                 }
                 return Err(err(&reader, format!("malformed XML: {e}")));
             }
         };
-        match event {
-            Event::Start(e) | Event::Empty(e) if !in_root => {
-                let name = tag(&e);
-                if name != "dataRoot" {
-                    return Err(err(&reader, format!("expected <dataRoot>, found <{name}>")));
-                }
-                in_root = true;
-            }
-            Event::Start(e) => {
-                let name = tag(&e);
-                match at {
-                    At::Top if name == "Header" && !header_done => at = At::Header,
-                    At::Header => {
-                        info.handlers.push(HandlerSpec {
-                            name,
-                            series: Vec::new(),
-                            parts: Vec::new(),
-                        });
-                        let parts = attr(&e, "parts").and_then(|p| p.parse().ok()).unwrap_or(0);
-                        parts_known.push(false);
-                        // Provisional part count until typeParts or the first frame says.
-                        if let Some(h) = info.handlers.last_mut() {
-                            h.parts = vec![parts];
-                        }
-                        at = At::HeaderHandler;
-                    }
-                    At::HeaderHandler => at = At::HeaderList(name == "typeParts"),
-                    At::Top if name == "round" => {
-                        if !header_done {
-                            return Err(err(&reader, "a round before the header".into()));
-                        }
-                        round = attr(&e, "number")
-                            .and_then(|n| n.parse().ok())
-                            .unwrap_or(round);
-                        at = At::Round;
-                    }
-                    At::Round => {
-                        handler = info.handlers.iter().position(|h| h.name == name);
-                        if handler.is_none() {
-                            return Err(err(
-                                &reader,
-                                format!("data of <{name}>, which the header does not declare"),
-                            ));
-                        }
-                        at = At::Handler;
-                    }
-                    At::Handler if name == "Frame" => {
-                        let h = handler.unwrap_or(0);
-                        meta = FrameMeta {
-                            index: attr(&e, "index").and_then(|v| v.parse().ok()).unwrap_or(0),
-                            realtime_ms: attr(&e, "realtime")
-                                .and_then(|v| v.parse().ok())
-                                .unwrap_or(0),
-                            simtime_ms: attr(&e, "simtime")
-                                .and_then(|v| v.parse().ok())
-                                .unwrap_or(f64::NAN),
-                            step: attr(&e, "step").and_then(|v| v.parse().ok()).unwrap_or(0),
-                        };
-                        frame_series.resize_with(info.handlers[h].series.len(), Vec::new);
-                        frame_series.iter_mut().for_each(Vec::clear);
-                        at = At::Frame;
-                    }
-                    At::Frame => {
-                        let h = &info.handlers[handler.unwrap_or(0)];
-                        series = h.find(&name).ok_or_else(|| {
-                            err(&reader, format!("<{name}> is not a series of {}", h.name))
-                        })?;
-                        at = At::Series;
-                    }
-                    _ => return Err(err(&reader, format!("unexpected <{name}>"))),
-                }
-            }
-            Event::Empty(e) => {
-                let name = tag(&e);
-                if at == At::Round && !info.handlers.iter().any(|h| h.name == name) {
-                    return Err(err(
-                        &reader,
-                        format!("data of <{name}>, which the header does not declare"),
-                    ));
-                }
-            }
-            Event::Text(t) => {
-                let text = t.xml10_content();
-                match at {
-                    At::HeaderList(is_parts) => {
-                        let Some(h) = info.handlers.last_mut() else {
-                            continue;
-                        };
-                        if is_parts {
-                            let parts: Result<Vec<usize>, _> =
-                                text.split_whitespace().map(str::parse).collect();
-                            h.parts = parts.map_err(|e| err(&reader, format!("typeParts: {e}")))?;
-                            if let Some(k) = parts_known.last_mut() {
-                                *k = true;
-                            }
-                        } else {
-                            h.series = text
-                                .split_whitespace()
-                                .filter(|s| !STAMPS.contains(s))
-                                .map(str::to_string)
-                                .collect();
-                        }
-                    }
-                    At::Series => {
-                        for word in text.split_whitespace() {
-                            let v: f64 = word
-                                .parse()
-                                .map_err(|_| err(&reader, format!("{word:?} is not a number")))?;
-                            frame_series[series].push(v);
-                        }
-                    }
-                    _ => {}
-                }
-            }
+        let step = match event {
+            Event::Start(e) | Event::Empty(e) if !st.in_root => st.root(&e),
+            Event::Start(e) => st.start(&e),
+            Event::Empty(e) => st.empty(&e),
+            Event::Text(t) => st.text(&t.xml10_content()),
             Event::End(e) => {
-                let name = e.name().as_ref().to_string();
-                match at {
-                    At::HeaderList(_) => at = At::HeaderHandler,
-                    At::HeaderHandler => {
-                        let i = info.handlers.len() - 1;
-                        let h = &mut info.handlers[i];
-                        if !parts_known[i] || h.parts.len() != h.series.len() {
-                            let p = h.parts.first().copied().unwrap_or(0);
-                            h.parts = vec![p; h.series.len()];
-                        }
-                        at = At::Header;
-                    }
-                    At::Header => {
-                        header_done = true;
-                        info.frames = vec![0; info.handlers.len()];
-                        on_event(DataEvent::Header(&info.handlers));
-                        at = At::Top;
-                    }
-                    At::Series => at = At::Frame,
-                    At::Frame => {
-                        let h = handler.unwrap_or(0);
-                        let spec = &mut info.handlers[h];
-                        if !parts_known[h] {
-                            spec.parts = frame_series.iter().map(Vec::len).collect();
-                            parts_known[h] = true;
-                        }
-                        pending.push(Pending {
-                            handler: h,
-                            meta,
-                            at: values.len(),
-                        });
-                        for (got, want) in frame_series.iter().zip(&spec.parts) {
-                            values.extend(got.iter().take(*want));
-                            values.extend(std::iter::repeat_n(
-                                f64::NAN,
-                                want.saturating_sub(got.len()),
-                            ));
-                        }
-                        at = At::Handler;
-                    }
-                    At::Handler => at = At::Round,
-                    At::Round => {
-                        for (k, p) in pending.iter().enumerate() {
-                            let end = pending.get(k + 1).map(|q| q.at).unwrap_or(values.len());
-                            on_event(DataEvent::Frame(FrameRef {
-                                handler: p.handler,
-                                round,
-                                meta: p.meta,
-                                values: &values[p.at..end],
-                            }));
-                            info.frames[p.handler] += 1;
-                            let t = p.meta.simtime_ms;
-                            if t.is_finite() {
-                                info.first_simtime_ms.get_or_insert(t);
-                                info.last_simtime_ms = Some(t);
-                            }
-                        }
-                        pending.clear();
-                        values.clear();
-                        info.rounds += 1;
-                        round += 1;
-                        at = At::Top;
-                    }
-                    At::Top if name == "dataRoot" => closed = true,
-                    _ => {}
-                }
+                st.end(e.name().as_ref(), &mut on_event);
+                Ok(())
             }
             Event::Eof => break,
-            _ => {}
-        }
+            _ => Ok(()),
+        };
+        step.map_err(|m| err(&reader, m))?;
     }
-    if !header_done {
+    if !st.header_done {
         return Err(DataError {
             file: path.to_path_buf(),
             line: None,
             message: "no <Header>: not a data file, or cut before its header".into(),
         });
     }
-    info.cut |= !closed;
-    Ok(info)
+    st.info.cut |= !st.closed;
+    Ok(st.info)
+}
+
+/// The reader's state between events.
+#[derive(Default)]
+struct Stream {
+    info: DataInfo,
+    /// Per handler: whether its part counts are known (typeParts or a first frame).
+    parts_known: Vec<bool>,
+    at: At,
+    handler: Option<usize>,
+    round: u64,
+    series: usize,
+    /// The round being read: frame stamps and all values, flat.
+    pending: Vec<Pending>,
+    values: Vec<f64>,
+    /// The frame being read, per series (reused).
+    frame_series: Vec<Vec<f64>>,
+    meta: FrameMeta,
+    closed: bool,
+    in_root: bool,
+    header_done: bool,
+}
+
+impl Stream {
+    /// The root element.
+    fn root(&mut self, e: &BytesStart<'_>) -> Result<(), String> {
+        let name = tag(e);
+        if name != "dataRoot" {
+            return Err(format!("expected <dataRoot>, found <{name}>"));
+        }
+        self.in_root = true;
+        Ok(())
+    }
+
+    /// An opening tag inside the root.
+    fn start(&mut self, e: &BytesStart<'_>) -> Result<(), String> {
+        let name = tag(e);
+        match self.at {
+            At::Top if name == "Header" && !self.header_done => self.at = At::Header,
+            At::Header => self.header_handler(e, name),
+            At::HeaderHandler => self.at = At::HeaderList(name == "typeParts"),
+            At::Top if name == "round" => {
+                if !self.header_done {
+                    return Err("a round before the header".into());
+                }
+                self.round = attr(e, "number")
+                    .and_then(|n| n.parse().ok())
+                    .unwrap_or(self.round);
+                self.at = At::Round;
+            }
+            At::Round => {
+                self.handler = self.info.handlers.iter().position(|h| h.name == name);
+                if self.handler.is_none() {
+                    return Err(format!(
+                        "data of <{name}>, which the header does not declare"
+                    ));
+                }
+                self.at = At::Handler;
+            }
+            At::Handler if name == "Frame" => self.frame(e),
+            At::Frame => {
+                let h = &self.info.handlers[self.handler.unwrap_or(0)];
+                self.series = h
+                    .find(&name)
+                    .ok_or_else(|| format!("<{name}> is not a series of {}", h.name))?;
+                self.at = At::Series;
+            }
+            _ => return Err(format!("unexpected <{name}>")),
+        }
+        Ok(())
+    }
+
+    /// A handler declared in the header, with a provisional part count until typeParts or
+    /// the first frame says.
+    fn header_handler(&mut self, e: &BytesStart<'_>, name: String) {
+        let parts = attr(e, "parts").and_then(|p| p.parse().ok()).unwrap_or(0);
+        self.info.handlers.push(HandlerSpec {
+            name,
+            series: Vec::new(),
+            parts: vec![parts],
+        });
+        self.parts_known.push(false);
+        self.at = At::HeaderHandler;
+    }
+
+    /// A frame's stamps.
+    fn frame(&mut self, e: &BytesStart<'_>) {
+        let h = self.handler.unwrap_or(0);
+        self.meta = FrameMeta {
+            index: attr(e, "index").and_then(|v| v.parse().ok()).unwrap_or(0),
+            realtime_ms: attr(e, "realtime")
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(0),
+            simtime_ms: attr(e, "simtime")
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(f64::NAN),
+            step: attr(e, "step").and_then(|v| v.parse().ok()).unwrap_or(0),
+        };
+        let series = self.info.handlers[h].series.len();
+        self.frame_series.resize_with(series, Vec::new);
+        self.frame_series.iter_mut().for_each(Vec::clear);
+        self.at = At::Frame;
+    }
+
+    /// An empty element: in a round, it must be a declared handler.
+    fn empty(&mut self, e: &BytesStart<'_>) -> Result<(), String> {
+        let name = tag(e);
+        if self.at == At::Round && !self.info.handlers.iter().any(|h| h.name == name) {
+            return Err(format!(
+                "data of <{name}>, which the header does not declare"
+            ));
+        }
+        Ok(())
+    }
+
+    /// Text: the header's series names or part counts, or a series' values.
+    fn text(&mut self, text: &str) -> Result<(), String> {
+        match self.at {
+            At::HeaderList(is_parts) => {
+                let Some(h) = self.info.handlers.last_mut() else {
+                    return Ok(());
+                };
+                if is_parts {
+                    let parts: Result<Vec<usize>, _> =
+                        text.split_whitespace().map(str::parse).collect();
+                    h.parts = parts.map_err(|e| format!("typeParts: {e}"))?;
+                    if let Some(k) = self.parts_known.last_mut() {
+                        *k = true;
+                    }
+                } else {
+                    h.series = text
+                        .split_whitespace()
+                        .filter(|s| !STAMPS.contains(s))
+                        .map(str::to_string)
+                        .collect();
+                }
+            }
+            At::Series => {
+                for word in text.split_whitespace() {
+                    let v: f64 = word
+                        .parse()
+                        .map_err(|_| format!("{word:?} is not a number"))?;
+                    self.frame_series[self.series].push(v);
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// A closing tag: finishes a header handler, the header, a frame or a round.
+    fn end(&mut self, name: &str, on_event: &mut impl FnMut(DataEvent<'_>)) {
+        match self.at {
+            At::HeaderList(_) => self.at = At::HeaderHandler,
+            At::HeaderHandler => {
+                let i = self.info.handlers.len() - 1;
+                let h = &mut self.info.handlers[i];
+                if !self.parts_known[i] || h.parts.len() != h.series.len() {
+                    let p = h.parts.first().copied().unwrap_or(0);
+                    h.parts = vec![p; h.series.len()];
+                }
+                self.at = At::Header;
+            }
+            At::Header => {
+                self.header_done = true;
+                self.info.frames = vec![0; self.info.handlers.len()];
+                on_event(DataEvent::Header(&self.info.handlers));
+                self.at = At::Top;
+            }
+            At::Series => self.at = At::Frame,
+            At::Frame => self.end_frame(),
+            At::Handler => self.at = At::Round,
+            At::Round => self.end_round(on_event),
+            At::Top if name == "dataRoot" => self.closed = true,
+            _ => {}
+        }
+    }
+
+    /// Keeps a frame's values (padded or cut to the part counts) for its round.
+    fn end_frame(&mut self) {
+        let h = self.handler.unwrap_or(0);
+        let spec = &mut self.info.handlers[h];
+        if !self.parts_known[h] {
+            spec.parts = self.frame_series.iter().map(Vec::len).collect();
+            self.parts_known[h] = true;
+        }
+        self.pending.push(Pending {
+            handler: h,
+            meta: self.meta,
+            at: self.values.len(),
+        });
+        for (got, want) in self.frame_series.iter().zip(&spec.parts) {
+            self.values.extend(got.iter().take(*want));
+            self.values.extend(std::iter::repeat_n(
+                f64::NAN,
+                want.saturating_sub(got.len()),
+            ));
+        }
+        self.at = At::Handler;
+    }
+
+    /// A complete round: hands out its frames.
+    fn end_round(&mut self, on_event: &mut impl FnMut(DataEvent<'_>)) {
+        for (k, p) in self.pending.iter().enumerate() {
+            let end = self
+                .pending
+                .get(k + 1)
+                .map(|q| q.at)
+                .unwrap_or(self.values.len());
+            on_event(DataEvent::Frame(FrameRef {
+                handler: p.handler,
+                round: self.round,
+                meta: p.meta,
+                values: &self.values[p.at..end],
+            }));
+            self.info.frames[p.handler] += 1;
+            let t = p.meta.simtime_ms;
+            if t.is_finite() {
+                self.info.first_simtime_ms.get_or_insert(t);
+                self.info.last_simtime_ms = Some(t);
+            }
+        }
+        self.pending.clear();
+        self.values.clear();
+        self.info.rounds += 1;
+        self.round += 1;
+        self.at = At::Top;
+    }
 }
 
 fn tag(e: &BytesStart<'_>) -> String {

@@ -16,6 +16,7 @@ pub struct RingBuffer {
 }
 
 impl RingBuffer {
+    /// A buffer of `capacity` frames of `width` values, allocated now.
     pub fn new(width: usize, capacity: usize) -> Self {
         let capacity = capacity.max(1);
         RingBuffer {
@@ -28,18 +29,22 @@ impl RingBuffer {
         }
     }
 
+    /// Values per frame.
     pub fn width(&self) -> usize {
         self.width
     }
 
+    /// Frames kept at most.
     pub fn capacity(&self) -> usize {
         self.capacity
     }
 
+    /// Frames kept now.
     pub fn len(&self) -> usize {
         self.len
     }
 
+    /// Whether no frame is kept.
     pub fn is_empty(&self) -> bool {
         self.len == 0
     }

@@ -41,6 +41,7 @@ impl DataStore {
         })
     }
 
+    /// The data file written.
     pub fn path(&self) -> &Path {
         &self.path
     }

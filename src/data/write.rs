@@ -12,19 +12,24 @@ pub const STAMPS: [&str; 3] = ["realtime", "simtime", "stepcount"];
 /// Frames of one handler in one round: `meta.len()` frames of `spec.width()` values.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct HandlerFrames {
+    /// Stamps of each frame.
     pub meta: Vec<FrameMeta>,
+    /// Values of every frame, flat.
     pub values: Vec<f64>,
 }
 
 impl HandlerFrames {
+    /// Frames held.
     pub fn len(&self) -> usize {
         self.meta.len()
     }
 
+    /// Whether no frame is held.
     pub fn is_empty(&self) -> bool {
         self.meta.is_empty()
     }
 
+    /// Forgets the frames, keeping the memory.
     pub fn clear(&mut self) {
         self.meta.clear();
         self.values.clear();

@@ -36,6 +36,7 @@ pub struct GreatDeluge {
 }
 
 impl GreatDeluge {
+    /// A great deluge over `space` from `start`, handing out `batch` neighbours per round until `max_evaluations`.
     pub fn new(
         space: SearchSpace,
         settings: GdSettings,

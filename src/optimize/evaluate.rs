@@ -8,10 +8,10 @@ use std::sync::mpsc::channel;
 use std::time::Instant;
 
 use crate::config::Simulation;
+use crate::control::ModuleRegistry;
+use crate::measure::ground_distance;
 use crate::optimize::fitness::{Episode, Fitness};
 use crate::optimize::space::{Genome, SearchSpace};
-use crate::sim::clock::SimClock;
-use crate::sim::datalog::DataSettings;
 use crate::sim::physics::MAX_ROBOTS_PER_WORLD;
 use crate::sim::{BuildOptions, Simulator};
 
@@ -20,14 +20,21 @@ const BLOW_UP_DISTANCE: f64 = 1000.0;
 
 /// Runs candidates.
 pub struct Evaluator {
+    /// The simulation every episode runs.
     pub sim: Simulation,
+    /// The module types episodes may create (standard library, loaded plugins).
+    pub registry: ModuleRegistry,
+    /// How genomes map to module parameters.
     pub space: SearchSpace,
+    /// How episodes are scored.
     pub fitness: Fitness,
     /// Simulated seconds per episode.
     pub duration: f64,
+    /// Seed of every episode.
     pub seed: u64,
     /// Robots per world.
     pub batch: usize,
+    /// Worker threads.
     pub workers: usize,
 }
 
@@ -104,23 +111,11 @@ impl Evaluator {
             seed: self.seed,
             record: false,
         };
-        let mut s = Simulator::new(&self.sim, &opts).map_err(|e| e.to_string())?;
-        s.world_mut().resource_mut::<SimClock>().realtime_factor = 0.0;
-        s.world_mut().resource_mut::<SimClock>().delay_ms = 0.0;
+        let mut s = Simulator::with_registry(&self.sim, &opts, &self.registry)
+            .map_err(|e| e.to_string())?;
         for (i, g) in genomes.iter().enumerate() {
             let kernel = s.kernel_mut(i).map_err(|e| e.to_string())?;
             self.space.apply(g, kernel).map_err(|e| e.to_string())?;
-        }
-        if self.fitness.needs_energy() {
-            // Energy accumulates every step; sampling never comes round.
-            s.enable_data(
-                DataSettings {
-                    every: u32::MAX,
-                    ring_frames: 1,
-                    round_frames: 1,
-                },
-                None,
-            );
         }
         let mut start = Vec::with_capacity(genomes.len());
         for i in 0..genomes.len() {
@@ -133,25 +128,22 @@ impl Evaluator {
         let steps = (self.duration / dt).round() as u64;
         s.run_steps(steps);
         let time = steps as f64 * dt;
+        let gravity = s.gravity();
         let mut scores = Vec::with_capacity(genomes.len());
         for (i, (com0, heading0)) in start.into_iter().enumerate() {
             let end = s.com(i).map_err(|e| e.to_string())?;
-            let moved = ((end[0] - com0[0]).powi(2) + (end[1] - com0[1]).powi(2)).sqrt();
-            if !end.iter().all(|v| v.is_finite()) || moved > BLOW_UP_DISTANCE {
+            if !end.iter().all(|v| v.is_finite()) || ground_distance(com0, end) > BLOW_UP_DISTANCE {
                 scores.push(f64::NEG_INFINITY);
                 continue;
             }
-            let (energy, mass) = match s.data(i) {
-                Ok(log) => (log.energy, log.mass()),
-                Err(_) => (0.0, 0.0),
-            };
             let e = Episode {
                 start_com: com0,
                 end_com: end,
                 start_heading: heading0,
                 time,
-                energy,
-                mass,
+                energy: s.energy(i).map_err(|e| e.to_string())?.joules,
+                mass: s.mass(i).map_err(|e| e.to_string())?,
+                gravity,
             };
             let score = self.fitness.score(&e);
             scores.push(if score.is_nan() {

@@ -1,10 +1,17 @@
 //! Fitness functions (thesis 3.4.3): what an episode scored. Higher is better for all of
-//! them; cost of transport is negated so that the optimizers can maximize it too.
+//! them; cost of transport is negated so that the optimizers can maximize it too. The
+//! names live with the formats ([`crate::config::fitness`]); the scores here.
+
+use crate::measure::{distance_along, ground_distance, norm};
+
+pub use crate::config::fitness::Fitness;
 
 /// What one episode measured.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Episode {
+    /// Centre of mass at the start (m, z up).
     pub start_com: [f64; 3],
+    /// Centre of mass at the end (m, z up).
     pub end_com: [f64; 3],
     /// Travel direction at the start, degrees counter-clockwise from +x.
     pub start_heading: f64,
@@ -14,61 +21,17 @@ pub struct Episode {
     pub energy: f64,
     /// Robot mass (kg).
     pub mass: f64,
-}
-
-/// How an episode is scored.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Fitness {
-    /// Eq. 3.7: distance between start and end in the ground plane (m).
-    Displacement,
-    /// Distance travelled along the start heading (m; negative when backwards).
-    Distance,
-    /// Displacement per simulated second (m/s).
-    MeanSpeed,
-    /// Minus the cost of transport, energy / (weight x displacement).
-    CostOfTransport,
+    /// The world's gravity (m/s², z up), for the robot's weight.
+    pub gravity: [f64; 3],
 }
 
 impl Fitness {
-    pub const NAMES: [&'static str; 4] = ["displacement", "distance", "speed", "cost-of-transport"];
-
-    pub fn parse(s: &str) -> Result<Fitness, String> {
-        match s.trim().to_ascii_lowercase().replace('_', "-").as_str() {
-            "displacement" => Ok(Fitness::Displacement),
-            "distance" => Ok(Fitness::Distance),
-            "speed" | "mean-speed" => Ok(Fitness::MeanSpeed),
-            "cost-of-transport" | "cot" => Ok(Fitness::CostOfTransport),
-            _ => Err(format!(
-                "unknown fitness {s:?}; expected one of {}",
-                Fitness::NAMES.join(", ")
-            )),
-        }
-    }
-
-    /// The name files and the command line use.
-    pub fn name(self) -> &'static str {
-        match self {
-            Fitness::Displacement => "displacement",
-            Fitness::Distance => "distance",
-            Fitness::MeanSpeed => "speed",
-            Fitness::CostOfTransport => "cost-of-transport",
-        }
-    }
-
-    /// Whether episodes must accumulate the servos' energy.
-    pub fn needs_energy(self) -> bool {
-        self == Fitness::CostOfTransport
-    }
-
+    /// The score of an episode.
     pub fn score(self, e: &Episode) -> f64 {
-        let (dx, dy) = (e.end_com[0] - e.start_com[0], e.end_com[1] - e.start_com[1]);
-        let displacement = (dx * dx + dy * dy).sqrt();
+        let displacement = ground_distance(e.start_com, e.end_com);
         match self {
             Fitness::Displacement => displacement,
-            Fitness::Distance => {
-                let h = e.start_heading.to_radians();
-                dx * h.cos() + dy * h.sin()
-            }
+            Fitness::Distance => distance_along(e.start_com, e.end_com, e.start_heading),
             Fitness::MeanSpeed => {
                 if e.time > 0.0 {
                     displacement / e.time
@@ -77,7 +40,7 @@ impl Fitness {
                 }
             }
             Fitness::CostOfTransport => {
-                let weight = e.mass * 9.81;
+                let weight = e.mass * norm(e.gravity);
                 if displacement <= 1e-6 || weight <= 0.0 {
                     f64::NEG_INFINITY
                 } else {
@@ -92,16 +55,21 @@ impl Fitness {
 mod tests {
     use super::*;
 
-    #[test]
-    fn scores() {
-        let e = Episode {
+    fn episode(gravity: f64) -> Episode {
+        Episode {
             start_com: [0.0, 0.0, 0.05],
             end_com: [0.0, -3.0, 0.05],
             start_heading: 90.0,
             time: 30.0,
             energy: 10.0,
             mass: 0.5,
-        };
+            gravity: [0.0, 0.0, -gravity],
+        }
+    }
+
+    #[test]
+    fn scores() {
+        let e = episode(9.81);
         assert_eq!(Fitness::Displacement.score(&e), 3.0);
         assert!(
             (Fitness::Distance.score(&e) + 3.0).abs() < 1e-12,
@@ -109,9 +77,11 @@ mod tests {
         );
         assert_eq!(Fitness::MeanSpeed.score(&e), 0.1);
         assert!((Fitness::CostOfTransport.score(&e) + 10.0 / (0.5 * 9.81 * 3.0)).abs() < 1e-12);
-        assert_eq!(
-            Fitness::parse("Cost_of_transport"),
-            Ok(Fitness::CostOfTransport)
-        );
+    }
+
+    #[test]
+    fn cost_of_transport_weighs_with_the_world_gravity() {
+        let mars = Fitness::CostOfTransport.score(&episode(3.71));
+        assert!((mars + 10.0 / (0.5 * 3.71 * 3.0)).abs() < 1e-12, "{mars}");
     }
 }

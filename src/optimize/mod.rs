@@ -12,6 +12,7 @@ pub mod fitness;
 pub mod ga;
 pub mod result;
 pub mod run;
+pub mod settings;
 pub mod space;
 pub mod store;
 

@@ -2,56 +2,19 @@
 //! evaluator, every evaluation reported to a callback (progress, logs, the store) as its
 //! batch finishes.
 
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::ops::Range;
 
 use crate::config::Simulation;
 use crate::config::optimizer::Algorithm;
+use crate::control::{ControlKernel, ModuleRegistry};
 use crate::optimize::Optimizer;
 use crate::optimize::deluge::GreatDeluge;
 use crate::optimize::evaluate::Evaluator;
-use crate::optimize::fitness::Fitness;
 use crate::optimize::ga::GeneticAlgorithm;
 use crate::optimize::space::{Genome, SearchSpace};
 use crate::optimize::store::{Store, StoredEval};
-use crate::sim::{BuildOptions, Simulator};
 
-/// Set from another thread to end a run after its current round (the GUI's Stop).
-#[derive(Debug, Clone, Default)]
-pub struct StopFlag(pub Arc<AtomicBool>);
-
-impl StopFlag {
-    pub fn stop(&self) {
-        self.0.store(true, Ordering::SeqCst);
-    }
-
-    pub fn is_set(&self) -> bool {
-        self.0.load(Ordering::SeqCst)
-    }
-}
-
-impl PartialEq for StopFlag {
-    fn eq(&self, other: &Self) -> bool {
-        Arc::ptr_eq(&self.0, &other.0)
-    }
-}
-
-/// How to run.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RunSettings {
-    pub seed: u64,
-    pub workers: usize,
-    /// Robots per world (0: split each round evenly over the workers).
-    pub batch: usize,
-    /// Great deluge: neighbours handed out per round.
-    pub deluge_batch: usize,
-    pub max_evaluations: u64,
-    /// Simulated seconds per episode.
-    pub duration: f64,
-    pub fitness: Fitness,
-    /// Ends the run early when set (between rounds).
-    pub stop: StopFlag,
-}
+pub use crate::optimize::settings::{RunChoices, RunSettings, StopFlag};
 
 /// One finished evaluation.
 #[derive(Debug, Clone, PartialEq)]
@@ -60,7 +23,9 @@ pub struct Evaluation {
     pub number: u64,
     /// Round (GA generation / great-deluge batch) it belonged to.
     pub round: u64,
+    /// The candidate.
     pub genome: Genome,
+    /// Its score.
     pub score: f64,
     /// Best score so far, this one included.
     pub best: f64,
@@ -69,20 +34,30 @@ pub struct Evaluation {
 /// What a run found.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Outcome {
+    /// The best candidate found.
     pub best: Genome,
+    /// Its score.
     pub best_score: f64,
+    /// The configured start candidate.
     pub start: Genome,
+    /// The start candidate's score (when it was evaluated first).
     pub start_score: Option<f64>,
+    /// Evaluations done (simulated or from the store).
     pub evaluations: u64,
     /// Evaluations simulated in this call (the rest came from the store).
     pub simulated: u64,
     /// How candidates were spread over worlds, and why.
     pub batching: String,
+    /// Rounds (GA generations, great-deluge batches).
     pub rounds: u64,
 }
 
-/// The configured start candidate and the search space of `sim`.
-pub fn prepare(sim: &Simulation) -> Result<(SearchSpace, Genome), String> {
+/// The configured start candidate and the search space of `sim`, whose modules
+/// `registry` creates.
+pub fn prepare(
+    sim: &Simulation,
+    registry: &ModuleRegistry,
+) -> Result<(SearchSpace, Genome), String> {
     let model = sim.optimizer.as_ref().ok_or_else(|| {
         format!(
             "{}: mode {:?} has no optimizer file; optimization needs mode \"Genetic Algorithm\" or \"Great Deluge\" with an <optimizer>",
@@ -97,22 +72,18 @@ pub fn prepare(sim: &Simulation) -> Result<(SearchSpace, Genome), String> {
             model.file.display()
         ));
     }
-    let s = Simulator::new(
-        sim,
-        &BuildOptions {
-            robots: 1,
-            seed: 1,
-            record: false,
-        },
-    )
-    .map_err(|e| e.to_string())?;
-    let start = space.encode_kernel(s.kernel(0).map_err(|e| e.to_string())?);
+    let limits = sim.robot.joints.iter().map(|j| j.limits_deg).collect();
+    let kernel = ControlKernel::from_actuation(&sim.actuation, registry, limits)
+        .map_err(|e| e.to_string())?;
+    let start = space.encode_kernel(&kernel);
     Ok((space, start))
 }
 
 /// Where a run stores its evaluations, and what it already holds (for `--resume`).
 pub struct Recording<'a> {
+    /// The experiment store.
     pub store: &'a mut Store,
+    /// The run's id in the store.
     pub run: i64,
     /// Evaluations stored by an earlier, interrupted attempt of this run, sorted by
     /// number (as [`Store::evaluations`] returns them).
@@ -125,33 +96,19 @@ pub struct Recording<'a> {
 pub fn optimize(
     sim: &Simulation,
     settings: &RunSettings,
+    registry: &ModuleRegistry,
     mut recording: Option<Recording<'_>>,
     mut on_eval: impl FnMut(&Evaluation),
 ) -> Result<Outcome, String> {
-    let (space, start) = prepare(sim)?;
+    let (space, start) = prepare(sim, registry)?;
     let Some(model) = sim.optimizer.as_ref() else {
         return Err("no optimizer".into());
     };
-    let mut optimizer: Box<dyn Optimizer> = match &model.spec.algorithm {
-        Algorithm::Genetic(ga) => Box::new(GeneticAlgorithm::new(
-            space.clone(),
-            ga.clone(),
-            start.clone(),
-            settings.seed,
-            settings.max_evaluations,
-        )),
-        Algorithm::GreatDeluge(gd) => Box::new(GreatDeluge::new(
-            space.clone(),
-            gd.clone(),
-            start.clone(),
-            settings.seed,
-            settings.deluge_batch,
-            settings.max_evaluations,
-        )),
-    };
+    let mut optimizer = build_optimizer(&model.spec.algorithm, &space, &start, settings);
     let workers = settings.workers.max(1);
     let mut evaluator = Evaluator {
         sim: sim.clone(),
+        registry: registry.clone(),
         space,
         fitness: settings.fitness,
         duration: settings.duration,
@@ -162,116 +119,28 @@ pub fn optimize(
     let (mut n, mut round, mut best) = (0u64, 0u64, f64::NEG_INFINITY);
     let mut start_score = None;
     let mut simulated = 0u64;
-    let mut shared_worlds: Option<bool> = None;
-    let mut batching = if settings.batch > 0 {
-        format!("{} robots per world (given)", settings.batch)
-    } else {
-        "one world per candidate (rounds too small to measure)".to_string()
-    };
+    let mut batching = Batching::new(settings.batch, workers);
     while !optimizer.finished() && !settings.stop.is_set() {
         let candidates = optimizer.ask();
         if candidates.is_empty() {
             break;
         }
-        // Reuse what an interrupted attempt stored; simulate the rest.
-        let mut scores = vec![f64::NAN; candidates.len()];
-        let mut missing = Vec::new();
-        for (i, g) in candidates.iter().enumerate() {
-            let number = n + i as u64;
-            let known = recording.as_ref().and_then(|r| {
-                // Batches may finish out of order: look the number up, do not index.
-                r.known
-                    .binary_search_by_key(&number, |k| k.number)
-                    .ok()
-                    .map(|at| &r.known[at])
-                    .filter(|k| k.genome == *g)
-            });
-            match known {
-                Some(k) => {
-                    scores[i] = if k.score.is_nan() {
-                        f64::NEG_INFINITY
-                    } else {
-                        k.score
-                    }
-                }
-                None => missing.push(i),
-            }
-        }
+        let (mut scores, missing) = reuse_stored(recording.as_ref(), n, &candidates);
         simulated += missing.len() as u64;
-        if !missing.is_empty() {
-            let todo: Vec<Genome> = missing.iter().map(|i| candidates[*i].clone()).collect();
-            let len = todo.len();
-            let shared = |k: usize| k.div_ceil(workers).max(1);
-            // Parts of the round: (range of `todo`, robots per world).
-            let parts: Vec<(std::ops::Range<usize>, usize)> = match (settings.batch, shared_worlds)
-            {
-                (b, _) if b > 0 => vec![(0..len, b)],
-                (_, Some(true)) => vec![(0..len, shared(len))],
-                (_, Some(false)) => vec![(0..len, 1)],
-                // Not measured yet: one world per candidate for the first `workers`
-                // candidates, shared worlds for the rest, and keep the faster.
-                (_, None) if len > 2 * workers => {
-                    vec![(0..workers, 1), (workers..len, shared(len - workers))]
-                }
-                (_, None) => vec![(0..len, 1)],
-            };
-            let mut rates = Vec::new();
-            for (range, batch) in parts {
-                evaluator.batch = batch;
-                let t = std::time::Instant::now();
-                let mut store_error = None;
-                let offset = range.start;
-                let got = evaluator.evaluate_with(
-                    &todo[range.clone()],
-                    |first, batch_scores, wall| {
-                        let Some(r) = recording.as_mut() else { return };
-                        let evals: Vec<StoredEval> = batch_scores
-                            .iter()
-                            .enumerate()
-                            .map(|(k, s)| {
-                                let i = missing[offset + first + k];
-                                StoredEval {
-                                    number: n + i as u64,
-                                    round,
-                                    genome: candidates[i].clone(),
-                                    values: evaluator.space.decode(&candidates[i]),
-                                    score: *s,
-                                    wall: wall / batch_scores.len().max(1) as f64,
-                                }
-                            })
-                            .collect();
-                        if let Err(e) = r.store.record(r.run, settings.seed, &evals) {
-                            store_error.get_or_insert(e);
-                        }
-                    },
-                )?;
-                if let Some(e) = store_error {
-                    return Err(e);
-                }
-                rates.push((
-                    batch,
-                    range.len() as f64 / t.elapsed().as_secs_f64().max(1e-9),
-                ));
-                for (k, score) in got.into_iter().enumerate() {
-                    scores[missing[offset + k]] = score;
-                }
-            }
-            if settings.batch == 0 && shared_worlds.is_none() && rates.len() == 2 {
-                let faster_shared = rates[1].1 > rates[0].1;
-                shared_worlds = Some(faster_shared);
-                batching = format!(
-                    "{} (measured {:.2} candidates/s alone, {:.2} with {} robots per world)",
-                    if faster_shared {
-                        "robots share worlds"
-                    } else {
-                        "one world per candidate"
-                    },
-                    rates[0].1,
-                    rates[1].1,
-                    rates[1].0
-                );
-            }
-        }
+        let round_of = RoundRef {
+            first: n,
+            round,
+            candidates: &candidates,
+            missing: &missing,
+        };
+        simulate_missing(
+            &mut evaluator,
+            &mut batching,
+            &round_of,
+            &mut scores,
+            &mut recording,
+            settings.seed,
+        )?;
         for (g, s) in candidates.iter().zip(&scores) {
             if n == 0 {
                 start_score = Some(*s);
@@ -303,7 +172,190 @@ pub fn optimize(
         start_score,
         evaluations: n,
         simulated,
-        batching,
+        batching: batching.description,
         rounds: round,
     })
+}
+
+/// The optimizer an optimizer file names, starting from `start`.
+fn build_optimizer(
+    algorithm: &Algorithm,
+    space: &SearchSpace,
+    start: &Genome,
+    settings: &RunSettings,
+) -> Box<dyn Optimizer> {
+    match algorithm {
+        Algorithm::Genetic(ga) => Box::new(GeneticAlgorithm::new(
+            space.clone(),
+            ga.clone(),
+            start.clone(),
+            settings.seed,
+            settings.max_evaluations,
+        )),
+        Algorithm::GreatDeluge(gd) => Box::new(GreatDeluge::new(
+            space.clone(),
+            gd.clone(),
+            start.clone(),
+            settings.seed,
+            settings.deluge_batch,
+            settings.max_evaluations,
+        )),
+    }
+}
+
+/// The scores an interrupted attempt stored for this round's candidates (same number and
+/// genome), and the indices of the candidates still to simulate.
+fn reuse_stored(
+    recording: Option<&Recording<'_>>,
+    first: u64,
+    candidates: &[Genome],
+) -> (Vec<f64>, Vec<usize>) {
+    let mut scores = vec![f64::NAN; candidates.len()];
+    let mut missing = Vec::new();
+    for (i, g) in candidates.iter().enumerate() {
+        let number = first + i as u64;
+        let known = recording.and_then(|r| {
+            // Batches may finish out of order: look the number up, do not index.
+            r.known
+                .binary_search_by_key(&number, |k| k.number)
+                .ok()
+                .map(|at| &r.known[at])
+                .filter(|k| k.genome == *g)
+        });
+        match known {
+            Some(k) if k.score.is_nan() => scores[i] = f64::NEG_INFINITY,
+            Some(k) => scores[i] = k.score,
+            None => missing.push(i),
+        }
+    }
+    (scores, missing)
+}
+
+/// How candidates are spread over worlds: given, or measured on the first large round
+/// (one world per candidate against robots sharing worlds) and then kept.
+struct Batching {
+    given: usize,
+    workers: usize,
+    shared_worlds: Option<bool>,
+    description: String,
+}
+
+impl Batching {
+    fn new(given: usize, workers: usize) -> Batching {
+        let description = if given > 0 {
+            format!("{given} robots per world (given)")
+        } else {
+            "one world per candidate (rounds too small to measure)".to_string()
+        };
+        Batching {
+            given,
+            workers,
+            shared_worlds: None,
+            description,
+        }
+    }
+
+    /// Parts of a round of `len` candidates: (range, robots per world).
+    fn plan(&self, len: usize) -> Vec<(Range<usize>, usize)> {
+        let workers = self.workers;
+        let shared = |k: usize| k.div_ceil(workers).max(1);
+        match (self.given, self.shared_worlds) {
+            (b, _) if b > 0 => vec![(0..len, b)],
+            (_, Some(true)) => vec![(0..len, shared(len))],
+            (_, Some(false)) => vec![(0..len, 1)],
+            // Not measured yet: one world per candidate for the first `workers`
+            // candidates, shared worlds for the rest, and keep the faster.
+            (_, None) if len > 2 * workers => {
+                vec![(0..workers, 1), (workers..len, shared(len - workers))]
+            }
+            (_, None) => vec![(0..len, 1)],
+        }
+    }
+
+    /// Keeps the faster way once both were measured: `rates` holds (robots per world,
+    /// candidates per second) of a round's parts.
+    fn learn(&mut self, rates: &[(usize, f64)]) {
+        if self.given > 0 || self.shared_worlds.is_some() || rates.len() != 2 {
+            return;
+        }
+        let faster_shared = rates[1].1 > rates[0].1;
+        self.shared_worlds = Some(faster_shared);
+        self.description = format!(
+            "{} (measured {:.2} candidates/s alone, {:.2} with {} robots per world)",
+            if faster_shared {
+                "robots share worlds"
+            } else {
+                "one world per candidate"
+            },
+            rates[0].1,
+            rates[1].1,
+            rates[1].0
+        );
+    }
+}
+
+/// A round's candidates: its first evaluation number, round number, the candidates and
+/// the indices of those to simulate.
+struct RoundRef<'a> {
+    first: u64,
+    round: u64,
+    candidates: &'a [Genome],
+    missing: &'a [usize],
+}
+
+/// Simulates the round's missing candidates part by part, storing every batch as it
+/// finishes, and fills their scores.
+fn simulate_missing(
+    evaluator: &mut Evaluator,
+    batching: &mut Batching,
+    r: &RoundRef<'_>,
+    scores: &mut [f64],
+    recording: &mut Option<Recording<'_>>,
+    seed: u64,
+) -> Result<(), String> {
+    if r.missing.is_empty() {
+        return Ok(());
+    }
+    let todo: Vec<Genome> = r.missing.iter().map(|i| r.candidates[*i].clone()).collect();
+    let mut rates = Vec::new();
+    for (range, batch) in batching.plan(todo.len()) {
+        evaluator.batch = batch;
+        let t = std::time::Instant::now();
+        let mut store_error = None;
+        let offset = range.start;
+        let space = &evaluator.space;
+        let got = evaluator.evaluate_with(&todo[range.clone()], |first, batch_scores, wall| {
+            let Some(rec) = recording.as_mut() else {
+                return;
+            };
+            let evals: Vec<StoredEval> = batch_scores
+                .iter()
+                .enumerate()
+                .map(|(k, s)| {
+                    let i = r.missing[offset + first + k];
+                    StoredEval {
+                        number: r.first + i as u64,
+                        round: r.round,
+                        genome: r.candidates[i].clone(),
+                        values: space.decode(&r.candidates[i]),
+                        score: *s,
+                        wall: wall / batch_scores.len().max(1) as f64,
+                    }
+                })
+                .collect();
+            if let Err(e) = rec.store.record(rec.run, seed, &evals) {
+                store_error.get_or_insert(e);
+            }
+        })?;
+        if let Some(e) = store_error {
+            return Err(e);
+        }
+        let rate = range.len() as f64 / t.elapsed().as_secs_f64().max(1e-9);
+        rates.push((batch, rate));
+        for (k, score) in got.into_iter().enumerate() {
+            scores[r.missing[offset + k]] = score;
+        }
+    }
+    batching.learn(&rates);
+    Ok(())
 }

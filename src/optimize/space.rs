@@ -16,14 +16,19 @@ pub type Genome = Vec<u32>;
 pub enum Alleles {
     /// `first + k * inc` for `k < count`.
     Range {
+        /// The first value.
         first: f64,
+        /// The step between values.
         inc: f64,
+        /// How many values.
         count: u32,
     },
+    /// An enumerated list of values.
     List(Vec<f64>),
 }
 
 impl Alleles {
+    /// How many values the gene can take.
     pub fn count(&self) -> u32 {
         match self {
             Alleles::Range { count, .. } => *count,
@@ -31,6 +36,7 @@ impl Alleles {
         }
     }
 
+    /// Value `k` (clamped to the last).
     pub fn value(&self, k: u32) -> f64 {
         match self {
             Alleles::Range { first, inc, count } => {
@@ -64,9 +70,11 @@ impl Alleles {
 pub struct Gene {
     /// Module type name (the kernel's first actuator of that type is set).
     pub module: &'static str,
+    /// The parameter's name.
     pub parameter: &'static str,
     /// Robot joints this gene sets.
     pub joints: Vec<usize>,
+    /// The values it takes.
     pub alleles: Alleles,
 }
 
@@ -84,6 +92,7 @@ impl Gene {
 /// Every gene of an optimization.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct SearchSpace {
+    /// The genes, in genome order.
     pub genes: Vec<Gene>,
 }
 

@@ -11,10 +11,15 @@ use crate::optimize::space::Genome;
 /// What identifies a run (a resumed run must match all of it).
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunInfo {
+    /// The simulation file.
     pub config: String,
+    /// The optimizer's name.
     pub algorithm: String,
+    /// Seed of the run.
     pub seed: u64,
+    /// Fitness name.
     pub fitness: String,
+    /// Simulated seconds per episode.
     pub duration: f64,
     /// Gene labels, in genome order.
     pub genes: Vec<String>,
@@ -23,22 +28,34 @@ pub struct RunInfo {
 /// A stored run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunRow {
+    /// The run's id.
     pub id: i64,
+    /// What was run.
     pub info: RunInfo,
+    /// When it started (UTC).
     pub started: String,
+    /// Whether it ran to its end.
     pub finished: bool,
+    /// Evaluations stored.
     pub evaluations: u64,
+    /// The best score stored.
     pub best_score: Option<f64>,
+    /// The best candidate's values, as text.
     pub best_values: Option<String>,
 }
 
 /// One stored evaluation.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StoredEval {
+    /// 0-based evaluation number.
     pub number: u64,
+    /// Round it belonged to.
     pub round: u64,
+    /// The candidate.
     pub genome: Genome,
+    /// Its parameter values.
     pub values: Vec<f64>,
+    /// Its score.
     pub score: f64,
     /// Wall seconds of its batch, shared by the batch's candidates.
     pub wall: f64,
@@ -93,6 +110,7 @@ impl Store {
         self.crash_after = Some(n);
     }
 
+    /// The store's file.
     pub fn path(&self) -> &Path {
         &self.path
     }

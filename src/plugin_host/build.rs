@@ -33,6 +33,7 @@ impl Default for BuildOptions {
 /// The result of a build that ran.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BuildOutcome {
+    /// Whether cargo succeeded.
     pub success: bool,
     /// Cargo's output (compiler messages, errors).
     pub log: String,
@@ -43,7 +44,9 @@ pub struct BuildOutcome {
 /// A plugin crate of the workspace.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PluginCrate {
+    /// The crate's folder.
     pub folder: PathBuf,
+    /// The crate's package name.
     pub package: String,
 }
 

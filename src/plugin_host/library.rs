@@ -9,12 +9,14 @@ use proleg_plugin_api::{
     ABI_VERSION, PluginTable, RawDescriptor, RawStr, TABLE_SYMBOL, VERSION_SYMBOL,
 };
 
-use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
+use crate::config::module_types::{ModuleDescriptor, ParamDescriptor};
 
 /// Why a library was skipped.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LoadError {
+    /// The library file.
     pub file: PathBuf,
+    /// Why it was skipped.
     pub cause: String,
 }
 

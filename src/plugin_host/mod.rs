@@ -25,8 +25,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::SystemTime;
 
-use crate::control::descriptor::ModuleDescriptor;
-use crate::control::registry::ModuleRegistry;
+use crate::config::module_types::ModuleDescriptor;
+use crate::control::registry::{ModuleFactory, ModuleRegistry};
 pub use library::{LoadError, PluginLibrary};
 pub use module::PluginModule;
 
@@ -60,7 +60,9 @@ pub fn user_dir() -> Option<PathBuf> {
 /// A loaded plugin module.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PluginInfo {
+    /// The module type the plugin provides.
     pub descriptor: ModuleDescriptor,
+    /// The library it was loaded from.
     pub file: PathBuf,
 }
 
@@ -82,11 +84,14 @@ impl ScanReport {
     }
 }
 
-/// A library loaded in this process.
+/// A library loaded in this process. Loaded code is process-wide by nature (the dynamic
+/// loader's); which module types a run may create is still decided by the registry its
+/// caller passes ([`registry`] builds one with every loaded plugin).
 struct Loaded {
     file: PathBuf,
     stamp: Option<(SystemTime, u64)>,
     info: PluginInfo,
+    factory: ModuleFactory,
     _library: Arc<PluginLibrary>,
 }
 
@@ -170,16 +175,13 @@ pub fn load_file(file: &Path) -> Result<Option<PluginInfo>, LoadError> {
     }
     let library = Arc::new(library);
     let for_factory = (library.clone(), descriptor.clone());
-    ModuleRegistry::register_process_wide(
-        descriptor.clone(),
-        Arc::new(move |joints| {
-            Box::new(PluginModule::new(
-                for_factory.0.clone(),
-                for_factory.1.clone(),
-                joints,
-            ))
-        }),
-    );
+    let factory: ModuleFactory = Arc::new(move |joints| {
+        Box::new(PluginModule::new(
+            for_factory.0.clone(),
+            for_factory.1.clone(),
+            joints,
+        ))
+    });
     let info = PluginInfo {
         descriptor,
         file: file.clone(),
@@ -188,14 +190,12 @@ pub fn load_file(file: &Path) -> Result<Option<PluginInfo>, LoadError> {
         file,
         stamp,
         info: info.clone(),
+        factory,
         _library: library,
     };
     match previous {
         Some(i) => {
             let old = std::mem::replace(&mut loaded[i], entry);
-            if !crate::config::xml::read::same_name(old.info.descriptor.type_name, name) {
-                ModuleRegistry::unregister_process_wide(old.info.descriptor.type_name);
-            }
             // The old library stays loaded: running modules may still use it.
             std::mem::forget(old._library);
         }
@@ -216,6 +216,18 @@ fn fresh_copy(file: &Path) -> Result<PathBuf, String> {
     let copy = dir.join(format!("{n}-{name}"));
     std::fs::copy(file, &copy).map_err(|e| format!("copying to {}: {e}", copy.display()))?;
     Ok(copy)
+}
+
+/// A registry with the standard module library and every plugin module loaded in this
+/// process (in load order). Callers pass it to the loader and the simulator; it does not
+/// change when more plugins load later (ask again).
+pub fn registry() -> ModuleRegistry {
+    let mut r = ModuleRegistry::standard();
+    let loaded = LOADED.lock().unwrap_or_else(PoisonError::into_inner);
+    for l in loaded.iter() {
+        r.register(l.info.descriptor.clone(), Some(l.factory.clone()));
+    }
+    r
 }
 
 /// The plugin modules loaded in this process, in load order.

@@ -11,7 +11,7 @@ use std::sync::Arc;
 
 use proleg_plugin_api::{RawContext, STATUS_OK, STATUS_UNSUPPORTED};
 
-use crate::control::descriptor::ModuleDescriptor;
+use crate::config::module_types::ModuleDescriptor;
 use crate::control::module::{ActuationModule, ModuleCore, StepContext};
 use crate::plugin_host::library::PluginLibrary;
 use crate::rng::SimRng;

@@ -10,9 +10,13 @@ use crate::plugin_host::library::valid_module_name;
 /// One declared parameter.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParamDecl {
+    /// Parameter name (as in actuation files).
     pub name: String,
+    /// Initial value.
     pub initial: f64,
+    /// Lowest allowed value.
     pub min: f64,
+    /// Highest allowed value.
     pub max: f64,
 }
 
@@ -56,7 +60,9 @@ impl ParamDecl {
 pub struct Declaration {
     /// Registry name (letters, digits, `_`).
     pub name: String,
+    /// One line on what the module does.
     pub summary: String,
+    /// The module's parameters.
     pub params: Vec<ParamDecl>,
     /// Helper function names (generated as `fn NAME(x: f64) -> f64`).
     pub helpers: Vec<String>,

@@ -7,14 +7,18 @@
 /// Whether an element gives a continuous value (-1..1) or a pressed state (0 / 1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ElementKind {
+    /// A continuous input (stick, trigger), -1..1 or 0..1.
     Axis,
+    /// A button, 0 or 1.
     Button,
 }
 
 /// One element of a remote.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ElementInfo {
+    /// The element's name in binding files.
     pub name: String,
+    /// Axis or button.
     pub kind: ElementKind,
 }
 
@@ -46,6 +50,7 @@ impl RemoteData {
         }
     }
 
+    /// Every element's name and current value.
     pub fn iter(&self) -> impl Iterator<Item = (&str, f64)> {
         self.values.iter().map(|(n, v)| (n.as_str(), *v))
     }
@@ -55,8 +60,11 @@ impl RemoteData {
 pub trait Remote {
     /// A name for the user ("Xbox Wireless Controller").
     fn name(&self) -> String;
+    /// Opens the device.
     fn connect(&mut self) -> Result<(), String>;
+    /// Closes the device.
     fn disconnect(&mut self);
+    /// Whether the device is open.
     fn is_connected(&self) -> bool;
     /// The elements bindings may name.
     fn available_elements(&self) -> Vec<ElementInfo>;
@@ -71,8 +79,11 @@ pub trait Remote {
 /// A remote whose values are set by code.
 #[derive(Debug, Clone, Default)]
 pub struct VirtualRemote {
+    /// The device's name, for the user.
     pub label: String,
+    /// Its input elements.
     pub elements: Vec<ElementInfo>,
+    /// Their current values.
     pub data: RemoteData,
     connected: bool,
     /// Commands received, newest last.

@@ -284,7 +284,8 @@ mod tests {
 
     /// The 8-module pitch-yaw robot with the sine generator on every joint.
     fn kernel() -> (ControlKernel, Vec<JointOrientation>) {
-        let sim = crate::config::load_simulation("configs/snake8py_remote.simulation.xml").unwrap();
+        let sim =
+            crate::control::load_simulation("configs/snake8py_remote.simulation.xml").unwrap();
         let limits = sim.robot.joints.iter().map(|j| j.limits_deg).collect();
         let k = ControlKernel::from_actuation(&sim.actuation, &ModuleRegistry::default(), limits)
             .unwrap();

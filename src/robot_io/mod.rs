@@ -21,6 +21,7 @@ use std::fmt;
 /// Which servos a command goes to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Target {
+    /// Every servo.
     All,
     /// One servo by bus id.
     Id(u8),
@@ -44,6 +45,7 @@ pub enum Info {
 }
 
 impl Info {
+    /// Every kind of information, in table order.
     pub const ALL: [Info; 6] = [
         Info::Positions,
         Info::Currents,
@@ -53,6 +55,7 @@ impl Info {
         Info::Torque,
     ];
 
+    /// The name commands and the GUI use.
     pub fn name(self) -> &'static str {
         match self {
             Info::Positions => "positions",
@@ -75,6 +78,7 @@ impl Info {
 /// What a robot is (A.4's metadata).
 #[derive(Debug, Clone, PartialEq)]
 pub struct RobotMeta {
+    /// Joints (servos) of the robot.
     pub joints: usize,
     /// Sensor modules on the robot (tactile pads read by the driver).
     pub sensor_modules: usize,
@@ -96,6 +100,7 @@ pub struct Readings {
 }
 
 impl Readings {
+    /// Readings of `joints` joints, all 0.
     pub fn new(joints: usize) -> Self {
         Readings {
             positions: vec![0.0; joints],
@@ -110,25 +115,33 @@ impl Readings {
 pub enum RobotError {
     /// The port could not be opened.
     Port {
+        /// The port.
         port: String,
+        /// Why it failed.
         cause: String,
     },
     /// A servo did not answer in time.
     Timeout {
+        /// The servo.
         id: u8,
     },
     /// An answer came from another servo than asked.
     WrongId {
+        /// The id asked.
         expected: u8,
+        /// The id that answered.
         got: u8,
     },
     /// A servo answered with an error status.
     Servo {
+        /// The servo.
         id: u8,
+        /// Its error code.
         code: u8,
     },
     /// The bus failed (I/O, a garbled answer).
     Bus(String),
+    /// No connection (connect first).
     NotConnected,
     /// A command or value the driver does not know.
     Command(String),
@@ -178,6 +191,7 @@ pub trait RobotControl: Send {
     fn connect(&mut self) -> Result<(), RobotError>;
     /// Closes the connection (torque is left as it is: call `enable_servos(false)` first).
     fn disconnect(&mut self);
+    /// Whether the robot is connected.
     fn is_connected(&self) -> bool;
     /// Torque on or off for every servo.
     fn enable_servos(&mut self, on: bool) -> Result<(), RobotError>;

@@ -20,6 +20,7 @@ use crate::rng::SimRng;
 use crate::robot_io::{Readings, RobotControl, RobotError};
 use crate::sensing::SensorData;
 use crate::sim::datalog::{ROBOT_SCALARS, handlers_for};
+use crate::sim::pacing::{Pacer, Pacing};
 
 /// How the loop runs.
 #[derive(Debug, Clone, PartialEq)]
@@ -30,12 +31,14 @@ pub struct RealOptions {
     pub read_every: Option<u32>,
     /// Record a sample every this many steps (default: the file's accuracy).
     pub every: Option<u32>,
+    /// Seed of the modules' random streams.
     pub seed: u64,
 }
 
 /// What a run did.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RealSummary {
+    /// Steps run.
     pub steps: u64,
     /// Read-backs that succeeded.
     pub reads: u64,
@@ -123,10 +126,14 @@ impl Recorder {
     }
 }
 
-/// The kernel of `sim` for the real robot, reset.
-pub fn kernel_for(sim: &Simulation, seed: u64) -> Result<ControlKernel, String> {
+/// The kernel of `sim` for the real robot, its modules made by `registry`, reset.
+pub fn kernel_for(
+    sim: &Simulation,
+    seed: u64,
+    registry: &ModuleRegistry,
+) -> Result<ControlKernel, String> {
     let limits: Vec<[f64; 2]> = sim.robot.joints.iter().map(|j| j.limits_deg).collect();
-    let mut k = ControlKernel::from_actuation(&sim.actuation, &ModuleRegistry::default(), limits)
+    let mut k = ControlKernel::from_actuation(&sim.actuation, registry, limits)
         .map_err(|e| e.to_string())?;
     k.reset(&mut SimRng::new(seed));
     Ok(k)
@@ -136,6 +143,7 @@ pub fn kernel_for(sim: &Simulation, seed: u64) -> Result<ControlKernel, String> 
 /// The robot is connected and its servos enabled here; torque is off again at the end.
 pub fn run(
     sim: &Simulation,
+    registry: &ModuleRegistry,
     robot: &mut dyn RobotControl,
     opts: &RealOptions,
     data: Option<&Path>,
@@ -143,7 +151,7 @@ pub fn run(
 ) -> Result<RealSummary, String> {
     let props = &sim.files.simulation.properties;
     let dt = props.step_width;
-    let mut kernel = kernel_for(sim, opts.seed)?;
+    let mut kernel = kernel_for(sim, opts.seed, registry)?;
     let joints = kernel.joints();
     if robot.meta().joints != joints {
         return Err(format!(
@@ -246,11 +254,12 @@ fn control_loop(
         .map_err(fail)?;
     robot.enable_servos(true).map_err(fail)?;
     let steps = duration.map(|d| (d / dt).round() as u64);
+    let pacer = Pacer::new(Pacing::REAL_TIME, dt);
     let start = Instant::now();
     let mut step = 0u64;
     let mut failed_in_a_row = 0;
     while steps.is_none_or(|n| step < n) && !stop.load(Ordering::SeqCst) {
-        let due = start + Duration::from_secs_f64(step as f64 * dt);
+        let due = start + pacer.due(step);
         let now = Instant::now();
         if now > due + Duration::from_secs_f64(dt) {
             summary.late_steps += 1;

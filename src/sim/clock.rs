@@ -1,30 +1,23 @@
-//! The simulation clock (thesis eq. 4.1-4.2): a step counter, the simulated time, the step
-//! width δ, and the wall-clock controls a runner applies between steps (delay μ per step,
-//! real-time factor). Nothing here reads the wall clock inside a step.
+//! The simulation clock (thesis eq. 4.1): a step counter, the simulated time and the step
+//! width δ. Wall-clock pacing (delay μ per step, real-time factor, eq. 4.2) is the
+//! runner's business between steps ([`crate::sim::pacing`]); nothing in a step reads the
+//! wall clock.
 
 use bevy::prelude::*;
 
-/// Simulated time and the pacing settings.
+/// Simulated time.
 #[derive(Resource, Debug, Clone, PartialEq)]
 pub struct SimClock {
     /// Steps done.
     pub step: u64,
     /// Step width δ (s).
     pub dt: f64,
-    /// Extra wall-clock delay per step μ (ms), for slow motion.
-    pub delay_ms: f64,
-    /// 1 = real time, 0 = as fast as possible.
-    pub realtime_factor: f64,
 }
 
 impl SimClock {
+    /// A clock at step 0 with step width `dt` (s).
     pub fn new(dt: f64) -> Self {
-        SimClock {
-            step: 0,
-            dt,
-            delay_ms: 0.0,
-            realtime_factor: 0.0,
-        }
+        SimClock { step: 0, dt }
     }
 
     /// Simulated time (s) of the current step: step · δ (no accumulated rounding).

@@ -1,6 +1,6 @@
 //! Data handlers in the world (thesis 4.3.2, 5.5.2): one per actuation module (its
 //! internal-data series), one per sensor type (tactile, laser) and `Robot_Data` (B.8's
-//! robot series plus mechanical power and energy used). Every `every`-th step each
+//! robot series plus mechanical power and energy used, read from [`Energy`]). Every `every`-th step each
 //! handler's frame goes into its ring buffer (live views) and, for the robot that stores
 //! data, into the round being gathered, which is handed to the background writer every
 //! `round_frames` samples. Buffers are allocated once; the step never touches the disk.
@@ -11,8 +11,10 @@ use crate::control::ControlKernel;
 use crate::data::store::DataStore;
 use crate::data::write::HandlerFrames;
 use crate::data::{FrameMeta, HandlerSpec, RingBuffer};
+use crate::measure::{ground_distance, norm, potential_energy};
 use crate::sensing::SensorData;
 use crate::sim::clock::SimClock;
+use crate::sim::energy::Energy;
 use crate::sim::kernel::{Kernel, SimRobot};
 use crate::sim::physics::{Physics, arr3};
 use crate::sim::record::centre_of_mass;
@@ -33,12 +35,14 @@ pub const ROBOT_SCALARS: [&str; 11] = [
     "power",
     "energy",
 ];
+/// The robot handler's per-joint series.
 pub const ROBOT_JOINT_SERIES: [&str; 4] = [
     "desired_joint_positions",
     "real_joint_positions",
     "servo_currents",
     "servo_speeds",
 ];
+/// The name of the robot handler (B.8).
 pub const ROBOT_HANDLER: &str = "Robot_Data";
 
 /// How data is sampled and kept.
@@ -65,21 +69,24 @@ impl Default for DataSettings {
 /// The data file robot 0 records into (absent: nothing is stored).
 #[derive(Resource)]
 pub struct DataSink {
+    /// The data file's background writer.
     pub store: DataStore,
+    /// Rounds handed to the writer so far.
     pub rounds_sent: u64,
+    /// The first error of the writer, if any (later rounds are dropped).
     pub error: Option<String>,
 }
 
 /// A robot's data handlers and their buffers.
 #[derive(Component, Debug, Clone)]
 pub struct DataLog {
+    /// The handlers, in file order.
     pub handlers: Vec<HandlerSpec>,
+    /// One ring buffer per handler (live views).
     pub rings: Vec<RingBuffer>,
     frame: Vec<Vec<f64>>,
     round: Vec<HandlerFrames>,
     samples: u64,
-    /// Mechanical energy the servos put out so far (J).
-    pub energy: f64,
     start_com: Option<[f64; 3]>,
     start_time: f64,
     total_mass: f64,
@@ -128,6 +135,7 @@ pub fn handlers_for(kernel: &ControlKernel, sensors: &SensorData) -> Vec<Handler
 }
 
 impl DataLog {
+    /// Buffers for `handlers`, allocated once; `total_mass` (kg) is the robot's.
     pub fn new(handlers: Vec<HandlerSpec>, settings: &DataSettings, total_mass: f64) -> Self {
         let rings = handlers
             .iter()
@@ -150,7 +158,6 @@ impl DataLog {
             frame,
             round,
             samples: 0,
-            energy: 0.0,
             start_com: None,
             start_time: 0.0,
             total_mass,
@@ -199,103 +206,25 @@ fn euler(q: [f64; 4]) -> [f64; 3] {
     [roll.to_degrees(), pitch.to_degrees(), yaw.to_degrees()]
 }
 
-/// Accumulates energy every step and samples every handler every `every` steps (the
-/// `Record` set).
+/// Samples every handler every `every` steps (the `Record` set, after the energy).
 pub fn log_data(
     settings: Res<DataSettings>,
     clock: Res<SimClock>,
     physics: Res<Physics>,
     mut sink: Option<ResMut<DataSink>>,
-    mut robots: Query<(&SimRobot, &Kernel, &RobotSensors, &mut DataLog)>,
+    mut robots: Query<(&SimRobot, &Kernel, &RobotSensors, &Energy, &mut DataLog)>,
     states: Query<&JointState>,
 ) {
-    let sample = (clock.step + 1).is_multiple_of(settings.every.max(1) as u64);
-    let bodies = &physics.world.bodies;
-    let time = clock.time() + clock.dt;
-    for (robot, kernel, sensors, mut log) in &mut robots {
+    if !(clock.step + 1).is_multiple_of(settings.every.max(1) as u64) {
+        return;
+    }
+    let meta_of = |samples| FrameMeta::after_step(samples, clock.step, clock.dt);
+    for (robot, kernel, sensors, energy, mut log) in &mut robots {
         let log = &mut *log;
-        let mut power = 0.0;
-        for e in &robot.joints {
-            let s = states.get(*e).copied().unwrap_or_default();
-            power += (s.torque * s.velocity.to_radians()).abs();
-        }
-        log.energy += power * clock.dt;
-        if !sample {
-            continue;
-        }
-        let com = centre_of_mass(bodies, robot);
-        let start = *log.start_com.get_or_insert(com);
-        if log.samples == 0 {
-            log.start_time = clock.time();
-        }
-        let meta = FrameMeta::after_step(log.samples, clock.step, clock.dt);
-        let mut h = 0;
-        for a in kernel.0.actuators() {
-            let f = &mut log.frame[h];
-            f.clear();
-            let d = a.module.internal_data();
-            for s in 0..d.names().len() {
-                f.extend_from_slice(d.series(s));
-            }
-            h += 1;
-        }
-        if !sensors.0.tactile.is_empty() {
-            let f = &mut log.frame[h];
-            f.clear();
-            f.extend(sensors.0.tactile.iter().map(|p| if *p { 1.0 } else { 0.0 }));
-            for axis in 0..3 {
-                f.extend(sensors.0.tactile_normals.iter().map(|n| n[axis]));
-            }
-            h += 1;
-        }
-        if sensors.0.laser.iter().any(|l| !l.is_empty()) {
-            let f = &mut log.frame[h];
-            f.clear();
-            for l in &sensors.0.laser {
-                f.extend_from_slice(l);
-            }
-            h += 1;
-        }
-        // Robot_Data.
-        let (mut momentum, mut potential) = ([0.0; 3], 0.0);
-        for (b, m) in &robot.bodies {
-            if let Some(body) = bodies.get(*b) {
-                let v = arr3(body.linvel());
-                for i in 0..3 {
-                    momentum[i] += m * v[i];
-                }
-                potential += m * 9.81 * arr3(body.center_of_mass())[2];
-            }
-        }
-        let mass = log.total_mass.max(1e-12);
-        let speed = (momentum[0].powi(2) + momentum[1].powi(2) + momentum[2].powi(2)).sqrt() / mass;
-        let head = robot
-            .bodies
-            .last()
-            .and_then(|(b, _)| bodies.get(*b))
-            .map(|b| {
-                let r = b.rotation();
-                euler([r.x as f64, r.y as f64, r.z as f64, r.w as f64])
-            })
-            .unwrap_or_default();
-        let elapsed = time - log.start_time;
-        let avg = if elapsed > 0.0 {
-            ((com[0] - start[0]).powi(2) + (com[1] - start[1]).powi(2)).sqrt() / elapsed
-        } else {
-            0.0
-        };
-        let energy = log.energy;
-        let f = &mut log.frame[h];
-        f.clear();
-        f.extend_from_slice(&[
-            speed, com[0], com[1], com[2], head[0], head[1], head[2], potential, avg, power, energy,
-        ]);
-        f.extend_from_slice(kernel.0.desired());
-        let joint = |e: &Entity| states.get(*e).copied().unwrap_or_default();
-        f.extend(robot.joints.iter().map(|e| joint(e).angle));
-        f.extend(robot.joints.iter().map(|e| joint(e).torque));
-        f.extend(robot.joints.iter().map(|e| joint(e).velocity));
-        // Rings, and the round for the file.
+        let meta = meta_of(log.samples);
+        let mut h = fill_module_frames(log, &kernel.0);
+        h += fill_sensor_frames(log, h, &sensors.0);
+        fill_robot_frame(log, h, robot, &kernel.0, energy, &physics, &clock, &states);
         let storing = robot.index == 0 && sink.is_some();
         for i in 0..log.handlers.len() {
             log.rings[i].push(meta, &log.frame[i]);
@@ -313,6 +242,112 @@ pub fn log_data(
             send(sink, round);
         }
     }
+}
+
+/// One frame per actuation module: its internal-data series; returns the frames filled.
+fn fill_module_frames(log: &mut DataLog, kernel: &ControlKernel) -> usize {
+    for (h, a) in kernel.actuators().iter().enumerate() {
+        let f = &mut log.frame[h];
+        f.clear();
+        let d = a.module.internal_data();
+        for s in 0..d.names().len() {
+            f.extend_from_slice(d.series(s));
+        }
+    }
+    kernel.actuators().len()
+}
+
+/// The `tactile` and `laser2d` frames from handler `h` on (those the robot has); returns
+/// the frames filled.
+fn fill_sensor_frames(log: &mut DataLog, mut h: usize, sensors: &SensorData) -> usize {
+    let first = h;
+    if !sensors.tactile.is_empty() {
+        let f = &mut log.frame[h];
+        f.clear();
+        f.extend(sensors.tactile.iter().map(|p| if *p { 1.0 } else { 0.0 }));
+        for axis in 0..3 {
+            f.extend(sensors.tactile_normals.iter().map(|n| n[axis]));
+        }
+        h += 1;
+    }
+    if sensors.laser.iter().any(|l| !l.is_empty()) {
+        let f = &mut log.frame[h];
+        f.clear();
+        for l in &sensors.laser {
+            f.extend_from_slice(l);
+        }
+        h += 1;
+    }
+    h - first
+}
+
+/// The `Robot_Data` frame (handler `h`): speed, centre of mass, head orientation, potential
+/// energy under the world's gravity, average speed, power and energy, then per joint the
+/// desired and real angles, torques and speeds.
+#[allow(clippy::too_many_arguments)]
+fn fill_robot_frame(
+    log: &mut DataLog,
+    h: usize,
+    robot: &SimRobot,
+    kernel: &ControlKernel,
+    energy: &Energy,
+    physics: &Physics,
+    clock: &SimClock,
+    states: &Query<&JointState>,
+) {
+    let bodies = &physics.world.bodies;
+    let gravity = arr3(physics.world.gravity);
+    let com = centre_of_mass(bodies, robot);
+    let start = *log.start_com.get_or_insert(com);
+    if log.samples == 0 {
+        log.start_time = clock.time();
+    }
+    let (mut momentum, mut potential) = ([0.0; 3], 0.0);
+    for (b, m) in &robot.bodies {
+        if let Some(body) = bodies.get(*b) {
+            let v = arr3(body.linvel());
+            for i in 0..3 {
+                momentum[i] += m * v[i];
+            }
+            potential += potential_energy(*m, arr3(body.center_of_mass()), gravity);
+        }
+    }
+    let speed = norm(momentum) / log.total_mass.max(1e-12);
+    let head = robot
+        .bodies
+        .last()
+        .and_then(|(b, _)| bodies.get(*b))
+        .map(|b| {
+            let r = b.rotation();
+            euler([r.x as f64, r.y as f64, r.z as f64, r.w as f64])
+        })
+        .unwrap_or_default();
+    let elapsed = clock.time() + clock.dt - log.start_time;
+    let avg = if elapsed > 0.0 {
+        ground_distance(start, com) / elapsed
+    } else {
+        0.0
+    };
+    let f = &mut log.frame[h];
+    f.clear();
+    f.extend_from_slice(&[
+        speed,
+        com[0],
+        com[1],
+        com[2],
+        head[0],
+        head[1],
+        head[2],
+        potential,
+        avg,
+        energy.power,
+        energy.joules,
+    ]);
+    f.extend_from_slice(kernel.desired());
+    let joint = |e: &Entity| states.get(*e).copied().unwrap_or_default();
+    f.extend(robot.joints.iter().map(|e| joint(e).angle));
+    f.extend(robot.joints.iter().map(|e| joint(e).torque));
+    f.extend(robot.joints.iter().map(|e| joint(e).velocity));
 }
 
 fn send(sink: &mut DataSink, round: Vec<HandlerFrames>) {

@@ -1,6 +1,6 @@
-//! Stepping the simulation from a running App (the GUI, App-level tests): every
-//! `Update` runs [`SimStep`] a number of times. The headless [`crate::sim::Simulator`]
-//! steps the schedule directly instead.
+//! Stepping the simulation from a running App (App-level tests): every `Update` runs
+//! [`SimStep`] a number of times. The headless [`crate::sim::Simulator`], which the CLI,
+//! the optimizers and the control window use, steps the schedule directly instead.
 
 use bevy::prelude::*;
 

@@ -8,11 +8,38 @@ use crate::control::kernel::KernelError;
 /// Why a simulation could not be built or changed.
 #[derive(Debug, Clone)]
 pub enum SimError {
+    /// A configuration that does not load or check.
     Config(ConfigError),
+    /// A kernel that cannot be built or changed (module, parameter, joint).
     Kernel(KernelError),
-    Mesh { file: String, message: String },
-    TooManyRobots { requested: usize, max: usize },
-    NoSuchRobot { index: usize, count: usize },
+    /// A collision mesh that cannot be built.
+    Mesh {
+        /// The mesh file.
+        file: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// More robots than one world holds.
+    TooManyRobots {
+        /// Robots asked for.
+        requested: usize,
+        /// Robots one world holds.
+        max: usize,
+    },
+    /// A robot index beyond the world's robots.
+    NoSuchRobot {
+        /// The index given.
+        index: usize,
+        /// Robots in the world.
+        count: usize,
+    },
+    /// A link index beyond the robot's links.
+    NoSuchLink {
+        /// The index given.
+        link: usize,
+        /// The robot's links.
+        count: usize,
+    },
 }
 
 impl fmt::Display for SimError {
@@ -31,6 +58,9 @@ impl fmt::Display for SimError {
             }
             SimError::NoSuchRobot { index, count } => {
                 write!(f, "no robot {index}: the world holds {count}")
+            }
+            SimError::NoSuchLink { link, count } => {
+                write!(f, "no link {link}: the robot has {count}")
             }
         }
     }

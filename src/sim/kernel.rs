@@ -14,7 +14,9 @@ use crate::sim::tactile::RobotSensors;
 pub struct SimRobot {
     /// Position in the batch (0 for a single robot).
     pub index: usize,
+    /// Joint entities, in joint order.
     pub joints: Vec<Entity>,
+    /// Link entities, in link order.
     pub links: Vec<Entity>,
     /// Link bodies and masses, for the centre of mass.
     pub bodies: Vec<(rapier3d::prelude::RigidBodyHandle, f64)>,

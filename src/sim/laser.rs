@@ -15,14 +15,17 @@ use crate::sim::tactile::RobotSensors;
 /// One laser.
 #[derive(Component, Debug, Clone)]
 pub struct Laser2dSensor {
+    /// The robot it belongs to.
     pub robot: Entity,
     /// Index among the robot's lasers.
     pub index: usize,
     /// The link it is mounted on and its pose there.
     pub body: rp::RigidBodyHandle,
+    /// Pose of the sensor on its link.
     pub pose: rp::Pose,
     /// Beam angles (radians).
     pub angles: Vec<f64>,
+    /// Range reported when a beam hits nothing (m).
     pub max_range: f64,
     /// Steps between scans.
     pub period: u64,

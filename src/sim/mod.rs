@@ -5,15 +5,20 @@
 //! - [`schedule`]: the [`SimStep`] schedule and its [`SimSystems`] sets
 //! - [`spawn`]: building the world from a loaded simulation
 //! - [`physics`], [`servo`], [`tactile`], [`laser`], [`kernel`], [`record`], [`clock`]: the stages of a step
-//! - [`runner`]: [`Simulator`], the headless driver the CLI, benchmarks and optimizers use
+//! - [`energy`]: each robot's servo power and energy (the `Record` stage)
+//! - [`runner`]: [`Simulator`], the one door to a running world that the CLI, benchmarks,
+//!   optimizers, the real-robot twin and the GUI use
+//! - [`pacing`]: the wall-clock pacer those runners share
 //! - [`driver`]: stepping from a running App (GUI, App-level tests)
 
 pub mod clock;
 pub mod datalog;
 pub mod driver;
+pub mod energy;
 pub mod error;
 pub mod kernel;
 pub mod laser;
+pub mod pacing;
 pub mod physics;
 pub mod position;
 pub mod record;
@@ -27,6 +32,7 @@ use bevy::prelude::*;
 
 pub use driver::{SimDriverPlugin, StepsPerUpdate};
 pub use error::SimError;
+pub use pacing::{Pacer, Pacing};
 pub use runner::{RunSummary, Simulator};
 pub use schedule::{SimStep, SimSystems};
 pub use spawn::BuildOptions;

@@ -15,6 +15,7 @@ pub const MAX_ROBOTS_PER_WORLD: usize = 31;
 /// rapier's world, and the settings of the run.
 #[derive(Resource)]
 pub struct Physics {
+    /// rapier's bodies, colliders, joints, contacts and integration parameters.
     pub world: rp::PhysicsWorld,
 }
 

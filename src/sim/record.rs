@@ -13,6 +13,7 @@ use crate::sim::servo::JointState;
 /// Whether and how often to record.
 #[derive(Resource, Debug, Clone, Copy, PartialEq)]
 pub struct RecordSettings {
+    /// Whether trajectories are recorded.
     pub enabled: bool,
     /// Sampling period in steps (the simulation file's `accuracy`).
     pub every: u32,
@@ -21,17 +22,24 @@ pub struct RecordSettings {
 /// One joint in one sample.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct JointSample {
+    /// Angle the kernel asked for (degrees).
     pub desired: f64,
+    /// Measured angle (degrees).
     pub angle: f64,
+    /// Measured speed (degrees/s).
     pub velocity: f64,
+    /// Torque the servo applied (N·m).
     pub torque: f64,
 }
 
 /// The recorded trajectory of one robot.
 #[derive(Component, Debug, Clone, Default, PartialEq)]
 pub struct Track {
+    /// Joints per sample.
     pub joints_per_sample: usize,
+    /// Simulated time of each sample (s).
     pub times: Vec<f64>,
+    /// Centre of mass at each sample (m, z up).
     pub com: Vec<[f64; 3]>,
     /// Degrees, counter-clockwise from +x, of the tail-to-head direction in the ground plane.
     pub heading: Vec<f64>,
@@ -40,6 +48,7 @@ pub struct Track {
 }
 
 impl Track {
+    /// An empty track with room for `samples` samples of `joints` joints.
     pub fn with_capacity(joints: usize, samples: usize) -> Self {
         Track {
             joints_per_sample: joints,
@@ -55,10 +64,12 @@ impl Track {
         &self.joints[i * self.joints_per_sample..(i + 1) * self.joints_per_sample]
     }
 
+    /// Samples recorded.
     pub fn len(&self) -> usize {
         self.times.len()
     }
 
+    /// Whether nothing was recorded.
     pub fn is_empty(&self) -> bool {
         self.times.is_empty()
     }

@@ -6,7 +6,9 @@ use bevy::ecs::schedule::ScheduleLabel;
 use bevy::ecs::schedule::SingleThreadedExecutor;
 use bevy::prelude::*;
 
-use crate::sim::{clock, datalog, kernel, laser, physics, position, record, servo, tactile};
+use crate::sim::{
+    clock, datalog, energy, kernel, laser, physics, position, record, servo, tactile,
+};
 
 /// The schedule of one simulation step.
 #[derive(ScheduleLabel, Debug, Clone, PartialEq, Eq, Hash)]
@@ -25,7 +27,7 @@ pub enum SimSystems {
     Servo,
     /// One physics step.
     Physics,
-    /// Trajectories and data.
+    /// Energy, trajectories and data.
     Record,
     /// Step counter and simulated time.
     Clock,
@@ -54,19 +56,50 @@ pub(super) fn plugin(app: &mut App) {
     app.add_systems(
         SimStep,
         (
+            // Three of them write the robots' sensor readings: one fixed order.
             (
                 servo::sense_joints,
                 position::sense_position,
                 tactile::sense_tactile,
                 laser::scan_lasers,
             )
+                .chain()
                 .in_set(SimSystems::Sense),
             kernel::actuate.in_set(SimSystems::Actuate),
             kernel::sum_outputs.in_set(SimSystems::Kernel),
             servo::drive_servos.in_set(SimSystems::Servo),
             physics::step_physics.in_set(SimSystems::Physics),
-            (record::record, datalog::log_data).in_set(SimSystems::Record),
+            (energy::accumulate_energy, record::record, datalog::log_data)
+                .chain()
+                .in_set(SimSystems::Record),
             clock::advance_clock.in_set(SimSystems::Clock),
         ),
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use bevy::ecs::schedule::{LogLevel, ScheduleBuildSettings};
+
+    use super::*;
+
+    /// As avian's `no_ambiguity_errors`: every pair of step systems that touch the same
+    /// data runs in a fixed order, so a step cannot depend on the executor's choice.
+    #[test]
+    fn the_step_has_no_ambiguous_system_pairs() {
+        let mut app = App::new();
+        app.add_plugins(crate::sim::SimPlugin);
+        let world = app.world_mut();
+        let Some(mut schedule) = world.resource_mut::<Schedules>().remove(SimStep) else {
+            panic!("SimPlugin adds the SimStep schedule");
+        };
+        schedule.set_build_settings(ScheduleBuildSettings {
+            ambiguity_detection: LogLevel::Error,
+            ..Default::default()
+        });
+        if let Err(e) = schedule.initialize(world) {
+            panic!("ambiguous systems in SimStep: {e}");
+        }
+        assert!(schedule.graph().conflicting_systems().0.is_empty());
+    }
 }

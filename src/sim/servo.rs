@@ -23,11 +23,15 @@ pub const LIMIT_LOOKAHEAD_S: f64 = 0.05;
 /// A hinge of a simulated robot and where its bodies are in the physics world.
 #[derive(Component, Debug, Clone)]
 pub struct SimJoint {
+    /// The robot it belongs to.
     pub robot: Entity,
     /// Index in the robot's joint order.
     pub index: usize,
+    /// The rapier joint.
     pub handle: rp::ImpulseJointHandle,
+    /// The body on the tail side.
     pub parent: rp::RigidBodyHandle,
+    /// The body on the head side.
     pub child: rp::RigidBodyHandle,
     /// Unit hinge axis in the parent body's frame.
     pub(crate) axis_parent: rp::Vector,

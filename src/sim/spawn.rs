@@ -4,20 +4,19 @@
 //! a `Name`. Robots of a batch share the environment but not each other: each has its own
 //! collision group.
 
-use std::path::Path;
-
 use bevy::prelude::*;
 use rapier3d::prelude as rp;
 
 use crate::config::Simulation;
 use crate::config::body::{BodyKind, Geom, Shape};
-use crate::config::mesh::parse_obj;
 use crate::config::resolve::robot::geom_volume;
 use crate::config::sensor::Sensor;
+use crate::config::transform::Transform;
 use crate::control::{ControlKernel, ModuleRegistry};
 use crate::rng::SimRng;
 use crate::sensing::{Debounce, SensorData};
 use crate::sim::clock::SimClock;
+use crate::sim::energy::Energy;
 use crate::sim::error::SimError;
 use crate::sim::kernel::{Kernel, SimRobot};
 use crate::sim::laser::{Laser2dSensor, beam_angles};
@@ -37,6 +36,7 @@ pub const DEFAULT_FRICTION: f64 = 0.5;
 pub struct BuildOptions {
     /// Copies of the robot, each with its own kernel (1 ..= 31).
     pub robots: usize,
+    /// Seed of the run (modules' noise, forked per robot).
     pub seed: u64,
     /// Record trajectories (off for throughput runs).
     pub record: bool,
@@ -57,14 +57,18 @@ impl Default for BuildOptions {
 pub struct EnvObject {
     /// Position among the environment's bodies.
     pub index: usize,
+    /// Its rapier body.
     pub handle: rp::RigidBodyHandle,
 }
 
 /// A link of a robot.
 #[derive(Component, Debug, Clone)]
 pub struct SimLink {
+    /// The robot it belongs to.
     pub robot: Entity,
+    /// Index among the robot's links.
     pub index: usize,
+    /// Its rapier body.
     pub handle: rp::RigidBodyHandle,
 }
 
@@ -72,7 +76,8 @@ pub struct SimLink {
 #[derive(Resource, Debug, Clone)]
 pub struct LoadedSimulation(pub Simulation);
 
-fn shape(g: &Geom) -> Result<rp::SharedShape, SimError> {
+/// The rapier shape of a geometry; a trimesh takes the mesh parsed at load time.
+fn shape(g: &Geom, sim: &Simulation) -> Result<rp::SharedShape, SimError> {
     Ok(match &g.shape {
         Shape::Box { extents: [x, y, z] } => {
             rp::SharedShape::cuboid(*x as f32, *y as f32, *z as f32)
@@ -86,20 +91,23 @@ fn shape(g: &Geom) -> Result<rp::SharedShape, SimError> {
                 file: file.clone(),
                 message,
             };
-            let text = std::fs::read_to_string(file).map_err(|e| err(e.to_string()))?;
-            let mesh = parse_obj(Path::new(file), &text).map_err(|e| err(e.to_string()))?;
+            let mesh = sim
+                .mesh(file)
+                .ok_or_else(|| err("not among the meshes the configuration loaded".into()))?;
             let vertices = mesh
                 .vertices
                 .iter()
                 .map(|v| vec3(v.map(|c| c * scale)))
                 .collect();
-            rp::SharedShape::trimesh(vertices, mesh.triangles).map_err(|e| err(format!("{e:?}")))?
+            rp::SharedShape::trimesh(vertices, mesh.triangles.clone())
+                .map_err(|e| err(format!("{e:?}")))?
         }
     })
 }
 
 /// Colliders for a body's geometries, its mass split by volume.
 fn colliders(
+    sim: &Simulation,
     geoms: &[Geom],
     mass: f64,
     friction: impl Fn(&Geom) -> f64,
@@ -109,7 +117,7 @@ fn colliders(
     geoms
         .iter()
         .map(|g| {
-            Ok(rp::ColliderBuilder::new(shape(g)?)
+            Ok(rp::ColliderBuilder::new(shape(g, sim)?)
                 .position(pose(&g.pose))
                 .mass((mass * geom_volume(g) / volume) as f32)
                 .friction(friction(g) as f32)
@@ -121,6 +129,8 @@ fn colliders(
 }
 
 /// Builds the world of `sim` into `world` (resources and entities); returns the robots.
+/// Bodies are inserted in a fixed order (environment, then each robot's links, joints and
+/// pads), so rapier's handles and hence the trajectory depend only on the configuration.
 pub fn build_world(
     world: &mut World,
     sim: &Simulation,
@@ -134,224 +144,18 @@ pub fn build_world(
         });
     }
     let props = &sim.files.simulation.properties;
-    let env = &sim.environment;
-    let mut physics = Physics::new(env.physics.gravity, props.step_width);
-    let all_robots = (1..=opts.robots as u32).fold(rp::Group::empty(), |g, i| g | group_bit(i));
-
-    // Environment: static bodies are shared by every robot.
-    let env_groups = rp::InteractionGroups::new(
-        group_bit(0),
-        all_robots | group_bit(0),
-        rp::InteractionTestMode::And,
-    );
-    let default_friction = env.physics.default_friction.unwrap_or(DEFAULT_FRICTION);
-    let mut env_entities = Vec::new();
-    for (index, b) in env.bodies.iter().enumerate() {
-        let builder = match b.kind {
-            BodyKind::Static => rp::RigidBodyBuilder::fixed(),
-            BodyKind::Dynamic => rp::RigidBodyBuilder::dynamic().can_sleep(false),
-        };
-        let handle = physics.world.bodies.insert(builder.pose(pose(&b.pose)));
-        for c in colliders(
-            &b.geoms,
-            b.mass,
-            |g| g.friction.unwrap_or(default_friction),
-            env_groups,
-        )? {
-            let w = &mut physics.world;
-            w.colliders.insert_with_parent(c, handle, &mut w.bodies);
-        }
-        env_entities.push(
-            world
-                .spawn((
-                    Name::new(format!("environment: {}", b.name)),
-                    EnvObject { index, handle },
-                ))
-                .id(),
-        );
-    }
-
-    let robot_model = &sim.robot;
-    let limits: Vec<[f64; 2]> = robot_model.joints.iter().map(|j| j.limits_deg).collect();
+    let mut physics = Physics::new(sim.environment.physics.gravity, props.step_width);
+    spawn_environment(world, &mut physics, sim, opts.robots)?;
+    let limits: Vec<[f64; 2]> = sim.robot.joints.iter().map(|j| j.limits_deg).collect();
     let template = ControlKernel::from_actuation(&sim.actuation, registry, limits)?;
-    let start = &env.robot_pose;
-    let samples =
-        (props.duration / props.step_width / props.accuracy.max(1) as f64).ceil() as usize + 1;
     let mut rng = SimRng::new(opts.seed);
     let mut robots = Vec::with_capacity(opts.robots);
     for r in 0..opts.robots {
-        let group = group_bit(r as u32 + 1);
-        let filter = if env.physics.self_collision {
-            group | group_bit(0)
-        } else {
-            group_bit(0)
-        };
-        let groups = rp::InteractionGroups::new(group, filter, rp::InteractionTestMode::And);
-        let robot_entity = world
-            .spawn(Name::new(if opts.robots == 1 {
-                robot_model.name.clone()
-            } else {
-                format!("{} #{r}", robot_model.name)
-            }))
-            .id();
-        let mut link_entities = Vec::with_capacity(robot_model.links.len());
-        let mut handles = Vec::with_capacity(robot_model.links.len());
-        for (i, l) in robot_model.links.iter().enumerate() {
-            let p = start.mul(&l.pose);
-            let handle = physics.world.bodies.insert(
-                rp::RigidBodyBuilder::dynamic()
-                    .pose(pose(&p))
-                    .can_sleep(false),
-            );
-            for c in colliders(&l.geoms, l.mass, |_| LINK_FRICTION, groups)? {
-                let w = &mut physics.world;
-                w.colliders.insert_with_parent(c, handle, &mut w.bodies);
-            }
-            handles.push((handle, l.mass));
-            let e = world
-                .spawn((
-                    Name::new(format!("link {}", l.name)),
-                    SimLink {
-                        robot: robot_entity,
-                        index: i,
-                        handle,
-                    },
-                    ChildOf(robot_entity),
-                ))
-                .id();
-            link_entities.push(e);
-        }
-        let mut joint_entities = Vec::with_capacity(robot_model.joints.len());
-        for (i, j) in robot_model.joints.iter().enumerate() {
-            let (ph, _) = handles[j.parent];
-            let (ch, _) = handles[j.child];
-            let w = &mut physics.world;
-            let (pp, cp) = (*w.bodies[ph].position(), *w.bodies[ch].position());
-            let anchor = start
-                .mul(&crate::config::transform::Transform::from_translation(
-                    j.anchor,
-                ))
-                .translation;
-            let axis = start.rotate(j.axis);
-            let (a, n) = (vec3(anchor), vec3(axis).normalize());
-            let local_axis1 = pp.rotation.inverse() * n;
-            let data = rp::GenericJointBuilder::new(rp::JointAxesMask::LOCKED_REVOLUTE_AXES)
-                .local_anchor1(pp.inverse_transform_point(a))
-                .local_anchor2(cp.inverse_transform_point(a))
-                .local_axis1(local_axis1)
-                .local_axis2(cp.rotation.inverse() * n)
-                .limits(
-                    rp::JointAxis::AngX,
-                    [
-                        j.limits_deg[0].to_radians() as f32,
-                        j.limits_deg[1].to_radians() as f32,
-                    ],
-                )
-                .motor_model(rp::JointAxis::AngX, rp::MotorModel::ForceBased)
-                .motor_velocity(rp::JointAxis::AngX, 0.0, MOTOR_DAMPING)
-                .motor_max_force(rp::JointAxis::AngX, j.max_torque as f32)
-                .contacts_enabled(false)
-                .build();
-            let handle = w.impulse_joints.insert(ph, ch, data, true);
-            let joint = SimJoint {
-                robot: robot_entity,
-                index: i,
-                handle,
-                parent: ph,
-                child: ch,
-                axis_parent: local_axis1.normalize(),
-                rest_inv: (pp.rotation.inverse() * cp.rotation).inverse(),
-            };
-            let servo = Servo {
-                target: 0.0,
-                gain: j.servo_gain.unwrap_or(DEFAULT_SERVO_GAIN),
-                max_torque: j.max_torque,
-                max_velocity: j.max_vel,
-                limits_deg: j.limits_deg,
-            };
-            let e = world
-                .spawn((
-                    Name::new(format!("joint {}", j.name)),
-                    joint,
-                    servo,
-                    JointState::default(),
-                    ChildOf(robot_entity),
-                ))
-                .id();
-            joint_entities.push(e);
-        }
-        let mut pads = 0;
-        let mut beams = Vec::new();
-        for s in &robot_model.sensors {
-            if let Sensor::Laser2d(l) = &s.sensor {
-                let angles: Vec<f64> = beam_angles(l).iter().map(|a| a.to_radians()).collect();
-                beams.push(angles.len());
-                let laser = Laser2dSensor {
-                    robot: robot_entity,
-                    index: beams.len() - 1,
-                    body: handles[s.link].0,
-                    pose: pose(&s.pose),
-                    angles,
-                    max_range: l.max_range,
-                    period: (l.scan_time / props.step_width).round().max(1.0) as u64,
-                    groups,
-                };
-                world.spawn((
-                    Name::new(format!("sensor {}", s.name)),
-                    laser,
-                    ChildOf(robot_entity),
-                ));
-            }
-            let Sensor::Tactile(t) = &s.sensor else {
-                continue;
-            };
-            let (body, _) = handles[s.link];
-            let [x, y, z] = t.extents;
-            let pad = rp::ColliderBuilder::cuboid(x as f32, y as f32, z as f32)
-                .position(pose(&s.pose))
-                .mass(0.0)
-                .friction(LINK_FRICTION as f32)
-                .friction_combine_rule(rp::CoefficientCombineRule::Min)
-                .collision_groups(groups)
-                .build();
-            let w = &mut physics.world;
-            let collider = w.colliders.insert_with_parent(pad, body, &mut w.bodies);
-            let sensor = TactileSensor {
-                robot: robot_entity,
-                index: pads,
-                collider,
-                debounce_steps: t.debounce,
-                state: Debounce::default(),
-                raw: false,
-            };
-            world.spawn((
-                Name::new(format!("sensor {}", s.name)),
-                sensor,
-                ChildOf(robot_entity),
-            ));
-            pads += 1;
-        }
         let mut kernel = template.clone();
         kernel.reset(&mut rng.fork(r as u64));
-        let n = robot_model.joints.len();
-        world.entity_mut(robot_entity).insert((
-            SimRobot {
-                index: r,
-                joints: joint_entities,
-                links: link_entities,
-                bodies: handles,
-                measured: vec![0.0; n],
-            },
-            Kernel(kernel),
-            RobotSensors(SensorData::new(pads, &beams)),
-            Track::with_capacity(n, if opts.record { samples } else { 0 }),
-        ));
-        robots.push(robot_entity);
+        robots.push(spawn_robot(world, &mut physics, sim, opts, r, kernel)?);
     }
-    let mut clock = SimClock::new(props.step_width);
-    clock.delay_ms = props.delay_ms;
-    clock.realtime_factor = props.realtime_factor;
-    world.insert_resource(clock);
+    world.insert_resource(SimClock::new(props.step_width));
     world.insert_resource(RecordSettings {
         enabled: opts.record,
         every: props.accuracy,
@@ -359,4 +163,242 @@ pub fn build_world(
     world.insert_resource(physics);
     world.insert_resource(LoadedSimulation(sim.clone()));
     Ok(robots)
+}
+
+/// The environment's bodies, shared by every robot of the batch (collision group 0).
+fn spawn_environment(
+    world: &mut World,
+    physics: &mut Physics,
+    sim: &Simulation,
+    robots: usize,
+) -> Result<(), SimError> {
+    let env = &sim.environment;
+    let all_robots = (1..=robots as u32).fold(rp::Group::empty(), |g, i| g | group_bit(i));
+    let env_groups = rp::InteractionGroups::new(
+        group_bit(0),
+        all_robots | group_bit(0),
+        rp::InteractionTestMode::And,
+    );
+    let default_friction = env.physics.default_friction.unwrap_or(DEFAULT_FRICTION);
+    for (index, b) in env.bodies.iter().enumerate() {
+        let builder = match b.kind {
+            BodyKind::Static => rp::RigidBodyBuilder::fixed(),
+            BodyKind::Dynamic => rp::RigidBodyBuilder::dynamic().can_sleep(false),
+        };
+        let handle = physics.world.bodies.insert(builder.pose(pose(&b.pose)));
+        let friction = |g: &Geom| g.friction.unwrap_or(default_friction);
+        for c in colliders(sim, &b.geoms, b.mass, friction, env_groups)? {
+            let w = &mut physics.world;
+            w.colliders.insert_with_parent(c, handle, &mut w.bodies);
+        }
+        world.spawn((
+            Name::new(format!("environment: {}", b.name)),
+            EnvObject { index, handle },
+        ));
+    }
+    Ok(())
+}
+
+/// Robot `r` of the batch: its root entity with kernel, sensors, track and energy, and its
+/// links, joints and sensors as children.
+fn spawn_robot(
+    world: &mut World,
+    physics: &mut Physics,
+    sim: &Simulation,
+    opts: &BuildOptions,
+    r: usize,
+    kernel: ControlKernel,
+) -> Result<Entity, SimError> {
+    let model = &sim.robot;
+    let props = &sim.files.simulation.properties;
+    let group = group_bit(r as u32 + 1);
+    let filter = if sim.environment.physics.self_collision {
+        group | group_bit(0)
+    } else {
+        group_bit(0)
+    };
+    let groups = rp::InteractionGroups::new(group, filter, rp::InteractionTestMode::And);
+    let name = if opts.robots == 1 {
+        model.name.clone()
+    } else {
+        format!("{} #{r}", model.name)
+    };
+    let robot = world.spawn(Name::new(name)).id();
+    let (links, bodies) = spawn_links(world, physics, sim, robot, groups)?;
+    let joints = spawn_joints(world, physics, sim, robot, &bodies);
+    let sensors = spawn_sensors(world, physics, sim, robot, &bodies, groups);
+    let samples =
+        (props.duration / props.step_width / props.accuracy.max(1) as f64).ceil() as usize + 1;
+    let n = model.joints.len();
+    world.entity_mut(robot).insert((
+        SimRobot {
+            index: r,
+            joints,
+            links,
+            bodies,
+            measured: vec![0.0; n],
+        },
+        Kernel(kernel),
+        RobotSensors(sensors),
+        Track::with_capacity(n, if opts.record { samples } else { 0 }),
+        Energy::default(),
+    ));
+    Ok(robot)
+}
+
+/// Link bodies and colliders at the environment's robot pose; returns the link entities and
+/// the bodies with their masses.
+#[allow(clippy::type_complexity)]
+fn spawn_links(
+    world: &mut World,
+    physics: &mut Physics,
+    sim: &Simulation,
+    robot: Entity,
+    groups: rp::InteractionGroups,
+) -> Result<(Vec<Entity>, Vec<(rp::RigidBodyHandle, f64)>), SimError> {
+    let start = &sim.environment.robot_pose;
+    let mut entities = Vec::with_capacity(sim.robot.links.len());
+    let mut bodies = Vec::with_capacity(sim.robot.links.len());
+    for (i, l) in sim.robot.links.iter().enumerate() {
+        let p = start.mul(&l.pose);
+        let handle = physics.world.bodies.insert(
+            rp::RigidBodyBuilder::dynamic()
+                .pose(pose(&p))
+                .can_sleep(false),
+        );
+        for c in colliders(sim, &l.geoms, l.mass, |_| LINK_FRICTION, groups)? {
+            let w = &mut physics.world;
+            w.colliders.insert_with_parent(c, handle, &mut w.bodies);
+        }
+        bodies.push((handle, l.mass));
+        let link = SimLink {
+            robot,
+            index: i,
+            handle,
+        };
+        let name = Name::new(format!("link {}", l.name));
+        entities.push(world.spawn((name, link, ChildOf(robot))).id());
+    }
+    Ok((entities, bodies))
+}
+
+/// The hinges: revolute impulse joints with limits and a force-based velocity motor, each
+/// an entity with its servo and joint state.
+fn spawn_joints(
+    world: &mut World,
+    physics: &mut Physics,
+    sim: &Simulation,
+    robot: Entity,
+    bodies: &[(rp::RigidBodyHandle, f64)],
+) -> Vec<Entity> {
+    let start = &sim.environment.robot_pose;
+    let mut entities = Vec::with_capacity(sim.robot.joints.len());
+    for (i, j) in sim.robot.joints.iter().enumerate() {
+        let (ph, _) = bodies[j.parent];
+        let (ch, _) = bodies[j.child];
+        let w = &mut physics.world;
+        let (pp, cp) = (*w.bodies[ph].position(), *w.bodies[ch].position());
+        let anchor = start
+            .mul(&Transform::from_translation(j.anchor))
+            .translation;
+        let (a, n) = (vec3(anchor), vec3(start.rotate(j.axis)).normalize());
+        let local_axis1 = pp.rotation.inverse() * n;
+        let data = rp::GenericJointBuilder::new(rp::JointAxesMask::LOCKED_REVOLUTE_AXES)
+            .local_anchor1(pp.inverse_transform_point(a))
+            .local_anchor2(cp.inverse_transform_point(a))
+            .local_axis1(local_axis1)
+            .local_axis2(cp.rotation.inverse() * n)
+            .limits(
+                rp::JointAxis::AngX,
+                [
+                    j.limits_deg[0].to_radians() as f32,
+                    j.limits_deg[1].to_radians() as f32,
+                ],
+            )
+            .motor_model(rp::JointAxis::AngX, rp::MotorModel::ForceBased)
+            .motor_velocity(rp::JointAxis::AngX, 0.0, MOTOR_DAMPING)
+            .motor_max_force(rp::JointAxis::AngX, j.max_torque as f32)
+            .contacts_enabled(false)
+            .build();
+        let handle = w.impulse_joints.insert(ph, ch, data, true);
+        let joint = SimJoint {
+            robot,
+            index: i,
+            handle,
+            parent: ph,
+            child: ch,
+            axis_parent: local_axis1.normalize(),
+            rest_inv: (pp.rotation.inverse() * cp.rotation).inverse(),
+        };
+        let servo = Servo {
+            target: 0.0,
+            gain: j.servo_gain.unwrap_or(DEFAULT_SERVO_GAIN),
+            max_torque: j.max_torque,
+            max_velocity: j.max_vel,
+            limits_deg: j.limits_deg,
+        };
+        let name = Name::new(format!("joint {}", j.name));
+        let e = world.spawn((name, joint, servo, JointState::default(), ChildOf(robot)));
+        entities.push(e.id());
+    }
+    entities
+}
+
+/// Lasers and tactile pads (thin box colliders on their links); returns the robot's empty
+/// sensor readings, sized for them.
+fn spawn_sensors(
+    world: &mut World,
+    physics: &mut Physics,
+    sim: &Simulation,
+    robot: Entity,
+    bodies: &[(rp::RigidBodyHandle, f64)],
+    groups: rp::InteractionGroups,
+) -> SensorData {
+    let step_width = sim.files.simulation.properties.step_width;
+    let mut pads = 0;
+    let mut beams = Vec::new();
+    for s in &sim.robot.sensors {
+        let name = Name::new(format!("sensor {}", s.name));
+        let (body, _) = bodies[s.link];
+        match &s.sensor {
+            Sensor::Laser2d(l) => {
+                let angles: Vec<f64> = beam_angles(l).iter().map(|a| a.to_radians()).collect();
+                beams.push(angles.len());
+                let laser = Laser2dSensor {
+                    robot,
+                    index: beams.len() - 1,
+                    body,
+                    pose: pose(&s.pose),
+                    angles,
+                    max_range: l.max_range,
+                    period: (l.scan_time / step_width).round().max(1.0) as u64,
+                    groups,
+                };
+                world.spawn((name, laser, ChildOf(robot)));
+            }
+            Sensor::Tactile(t) => {
+                let [x, y, z] = t.extents;
+                let pad = rp::ColliderBuilder::cuboid(x as f32, y as f32, z as f32)
+                    .position(pose(&s.pose))
+                    .mass(0.0)
+                    .friction(LINK_FRICTION as f32)
+                    .friction_combine_rule(rp::CoefficientCombineRule::Min)
+                    .collision_groups(groups)
+                    .build();
+                let w = &mut physics.world;
+                let collider = w.colliders.insert_with_parent(pad, body, &mut w.bodies);
+                let sensor = TactileSensor {
+                    robot,
+                    index: pads,
+                    collider,
+                    debounce_steps: t.debounce,
+                    state: Debounce::default(),
+                    raw: false,
+                };
+                world.spawn((name, sensor, ChildOf(robot)));
+                pads += 1;
+            }
+        }
+    }
+    SensorData::new(pads, &beams)
 }

@@ -12,12 +12,15 @@ use crate::sim::physics::{Physics, arr3};
 /// One tactile pad.
 #[derive(Component, Debug, Clone)]
 pub struct TactileSensor {
+    /// The robot it belongs to.
     pub robot: Entity,
     /// Index among the robot's tactile pads.
     pub index: usize,
+    /// The pad's collider (a thin box on its link).
     pub collider: rp::ColliderHandle,
     /// Steps a new state must last before it is reported.
     pub debounce_steps: u32,
+    /// Debounce state of the reading.
     pub state: Debounce,
     /// Whether a contact exists this step, before debouncing.
     pub raw: bool,

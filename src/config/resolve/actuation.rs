@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 use crate::config::actuation::{ActuationFile, ParamValue};
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::mask::JointMask;
+use crate::config::module_types::{ModuleDescriptor, ModuleTypes, ParamDescriptor};
 use crate::config::resolve::robot::RobotModel;
 use crate::config::xml::read::Reader;
-use crate::control::{ModuleDescriptor, ModuleRegistry, ParamDescriptor};
 
 /// A parameter value set in the actuation file, with its canonical name.
 #[derive(Debug, Clone, PartialEq)]
@@ -37,17 +37,17 @@ pub struct ActuationModel {
 /// The module type `name` from the registry, or an error listing the known ones.
 pub(crate) fn lookup_module<'a>(
     r: &Reader,
-    registry: &'a ModuleRegistry,
+    registry: &'a dyn ModuleTypes,
     name: &str,
     pos: Pos,
 ) -> ConfigResult<&'a ModuleDescriptor> {
-    registry.get(name).ok_or_else(|| {
+    registry.describe(name).ok_or_else(|| {
         r.err(
             pos,
             ErrorKind::UnknownModule,
             format!(
                 "unknown actuation module \"{name}\"; known modules: {}",
-                registry.names().join(", ")
+                registry.type_names().join(", ")
             ),
         )
     })
@@ -78,7 +78,7 @@ pub fn resolve_actuation(
     path: &Path,
     file: &ActuationFile,
     robot: &RobotModel,
-    registry: &ModuleRegistry,
+    registry: &dyn ModuleTypes,
 ) -> ConfigResult<ActuationModel> {
     let r = Reader::new(path);
     let mut warnings = Vec::new();

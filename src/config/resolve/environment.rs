@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use crate::config::body::{BodyKind, Geom};
 use crate::config::environment::{EnvObject, EnvironmentFile, Physics};
 use crate::config::error::{ConfigError, ConfigResult, ErrorKind};
+use crate::config::mesh::Meshes;
 use crate::config::resolve::flatten::Flattener;
 use crate::config::resolve::robot::{DEFAULT_DENSITY, geom_volume};
 use crate::config::source::FileSource;
@@ -30,6 +31,8 @@ pub struct EnvironmentModel {
     pub bodies: Vec<EnvBody>,
     pub robot_pose: Transform,
     pub files: Vec<PathBuf>,
+    /// The meshes its `trimesh` geometries name, parsed.
+    pub meshes: Meshes,
 }
 
 impl EnvironmentModel {
@@ -41,6 +44,7 @@ impl EnvironmentModel {
             bodies: Vec::new(),
             robot_pose: Transform::IDENTITY,
             files: Vec::new(),
+            meshes: Meshes::default(),
         }
     }
 }
@@ -89,6 +93,7 @@ pub fn resolve_environment(
             }),
         })
         .collect();
+    let meshes = fl.out.meshes;
     let mut files = fl.out.files;
     files.sort();
     files.dedup();
@@ -98,5 +103,6 @@ pub fn resolve_environment(
         bodies,
         robot_pose: file.robot_pose.unwrap_or(Transform::IDENTITY),
         files,
+        meshes,
     })
 }

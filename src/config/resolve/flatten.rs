@@ -3,11 +3,12 @@
 //! include cycles.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use crate::config::body::{Body, Geom, Shape};
 use crate::config::error::{ConfigError, ConfigResult, ErrorKind, Pos};
 use crate::config::kinbody::{Include, Joint, KinBody, parse_kinbody_file};
-use crate::config::mesh::parse_obj;
+use crate::config::mesh::{Meshes, parse_obj};
 use crate::config::sensor::AttachedSensor;
 use crate::config::source::{FileSource, resolve_include};
 use crate::config::transform::Transform;
@@ -42,6 +43,8 @@ pub struct Flat {
     pub sensors: Vec<PlacedSensor>,
     /// Every file read (parts, meshes), in order.
     pub files: Vec<PathBuf>,
+    /// The meshes of `trimesh` geometries, parsed.
+    pub meshes: Meshes,
 }
 
 /// Flattens kinbodies, reading included files from a [`FileSource`].
@@ -157,13 +160,17 @@ impl<'a> Flattener<'a> {
         result.map_err(|e| e.included_from(file, inc.pos))
     }
 
-    /// Replaces a trimesh's file name by the resolved path, after checking it parses.
+    /// Replaces a trimesh's file name by the resolved path and keeps the parsed mesh.
     fn resolve_mesh(&mut self, g: &mut Geom, file: &Path) -> ConfigResult<()> {
         if let Shape::Trimesh { file: mesh, .. } = &mut g.shape {
             let path = find_file(self.src, file, mesh, g.pos, "mesh")?;
-            let text = read_file(self.src, &path, file, g.pos)?;
-            parse_obj(&path, &text).map_err(|e| e.included_from(file, g.pos))?;
-            *mesh = path.display().to_string();
+            let key = path.display().to_string();
+            if self.out.meshes.get(&key).is_none() {
+                let text = read_file(self.src, &path, file, g.pos)?;
+                let parsed = parse_obj(&path, &text).map_err(|e| e.included_from(file, g.pos))?;
+                self.out.meshes.insert(key.clone(), Arc::new(parsed));
+            }
+            *mesh = key;
             self.out.files.push(path);
         }
         Ok(())

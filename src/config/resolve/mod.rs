@@ -13,11 +13,11 @@ use std::path::{Path, PathBuf};
 use crate::config::actuation::{ActuationFile, parse_actuation_file};
 use crate::config::environment::{EnvironmentFile, parse_environment_file};
 use crate::config::error::{ConfigError, ConfigResult, ErrorKind, Pos};
+use crate::config::module_types::ModuleTypes;
 use crate::config::optimizer::{OptimizerFile, parse_optimizer_file};
 use crate::config::robot::{RobotFile, parse_robot_file};
 use crate::config::simulation::{Mode, SimulationFile, parse_simulation_file};
-use crate::config::source::{FileSource, FsSource, normalize};
-use crate::control::ModuleRegistry;
+use crate::config::source::{FileSource, normalize};
 
 pub use actuation::{ActuationModel, ModuleInstance, ParamAssignment};
 pub use environment::{EnvBody, EnvironmentModel};
@@ -49,9 +49,15 @@ pub struct Simulation {
     pub warnings: Vec<String>,
 }
 
-/// Loads a simulation from disk with the standard module registry.
-pub fn load_simulation(path: impl AsRef<Path>) -> ConfigResult<Simulation> {
-    load_simulation_with(&FsSource, path.as_ref(), &ModuleRegistry::default())
+impl Simulation {
+    /// The parsed mesh of a resolved `trimesh` file name (robot or environment), read once
+    /// when the simulation was loaded.
+    pub fn mesh(&self, file: &str) -> Option<&std::sync::Arc<crate::config::mesh::TriMesh>> {
+        self.robot
+            .meshes
+            .get(file)
+            .or_else(|| self.environment.meshes.get(file))
+    }
 }
 
 fn read_top(src: &dyn FileSource, path: &Path) -> ConfigResult<String> {
@@ -81,11 +87,12 @@ fn include<T>(
     Ok((path, parsed))
 }
 
-/// Loads a simulation from any [`FileSource`] with the given registry.
+/// Loads a simulation from any [`FileSource`], checking its modules against `registry`
+/// (the module types this process knows: the standard library and loaded plugins).
 pub fn load_simulation_with(
     src: &dyn FileSource,
     path: &Path,
-    registry: &ModuleRegistry,
+    registry: &dyn ModuleTypes,
 ) -> ConfigResult<Simulation> {
     let path = normalize(path);
     let text = read_top(src, &path)?;
@@ -113,60 +120,8 @@ pub fn load_simulation_with(
     let actuation = actuation::resolve_actuation(&act_path, &act_file, &robot, registry)
         .map_err(|e| e.included_from(&path, sim.actuation.pos))?;
 
-    let (env_file, environment) = match &sim.environment {
-        Some(e) => {
-            let (env_path, env_file) = include(
-                src,
-                &path,
-                &e.path,
-                e.pos,
-                "environment",
-                parse_environment_file,
-            )?;
-            let model = environment::resolve_environment(src, &env_path, &env_file)
-                .map_err(|err| err.included_from(&path, e.pos))?;
-            (Some(env_file), model)
-        }
-        None => (None, EnvironmentModel::empty()),
-    };
-
-    let (opt_file, optimizer) = match &sim.optimizer {
-        Some(o) => {
-            let (opt_path, opt_file) = include(
-                src,
-                &path,
-                &o.path,
-                o.pos,
-                "optimizer",
-                parse_optimizer_file,
-            )?;
-            let expected = match sim.properties.mode {
-                Mode::GeneticAlgorithm => Some("genetic algorithm"),
-                Mode::GreatDeluge => Some("modified great deluge"),
-                _ => None,
-            };
-            if let Some(expected) = expected
-                && expected != opt_file.label()
-            {
-                return Err(ConfigError::new(
-                    &path,
-                    o.pos,
-                    ErrorKind::InvalidValue,
-                    format!(
-                        "mode \"{}\" needs {expected} settings, but {} holds {} settings",
-                        sim.properties.mode,
-                        opt_path.display(),
-                        opt_file.label()
-                    ),
-                ));
-            }
-            let model =
-                optimizer::resolve_optimizer(&opt_path, &opt_file, &robot, &actuation, registry)
-                    .map_err(|e| e.included_from(&path, o.pos))?;
-            (Some(opt_file), Some(model))
-        }
-        None => (None, None),
-    };
+    let (env_file, environment) = load_environment(src, &path, &sim)?;
+    let (opt_file, optimizer) = load_optimizer(src, &path, &sim, &robot, &actuation, registry)?;
 
     let mut warnings = actuation.warnings.clone();
     if let (Some(opt), false) = (&opt_file, sim.properties.mode.is_optimization()) {
@@ -197,4 +152,66 @@ pub fn load_simulation_with(
         optimizer,
         warnings,
     })
+}
+
+/// The simulation's environment file and its model (an empty world without one).
+fn load_environment(
+    src: &dyn FileSource,
+    path: &Path,
+    sim: &SimulationFile,
+) -> ConfigResult<(Option<EnvironmentFile>, EnvironmentModel)> {
+    let Some(e) = &sim.environment else {
+        return Ok((None, EnvironmentModel::empty()));
+    };
+    let (env_path, env_file) = include(
+        src,
+        path,
+        &e.path,
+        e.pos,
+        "environment",
+        parse_environment_file,
+    )?;
+    let model = environment::resolve_environment(src, &env_path, &env_file)
+        .map_err(|err| err.included_from(path, e.pos))?;
+    Ok((Some(env_file), model))
+}
+
+/// The simulation's optimizer file and its model, checked against the mode, the robot,
+/// the actuation and the module types.
+fn load_optimizer(
+    src: &dyn FileSource,
+    path: &Path,
+    sim: &SimulationFile,
+    robot: &RobotModel,
+    actuation: &ActuationModel,
+    registry: &dyn ModuleTypes,
+) -> ConfigResult<(Option<OptimizerFile>, Option<OptimizerModel>)> {
+    let Some(o) = &sim.optimizer else {
+        return Ok((None, None));
+    };
+    let (opt_path, opt_file) =
+        include(src, path, &o.path, o.pos, "optimizer", parse_optimizer_file)?;
+    let expected = match sim.properties.mode {
+        Mode::GeneticAlgorithm => Some("genetic algorithm"),
+        Mode::GreatDeluge => Some("modified great deluge"),
+        _ => None,
+    };
+    if let Some(expected) = expected
+        && expected != opt_file.label()
+    {
+        return Err(ConfigError::new(
+            path,
+            o.pos,
+            ErrorKind::InvalidValue,
+            format!(
+                "mode \"{}\" needs {expected} settings, but {} holds {} settings",
+                sim.properties.mode,
+                opt_path.display(),
+                opt_file.label()
+            ),
+        ));
+    }
+    let model = optimizer::resolve_optimizer(&opt_path, &opt_file, robot, actuation, registry)
+        .map_err(|e| e.included_from(path, o.pos))?;
+    Ok((Some(opt_file), Some(model)))
 }

@@ -6,11 +6,13 @@
 use std::path::{Path, PathBuf};
 
 use crate::config::error::{ConfigResult, ErrorKind};
+use crate::config::module_types::{ModuleDescriptor, ModuleTypes, ParamDescriptor};
 use crate::config::optimizer::{GenomeConfig, OptimizerFile, allele_count};
-use crate::config::resolve::actuation::{ActuationModel, lookup_module, lookup_parameter};
+use crate::config::resolve::actuation::{
+    ActuationModel, ModuleInstance, lookup_module, lookup_parameter,
+};
 use crate::config::resolve::robot::RobotModel;
 use crate::config::xml::read::{Reader, same_name};
-use crate::control::{ModuleRegistry, ParamDescriptor};
 
 /// One registered parameter, resolved.
 #[derive(Debug, Clone, PartialEq)]
@@ -50,7 +52,7 @@ pub fn resolve_optimizer(
     file: &OptimizerFile,
     robot: &RobotModel,
     actuation: &ActuationModel,
-    registry: &ModuleRegistry,
+    registry: &dyn ModuleTypes,
 ) -> ConfigResult<OptimizerModel> {
     let r = Reader::new(path);
     let mut parameters = Vec::new();
@@ -87,74 +89,15 @@ pub fn resolve_optimizer(
                 format!("parameter {} has no genomeConfig", p.number),
             ));
         };
-        let what = format!("genomeConfig {} activeJoints=", genome.number);
-        genome
-            .active_joints
-            .check_len(&r, genome.mask_pos, robot.joints.len(), &what)?;
-        for j in genome.active_joints.indices() {
-            if !instances.iter().any(|m| m.joints.0[j]) {
-                return Err(r.err(
-                    genome.mask_pos,
-                    ErrorKind::UnknownReference,
-                    format!(
-                        "{what}: joint {j} ({}) is active, but no {} module drives it",
-                        robot.joints[j].name, descriptor.type_name
-                    ),
-                ));
-            }
-        }
+        check_active_joints(&r, genome, robot, &instances, descriptor)?;
         let genes = if genome.uniform {
             1
         } else {
             genome.active_joints.count()
         };
-        let pick = |v: &Vec<f64>, i: usize| if v.len() == 1 { v[0] } else { v[i] };
-        let mut alleles = Vec::with_capacity(genes);
-        for i in 0..genes {
-            if genome.value_space == 0 {
-                for v in &genome.values {
-                    r.check_range(
-                        *v,
-                        param.min,
-                        param.max,
-                        genome.pos,
-                        &format!("{} value", param.name),
-                    )?;
-                }
-                alleles.push(genome.values.len() as u64);
-            } else {
-                let (lo, hi, inc) = (
-                    pick(&genome.lower, i),
-                    pick(&genome.upper, i),
-                    pick(&genome.increments, i),
-                );
-                let what = format!(
-                    "genomeConfig {} bounds of {} ({})",
-                    genome.number, param.name, param.unit
-                );
-                r.check_range(
-                    lo,
-                    param.min,
-                    param.max,
-                    genome.pos,
-                    &format!("{what}: lower"),
-                )?;
-                r.check_range(
-                    hi,
-                    param.min,
-                    param.max,
-                    genome.pos,
-                    &format!("{what}: upper"),
-                )?;
-                alleles.push(allele_count(
-                    lo,
-                    hi,
-                    inc,
-                    genome.lower_bound_type,
-                    genome.upper_bound_type,
-                ));
-            }
-        }
+        let alleles = (0..genes)
+            .map(|i| alleles_of(&r, genome, param, i))
+            .collect::<ConfigResult<Vec<u64>>>()?;
         parameters.push(OptimizedParameter {
             number: p.number,
             module: descriptor.type_name,
@@ -169,4 +112,68 @@ pub fn resolve_optimizer(
         spec: file.clone(),
         parameters,
     })
+}
+
+/// Every active joint of a genome configuration must be driven by a module of the type.
+fn check_active_joints(
+    r: &Reader,
+    genome: &GenomeConfig,
+    robot: &RobotModel,
+    instances: &[&ModuleInstance],
+    descriptor: &ModuleDescriptor,
+) -> ConfigResult<()> {
+    let what = format!("genomeConfig {} activeJoints=", genome.number);
+    genome
+        .active_joints
+        .check_len(r, genome.mask_pos, robot.joints.len(), &what)?;
+    for j in genome.active_joints.indices() {
+        if !instances.iter().any(|m| m.joints.0[j]) {
+            return Err(r.err(
+                genome.mask_pos,
+                ErrorKind::UnknownReference,
+                format!(
+                    "{what}: joint {j} ({}) is active, but no {} module drives it",
+                    robot.joints[j].name, descriptor.type_name
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// How many values gene `i` of a genome configuration takes; its values or bounds must
+/// lie in the parameter's range.
+fn alleles_of(
+    r: &Reader,
+    genome: &GenomeConfig,
+    param: &ParamDescriptor,
+    i: usize,
+) -> ConfigResult<u64> {
+    if genome.value_space == 0 {
+        for v in &genome.values {
+            let what = format!("{} value", param.name);
+            r.check_range(*v, param.min, param.max, genome.pos, &what)?;
+        }
+        return Ok(genome.values.len() as u64);
+    }
+    let pick = |v: &Vec<f64>| if v.len() == 1 { v[0] } else { v[i] };
+    let (lo, hi, inc) = (
+        pick(&genome.lower),
+        pick(&genome.upper),
+        pick(&genome.increments),
+    );
+    let what = format!(
+        "genomeConfig {} bounds of {} ({})",
+        genome.number, param.name, param.unit
+    );
+    let (min, max) = (param.min, param.max);
+    r.check_range(lo, min, max, genome.pos, &format!("{what}: lower"))?;
+    r.check_range(hi, min, max, genome.pos, &format!("{what}: upper"))?;
+    Ok(allele_count(
+        lo,
+        hi,
+        inc,
+        genome.lower_bound_type,
+        genome.upper_bound_type,
+    ))
 }

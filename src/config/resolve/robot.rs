@@ -5,8 +5,11 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::config::body::{Geom, Shape};
-use crate::config::error::{ConfigError, ConfigResult, ErrorKind};
-use crate::config::resolve::flatten::{Flat, Flattener, find_file, read_file};
+use crate::config::error::{ConfigError, ConfigResult, ErrorKind, Pos};
+use crate::config::mesh::Meshes;
+use crate::config::resolve::flatten::{
+    Flat, Flattener, PlacedBody, PlacedJoint, PlacedSensor, find_file, read_file,
+};
 use crate::config::robot::RobotFile;
 use crate::config::sensor::{Sensor, SensorSource, parse_sensor_file};
 use crate::config::source::FileSource;
@@ -121,6 +124,8 @@ pub struct RobotModel {
     pub files: Vec<PathBuf>,
     /// The real robot's servos, one per joint in joint order.
     pub servos: ServoMap,
+    /// The meshes its `trimesh` geometries name, parsed.
+    pub meshes: Meshes,
 }
 
 /// The real robot's servo of one joint.
@@ -302,6 +307,7 @@ pub fn resolve_robot(
         joints: placed_joints,
         sensors: mut placed_sensors,
         mut files,
+        meshes,
     } = fl.out;
     if bodies.is_empty() {
         return Err(ConfigError::new(
@@ -311,63 +317,98 @@ pub fn resolve_robot(
             "the robot has no <Body>",
         ));
     }
-    let links: Vec<Link> = bodies
-        .iter()
-        .map(|pb| {
-            let (mass, from_geom) = match &pb.body.mass {
-                Some(m) => (m.total, false),
-                None => (
-                    pb.body.geoms.iter().map(geom_volume).sum::<f64>().max(1e-6) * DEFAULT_DENSITY,
-                    true,
-                ),
-            };
-            Link {
-                name: pb.body.name.clone(),
-                pose: pb.world,
-                geoms: pb.body.geoms.clone(),
-                mass,
-                mass_from_geometry: from_geom,
-            }
-        })
-        .collect();
-    let names: Vec<&str> = links.iter().map(|l| l.name.as_str()).collect();
-    let find = |name: &str, file: &Path, pos, what: &str| -> ConfigResult<usize> {
-        names.iter().position(|n| *n == name).ok_or_else(|| {
+    let links: Vec<Link> = bodies.iter().map(link_of).collect();
+    let names = BodyNames(links.iter().map(|l| l.name.as_str()).collect());
+    let joints = resolve_joints(&placed_joints, &links, &names)?;
+    for s in &file.sensors {
+        placed_sensors.push(crate::config::resolve::flatten::PlacedSensor {
+            sensor: s.clone(),
+            file: path.to_path_buf(),
+        });
+    }
+    let sensors = resolve_sensors(src, &placed_sensors, &names, &mut files)?;
+    files.sort();
+    files.dedup();
+    let servos = resolve_servos(path, file, &joints)?;
+    Ok(RobotModel {
+        name: file.name.clone(),
+        file: path.to_path_buf(),
+        links,
+        joints,
+        sensors,
+        files,
+        servos,
+        meshes,
+    })
+}
+
+/// A placed body as a link; without a `<Mass>`, its mass comes from its geometry.
+fn link_of(pb: &PlacedBody) -> Link {
+    let (mass, from_geom) = match &pb.body.mass {
+        Some(m) => (m.total, false),
+        None => (
+            pb.body.geoms.iter().map(geom_volume).sum::<f64>().max(1e-6) * DEFAULT_DENSITY,
+            true,
+        ),
+    };
+    Link {
+        name: pb.body.name.clone(),
+        pose: pb.world,
+        geoms: pb.body.geoms.clone(),
+        mass,
+        mass_from_geometry: from_geom,
+    }
+}
+
+/// The robot's body names, in link order, for references by name.
+struct BodyNames<'a>(Vec<&'a str>);
+
+impl BodyNames<'_> {
+    /// The link named `name`; the error (at `file`, `pos`) lists the bodies.
+    fn find(&self, name: &str, file: &Path, pos: Pos, what: &str) -> ConfigResult<usize> {
+        self.0.iter().position(|n| *n == name).ok_or_else(|| {
             ConfigError::new(
                 file,
                 pos,
                 ErrorKind::UnknownReference,
                 format!(
                     "{what} names body \"{name}\", which the robot does not have; bodies: {}",
-                    names.join(", ")
+                    self.0.join(", ")
                 ),
             )
         })
-    };
-    let mut joints = Vec::with_capacity(placed_joints.len());
-    for pj in &placed_joints {
+    }
+}
+
+/// The hinges between links: parent and child by name, anchor and axis in the robot's
+/// frame, limits and servo settings with their defaults, pitch / yaw from the axis.
+fn resolve_joints(
+    placed: &[PlacedJoint],
+    links: &[Link],
+    names: &BodyNames<'_>,
+) -> ConfigResult<Vec<RobotJoint>> {
+    let mut joints = Vec::with_capacity(placed.len());
+    for pj in placed {
         let j = &pj.joint;
         let what = format!("joint {}", j.name);
+        let fail = |message: String| {
+            Err(ConfigError::new(
+                &pj.file,
+                j.pos,
+                ErrorKind::InvalidValue,
+                message,
+            ))
+        };
         if joints.iter().any(|o: &RobotJoint| o.name == j.name) {
-            return Err(ConfigError::new(
-                &pj.file,
-                j.pos,
-                ErrorKind::InvalidValue,
-                format!("joint name \"{}\" is used twice", j.name),
-            ));
+            return fail(format!("joint name \"{}\" is used twice", j.name));
         }
-        let parent = find(&j.bodies[0], &pj.file, j.pos, &what)?;
-        let child = find(&j.bodies[1], &pj.file, j.pos, &what)?;
+        let parent = names.find(&j.bodies[0], &pj.file, j.pos, &what)?;
+        let child = names.find(&j.bodies[1], &pj.file, j.pos, &what)?;
         if parent == child {
-            return Err(ConfigError::new(
-                &pj.file,
-                j.pos,
-                ErrorKind::InvalidValue,
-                format!("{what} joins body \"{}\" to itself", j.bodies[0]),
-            ));
+            return fail(format!("{what} joins body \"{}\" to itself", j.bodies[0]));
         }
         let frame = match &j.offset_from {
-            Some(o) => links[find(o, &pj.file, j.pos, &format!("{what} <offsetfrom>"))?].pose,
+            Some(o) => links[names.find(o, &pj.file, j.pos, &format!("{what} <offsetfrom>"))?].pose,
             None => links[parent].pose,
         };
         let anchor = frame
@@ -391,14 +432,18 @@ pub fn resolve_robot(
             orientation: classify(axis, chain),
         });
     }
-    for s in &file.sensors {
-        placed_sensors.push(crate::config::resolve::flatten::PlacedSensor {
-            sensor: s.clone(),
-            file: path.to_path_buf(),
-        });
-    }
-    let mut sensors = Vec::with_capacity(placed_sensors.len());
-    for ps in &placed_sensors {
+    Ok(joints)
+}
+
+/// The sensors on links, inline or read from their files (added to `files`).
+fn resolve_sensors(
+    src: &dyn FileSource,
+    placed: &[PlacedSensor],
+    names: &BodyNames<'_>,
+    files: &mut Vec<PathBuf>,
+) -> ConfigResult<Vec<RobotSensor>> {
+    let mut sensors = Vec::with_capacity(placed.len());
+    for ps in placed {
         let s = &ps.sensor;
         if sensors.iter().any(|o: &RobotSensor| o.name == s.name) {
             return Err(ConfigError::new(
@@ -408,7 +453,7 @@ pub fn resolve_robot(
                 format!("sensor name \"{}\" is used twice", s.name),
             ));
         }
-        let link = find(&s.link, &ps.file, s.pos, &format!("sensor {}", s.name))?;
+        let link = names.find(&s.link, &ps.file, s.pos, &format!("sensor {}", s.name))?;
         let sensor = match &s.source {
             SensorSource::Inline(sensor) => sensor.clone(),
             SensorSource::File { path: written, pos } => {
@@ -426,16 +471,5 @@ pub fn resolve_robot(
             sensor,
         });
     }
-    files.sort();
-    files.dedup();
-    let servos = resolve_servos(path, file, &joints)?;
-    Ok(RobotModel {
-        name: file.name.clone(),
-        file: path.to_path_buf(),
-        links,
-        joints,
-        sensors,
-        files,
-        servos,
-    })
+    Ok(sensors)
 }

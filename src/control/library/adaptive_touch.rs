@@ -43,8 +43,9 @@
 //! B.7) names two of the parameters `Get-stuck-threshold` and `back to zero constant`;
 //! both spellings are accepted.
 
-use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
+use crate::config::module_types::{ModuleDescriptor, ParamDescriptor};
 use crate::control::module::{ActuationModule, ModuleCore, StepContext};
+use crate::measure::ground_distance;
 use crate::rng::SimRng;
 
 /// Largest offset magnitude (degrees).
@@ -117,6 +118,7 @@ const PARAMETERS: &[ParamDescriptor] = &[
     ),
 ];
 
+/// The type's descriptor.
 pub fn descriptor() -> ModuleDescriptor {
     ModuleDescriptor {
         type_name: "Global_Adaptive_Touch",
@@ -145,6 +147,7 @@ pub struct AdaptiveTouch {
 }
 
 impl AdaptiveTouch {
+    /// A module for `joints` connected joints, its parameters at their defaults.
     pub fn new(joints: usize) -> Self {
         AdaptiveTouch {
             core: ModuleCore::new(descriptor(), joints),
@@ -166,7 +169,7 @@ impl AdaptiveTouch {
     /// Counts the steps since the robot last got [`PROGRESS_STEP`] farther from its start.
     fn track_progress(&mut self, position: [f64; 3]) {
         let start = *self.start.get_or_insert(position);
-        let distance = (position[0] - start[0]).hypot(position[1] - start[1]);
+        let distance = ground_distance(start, position);
         if distance >= self.farthest + PROGRESS_STEP {
             self.farthest = distance;
             self.stalled = 0;
@@ -182,7 +185,7 @@ impl AdaptiveTouch {
         let sensors = ctx.sensors;
         let (p, start) = (sensors.position, self.start.unwrap_or(sensors.position));
         let (dx, dy) = (p[0] - start[0], p[1] - start[1]);
-        let travelled = dx.hypot(dy);
+        let travelled = ground_distance(start, p);
         (2 * head..2 * head + 2).any(|i| {
             sensors.tactile.get(i).copied().unwrap_or(false)
                 && match sensors.tactile_normals.get(i) {

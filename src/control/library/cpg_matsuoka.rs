@@ -17,7 +17,7 @@
 
 use std::sync::OnceLock;
 
-use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
+use crate::config::module_types::{ModuleDescriptor, ParamDescriptor};
 use crate::control::module::{ActuationModule, ModuleCore, StepContext};
 use crate::control::pattern::{AMPLITUDE_PARAM, OFFSET_PARAM, PatternExtras, gaussian_noise};
 use crate::rng::SimRng;
@@ -73,6 +73,7 @@ const SERIES: &[&str] = &[
     "Phase_Difference",
 ];
 
+/// The type's descriptor.
 pub fn descriptor() -> ModuleDescriptor {
     ModuleDescriptor {
         type_name: "PatternGenerator_cpg_matsuoka",
@@ -154,6 +155,7 @@ pub struct CpgMatsuoka {
 }
 
 impl CpgMatsuoka {
+    /// A module for `joints` connected joints, its parameters at their defaults.
     pub fn new(joints: usize) -> Self {
         CpgMatsuoka {
             core: ModuleCore::new(descriptor(), joints),

@@ -15,7 +15,7 @@
 
 use std::f64::consts::TAU;
 
-use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
+use crate::config::module_types::{ModuleDescriptor, ParamDescriptor};
 use crate::control::module::{ActuationModule, ModuleCore, StepContext};
 use crate::control::pattern::{
     AMPLITUDE_PARAM, FREQUENCY_PARAM, OFFSET_PARAM, PHASE_DIFFERENCE_PARAM, PatternExtras,
@@ -74,6 +74,7 @@ const SERIES: &[&str] = &[
     "Phase_Difference",
 ];
 
+/// The type's descriptor.
 pub fn descriptor() -> ModuleDescriptor {
     ModuleDescriptor {
         type_name: "PatternGenerator_cpg_phase",
@@ -98,6 +99,7 @@ pub struct CpgPhase {
 }
 
 impl CpgPhase {
+    /// A module for `joints` connected joints, its parameters at their defaults.
     pub fn new(joints: usize) -> Self {
         CpgPhase {
             core: ModuleCore::new(descriptor(), joints),

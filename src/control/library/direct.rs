@@ -1,6 +1,6 @@
 //! `DirectJointAccess`: holds its joints at fixed angles (thesis listing B.5).
 
-use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
+use crate::config::module_types::{ModuleDescriptor, ParamDescriptor};
 use crate::control::module::{ActuationModule, ModuleCore, StepContext};
 use crate::rng::SimRng;
 
@@ -14,6 +14,7 @@ const PARAMETERS: &[ParamDescriptor] = &[ParamDescriptor {
     help: "angle the joint is held at",
 }];
 
+/// The type's descriptor.
 pub fn descriptor() -> ModuleDescriptor {
     ModuleDescriptor {
         type_name: "DirectJointAccess",
@@ -31,6 +32,7 @@ pub struct DirectJointAccess {
 }
 
 impl DirectJointAccess {
+    /// A module for `joints` connected joints, its parameters at their defaults.
     pub fn new(joints: usize) -> Self {
         DirectJointAccess {
             core: ModuleCore::new(descriptor(), joints),

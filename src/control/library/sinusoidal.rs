@@ -7,7 +7,7 @@
 //! chain crawls head first; a negative Δϕ reverses both. The time term is integrated per joint (θ_i += 2π f_i δ), so
 //! changing the frequency while running bends the wave smoothly instead of jumping.
 
-use crate::control::descriptor::{ModuleDescriptor, ParamDescriptor};
+use crate::config::module_types::{ModuleDescriptor, ParamDescriptor};
 use crate::control::module::{ActuationModule, ModuleCore, StepContext};
 use crate::control::pattern::{
     AMPLITUDE_PARAM, FREQUENCY_PARAM, OFFSET_PARAM, PHASE_DIFFERENCE_PARAM, PatternExtras,
@@ -26,6 +26,7 @@ const PARAMETERS: &[ParamDescriptor] = &[
     OFFSET_PARAM,
 ];
 
+/// The type's descriptor.
 pub fn descriptor() -> ModuleDescriptor {
     ModuleDescriptor {
         type_name: "PatternGenerator_sinusoidal",
@@ -47,6 +48,7 @@ pub struct Sinusoidal {
 }
 
 impl Sinusoidal {
+    /// A module for `joints` connected joints, its parameters at their defaults.
     pub fn new(joints: usize) -> Self {
         Sinusoidal {
             core: ModuleCore::new(descriptor(), joints),

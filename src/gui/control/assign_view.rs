@@ -5,7 +5,6 @@
 use bevy::prelude::*;
 use bevy_egui::egui;
 
-use crate::control::ModuleRegistry;
 use crate::gui::control::session::SimSession;
 
 /// The form's state.
@@ -48,7 +47,7 @@ pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut AssignState
             .selected_text(shown)
             .show_ui(ui, |ui| {
                 // Built when opened, so modules compiled meanwhile are offered.
-                let registry = ModuleRegistry::default();
+                let registry = crate::plugin_host::registry();
                 for name in registry.names() {
                     let summary = registry.get(name).map_or("", |d| d.summary);
                     ui.selectable_value(&mut state.module, name.to_string(), name)

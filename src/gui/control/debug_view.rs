@@ -6,7 +6,6 @@ use bevy::prelude::*;
 use rapier3d::prelude as rp;
 
 use crate::gui::control::session::SimSession;
-use crate::sim::physics::Physics;
 
 /// Whether the debug view is on.
 #[derive(Resource, Debug, Default, Clone, Copy)]
@@ -26,10 +25,7 @@ pub fn draw_debug(view: Res<DebugView>, session: NonSend<SimSession>, mut gizmos
     if !view.0 {
         return;
     }
-    let Some(physics) = session.simulator.world().get_resource::<Physics>() else {
-        return;
-    };
-    let w = &physics.world;
+    let w = session.simulator.physics();
     for (_, c) in w.colliders.iter() {
         let pose = c.position();
         let r = pose.rotation;

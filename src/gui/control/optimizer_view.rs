@@ -12,8 +12,9 @@ use bevy_egui::egui;
 use egui_plot::{Legend, Line, Plot, PlotPoints, Points};
 
 use crate::gui::control::session::SimSession;
-use crate::optimize::fitness::Fitness;
-use crate::optimize::run::{Evaluation, Outcome, RunSettings, StopFlag, optimize, prepare};
+use crate::optimize::run::{
+    Evaluation, Outcome, RunChoices, RunSettings, StopFlag, optimize, prepare,
+};
 use crate::optimize::space::{Genome, SearchSpace};
 
 /// A message from the optimization thread.
@@ -60,32 +61,28 @@ impl OptimizerView {
             return;
         }
         let sim = session.sim.clone();
-        let spec = sim.optimizer.as_ref().map(|m| &m.spec);
-        let props = &sim.files.simulation.properties;
-        let max = if self.max_evals > 0 {
-            self.max_evals
-        } else {
-            spec.and_then(|s| s.max_evaluations).unwrap_or(u64::MAX)
+        let choices = RunChoices {
+            workers: Some(self.workers.max(1)),
+            max_evaluations: (self.max_evals > 0).then_some(self.max_evals),
+            ..RunChoices::default()
         };
-        let settings = RunSettings {
-            seed: props.seed,
-            workers: self.workers.max(1),
-            batch: 0,
-            deluge_batch: 8,
-            max_evaluations: max,
-            duration: props.duration,
-            fitness: spec.map(|s| s.fitness).unwrap_or(Fitness::Displacement),
-            stop: StopFlag::default(),
+        let settings = match RunSettings::of(&sim, &choices) {
+            Ok(s) => s,
+            Err(e) => {
+                self.status = e;
+                return;
+            }
         };
         self.stop = settings.stop.clone();
         self.curve.clear();
         self.best = None;
         self.started = Some(Instant::now());
         self.status = "running".into();
+        let registry = crate::plugin_host::registry();
         let (tx, rx) = channel();
         std::thread::spawn(move || {
             let eval_tx = tx.clone();
-            let result = optimize(&sim, &settings, None, |e| {
+            let result = optimize(&sim, &settings, &registry, None, |e| {
                 let _ = eval_tx.send(Report::Eval(e.clone()));
             });
             let _ = tx.send(Report::Done(result));
@@ -146,7 +143,7 @@ impl OptimizerView {
 
 /// Puts `genome`'s values into the session's kernel after a restart, and starts it.
 pub fn replay(session: &mut SimSession, genome: &Genome) {
-    let space = match prepare(&session.sim) {
+    let space = match prepare(&session.sim, &crate::plugin_host::registry()) {
         Ok((space, _)) => space,
         Err(e) => {
             session.error = Some(e);
@@ -176,7 +173,9 @@ pub fn show(ctx: &egui::Context, session: &mut SimSession, view: &mut OptimizerV
         Some((g, s)) if g == session.generation => (g, s),
         _ => (
             session.generation,
-            prepare(&session.sim).ok().map(|(s, _)| s),
+            prepare(&session.sim, &crate::plugin_host::registry())
+                .ok()
+                .map(|(s, _)| s),
         ),
     };
     let mut open = view.open;

@@ -6,7 +6,7 @@ use bevy_egui::egui;
 
 use crate::gui::control::session::SimSession;
 use crate::gui::control::toolbar::ToolbarState;
-use crate::sim::tactile::RobotSensors;
+use crate::measure::ground_distance;
 
 /// What the overlay shows, updated after the frame's steps.
 #[derive(Resource, Debug, Clone, Default)]
@@ -29,7 +29,7 @@ impl RobotOverlay {
         let t = session.sim_time();
         match self.last {
             Some((t0, c0)) if t > t0 => {
-                let v = ((com[0] - c0[0]).powi(2) + (com[1] - c0[1]).powi(2)).sqrt() / (t - t0);
+                let v = ground_distance(c0, com) / (t - t0);
                 let k = ((t - t0) / 1.0).min(1.0);
                 self.speed += k * (v - self.speed);
             }
@@ -39,12 +39,8 @@ impl RobotOverlay {
         self.last = Some((t, com));
         self.com = com;
         self.heading = session.simulator.heading(0).unwrap_or(0.0);
-        let sensors = session
-            .simulator
-            .robots()
-            .first()
-            .and_then(|r| session.simulator.world().get::<RobotSensors>(*r));
-        (self.pressed, self.pads) = sensors.map_or((0, 0), |s| (s.0.pressed(), s.0.tactile.len()));
+        let sensors = session.simulator.sensors(0).ok();
+        (self.pressed, self.pads) = sensors.map_or((0, 0), |s| (s.pressed(), s.tactile.len()));
     }
 }
 

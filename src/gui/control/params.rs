@@ -200,10 +200,7 @@ mod tests {
 
     /// Runs `seconds` and returns how far the centre of mass moved in the ground plane.
     fn crawl(s: &mut SimSession, seconds: f64) -> f64 {
-        let a = s.simulator.com(0).expect("com");
-        s.simulator.run_for(seconds);
-        let b = s.simulator.com(0).expect("com");
-        ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt()
+        s.simulator.run_for(seconds).displacement
     }
 
     #[test]

@@ -138,12 +138,7 @@ pub fn apply_moves(
 
 /// A body's position (m, z up).
 fn body_position(session: &SimSession, v: &BodyVisual) -> Option<[f64; 3]> {
-    let physics = session
-        .simulator
-        .world()
-        .get_resource::<crate::sim::physics::Physics>()?;
-    let b = physics.world.bodies.get(v.handle)?;
-    Some(crate::sim::physics::arr3(b.translation()))
+    session.simulator.body_position(v.handle)
 }
 
 /// The "Selected body" window.

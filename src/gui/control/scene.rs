@@ -4,20 +4,16 @@
 //! visual below it uses configuration coordinates. The scene is rebuilt whenever the
 //! session builds a new world (load, restart) and follows the rapier bodies every frame.
 
-use std::path::Path;
-
 use bevy::asset::RenderAssetUsages;
 use bevy::mesh::{Indices, PrimitiveTopology};
 use bevy::prelude::*;
 use rapier3d::prelude as rp;
 
+use crate::config::Simulation;
 use crate::config::body::{Geom, Shape};
-use crate::config::mesh::parse_obj;
+use crate::config::mesh::TriMesh;
 use crate::config::transform::Transform as Pose;
 use crate::gui::control::session::SimSession;
-use crate::sim::physics::Physics;
-use crate::sim::spawn::{EnvObject, SimLink};
-use crate::sim::tactile::{RobotSensors, TactileSensor};
 
 /// The root of the scene (configuration frame -> Bevy frame).
 #[derive(Component)]
@@ -67,14 +63,8 @@ pub fn build_scene(
             Visibility::default(),
         ))
         .id();
-    let world = session.simulator.world();
     let sim = &session.sim;
-    let mut env: Vec<&EnvObject> = Vec::new();
-    let mut q = world.try_query::<&EnvObject>();
-    if let Some(q) = q.as_mut() {
-        env.extend(q.iter(world));
-    }
-    for obj in env {
+    for obj in session.simulator.environment_bodies() {
         let Some(body) = sim.environment.bodies.get(obj.index) else {
             continue;
         };
@@ -82,6 +72,7 @@ pub fn build_scene(
             &mut commands,
             &mut meshes,
             &mut materials,
+            sim,
             format!("environment: {}", body.name),
             BodyVisual {
                 handle: obj.handle,
@@ -91,11 +82,9 @@ pub fn build_scene(
         );
         commands.entity(root).add_child(e);
     }
-    let robot = session.simulator.robots().first().copied();
-    let mut links = world.try_query::<&SimLink>();
     let mut link_entities = vec![None; sim.robot.links.len()];
-    if let Some(q) = links.as_mut() {
-        for l in q.iter(world).filter(|l| Some(l.robot) == robot) {
+    {
+        for l in session.simulator.links(0).unwrap_or_default() {
             let Some(model) = sim.robot.links.get(l.index) else {
                 continue;
             };
@@ -103,6 +92,7 @@ pub fn build_scene(
                 &mut commands,
                 &mut meshes,
                 &mut materials,
+                sim,
                 format!("link {}", model.name),
                 BodyVisual {
                     handle: l.handle,
@@ -133,23 +123,15 @@ fn spawn_pads(
     session: &SimSession,
     links: &[Option<(Entity, rp::RigidBodyHandle)>],
 ) {
-    let world = session.simulator.world();
-    let Some(physics) = world.get_resource::<Physics>() else {
-        return;
-    };
-    let robot = session.simulator.robots().first().copied();
+    let physics = session.simulator.physics();
     let pressed = materials.add(StandardMaterial {
         base_color: Color::srgb(1.0, 0.1, 0.05),
         emissive: LinearRgba::rgb(2.0, 0.1, 0.0),
         ..default()
     });
     let released = materials.add(Color::srgb(0.45, 0.1, 0.1));
-    let mut pads = world.try_query::<&TactileSensor>();
-    let Some(q) = pads.as_mut() else {
-        return;
-    };
-    for pad in q.iter(world).filter(|p| Some(p.robot) == robot) {
-        let Some(collider) = physics.world.colliders.get(pad.collider) else {
+    for pad in session.simulator.tactile_pads(0).unwrap_or_default() {
+        let Some(collider) = physics.colliders.get(pad.collider) else {
             continue;
         };
         let Some((link, _)) = collider
@@ -194,6 +176,7 @@ fn spawn_body(
     commands: &mut Commands,
     meshes: &mut Assets<Mesh>,
     materials: &mut Assets<StandardMaterial>,
+    sim: &Simulation,
     name: String,
     visual: BodyVisual,
     geoms: &[Geom],
@@ -207,7 +190,11 @@ fn spawn_body(
         ))
         .id();
     for (i, g) in geoms.iter().enumerate().filter(|(_, g)| g.visible) {
-        let Some(mesh) = geom_mesh(&g.shape) else {
+        let tri = match &g.shape {
+            Shape::Trimesh { file, .. } => sim.mesh(file).map(|m| &**m),
+            _ => None,
+        };
+        let Some(mesh) = geom_mesh(&g.shape, tri) else {
             continue;
         };
         let material = geom_material(g);
@@ -246,18 +233,17 @@ pub fn geom_material(g: &Geom) -> StandardMaterial {
     }
 }
 
-/// The mesh of a geometry (None: a mesh file that cannot be read; the simulation would
-/// not have built either). Mesh file paths must be resolved (as the simulation does).
-pub fn geom_mesh(shape: &Shape) -> Option<Mesh> {
+/// The mesh of a geometry; a trimesh takes its parsed mesh from `tri` (None: a mesh that
+/// was not loaded, which the loader has reported).
+pub fn geom_mesh(shape: &Shape, tri: Option<&TriMesh>) -> Option<Mesh> {
     Some(match shape {
         Shape::Box { extents: [x, y, z] } => {
             Cuboid::new(2.0 * *x as f32, 2.0 * *y as f32, 2.0 * *z as f32).into()
         }
         Shape::Sphere { radius } => Sphere::new(*radius as f32).mesh().ico(3).ok()?,
         Shape::Cylinder { radius, height } => Cylinder::new(*radius as f32, *height as f32).into(),
-        Shape::Trimesh { file, scale } => {
-            let text = std::fs::read_to_string(file).ok()?;
-            let obj = parse_obj(Path::new(file), &text).ok()?;
+        Shape::Trimesh { scale, .. } => {
+            let obj = tri?;
             let positions: Vec<[f32; 3]> = obj
                 .vertices
                 .iter()
@@ -290,11 +276,9 @@ pub fn follow_bodies(
     session: NonSend<SimSession>,
     mut visuals: Query<(&BodyVisual, &mut Transform)>,
 ) {
-    let Some(physics) = session.simulator.world().get_resource::<Physics>() else {
-        return;
-    };
+    let bodies = &session.simulator.physics().bodies;
     for (v, mut t) in &mut visuals {
-        if let Some(b) = physics.world.bodies.get(v.handle) {
+        if let Some(b) = bodies.get(v.handle) {
             let p = b.translation();
             let r = b.rotation();
             t.translation = Vec3::new(p.x, p.y, p.z);
@@ -308,14 +292,11 @@ pub fn colour_pads(
     session: NonSend<SimSession>,
     mut pads: Query<(&PadVisual, &mut MeshMaterial3d<StandardMaterial>)>,
 ) {
-    let Some(robot) = session.simulator.robots().first() else {
-        return;
-    };
-    let Some(sensors) = session.simulator.world().get::<RobotSensors>(*robot) else {
+    let Ok(sensors) = session.simulator.sensors(0) else {
         return;
     };
     for (pad, mut material) in &mut pads {
-        let on = sensors.0.tactile.get(pad.index).copied().unwrap_or(false);
+        let on = sensors.tactile.get(pad.index).copied().unwrap_or(false);
         let want = if on { &pad.pressed } else { &pad.released };
         if material.0 != *want {
             material.0 = want.clone();

@@ -73,7 +73,7 @@ pub fn run_script(
     }
 }
 
-/// One command.
+/// One command, carried out by the function of its group.
 fn carry_out(
     c: Command,
     commands: &mut Commands,
@@ -81,6 +81,51 @@ fn carry_out(
     session: &mut SimSession,
     views: &mut Views,
     visuals: &Query<(Entity, &BodyVisual)>,
+) -> Result<Flow, String> {
+    use Command as C;
+    match c {
+        C::Wait(_) | C::Start | C::Pause | C::Restart | C::RunUntil(_) | C::Speed(_) => {
+            simulation_command(c, script, session)
+        }
+        C::Set { .. } => simulation_command(c, script, session),
+        C::Plot(_)
+        | C::Panel(_)
+        | C::PerJoint { .. }
+        | C::Debug(_)
+        | C::SelectLink(_)
+        | C::MoveBy(_)
+        | C::Inspect(..) => view_command(c, session, views, visuals),
+        C::Remote(_)
+        | C::RemoteSet(..)
+        | C::RemoteBind { .. }
+        | C::RemoteRemove(_)
+        | C::RemoteLoad(_)
+        | C::RemoteSave(_) => remote_command(c, views),
+        C::RobotOpen(_)
+        | C::RobotConnect(_)
+        | C::RobotTorque(_)
+        | C::RobotDrive(_)
+        | C::RobotTwin(_)
+        | C::RobotDisconnect => robot_command(c, session, views),
+        C::Module(_) | C::Assign(..) | C::Optimize(_) | C::ReplayBest => {
+            tool_command(c, session, views)
+        }
+        C::Screenshot(_) | C::State(_) | C::Quit => {
+            output_command(c, commands, script, session, views)
+        }
+    }
+}
+
+/// A command outside its group (cannot happen: [`carry_out`] dispatches by group).
+fn misrouted(c: &Command) -> String {
+    format!("internal: {c:?} reached the wrong command group")
+}
+
+/// Running, pausing, pacing and parameters.
+fn simulation_command(
+    c: Command,
+    script: &mut crate::gui::control::script::Script,
+    session: &mut SimSession,
 ) -> Result<Flow, String> {
     Ok(match c {
         Command::Wait(n) => {
@@ -105,7 +150,7 @@ fn carry_out(
         }
         Command::RunUntil(_) => Flow::Next,
         Command::Speed(f) => {
-            session.realtime_factor = f;
+            session.pacing.realtime_factor = f;
             Flow::Next
         }
         Command::Set {
@@ -122,6 +167,18 @@ fn carry_out(
                 .map_err(|e| e.to_string())?;
             Flow::Next
         }
+        other => return Err(misrouted(&other)),
+    })
+}
+
+/// Plots, panels, the per-joint switch, the debug view, selection and data inspection.
+fn view_command(
+    c: Command,
+    session: &mut SimSession,
+    views: &mut Views,
+    visuals: &Query<(Entity, &BodyVisual)>,
+) -> Result<Flow, String> {
+    Ok(match c {
         Command::Plot(selectors) => {
             let log = session.simulator.data(0).map_err(|e| e.to_string())?;
             let cols = resolve(&log.handlers, &selectors)?;
@@ -167,6 +224,52 @@ fn carry_out(
             }
             Flow::Next
         }
+        Command::Debug(on) => {
+            views.debug.0 = on;
+            Flow::Next
+        }
+        Command::SelectLink(i) => {
+            let (e, _) = visuals
+                .iter()
+                .find(|(_, v)| v.link == Some(i))
+                .ok_or_else(|| format!("no link {i} in the viewer"))?;
+            views.selection.body = Some(e);
+            Flow::Next
+        }
+        Command::MoveBy(d) => {
+            if views.selection.body.is_none() {
+                return Err("nothing selected (select-link first)".into());
+            }
+            views.selection.nudge(d);
+            Flow::Yield
+        }
+        Command::Inspect(path, selectors) => {
+            let inspect = &mut views.inspect;
+            inspect.open = true;
+            inspect.path = path.display().to_string();
+            inspect.load(&path);
+            let Some((_, info)) = &inspect.file else {
+                return Err(inspect.message.clone());
+            };
+            let cols = resolve(&info.handlers, &selectors)?;
+            let mut checked = std::collections::BTreeSet::new();
+            for c in &cols {
+                let h = &info.handlers[c.handler];
+                if let Some(s) = (0..h.series.len()).rev().find(|s| h.offset(*s) <= c.value) {
+                    checked.insert((h.name.clone(), h.series[s].clone(), c.value - h.offset(s)));
+                }
+            }
+            inspect.checked = checked;
+            inspect.add_graph().ok_or_else(|| inspect.message.clone())?;
+            Flow::Next
+        }
+        other => return Err(misrouted(&other)),
+    })
+}
+
+/// The remote dialog: bindings and injected gamepad values.
+fn remote_command(c: Command, views: &mut Views) -> Result<Flow, String> {
+    Ok(match c {
         Command::Remote(open) => {
             views.remote.open = open;
             Flow::Next
@@ -208,13 +311,13 @@ fn carry_out(
             views.remote.save(&p)?;
             Flow::Next
         }
-        Command::Module(m) => {
-            if crate::gui::module_editor::script::run(&mut views.modules, m)? {
-                Flow::Next
-            } else {
-                Flow::Again
-            }
-        }
+        other => return Err(misrouted(&other)),
+    })
+}
+
+/// The real-robot tab.
+fn robot_command(c: Command, session: &mut SimSession, views: &mut Views) -> Result<Flow, String> {
+    Ok(match c {
         Command::RobotOpen(open) => {
             views.robot.open = open;
             Flow::Next
@@ -240,49 +343,24 @@ fn carry_out(
             views.robot.disconnect(session);
             Flow::Next
         }
+        other => return Err(misrouted(&other)),
+    })
+}
+
+/// The module library, module assignment and the optimizer.
+fn tool_command(c: Command, session: &mut SimSession, views: &mut Views) -> Result<Flow, String> {
+    Ok(match c {
+        Command::Module(m) => {
+            if crate::gui::module_editor::script::run(&mut views.modules, m)? {
+                Flow::Next
+            } else {
+                Flow::Again
+            }
+        }
         Command::Assign(module, mask) => {
             views.assign.module = module;
             views.assign.mask = mask;
             views.assign.assign(session)?;
-            Flow::Next
-        }
-        Command::Debug(on) => {
-            views.debug.0 = on;
-            Flow::Next
-        }
-        Command::SelectLink(i) => {
-            let (e, _) = visuals
-                .iter()
-                .find(|(_, v)| v.link == Some(i))
-                .ok_or_else(|| format!("no link {i} in the viewer"))?;
-            views.selection.body = Some(e);
-            Flow::Next
-        }
-        Command::MoveBy(d) => {
-            if views.selection.body.is_none() {
-                return Err("nothing selected (select-link first)".into());
-            }
-            views.selection.nudge(d);
-            Flow::Yield
-        }
-        Command::Inspect(path, selectors) => {
-            let inspect = &mut views.inspect;
-            inspect.open = true;
-            inspect.path = path.display().to_string();
-            inspect.load(&path);
-            let Some((_, info)) = &inspect.file else {
-                return Err(inspect.message.clone());
-            };
-            let cols = resolve(&info.handlers, &selectors)?;
-            let mut checked = std::collections::BTreeSet::new();
-            for c in &cols {
-                let h = &info.handlers[c.handler];
-                if let Some(s) = (0..h.series.len()).rev().find(|s| h.offset(*s) <= c.value) {
-                    checked.insert((h.name.clone(), h.series[s].clone(), c.value - h.offset(s)));
-                }
-            }
-            inspect.checked = checked;
-            inspect.add_graph().ok_or_else(|| inspect.message.clone())?;
             Flow::Next
         }
         Command::Optimize(n) => {
@@ -307,6 +385,19 @@ fn carry_out(
             replay(session, &genome);
             Flow::Next
         }
+        other => return Err(misrouted(&other)),
+    })
+}
+
+/// Screenshots, the state file and quitting.
+fn output_command(
+    c: Command,
+    commands: &mut Commands,
+    script: &mut crate::gui::control::script::Script,
+    session: &mut SimSession,
+    views: &mut Views,
+) -> Result<Flow, String> {
+    Ok(match c {
         Command::Screenshot(path) => {
             script.pacing.screenshot(commands, path);
             Flow::Yield
@@ -317,6 +408,7 @@ fn carry_out(
             Flow::Next
         }
         Command::Quit => Flow::Quit,
+        other => return Err(misrouted(&other)),
     })
 }
 

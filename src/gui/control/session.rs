@@ -6,10 +6,11 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::config::{Simulation, load_simulation};
+use crate::config::Simulation;
 use crate::control::ControlKernel;
+use crate::control::load_simulation_in;
 use crate::sim::datalog::DataSettings;
-use crate::sim::{BuildOptions, Simulator};
+use crate::sim::{BuildOptions, Pacer, Pacing, Simulator};
 
 /// Longest a frame may spend stepping when the simulation runs as fast as possible, so the
 /// window stays responsive (seconds).
@@ -24,16 +25,14 @@ pub struct SimSession {
     /// The kernel as built, for the parameter dialog's Reset.
     pub initial_kernel: ControlKernel,
     pub running: bool,
-    /// Simulated seconds per wall second; 0 = as fast as possible.
-    pub realtime_factor: f64,
-    /// Extra wall-clock delay per step (ms), for slow motion.
-    pub delay_ms: f64,
+    /// Real-time factor and slow-motion delay (the toolbar's), applied from the next frame.
+    pub pacing: Pacing,
     /// Step width δ (s) used at the next restart.
     pub step_width: f64,
     /// Wall seconds spent running since the last (re)start.
     pub real_time: f64,
-    /// Simulated seconds still owed to the real-time pacing.
-    owed: f64,
+    /// Steps due per frame at `pacing` (the pacer the CLI and the real-robot loop use).
+    pacer: Pacer,
     /// The last error (load, restart), shown in the toolbar.
     pub error: Option<String>,
     /// Counts the worlds built (load, restart), so views know when to rebuild.
@@ -43,10 +42,10 @@ pub struct SimSession {
 impl SimSession {
     /// Loads `path` and builds its world, paused.
     pub fn open(path: &Path) -> Result<SimSession, String> {
-        let sim = load_simulation(path).map_err(|e| e.to_string())?;
+        let registry = crate::plugin_host::registry();
+        let sim = load_simulation_in(path, &registry).map_err(|e| e.to_string())?;
         let step_width = sim.files.simulation.properties.step_width;
-        let realtime = sim.files.simulation.properties.realtime_factor;
-        let delay_ms = sim.files.simulation.properties.delay_ms;
+        let pacing = Pacing::of(&sim.files.simulation.properties);
         let (simulator, initial_kernel) = build(&sim, step_width)?;
         Ok(SimSession {
             path: path.to_path_buf(),
@@ -54,11 +53,10 @@ impl SimSession {
             simulator,
             initial_kernel,
             running: false,
-            realtime_factor: realtime.max(0.0),
-            delay_ms: delay_ms.max(0.0),
+            pacing,
+            pacer: Pacer::new(pacing, step_width),
             step_width,
             real_time: 0.0,
-            owed: 0.0,
             error: None,
             generation: 0,
         })
@@ -89,7 +87,7 @@ impl SimSession {
         self.simulator = simulator;
         self.initial_kernel = kernel;
         self.real_time = 0.0;
-        self.owed = 0.0;
+        self.pacer.drop_backlog();
         self.running = false;
         self.error = None;
         self.generation += 1;
@@ -99,7 +97,7 @@ impl SimSession {
     /// whose mask character is `1` to the configuration shown, and rebuilds the world
     /// (paused at 0). The configuration files are not changed.
     pub fn add_module(&mut self, name: &str, mask: &str) -> Result<(), String> {
-        let registry = crate::control::ModuleRegistry::default();
+        let registry = crate::plugin_host::registry();
         let descriptor = registry
             .get(name)
             .ok_or_else(|| {
@@ -152,28 +150,17 @@ impl SimSession {
         self.simulator.clock().step
     }
 
-    /// Advances the simulation for a frame that took `frame_dt` wall seconds: at the
-    /// real-time factor (several steps per frame when faster than the frame rate), or as
-    /// many steps as fit in the frame's budget when the factor is 0. Returns steps run.
+    /// Advances the simulation for a frame that took `frame_dt` wall seconds: the steps
+    /// the pacer says are due (several per frame when faster than the frame rate), or as
+    /// many as fit in the frame's budget when unpaced. Returns steps run.
     pub fn advance(&mut self, frame_dt: f64) -> u64 {
         if !self.running {
             return 0;
         }
         self.real_time += frame_dt;
         let dt = self.simulator.clock().dt;
-        let delay = self.delay_ms.max(0.0) / 1000.0;
-        let mut steps = if self.realtime_factor > 0.0 {
-            self.owed += frame_dt * self.realtime_factor;
-            let n = (self.owed / dt).floor().max(0.0);
-            self.owed -= n * dt;
-            n as u64
-        } else {
-            u64::MAX
-        };
-        if delay > 0.0 {
-            // With a delay per step, a frame holds as many steps as its delays fit in.
-            steps = steps.min(((frame_dt / delay).floor() as u64).max(1));
-        }
+        self.pacer.retune(self.pacing, dt);
+        let steps = self.pacer.steps_for(frame_dt).unwrap_or(u64::MAX);
         let started = Instant::now();
         let mut done = 0;
         // Step in small chunks so the budget is checked without reading the clock each step.
@@ -182,7 +169,8 @@ impl SimSession {
             self.simulator.run_steps(chunk);
             done += chunk;
             if started.elapsed().as_secs_f64() > MAX_STEP_BUDGET {
-                self.owed = 0.0; // cannot keep up: drop the backlog instead of spiralling
+                // Cannot keep up: drop the backlog instead of spiralling.
+                self.pacer.drop_backlog();
                 break;
             }
         }
@@ -203,7 +191,9 @@ fn build(sim: &Simulation, dt: f64) -> Result<(Simulator, ControlKernel), String
         seed: sim.files.simulation.properties.seed,
         record: true,
     };
-    let mut simulator = Simulator::new(&sim, &opts).map_err(|e| e.to_string())?;
+    let registry = crate::plugin_host::registry();
+    let mut simulator =
+        Simulator::with_registry(&sim, &opts, &registry).map_err(|e| e.to_string())?;
     let every = sim.files.simulation.properties.accuracy.max(1);
     simulator.enable_data(
         DataSettings {

@@ -115,27 +115,27 @@ pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut ToolbarStat
         ui.separator();
         ui.label("Delay (ms/step):");
         ui.add(
-            egui::DragValue::new(&mut session.delay_ms)
+            egui::DragValue::new(&mut session.pacing.delay_ms)
                 .range(0.0..=1000.0)
                 .speed(0.5),
         );
         ui.label("Real-time factor:");
         ui.add(
-            egui::DragValue::new(&mut session.realtime_factor)
+            egui::DragValue::new(&mut session.pacing.realtime_factor)
                 .range(0.0..=1000.0)
                 .speed(0.05),
         );
         if ui
-            .selectable_label(session.realtime_factor == 1.0, "sync 1x")
+            .selectable_label(session.pacing.realtime_factor == 1.0, "sync 1x")
             .clicked()
         {
-            session.realtime_factor = 1.0;
+            session.pacing.realtime_factor = 1.0;
         }
         if ui
-            .selectable_label(session.realtime_factor == 0.0, "max")
+            .selectable_label(session.pacing.realtime_factor == 0.0, "max")
             .clicked()
         {
-            session.realtime_factor = 0.0;
+            session.pacing.realtime_factor = 0.0;
         }
         ui.label("Step width δ (s):");
         ui.add(

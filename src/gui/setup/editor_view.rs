@@ -43,6 +43,9 @@ pub fn show_library(ui: &mut egui::Ui, state: &mut SetupState) {
             r.translation[1] + ahead[1],
         );
     }
+    for e in state.env().mesh_errors() {
+        ui.colored_label(egui::Color32::from_rgb(230, 80, 60), e);
+    }
     ui.separator();
     ui.horizontal(|ui| {
         let env = state.env_mut();

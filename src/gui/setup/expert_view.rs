@@ -120,14 +120,19 @@ pub fn show(ui: &mut egui::Ui, state: &mut SetupState) {
             }
         }
         if ui.button("Check").clicked() {
-            state.expert.check = Some(state.expert.composition.check(&path));
+            state.expert.check = Some(
+                state
+                    .expert
+                    .composition
+                    .check(&path, &state.wizard.registry),
+            );
         }
         if ui.button("Save").clicked() {
-            let r = state.expert.composition.save(&path);
+            let r = state.expert.composition.save(&path, &state.wizard.registry);
             state.report(r, |_| format!("saved {}", path.display()));
         }
         if ui.button("Open in control window").clicked() {
-            match state.expert.composition.save(&path) {
+            match state.expert.composition.save(&path, &state.wizard.registry) {
                 Ok(()) => crate::gui::setup::open_control_window(state, &path),
                 Err(e) => state.expert.check = Some(Err(e)),
             }

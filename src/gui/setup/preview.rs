@@ -6,10 +6,10 @@ use std::path::{Path, PathBuf};
 
 use crate::compose::paths::OverlaySource;
 use crate::compose::wizard::{RobotChoice, Wizard};
-use crate::config::load_simulation;
 use crate::config::resolve::robot::{RobotModel, resolve_robot};
 use crate::config::robot::{parse_robot_file, write_robot_file};
 use crate::config::source::FsSource;
+use crate::control::load_simulation_in;
 use crate::sim::{BuildOptions, Simulator};
 
 /// A key that changes whenever the robot the wizard describes changes.
@@ -58,16 +58,13 @@ pub fn run_preview(w: &Wizard, seconds: f64) -> Result<(PathBuf, f64), String> {
     // Preview in the single-run mode whatever the wizard's mode.
     p.props.mode = crate::config::simulation::Mode::SingleRun;
     let sim_path = p.save()?;
-    let sim = load_simulation(&sim_path).map_err(|e| e.to_string())?;
+    let registry = crate::plugin_host::registry();
+    let sim = load_simulation_in(&sim_path, &registry).map_err(|e| e.to_string())?;
     let opts = BuildOptions {
         robots: 1,
         seed: sim.files.simulation.properties.seed,
         record: false,
     };
-    let mut s = Simulator::new(&sim, &opts).map_err(|e| e.to_string())?;
-    let dt = sim.files.simulation.properties.step_width;
-    let start = s.com(0).map_err(|e| e.to_string())?;
-    s.run_steps((seconds / dt).round() as u64);
-    let end = s.com(0).map_err(|e| e.to_string())?;
-    Ok((sim_path, (end[0] - start[0]).hypot(end[1] - start[1])))
+    let mut s = Simulator::with_registry(&sim, &opts, &registry).map_err(|e| e.to_string())?;
+    Ok((sim_path, s.run_for(seconds).displacement))
 }

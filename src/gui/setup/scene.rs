@@ -12,6 +12,7 @@ use crate::compose::env_edit::{EnvEditor, Selected};
 use crate::config::body::{Geom, Shape};
 use crate::config::environment::EnvObject;
 use crate::config::kinbody::parse_kinbody_file;
+use crate::config::mesh::Meshes;
 use crate::config::resolve::robot::RobotModel;
 use crate::config::source::{FsSource, resolve_include};
 use crate::config::transform::Transform as Pose;
@@ -38,6 +39,9 @@ pub struct SceneCache {
     expert_env: Option<(std::path::PathBuf, Option<EnvEditor>)>,
     pub robot: Option<Result<RobotModel, String>>,
     meshes: HashMap<String, Handle<Mesh>>,
+    /// Mesh files read for `trimesh` geometries (a file that fails to load is not drawn; the
+    /// environment editor reports why).
+    trimeshes: Meshes,
 }
 
 fn shape_key(s: &Shape) -> String {
@@ -120,11 +124,13 @@ pub fn sync_scene(
     } else {
         cache.expert_env.as_ref().and_then(|(_, e)| e.clone())
     };
+    let cache = &mut *cache;
     let mut spawner = Spawner {
         commands: &mut commands,
         meshes: &mut meshes,
         materials: &mut materials,
         cache: &mut cache.meshes,
+        trimeshes: &mut cache.trimeshes,
     };
     let robot_pose = shown_env.as_ref().map_or(Pose::IDENTITY, |e| e.robot_pose);
     let robot_entity = spawner.item(ItemVisual(Selected::Robot), "robot", &robot_pose);
@@ -203,6 +209,7 @@ struct Spawner<'a, 'w, 's> {
     meshes: &'a mut Assets<Mesh>,
     materials: &'a mut Assets<StandardMaterial>,
     cache: &'a mut HashMap<String, Handle<Mesh>>,
+    trimeshes: &'a mut Meshes,
 }
 
 impl Spawner<'_, '_, '_> {
@@ -246,7 +253,13 @@ impl Spawner<'_, '_, '_> {
             let mesh = match self.cache.get(&key) {
                 Some(h) => h.clone(),
                 None => {
-                    let Some(m) = geom_mesh(&shape) else {
+                    let tri = match &shape {
+                        Shape::Trimesh { file, .. } => {
+                            self.trimeshes.load(std::path::Path::new(file)).ok()
+                        }
+                        _ => None,
+                    };
+                    let Some(m) = geom_mesh(&shape, tri.as_deref()) else {
                         continue;
                     };
                     let h = self.meshes.add(m);

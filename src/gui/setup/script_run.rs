@@ -93,16 +93,6 @@ fn carry_out(
     state: &mut SetupState,
     modules: &mut ModuleEditor,
 ) -> Result<Flow, String> {
-    let env_only = |state: &SetupState| {
-        if state.editing_env() {
-            Ok(())
-        } else {
-            Err(
-                "not in the environment editor (tool editor, or the wizard's environment page)"
-                    .to_string(),
-            )
-        }
-    };
     match c {
         Command::Wait(n) => {
             script.pacing.waiting = n;
@@ -124,6 +114,67 @@ fn carry_out(
             let p = state.wizard.save()?;
             state.status = Some(Status::Info(format!("saved {}", p.display())));
         }
+        Command::Add(..)
+        | Command::Drop(..)
+        | Command::Select(_)
+        | Command::MoveTo(_)
+        | Command::MoveBy(_)
+        | Command::DragTo(_)
+        | Command::Rotate(_)
+        | Command::Yaw(_)
+        | Command::Scale(_)
+        | Command::Friction(_)
+        | Command::Dynamic(_)
+        | Command::Mass(_)
+        | Command::Colour(_)
+        | Command::Delete
+        | Command::Undo
+        | Command::Redo
+        | Command::EnvSave(_)
+        | Command::EnvLoad(_) => return editor_command(c, state),
+        Command::Expert(..) | Command::ExpertSave(_) | Command::ExpertEdit => {
+            expert_command(c, state)?
+        }
+        Command::Preview => {
+            preview(state);
+            if let Some(Err(e)) = &state.preview {
+                return Err(e.clone());
+            }
+        }
+        Command::Zoom(h) => state.ortho_height = h.clamp(0.05, 40.0),
+        Command::Screenshot(path) => {
+            script.pacing.screenshot(commands, path);
+            return Ok(Flow::Yield);
+        }
+        Command::State(path) => {
+            crate::gui::control::widgets::ensure_parent(&path);
+            std::fs::write(&path, state_lines(state, modules))
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+        }
+        Command::Module(m) => {
+            if !crate::gui::module_editor::script::run(modules, m)? {
+                return Ok(Flow::Again);
+            }
+            state.sync_modules(modules.revision);
+        }
+        Command::Quit => return Ok(Flow::Quit),
+    }
+    Ok(Flow::Next)
+}
+
+/// The environment editor's commands (the editor tool, or the wizard's environment page).
+fn editor_command(c: Command, state: &mut SetupState) -> Result<Flow, String> {
+    let env_only = |state: &SetupState| {
+        if state.editing_env() {
+            Ok(())
+        } else {
+            Err(
+                "not in the environment editor (tool editor, or the wizard's environment page)"
+                    .to_string(),
+            )
+        }
+    };
+    match c {
         Command::Add(name, at) => {
             env_only(state)?;
             let it = item(state, &name)?;
@@ -188,6 +239,14 @@ fn carry_out(
             state.editor = EnvEditor::load(&p)?;
             state.editor_path = p.display().to_string();
         }
+        other => return Err(format!("internal: {other:?} is not an editor command")),
+    }
+    Ok(Flow::Next)
+}
+
+/// The expert composition's commands.
+fn expert_command(c: Command, state: &mut SetupState) -> Result<(), String> {
+    match c {
         Command::Expert(part, path) => {
             let c = &mut state.expert.composition;
             let p = (path != "none").then(|| PathBuf::from(&path));
@@ -207,8 +266,8 @@ fn carry_out(
         }
         Command::ExpertSave(p) => {
             state.expert.path = p.display().to_string();
-            state.expert.composition.save(&p)?;
-            state.expert.check = Some(state.expert.composition.check(&p));
+            state.expert.composition.save(&p, &state.wizard.registry)?;
+            state.expert.check = Some(state.expert.composition.check(&p, &state.wizard.registry));
         }
         Command::ExpertEdit => {
             crate::gui::setup::expert_view::edit_in_wizard(state);
@@ -216,31 +275,9 @@ fn carry_out(
                 return Err(e.clone());
             }
         }
-        Command::Preview => {
-            preview(state);
-            if let Some(Err(e)) = &state.preview {
-                return Err(e.clone());
-            }
-        }
-        Command::Zoom(h) => state.ortho_height = h.clamp(0.05, 40.0),
-        Command::Screenshot(path) => {
-            script.pacing.screenshot(commands, path);
-            return Ok(Flow::Yield);
-        }
-        Command::State(path) => {
-            crate::gui::control::widgets::ensure_parent(&path);
-            std::fs::write(&path, state_lines(state, modules))
-                .map_err(|e| format!("{}: {e}", path.display()))?;
-        }
-        Command::Module(m) => {
-            if !crate::gui::module_editor::script::run(modules, m)? {
-                return Ok(Flow::Again);
-            }
-            state.sync_modules(modules.revision);
-        }
-        Command::Quit => return Ok(Flow::Quit),
+        other => return Err(format!("internal: {other:?} is not an expert command")),
     }
-    Ok(Flow::Next)
+    Ok(())
 }
 
 /// The state a GUI test checks.

@@ -77,12 +77,15 @@ impl SetupState {
     pub fn sync_modules(&mut self, revision: u64) {
         if revision != self.module_revision {
             self.module_revision = revision;
-            self.wizard.registry = crate::control::ModuleRegistry::default();
+            self.wizard.registry = crate::plugin_host::registry();
         }
     }
 
+    /// The window's state: the wizard on its first page (offering the standard modules and
+    /// the loaded plugins), an empty scene, the expert composition of the demo.
     pub fn new(configs: &Path, out: &Path, stamp: &str) -> Self {
-        let wizard = Wizard::new(configs, out, stamp);
+        let mut wizard = Wizard::new(configs, out, stamp);
+        wizard.registry = crate::plugin_host::registry();
         let editor_file = out.join(format!("scene_{stamp}.env.xml"));
         let assets = configs.parent().unwrap_or(Path::new(".")).join("assets");
         let expert_path = out.join(format!("composed_{stamp}.simulation.xml"));

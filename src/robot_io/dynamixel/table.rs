@@ -14,8 +14,11 @@ pub const GOAL_POSITION: u16 = 116;
 /// Present current (2 bytes, signed), then present velocity (4, signed) and present
 /// position (4): read in one block of [`PRESENT_BLOCK_LEN`] bytes.
 pub const PRESENT_CURRENT: u16 = 126;
+/// Present velocity (4 bytes, signed).
 pub const PRESENT_VELOCITY: u16 = 128;
+/// Present position (4 bytes).
 pub const PRESENT_POSITION: u16 = 132;
+/// Bytes of the present current/velocity/position block.
 pub const PRESENT_BLOCK_LEN: u16 = 10;
 /// Present temperature (1 byte, °C).
 pub const PRESENT_TEMPERATURE: u16 = 146;
@@ -26,6 +29,7 @@ pub const XM430_W350: u16 = 1020;
 
 /// Position units per revolution; 2048 is the centre (0°).
 pub const POSITION_UNITS: f64 = 4096.0;
+/// The position of 0°.
 pub const POSITION_CENTRE: f64 = 2048.0;
 /// One current unit in A (XM430: 2.69 mA).
 pub const CURRENT_UNIT_A: f64 = 0.00269;

@@ -40,9 +40,13 @@ const ACCESS_ERROR: u8 = 7;
 /// Counts of what the bus was asked.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct BusStats {
+    /// Packets received.
     pub packets: u64,
+    /// Sync writes received.
     pub sync_writes: u64,
+    /// Sync reads received.
     pub sync_reads: u64,
+    /// Packets with a bad header or checksum.
     pub bad_packets: u64,
 }
 
@@ -126,6 +130,7 @@ impl EmulatedBus {
         self.lock().servos.clone()
     }
 
+    /// What the bus has received so far.
     pub fn stats(&self) -> BusStats {
         self.lock().stats
     }

@@ -11,8 +11,11 @@ pub const STATUS: u8 = 0x55;
 /// One instruction packet, parameters unstuffed.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Instruction {
+    /// Servo id (254: broadcast).
     pub id: u8,
+    /// Instruction code.
     pub instruction: u8,
+    /// Parameters, unstuffed.
     pub params: Vec<u8>,
 }
 

@@ -6,6 +6,7 @@ use crate::robot_io::dynamixel::table;
 /// An emulated servo.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EmulatedServo {
+    /// Bus id.
     pub id: u8,
     /// The control table (little-endian registers).
     pub memory: [u8; table::TABLE_LEN],
@@ -64,14 +65,17 @@ impl EmulatedServo {
         !self.silent && self.silent_after.is_none_or(|n| packets <= n)
     }
 
+    /// Whether the torque is on.
     pub fn torque(&self) -> bool {
         self.memory[usize::from(table::TORQUE_ENABLE)] != 0
     }
 
+    /// The goal position (units).
     pub fn goal(&self) -> u32 {
         self.u32_at(table::GOAL_POSITION)
     }
 
+    /// The present position (units).
     pub fn present(&self) -> f64 {
         self.position
     }

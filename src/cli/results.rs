@@ -5,8 +5,8 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use proleg::optimize::curve::plot_curves;
-use proleg::optimize::store::{RunRow, Store};
+use crate::optimize::curve::plot_curves;
+use crate::optimize::store::{RunRow, Store};
 
 /// Options of `proleg results`.
 pub struct ResultsOptions {
@@ -14,7 +14,9 @@ pub struct ResultsOptions {
     pub stores: Vec<PathBuf>,
     /// Only these runs (default: all).
     pub runs: Vec<i64>,
+    /// Draw the learning curves into this PNG.
     pub curve: Option<PathBuf>,
+    /// Write every evaluation as TSV here.
     pub export: Option<PathBuf>,
 }
 
@@ -43,6 +45,7 @@ fn describe(out: &mut String, r: &RunRow) {
     }
 }
 
+/// Lists the runs and best candidates of the stores; draws and exports as asked.
 pub fn run(o: &ResultsOptions) -> Result<String, String> {
     let mut opened: Vec<(Store, Vec<RunRow>)> = Vec::new();
     for path in &o.stores {

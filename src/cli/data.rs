@@ -6,9 +6,9 @@ use std::io::{BufWriter, Write};
 use std::path::Path;
 use std::time::Instant;
 
-use proleg::data::export::{SeriesSelector, XAxis, export};
-use proleg::data::plot::plot;
-use proleg::data::read::info;
+use crate::data::export::{SeriesSelector, XAxis, export};
+use crate::data::plot::plot;
+use crate::data::read::info;
 
 /// `proleg data info FILE`.
 pub fn show_info(file: &Path) -> Result<String, String> {

@@ -1,5 +1,8 @@
-//! Descriptions of actuation-module types: their parameters (with units, defaults and
-//! ranges) and the internal data series they log. Plain data, free of Bevy.
+//! Descriptions of actuation-module types as configurations see them: their parameters
+//! (with units, defaults and ranges) and the internal data series they log, and
+//! [`ModuleTypes`], the lookup the loader checks actuation and optimizer files against.
+//! Plain data: the types themselves (factories, the standard library, plugins) live in
+//! `crate::control`, whose registry implements [`ModuleTypes`].
 
 use crate::config::xml::read::same_name;
 
@@ -47,4 +50,12 @@ impl ModuleDescriptor {
     pub fn parameter_names(&self) -> Vec<&'static str> {
         self.parameters.iter().map(|p| p.name).collect()
     }
+}
+
+/// The module types a configuration may name (the loader's view of a module registry).
+pub trait ModuleTypes {
+    /// The type answering to `name` (case, spaces, `_` and `-` ignored).
+    fn describe(&self, name: &str) -> Option<&ModuleDescriptor>;
+    /// Every type name, for messages.
+    fn type_names(&self) -> Vec<&'static str>;
 }

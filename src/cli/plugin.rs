@@ -3,11 +3,12 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
+use crate::plugin_host::build::{BuildOptions, build};
+use crate::plugin_host::template::{Declaration, ParamDecl};
+use crate::plugin_host::{self, ScanReport};
 use clap::Subcommand;
-use proleg::plugin_host::build::{BuildOptions, build};
-use proleg::plugin_host::template::{Declaration, ParamDecl};
-use proleg::plugin_host::{self, ScanReport};
 
+/// The `proleg plugin` subcommands.
 #[derive(Subcommand)]
 pub enum PluginCommand {
     /// Make a new plugin crate in the plugin workspace from a declaration.

@@ -6,10 +6,10 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use proleg::config::load_simulation;
-use proleg::robot_io::dynamixel::DynamixelChain;
-use proleg::robot_io::emulator::EmulatedBus;
-use proleg::robot_io::real_mode::{RealOptions, run};
+use crate::control::{ModuleRegistry, load_simulation_in};
+use crate::robot_io::dynamixel::DynamixelChain;
+use crate::robot_io::emulator::EmulatedBus;
+use crate::robot_io::real_mode::{RealOptions, run};
 
 /// `proleg robot`'s arguments.
 #[derive(clap::Args)]
@@ -48,13 +48,13 @@ fn stop_flag() -> Arc<AtomicBool> {
 }
 
 /// Runs the real-robot mode and summarizes it.
-pub fn robot(o: &RobotOptions) -> Result<String, String> {
+pub fn robot(o: &RobotOptions, registry: &ModuleRegistry) -> Result<String, String> {
     if let Some(d) = o.duration
         && !(d.is_finite() && d >= 0.0)
     {
         return Err(format!("--duration {d}: give a number of seconds >= 0"));
     }
-    let sim = load_simulation(&o.config).map_err(|e| e.to_string())?;
+    let sim = load_simulation_in(&o.config, registry).map_err(|e| e.to_string())?;
     let mut chain = DynamixelChain::new(
         &o.port,
         o.baud,
@@ -68,7 +68,7 @@ pub fn robot(o: &RobotOptions) -> Result<String, String> {
         every: o.every,
         seed: o.seed.unwrap_or(sim.files.simulation.properties.seed),
     };
-    let s = run(&sim, &mut chain, &opts, o.data.as_deref(), &stop)?;
+    let s = run(&sim, registry, &mut chain, &opts, o.data.as_deref(), &stop)?;
     let mut out = String::new();
     let _ = writeln!(
         out,

@@ -1,0 +1,394 @@
+//! `proleg optimize`: a headless optimization run of a simulation whose mode is the genetic
+//! algorithm or the great deluge, with progress, a table of every evaluation, and the
+//! best candidate written back as an actuation file.
+
+use std::fmt::{self, Write as _};
+use std::fs::File;
+use std::io::{BufWriter, Write as _};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::config::Simulation;
+use crate::config::actuation::write_actuation_file;
+use crate::control::{ModuleRegistry, load_simulation_in};
+use crate::optimize::fitness::Fitness;
+use crate::optimize::result::actuation_with;
+use crate::optimize::run::{
+    Evaluation, Outcome, Recording, RunChoices, RunSettings, optimize, prepare,
+};
+use crate::optimize::space::SearchSpace;
+use crate::optimize::store::{RunInfo, Store, StoredEval};
+
+/// Command-line options of `proleg optimize`.
+#[derive(clap::Args)]
+pub struct OptimizeOptions {
+    /// A `*.simulation.xml` file whose mode is "Genetic Algorithm" or "Great Deluge".
+    pub config: PathBuf,
+    /// Random seed (default: the file's seed).
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Parallel evaluation threads (default: the number of cores).
+    #[arg(long)]
+    pub workers: Option<usize>,
+    /// Robots per world (default 0: each round split evenly over the workers).
+    #[arg(long, default_value_t = 0)]
+    pub batch: usize,
+    /// Stop after this many evaluations (default: the optimizer file's <maxEvaluations>).
+    #[arg(long = "max-evals")]
+    pub max_evaluations: Option<u64>,
+    /// Simulated seconds per episode (default: the file's duration).
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// displacement (eq. 3.7), distance, speed or cost-of-transport (default: the
+    /// optimizer file's <fitness>, else displacement).
+    #[arg(long)]
+    pub fitness: Option<String>,
+    /// Write the best candidate as an actuation file.
+    #[arg(short, long)]
+    pub out: Option<PathBuf>,
+    /// Write every evaluation (score, best so far, gene values) as TSV.
+    #[arg(long)]
+    pub evaluations: Option<PathBuf>,
+    /// The SQLite experiment store (default: CONFIG-STEM.results.sqlite here).
+    #[arg(long)]
+    pub store: Option<PathBuf>,
+    /// Continue the last unfinished run of the same configuration, seed, fitness and
+    /// duration in the store, reusing its stored evaluations.
+    #[arg(long)]
+    pub resume: bool,
+    /// No progress on stderr.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Testing aid: abort (like kill -9) once this many evaluations are stored.
+    #[arg(long, hide = true)]
+    pub crash_after: Option<u64>,
+}
+
+/// What an optimization run found and how fast it went.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OptimizeReport {
+    /// The optimizer's outcome (best candidate, scores, evaluations, batching).
+    pub outcome: Outcome,
+    /// Wall seconds of the run.
+    pub wall: f64,
+    /// Simulated seconds per episode.
+    pub duration: f64,
+    /// Worker threads.
+    pub workers: usize,
+    /// Candidates in the search space (eq. 3.3 / 3.5).
+    pub space_size: f64,
+    /// The best candidate's parameter values, by gene label.
+    pub best_values: Vec<(String, f64)>,
+    /// The experiment store and the run's id in it.
+    pub store: (PathBuf, i64),
+    /// Where the best candidate was written as an actuation file.
+    pub actuation: Option<PathBuf>,
+}
+
+impl OptimizeReport {
+    /// Evaluations simulated per wall hour (0 when everything came from the store).
+    pub fn per_hour(&self) -> f64 {
+        self.outcome.simulated as f64 / self.wall.max(1e-9) * 3600.0
+    }
+}
+
+/// Runs the optimization the options ask for; progress goes to stderr unless quiet.
+pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeReport, String> {
+    let sim = load_simulation_in(&o.config, registry).map_err(|e| e.to_string())?;
+    let fitness = o.fitness.as_deref().map(Fitness::parse).transpose()?;
+    let settings = RunSettings::of(
+        &sim,
+        &RunChoices {
+            seed: o.seed,
+            workers: o.workers,
+            batch: o.batch,
+            max_evaluations: o.max_evaluations,
+            duration: o.duration,
+            fitness,
+        },
+    )?;
+    let (space, _) = prepare(&sim, registry)?;
+    if !o.quiet {
+        eprint!("{}", header(&sim, &space, &settings));
+    }
+    let mut table = open_table(o.evaluations.as_deref(), &space)?;
+    let store_path = o.store.clone().unwrap_or_else(|| default_store(&o.config));
+    let mut store = Store::open(&store_path)?;
+    if let Some(n) = o.crash_after {
+        store.crash_after(n);
+    }
+    let info = RunInfo {
+        config: sim.file.display().to_string(),
+        algorithm: algorithm_label(&sim).to_string(),
+        seed: settings.seed,
+        fitness: settings.fitness.name().to_string(),
+        duration: settings.duration,
+        genes: space.genes.iter().map(|g| g.label()).collect(),
+    };
+    let (run, known) = open_run(&mut store, &store_path, &info, o.resume, o.quiet)?;
+    let recording = Recording {
+        store: &mut store,
+        run,
+        known,
+    };
+    let t = Instant::now();
+    let budget = Some(settings.max_evaluations).filter(|m| *m != u64::MAX);
+    let mut progress = Progress::new(budget, o.quiet);
+    let mut table_error = None;
+    let outcome = optimize(
+        &sim,
+        &settings,
+        registry,
+        Some(recording),
+        |e: &Evaluation| {
+            if let Some(w) = table.as_mut()
+                && let Err(err) = write_row(w, &space, e)
+            {
+                table_error.get_or_insert(err.to_string());
+            }
+            progress.show(e, t.elapsed().as_secs_f64());
+        },
+    );
+    progress.bar.finish_and_clear();
+    let outcome = outcome?;
+    if let Some(mut w) = table {
+        w.flush().map_err(|e| e.to_string())?;
+    }
+    if let Some(e) = table_error {
+        return Err(format!("writing the evaluations table: {e}"));
+    }
+    let wall = t.elapsed().as_secs_f64();
+    if let Some(p) = &o.out {
+        let file = actuation_with(&sim, &space, &outcome.best);
+        std::fs::write(p, write_actuation_file(&file))
+            .map_err(|e| format!("{}: cannot write: {e}", p.display()))?;
+    }
+    Ok(OptimizeReport {
+        best_values: space
+            .genes
+            .iter()
+            .zip(space.decode(&outcome.best))
+            .map(|(g, v)| (g.label(), v))
+            .collect(),
+        outcome,
+        wall,
+        duration: settings.duration,
+        workers: settings.workers,
+        space_size: space.size(),
+        store: (store_path, run),
+        actuation: o.out.clone(),
+    })
+}
+
+/// The optimizer's name as its file gives it.
+fn algorithm_label(sim: &Simulation) -> &'static str {
+    sim.optimizer
+        .as_ref()
+        .map(|m| m.spec.label())
+        .unwrap_or("?")
+}
+
+/// What is optimized: the genes, the problem size, the episode and the workers.
+fn header(sim: &Simulation, space: &SearchSpace, settings: &RunSettings) -> String {
+    let mut head = String::new();
+    let label = algorithm_label(sim);
+    let _ = writeln!(head, "optimizing {} with the {label}", sim.file.display());
+    for g in &space.genes {
+        let _ = writeln!(
+            head,
+            "  gene {:<40} {} values {}..{}",
+            g.label(),
+            g.alleles.count(),
+            g.alleles.value(0),
+            g.alleles.value(g.alleles.count().saturating_sub(1))
+        );
+    }
+    let _ = writeln!(
+        head,
+        "problem size (eq. 3.3 / 3.5): {:.3e} candidates; {} s per episode, fitness {}, seed {}, {} worker(s)",
+        space.size(),
+        settings.duration,
+        settings.fitness.name(),
+        settings.seed,
+        settings.workers
+    );
+    head
+}
+
+/// The evaluations table (TSV) with its header line, if asked for.
+fn open_table(path: Option<&Path>, space: &SearchSpace) -> Result<Option<BufWriter<File>>, String> {
+    let Some(p) = path else {
+        return Ok(None);
+    };
+    let f = File::create(p).map_err(|e| format!("{}: cannot create: {e}", p.display()))?;
+    let mut w = BufWriter::new(f);
+    let genes: Vec<String> = space.genes.iter().map(|g| g.label()).collect();
+    writeln!(w, "evaluation\tround\tscore\tbest\t{}", genes.join("\t"))
+        .map_err(|e| format!("{}: {e}", p.display()))?;
+    Ok(Some(w))
+}
+
+/// One evaluation as a table row.
+fn write_row(w: &mut BufWriter<File>, space: &SearchSpace, e: &Evaluation) -> std::io::Result<()> {
+    let values: Vec<String> = space
+        .decode(&e.genome)
+        .iter()
+        .map(|v| v.to_string())
+        .collect();
+    writeln!(
+        w,
+        "{}\t{}\t{}\t{}\t{}",
+        e.number,
+        e.round,
+        e.score,
+        e.best,
+        values.join("\t")
+    )
+}
+
+/// `CONFIG-STEM.results.sqlite` in the working folder.
+fn default_store(config: &Path) -> PathBuf {
+    let stem = config
+        .file_name()
+        .and_then(|n| n.to_str())
+        .map(|n| n.trim_end_matches(".xml").trim_end_matches(".simulation"))
+        .unwrap_or("optimize");
+    PathBuf::from(format!("{stem}.results.sqlite"))
+}
+
+/// A new run in the store, or with `resume` the last unfinished one of the same
+/// configuration, seed, fitness and duration with its stored evaluations.
+fn open_run(
+    store: &mut Store,
+    path: &Path,
+    info: &RunInfo,
+    resume: bool,
+    quiet: bool,
+) -> Result<(i64, Vec<StoredEval>), String> {
+    if !resume {
+        return Ok((store.start_run(info)?, Vec::new()));
+    }
+    let Some(id) = store.find_unfinished(info)? else {
+        return Err(format!(
+            "--resume: {} holds no unfinished run of {} with seed {}, fitness {} and {} s episodes",
+            path.display(),
+            info.config,
+            info.seed,
+            info.fitness,
+            info.duration
+        ));
+    };
+    let known = store.evaluations(id)?;
+    if !quiet {
+        eprintln!(
+            "resuming run {id} of {}: {} evaluations stored",
+            path.display(),
+            known.len()
+        );
+    }
+    Ok((id, known))
+}
+
+/// Progress on stderr: a bar on a terminal, else a line every 10 s (for logs).
+struct Progress {
+    bar: ProgressBar,
+    log_lines: bool,
+    last_report: f64,
+}
+
+impl Progress {
+    fn new(budget: Option<u64>, quiet: bool) -> Progress {
+        let bar = match (quiet, budget) {
+            (true, _) => ProgressBar::hidden(),
+            (false, Some(m)) => ProgressBar::new(m),
+            (false, None) => ProgressBar::new_spinner(),
+        };
+        let style = match budget {
+            Some(_) => "{bar:30} {pos}/{len} evaluations  {msg}  {per_sec}  ETA {eta}",
+            None => "{spinner} {pos} evaluations  {msg}  {per_sec}",
+        };
+        if let Ok(st) = ProgressStyle::with_template(style) {
+            bar.set_style(st);
+        }
+        // Lines for logs when stderr is not a terminal (the bar then stays hidden).
+        let log_lines = !quiet && bar.is_hidden();
+        Progress {
+            bar,
+            log_lines,
+            last_report: 0.0,
+        }
+    }
+
+    fn show(&mut self, e: &Evaluation, secs: f64) {
+        self.bar.set_position(e.number + 1);
+        self.bar.set_message(format!("best {:.4}", e.best));
+        if self.log_lines && (secs - self.last_report >= 10.0 || e.number == 0) {
+            self.last_report = secs;
+            let rate = (e.number + 1) as f64 / secs.max(1e-9);
+            eprintln!(
+                "  evaluations {:>6}  round {:>5}  best {:.4}  {:.0} evaluations/h",
+                e.number + 1,
+                e.round,
+                e.best,
+                rate * 3600.0
+            );
+        }
+    }
+}
+
+impl fmt::Display for OptimizeReport {
+    fn fmt(&self, out: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let o = &self.outcome;
+        writeln!(
+            out,
+            "{} evaluations in {} rounds ({} simulated, {} from the store), {:.1} s",
+            o.evaluations,
+            o.rounds,
+            o.simulated,
+            o.evaluations - o.simulated,
+            self.wall
+        )?;
+        if o.simulated > 0 {
+            let per_hour = self.per_hour();
+            writeln!(
+                out,
+                "throughput      {per_hour:.0} evaluations/h of {} s ({:.1}x real time per worker); 6000 such evaluations (the thesis's experiment-2 budget, eq. 3.6) take {:.2} h",
+                self.duration,
+                o.simulated as f64 * self.duration / self.wall / self.workers as f64,
+                6000.0 / per_hour
+            )?;
+            writeln!(
+                out,
+                "brute force     {:.3e} candidates at this rate (eq. 3.4) take {:.3e} years",
+                self.space_size,
+                self.space_size / per_hour / (24.0 * 365.25)
+            )?;
+        }
+        writeln!(out, "evaluation      {}", o.batching)?;
+        let (store, run) = &self.store;
+        writeln!(out, "store           {} (run {run})", store.display())?;
+        if let Some(s0) = o.start_score {
+            writeln!(out, "start score {s0:.4} (the configured values)")?;
+        }
+        let gain = o
+            .start_score
+            .filter(|s| *s > 0.0)
+            .map(|s0| {
+                format!(
+                    " ({:+.1}% over the start)",
+                    (o.best_score / s0 - 1.0) * 100.0
+                )
+            })
+            .unwrap_or_default();
+        writeln!(out, "best score  {:.4}{gain}", o.best_score)?;
+        for (label, v) in &self.best_values {
+            writeln!(out, "  {label:<40} {v}")?;
+        }
+        if let Some(p) = &self.actuation {
+            writeln!(out, "best actuation written to {}", p.display())?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,189 @@
+//! `proleg run`: one headless run of a simulation file, summarized in a [`RunReport`];
+//! with a data file, every data handler is recorded to a B.8 data file, closed well-formed
+//! also on Ctrl-C and SIGTERM (the run stops at the next chunk of steps).
+
+use std::fmt;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use crate::config::simulation::Mode;
+use crate::control::{ModuleRegistry, load_simulation_in};
+use crate::sim::datalog::DataSettings;
+use crate::sim::{BuildOptions, Pacing, RunSummary, Simulator};
+
+/// What `proleg run` is asked to do.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunRequest {
+    /// The `*.simulation.xml` file.
+    pub config: PathBuf,
+    /// Simulated seconds (default: the file's duration).
+    pub duration: Option<f64>,
+    /// Random seed (default: the file's seed).
+    pub seed: Option<u64>,
+    /// Real-time factor (0: as fast as possible).
+    pub realtime: f64,
+    /// Record every data handler to this data file.
+    pub data: Option<PathBuf>,
+    /// Sample every this many steps (default: the file's accuracy).
+    pub every: Option<u32>,
+}
+
+/// What a run did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunReport {
+    /// The simulation file as loaded.
+    pub simulation: PathBuf,
+    /// The robot's name.
+    pub robot: String,
+    /// The seed used.
+    pub seed: u64,
+    /// The file asks for real-robot control (this run simulated the twin).
+    pub real_robot_mode: bool,
+    /// Steps, times, start and end, displacement (eq. 3.7) and speed.
+    pub summary: RunSummary,
+    /// Heading at the start and at the end (degrees from +x).
+    pub heading: (f64, f64),
+    /// The data file and the rounds written to it.
+    pub data: Option<(PathBuf, u64)>,
+    /// Modules that failed during the run, with the cause.
+    pub failures: Vec<(String, String)>,
+    /// A signal stopped the run early.
+    pub interrupted: bool,
+}
+
+/// Simulated seconds between checks for Ctrl-C / SIGTERM.
+const CHUNK_SECONDS: f64 = 0.5;
+
+/// Loads, runs and summarizes; the error is the message to print.
+pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, String> {
+    let sim = load_simulation_in(&req.config, registry).map_err(|e| e.to_string())?;
+    let props = &sim.files.simulation.properties;
+    let duration = req.duration.unwrap_or(props.duration);
+    if !duration.is_finite() || duration < 0.0 {
+        return Err(format!(
+            "--duration {duration}: give a number of seconds >= 0"
+        ));
+    }
+    if !req.realtime.is_finite() || req.realtime < 0.0 {
+        return Err(format!(
+            "--realtime {}: give a factor >= 0 (0 = as fast as possible)",
+            req.realtime
+        ));
+    }
+    let seed = req.seed.unwrap_or(props.seed);
+    let opts = BuildOptions {
+        robots: 1,
+        seed,
+        record: false,
+    };
+    let mut simulator =
+        Simulator::with_registry(&sim, &opts, registry).map_err(|e| e.to_string())?;
+    simulator.set_pacing(Pacing {
+        realtime_factor: req.realtime,
+        delay_ms: 0.0,
+    });
+    if let Some(file) = &req.data {
+        let every = req.every.unwrap_or(props.accuracy.max(1));
+        if every == 0 {
+            return Err("--every 0: give a sampling period of at least 1 step".into());
+        }
+        let settings = DataSettings {
+            every,
+            ..DataSettings::default()
+        };
+        simulator.record_to(file, settings)?;
+    }
+    let heading0 = simulator.heading(0).map_err(|e| e.to_string())?;
+    let start_com = simulator.com(0).map_err(|e| e.to_string())?;
+    let wall = Instant::now();
+    let interrupted = run_in_chunks(&mut simulator, duration);
+    let rounds = simulator.finish_data()?;
+    let summary = RunSummary::new(
+        simulator.clock().step,
+        simulator.clock().dt,
+        wall.elapsed().as_secs_f64(),
+        start_com,
+        simulator.com(0).map_err(|e| e.to_string())?,
+    );
+    Ok(RunReport {
+        simulation: sim.file.clone(),
+        robot: sim.robot.name.clone(),
+        seed,
+        real_robot_mode: props.mode == Mode::RealRobot,
+        summary,
+        heading: (heading0, simulator.heading(0).map_err(|e| e.to_string())?),
+        data: req.data.clone().map(|f| (f, rounds)),
+        failures: simulator
+            .kernel(0)
+            .map(|k| {
+                k.failures()
+                    .map(|(m, cause)| (m.to_string(), cause.to_string()))
+                    .collect()
+            })
+            .unwrap_or_default(),
+        interrupted,
+    })
+}
+
+/// Runs `duration` seconds in chunks, stopping early on Ctrl-C / SIGTERM; returns whether
+/// a signal stopped it.
+fn run_in_chunks(simulator: &mut Simulator, duration: f64) -> bool {
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        // Only one handler per process; a second `run` in the same process keeps the first.
+        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst));
+    }
+    let mut done = 0.0;
+    while done < duration - 1e-9 {
+        if stop.load(Ordering::SeqCst) {
+            return true;
+        }
+        let chunk = CHUNK_SECONDS.min(duration - done);
+        simulator.run_for(chunk);
+        done += chunk;
+    }
+    false
+}
+
+impl fmt::Display for RunReport {
+    fn fmt(&self, out: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let s = &self.summary;
+        let f3 = |v: [f64; 3]| format!("{:.4} {:.4} {:.4}", v[0], v[1], v[2]);
+        writeln!(out, "simulation      {}", self.simulation.display())?;
+        writeln!(out, "robot           {} (seed {})", self.robot, self.seed)?;
+        if self.real_robot_mode {
+            writeln!(
+                out,
+                "mode            Real Robot Control: this run simulates the robot's twin; \
+                 `proleg robot {} --port PORT` drives the servos",
+                self.simulation.display()
+            )?;
+        }
+        writeln!(out, "steps           {}", s.steps)?;
+        writeln!(out, "simulated time  {:.3} s", s.sim_time)?;
+        writeln!(out, "wall time       {:.3} s", s.wall_time)?;
+        writeln!(out, "real-time factor {:.1}", s.realtime_factor)?;
+        writeln!(out, "start COM       {} m", f3(s.start_com))?;
+        writeln!(out, "end COM         {} m", f3(s.end_com))?;
+        writeln!(out, "displacement    {:.4} m (eq. 3.7)", s.displacement)?;
+        writeln!(out, "mean speed      {:.4} m/s", s.mean_speed)?;
+        let (h0, h1) = self.heading;
+        writeln!(out, "heading         {h0:.1} -> {h1:.1} deg")?;
+        if let Some((file, rounds)) = &self.data {
+            writeln!(out, "data            {} ({rounds} rounds)", file.display())?;
+        }
+        for (module, cause) in &self.failures {
+            writeln!(out, "module failed   {module}: {cause}")?;
+        }
+        if self.interrupted {
+            writeln!(
+                out,
+                "interrupted     stopped early by a signal; the data file is closed"
+            )?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,113 @@
+//! How an optimization run goes: seed, workers, batching, budget, episode length and
+//! fitness, built in one place from a simulation's files and the user's choices (the
+//! command line's flags, the control window's optimization view), and the stop flag.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use crate::config::Simulation;
+use crate::optimize::fitness::Fitness;
+
+/// Neighbours the great deluge hands out per round (fixed, so its candidates do not depend
+/// on the worker count).
+pub const DELUGE_BATCH: usize = 8;
+
+/// Set from another thread to end a run after its current round (the GUI's Stop).
+#[derive(Debug, Clone, Default)]
+pub struct StopFlag(pub Arc<AtomicBool>);
+
+impl StopFlag {
+    /// Asks the run to end after its current round.
+    pub fn stop(&self) {
+        self.0.store(true, Ordering::SeqCst);
+    }
+
+    /// Whether the run was asked to end.
+    pub fn is_set(&self) -> bool {
+        self.0.load(Ordering::SeqCst)
+    }
+}
+
+impl PartialEq for StopFlag {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.0, &other.0)
+    }
+}
+
+/// How to run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunSettings {
+    /// Seed of the optimizer and of every episode.
+    pub seed: u64,
+    /// Worker threads evaluating batches.
+    pub workers: usize,
+    /// Robots per world (0: split each round evenly over the workers).
+    pub batch: usize,
+    /// Great deluge: neighbours handed out per round.
+    pub deluge_batch: usize,
+    /// Evaluation budget.
+    pub max_evaluations: u64,
+    /// Simulated seconds per episode.
+    pub duration: f64,
+    /// How episodes are scored.
+    pub fitness: Fitness,
+    /// Ends the run early when set (between rounds).
+    pub stop: StopFlag,
+}
+
+/// What the user chose; `None` takes the simulation's files (the optimizer file's budget
+/// and fitness, the simulation's seed and duration) or, for workers, every core.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RunChoices {
+    /// Seed of the run (default: the simulation's).
+    pub seed: Option<u64>,
+    /// Worker threads (default: the cores available).
+    pub workers: Option<usize>,
+    /// Robots per world (0: split each round evenly over the workers).
+    pub batch: usize,
+    /// Evaluation budget (default: the optimizer file's, else unlimited).
+    pub max_evaluations: Option<u64>,
+    /// Simulated seconds per episode (default: the simulation's duration).
+    pub duration: Option<f64>,
+    /// Fitness (default: the optimizer file's, else displacement).
+    pub fitness: Option<Fitness>,
+}
+
+impl RunSettings {
+    /// The settings of a run of `sim` with the user's `choices`; the error names the bad
+    /// choice.
+    pub fn of(sim: &Simulation, choices: &RunChoices) -> Result<RunSettings, String> {
+        let props = &sim.files.simulation.properties;
+        let spec = sim.optimizer.as_ref().map(|m| &m.spec);
+        let duration = choices.duration.unwrap_or(props.duration);
+        if !duration.is_finite() || duration <= 0.0 {
+            return Err(format!(
+                "--duration {duration}: give a number of seconds > 0"
+            ));
+        }
+        let workers = choices.workers.unwrap_or_else(|| {
+            std::thread::available_parallelism()
+                .map(|n| n.get())
+                .unwrap_or(1)
+        });
+        if workers == 0 {
+            return Err("--workers 0: give at least 1".into());
+        }
+        Ok(RunSettings {
+            seed: choices.seed.unwrap_or(props.seed),
+            workers,
+            batch: choices.batch,
+            deluge_batch: DELUGE_BATCH,
+            max_evaluations: choices
+                .max_evaluations
+                .or(spec.and_then(|s| s.max_evaluations))
+                .unwrap_or(u64::MAX),
+            duration,
+            fitness: choices
+                .fitness
+                .or(spec.map(|s| s.fitness))
+                .unwrap_or(Fitness::Displacement),
+            stop: StopFlag::default(),
+        })
+    }
+}

@@ -1,0 +1,98 @@
+//! Typed writes to a running world between steps: module parameters and kernels (the GUI's
+//! properties dialog, the gamepad, the optimizers), the twin's joint override, and moving
+//! bodies (the viewer's drag, perturbation tests).
+
+use rapier3d::prelude as rp;
+
+use crate::control::ControlKernel;
+use crate::sim::Simulator;
+use crate::sim::error::SimError;
+use crate::sim::kernel::{JointOverride, Kernel, SimRobot};
+use crate::sim::physics::{Physics, arr3, vec3};
+
+impl Simulator {
+    /// Changes a module parameter of robot `robot` between steps (see
+    /// [`ControlKernel::set_parameter`]).
+    pub fn set_parameter(
+        &mut self,
+        robot: usize,
+        actuator: usize,
+        name: &str,
+        joint: Option<usize>,
+        value: f64,
+    ) -> Result<(), SimError> {
+        let mut kernel = self.robot_component_mut::<Kernel>(robot)?;
+        Ok(kernel.0.set_parameter(actuator, name, joint, value)?)
+    }
+
+    /// The control kernel of robot `index`, to change between steps (parameters,
+    /// distortions, perturbations; see [`ControlKernel`]).
+    pub fn kernel_mut(&mut self, index: usize) -> Result<&mut ControlKernel, SimError> {
+        self.robot_component_mut::<Kernel>(index)
+            .map(|k| &mut k.into_inner().0)
+    }
+
+    /// Makes robot `index`'s servos follow `angles` (degrees, one per joint) instead of
+    /// its kernel — the twin of a real robot — or the kernel again with `None`.
+    pub fn set_joint_override(
+        &mut self,
+        index: usize,
+        angles: Option<Vec<f64>>,
+    ) -> Result<(), SimError> {
+        let e = self.robot(index)?;
+        let mut entity = self.world_mut().entity_mut(e);
+        match angles {
+            Some(a) => match entity.get_mut::<JointOverride>() {
+                Some(mut o) => {
+                    o.0.clear();
+                    o.0.extend_from_slice(&a);
+                }
+                None => {
+                    entity.insert(JointOverride(a));
+                }
+            },
+            None => {
+                entity.remove::<JointOverride>();
+            }
+        }
+        Ok(())
+    }
+
+    /// Moves `bodies` by `delta` metres (z up) between steps, keeping their velocities and
+    /// orientations (the viewer's drag); unknown handles are skipped.
+    pub fn translate_bodies(&mut self, bodies: &[rp::RigidBodyHandle], delta: [f64; 3]) {
+        if !delta.iter().all(|d| d.is_finite()) {
+            return;
+        }
+        let mut physics = self.world_mut().resource_mut::<Physics>();
+        for h in bodies {
+            if let Some(b) = physics.world.bodies.get_mut(*h) {
+                let t = arr3(b.translation());
+                let moved = [t[0] + delta[0], t[1] + delta[1], t[2] + delta[2]];
+                b.set_translation(vec3(moved), true);
+            }
+        }
+    }
+
+    /// Sets the angular velocity (rad/s, z up) of link `link` of robot `robot` between
+    /// steps: a push from outside, to test servos and limits.
+    pub fn set_link_angular_velocity(
+        &mut self,
+        robot: usize,
+        link: usize,
+        angvel: [f64; 3],
+    ) -> Result<(), SimError> {
+        let bodies = &self.robot_component::<SimRobot>(robot)?.bodies;
+        let (handle, _) = *bodies.get(link).ok_or(SimError::NoSuchLink {
+            link,
+            count: bodies.len(),
+        })?;
+        if angvel.iter().all(|v| v.is_finite()) {
+            let mut physics = self.world_mut().resource_mut::<Physics>();
+            if let Some(b) = physics.world.bodies.get_mut(handle) {
+                b.set_angvel(vec3(angvel), true);
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,181 @@
+//! Typed reads of a running world: where each robot is, what its joints, sensors and
+//! servos report, and a read-only view of the bodies and contacts for drawing and picking.
+
+use bevy::prelude::Component;
+use rapier3d::prelude as rp;
+
+use crate::control::ControlKernel;
+use crate::sensing::SensorData;
+use crate::sim::Simulator;
+use crate::sim::energy::Energy;
+use crate::sim::error::SimError;
+use crate::sim::kernel::{Kernel, SimRobot};
+use crate::sim::physics::{Physics, arr3};
+use crate::sim::record::{Track, centre_of_mass, heading};
+use crate::sim::servo::JointState;
+use crate::sim::spawn::{EnvObject, SimLink};
+use crate::sim::tactile::{RobotSensors, TactileSensor};
+
+/// A body of the scene: an environment object or a robot link, with its rapier body.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SceneBody {
+    /// Index among the environment's bodies, or among the robot's links.
+    pub index: usize,
+    /// The rapier body.
+    pub handle: rp::RigidBodyHandle,
+}
+
+/// One tactile pad of a robot.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PadReading {
+    /// Index among the robot's pads (the order of `SensorData::tactile`).
+    pub index: usize,
+    /// The pad's collider (a thin box on its link).
+    pub collider: rp::ColliderHandle,
+    /// Contact this step, before debouncing.
+    pub raw: bool,
+    /// The debounced reading modules see.
+    pub pressed: bool,
+}
+
+/// Things listed in the order of their index.
+trait Indexed {
+    fn index(&self) -> usize;
+}
+
+impl Indexed for SceneBody {
+    fn index(&self) -> usize {
+        self.index
+    }
+}
+
+impl Indexed for PadReading {
+    fn index(&self) -> usize {
+        self.index
+    }
+}
+
+impl Simulator {
+    fn physics_resource(&self) -> &Physics {
+        self.world().resource::<Physics>()
+    }
+
+    /// Centre of mass of robot `index` (m, z up).
+    pub fn com(&self, index: usize) -> Result<[f64; 3], SimError> {
+        let robot = self.robot_component::<SimRobot>(index)?;
+        Ok(centre_of_mass(&self.physics_resource().world.bodies, robot))
+    }
+
+    /// Tail-to-head heading of robot `index` in the ground plane (degrees from +x).
+    pub fn heading(&self, index: usize) -> Result<f64, SimError> {
+        let robot = self.robot_component::<SimRobot>(index)?;
+        Ok(heading(&self.physics_resource().world.bodies, robot))
+    }
+
+    /// The robot's mass (kg): the sum of its links'.
+    pub fn mass(&self, index: usize) -> Result<f64, SimError> {
+        let robot = self.robot_component::<SimRobot>(index)?;
+        Ok(robot.bodies.iter().map(|(_, m)| m).sum())
+    }
+
+    /// The world's gravity (m/s², z up), as the environment file sets it.
+    pub fn gravity(&self) -> [f64; 3] {
+        arr3(self.physics_resource().world.gravity)
+    }
+
+    /// The current state of every joint of robot `index`.
+    pub fn joint_states(&self, index: usize) -> Result<Vec<JointState>, SimError> {
+        let robot = self.robot_component::<SimRobot>(index)?;
+        let w = self.world();
+        Ok(robot
+            .joints
+            .iter()
+            .map(|j| w.get::<JointState>(*j).copied().unwrap_or_default())
+            .collect())
+    }
+
+    /// The latest sensor readings of robot `index`, as its modules see them.
+    pub fn sensors(&self, index: usize) -> Result<&SensorData, SimError> {
+        self.robot_component::<RobotSensors>(index).map(|s| &s.0)
+    }
+
+    /// Every tactile pad of robot `index`, in pad order, raw and debounced.
+    pub fn tactile_pads(&self, index: usize) -> Result<Vec<PadReading>, SimError> {
+        let robot = self.robot(index)?;
+        Ok(self.collect_sorted(|p: &TactileSensor| {
+            (p.robot == robot).then_some(PadReading {
+                index: p.index,
+                collider: p.collider,
+                raw: p.raw,
+                pressed: p.state.pressed,
+            })
+        }))
+    }
+
+    /// Power and energy robot `index`'s servos put out so far.
+    pub fn energy(&self, index: usize) -> Result<Energy, SimError> {
+        self.robot_component::<Energy>(index).copied()
+    }
+
+    /// The recorded trajectory of robot `index`.
+    pub fn track(&self, index: usize) -> Result<&Track, SimError> {
+        self.robot_component::<Track>(index)
+    }
+
+    /// The control kernel of robot `index`.
+    pub fn kernel(&self, index: usize) -> Result<&ControlKernel, SimError> {
+        self.robot_component::<Kernel>(index).map(|k| &k.0)
+    }
+
+    /// The environment's bodies, in the environment's order.
+    pub fn environment_bodies(&self) -> Vec<SceneBody> {
+        self.collect_sorted(|o: &EnvObject| {
+            Some(SceneBody {
+                index: o.index,
+                handle: o.handle,
+            })
+        })
+    }
+
+    /// The link bodies of robot `index`, in link order.
+    pub fn links(&self, index: usize) -> Result<Vec<SceneBody>, SimError> {
+        let robot = self.robot(index)?;
+        Ok(self.collect_sorted(|l: &SimLink| {
+            (l.robot == robot).then_some(SceneBody {
+                index: l.index,
+                handle: l.handle,
+            })
+        }))
+    }
+
+    /// What `pick` takes from every entity with a `C`, sorted by its index.
+    fn collect_sorted<C: Component, T: Indexed>(&self, pick: impl Fn(&C) -> Option<T>) -> Vec<T> {
+        let w = self.world();
+        let mut out: Vec<T> = w
+            .try_query::<&C>()
+            .map(|mut q| q.iter(w).filter_map(&pick).collect())
+            .unwrap_or_default();
+        out.sort_by_key(T::index);
+        out
+    }
+
+    /// The link bodies of robot `index`, in link order (handles only).
+    pub fn robot_bodies(&self, index: usize) -> Result<Vec<rp::RigidBodyHandle>, SimError> {
+        let robot = self.robot_component::<SimRobot>(index)?;
+        Ok(robot.bodies.iter().map(|(h, _)| *h).collect())
+    }
+
+    /// A read-only view of rapier's world (bodies, colliders, contacts) for drawing and
+    /// picking; changes go through the typed writes.
+    pub fn physics(&self) -> &rp::PhysicsWorld {
+        &self.physics_resource().world
+    }
+
+    /// Position of a body (m, z up).
+    pub fn body_position(&self, handle: rp::RigidBodyHandle) -> Option<[f64; 3]> {
+        self.physics()
+            .bodies
+            .get(handle)
+            .map(|b| arr3(b.translation()))
+    }
+}

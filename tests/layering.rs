@@ -1,0 +1,97 @@
+//! Dependencies point one way (docs/DESIGN.md §2): each top-level module of the library may
+//! use only the modules listed for it here. A `use crate::…` (or a path `crate::…` in code)
+//! outside the list fails this test, naming the file and line.
+
+use std::path::Path;
+
+/// Module -> the modules it may use. Leaves first; each layer may use those above it.
+const ALLOWED: &[(&str, &[&str])] = &[
+    ("measure", &[]),
+    ("rng", &[]),
+    ("sensing", &[]),
+    ("data", &[]),
+    ("config", &[]),
+    ("control", &["config", "measure", "rng", "sensing"]),
+    ("plugin_host", &["config", "control", "rng"]),
+    ("remote", &["config", "control"]),
+    (
+        "sim",
+        &["config", "control", "data", "measure", "rng", "sensing"],
+    ),
+    (
+        "robot_io",
+        &[
+            "config", "control", "data", "measure", "rng", "sensing", "sim",
+        ],
+    ),
+    ("optimize", &["config", "control", "measure", "rng", "sim"]),
+    (
+        "compose",
+        &["config", "control", "measure", "optimize", "sim"],
+    ),
+    (
+        "bench",
+        &["config", "control", "data", "measure", "rng", "sim"],
+    ),
+    (
+        "cli",
+        &[
+            "config",
+            "control",
+            "data",
+            "measure",
+            "optimize",
+            "plugin_host",
+            "robot_io",
+            "rng",
+            "sim",
+            "bench",
+        ],
+    ),
+];
+
+fn rust_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+#[test]
+fn dependencies_point_one_way() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut wrong = Vec::new();
+    for (module, allowed) in ALLOWED {
+        let mut files = Vec::new();
+        let dir = src.join(module);
+        if dir.is_dir() {
+            rust_files(&dir, &mut files);
+        } else {
+            files.push(src.join(format!("{module}.rs")));
+        }
+        assert!(!files.is_empty(), "no source for module {module}");
+        for f in files {
+            let text = std::fs::read_to_string(&f).unwrap();
+            for (n, line) in text.lines().enumerate() {
+                let code = line.split("//").next().unwrap_or("");
+                for (at, _) in code.match_indices("crate::") {
+                    let used: String = code[at + 7..]
+                        .chars()
+                        .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                        .collect();
+                    if used != *module && !allowed.contains(&used.as_str()) {
+                        wrong.push(format!("{}:{}: {module} uses {used}", f.display(), n + 1));
+                    }
+                }
+            }
+        }
+    }
+    assert!(wrong.is_empty(), "layering broken:\n{}", wrong.join("\n"));
+}
