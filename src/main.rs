@@ -73,25 +73,7 @@ enum Command {
         reference: String,
     },
     /// Run one simulation headless and print what the robot did.
-    Run {
-        /// A `*.simulation.xml` file.
-        config: PathBuf,
-        /// Simulated seconds (default: the file's duration).
-        #[arg(long)]
-        duration: Option<f64>,
-        /// Random seed (default: the file's seed).
-        #[arg(long)]
-        seed: Option<u64>,
-        /// Pace to real time times this factor (default 0: as fast as possible).
-        #[arg(long, default_value_t = 0.0)]
-        realtime: f64,
-        /// Record every data handler to this XML data file (thesis B.8).
-        #[arg(long)]
-        data: Option<PathBuf>,
-        /// Sample every this many steps (default: the file's accuracy).
-        #[arg(long)]
-        every: Option<u32>,
-    },
+    Run(cli::run::RunRequest),
     /// Optimize the registered parameters of a GA / great-deluge simulation, headless.
     Optimize(cli::optimize::OptimizeOptions),
     /// Runs and best candidates of an experiment store; learning curves and TSV export.
@@ -281,25 +263,7 @@ fn main() -> ExitCode {
             }
             None => proleg::bench::report(&config, seconds, &batches),
         },
-        Command::Run {
-            config,
-            duration,
-            seed,
-            realtime,
-            data,
-            every,
-        } => cli::run::run(
-            &cli::run::RunRequest {
-                config,
-                duration,
-                seed,
-                realtime,
-                data,
-                every,
-            },
-            &registry,
-        )
-        .map(|report| report.to_string()),
+        Command::Run(request) => cli::run::run(&request, &registry).map(|r| r.to_string()),
         Command::Optimize(options) => {
             cli::optimize::run(&options, &registry).map(|r| r.to_string())
         }

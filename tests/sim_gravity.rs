@@ -66,15 +66,11 @@ fn cost_of_transport_weighs_the_robot_with_the_world_gravity() {
     };
     let score = evaluator.evaluate(std::slice::from_ref(&genome)).unwrap()[0];
     // The same episode by hand.
-    let mut s = Simulator::new(
-        &sim,
-        &BuildOptions {
-            robots: 1,
-            seed: 1,
-            record: false,
-        },
-    )
-    .unwrap();
+    let episode = BuildOptions {
+        record: false,
+        ..BuildOptions::default()
+    };
+    let mut s = Simulator::new(&sim, &episode).unwrap();
     space.apply(&genome, s.kernel_mut(0).unwrap()).unwrap();
     let moved = s.run_for(2.0).displacement;
     let energy = s.energy(0).unwrap().joules;

@@ -13,7 +13,7 @@ fn demo() -> Simulation {
 }
 
 fn simulator(sim: &Simulation) -> Simulator {
-    let s = Simulator::new(
+    Simulator::new(
         sim,
         &BuildOptions {
             robots: 1,
@@ -21,8 +21,7 @@ fn simulator(sim: &Simulation) -> Simulator {
             record: true,
         },
     )
-    .unwrap();
-    s
+    .unwrap()
 }
 
 /// Runs `seconds` and returns the start and end centre of mass.

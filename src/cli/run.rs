@@ -13,20 +13,25 @@ use crate::control::{ModuleRegistry, load_simulation_in};
 use crate::sim::datalog::DataSettings;
 use crate::sim::{BuildOptions, Pacing, RunSummary, Simulator};
 
-/// What `proleg run` is asked to do.
-#[derive(Debug, Clone, PartialEq)]
+/// What `proleg run` is asked to do (its command-line arguments).
+#[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct RunRequest {
-    /// The `*.simulation.xml` file.
+    /// A `*.simulation.xml` file.
     pub config: PathBuf,
     /// Simulated seconds (default: the file's duration).
+    #[arg(long)]
     pub duration: Option<f64>,
     /// Random seed (default: the file's seed).
+    #[arg(long)]
     pub seed: Option<u64>,
-    /// Real-time factor (0: as fast as possible).
+    /// Pace to real time times this factor (default 0: as fast as possible).
+    #[arg(long, default_value_t = 0.0)]
     pub realtime: f64,
-    /// Record every data handler to this data file.
+    /// Record every data handler to this XML data file (thesis B.8).
+    #[arg(long)]
     pub data: Option<PathBuf>,
     /// Sample every this many steps (default: the file's accuracy).
+    #[arg(long)]
     pub every: Option<u32>,
 }
 

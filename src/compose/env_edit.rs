@@ -13,7 +13,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use crate::compose::library::LibraryItem;
-use crate::config::body::{BodyKind, MAX_FRICTION, Mass, Shape};
+use crate::config::body::{BodyKind, Geom, MAX_FRICTION, Mass, Shape};
 use crate::config::environment::{
     EnvObject, EnvironmentFile, Physics, parse_environment_file, write_environment_file,
 };
@@ -590,6 +590,18 @@ impl EnvEditor {
         Ok(())
     }
 
+    /// Changes every geometry of the editable selection, undoably.
+    fn edit_geoms(&mut self, change: impl FnMut(&mut Geom)) -> Result<(), String> {
+        self.editable()?;
+        self.checkpoint();
+        let kb = self.editable()?;
+        kb.bodies
+            .iter_mut()
+            .flat_map(|b| &mut b.geoms)
+            .for_each(change);
+        Ok(())
+    }
+
     /// Sets the Coulomb friction of every geometry of the selection (0..1).
     pub fn set_friction(&mut self, mu: f64) -> Result<(), String> {
         if !(0.0..=EDITOR_MAX_FRICTION.min(MAX_FRICTION)).contains(&mu) {
@@ -597,14 +609,7 @@ impl EnvEditor {
                 "friction {mu} is outside 0..{EDITOR_MAX_FRICTION} (Coulomb coefficient)"
             ));
         }
-        self.editable()?;
-        self.checkpoint();
-        let kb = self.editable()?;
-        kb.bodies
-            .iter_mut()
-            .flat_map(|b| &mut b.geoms)
-            .for_each(|g| g.friction = Some(mu));
-        Ok(())
+        self.edit_geoms(|g| g.friction = Some(mu))
     }
 
     /// Makes the selection static (fixed) or dynamic (pushed around).
@@ -647,14 +652,7 @@ impl EnvEditor {
         if rgb.iter().any(|c| !(0.0..=1.0).contains(c)) {
             return Err(format!("colour {rgb:?}: each part lies in 0..1"));
         }
-        self.editable()?;
-        self.checkpoint();
-        let kb = self.editable()?;
-        kb.bodies
-            .iter_mut()
-            .flat_map(|b| &mut b.geoms)
-            .for_each(|g| g.diffuse_color = Some(rgb));
-        Ok(())
+        self.edit_geoms(|g| g.diffuse_color = Some(rgb))
     }
 
     /// Renames the selected object.

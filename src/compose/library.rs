@@ -55,8 +55,52 @@ impl LibraryItem {
 
     /// The object, named `name`, at the origin.
     pub fn kinbody(&self, name: &str) -> KinBody {
+        let geoms = self.pieces(name);
+        let stairs = matches!(self, LibraryItem::Stairs);
+        let bodies = geoms
+            .into_iter()
+            .map(|(body_name, pose, shape, colour)| {
+                // Stairs: each step is a body placed by its translation; others: the
+                // geometry carries the tilt.
+                let (body_pose, geom_pose) = if stairs {
+                    (pose, Transform::IDENTITY)
+                } else {
+                    (Transform::IDENTITY, pose)
+                };
+                Body {
+                    name: body_name,
+                    kind: BodyKind::Static,
+                    pose: body_pose,
+                    geoms: vec![Geom {
+                        shape,
+                        pose: geom_pose,
+                        diffuse_color: Some(colour),
+                        ambient_color: None,
+                        transparency: None,
+                        friction: Some(0.5),
+                        visible: true,
+                        pos: Pos::new(0, 0),
+                    }],
+                    mass: None,
+                    pos: Pos::new(0, 0),
+                }
+            })
+            .collect();
+        KinBody {
+            name: Some(name.to_string()),
+            pose: Transform::IDENTITY,
+            includes: Vec::new(),
+            bodies,
+            joints: Vec::new(),
+            sensors: Vec::new(),
+            pos: Pos::new(0, 0),
+        }
+    }
+
+    /// The object's pieces: body name, pose, shape and colour.
+    fn pieces(&self, name: &str) -> Vec<(String, Transform, Shape, [f64; 3])> {
         let grey = [0.75, 0.7, 0.65];
-        let geoms: Vec<(String, Transform, Shape, [f64; 3])> = match self {
+        match self {
             LibraryItem::Box => vec![(
                 name.into(),
                 Transform::IDENTITY,
@@ -114,45 +158,6 @@ impl LibraryItem {
                 },
                 [0.6, 0.45, 0.3],
             )],
-        };
-        let stairs = matches!(self, LibraryItem::Stairs);
-        let bodies = geoms
-            .into_iter()
-            .map(|(body_name, pose, shape, colour)| {
-                // Stairs: each step is a body placed by its translation; others: the
-                // geometry carries the tilt.
-                let (body_pose, geom_pose) = if stairs {
-                    (pose, Transform::IDENTITY)
-                } else {
-                    (Transform::IDENTITY, pose)
-                };
-                Body {
-                    name: body_name,
-                    kind: BodyKind::Static,
-                    pose: body_pose,
-                    geoms: vec![Geom {
-                        shape,
-                        pose: geom_pose,
-                        diffuse_color: Some(colour),
-                        ambient_color: None,
-                        transparency: None,
-                        friction: Some(0.5),
-                        visible: true,
-                        pos: Pos::new(0, 0),
-                    }],
-                    mass: None,
-                    pos: Pos::new(0, 0),
-                }
-            })
-            .collect();
-        KinBody {
-            name: Some(name.to_string()),
-            pose: Transform::IDENTITY,
-            includes: Vec::new(),
-            bodies,
-            joints: Vec::new(),
-            sensors: Vec::new(),
-            pos: Pos::new(0, 0),
         }
     }
 }

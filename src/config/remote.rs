@@ -27,7 +27,8 @@
 //! several targets.
 
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
-use crate::config::xml::read::read_document;
+use crate::config::xml::dom::Element;
+use crate::config::xml::read::{Reader, read_document};
 use crate::config::xml::write::{XmlWriter, num};
 
 /// Dead zone of bindings that give none.
@@ -218,28 +219,11 @@ pub fn parse_remote_file(file: &str, text: &str) -> ConfigResult<RemoteFile> {
             }
             None => DEFAULT_DEAD_ZONE,
         };
-        let mut targets = Vec::new();
-        for t in &b.children {
-            r.only_attrs(t, &["module", "parameter", "joints", "scale"])?;
-            let joints = match t.attr("joints") {
-                Some(j) => JointSelection::parse(&j.value).ok_or_else(|| {
-                    r.err(
-                        j.pos,
-                        ErrorKind::InvalidValue,
-                        format!("joints=\"{}\": expected all, pitch, yaw or a 0/1 mask over the robot's joints", j.value),
-                    )
-                })?,
-                None => JointSelection::All,
-            };
-            let scale = r.required_attr(t, "scale")?;
-            targets.push(BindTarget {
-                module: r.required_attr(t, "module")?.value.clone(),
-                parameter: r.required_attr(t, "parameter")?.value.clone(),
-                joints,
-                scale: r.number(&scale.value, scale.pos, "scale=")?,
-                pos: t.pos,
-            });
-        }
+        let targets = b
+            .children
+            .iter()
+            .map(|t| read_target(&r, t))
+            .collect::<ConfigResult<Vec<_>>>()?;
         if targets.is_empty() && action.is_none() {
             return Err(r.err(
                 b.pos,
@@ -265,6 +249,32 @@ pub fn parse_remote_file(file: &str, text: &str) -> ConfigResult<RemoteFile> {
             .map(|a| a.value.clone())
             .unwrap_or_default(),
         bindings,
+    })
+}
+
+/// One `<target>` of a binding: the module parameter, the joints and the scale.
+fn read_target(r: &Reader, t: &Element) -> ConfigResult<BindTarget> {
+    r.only_attrs(t, &["module", "parameter", "joints", "scale"])?;
+    let joints = match t.attr("joints") {
+        Some(j) => JointSelection::parse(&j.value).ok_or_else(|| {
+            r.err(
+                j.pos,
+                ErrorKind::InvalidValue,
+                format!(
+                    "joints=\"{}\": expected all, pitch, yaw or a 0/1 mask over the robot's joints",
+                    j.value
+                ),
+            )
+        })?,
+        None => JointSelection::All,
+    };
+    let scale = r.required_attr(t, "scale")?;
+    Ok(BindTarget {
+        module: r.required_attr(t, "module")?.value.clone(),
+        parameter: r.required_attr(t, "parameter")?.value.clone(),
+        joints,
+        scale: r.number(&scale.value, scale.pos, "scale=")?,
+        pos: t.pos,
     })
 }
 

@@ -180,53 +180,51 @@ fn optimizer_part(s: &mut String, sim: &Simulation) {
     let Some(o) = &sim.optimizer else {
         return;
     };
-    {
-        let _ = writeln!(s, "optimizer   {} ({})", o.spec.label(), o.file.display());
-        match &o.spec.algorithm {
-            Algorithm::Genetic(g) => {
-                let _ = writeln!(
-                    s,
-                    "  population {}, p(mutation) {}, p(crossover) {}, convergence {} over {} generations",
-                    g.popsize,
-                    num(g.pmut),
-                    num(g.pcross),
-                    num(g.p_convergence),
-                    g.n_convergence
-                );
-            }
-            Algorithm::GreatDeluge(g) => {
-                let _ = writeln!(
-                    s,
-                    "  credits {}, retries {}, initial water level {}, rain {}, confidence {}",
-                    g.credits,
-                    g.retries,
-                    num(g.initial_water_level),
-                    num(g.rain),
-                    g.confidence
-                );
-            }
-        }
-        for p in &o.parameters {
-            let g = &p.genome;
-            let values = if g.value_space == 0 {
-                format!("values {}", nums(&g.values))
-            } else {
-                let pick = |v: &Vec<f64>| v[0];
-                describe_range(pick(&g.lower), pick(&g.upper), pick(&g.increments))
-            };
+    let _ = writeln!(s, "optimizer   {} ({})", o.spec.label(), o.file.display());
+    match &o.spec.algorithm {
+        Algorithm::Genetic(g) => {
             let _ = writeln!(
                 s,
-                "  p{} {}.{} joints {} {} {} ({} {})",
-                p.number,
-                p.module,
-                p.parameter.name,
-                g.active_joints,
-                if g.uniform { "uniform" } else { "individual" },
-                values,
-                p.genes,
-                if p.genes == 1 { "gene" } else { "genes" }
+                "  population {}, p(mutation) {}, p(crossover) {}, convergence {} over {} generations",
+                g.popsize,
+                num(g.pmut),
+                num(g.pcross),
+                num(g.p_convergence),
+                g.n_convergence
             );
         }
-        let _ = writeln!(s, "  search space {:.4e} candidates", o.search_space());
+        Algorithm::GreatDeluge(g) => {
+            let _ = writeln!(
+                s,
+                "  credits {}, retries {}, initial water level {}, rain {}, confidence {}",
+                g.credits,
+                g.retries,
+                num(g.initial_water_level),
+                num(g.rain),
+                g.confidence
+            );
+        }
     }
+    for p in &o.parameters {
+        let g = &p.genome;
+        let values = if g.value_space == 0 {
+            format!("values {}", nums(&g.values))
+        } else {
+            let pick = |v: &Vec<f64>| v[0];
+            describe_range(pick(&g.lower), pick(&g.upper), pick(&g.increments))
+        };
+        let _ = writeln!(
+            s,
+            "  p{} {}.{} joints {} {} {} ({} {})",
+            p.number,
+            p.module,
+            p.parameter.name,
+            g.active_joints,
+            if g.uniform { "uniform" } else { "individual" },
+            values,
+            p.genes,
+            if p.genes == 1 { "gene" } else { "genes" }
+        );
+    }
+    let _ = writeln!(s, "  search space {:.4e} candidates", o.search_space());
 }

@@ -108,3 +108,67 @@ pub fn load_script<C>(
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     parse(path, &text)
 }
+
+/// What a command leaves the script to do.
+pub enum Flow {
+    /// Go on with the next command this frame.
+    Next,
+    /// Come back to this command next frame.
+    Again,
+    /// The command is done; wait for the next frame before going on.
+    Yield,
+    /// Close the window with success.
+    Quit,
+}
+
+/// Carries out the commands of the script in `slot` this frame, until one waits: a
+/// failing command prints `error: FILE:LINE: cause` and closes the window with a failure;
+/// `quit` closes it with success. Either ends the script (`slot` becomes `None`).
+pub fn run_commands<C: Clone>(
+    slot: &mut Option<Script<C>>,
+    exit: &mut MessageWriter<AppExit>,
+    mut carry_out: impl FnMut(C, &mut Script<C>) -> Result<Flow, String>,
+) {
+    let Some(script) = slot.as_mut() else {
+        return;
+    };
+    let outcome = match script.pacing.hold() {
+        Ok(true) => return,
+        Ok(false) => step_commands(script, &mut carry_out),
+        Err(e) => Err(format!("{}: {e}", script.file.display())),
+    };
+    match outcome {
+        Ok(false) => {}
+        Ok(true) => {
+            exit.write(AppExit::Success);
+            *slot = None;
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            exit.write(AppExit::error());
+            *slot = None;
+        }
+    }
+}
+
+/// Runs commands until one waits (`Ok(false)`) or quits (`Ok(true)`); an error names the
+/// file and line.
+fn step_commands<C: Clone>(
+    script: &mut Script<C>,
+    carry_out: &mut impl FnMut(C, &mut Script<C>) -> Result<Flow, String>,
+) -> Result<bool, String> {
+    while let Some((line, c)) = script.commands.get(script.next).cloned() {
+        let flow =
+            carry_out(c, script).map_err(|e| format!("{}:{line}: {e}", script.file.display()))?;
+        match flow {
+            Flow::Next => script.next += 1,
+            Flow::Again => return Ok(false),
+            Flow::Yield => {
+                script.next += 1;
+                return Ok(false);
+            }
+            Flow::Quit => return Ok(true),
+        }
+    }
+    Ok(false)
+}

@@ -185,6 +185,21 @@ impl Declaration {
         } else {
             &self.summary
         };
+        self.lib_header(&mut s, &ty, summary);
+        self.module_impl(&mut s, &ty, summary);
+        self.compute_fn(&mut s);
+        for h in &self.helpers {
+            let _ = writeln!(
+                s,
+                "\n/// Helper `{h}`: fill in.\nfn {h}(x: f64) -> f64 {{\n    helpers::wrap_tau(x)\n}}"
+            );
+        }
+        let _ = writeln!(s, "\nexport_module!({ty});");
+        s
+    }
+
+    /// The crate docs, imports, parameter and series constants and the state struct.
+    fn lib_header(&self, s: &mut String, ty: &str, summary: &str) {
         let _ = writeln!(s, "//! `{}`: {summary}.", self.name);
         s.push_str("//! Made with `proleg plugin new`; build with `proleg plugin build ");
         let _ = writeln!(s, "{}`.\n", self.crate_name());
@@ -206,6 +221,10 @@ impl Declaration {
              Per joint: time since the start (s); replace with your own state.\n    \
              clock: Vec<f64>,\n}}\n"
         );
+    }
+
+    /// `impl Module`: name, summary, parameters, series, `new` and `reset`.
+    fn module_impl(&self, s: &mut String, ty: &str, summary: &str) {
         let _ = writeln!(s, "impl Module for {ty} {{");
         let _ = writeln!(s, "    const NAME: &'static str = \"{}\";", self.name);
         let _ = writeln!(
@@ -232,6 +251,10 @@ impl Declaration {
         s.push_str(
             "    fn reset(&mut self, _seed: u64) {\n        self.clock.fill(0.0);\n    }\n\n",
         );
+    }
+
+    /// `compute` (the step), which closes the `impl Module` block.
+    fn compute_fn(&self, s: &mut String) {
         s.push_str(
             "    fn compute(&mut self, ctx: &Context, p: &Params, out: &mut [f64], data: &mut Data) {\n",
         );
@@ -257,14 +280,6 @@ impl Declaration {
             let _ = writeln!(s, "            let _ = {};", snake_case(&p.name));
         }
         s.push_str("        }\n    }\n}\n");
-        for h in &self.helpers {
-            let _ = writeln!(
-                s,
-                "\n/// Helper `{h}`: fill in.\nfn {h}(x: f64) -> f64 {{\n    helpers::wrap_tau(x)\n}}"
-            );
-        }
-        let _ = writeln!(s, "\nexport_module!({ty});");
-        s
     }
 
     /// Writes the crate into the plugin workspace; refuses to overwrite a crate.

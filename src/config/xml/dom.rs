@@ -154,19 +154,7 @@ pub fn parse(file: &str, text: &str) -> Result<Document, ConfigError> {
                     None => root = Some(el),
                 }
             }
-            Event::End(_) => {
-                // quick-xml checks that end names match, so the stack is never empty here.
-                if let Some(mut el) = stack.pop() {
-                    let trimmed = el.text.trim();
-                    if trimmed.len() != el.text.len() {
-                        el.text = trimmed.to_string();
-                    }
-                    match stack.last_mut() {
-                        Some(parent) => parent.children.push(el),
-                        None => root = Some(el),
-                    }
-                }
-            }
+            Event::End(_) => close_element(&mut stack, &mut root),
             Event::Text(t) => {
                 let raw = t.xml10_content();
                 push_text(&mut stack, &raw, before, text, &index, file, &err)?;
@@ -176,29 +164,8 @@ pub fn parse(file: &str, text: &str) -> Result<Document, ConfigError> {
                 push_text(&mut stack, &raw, before, text, &index, file, &err)?;
             }
             Event::GeneralRef(r) => {
-                let resolved = match r.resolve_char_ref() {
-                    Ok(Some(c)) => c.to_string(),
-                    Ok(None) => {
-                        let name = r.to_string();
-                        match quick_xml::escape::resolve_predefined_entity(&name) {
-                            Some(s) => s.to_string(),
-                            None => {
-                                return Err(err(
-                                    before,
-                                    ErrorKind::Syntax,
-                                    format!("unknown entity &{name};"),
-                                ));
-                            }
-                        }
-                    }
-                    Err(e) => {
-                        return Err(err(
-                            before,
-                            ErrorKind::Syntax,
-                            format!("bad character reference: {e}"),
-                        ));
-                    }
-                };
+                let resolved =
+                    resolve_reference(&r).map_err(|m| err(before, ErrorKind::Syntax, m))?;
                 push_text(&mut stack, &resolved, before, text, &index, file, &err)?;
             }
             Event::Comment(c) => {
@@ -231,6 +198,35 @@ pub fn parse(file: &str, text: &str) -> Result<Document, ConfigError> {
             ErrorKind::Syntax,
             "the file holds no XML element".into(),
         )),
+    }
+}
+
+/// The text of an entity or character reference (`&amp;`, `&#955;`).
+fn resolve_reference(r: &quick_xml::events::BytesRef<'_>) -> Result<String, String> {
+    match r.resolve_char_ref() {
+        Ok(Some(c)) => Ok(c.to_string()),
+        Ok(None) => {
+            let name = r.to_string();
+            quick_xml::escape::resolve_predefined_entity(&name)
+                .map(str::to_string)
+                .ok_or_else(|| format!("unknown entity &{name};"))
+        }
+        Err(e) => Err(format!("bad character reference: {e}")),
+    }
+}
+
+/// Closes the innermost open element: its text trimmed, it joins its parent (or becomes
+/// the root). quick-xml checks that end names match, so an element is open here.
+fn close_element(stack: &mut Vec<Element>, root: &mut Option<Element>) {
+    if let Some(mut el) = stack.pop() {
+        let trimmed = el.text.trim();
+        if trimmed.len() != el.text.len() {
+            el.text = trimmed.to_string();
+        }
+        match stack.last_mut() {
+            Some(parent) => parent.children.push(el),
+            None => *root = Some(el),
+        }
     }
 }
 

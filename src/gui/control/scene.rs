@@ -64,46 +64,41 @@ pub fn build_scene(
         ))
         .id();
     let sim = &session.sim;
+    // (name, what it follows, geometries) of every body shown.
+    let mut bodies = Vec::new();
     for obj in session.simulator.environment_bodies() {
-        let Some(body) = sim.environment.bodies.get(obj.index) else {
-            continue;
-        };
+        if let Some(body) = sim.environment.bodies.get(obj.index) {
+            let visual = BodyVisual {
+                handle: obj.handle,
+                link: None,
+            };
+            bodies.push((format!("environment: {}", body.name), visual, &body.geoms));
+        }
+    }
+    for l in session.simulator.links(0).unwrap_or_default() {
+        if let Some(model) = sim.robot.links.get(l.index) {
+            let visual = BodyVisual {
+                handle: l.handle,
+                link: Some(l.index),
+            };
+            bodies.push((format!("link {}", model.name), visual, &model.geoms));
+        }
+    }
+    let mut link_entities = vec![None; sim.robot.links.len()];
+    for (name, visual, geoms) in bodies {
+        let (handle, link) = (visual.handle, visual.link);
         let e = spawn_body(
             &mut commands,
             &mut meshes,
             &mut materials,
             sim,
-            format!("environment: {}", body.name),
-            BodyVisual {
-                handle: obj.handle,
-                link: None,
-            },
-            &body.geoms,
+            name,
+            visual,
+            geoms,
         );
         commands.entity(root).add_child(e);
-    }
-    let mut link_entities = vec![None; sim.robot.links.len()];
-    {
-        for l in session.simulator.links(0).unwrap_or_default() {
-            let Some(model) = sim.robot.links.get(l.index) else {
-                continue;
-            };
-            let e = spawn_body(
-                &mut commands,
-                &mut meshes,
-                &mut materials,
-                sim,
-                format!("link {}", model.name),
-                BodyVisual {
-                    handle: l.handle,
-                    link: Some(l.index),
-                },
-                &model.geoms,
-            );
-            commands.entity(root).add_child(e);
-            if let Some(slot) = link_entities.get_mut(l.index) {
-                *slot = Some((e, l.handle));
-            }
+        if let Some(slot) = link.and_then(|i| link_entities.get_mut(i)) {
+            *slot = Some((e, handle));
         }
     }
     spawn_pads(

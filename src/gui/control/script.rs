@@ -180,41 +180,9 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             "state" if words.len() == 2 => Command::State(PathBuf::from(words[1])),
             "optimize" => Command::Optimize(num(words.get(1), "evaluations")?.max(1.0) as u64),
             "replay-best" => Command::ReplayBest,
-            "remote" if words.len() == 2 => Command::Remote(words[1] == "open"),
-            "remote-set" if words.len() == 3 => {
-                Command::RemoteSet(words[1].to_string(), num(words.get(2), "value")?)
+            w if w.starts_with("remote") || w.starts_with("robot") => {
+                device_command(words, &num, at)?
             }
-            "remote-bind" if words.len() == 7 => Command::RemoteBind {
-                element: words[1].to_string(),
-                mode: crate::config::remote::BindMode::parse(words[2]).ok_or_else(|| {
-                    at(format!(
-                        "mode {:?}: rate, absolute, increment, decrement or toggle",
-                        words[2]
-                    ))
-                })?,
-                module: words[3].to_string(),
-                parameter: words[4].to_string(),
-                joints: crate::config::remote::JointSelection::parse(words[5]).ok_or_else(
-                    || {
-                        at(format!(
-                            "joints {:?}: all, pitch, yaw or a 0/1 mask",
-                            words[5]
-                        ))
-                    },
-                )?,
-                scale: num(words.get(6), "scale")?,
-            },
-            "remote-remove" => {
-                Command::RemoteRemove(num(words.get(1), "binding")?.max(0.0) as usize)
-            }
-            "remote-load" if words.len() == 2 => Command::RemoteLoad(PathBuf::from(words[1])),
-            "remote-save" if words.len() == 2 => Command::RemoteSave(PathBuf::from(words[1])),
-            "robot" if words.len() == 2 => Command::RobotOpen(words[1] == "open"),
-            "robot-connect" if words.len() == 2 => Command::RobotConnect(words[1].to_string()),
-            "robot-torque" if words.len() == 2 => Command::RobotTorque(words[1] == "on"),
-            "robot-drive" if words.len() == 2 => Command::RobotDrive(words[1] == "on"),
-            "robot-twin" if words.len() == 2 => Command::RobotTwin(words[1] == "on"),
-            "robot-disconnect" => Command::RobotDisconnect,
             "assign" if words.len() == 3 => {
                 Command::Assign(words[1].to_string(), words[2].to_string())
             }
@@ -222,6 +190,51 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             other => return Err(at(format!("unknown or incomplete command {other:?}"))),
         };
         Ok(c)
+    })
+}
+
+/// Reads word `w` as a finite number (`what` names it in the error).
+type NumberOf<'a> = dyn Fn(Option<&&str>, &str) -> Result<f64, String> + 'a;
+
+/// The remote dialog's and the real-robot tab's commands (`remote*`, `robot*`).
+fn device_command(
+    words: &[&str],
+    num: &NumberOf<'_>,
+    at: &dyn Fn(String) -> String,
+) -> Result<Command, String> {
+    Ok(match words[0] {
+        "remote" if words.len() == 2 => Command::Remote(words[1] == "open"),
+        "remote-set" if words.len() == 3 => {
+            Command::RemoteSet(words[1].to_string(), num(words.get(2), "value")?)
+        }
+        "remote-bind" if words.len() == 7 => Command::RemoteBind {
+            element: words[1].to_string(),
+            mode: crate::config::remote::BindMode::parse(words[2]).ok_or_else(|| {
+                at(format!(
+                    "mode {:?}: rate, absolute, increment, decrement or toggle",
+                    words[2]
+                ))
+            })?,
+            module: words[3].to_string(),
+            parameter: words[4].to_string(),
+            joints: crate::config::remote::JointSelection::parse(words[5]).ok_or_else(|| {
+                at(format!(
+                    "joints {:?}: all, pitch, yaw or a 0/1 mask",
+                    words[5]
+                ))
+            })?,
+            scale: num(words.get(6), "scale")?,
+        },
+        "remote-remove" => Command::RemoteRemove(num(words.get(1), "binding")?.max(0.0) as usize),
+        "remote-load" if words.len() == 2 => Command::RemoteLoad(PathBuf::from(words[1])),
+        "remote-save" if words.len() == 2 => Command::RemoteSave(PathBuf::from(words[1])),
+        "robot" if words.len() == 2 => Command::RobotOpen(words[1] == "open"),
+        "robot-connect" if words.len() == 2 => Command::RobotConnect(words[1].to_string()),
+        "robot-torque" if words.len() == 2 => Command::RobotTorque(words[1] == "on"),
+        "robot-drive" if words.len() == 2 => Command::RobotDrive(words[1] == "on"),
+        "robot-twin" if words.len() == 2 => Command::RobotTwin(words[1] == "on"),
+        "robot-disconnect" => Command::RobotDisconnect,
+        other => return Err(at(format!("unknown or incomplete command {other:?}"))),
     })
 }
 

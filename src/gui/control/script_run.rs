@@ -13,17 +13,7 @@ use crate::gui::control::scene::BodyVisual;
 use crate::gui::control::script::{Command, ScriptRunner, state_report};
 use crate::gui::control::session::SimSession;
 use crate::gui::control::{Panels, Views};
-
-/// What a command leaves the script to do.
-enum Flow {
-    /// Go on with the next command this frame.
-    Next,
-    /// Come back to this command next frame.
-    Again,
-    /// The command is done; wait for the next frame before going on.
-    Yield,
-    Quit,
-}
+use crate::gui::scripting::{Flow, run_commands};
 
 /// Carries out script commands (the `Script` set).
 pub fn run_script(
@@ -34,43 +24,9 @@ pub fn run_script(
     visuals: Query<(Entity, &BodyVisual)>,
     mut exit: MessageWriter<AppExit>,
 ) {
-    let Some(script) = runner.0.as_mut() else {
-        return;
-    };
-    match script.pacing.hold() {
-        Ok(true) => return,
-        Ok(false) => {}
-        Err(e) => {
-            eprintln!("error: {}: {e}", script.file.display());
-            exit.write(AppExit::error());
-            runner.0 = None;
-            return;
-        }
-    }
-    while let Some((line, c)) = script.commands.get(script.next).cloned() {
-        let flow = match carry_out(c, &mut commands, script, &mut session, &mut views, &visuals) {
-            Ok(f) => f,
-            Err(e) => {
-                eprintln!("error: {}:{line}: {e}", script.file.display());
-                exit.write(AppExit::error());
-                runner.0 = None;
-                return;
-            }
-        };
-        match flow {
-            Flow::Next => script.next += 1,
-            Flow::Again => return,
-            Flow::Yield => {
-                script.next += 1;
-                return;
-            }
-            Flow::Quit => {
-                exit.write(AppExit::Success);
-                runner.0 = None;
-                return;
-            }
-        }
-    }
+    run_commands(&mut runner.0, &mut exit, |c, script| {
+        carry_out(c, &mut commands, script, &mut session, &mut views, &visuals)
+    });
 }
 
 /// One command, carried out by the function of its group.

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 use bevy_egui::egui;
 
-use crate::compose::env_edit::{EDITOR_MAX_FRICTION, EnvEditor, Selected, object_name};
+use crate::compose::env_edit::{EDITOR_MAX_FRICTION, EnvEditor, Props, Selected, object_name};
 use crate::gui::setup::preview::run_preview;
 use crate::gui::setup::state::{SetupState, Status, Tool};
 
@@ -203,74 +203,7 @@ pub fn show_selection(ui: &mut egui::Ui, state: &mut SetupState) {
         }
     });
     if props.editable {
-        ui.label(format!(
-            "size {:.3} x {:.3} x {:.3} m",
-            props.size[0], props.size[1], props.size[2]
-        ));
-        ui.horizontal(|ui| {
-            ui.label("scale");
-            for f in [0.5, 0.9, 1.1, 2.0] {
-                if ui.button(format!("×{f}")).clicked() {
-                    result = env.scale([f; 3]);
-                }
-            }
-        });
-        ui.horizontal(|ui| {
-            for (axis, k) in [("x", 0), ("y", 1), ("z", 2)] {
-                if ui.button(format!("{axis} ×2")).clicked() {
-                    let mut f = [1.0; 3];
-                    f[k] = 2.0;
-                    result = env.scale(f);
-                }
-                if ui.button(format!("{axis} ×½")).clicked() {
-                    let mut f = [1.0; 3];
-                    f[k] = 0.5;
-                    result = env.scale(f);
-                }
-            }
-        });
-        let mut mu = props.friction.unwrap_or(0.5);
-        if ui
-            .add(egui::Slider::new(&mut mu, 0.0..=EDITOR_MAX_FRICTION).text("friction (Coulomb)"))
-            .changed()
-        {
-            result = env.set_friction(mu);
-        }
-        let mut dynamic = props.dynamic;
-        if ui
-            .checkbox(&mut dynamic, "dynamic (pushed around)")
-            .changed()
-        {
-            result = env.set_dynamic(dynamic);
-        }
-        if props.dynamic {
-            let mut kg = props.mass.unwrap_or(1.0);
-            ui.horizontal(|ui| {
-                ui.label("mass");
-                if ui
-                    .add(
-                        egui::DragValue::new(&mut kg)
-                            .speed(0.01)
-                            .range(0.001..=1000.0)
-                            .suffix(" kg"),
-                    )
-                    .changed()
-                {
-                    result = env.set_mass(kg);
-                }
-            });
-        }
-        let c = props.colour.unwrap_or([0.7, 0.7, 0.7]);
-        let mut rgb = [c[0] as f32, c[1] as f32, c[2] as f32];
-        ui.horizontal(|ui| {
-            ui.label("colour");
-            if ui.color_edit_button_rgb(&mut rgb).changed() {
-                result = env.set_colour(rgb.map(f64::from));
-            }
-        });
-        if ui.button("Delete").clicked() {
-            result = env.delete();
-        }
+        result = editable_properties(ui, env, &props);
     } else if sel == Selected::Robot {
         ui.label("The robot placeholder sets the start pose: move and turn it.");
     } else {
@@ -279,6 +212,85 @@ pub fn show_selection(ui: &mut egui::Ui, state: &mut SetupState) {
     if let Err(e) = result {
         state.status = Some(Status::Error(e));
     }
+}
+
+/// Size, friction, dynamics, mass, colour and deletion of an editable object; the last
+/// change's result.
+fn editable_properties(
+    ui: &mut egui::Ui,
+    env: &mut EnvEditor,
+    props: &Props,
+) -> Result<(), String> {
+    let mut result = Ok(());
+    ui.label(format!(
+        "size {:.3} x {:.3} x {:.3} m",
+        props.size[0], props.size[1], props.size[2]
+    ));
+    ui.horizontal(|ui| {
+        ui.label("scale");
+        for f in [0.5, 0.9, 1.1, 2.0] {
+            if ui.button(format!("×{f}")).clicked() {
+                result = env.scale([f; 3]);
+            }
+        }
+    });
+    ui.horizontal(|ui| {
+        for (axis, k) in [("x", 0), ("y", 1), ("z", 2)] {
+            if ui.button(format!("{axis} ×2")).clicked() {
+                let mut f = [1.0; 3];
+                f[k] = 2.0;
+                result = env.scale(f);
+            }
+            if ui.button(format!("{axis} ×½")).clicked() {
+                let mut f = [1.0; 3];
+                f[k] = 0.5;
+                result = env.scale(f);
+            }
+        }
+    });
+    let mut mu = props.friction.unwrap_or(0.5);
+    if ui
+        .add(egui::Slider::new(&mut mu, 0.0..=EDITOR_MAX_FRICTION).text("friction (Coulomb)"))
+        .changed()
+    {
+        result = env.set_friction(mu);
+    }
+    let mut dynamic = props.dynamic;
+    if ui
+        .checkbox(&mut dynamic, "dynamic (pushed around)")
+        .changed()
+    {
+        result = env.set_dynamic(dynamic);
+    }
+    if props.dynamic {
+        let mut kg = props.mass.unwrap_or(1.0);
+        ui.horizontal(|ui| {
+            ui.label("mass");
+            if ui
+                .add(
+                    egui::DragValue::new(&mut kg)
+                        .speed(0.01)
+                        .range(0.001..=1000.0)
+                        .suffix(" kg"),
+                )
+                .changed()
+            {
+                result = env.set_mass(kg);
+            }
+        });
+    }
+    let c = props.colour.unwrap_or([0.7, 0.7, 0.7]);
+    let mut rgb = [c[0] as f32, c[1] as f32, c[2] as f32];
+    ui.horizontal(|ui| {
+        ui.label("colour");
+        if ui.color_edit_button_rgb(&mut rgb).changed() {
+            result = env.set_colour(rgb.map(f64::from));
+        }
+    });
+    if ui.button("Delete").clicked() {
+        result = env.delete();
+    }
+    result
 }
 
 /// Names the top and side views over their viewports.

@@ -266,32 +266,44 @@ fn draw_ui(
                 ui.colored_label(egui::Color32::RED, format!("robot preview: {e}"));
             });
     }
-    // Keyboard: Ctrl+Z undo, Ctrl+Y / Ctrl+Shift+Z redo, Delete removes the selection.
-    if editing && !ctx.egui_wants_keyboard_input() {
-        let (undo, redo, delete) = ctx.input(|i| {
-            let cmd = i.modifiers.command;
-            (
-                cmd && !i.modifiers.shift && i.key_pressed(egui::Key::Z),
-                cmd && (i.key_pressed(egui::Key::Y)
-                    || (i.modifiers.shift && i.key_pressed(egui::Key::Z))),
-                i.key_pressed(egui::Key::Delete),
-            )
-        });
-        let env = state.env_mut();
-        if undo {
-            env.undo();
-        }
-        if redo {
-            env.redo();
-        }
-        if delete && env.selected.is_some() {
-            let r = env.delete();
-            state.report(r, |_| "deleted".into());
-        }
+    if editing {
+        editor_keys(&ctx, state);
+        library_drop(&ctx, state, central);
     }
-    // A library item released over the 3D views is dropped there.
-    if editing
-        && let Some(i) = egui::DragAndDrop::payload::<usize>(&ctx)
+    Ok(())
+}
+
+/// The environment editor's keys: Ctrl+Z undo, Ctrl+Y / Ctrl+Shift+Z redo, Delete removes
+/// the selection.
+fn editor_keys(ctx: &egui::Context, state: &mut SetupState) {
+    if ctx.egui_wants_keyboard_input() {
+        return;
+    }
+    let (undo, redo, delete) = ctx.input(|i| {
+        let cmd = i.modifiers.command;
+        (
+            cmd && !i.modifiers.shift && i.key_pressed(egui::Key::Z),
+            cmd && (i.key_pressed(egui::Key::Y)
+                || (i.modifiers.shift && i.key_pressed(egui::Key::Z))),
+            i.key_pressed(egui::Key::Delete),
+        )
+    });
+    let env = state.env_mut();
+    if undo {
+        env.undo();
+    }
+    if redo {
+        env.redo();
+    }
+    if delete && env.selected.is_some() {
+        let r = env.delete();
+        state.report(r, |_| "deleted".into());
+    }
+}
+
+/// A library item released over the 3D views is dropped there.
+fn library_drop(ctx: &egui::Context, state: &mut SetupState, central: egui::Rect) {
+    if let Some(i) = egui::DragAndDrop::payload::<usize>(ctx)
         && ctx.input(|inp| inp.pointer.any_released())
         && let Some(pos) = ctx.input(|inp| inp.pointer.interact_pos())
         && central.contains(pos)
@@ -299,7 +311,6 @@ fn draw_ui(
         if let Some(item) = state.library.get(*i).cloned() {
             state.drop = Some((item, Vec2::new(pos.x, pos.y)));
         }
-        egui::DragAndDrop::clear_payload(&ctx);
+        egui::DragAndDrop::clear_payload(ctx);
     }
-    Ok(())
 }

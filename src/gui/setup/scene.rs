@@ -60,29 +60,7 @@ pub fn sync_scene(
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<StandardMaterial>>,
 ) {
-    // The expert dialog shows its composition; the wizard and editor the wizard's robot.
-    let expert = state.tool == Tool::Expert;
-    let composition = &state.expert.composition;
-    let rk = if expert {
-        format!("expert:{}", composition.robot.display())
-    } else {
-        robot_key(&state.wizard)
-    };
-    if cache.robot_key.as_deref() != Some(rk.as_str()) {
-        cache.robot = Some(if expert {
-            robot_file_model(&composition.robot)
-        } else {
-            robot_model(&state.wizard)
-        });
-        cache.robot_key = Some(rk.clone());
-    }
-    let expert_env = composition.environment.clone().filter(|_| expert);
-    if cache.expert_env.as_ref().map(|(p, _)| p) != expert_env.as_ref() {
-        cache.expert_env = expert_env.map(|p| {
-            let e = EnvEditor::load(&p).ok();
-            (p, e)
-        });
-    }
+    let rk = refresh_models(&state, &mut cache);
     let editing = state.editing_env();
     if drag.dragging {
         // Only the dragged item moves: keep its entity (the drag's target) alive.
@@ -133,59 +111,40 @@ pub fn sync_scene(
         trimeshes: &mut cache.trimeshes,
     };
     let robot_pose = shown_env.as_ref().map_or(Pose::IDENTITY, |e| e.robot_pose);
-    let robot_entity = spawner.item(ItemVisual(Selected::Robot), "robot", &robot_pose);
-    match &robot {
-        Some(model) => {
-            for link in &model.links {
-                spawner.body(robot_entity, &link.name, &link.pose, &link.geoms, None);
-            }
-        }
-        None => {
-            // No valid robot yet: a placeholder bar where it would lie.
-            let g = placeholder();
-            spawner.body(
-                robot_entity,
-                "robot placeholder",
-                &Pose::IDENTITY,
-                &[g],
-                None,
-            );
-        }
-    }
+    let robot_entity = spawner.robot(robot.as_ref(), &robot_pose);
     spawner.commands.entity(root).add_child(robot_entity);
     if let Some(env) = &shown_env {
-        for (i, o) in env.objects.iter().enumerate() {
-            let (pose, kb, name) = match o {
-                EnvObject::Inline(kb) => (kb.pose, Some(kb.clone()), kb.name.clone()),
-                EnvObject::Include(inc) => {
-                    let kb = resolve_include(&FsSource, &env.file, &inc.file).and_then(|p| {
-                        let text = std::fs::read_to_string(&p).ok()?;
-                        parse_kinbody_file(&p.display().to_string(), &text).ok()
-                    });
-                    let kb = kb.map(|mut k| {
-                        // The file's own placement sits under the include's pose.
-                        let inner = k.pose;
-                        for b in &mut k.bodies {
-                            b.pose = inner.mul(&b.pose);
-                        }
-                        k
-                    });
-                    (inc.pose, kb, Some(inc.file.clone()))
-                }
-            };
-            let e = spawner.item(
-                ItemVisual(Selected::Object(i)),
-                &name.unwrap_or_else(|| format!("object {i}")),
-                &pose,
-            );
-            if let Some(kb) = kb {
-                for b in &kb.bodies {
-                    spawner.body(e, &b.name, &b.pose, &b.geoms, Some(env));
-                }
-            }
-            spawner.commands.entity(root).add_child(e);
-        }
+        spawner.environment(root, env);
     }
+}
+
+/// Rebuilds the robot preview and the expert's environment when what they show changed;
+/// returns the robot's key.
+fn refresh_models(state: &SetupState, cache: &mut SceneCache) -> String {
+    // The expert dialog shows its composition; the wizard and editor the wizard's robot.
+    let expert = state.tool == Tool::Expert;
+    let composition = &state.expert.composition;
+    let rk = if expert {
+        format!("expert:{}", composition.robot.display())
+    } else {
+        robot_key(&state.wizard)
+    };
+    if cache.robot_key.as_deref() != Some(rk.as_str()) {
+        cache.robot = Some(if expert {
+            robot_file_model(&composition.robot)
+        } else {
+            robot_model(&state.wizard)
+        });
+        cache.robot_key = Some(rk.clone());
+    }
+    let expert_env = composition.environment.clone().filter(|_| expert);
+    if cache.expert_env.as_ref().map(|(p, _)| p) != expert_env.as_ref() {
+        cache.expert_env = expert_env.map(|p| {
+            let e = EnvEditor::load(&p).ok();
+            (p, e)
+        });
+    }
+    rk
 }
 
 /// A thin bar standing in for a robot that cannot be built yet.
@@ -213,6 +172,66 @@ struct Spawner<'a, 'w, 's> {
 }
 
 impl Spawner<'_, '_, '_> {
+    /// The robot (its links, or a placeholder bar) under a pickable item at `pose`.
+    fn robot(&mut self, robot: Option<&RobotModel>, pose: &Pose) -> Entity {
+        let robot_entity = self.item(ItemVisual(Selected::Robot), "robot", pose);
+        match robot {
+            Some(model) => {
+                for link in &model.links {
+                    self.body(robot_entity, &link.name, &link.pose, &link.geoms, None);
+                }
+            }
+            None => {
+                // No valid robot yet: a placeholder bar where it would lie.
+                let g = placeholder();
+                self.body(
+                    robot_entity,
+                    "robot placeholder",
+                    &Pose::IDENTITY,
+                    &[g],
+                    None,
+                );
+            }
+        }
+        robot_entity
+    }
+
+    /// Every object of `env` as a pickable item under `root` (included kinbody files are
+    /// read to show their bodies).
+    fn environment(&mut self, root: Entity, env: &EnvEditor) {
+        for (i, o) in env.objects.iter().enumerate() {
+            let (pose, kb, name) = match o {
+                EnvObject::Inline(kb) => (kb.pose, Some(kb.clone()), kb.name.clone()),
+                EnvObject::Include(inc) => {
+                    let kb = resolve_include(&FsSource, &env.file, &inc.file).and_then(|p| {
+                        let text = std::fs::read_to_string(&p).ok()?;
+                        parse_kinbody_file(&p.display().to_string(), &text).ok()
+                    });
+                    let kb = kb.map(|mut k| {
+                        // The file's own placement sits under the include's pose.
+                        let inner = k.pose;
+                        for b in &mut k.bodies {
+                            b.pose = inner.mul(&b.pose);
+                        }
+                        k
+                    });
+                    (inc.pose, kb, Some(inc.file.clone()))
+                }
+            };
+            let e = self.item(
+                ItemVisual(Selected::Object(i)),
+                &name.unwrap_or_else(|| format!("object {i}")),
+                &pose,
+            );
+            if let Some(kb) = kb {
+                for b in &kb.bodies {
+                    self.body(e, &b.name, &b.pose, &b.geoms, Some(env));
+                }
+            }
+            self.commands.entity(root).add_child(e);
+        }
+    }
+
     fn item(&mut self, item: ItemVisual, name: &str, pose: &Pose) -> Entity {
         self.commands
             .spawn((

@@ -11,17 +11,10 @@ use crate::compose::expert::Part;
 use crate::compose::library::LibraryItem;
 use crate::gui::control::script::state_report;
 use crate::gui::module_editor::ModuleEditor;
+use crate::gui::scripting::{Flow, run_commands};
 use crate::gui::setup::editor_view::preview;
 use crate::gui::setup::script::{Command, Script, SetupScript};
 use crate::gui::setup::state::{SetupState, Status, Tool};
-
-enum Flow {
-    Next,
-    /// Come back to this command next frame.
-    Again,
-    Yield,
-    Quit,
-}
 
 /// Carries out script commands (before the views update).
 pub fn run_script(
@@ -31,43 +24,9 @@ pub fn run_script(
     mut modules: ResMut<ModuleEditor>,
     mut exit: MessageWriter<AppExit>,
 ) {
-    let Some(script) = runner.0.as_mut() else {
-        return;
-    };
-    match script.pacing.hold() {
-        Ok(true) => return,
-        Ok(false) => {}
-        Err(e) => {
-            eprintln!("error: {}: {e}", script.file.display());
-            exit.write(AppExit::error());
-            runner.0 = None;
-            return;
-        }
-    }
-    while let Some((line, c)) = script.commands.get(script.next).cloned() {
-        let flow = match carry_out(c, &mut commands, script, &mut state, &mut modules) {
-            Ok(f) => f,
-            Err(e) => {
-                eprintln!("error: {}:{line}: {e}", script.file.display());
-                exit.write(AppExit::error());
-                runner.0 = None;
-                return;
-            }
-        };
-        if matches!(flow, Flow::Again) {
-            return;
-        }
-        script.next += 1;
-        match flow {
-            Flow::Next | Flow::Again => {}
-            Flow::Yield => return,
-            Flow::Quit => {
-                exit.write(AppExit::Success);
-                runner.0 = None;
-                return;
-            }
-        }
-    }
+    run_commands(&mut runner.0, &mut exit, |c, script| {
+        carry_out(c, &mut commands, script, &mut state, &mut modules)
+    });
 }
 
 fn item(state: &SetupState, name: &str) -> Result<LibraryItem, String> {

@@ -7,10 +7,11 @@
 use bevy_egui::egui;
 
 use crate::compose::behaviour::{BehaviourSpec, Group, ModuleChoice};
-use crate::compose::optimization::{Method, Registration, ValueSet};
-use crate::compose::robot_builder::{MAX_JOINTS, Orientation, PartSet};
+use crate::compose::optimization::{Method, OptimizationSpec, Registration, ValueSet};
+use crate::compose::robot_builder::{MAX_JOINTS, Orientation, PartSet, RobotSpec};
 use crate::compose::wizard::{Page, RobotChoice, Wizard};
 use crate::config::actuation::ParamValue;
+use crate::config::module_types::ModuleDescriptor;
 use crate::config::simulation::Mode;
 use crate::gui::setup::state::{SetupState, Status};
 
@@ -121,7 +122,12 @@ fn robot_page(ui: &mut egui::Ui, w: &mut Wizard) {
         };
         return;
     }
-    let spec = &mut w.spec;
+    robot_form(ui, &mut w.spec);
+    w.robot = RobotChoice::Build(w.spec.clone());
+}
+
+/// The "Build a robot" form: name, joints and their orientations, module parts.
+fn robot_form(ui: &mut egui::Ui, spec: &mut RobotSpec) {
     ui.horizontal(|ui| {
         ui.label("Name");
         ui.text_edit_singleline(&mut spec.name);
@@ -185,7 +191,6 @@ fn robot_page(ui: &mut egui::Ui, w: &mut Wizard) {
     if let Err(e) = spec.validate() {
         ui.colored_label(egui::Color32::RED, e);
     }
-    w.robot = RobotChoice::Build(w.spec.clone());
 }
 
 /// Joint selection state of the behaviour page (egui memory).
@@ -261,30 +266,7 @@ fn behaviour_page(ui: &mut egui::Ui, w: &mut Wizard) {
                 let Some(d) = w.registry.get(&m.name) else {
                     continue;
                 };
-                for p in d.parameters {
-                    let Some((_, value)) = m.params.iter_mut().find(|(n, _)| p.answers_to(n))
-                    else {
-                        continue;
-                    };
-                    ui.horizontal(|ui| {
-                        ui.label(format!("{} ({})", p.name, p.unit));
-                        match value {
-                            ParamValue::Uniform(v) => {
-                                ui.add(
-                                    egui::DragValue::new(v)
-                                        .range(p.min..=p.max)
-                                        .speed((p.max - p.min) / 500.0),
-                                )
-                                .on_hover_text(p.help);
-                            }
-                            ParamValue::PerJoint(v) => {
-                                for x in v.iter_mut() {
-                                    ui.add(egui::DragValue::new(x).range(p.min..=p.max));
-                                }
-                            }
-                        }
-                    });
-                }
+                module_params_view(ui, m, d);
             }
             if let Some(mi) = remove_module {
                 g.modules.remove(mi);
@@ -315,6 +297,33 @@ fn behaviour_page(ui: &mut egui::Ui, w: &mut Wizard) {
     }
 }
 
+/// The parameters of one module of a group, as drag values within their ranges.
+fn module_params_view(ui: &mut egui::Ui, m: &mut ModuleChoice, d: &ModuleDescriptor) {
+    for p in d.parameters {
+        let Some((_, value)) = m.params.iter_mut().find(|(n, _)| p.answers_to(n)) else {
+            continue;
+        };
+        ui.horizontal(|ui| {
+            ui.label(format!("{} ({})", p.name, p.unit));
+            match value {
+                ParamValue::Uniform(v) => {
+                    ui.add(
+                        egui::DragValue::new(v)
+                            .range(p.min..=p.max)
+                            .speed((p.max - p.min) / 500.0),
+                    )
+                    .on_hover_text(p.help);
+                }
+                ParamValue::PerJoint(v) => {
+                    for x in v.iter_mut() {
+                        ui.add(egui::DragValue::new(x).range(p.min..=p.max));
+                    }
+                }
+            }
+        });
+    }
+}
+
 fn simulation_page(ui: &mut egui::Ui, w: &mut Wizard) {
     crate::gui::setup::properties_view::show(ui, &mut w.props, &mut w.description);
     match w.props.mode {
@@ -334,46 +343,9 @@ fn optimization_page(ui: &mut egui::Ui, w: &mut Wizard) {
     });
     let mut remove = None;
     for (i, r) in o.params.iter_mut().enumerate() {
-        ui.group(|ui| {
-            ui.horizontal(|ui| {
-                ui.strong(format!("{}. {} / {}", i + 1, r.module, r.parameter));
-                if ui.small_button("remove").clicked() {
-                    remove = Some(i);
-                }
-            });
-            ui.horizontal(|ui| {
-                ui.checkbox(&mut r.all_joints, "all joints of the module");
-                ui.checkbox(&mut r.uniform, "uniform (one gene)");
-            });
-            if !r.all_joints {
-                r.joints.resize(joints, false);
-                ui.horizontal_wrapped(|ui| {
-                    for (j, b) in r.joints.iter_mut().enumerate() {
-                        ui.toggle_value(b, format!("J{}", j + 1));
-                    }
-                });
-            }
-            match &mut r.values {
-                ValueSet::Range {
-                    lower,
-                    upper,
-                    increment,
-                } => {
-                    ui.horizontal(|ui| {
-                        ui.add(egui::DragValue::new(lower).prefix("from "));
-                        ui.add(egui::DragValue::new(upper).prefix("to "));
-                        ui.add(
-                            egui::DragValue::new(increment)
-                                .prefix("step ")
-                                .range(0.0..=f64::MAX),
-                        );
-                    });
-                }
-                ValueSet::List(v) => {
-                    ui.label(format!("values: {v:?}"));
-                }
-            }
-        });
+        if registration_view(ui, i, r, joints) {
+            remove = Some(i);
+        }
     }
     if let Some(i) = remove {
         o.params.remove(i);
@@ -401,6 +373,73 @@ fn optimization_page(ui: &mut egui::Ui, w: &mut Wizard) {
             }
         });
     ui.separator();
+    algorithm_settings(ui, o);
+    let mut limit = o.max_evaluations.is_some();
+    ui.horizontal(|ui| {
+        ui.checkbox(&mut limit, "stop after");
+        let mut n = o.max_evaluations.unwrap_or(1000);
+        ui.add_enabled(
+            limit,
+            egui::DragValue::new(&mut n)
+                .range(1..=10_000_000)
+                .suffix(" evaluations"),
+        );
+        o.max_evaluations = limit.then_some(n);
+    });
+    if let Err(e) = o.validate() {
+        ui.colored_label(egui::Color32::RED, e);
+    }
+}
+
+/// One registered parameter: joints, uniform or individual, its values; true when its
+/// "remove" button was clicked.
+fn registration_view(ui: &mut egui::Ui, i: usize, r: &mut Registration, joints: usize) -> bool {
+    let mut remove = false;
+    ui.group(|ui| {
+        ui.horizontal(|ui| {
+            ui.strong(format!("{}. {} / {}", i + 1, r.module, r.parameter));
+            if ui.small_button("remove").clicked() {
+                remove = true;
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.checkbox(&mut r.all_joints, "all joints of the module");
+            ui.checkbox(&mut r.uniform, "uniform (one gene)");
+        });
+        if !r.all_joints {
+            r.joints.resize(joints, false);
+            ui.horizontal_wrapped(|ui| {
+                for (j, b) in r.joints.iter_mut().enumerate() {
+                    ui.toggle_value(b, format!("J{}", j + 1));
+                }
+            });
+        }
+        match &mut r.values {
+            ValueSet::Range {
+                lower,
+                upper,
+                increment,
+            } => {
+                ui.horizontal(|ui| {
+                    ui.add(egui::DragValue::new(lower).prefix("from "));
+                    ui.add(egui::DragValue::new(upper).prefix("to "));
+                    ui.add(
+                        egui::DragValue::new(increment)
+                            .prefix("step ")
+                            .range(0.0..=f64::MAX),
+                    );
+                });
+            }
+            ValueSet::List(v) => {
+                ui.label(format!("values: {v:?}"));
+            }
+        }
+    });
+    remove
+}
+
+/// The optimizer's own settings (GA or great deluge).
+fn algorithm_settings(ui: &mut egui::Ui, o: &mut OptimizationSpec) {
     match o.method {
         Method::Genetic => {
             ui.add(
@@ -444,21 +483,6 @@ fn optimization_page(ui: &mut egui::Ui, w: &mut Wizard) {
                     .prefix("confidence "),
             );
         }
-    }
-    let mut limit = o.max_evaluations.is_some();
-    ui.horizontal(|ui| {
-        ui.checkbox(&mut limit, "stop after");
-        let mut n = o.max_evaluations.unwrap_or(1000);
-        ui.add_enabled(
-            limit,
-            egui::DragValue::new(&mut n)
-                .range(1..=10_000_000)
-                .suffix(" evaluations"),
-        );
-        o.max_evaluations = limit.then_some(n);
-    });
-    if let Err(e) = o.validate() {
-        ui.colored_label(egui::Color32::RED, e);
     }
 }
 
