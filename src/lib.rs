@@ -34,16 +34,11 @@
 
 pub mod bench;
 pub mod cli;
-// Issue 19: compose, config and gui are not fully documented yet (546 public items);
-// every other module is, and the lint keeps it so.
-#[allow(missing_docs)]
 pub mod compose;
-#[allow(missing_docs)]
 pub mod config;
 pub mod control;
 pub mod data;
 #[cfg(feature = "gui")]
-#[allow(missing_docs)]
 pub mod gui;
 pub mod measure;
 pub mod optimize;

@@ -9,7 +9,7 @@ use proleg::control::load_simulation;
 use proleg::sim::clock::SimClock;
 use proleg::sim::kernel::SimRobot;
 use proleg::sim::servo::{JointState, SimJoint};
-use proleg::sim::spawn::{EnvObject, SimLink, build_world};
+use proleg::sim::spawn::{SimEnvObject, SimLink, build_world};
 use proleg::sim::{BuildOptions, SimDriverPlugin, SimPlugin, StepsPerUpdate};
 
 fn app() -> (App, Entity) {
@@ -60,7 +60,7 @@ fn every_entity_is_named() {
             With<SimRobot>,
             With<SimLink>,
             With<SimJoint>,
-            With<EnvObject>,
+            With<SimEnvObject>,
         )>,
     )>();
     let count = unnamed.iter(world).count();
@@ -68,7 +68,7 @@ fn every_entity_is_named() {
         With<SimRobot>,
         With<SimLink>,
         With<SimJoint>,
-        With<EnvObject>,
+        With<SimEnvObject>,
     )>>();
     assert_eq!(ours.iter(world).count(), 1 + 6 + 5 + 1);
     let mut named = world.query::<&Name>();

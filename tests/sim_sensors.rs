@@ -85,7 +85,7 @@ fn laser_measures_a_wall_at_a_known_distance() {
     use proleg::config::body::{BodyKind, Geom, Shape};
     use proleg::config::resolve::{EnvBody, RobotSensor};
     use proleg::config::sensor::{Laser2d, Sensor};
-    use proleg::config::transform::Transform;
+    use proleg::config::transform::Pose;
     let mut sim = load_simulation(common::root().join("configs/demo.simulation.xml")).unwrap();
     // A laser 7 cm ahead of the head's joint, 2 cm up; a wall whose face is at y = 1.95 m.
     let head = sim
@@ -97,7 +97,7 @@ fn laser_measures_a_wall_at_a_known_distance() {
     sim.robot.sensors.push(RobotSensor {
         name: "laser".into(),
         link: head,
-        pose: Transform::from_translation([0.0, 0.07, 0.02]),
+        pose: Pose::from_translation([0.0, 0.07, 0.02]),
         sensor: Sensor::Laser2d(Laser2d {
             min_angle: -30.0,
             max_angle: 30.0,
@@ -112,7 +112,7 @@ fn laser_measures_a_wall_at_a_known_distance() {
         shape: Shape::Box {
             extents: [1.0, 0.05, 0.25],
         },
-        pose: Transform::IDENTITY,
+        pose: Pose::IDENTITY,
         diffuse_color: None,
         ambient_color: None,
         transparency: None,
@@ -123,7 +123,7 @@ fn laser_measures_a_wall_at_a_known_distance() {
     sim.environment.bodies.push(EnvBody {
         name: "wall".into(),
         kind: BodyKind::Static,
-        pose: Transform::from_translation([0.0, 2.0, 0.25]),
+        pose: Pose::from_translation([0.0, 2.0, 0.25]),
         geoms: vec![wall],
         mass: 1.0,
     });

@@ -16,7 +16,7 @@ use crate::config::Simulation;
 use crate::control::{ModuleRegistry, load_simulation};
 use crate::data::store::DataStore;
 use crate::sim::datalog::DataSettings;
-use crate::sim::physics::Physics;
+use crate::sim::physics::SimPhysics;
 use crate::sim::{BuildOptions, SimError, Simulator};
 
 /// Repetitions of each figure; the fastest counts.
@@ -133,7 +133,7 @@ pub fn physics_only(config: &Path, seconds: f64) -> Result<Figure, String> {
         seconds,
         "rapier step, motors held, 1 robot",
         |s, steps| {
-            let mut physics = s.world_mut().resource_mut::<Physics>();
+            let mut physics = s.world_mut().resource_mut::<SimPhysics>();
             let t = Instant::now();
             for _ in 0..steps {
                 physics.world.step();

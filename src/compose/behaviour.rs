@@ -49,13 +49,16 @@ impl ModuleChoice {
 /// A group of joints and the modules driving it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Group {
+    /// The group's joints, one flag per robot joint.
     pub joints: Vec<bool>,
+    /// The modules driving them, each with its parameter values.
     pub modules: Vec<ModuleChoice>,
 }
 
 /// Which modules drive which joints.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BehaviourSpec {
+    /// The groups, in actuation-file order.
     pub groups: Vec<Group>,
 }
 

@@ -21,7 +21,7 @@ use crate::config::kinbody::KinBody;
 use crate::config::mesh::Meshes;
 use crate::config::resolve::environment::resolve_environment;
 use crate::config::source::{FsSource, resolve_include};
-use crate::config::transform::{Transform, quat_mul};
+use crate::config::transform::{Pose, quat_mul};
 
 /// Largest friction the editor offers (Coulomb coefficient, as the thesis's dialog).
 pub const EDITOR_MAX_FRICTION: f64 = 1.0;
@@ -31,14 +31,18 @@ const UNDO_LIMIT: usize = 200;
 /// What is selected.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Selected {
+    /// The robot placeholder (its start pose).
     Robot,
+    /// Object `i` of the scene.
     Object(usize),
 }
 
 /// An axis-aligned box in world coordinates.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Aabb {
+    /// Lowest corner (m).
     pub min: [f64; 3],
+    /// Highest corner (m).
     pub max: [f64; 3],
 }
 
@@ -68,6 +72,7 @@ impl Aabb {
             && y <= self.max[1]
     }
 
+    /// Extent along each axis (m).
     pub fn size(&self) -> [f64; 3] {
         if self.is_empty() {
             return [0.0; 3];
@@ -80,30 +85,42 @@ impl Aabb {
 #[derive(Debug, Clone, PartialEq)]
 struct Snapshot {
     objects: Vec<EnvObject>,
-    robot_pose: Transform,
+    robot_pose: Pose,
 }
 
 /// The properties the side panel shows for the selection.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Props {
+    /// The object's name (or the included file).
     pub name: String,
+    /// Position (m, z up).
     pub position: [f64; 3],
+    /// Heading about z (degrees).
     pub yaw_deg: f64,
+    /// Extent of its bounds (m).
     pub size: [f64; 3],
     /// None: not editable here (robot, included file) or mixed.
     pub friction: Option<f64>,
+    /// Whether it is pushed around (a dynamic body).
     pub dynamic: bool,
+    /// Total mass (kg), when given.
     pub mass: Option<f64>,
+    /// Diffuse colour (RGB 0..1), when given.
     pub colour: Option<[f64; 3]>,
+    /// Whether size, friction, mass and colour can be changed (an inline object).
     pub editable: bool,
 }
 
 /// The environment being edited.
 #[derive(Debug, Clone)]
 pub struct EnvEditor {
+    /// Gravity, self-collision and default friction of the scene.
     pub physics: Physics,
+    /// The scene's objects, inline or included.
     pub objects: Vec<EnvObject>,
-    pub robot_pose: Transform,
+    /// The robot's start pose.
+    pub robot_pose: Pose,
+    /// What is selected.
     pub selected: Option<Selected>,
     /// Where the file is (or will be) saved: includes and meshes resolve from here.
     pub file: PathBuf,
@@ -133,14 +150,14 @@ pub fn yaw_of(q: [f64; 4]) -> f64 {
         .to_degrees()
 }
 
-fn object_pose(o: &EnvObject) -> Transform {
+fn object_pose(o: &EnvObject) -> Pose {
     match o {
         EnvObject::Inline(kb) => kb.pose,
         EnvObject::Include(i) => i.pose,
     }
 }
 
-fn object_pose_mut(o: &mut EnvObject) -> &mut Transform {
+fn object_pose_mut(o: &mut EnvObject) -> &mut Pose {
     match o {
         EnvObject::Inline(kb) => &mut kb.pose,
         EnvObject::Include(i) => &mut i.pose,
@@ -164,14 +181,14 @@ impl EnvEditor {
             extents: [4.0, 4.0, 0.003],
         };
         floor.bodies[0].geoms[0].diffuse_color = Some([0.3, 1.0, 0.3]);
-        floor.pose = Transform::from_translation([0.0, 0.0, -0.003]);
+        floor.pose = Pose::from_translation([0.0, 0.0, -0.003]);
         EnvEditor {
             physics: Physics {
                 self_collision: true,
                 ..Physics::default()
             },
             objects: vec![EnvObject::Inline(floor)],
-            robot_pose: Transform::IDENTITY,
+            robot_pose: Pose::IDENTITY,
             selected: None,
             file: file.into(),
             undo: Vec::new(),
@@ -198,7 +215,7 @@ impl EnvEditor {
         let mut e = EnvEditor::empty(path);
         e.physics = file.physics;
         e.objects = file.objects;
-        e.robot_pose = file.robot_pose.unwrap_or(Transform::IDENTITY);
+        e.robot_pose = file.robot_pose.unwrap_or(Pose::IDENTITY);
         Ok(e)
     }
 
@@ -254,14 +271,17 @@ impl EnvEditor {
         self.revision += 1;
     }
 
+    /// Whether there is an edit to undo.
     pub fn can_undo(&self) -> bool {
         !self.undo.is_empty()
     }
 
+    /// Whether there is an undone edit to redo.
     pub fn can_redo(&self) -> bool {
         !self.redo.is_empty()
     }
 
+    /// Undoes the last edit; false when there was none.
     pub fn undo(&mut self) -> bool {
         let Some(s) = self.undo.pop() else {
             return false;
@@ -271,6 +291,7 @@ impl EnvEditor {
         true
     }
 
+    /// Redoes the last undone edit; false when there was none.
     pub fn redo(&mut self) -> bool {
         let Some(s) = self.redo.pop() else {
             return false;
@@ -311,7 +332,7 @@ impl EnvEditor {
     }
 
     /// World bounds of a kinbody placed at `pose`.
-    fn kinbody_aabb(&mut self, kb: &KinBody, pose: &Transform) -> Aabb {
+    fn kinbody_aabb(&mut self, kb: &KinBody, pose: &Pose) -> Aabb {
         let mut out = Aabb::EMPTY;
         for body in &kb.bodies {
             let bp = pose.mul(&body.pose);
@@ -411,10 +432,10 @@ impl EnvEditor {
     pub fn add(&mut self, item: &LibraryItem, x: f64, y: f64) -> usize {
         let name = self.unique_name(&item.label());
         let mut kb = item.kinbody(&name);
-        let local = self.kinbody_aabb(&kb, &Transform::IDENTITY);
+        let local = self.kinbody_aabb(&kb, &Pose::IDENTITY);
         let surface = self.surface_at(x, y, None);
         let lift = if local.is_empty() { 0.0 } else { -local.min[2] };
-        kb.pose = Transform::from_translation([x, y, surface + lift]);
+        kb.pose = Pose::from_translation([x, y, surface + lift]);
         self.checkpoint();
         self.objects.push(EnvObject::Inline(kb));
         let i = self.objects.len() - 1;
@@ -442,14 +463,14 @@ impl EnvEditor {
     }
 
     /// The selected object's pose (the robot's start pose for the robot).
-    pub fn pose(&self, s: Selected) -> Option<Transform> {
+    pub fn pose(&self, s: Selected) -> Option<Pose> {
         match s {
             Selected::Robot => Some(self.robot_pose),
             Selected::Object(i) => self.objects.get(i).map(object_pose),
         }
     }
 
-    fn pose_mut(&mut self, s: Selected) -> Option<&mut Transform> {
+    fn pose_mut(&mut self, s: Selected) -> Option<&mut Pose> {
         match s {
             Selected::Robot => Some(&mut self.robot_pose),
             Selected::Object(i) => self.objects.get_mut(i).map(object_pose_mut),
@@ -488,6 +509,7 @@ impl EnvEditor {
         }
     }
 
+    /// The drag ends (its moves stay one undo step).
     pub fn end_drag(&mut self) {
         self.dragging = false;
     }
@@ -767,6 +789,29 @@ mod tests {
         e.end_drag();
         assert!(e.undo());
         assert!((e.pose(Selected::Object(i)).unwrap().translation[0]).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_mesh_that_does_not_load_is_reported_not_dropped() {
+        let dir = std::env::temp_dir().join(format!("proleg_env_mesh_{}", std::process::id()));
+        let _ = std::fs::create_dir_all(&dir);
+        std::fs::write(dir.join("broken.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 7\n").unwrap();
+        let mut e = EnvEditor::new(dir.join("scene.env.xml"));
+        e.add(&LibraryItem::Mesh("broken.obj".into()), 0.0, 1.0);
+        e.add(&LibraryItem::Mesh("missing.obj".into()), 1.0, 1.0);
+        let errors: Vec<&str> = e.mesh_errors().collect();
+        assert_eq!(errors.len(), 2, "{errors:?}");
+        assert!(
+            errors
+                .iter()
+                .any(|m| m.contains("broken.obj") && m.contains(":3:")),
+            "{errors:?}"
+        );
+        assert!(
+            errors.iter().any(|m| m.contains("missing.obj")),
+            "{errors:?}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

@@ -16,13 +16,18 @@ use crate::control::registry::ModuleRegistry;
 /// The kinds of file a simulation is made of.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Part {
+    /// The robot file.
     Robot,
+    /// The actuation file.
     Actuation,
+    /// The environment file.
     Environment,
+    /// The optimizer file.
     Optimizer,
 }
 
 impl Part {
+    /// Every value, in the order the GUI lists them.
     pub const ALL: [Part; 4] = [
         Part::Robot,
         Part::Actuation,
@@ -30,6 +35,7 @@ impl Part {
         Part::Optimizer,
     ];
 
+    /// The name shown to the user.
     pub fn label(self) -> &'static str {
         match self {
             Part::Robot => "Robot",
@@ -77,11 +83,17 @@ pub fn catalog(part: Part, dirs: &[PathBuf]) -> Vec<PathBuf> {
 /// A simulation put together from existing files.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Composition {
+    /// The robot file.
     pub robot: PathBuf,
+    /// The actuation file.
     pub actuation: PathBuf,
+    /// The environment file, if any.
     pub environment: Option<PathBuf>,
+    /// The optimizer file, if any.
     pub optimizer: Option<PathBuf>,
+    /// The simulation properties.
     pub properties: SimulationProperties,
+    /// The simulation's description.
     pub description: String,
 }
 

@@ -7,15 +7,20 @@ use std::path::Path;
 use crate::config::body::{Body, BodyKind, Geom, Shape};
 use crate::config::error::Pos;
 use crate::config::kinbody::KinBody;
-use crate::config::transform::Transform;
+use crate::config::transform::Pose;
 
 /// Something the editor can put into the scene.
 #[derive(Debug, Clone, PartialEq)]
 pub enum LibraryItem {
+    /// A 0.2 m box.
     Box,
+    /// A plank tilted 15 degrees.
     Ramp,
+    /// An upright cylinder.
     Cylinder,
+    /// A ball.
     Sphere,
+    /// Five 20 mm steps.
     Stairs,
     /// A Wavefront OBJ mesh, the path as the environment file will name it.
     Mesh(String),
@@ -63,9 +68,9 @@ impl LibraryItem {
                 // Stairs: each step is a body placed by its translation; others: the
                 // geometry carries the tilt.
                 let (body_pose, geom_pose) = if stairs {
-                    (pose, Transform::IDENTITY)
+                    (pose, Pose::IDENTITY)
                 } else {
-                    (Transform::IDENTITY, pose)
+                    (Pose::IDENTITY, pose)
                 };
                 Body {
                     name: body_name,
@@ -88,7 +93,7 @@ impl LibraryItem {
             .collect();
         KinBody {
             name: Some(name.to_string()),
-            pose: Transform::IDENTITY,
+            pose: Pose::IDENTITY,
             includes: Vec::new(),
             bodies,
             joints: Vec::new(),
@@ -98,12 +103,12 @@ impl LibraryItem {
     }
 
     /// The object's pieces: body name, pose, shape and colour.
-    fn pieces(&self, name: &str) -> Vec<(String, Transform, Shape, [f64; 3])> {
+    fn pieces(&self, name: &str) -> Vec<(String, Pose, Shape, [f64; 3])> {
         let grey = [0.75, 0.7, 0.65];
         match self {
             LibraryItem::Box => vec![(
                 name.into(),
-                Transform::IDENTITY,
+                Pose::IDENTITY,
                 Shape::Box {
                     extents: [0.1, 0.1, 0.1],
                 },
@@ -120,7 +125,7 @@ impl LibraryItem {
             )],
             LibraryItem::Cylinder => vec![(
                 name.into(),
-                Transform::IDENTITY,
+                Pose::IDENTITY,
                 Shape::Cylinder {
                     radius: 0.1,
                     height: 0.4,
@@ -129,7 +134,7 @@ impl LibraryItem {
             )],
             LibraryItem::Sphere => vec![(
                 name.into(),
-                Transform::IDENTITY,
+                Pose::IDENTITY,
                 Shape::Sphere { radius: 0.1 },
                 [0.9, 0.4, 0.4],
             )],
@@ -141,7 +146,7 @@ impl LibraryItem {
                     let h = 0.01 * k as f64;
                     (
                         format!("{name}_step{k}"),
-                        Transform::from_translation([0.0, (front + 0.5) / 2.0 - 0.25, h]),
+                        Pose::from_translation([0.0, (front + 0.5) / 2.0 - 0.25, h]),
                         Shape::Box {
                             extents: [0.5, (0.5 - front) / 2.0, h],
                         },
@@ -151,7 +156,7 @@ impl LibraryItem {
                 .collect(),
             LibraryItem::Mesh(path) => vec![(
                 name.into(),
-                Transform::IDENTITY,
+                Pose::IDENTITY,
                 Shape::Trimesh {
                     file: path.clone(),
                     scale: 1.0,
@@ -163,9 +168,9 @@ impl LibraryItem {
 }
 
 /// A rotation about the x axis by `deg` degrees.
-pub fn rotation_x(deg: f64) -> Transform {
+pub fn rotation_x(deg: f64) -> Pose {
     let h = deg.to_radians() / 2.0;
-    Transform {
+    Pose {
         translation: [0.0; 3],
         rotation: [h.cos(), h.sin(), 0.0, 0.0],
     }

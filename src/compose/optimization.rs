@@ -14,42 +14,59 @@ use crate::optimize::fitness::Fitness;
 /// The values a registered parameter may take.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ValueSet {
+    /// Values from `lower` to `upper` in steps of `increment`.
     Range {
+        /// The first value.
         lower: f64,
+        /// The last value.
         upper: f64,
+        /// The step between values.
         increment: f64,
     },
+    /// An enumerated list of values.
     List(Vec<f64>),
 }
 
 /// One parameter registered for optimization.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Registration {
+    /// The module type.
     pub module: String,
+    /// The parameter's name.
     pub parameter: String,
     /// Every joint the module drives (`allJoints`), or the joints in `joints`.
     pub all_joints: bool,
+    /// The joints optimized, one flag per robot joint (when not all).
     pub joints: Vec<bool>,
     /// One gene for all its joints, or one gene per joint.
     pub uniform: bool,
+    /// The values the parameter may take.
     pub values: ValueSet,
 }
 
 /// Which optimizer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Method {
+    /// The genetic algorithm.
     Genetic,
+    /// The modified great deluge.
     GreatDeluge,
 }
 
 /// The optimization page's content.
 #[derive(Debug, Clone, PartialEq)]
 pub struct OptimizationSpec {
+    /// Which optimizer.
     pub method: Method,
+    /// Genetic-algorithm settings.
     pub ga: GaSettings,
+    /// Great-deluge settings.
     pub gd: GdSettings,
+    /// The registered parameters.
     pub params: Vec<Registration>,
+    /// How episodes are scored.
     pub fitness: Fitness,
+    /// Evaluation budget, if any.
     pub max_evaluations: Option<u64>,
 }
 

@@ -73,6 +73,7 @@ pub fn timestamp(secs: u64) -> String {
 /// Unsaved files first, then the disk.
 #[derive(Debug, Clone, Default)]
 pub struct OverlaySource {
+    /// The unsaved files, by path.
     pub unsaved: MemSource,
 }
 

@@ -6,7 +6,7 @@
 use crate::config::error::Pos;
 use crate::config::kinbody::{Include, Joint, KinBody};
 use crate::config::robot::RobotFile;
-use crate::config::transform::Transform;
+use crate::config::transform::Pose;
 
 /// Most joints a built robot may have.
 pub const MAX_JOINTS: usize = 32;
@@ -21,6 +21,7 @@ pub enum Orientation {
 }
 
 impl Orientation {
+    /// `P` or `Y`, as in topology strings.
     pub fn letter(self) -> char {
         match self {
             Orientation::Pitch => 'p',
@@ -48,8 +49,10 @@ pub enum PartSet {
 }
 
 impl PartSet {
+    /// Every value, in the order the GUI lists them.
     pub const ALL: [PartSet; 3] = [PartSet::Plain, PartSet::Touch, PartSet::Cube];
 
+    /// The name scripts use.
     pub fn name(self) -> &'static str {
         match self {
             PartSet::Plain => "plain",
@@ -58,6 +61,7 @@ impl PartSet {
         }
     }
 
+    /// What the set is, for the GUI.
     pub fn describe(self) -> &'static str {
         match self {
             PartSet::Plain => "plain 72 mm modules",
@@ -66,6 +70,7 @@ impl PartSet {
         }
     }
 
+    /// Reads a name as files, scripts and the command line write it (None: unknown).
     pub fn parse(s: &str) -> Option<PartSet> {
         PartSet::ALL
             .into_iter()
@@ -83,8 +88,11 @@ impl PartSet {
 /// What the builder makes a robot from.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RobotSpec {
+    /// The robot's name.
     pub name: String,
+    /// Each joint's orientation, tail to head.
     pub joints: Vec<Orientation>,
+    /// Which module parts it is built of.
     pub parts: PartSet,
 }
 
@@ -189,11 +197,7 @@ impl RobotSpec {
                 // The tail reaches back from the first joint, every other module forward
                 // from its joint, so the tail and module 1 both sit at 0. Rounded to µm
                 // so files show 0.216, not 0.21599999999999997.
-                pose: Transform::from_translation([
-                    0.0,
-                    (d * slot(m) as f64 * 1e6).round() / 1e6,
-                    0.0,
-                ]),
+                pose: Pose::from_translation([0.0, (d * slot(m) as f64 * 1e6).round() / 1e6, 0.0]),
                 pos: Pos::new(0, 0),
             });
             bodies.push(body);
@@ -219,7 +223,7 @@ impl RobotSpec {
             name: self.name.clone(),
             kinbody: KinBody {
                 name: Some(format!("k{}", self.name)),
-                pose: Transform::IDENTITY,
+                pose: Pose::IDENTITY,
                 includes,
                 bodies: Vec::new(),
                 joints,

@@ -31,15 +31,22 @@ use crate::optimize::fitness::Fitness;
 /// A wizard page.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Page {
+    /// Build or choose the robot.
     Robot,
+    /// Modules on groups of joints.
     Behaviour,
+    /// The terrain (the environment editor).
     Environment,
+    /// Step width, duration, mode.
     Simulation,
+    /// Registered parameters and optimizer settings.
     Optimization,
+    /// What will be written.
     Summary,
 }
 
 impl Page {
+    /// The page's title.
     pub fn title(self) -> &'static str {
         match self {
             Page::Robot => "Robot",
@@ -60,23 +67,31 @@ impl Page {
 /// The robot: built from a topology, or an existing robot file.
 #[derive(Debug, Clone, PartialEq)]
 pub enum RobotChoice {
+    /// A robot built from a specification.
     Build(RobotSpec),
+    /// An existing robot file.
     Existing(PathBuf),
 }
 
 /// The files the wizard writes.
 #[derive(Debug, Clone, PartialEq)]
 pub struct OutputFiles {
+    /// The robot file written (None: an existing one is used).
     pub robot: Option<PathBuf>,
+    /// The actuation file.
     pub actuation: PathBuf,
+    /// The environment file.
     pub environment: PathBuf,
+    /// The optimizer file, in an optimization mode.
     pub optimizer: Option<PathBuf>,
+    /// The simulation file.
     pub simulation: PathBuf,
 }
 
 /// The wizard's state.
 #[derive(Debug, Clone)]
 pub struct Wizard {
+    /// The page shown.
     pub page: Page,
     /// The configuration folder (parts, robots, ... live below it).
     pub configs_dir: PathBuf,
@@ -84,14 +99,21 @@ pub struct Wizard {
     pub out_dir: PathBuf,
     /// Time stamp in the file names.
     pub stamp: String,
+    /// The robot: built or existing.
     pub robot: RobotChoice,
     /// The built robot's spec kept while an existing robot is chosen.
     pub spec: RobotSpec,
+    /// The groups of joints and their modules.
     pub behaviour: BehaviourSpec,
+    /// The scene (the environment page).
     pub env: EnvEditor,
+    /// The simulation properties.
     pub props: SimulationProperties,
+    /// The simulation's description.
     pub description: String,
+    /// The optimization settings.
     pub optimization: OptimizationSpec,
+    /// The module types offered (standard library and loaded plugins).
     pub registry: ModuleRegistry,
     /// The simulation file written by [`Wizard::save`].
     pub saved: Option<PathBuf>,
@@ -314,6 +336,7 @@ impl Wizard {
         self.env.file = self.files().environment;
     }
 
+    /// Goes to the previous page.
     pub fn back(&mut self) {
         let pages = self.pages();
         if let Some(i) = pages.iter().position(|p| *p == self.page)

@@ -13,15 +13,20 @@ use crate::config::xml::write::{XmlWriter, num, nums};
 /// A parameter's value: the same for every driven joint, or one per driven joint.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ParamValue {
+    /// One value for every joint.
     Uniform(f64),
+    /// One value per driven joint.
     PerJoint(Vec<f64>),
 }
 
 /// One parameter setting of a module.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParamSetting {
+    /// The parameter's name as written.
     pub name: String,
+    /// Its value(s).
     pub value: ParamValue,
+    /// Where it was written (line, column).
     pub pos: Pos,
 }
 
@@ -30,9 +35,13 @@ pub struct ParamSetting {
 pub struct ModuleAssignment {
     /// Registry name of the module type.
     pub name: String,
+    /// The joints it drives (`jointConfiguration`).
     pub joints: JointMask,
+    /// Its parameter settings.
     pub params: Vec<ParamSetting>,
+    /// Where it was written (line, column).
     pub pos: Pos,
+    /// Where its joint mask was written.
     pub mask_pos: Pos,
 }
 
@@ -41,6 +50,7 @@ pub struct ModuleAssignment {
 pub struct ActuationFile {
     /// The robot file this actuation was made for.
     pub valid_robot: Option<String>,
+    /// The modules, in file order.
     pub modules: Vec<ModuleAssignment>,
 }
 

@@ -5,7 +5,7 @@
 //! cylinders stand along their local y axis (OpenRAVE's convention).
 
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
-use crate::config::transform::{POSE_ELEMENTS, Transform};
+use crate::config::transform::{POSE_ELEMENTS, Pose};
 use crate::config::xml::dom::Element;
 use crate::config::xml::read::Reader;
 use crate::config::xml::write::{XmlWriter, num};
@@ -17,7 +17,9 @@ pub const MAX_FRICTION: f64 = 100.0;
 /// Whether a body moves (`dynamic`) or is fixed in the world (`static`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum BodyKind {
+    /// Moves under forces.
     Dynamic,
+    /// Fixed in place.
     Static,
 }
 
@@ -26,19 +28,26 @@ pub enum BodyKind {
 pub enum Shape {
     /// Half-extents along x, y, z.
     Box {
+        /// Half-extents (m).
         extents: [f64; 3],
     },
+    /// A ball.
     Sphere {
+        /// Radius (m).
         radius: f64,
     },
     /// Along the local y axis.
     Cylinder {
+        /// Radius (m).
         radius: f64,
+        /// Height along its axis (m).
         height: f64,
     },
     /// A triangle mesh from a file (Wavefront OBJ), scaled uniformly.
     Trimesh {
+        /// The OBJ file (resolved after loading).
         file: String,
+        /// Scale applied to its vertices.
         scale: f64,
     },
 }
@@ -62,15 +71,21 @@ impl Shape {
 /// One geometry of a body, posed in the body's frame.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Geom {
+    /// The shape.
     pub shape: Shape,
-    pub pose: Transform,
+    /// Placement in its body.
+    pub pose: Pose,
+    /// Diffuse colour (RGB 0..1).
     pub diffuse_color: Option<[f64; 3]>,
+    /// Ambient colour (RGB 0..1).
     pub ambient_color: Option<[f64; 3]>,
+    /// Transparency (0 opaque .. 1 invisible).
     pub transparency: Option<f64>,
     /// Coulomb friction coefficient; the engine default when absent.
     pub friction: Option<f64>,
     /// Whether the geometry is drawn (OpenRAVE's `render="false"` hides it).
     pub visible: bool,
+    /// Where it was written (line, column).
     pub pos: Pos,
 }
 
@@ -83,17 +98,24 @@ pub struct Mass {
     pub distribution: String,
     /// Centre of mass in the body frame, for `custom`.
     pub com: Option<[f64; 3]>,
+    /// Where it was written (line, column).
     pub pos: Pos,
 }
 
 /// One rigid body.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Body {
+    /// The body's name.
     pub name: String,
+    /// Static or dynamic.
     pub kind: BodyKind,
-    pub pose: Transform,
+    /// Placement in its kinbody.
+    pub pose: Pose,
+    /// Its geometries.
     pub geoms: Vec<Geom>,
+    /// Its mass, when given (else from the geometry).
     pub mass: Option<Mass>,
+    /// Where it was written (line, column).
     pub pos: Pos,
 }
 
@@ -113,6 +135,7 @@ const GEOM_CHILDREN: [&str; 12] = [
 ];
 
 impl Geom {
+    /// Reads it from its element; errors name the line.
     pub fn read(r: &Reader, el: &Element) -> ConfigResult<Geom> {
         r.only_children(el, &GEOM_CHILDREN)?;
         r.only_attrs(el, &["type", "render"])?;
@@ -193,7 +216,7 @@ impl Geom {
         };
         Ok(Geom {
             shape,
-            pose: Transform::read(r, el)?,
+            pose: Pose::read(r, el)?,
             diffuse_color: color("diffusecolor")?,
             ambient_color: color("ambientcolor")?,
             transparency,
@@ -203,6 +226,7 @@ impl Geom {
         })
     }
 
+    /// Writes it as XML.
     pub fn write(&self, w: &mut XmlWriter) {
         let ty = match self.shape {
             Shape::Box { .. } => "box",
@@ -272,6 +296,7 @@ impl Mass {
         })
     }
 
+    /// Writes it as XML.
     pub fn write(&self, w: &mut XmlWriter) {
         w.open("Mass", &[("type", self.distribution.clone())]);
         w.num("total", self.total);
@@ -317,13 +342,14 @@ impl Body {
                 .map(|a| a.value.clone())
                 .unwrap_or_else(|| default_name.to_string()),
             kind,
-            pose: Transform::read(r, el)?,
+            pose: Pose::read(r, el)?,
             geoms,
             mass,
             pos: el.pos,
         })
     }
 
+    /// Writes it as XML.
     pub fn write(&self, w: &mut XmlWriter) {
         let kind = match self.kind {
             BodyKind::Dynamic => "dynamic",

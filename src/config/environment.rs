@@ -9,7 +9,7 @@
 use crate::config::body::MAX_FRICTION;
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::kinbody::{Include, KinBody};
-use crate::config::transform::{POSE_ELEMENTS, Transform};
+use crate::config::transform::{POSE_ELEMENTS, Pose};
 use crate::config::xml::dom::Element;
 use crate::config::xml::read::{Reader, read_document};
 use crate::config::xml::write::{XmlWriter, nums};
@@ -41,17 +41,21 @@ impl Default for Physics {
 /// An object of the environment: inline, or a kinbody file placed by a pose.
 #[derive(Debug, Clone, PartialEq)]
 pub enum EnvObject {
+    /// A kinbody written in the environment file.
     Inline(KinBody),
+    /// A kinbody file included with a pose.
     Include(Include),
 }
 
 /// An environment file as written.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EnvironmentFile {
+    /// Gravity, self-collision, default friction.
     pub physics: Physics,
+    /// The objects, in file order.
     pub objects: Vec<EnvObject>,
     /// The robot's start pose (world frame); identity when absent.
-    pub robot_pose: Option<Transform>,
+    pub robot_pose: Option<Pose>,
 }
 
 fn read_physics(r: &Reader, el: &Element) -> ConfigResult<Physics> {
@@ -80,7 +84,7 @@ fn read_physics(r: &Reader, el: &Element) -> ConfigResult<Physics> {
 }
 
 /// Parses the thesis's `Pose: ,w x y z,x y z,` comment.
-fn parse_pose_comment(r: &Reader, body: &str, pos: Pos) -> ConfigResult<Option<Transform>> {
+fn parse_pose_comment(r: &Reader, body: &str, pos: Pos) -> ConfigResult<Option<Pose>> {
     let Some(rest) = body.trim().strip_prefix("Pose:") else {
         return Ok(None);
     };
@@ -106,11 +110,11 @@ fn parse_pose_comment(r: &Reader, body: &str, pos: Pos) -> ConfigResult<Option<T
     };
     let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
     let rotation = if n == 0.0 {
-        Transform::IDENTITY.rotation
+        Pose::IDENTITY.rotation
     } else {
         [q[0] / n, q[1] / n, q[2] / n, q[3] / n]
     };
-    Ok(Some(Transform {
+    Ok(Some(Pose {
         translation: t,
         rotation,
     }))
@@ -143,7 +147,7 @@ pub fn parse_environment_file(file: &str, text: &str) -> ConfigResult<Environmen
     }
     if let Some(p) = r.at_most_one(root, "robotpose")? {
         r.only_children(p, &POSE_ELEMENTS)?;
-        robot_pose = Some(Transform::read(&r, p)?);
+        robot_pose = Some(Pose::read(&r, p)?);
     }
     Ok(EnvironmentFile {
         physics,

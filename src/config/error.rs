@@ -9,11 +9,14 @@ use std::path::{Path, PathBuf};
 /// the original even though every element now sits on another line.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Pos {
+    /// Line, from 1 (0: no position).
     pub line: u32,
+    /// Column, from 1.
     pub col: u32,
 }
 
 impl Pos {
+    /// The position at `line`, `col`.
     pub const fn new(line: u32, col: u32) -> Self {
         Pos { line, col }
     }
@@ -59,15 +62,20 @@ pub enum ErrorKind {
 /// A configuration error with its location.
 #[derive(Debug, Clone)]
 pub struct ConfigError {
+    /// The file with the error.
     pub file: PathBuf,
+    /// Where in it.
     pub pos: Pos,
+    /// What class of error.
     pub kind: ErrorKind,
+    /// What is wrong and what was expected.
     pub message: String,
     /// Where the failing file was included from, innermost first.
     pub included_from: Vec<(PathBuf, Pos)>,
 }
 
 impl ConfigError {
+    /// An error at `pos` of `file`.
     pub fn new(
         file: impl AsRef<Path>,
         pos: Pos,

@@ -9,7 +9,7 @@
 use crate::config::body::Body;
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::sensor::AttachedSensor;
-use crate::config::transform::{POSE_ELEMENTS, Transform};
+use crate::config::transform::{POSE_ELEMENTS, Pose};
 use crate::config::xml::dom::Element;
 use crate::config::xml::read::{Reader, read_document};
 use crate::config::xml::write::XmlWriter;
@@ -17,18 +17,25 @@ use crate::config::xml::write::XmlWriter;
 /// A hinge joint between two bodies.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Joint {
+    /// The joint's name.
     pub name: String,
     /// Parent and child body names.
     pub bodies: [String; 2],
     /// The body whose frame `anchor` and `axis` are given in (the first body if absent).
     pub offset_from: Option<String>,
+    /// Hinge point, in the frame of the parent body (or `offsetfrom`).
     pub anchor: [f64; 3],
+    /// Hinge axis, in the same frame.
     pub axis: [f64; 3],
+    /// Servo torque limit (N·m), when given.
     pub max_torque: Option<f64>,
+    /// Servo speed limit (rad/s), when given.
     pub max_vel: Option<f64>,
+    /// Angle limits (degrees), when given.
     pub limits_deg: Option<[f64; 2]>,
     /// Extension: the servo's proportional gain (1/s).
     pub servo_gain: Option<f64>,
+    /// Where it was written (line, column).
     pub pos: Pos,
 }
 
@@ -37,21 +44,30 @@ pub struct Joint {
 pub struct Include {
     /// The path as written in the file.
     pub file: String,
+    /// Prefix of the included names.
     pub prefix: String,
-    pub pose: Transform,
+    /// Placement of the included kinbody.
+    pub pose: Pose,
+    /// Where it was written (line, column).
     pub pos: Pos,
 }
 
 /// A kinematic body: bodies, joints, sensors and included parts.
 #[derive(Debug, Clone, PartialEq)]
 pub struct KinBody {
+    /// The kinbody's name, if any.
     pub name: Option<String>,
     /// Placement of the whole kinbody.
-    pub pose: Transform,
+    pub pose: Pose,
+    /// Included part files.
     pub includes: Vec<Include>,
+    /// Its bodies.
     pub bodies: Vec<Body>,
+    /// Its joints.
     pub joints: Vec<Joint>,
+    /// Sensors attached to its bodies.
     pub sensors: Vec<AttachedSensor>,
+    /// Where it was written (line, column).
     pub pos: Pos,
 }
 
@@ -68,6 +84,7 @@ const JOINT_CHILDREN: [&str; 9] = [
 ];
 
 impl Joint {
+    /// Reads it from its element; errors name the line.
     pub fn read(r: &Reader, el: &Element) -> ConfigResult<Joint> {
         r.only_children(el, &JOINT_CHILDREN)?;
         r.only_attrs(el, &["name", "type", "enable"])?;
@@ -133,6 +150,7 @@ impl Joint {
         })
     }
 
+    /// Writes it as XML.
     pub fn write(&self, w: &mut XmlWriter) {
         w.open(
             "Joint",
@@ -219,7 +237,7 @@ impl KinBody {
         r.only_attrs(el, &["name"])?;
         let mut kb = KinBody {
             name: el.attr("name").map(|a| a.value.clone()),
-            pose: Transform::read(r, el)?,
+            pose: Pose::read(r, el)?,
             includes: Vec::new(),
             bodies: Vec::new(),
             joints: Vec::new(),
@@ -269,6 +287,7 @@ impl KinBody {
 }
 
 impl Include {
+    /// Reads it from its element; errors name the line.
     pub fn read(r: &Reader, el: &Element) -> ConfigResult<Include> {
         r.only_children(el, &POSE_ELEMENTS)?;
         r.only_attrs(el, &["file", "prefix", "name"])?;
@@ -285,11 +304,12 @@ impl Include {
                 .attr("prefix")
                 .map(|a| a.value.clone())
                 .unwrap_or_default(),
-            pose: Transform::read(r, el)?,
+            pose: Pose::read(r, el)?,
             pos: file.pos,
         })
     }
 
+    /// Writes it as XML.
     pub fn write(&self, w: &mut XmlWriter) {
         let mut attrs = Vec::new();
         if !self.prefix.is_empty() {

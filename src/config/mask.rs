@@ -44,10 +44,12 @@ impl JointMask {
         JointMask(vec![true; n])
     }
 
+    /// Joints the mask covers.
     pub fn len(&self) -> usize {
         self.0.len()
     }
 
+    /// Whether it covers no joint.
     pub fn is_empty(&self) -> bool {
         self.0.is_empty()
     }

@@ -54,7 +54,9 @@ impl Meshes {
 /// A triangle mesh in the units of its file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TriMesh {
+    /// Vertex positions.
     pub vertices: Vec<[f64; 3]>,
+    /// Triangles as vertex indices.
     pub triangles: Vec<[u32; 3]>,
 }
 

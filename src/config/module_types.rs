@@ -13,10 +13,15 @@ pub struct ParamDescriptor {
     pub name: &'static str,
     /// Other names files may use (the thesis wrote some parameters differently).
     pub aliases: &'static [&'static str],
+    /// Unit, for the GUI and messages.
     pub unit: &'static str,
+    /// Initial value.
     pub default: f64,
+    /// Lowest allowed value.
     pub min: f64,
+    /// Highest allowed value.
     pub max: f64,
+    /// What it does, for tooltips.
     pub help: &'static str,
 }
 
@@ -32,7 +37,9 @@ impl ParamDescriptor {
 pub struct ModuleDescriptor {
     /// Registry name (as in actuation files).
     pub type_name: &'static str,
+    /// What the module does, in a line.
     pub summary: &'static str,
+    /// Its parameters, in order.
     pub parameters: &'static [ParamDescriptor],
     /// Names of the internal data series logged per joint.
     pub series: &'static [&'static str],

@@ -20,49 +20,70 @@ use crate::config::xml::write::{XmlWriter, num};
 /// A module parameter registered for optimization.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RegisteredParameter {
+    /// The number its `genomeConfig` refers to.
     pub number: u32,
     /// Module type name, as in the actuation file (`controlAlgorithm=`).
     pub module: String,
+    /// The parameter's name.
     pub parameter: String,
+    /// Where it was written (line, column).
     pub pos: Pos,
 }
 
 /// GAlib bound type of an allele range end.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum BoundType {
+    /// No bound (GAlib 0).
     None = 0,
+    /// The bound is a value (GAlib 1).
     Inclusive = 1,
+    /// The bound is not a value (GAlib 2).
     Exclusive = 2,
 }
 
 /// The allowed values of one registered parameter.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GenomeConfig {
+    /// The registered parameter it configures.
     pub number: u32,
+    /// Whether every joint of the module is active.
     pub all_joints: bool,
+    /// GAlib genome type, as written.
     pub genome_type: u32,
+    /// Value type, as written (1 = real).
     pub value_type: u32,
+    /// 0: an enumerated list of values; else a range.
     pub value_space: u32,
+    /// The joints optimized.
     pub active_joints: JointMask,
     /// One value, or one per active joint when not uniform.
     pub upper: Vec<f64>,
+    /// Lower bounds (one, or one per active joint).
     pub lower: Vec<f64>,
+    /// Steps between values (one, or one per active joint).
     pub increments: Vec<f64>,
+    /// How the lower bound counts.
     pub lower_bound_type: BoundType,
+    /// How the upper bound counts.
     pub upper_bound_type: BoundType,
     /// Enumerated allowed values (`valueSpace="0"`).
     pub values: Vec<f64>,
     /// The same value for every active joint (one gene) or one gene per joint.
     pub uniform: bool,
+    /// Where it was written (line, column).
     pub pos: Pos,
+    /// Where its joint mask was written.
     pub mask_pos: Pos,
 }
 
 /// Genetic algorithm settings.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GaSettings {
+    /// Population size.
     pub popsize: u32,
+    /// Mutation probability.
     pub pmut: f64,
+    /// Crossover probability.
     pub pcross: f64,
     /// Generations taken into account for the convergence test.
     pub n_convergence: u32,
@@ -77,25 +98,35 @@ pub struct GaSettings {
 /// Modified great deluge settings (thesis 3.4.2).
 #[derive(Debug, Clone, PartialEq)]
 pub struct GdSettings {
+    /// Rounds without improvement before the search stops.
     pub credits: u32,
+    /// Neighbours tried per round.
     pub retries: u32,
+    /// The water level at the start.
     pub initial_water_level: f64,
+    /// How much the level rises per accepted candidate.
     pub rain: f64,
+    /// Evaluations averaged per candidate.
     pub confidence: u32,
 }
 
 /// Which optimizer, with its settings.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Algorithm {
+    /// The genetic algorithm (B.7).
     Genetic(GaSettings),
+    /// The modified great deluge.
     GreatDeluge(GdSettings),
 }
 
 /// An optimizer file as written.
 #[derive(Debug, Clone, PartialEq)]
 pub struct OptimizerFile {
+    /// The optimizer and its settings.
     pub algorithm: Algorithm,
+    /// The registered parameters.
     pub parameters: Vec<RegisteredParameter>,
+    /// One genome configuration per registered parameter.
     pub genome: Vec<GenomeConfig>,
     /// Our extension `<fitness>`: how episodes are scored (default displacement, eq. 3.7).
     pub fitness: Fitness,
@@ -104,6 +135,7 @@ pub struct OptimizerFile {
 }
 
 impl OptimizerFile {
+    /// The optimizer's name, for messages.
     pub fn label(&self) -> &'static str {
         match self.algorithm {
             Algorithm::Genetic(_) => "genetic algorithm",

@@ -50,6 +50,7 @@ pub enum BindMode {
 }
 
 impl BindMode {
+    /// Every value, in the order the GUI lists them.
     pub const ALL: [BindMode; 5] = [
         BindMode::Rate,
         BindMode::Absolute,
@@ -58,6 +59,7 @@ impl BindMode {
         BindMode::Toggle,
     ];
 
+    /// The name binding files use.
     pub fn name(self) -> &'static str {
         match self {
             BindMode::Rate => "rate",
@@ -68,6 +70,7 @@ impl BindMode {
         }
     }
 
+    /// Reads a name as files, scripts and the command line write it (None: unknown).
     pub fn parse(s: &str) -> Option<BindMode> {
         BindMode::ALL
             .into_iter()
@@ -93,6 +96,7 @@ pub enum RemoteAction {
 }
 
 impl RemoteAction {
+    /// The name binding files use.
     pub fn name(self) -> &'static str {
         match self {
             RemoteAction::Reset => "reset",
@@ -104,14 +108,18 @@ impl RemoteAction {
 /// Which of a module's joints a target changes.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum JointSelection {
+    /// Every joint the module drives.
     All,
+    /// Its pitch joints.
     Pitch,
+    /// Its yaw joints.
     Yaw,
     /// 0/1 per robot joint.
     Mask(Vec<bool>),
 }
 
 impl JointSelection {
+    /// Reads a name as files, scripts and the command line write it (None: unknown).
     pub fn parse(s: &str) -> Option<JointSelection> {
         match s.trim().to_ascii_lowercase().as_str() {
             "all" | "" => Some(JointSelection::All),
@@ -124,6 +132,7 @@ impl JointSelection {
         }
     }
 
+    /// As binding files write it.
     pub fn to_text(&self) -> String {
         match self {
             JointSelection::All => "all".into(),
@@ -137,10 +146,15 @@ impl JointSelection {
 /// One module parameter an element changes.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BindTarget {
+    /// The module type.
     pub module: String,
+    /// The parameter.
     pub parameter: String,
+    /// Which of its joints.
     pub joints: JointSelection,
+    /// Parameter change per unit of the element.
     pub scale: f64,
+    /// Where it was written (line, column).
     pub pos: Pos,
 }
 
@@ -149,18 +163,24 @@ pub struct BindTarget {
 pub struct Binding {
     /// The element's name as the remote lists it (`LeftStickX`, `South`, `DPadUp`, ...).
     pub element: String,
+    /// How the element's value changes the parameter.
     pub mode: BindMode,
     /// Axis values below this magnitude count as 0; the rest is rescaled to 0..1.
     pub dead_zone: f64,
+    /// A simulation action instead of (or besides) parameters.
     pub action: Option<RemoteAction>,
+    /// The parameters it changes.
     pub targets: Vec<BindTarget>,
+    /// Where it was written (line, column).
     pub pos: Pos,
 }
 
 /// A remote binding file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RemoteFile {
+    /// The binding set's name.
     pub name: String,
+    /// Its bindings.
     pub bindings: Vec<Binding>,
 }
 

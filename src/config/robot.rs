@@ -13,11 +13,15 @@ use crate::config::xml::write::XmlWriter;
 /// A robot file as written.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RobotFile {
+    /// The robot's name.
     pub name: String,
+    /// Its kinbody.
     pub kinbody: KinBody,
+    /// Sensors attached in the robot file.
     pub sensors: Vec<AttachedSensor>,
     /// The real robot's servos, when the file says.
     pub servos: Option<ServoSection>,
+    /// Where it was written (line, column).
     pub pos: Pos,
 }
 

@@ -6,7 +6,7 @@
 //! Our extensions: a tactile pad's `<extents>` (half-extents, m) and `<debounce>` (steps).
 
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
-use crate::config::transform::{POSE_ELEMENTS, Transform};
+use crate::config::transform::{POSE_ELEMENTS, Pose};
 use crate::config::xml::dom::Element;
 use crate::config::xml::read::{Reader, read_document};
 use crate::config::xml::write::XmlWriter;
@@ -17,6 +17,7 @@ pub const DEFAULT_PAD_EXTENTS: [f64; 3] = [0.012, 0.015, 0.002];
 /// A binary touch sensor (a pad pressed or released), debounced.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TactileSensor {
+    /// Whether the sensor is on.
     pub power: bool,
     /// Half-extents of the pad (m).
     pub extents: [f64; 3],
@@ -27,7 +28,9 @@ pub struct TactileSensor {
 /// A planar laser range finder (OpenRAVE BaseLaser2D). Angles in degrees.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Laser2d {
+    /// First beam angle (degrees).
     pub min_angle: f64,
+    /// Last beam angle (degrees).
     pub max_angle: f64,
     /// Angle between beams (degrees).
     pub resolution: f64,
@@ -35,14 +38,18 @@ pub struct Laser2d {
     pub max_range: f64,
     /// Time for one scan (s).
     pub scan_time: f64,
+    /// Whether a viewer draws the beams (as written).
     pub render: bool,
+    /// Whether the sensor is on.
     pub power: bool,
 }
 
 /// The kinds of sensor.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Sensor {
+    /// A touch pad.
     Tactile(TactileSensor),
+    /// A planar laser range finder.
     Laser2d(Laser2d),
 }
 
@@ -166,10 +173,13 @@ impl Sensor {
 /// Where an attached sensor's definition lives.
 #[derive(Debug, Clone, PartialEq)]
 pub enum SensorSource {
+    /// Written in place.
     Inline(Sensor),
     /// A sensor file, as written (resolved relative to the including file).
     File {
+        /// The path as written.
         path: String,
+        /// Where it was written.
         pos: Pos,
     },
 }
@@ -177,15 +187,20 @@ pub enum SensorSource {
 /// A sensor attached to a link of the robot.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AttachedSensor {
+    /// The sensor's name.
     pub name: String,
+    /// The body it is attached to.
     pub link: String,
     /// Pose in the link's frame.
-    pub pose: Transform,
+    pub pose: Pose,
+    /// The sensor, inline or from a file.
     pub source: SensorSource,
+    /// Where it was written (line, column).
     pub pos: Pos,
 }
 
 impl AttachedSensor {
+    /// Reads it from its element; errors name the line.
     pub fn read(r: &Reader, el: &Element) -> ConfigResult<AttachedSensor> {
         let mut allowed = vec!["link", "sensor"];
         allowed.extend(POSE_ELEMENTS);
@@ -217,12 +232,13 @@ impl AttachedSensor {
         Ok(AttachedSensor {
             name,
             link,
-            pose: Transform::read(r, el)?,
+            pose: Pose::read(r, el)?,
             source,
             pos: el.pos,
         })
     }
 
+    /// Writes it as XML.
     pub fn write(&self, w: &mut XmlWriter) {
         w.open("AttachedSensor", &[("name", self.name.clone())]);
         w.leaf("link", &self.link);

@@ -36,16 +36,22 @@ pub struct ServoBinding {
     pub offset: f64,
     /// +1 or −1.
     pub direction: i8,
+    /// Where it was written (line, column).
     pub pos: Pos,
 }
 
 /// The `<Servos>` element.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ServoSection {
+    /// The servo driver (`dynamixel`).
     pub driver: String,
+    /// Bus speed (baud).
     pub baud: u32,
+    /// Read the servos back every this many steps.
     pub read_every: u32,
+    /// One servo per joint.
     pub servos: Vec<ServoBinding>,
+    /// Where it was written (line, column).
     pub pos: Pos,
 }
 

@@ -22,9 +22,13 @@ pub const MAX_STEP_WIDTH: f64 = 0.1;
 /// What a simulation run does (thesis 4.3.3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Mode {
+    /// One simulation run.
     SingleRun,
+    /// Drive a real robot.
     RealRobot,
+    /// Optimize with the genetic algorithm.
     GeneticAlgorithm,
+    /// Optimize with the great deluge.
     GreatDeluge,
 }
 
@@ -71,6 +75,7 @@ impl Mode {
         ),
     ];
 
+    /// Reads a mode as files write it (other spellings accepted).
     pub fn parse(s: &str) -> Option<Mode> {
         Mode::ALIASES
             .iter()
@@ -78,6 +83,7 @@ impl Mode {
             .map(|(m, _)| *m)
     }
 
+    /// Whether the mode optimizes.
     pub fn is_optimization(self) -> bool {
         matches!(self, Mode::GeneticAlgorithm | Mode::GreatDeluge)
     }
@@ -92,9 +98,13 @@ impl fmt::Display for Mode {
 /// Global simulation properties.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimulationProperties {
+    /// Whether the thesis's viewer was shown (as written).
     pub show_viewer: bool,
+    /// As written (proleg always evaluates in parallel).
     pub parallel_computing: bool,
+    /// Whether data is recorded.
     pub storing_data: bool,
+    /// What the simulation does.
     pub mode: Mode,
     /// Sampling period of plots, recording and sensor updates, in steps.
     pub accuracy: u32,
@@ -102,6 +112,7 @@ pub struct SimulationProperties {
     pub step_width: f64,
     /// Simulated time of one run (an optimizer evaluation) in seconds.
     pub duration: f64,
+    /// Seed of the run.
     pub seed: u64,
     /// Extra wall-clock delay per step in ms (slow motion).
     pub delay_ms: f64,
@@ -129,18 +140,26 @@ impl Default for SimulationProperties {
 /// A path written in a file, with where it was written.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FileRef {
+    /// The path as written.
     pub path: String,
+    /// Where it was written (line, column).
     pub pos: Pos,
 }
 
 /// A simulation file as written.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimulationFile {
+    /// A description, if any.
     pub description: Option<String>,
+    /// The robot file.
     pub robot: FileRef,
+    /// The actuation file.
     pub actuation: FileRef,
+    /// The environment file, if any.
     pub environment: Option<FileRef>,
+    /// The optimizer file, if any.
     pub optimizer: Option<FileRef>,
+    /// The simulation properties.
     pub properties: SimulationProperties,
 }
 

@@ -11,7 +11,9 @@ use std::path::{Component, Path, PathBuf};
 
 /// Reads configuration files.
 pub trait FileSource {
+    /// The text of `path`.
     fn read(&self, path: &Path) -> io::Result<String>;
+    /// Whether `path` exists.
     fn exists(&self, path: &Path) -> bool;
 }
 
@@ -42,14 +44,17 @@ pub struct MemSource {
 }
 
 impl MemSource {
+    /// An empty source.
     pub fn new() -> Self {
         MemSource::default()
     }
 
+    /// Adds (or replaces) a file.
     pub fn insert(&mut self, path: impl AsRef<Path>, text: impl Into<String>) {
         self.files.insert(normalize(path.as_ref()), text.into());
     }
 
+    /// Adds a file (builder style).
     pub fn with(mut self, path: impl AsRef<Path>, text: impl Into<String>) -> Self {
         self.insert(path, text);
         self

@@ -12,43 +12,46 @@ use crate::config::xml::write::XmlWriter;
 
 /// A rigid transform: translate after rotating.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Transform {
+pub struct Pose {
+    /// Translation (m).
     pub translation: [f64; 3],
     /// Unit quaternion `[w, x, y, z]`.
     pub rotation: [f64; 4],
 }
 
-impl Default for Transform {
+impl Default for Pose {
     fn default() -> Self {
-        Transform::IDENTITY
+        Pose::IDENTITY
     }
 }
 
 /// Names of the pose elements a container may hold.
 pub const POSE_ELEMENTS: [&str; 4] = ["translation", "rotationaxis", "quat", "rotationmat"];
 
-impl Transform {
-    pub const IDENTITY: Transform = Transform {
+impl Pose {
+    /// No translation, no rotation.
+    pub const IDENTITY: Pose = Pose {
         translation: [0.0; 3],
         rotation: [1.0, 0.0, 0.0, 0.0],
     };
 
+    /// A pure translation.
     pub fn from_translation(t: [f64; 3]) -> Self {
-        Transform {
+        Pose {
             translation: t,
-            rotation: Transform::IDENTITY.rotation,
+            rotation: Pose::IDENTITY.rotation,
         }
     }
 
     /// Whether this is exactly the identity.
     pub fn is_identity(&self) -> bool {
-        *self == Transform::IDENTITY
+        *self == Pose::IDENTITY
     }
 
     /// `self * other`: first `other`, then `self`.
-    pub fn mul(&self, other: &Transform) -> Transform {
+    pub fn mul(&self, other: &Pose) -> Pose {
         let t = self.rotate(other.translation);
-        Transform {
+        Pose {
             translation: [
                 t[0] + self.translation[0],
                 t[1] + self.translation[1],
@@ -72,8 +75,8 @@ impl Transform {
     }
 
     /// Reads the pose elements among `el`'s children (other children are left alone).
-    pub fn read(r: &Reader, el: &Element) -> ConfigResult<Transform> {
-        let mut tf = Transform::IDENTITY;
+    pub fn read(r: &Reader, el: &Element) -> ConfigResult<Pose> {
+        let mut tf = Pose::IDENTITY;
         for c in &el.children {
             if c.is("translation") {
                 let t = r.array::<3>(c)?;
@@ -103,7 +106,7 @@ impl Transform {
         if self.translation != [0.0; 3] {
             w.nums("translation", &self.translation);
         }
-        if self.rotation != Transform::IDENTITY.rotation {
+        if self.rotation != Pose::IDENTITY.rotation {
             w.nums("quat", &self.rotation);
         }
     }
@@ -132,7 +135,7 @@ pub fn quat_mul(a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
 fn axis_angle(r: &Reader, el: &Element, axis: [f64; 3], deg: f64) -> ConfigResult<[f64; 4]> {
     let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
     if deg == 0.0 {
-        return Ok(Transform::IDENTITY.rotation);
+        return Ok(Pose::IDENTITY.rotation);
     }
     if n < 1e-12 {
         return Err(r.err(
@@ -150,7 +153,7 @@ fn axis_angle(r: &Reader, el: &Element, axis: [f64; 3], deg: f64) -> ConfigResul
 pub fn normalized_quat(r: &Reader, el: &Element, q: [f64; 4]) -> ConfigResult<[f64; 4]> {
     let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
     if n == 0.0 {
-        return Ok(Transform::IDENTITY.rotation);
+        return Ok(Pose::IDENTITY.rotation);
     }
     if !n.is_finite() {
         return Err(r.err(
@@ -193,15 +196,15 @@ mod tests {
         let doc =
             crate::config::xml::dom::parse("t.xml", "<b><rotationaxis>0 0 1 90</rotationaxis></b>")
                 .unwrap();
-        let tf = Transform::read(&r, &doc.root).unwrap();
+        let tf = Pose::read(&r, &doc.root).unwrap();
         let v = tf.rotate([1.0, 0.0, 0.0]);
         assert!((v[0]).abs() < 1e-12 && (v[1] - 1.0).abs() < 1e-12, "{v:?}");
     }
 
     #[test]
     fn composition_applies_inner_first() {
-        let a = Transform::from_translation([1.0, 0.0, 0.0]);
-        let b = Transform::from_translation([0.0, 2.0, 0.0]);
+        let a = Pose::from_translation([1.0, 0.0, 0.0]);
+        let b = Pose::from_translation([0.0, 2.0, 0.0]);
         assert_eq!(a.mul(&b).translation, [1.0, 2.0, 0.0]);
     }
 }

@@ -57,10 +57,13 @@ impl Pacing {
 /// pauses, and the file (named in errors).
 #[derive(Debug, Clone)]
 pub struct Script<C> {
+    /// The commands with their line numbers.
     pub commands: Vec<(usize, C)>,
+    /// The next command to carry out.
     pub next: usize,
     /// Waits and screenshots in progress.
     pub pacing: Pacing,
+    /// The script file, named in errors.
     pub file: PathBuf,
 }
 

@@ -16,7 +16,7 @@ use crate::sensing::SensorData;
 use crate::sim::clock::SimClock;
 use crate::sim::energy::Energy;
 use crate::sim::kernel::{Kernel, SimRobot};
-use crate::sim::physics::{Physics, arr3};
+use crate::sim::physics::{SimPhysics, arr3};
 use crate::sim::record::centre_of_mass;
 use crate::sim::servo::JointState;
 use crate::sim::tactile::RobotSensors;
@@ -210,7 +210,7 @@ fn euler(q: [f64; 4]) -> [f64; 3] {
 pub fn log_data(
     settings: Res<DataSettings>,
     clock: Res<SimClock>,
-    physics: Res<Physics>,
+    physics: Res<SimPhysics>,
     mut sink: Option<ResMut<DataSink>>,
     mut robots: Query<(&SimRobot, &Kernel, &RobotSensors, &Energy, &mut DataLog)>,
     states: Query<&JointState>,
@@ -291,7 +291,7 @@ fn fill_robot_frame(
     robot: &SimRobot,
     kernel: &ControlKernel,
     energy: &Energy,
-    physics: &Physics,
+    physics: &SimPhysics,
     clock: &SimClock,
     states: &Query<&JointState>,
 ) {

@@ -9,7 +9,7 @@ use rapier3d::prelude as rp;
 
 use crate::config::sensor::Laser2d;
 use crate::sim::clock::SimClock;
-use crate::sim::physics::Physics;
+use crate::sim::physics::SimPhysics;
 use crate::sim::tactile::RobotSensors;
 
 /// One laser.
@@ -43,7 +43,7 @@ pub fn beam_angles(l: &Laser2d) -> Vec<f64> {
 
 /// Scans every laser whose period has come (part of the `Sense` set).
 pub fn scan_lasers(
-    physics: Res<Physics>,
+    physics: Res<SimPhysics>,
     clock: Res<SimClock>,
     lasers: Query<&Laser2dSensor>,
     mut robots: Query<&mut RobotSensors>,

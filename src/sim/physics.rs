@@ -14,12 +14,12 @@ pub const MAX_ROBOTS_PER_WORLD: usize = 31;
 
 /// rapier's world, and the settings of the run.
 #[derive(Resource)]
-pub struct Physics {
+pub struct SimPhysics {
     /// rapier's bodies, colliders, joints, contacts and integration parameters.
     pub world: rp::PhysicsWorld,
 }
 
-impl Physics {
+impl SimPhysics {
     /// A world with gravity (m/s², z up) and step width (s).
     pub fn new(gravity: [f64; 3], dt: f64) -> Self {
         let mut world = rp::PhysicsWorld {
@@ -27,7 +27,7 @@ impl Physics {
             ..Default::default()
         };
         world.integration_parameters.dt = dt as f32;
-        Physics { world }
+        SimPhysics { world }
     }
 }
 
@@ -47,7 +47,7 @@ pub fn arr3(v: rp::Vector) -> [f64; 3] {
 }
 
 /// Configuration pose (translation, quaternion w x y z) to rapier's pose.
-pub fn pose(t: &crate::config::transform::Transform) -> rp::Pose {
+pub fn pose(t: &crate::config::transform::Pose) -> rp::Pose {
     let [w, x, y, z] = t.rotation;
     rp::Pose::from_parts(
         vec3(t.translation),
@@ -56,6 +56,6 @@ pub fn pose(t: &crate::config::transform::Transform) -> rp::Pose {
 }
 
 /// The physics step (the `Physics` set of the pipeline).
-pub fn step_physics(mut physics: ResMut<Physics>) {
+pub fn step_physics(mut physics: ResMut<SimPhysics>) {
     physics.world.step();
 }

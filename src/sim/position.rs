@@ -4,12 +4,12 @@
 use bevy::prelude::*;
 
 use crate::sim::kernel::SimRobot;
-use crate::sim::physics::Physics;
+use crate::sim::physics::SimPhysics;
 use crate::sim::record::centre_of_mass;
 use crate::sim::tactile::RobotSensors;
 
 /// Updates each robot's sensed position (part of the `Sense` set).
-pub fn sense_position(physics: Res<Physics>, mut robots: Query<(&SimRobot, &mut RobotSensors)>) {
+pub fn sense_position(physics: Res<SimPhysics>, mut robots: Query<(&SimRobot, &mut RobotSensors)>) {
     let bodies = &physics.world.bodies;
     for (robot, mut sensors) in &mut robots {
         sensors.0.position = centre_of_mass(bodies, robot);

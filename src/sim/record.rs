@@ -7,7 +7,7 @@ use rapier3d::prelude as rp;
 
 use crate::sim::clock::SimClock;
 use crate::sim::kernel::{Kernel, SimRobot};
-use crate::sim::physics::{Physics, arr3};
+use crate::sim::physics::{SimPhysics, arr3};
 use crate::sim::servo::JointState;
 
 /// Whether and how often to record.
@@ -114,7 +114,7 @@ pub fn heading(bodies: &rp::RigidBodySet, robot: &SimRobot) -> f64 {
 pub fn record(
     settings: Res<RecordSettings>,
     clock: Res<SimClock>,
-    physics: Res<Physics>,
+    physics: Res<SimPhysics>,
     mut robots: Query<(&SimRobot, &Kernel, &mut Track)>,
     states: Query<&JointState>,
 ) {

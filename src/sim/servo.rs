@@ -7,7 +7,7 @@ use bevy::prelude::*;
 use rapier3d::prelude as rp;
 
 use crate::sim::clock::SimClock;
-use crate::sim::physics::Physics;
+use crate::sim::physics::SimPhysics;
 
 /// Default proportional gain (1/s): a 1 Hz, 40° sine is followed within a few degrees.
 pub const DEFAULT_SERVO_GAIN: f64 = 60.0;
@@ -96,7 +96,7 @@ impl SimJoint {
 
 /// Reads every joint's angle, velocity and last torque (part of the `Sense` set).
 pub fn sense_joints(
-    physics: Res<Physics>,
+    physics: Res<SimPhysics>,
     clock: Res<SimClock>,
     mut joints: Query<(&SimJoint, &mut JointState)>,
 ) {
@@ -124,7 +124,7 @@ pub fn servo_command(servo: &Servo, angle: f64) -> f64 {
 
 /// Turns each servo's target into a velocity-motor command (the `Servo` set).
 pub fn drive_servos(
-    mut physics: ResMut<Physics>,
+    mut physics: ResMut<SimPhysics>,
     mut joints: Query<(&SimJoint, &Servo, &mut JointState)>,
 ) {
     let w = &mut physics.world;

@@ -11,7 +11,7 @@ use crate::config::Simulation;
 use crate::config::body::{BodyKind, Geom, Shape};
 use crate::config::resolve::robot::geom_volume;
 use crate::config::sensor::Sensor;
-use crate::config::transform::Transform;
+use crate::config::transform::Pose;
 use crate::control::{ControlKernel, ModuleRegistry};
 use crate::rng::SimRng;
 use crate::sensing::{Debounce, SensorData};
@@ -20,7 +20,7 @@ use crate::sim::energy::Energy;
 use crate::sim::error::SimError;
 use crate::sim::kernel::{Kernel, SimRobot};
 use crate::sim::laser::{Laser2dSensor, beam_angles};
-use crate::sim::physics::{MAX_ROBOTS_PER_WORLD, Physics, group_bit, pose, vec3};
+use crate::sim::physics::{MAX_ROBOTS_PER_WORLD, SimPhysics, group_bit, pose, vec3};
 use crate::sim::record::{RecordSettings, Track};
 use crate::sim::servo::{DEFAULT_SERVO_GAIN, JointState, MOTOR_DAMPING, Servo, SimJoint};
 use crate::sim::tactile::{RobotSensors, TactileSensor};
@@ -54,7 +54,7 @@ impl Default for BuildOptions {
 
 /// A static or dynamic body of the environment.
 #[derive(Component, Debug, Clone)]
-pub struct EnvObject {
+pub struct SimEnvObject {
     /// Position among the environment's bodies.
     pub index: usize,
     /// Its rapier body.
@@ -144,7 +144,7 @@ pub fn build_world(
         });
     }
     let props = &sim.files.simulation.properties;
-    let mut physics = Physics::new(sim.environment.physics.gravity, props.step_width);
+    let mut physics = SimPhysics::new(sim.environment.physics.gravity, props.step_width);
     spawn_environment(world, &mut physics, sim, opts.robots)?;
     let limits: Vec<[f64; 2]> = sim.robot.joints.iter().map(|j| j.limits_deg).collect();
     let template = ControlKernel::from_actuation(&sim.actuation, registry, limits)?;
@@ -168,7 +168,7 @@ pub fn build_world(
 /// The environment's bodies, shared by every robot of the batch (collision group 0).
 fn spawn_environment(
     world: &mut World,
-    physics: &mut Physics,
+    physics: &mut SimPhysics,
     sim: &Simulation,
     robots: usize,
 ) -> Result<(), SimError> {
@@ -193,7 +193,7 @@ fn spawn_environment(
         }
         world.spawn((
             Name::new(format!("environment: {}", b.name)),
-            EnvObject { index, handle },
+            SimEnvObject { index, handle },
         ));
     }
     Ok(())
@@ -203,7 +203,7 @@ fn spawn_environment(
 /// links, joints and sensors as children.
 fn spawn_robot(
     world: &mut World,
-    physics: &mut Physics,
+    physics: &mut SimPhysics,
     sim: &Simulation,
     opts: &BuildOptions,
     r: usize,
@@ -251,7 +251,7 @@ fn spawn_robot(
 #[allow(clippy::type_complexity)]
 fn spawn_links(
     world: &mut World,
-    physics: &mut Physics,
+    physics: &mut SimPhysics,
     sim: &Simulation,
     robot: Entity,
     groups: rp::InteractionGroups,
@@ -286,7 +286,7 @@ fn spawn_links(
 /// an entity with its servo and joint state.
 fn spawn_joints(
     world: &mut World,
-    physics: &mut Physics,
+    physics: &mut SimPhysics,
     sim: &Simulation,
     robot: Entity,
     bodies: &[(rp::RigidBodyHandle, f64)],
@@ -298,9 +298,7 @@ fn spawn_joints(
         let (ch, _) = bodies[j.child];
         let w = &mut physics.world;
         let (pp, cp) = (*w.bodies[ph].position(), *w.bodies[ch].position());
-        let anchor = start
-            .mul(&Transform::from_translation(j.anchor))
-            .translation;
+        let anchor = start.mul(&Pose::from_translation(j.anchor)).translation;
         let (a, n) = (vec3(anchor), vec3(start.rotate(j.axis)).normalize());
         let local_axis1 = pp.rotation.inverse() * n;
         let data = rp::GenericJointBuilder::new(rp::JointAxesMask::LOCKED_REVOLUTE_AXES)
@@ -348,7 +346,7 @@ fn spawn_joints(
 /// sensor readings, sized for them.
 fn spawn_sensors(
     world: &mut World,
-    physics: &mut Physics,
+    physics: &mut SimPhysics,
     sim: &Simulation,
     robot: Entity,
     bodies: &[(rp::RigidBodyHandle, f64)],

@@ -7,7 +7,7 @@ use bevy::prelude::*;
 use rapier3d::prelude as rp;
 
 use crate::sensing::{Debounce, SensorData};
-use crate::sim::physics::{Physics, arr3};
+use crate::sim::physics::{SimPhysics, arr3};
 
 /// One tactile pad.
 #[derive(Component, Debug, Clone)]
@@ -58,7 +58,7 @@ pub fn pad_contact(narrow: &rp::NarrowPhase, pad: rp::ColliderHandle) -> (bool, 
 
 /// Updates every pad and the robots' sensor readings (part of the `Sense` set).
 pub fn sense_tactile(
-    physics: Res<Physics>,
+    physics: Res<SimPhysics>,
     mut pads: Query<&mut TactileSensor>,
     mut robots: Query<&mut RobotSensors>,
 ) {

@@ -13,14 +13,18 @@ use crate::config::xml::read::Reader;
 /// A parameter value set in the actuation file, with its canonical name.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParamAssignment {
+    /// The parameter's canonical name.
     pub name: &'static str,
+    /// Its value(s).
     pub value: ParamValue,
 }
 
 /// One module instance driving a group of joints.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModuleInstance {
+    /// The module type.
     pub descriptor: ModuleDescriptor,
+    /// The robot joints it drives.
     pub joints: JointMask,
     /// Values from the file; parameters not listed keep their defaults.
     pub params: Vec<ParamAssignment>,
@@ -29,8 +33,11 @@ pub struct ModuleInstance {
 /// The resolved actuation file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ActuationModel {
+    /// The actuation file.
     pub file: PathBuf,
+    /// The modules, in file order.
     pub modules: Vec<ModuleInstance>,
+    /// Things that load but look unintended.
     pub warnings: Vec<String>,
 }
 

@@ -10,14 +10,18 @@ use crate::config::mesh::Meshes;
 use crate::config::resolve::flatten::Flattener;
 use crate::config::resolve::robot::{DEFAULT_DENSITY, geom_volume};
 use crate::config::source::FileSource;
-use crate::config::transform::Transform;
+use crate::config::transform::Pose;
 
 /// One body of the environment, placed in the world.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EnvBody {
+    /// The body's name.
     pub name: String,
+    /// Static or dynamic.
     pub kind: BodyKind,
-    pub pose: Transform,
+    /// Placement in the world.
+    pub pose: Pose,
+    /// Its geometries.
     pub geoms: Vec<Geom>,
     /// kg; only meaningful for dynamic bodies.
     pub mass: f64,
@@ -26,10 +30,15 @@ pub struct EnvBody {
 /// An environment ready to be simulated.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EnvironmentModel {
+    /// The environment file, if any.
     pub file: Option<PathBuf>,
+    /// Gravity, self-collision, default friction.
     pub physics: Physics,
+    /// The bodies.
     pub bodies: Vec<EnvBody>,
-    pub robot_pose: Transform,
+    /// The robot's start pose.
+    pub robot_pose: Pose,
+    /// Every file read to build it.
     pub files: Vec<PathBuf>,
     /// The meshes its `trimesh` geometries name, parsed.
     pub meshes: Meshes,
@@ -42,7 +51,7 @@ impl EnvironmentModel {
             file: None,
             physics: Physics::default(),
             bodies: Vec::new(),
-            robot_pose: Transform::IDENTITY,
+            robot_pose: Pose::IDENTITY,
             files: Vec::new(),
             meshes: Meshes::default(),
         }
@@ -59,8 +68,8 @@ pub fn resolve_environment(
     fl.out.files.push(path.to_path_buf());
     for o in &file.objects {
         match o {
-            EnvObject::Inline(kb) => fl.add(kb, path, "", &Transform::IDENTITY)?,
-            EnvObject::Include(inc) => fl.include(inc, path, "", &Transform::IDENTITY)?,
+            EnvObject::Inline(kb) => fl.add(kb, path, "", &Pose::IDENTITY)?,
+            EnvObject::Include(inc) => fl.include(inc, path, "", &Pose::IDENTITY)?,
         }
     }
     if let Some(j) = fl.out.joints.first() {
@@ -101,7 +110,7 @@ pub fn resolve_environment(
         file: Some(path.to_path_buf()),
         physics: file.physics.clone(),
         bodies,
-        robot_pose: file.robot_pose.unwrap_or(Transform::IDENTITY),
+        robot_pose: file.robot_pose.unwrap_or(Pose::IDENTITY),
         files,
         meshes,
     })

@@ -11,35 +11,45 @@ use crate::config::kinbody::{Include, Joint, KinBody, parse_kinbody_file};
 use crate::config::mesh::{Meshes, parse_obj};
 use crate::config::sensor::AttachedSensor;
 use crate::config::source::{FileSource, resolve_include};
-use crate::config::transform::Transform;
+use crate::config::transform::Pose;
 
 /// A body placed in the frame of the flattened kinbody.
 #[derive(Debug, Clone)]
 pub struct PlacedBody {
+    /// The body.
     pub body: Body,
-    pub world: Transform,
+    /// Its placement in the flattened kinbody.
+    pub world: Pose,
+    /// The file it came from.
     pub file: PathBuf,
 }
 
 /// A joint with prefixed body names, and where it was written.
 #[derive(Debug, Clone)]
 pub struct PlacedJoint {
+    /// The joint, names prefixed.
     pub joint: Joint,
+    /// The file it came from.
     pub file: PathBuf,
 }
 
 /// A sensor with its prefixed link name, and where it was written.
 #[derive(Debug, Clone)]
 pub struct PlacedSensor {
+    /// The sensor, link name prefixed.
     pub sensor: AttachedSensor,
+    /// The file it came from.
     pub file: PathBuf,
 }
 
 /// Everything a kinbody expands to.
 #[derive(Debug, Clone, Default)]
 pub struct Flat {
+    /// Every body.
     pub bodies: Vec<PlacedBody>,
+    /// Every joint.
     pub joints: Vec<PlacedJoint>,
+    /// Every sensor.
     pub sensors: Vec<PlacedSensor>,
     /// Every file read (parts, meshes), in order.
     pub files: Vec<PathBuf>,
@@ -49,12 +59,15 @@ pub struct Flat {
 
 /// Flattens kinbodies, reading included files from a [`FileSource`].
 pub struct Flattener<'a> {
+    /// Where included files are read from.
     pub src: &'a dyn FileSource,
     stack: Vec<PathBuf>,
+    /// What was flattened so far.
     pub out: Flat,
 }
 
 impl<'a> Flattener<'a> {
+    /// A flattener of the kinbody in `root_file`.
     pub fn new(src: &'a dyn FileSource, root_file: &Path) -> Self {
         Flattener {
             src,
@@ -69,7 +82,7 @@ impl<'a> Flattener<'a> {
         kb: &KinBody,
         file: &Path,
         prefix: &str,
-        placement: &Transform,
+        placement: &Pose,
     ) -> ConfigResult<()> {
         let tf = placement.mul(&kb.pose);
         for inc in &kb.includes {
@@ -133,7 +146,7 @@ impl<'a> Flattener<'a> {
         inc: &Include,
         file: &Path,
         prefix: &str,
-        placement: &Transform,
+        placement: &Pose,
     ) -> ConfigResult<()> {
         let path = find_file(self.src, file, &inc.file, inc.pos, "kinbody part")?;
         if let Some(i) = self.stack.iter().position(|p| *p == path) {

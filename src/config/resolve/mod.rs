@@ -29,21 +29,32 @@ pub use robot::{
 /// The files of a simulation as written (what an editor changes and saves).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimulationFiles {
+    /// The simulation file.
     pub simulation: SimulationFile,
+    /// The robot file.
     pub robot: RobotFile,
+    /// The actuation file.
     pub actuation: ActuationFile,
+    /// The environment file, if any.
     pub environment: Option<EnvironmentFile>,
+    /// The optimizer file, if any.
     pub optimizer: Option<OptimizerFile>,
 }
 
 /// A fully loaded and checked simulation.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Simulation {
+    /// The simulation file.
     pub file: PathBuf,
+    /// The files as written.
     pub files: SimulationFiles,
+    /// The robot, resolved.
     pub robot: RobotModel,
+    /// The actuation, checked against the robot and the module types.
     pub actuation: ActuationModel,
+    /// The environment, resolved.
     pub environment: EnvironmentModel,
+    /// The optimizer settings, in an optimization mode.
     pub optimizer: Option<OptimizerModel>,
     /// Things that load but look unintended.
     pub warnings: Vec<String>,

@@ -17,9 +17,13 @@ use crate::config::xml::read::{Reader, same_name};
 /// One registered parameter, resolved.
 #[derive(Debug, Clone, PartialEq)]
 pub struct OptimizedParameter {
+    /// Its number in the optimizer file.
     pub number: u32,
+    /// The module type.
     pub module: &'static str,
+    /// The parameter.
     pub parameter: ParamDescriptor,
+    /// Its genome configuration.
     pub genome: GenomeConfig,
     /// Number of genes: 1 when uniform, else one per active joint.
     pub genes: usize,
@@ -30,8 +34,11 @@ pub struct OptimizedParameter {
 /// The resolved optimizer file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct OptimizerModel {
+    /// The optimizer file.
     pub file: PathBuf,
+    /// Its settings.
     pub spec: OptimizerFile,
+    /// The optimized parameters.
     pub parameters: Vec<OptimizedParameter>,
 }
 

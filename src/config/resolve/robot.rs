@@ -13,12 +13,14 @@ use crate::config::resolve::flatten::{
 use crate::config::robot::RobotFile;
 use crate::config::sensor::{Sensor, SensorSource, parse_sensor_file};
 use crate::config::source::FileSource;
-use crate::config::transform::Transform;
+use crate::config::transform::Pose;
 use crate::config::xml::read::Reader;
 
 /// Default joint limits (deg), torque (N·m) and speed (rad/s): the thesis's servo (B.2).
 pub const DEFAULT_LIMITS_DEG: [f64; 2] = [-90.0, 90.0];
+/// Servo torque limit when a joint gives none (N·m).
 pub const DEFAULT_MAX_TORQUE: f64 = 0.4;
+/// Servo speed limit when a joint gives none (rad/s).
 pub const DEFAULT_MAX_VEL: f64 = 4.5;
 /// Density used for bodies that give no mass (kg/m³, OpenRAVE's default).
 pub const DEFAULT_DENSITY: f64 = 1000.0;
@@ -35,6 +37,7 @@ pub enum JointOrientation {
 }
 
 impl JointOrientation {
+    /// `P`, `Y` or `R`, as in topology strings.
     pub fn letter(self) -> char {
         match self {
             JointOrientation::Pitch => 'P',
@@ -57,9 +60,11 @@ impl fmt::Display for JointOrientation {
 /// One rigid link of the robot.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Link {
+    /// The link's (body's) name.
     pub name: String,
     /// Pose in the robot frame.
-    pub pose: Transform,
+    pub pose: Pose,
+    /// Its geometries.
     pub geoms: Vec<Geom>,
     /// kg.
     pub mass: f64,
@@ -87,38 +92,53 @@ impl Link {
 /// One servo-driven hinge.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RobotJoint {
+    /// The joint's name.
     pub name: String,
+    /// The link on the tail side.
     pub parent: usize,
+    /// The link on the head side.
     pub child: usize,
     /// Anchor point in the robot frame.
     pub anchor: [f64; 3],
     /// Unit axis in the robot frame.
     pub axis: [f64; 3],
+    /// Angle limits (degrees).
     pub limits_deg: [f64; 2],
+    /// Servo torque limit (N·m).
     pub max_torque: f64,
+    /// Servo speed limit (rad/s).
     pub max_vel: f64,
     /// Servo gain (1/s) when the file sets one.
     pub servo_gain: Option<f64>,
+    /// Pitch, yaw or roll, from its axis.
     pub orientation: JointOrientation,
 }
 
 /// One sensor on a link.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RobotSensor {
+    /// The sensor's name.
     pub name: String,
+    /// The link it sits on.
     pub link: usize,
     /// Pose in the link frame.
-    pub pose: Transform,
+    pub pose: Pose,
+    /// What it is.
     pub sensor: Sensor,
 }
 
 /// A robot ready to be simulated.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RobotModel {
+    /// The robot's name.
     pub name: String,
+    /// The robot file.
     pub file: PathBuf,
+    /// Its links, in file order.
     pub links: Vec<Link>,
+    /// Its joints, tail to head.
     pub joints: Vec<RobotJoint>,
+    /// Its sensors.
     pub sensors: Vec<RobotSensor>,
     /// Every file read to build it (robot, parts, sensors, meshes).
     pub files: Vec<PathBuf>,
@@ -154,7 +174,9 @@ impl JointServo {
 /// The bus settings and the servo of every joint.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ServoMap {
+    /// The servo driver (`dynamixel`).
     pub driver: String,
+    /// Bus speed (baud).
     pub baud: u32,
     /// Read positions, currents and speeds back every this many control steps.
     pub read_every: u32,
@@ -255,10 +277,12 @@ impl RobotModel {
         self.joints.iter().map(|j| j.orientation.letter()).collect()
     }
 
+    /// The sum of the links' masses (kg).
     pub fn total_mass(&self) -> f64 {
         self.links.iter().map(|l| l.mass).sum()
     }
 
+    /// The index of the joint named `name`.
     pub fn joint_index(&self, name: &str) -> Option<usize> {
         self.joints.iter().position(|j| j.name == name)
     }
@@ -301,7 +325,7 @@ pub fn resolve_robot(
 ) -> ConfigResult<RobotModel> {
     let mut fl = Flattener::new(src, path);
     fl.out.files.push(path.to_path_buf());
-    fl.add(&file.kinbody, path, "", &Transform::IDENTITY)?;
+    fl.add(&file.kinbody, path, "", &Pose::IDENTITY)?;
     let Flat {
         bodies,
         joints: placed_joints,
@@ -411,9 +435,7 @@ fn resolve_joints(
             Some(o) => links[names.find(o, &pj.file, j.pos, &format!("{what} <offsetfrom>"))?].pose,
             None => links[parent].pose,
         };
-        let anchor = frame
-            .mul(&Transform::from_translation(j.anchor))
-            .translation;
+        let anchor = frame.mul(&Pose::from_translation(j.anchor)).translation;
         let axis = normalize(frame.rotate(j.axis));
         let chain = {
             let (a, b) = (links[parent].centre(), links[child].centre());

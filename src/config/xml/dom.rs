@@ -15,19 +15,28 @@ pub const MAX_DEPTH: usize = 128;
 /// One attribute with the position of its value.
 #[derive(Debug, Clone)]
 pub struct Attr {
+    /// The attribute's name.
     pub name: String,
+    /// Its value, unescaped.
     pub value: String,
+    /// Where it was written (line, column).
     pub pos: Pos,
 }
 
 /// One element: name, attributes, child elements, and its own text (trimmed).
 #[derive(Debug, Clone)]
 pub struct Element {
+    /// The tag name.
     pub name: String,
+    /// Where it was written (line, column).
     pub pos: Pos,
+    /// Its attributes.
     pub attrs: Vec<Attr>,
+    /// Its child elements.
     pub children: Vec<Element>,
+    /// Its text, trimmed.
     pub text: String,
+    /// Where its text starts.
     pub text_pos: Pos,
     /// Comments directly inside this element, with positions.
     pub comments: Vec<(String, Pos)>,
@@ -36,6 +45,7 @@ pub struct Element {
 /// A parsed document: the root element and comments outside it.
 #[derive(Debug, Clone)]
 pub struct Document {
+    /// The root element.
     pub root: Element,
     /// Comments before or after the root element (the thesis keeps the robot pose there).
     pub outer_comments: Vec<(String, Pos)>,

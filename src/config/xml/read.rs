@@ -11,10 +11,12 @@ use crate::config::xml::dom::{Attr, Document, Element};
 /// Reads values out of the elements of one file.
 #[derive(Debug, Clone)]
 pub struct Reader {
+    /// The file, named in errors.
     pub file: PathBuf,
 }
 
 impl Reader {
+    /// A reader for `file`.
     pub fn new(file: impl AsRef<Path>) -> Self {
         Reader {
             file: file.as_ref().to_path_buf(),

@@ -15,6 +15,7 @@ pub struct XmlWriter {
 }
 
 impl XmlWriter {
+    /// An empty document.
     pub fn new() -> Self {
         XmlWriter {
             out: String::from("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n"),

@@ -10,8 +10,11 @@ use crate::gui::control::session::SimSession;
 /// The form's state.
 #[derive(Resource, Debug, Clone, Default)]
 pub struct AssignState {
+    /// The module type chosen.
     pub module: String,
+    /// The joints it should drive, as a 0/1 mask.
     pub mask: String,
+    /// The last assignment's outcome.
     pub message: Option<Result<String, String>>,
 }
 

@@ -11,11 +11,13 @@ use crate::gui::control::session::SimSession;
 /// Orbit state of the viewer camera (Bevy frame, y up).
 #[derive(Component, Debug, Clone)]
 pub struct OrbitCamera {
+    /// The point the camera orbits (Bevy frame).
     pub focus: Vec3,
     /// Radians about the vertical axis.
     pub yaw: f32,
     /// Radians above the ground plane.
     pub pitch: f32,
+    /// Distance from the focus (m).
     pub distance: f32,
     /// Keep robot 0's centre of mass in focus.
     pub follow: bool,

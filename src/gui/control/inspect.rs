@@ -18,25 +18,35 @@ use crate::gui::control::widgets::{ensure_parent, set_checkbox};
 /// A graph of chosen series.
 #[derive(Debug, Clone)]
 pub struct Graph {
+    /// Identifies the graph's plot widget.
     pub id: u64,
+    /// The x axis.
     pub x: XAxis,
+    /// The series shown.
     pub selectors: Vec<SeriesSelector>,
+    /// Each series' title and points.
     pub lines: Vec<(String, Vec<[f64; 2]>)>,
 }
 
 /// The inspection window's state.
 #[derive(Resource, Debug, Clone)]
 pub struct InspectState {
+    /// Whether the window is shown.
     pub open: bool,
+    /// The data file path typed.
     pub path: String,
+    /// The loaded file and its summary.
     pub file: Option<(PathBuf, DataInfo)>,
+    /// The x axis of new graphs.
     pub x: XAxis,
     /// Checked (handler, series, part).
     pub checked: BTreeSet<(String, String, usize)>,
+    /// The graphs drawn.
     pub graphs: Vec<Graph>,
     next_id: u64,
     /// Where "Save PNG" / "Export TSV" write (the extension is replaced).
     pub out_stem: String,
+    /// The last message (an error, what was exported).
     pub message: String,
 }
 

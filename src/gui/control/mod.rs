@@ -59,25 +59,40 @@ use crate::remote::gamepad::{GamepadRemote, GamepadRemotePlugin};
 /// Which of the docked views are open.
 #[derive(Resource, Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Panels {
+    /// Whether the properties panel is shown.
     pub params: bool,
+    /// Whether the live plots panel is shown.
     pub plots: bool,
 }
 
 /// The state of the egui views (what scripts and the UI pass change).
 #[derive(SystemParam)]
 pub struct Views<'w> {
+    /// The toolbar.
     pub toolbar: ResMut<'w, ToolbarState>,
+    /// The control-algorithm properties.
     pub params: ResMut<'w, ParamsState>,
+    /// The live plots.
     pub plots: ResMut<'w, PlotsState>,
+    /// Which side panels are shown.
     pub panels: ResMut<'w, Panels>,
+    /// The data file inspection.
     pub inspect: ResMut<'w, InspectState>,
+    /// The optimization view.
     pub optimizer: ResMut<'w, OptimizerView>,
+    /// The physics debug view.
     pub debug: ResMut<'w, DebugView>,
+    /// The selected body.
     pub selection: ResMut<'w, Selection>,
+    /// The remote-control dialog.
     pub remote: ResMut<'w, RemoteView>,
+    /// The gamepad bindings applied.
     pub gamepad: ResMut<'w, GamepadRemote>,
+    /// The module library.
     pub modules: ResMut<'w, ModuleEditor>,
+    /// Assigning a module to joints.
     pub assign: ResMut<'w, AssignState>,
+    /// The real-robot tab.
     pub robot: ResMut<'w, RobotView>,
 }
 

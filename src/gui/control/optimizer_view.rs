@@ -26,14 +26,19 @@ enum Report {
 /// The view's state and the running optimization, if any.
 #[derive(Resource, Default)]
 pub struct OptimizerView {
+    /// Whether the window is shown.
     pub open: bool,
     /// Evaluations to run (the optimizer file's maximum when 0).
     pub max_evals: u64,
+    /// Worker threads for the next run.
     pub workers: usize,
     /// (evaluation, score, best so far).
     pub curve: Vec<[f64; 3]>,
+    /// The best candidate so far and its score.
     pub best: Option<(Genome, f64)>,
+    /// When the run started.
     pub started: Option<Instant>,
+    /// What the run is doing, or why it stopped.
     pub status: String,
     stop: StopFlag,
     rx: Option<std::sync::Mutex<Receiver<Report>>>,

@@ -11,11 +11,15 @@ use crate::measure::ground_distance;
 /// What the overlay shows, updated after the frame's steps.
 #[derive(Resource, Debug, Clone, Default)]
 pub struct RobotOverlay {
+    /// Centre of mass (m, z up).
     pub com: [f64; 3],
     /// Ground speed (m/s), smoothed over about a second of simulated time.
     pub speed: f64,
+    /// Tail-to-head heading (degrees from +x).
     pub heading: f64,
+    /// Touch pads pressed.
     pub pressed: usize,
+    /// Touch pads of the robot.
     pub pads: usize,
     last: Option<(f64, [f64; 3])>,
 }

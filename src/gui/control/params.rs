@@ -15,6 +15,7 @@ use crate::gui::control::session::SimSession;
 /// The dialog's state: the selected module and which parameters are shown per joint.
 #[derive(Resource, Debug, Clone, Default)]
 pub struct ParamsState {
+    /// The module tab shown.
     pub tab: usize,
     /// (actuator, parameter) pairs in individual mode.
     pub individual: HashSet<(usize, usize)>,
@@ -23,10 +24,13 @@ pub struct ParamsState {
 /// A parameter change the dialog asks for: one slider moved.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Change {
+    /// The module (kernel actuator index).
     pub actuator: usize,
+    /// The parameter.
     pub name: &'static str,
     /// A robot joint (individual mode), or every joint the module drives (uniform mode).
     pub joint: Option<usize>,
+    /// The new value.
     pub value: f64,
 }
 

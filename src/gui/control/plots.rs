@@ -21,16 +21,20 @@ pub type SeriesRef = (String, usize, usize);
 /// One plotted series: a value column of a handler's frames.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LiveSeries {
+    /// The data handler.
     pub handler: String,
     /// Index in the handler's frame values.
     pub column: usize,
+    /// The legend title.
     pub title: String,
 }
 
 /// A live plot and its latest points.
 #[derive(Debug, Clone)]
 pub struct LivePlot {
+    /// Identifies the plot widget.
     pub id: u64,
+    /// Its series.
     pub series: Vec<LiveSeries>,
     points: Vec<(String, Vec<[f64; 2]>)>,
 }
@@ -40,7 +44,9 @@ pub struct LivePlot {
 pub struct PlotsState {
     /// Selected handler tab.
     pub tab: usize,
+    /// The series ticked for the next plot.
     pub checked: BTreeSet<SeriesRef>,
+    /// The plots shown.
     pub plots: Vec<LivePlot>,
     next_id: u64,
     /// Follow the newest samples.

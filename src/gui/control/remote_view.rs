@@ -37,15 +37,19 @@ struct Form {
 /// The dialog's state and the resolved bindings.
 #[derive(Resource)]
 pub struct RemoteView {
+    /// Whether the dialog is shown.
     pub open: bool,
     /// Bindings act on the robot.
     pub enabled: bool,
+    /// The binding file path typed.
     pub path: String,
+    /// The bindings edited and applied.
     pub file: RemoteFile,
     mapper: Option<RemoteMapper>,
     /// (session generation, edit revision) the mapper was built for.
     built_for: Option<(u64, u64)>,
     revision: u64,
+    /// The last error (loading, saving, a binding).
     pub error: Option<String>,
     /// Element values set by scripts (over the gamepad's).
     pub injected: RemoteData,

@@ -20,27 +20,38 @@ const SLOW_READ_FRAMES: u64 = 15;
 /// The tab's state and the connection.
 #[derive(Resource)]
 pub struct RobotView {
+    /// Whether the tab is shown.
     pub open: bool,
+    /// The serial port.
     pub port: String,
+    /// Bus speed (baud).
     pub baud: u32,
     robot: Option<DynamixelChain>,
     /// The kernel's output drives the servos.
     pub drive: bool,
     /// The viewer's robot follows the measured angles.
     pub twin: bool,
+    /// Whether the servos' torque is on.
     pub torque: bool,
+    /// The last readings (positions, currents, speeds).
     pub readings: Readings,
+    /// Each servo's temperature (°C).
     pub temperatures: Vec<f64>,
+    /// Each servo's hardware error status.
     pub errors: Vec<f64>,
     /// Read-backs and goal writes so far, failed read-backs, and those in a row.
     pub reads: u64,
+    /// Goal writes sent.
     pub writes: u64,
+    /// Read-backs that failed.
     pub failed_reads: u64,
     failed_in_a_row: u32,
     frames: u64,
+    /// The last error.
     pub error: Option<String>,
     /// The command line: `COMMAND [VALUE]` and the servo id it goes to (0: all).
     pub command: String,
+    /// The servo a command goes to (0: all).
     pub command_target: u8,
 }
 
@@ -79,6 +90,7 @@ impl Drop for RobotView {
 }
 
 impl RobotView {
+    /// Whether a robot is connected.
     pub fn connected(&self) -> bool {
         self.robot.is_some()
     }

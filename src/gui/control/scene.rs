@@ -12,7 +12,7 @@ use rapier3d::prelude as rp;
 use crate::config::Simulation;
 use crate::config::body::{Geom, Shape};
 use crate::config::mesh::TriMesh;
-use crate::config::transform::Transform as Pose;
+use crate::config::transform::Pose;
 use crate::gui::control::session::SimSession;
 
 /// The root of the scene (configuration frame -> Bevy frame).
@@ -22,6 +22,7 @@ pub struct SceneRoot;
 /// A visual that follows a rapier body.
 #[derive(Component)]
 pub struct BodyVisual {
+    /// The rapier body it follows.
     pub handle: rp::RigidBodyHandle,
     /// Index of the robot link it shows (None: an environment body).
     pub link: Option<usize>,
@@ -30,8 +31,11 @@ pub struct BodyVisual {
 /// A touch pad's visual.
 #[derive(Component)]
 pub struct PadVisual {
+    /// The pad's index on robot 0.
     pub index: usize,
+    /// Its material when pressed.
     pub pressed: Handle<StandardMaterial>,
+    /// Its material when released.
     pub released: Handle<StandardMaterial>,
 }
 

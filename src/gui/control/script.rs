@@ -43,26 +43,40 @@ use crate::data::export::SeriesSelector;
 /// One script command.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Command {
+    /// `wait N`: N frames.
     Wait(u32),
+    /// `start`.
     Start,
+    /// `pause`.
     Pause,
+    /// `restart`.
     Restart,
+    /// `run-until S`: runs until simulated second S.
     RunUntil(f64),
     /// Real-time factor (0: as fast as possible).
     Speed(f64),
+    /// `set MODULE PARAM VALUE [JOINT]`: a module parameter (joint from 1).
     Set {
+        /// Module type.
         module: String,
+        /// Parameter.
         param: String,
+        /// New value.
         value: f64,
+        /// Joint (from 1), or all.
         joint: Option<usize>,
     },
     /// Series as `proleg data` selects them: `Handler/series`, `[k]` or `[a..b]` (from 0).
     Plot(Vec<SeriesSelector>),
+    /// `panel params|plots|all`.
     Panel(String),
     /// Show a parameter of module tab N per joint (individual mode) or not.
     PerJoint {
+        /// Module tab.
         actuator: usize,
+        /// Parameter.
         param: String,
+        /// Per joint or uniform.
         on: bool,
     },
     /// Turn the physics debug view on or off.
@@ -83,28 +97,46 @@ pub enum Command {
     RemoteSet(String, f64),
     /// Add a binding: element, mode, module, parameter, joints, scale.
     RemoteBind {
+        /// Remote element.
         element: String,
+        /// How it changes the parameter.
         mode: crate::config::remote::BindMode,
+        /// Module type.
         module: String,
+        /// Parameter.
         parameter: String,
+        /// Which joints.
         joints: crate::config::remote::JointSelection,
+        /// Change per unit.
         scale: f64,
     },
+    /// `remote-remove I`: removes binding I.
     RemoteRemove(usize),
+    /// `remote-load FILE`.
     RemoteLoad(PathBuf),
+    /// `remote-save FILE`.
     RemoteSave(PathBuf),
     /// A module library command.
     Module(crate::gui::module_editor::script::ModuleCommand),
+    /// `assign MODULE MASK`: adds a module on the masked joints.
     Assign(String, String),
     /// The real-robot tab: open/close, connect, torque, drive, twin, disconnect.
     RobotOpen(bool),
+    /// `robot-connect PORT`.
     RobotConnect(String),
+    /// `robot-torque on|off`.
     RobotTorque(bool),
+    /// `robot-drive on|off`: the kernel drives the servos.
     RobotDrive(bool),
+    /// `robot-twin on|off`: the viewer's robot follows the servos.
     RobotTwin(bool),
+    /// `robot-disconnect`.
     RobotDisconnect,
+    /// `screenshot FILE.png`.
     Screenshot(PathBuf),
+    /// `state FILE`: writes the state a test checks.
     State(PathBuf),
+    /// `quit`.
     Quit,
 }
 
@@ -252,6 +284,7 @@ pub fn state_report(pairs: &[(&str, String)]) -> String {
 pub struct ScriptRunner(pub Option<Script>);
 
 impl ScriptRunner {
+    /// A runner of `script`.
     pub fn new(script: Script) -> Self {
         ScriptRunner(Some(script))
     }

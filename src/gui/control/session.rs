@@ -20,10 +20,13 @@ const MAX_STEP_BUDGET: f64 = 0.12;
 pub struct SimSession {
     /// The configuration file shown.
     pub path: PathBuf,
+    /// The configuration shown.
     pub sim: Simulation,
+    /// The running world.
     pub simulator: Simulator,
     /// The kernel as built, for the parameter dialog's Reset.
     pub initial_kernel: ControlKernel,
+    /// Whether it runs (not paused).
     pub running: bool,
     /// Real-time factor and slow-motion delay (the toolbar's), applied from the next frame.
     pub pacing: Pacing,

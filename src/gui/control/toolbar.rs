@@ -23,6 +23,7 @@ pub struct ToolbarState {
 }
 
 impl ToolbarState {
+    /// The toolbar showing configuration `current`.
     pub fn new(current: &Path) -> Self {
         ToolbarState {
             path: current.display().to_string(),

@@ -8,13 +8,19 @@ use bevy_egui::egui::{self, Color32, FontId, TextFormat, text::LayoutJob};
 /// What a piece of source is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Token {
+    /// A comment.
     Comment,
+    /// A string or character literal.
     Str,
+    /// A number.
     Number,
+    /// A Rust keyword.
     Keyword,
     /// A capitalised name: types, traits, constants.
     Type,
+    /// A macro call.
     Macro,
+    /// Anything else.
     Plain,
 }
 

@@ -26,17 +26,24 @@ use crate::plugin_host::{self, DEFAULT_LIBRARY};
 /// One parameter row of the declaration form.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParamRow {
+    /// Parameter name.
     pub name: String,
+    /// Initial value.
     pub initial: f64,
+    /// Lowest allowed value.
     pub min: f64,
+    /// Highest allowed value.
     pub max: f64,
 }
 
 /// The declaration form (fig. 4.8).
 #[derive(Debug, Clone, PartialEq)]
 pub struct DeclarationForm {
+    /// The module's name.
     pub name: String,
+    /// What it does.
     pub summary: String,
+    /// Its parameters.
     pub params: Vec<ParamRow>,
     /// Comma-separated helper function names.
     pub helpers: String,
@@ -77,6 +84,7 @@ fn list(s: &str) -> Vec<String> {
 }
 
 impl DeclarationForm {
+    /// The form as a template declaration.
     pub fn declaration(&self) -> Declaration {
         Declaration {
             name: self.name.trim().to_string(),
@@ -100,15 +108,19 @@ impl DeclarationForm {
 /// What the last action said.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub enum Status {
+    /// Nothing to report.
     #[default]
     None,
+    /// Information.
     Info(String),
+    /// An error.
     Error(String),
 }
 
 /// The editor's state.
 #[derive(Resource)]
 pub struct ModuleEditor {
+    /// Whether the window is shown.
     pub open: bool,
     /// The plugin workspace (new crates go here).
     pub workspace: PathBuf,
@@ -116,9 +128,11 @@ pub struct ModuleEditor {
     pub lib_dir: PathBuf,
     /// Cargo's target folder.
     pub target_dir: PathBuf,
+    /// The declaration form.
     pub form: DeclarationForm,
     /// The crate in the editor (folder name) and its source file.
     pub crate_name: Option<String>,
+    /// The module's source in the editor.
     pub source: String,
     /// The source differs from the file.
     pub modified: bool,
@@ -126,6 +140,7 @@ pub struct ModuleEditor {
     job: Option<Mutex<Receiver<Result<BuildOutcome, String>>>>,
     /// The last build's output.
     pub log: String,
+    /// The last outcome (generated, compiled, an error).
     pub status: Status,
     /// Counts module loads: views rebuild their module lists when it changes.
     pub revision: u64,
@@ -219,6 +234,7 @@ impl ModuleEditor {
         Ok(())
     }
 
+    /// Whether a compile is running.
     pub fn building(&self) -> bool {
         self.job.is_some()
     }

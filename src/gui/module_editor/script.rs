@@ -16,16 +16,24 @@ use crate::plugin_host::template::ParamDecl;
 /// One module-library command.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ModuleCommand {
+    /// `modules open|close`: shows or hides the window.
     Open(bool),
+    /// `module-workspace DIR`: the plugin workspace to use.
     Workspace(PathBuf),
     /// Name, `name=value[:min..max]` parameters, data series, helpers (comma-separated).
     Declare {
+        /// Module name.
         name: String,
+        /// Parameter declarations (`name=initial[:min..max]`).
         params: Vec<String>,
+        /// Data series, comma-separated.
         series: String,
+        /// Helper functions, comma-separated.
         helpers: String,
     },
+    /// `module-source FILE`: replaces the editor's text with the file.
     Source(PathBuf),
+    /// `module-compile`: builds and loads; waits for the build.
     Compile,
 }
 

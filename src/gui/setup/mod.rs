@@ -43,6 +43,7 @@ pub struct SetupOptions {
     pub env: Option<PathBuf>,
     /// Open this simulation in the expert dialog.
     pub expert: Option<PathBuf>,
+    /// A script driving the window (tests, screenshots).
     pub script: Option<PathBuf>,
 }
 

@@ -14,6 +14,7 @@ use crate::gui::setup::state::SetupState;
 /// The drag in progress.
 #[derive(Resource, Debug, Default)]
 pub struct EditorDrag {
+    /// Whether a drag is in progress.
     pub dragging: bool,
     /// The camera the drag started in.
     camera: Option<Entity>,

@@ -15,7 +15,7 @@ use crate::config::kinbody::parse_kinbody_file;
 use crate::config::mesh::Meshes;
 use crate::config::resolve::robot::RobotModel;
 use crate::config::source::{FsSource, resolve_include};
-use crate::config::transform::Transform as Pose;
+use crate::config::transform::Pose;
 use crate::gui::control::camera::to_bevy;
 use crate::gui::control::scene::{geom_material, geom_mesh, to_transform};
 use crate::gui::setup::picking::EditorDrag;
@@ -37,6 +37,7 @@ pub struct SceneCache {
     robot_key: Option<String>,
     /// The expert composition's environment, shown read-only.
     expert_env: Option<(std::path::PathBuf, Option<EnvEditor>)>,
+    /// The robot preview, or why there is none.
     pub robot: Option<Result<RobotModel, String>>,
     meshes: HashMap<String, Handle<Mesh>>,
     /// Mesh files read for `trimesh` geometries (a file that fails to load is not drawn; the

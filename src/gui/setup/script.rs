@@ -33,40 +33,73 @@ use std::path::{Path, PathBuf};
 /// One script command.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Command {
+    /// `wait N`: N frames.
     Wait(u32),
+    /// `tool wizard|expert|editor`.
     Tool(String),
+    /// `set KEY VALUE`: a wizard field (`Wizard::set`).
     Set(String, String),
+    /// `next`: the next page.
     Next,
+    /// `back`.
     Back,
+    /// `skip`: leaves an optional page at its defaults.
     Skip,
+    /// `save`: writes the wizard's files.
     Save,
+    /// `add ITEM [X Y]`: a library item ahead of the robot or at X, Y.
     Add(String, Option<[f64; 2]>),
+    /// `drop ITEM PX PY`: drops an item at a window position.
     Drop(String, [f32; 2]),
+    /// `select N|robot|none`.
     Select(String),
+    /// `move-to X Y Z`.
     MoveTo([f64; 3]),
+    /// `move-by DX DY DZ`.
     MoveBy([f64; 3]),
+    /// `drag-to X Y`: drags the selection over the ground.
     DragTo([f64; 2]),
+    /// `rotate DEG`.
     Rotate(f64),
+    /// `yaw DEG`: sets the heading.
     Yaw(f64),
+    /// `scale FX FY FZ`.
     Scale([f64; 3]),
+    /// `friction MU`.
     Friction(f64),
+    /// `dynamic on|off`.
     Dynamic(bool),
+    /// `mass KG`.
     Mass(f64),
+    /// `colour R G B`.
     Colour([f64; 3]),
+    /// `delete`.
     Delete,
+    /// `undo`.
     Undo,
+    /// `redo`.
     Redo,
+    /// `env-save FILE`.
     EnvSave(PathBuf),
+    /// `env-load FILE`.
     EnvLoad(PathBuf),
+    /// `expert PART FILE|none`: a part of the composition.
     Expert(String, String),
+    /// `expert-save FILE`.
     ExpertSave(PathBuf),
+    /// `expert-edit`: hands the composition to the wizard.
     ExpertEdit,
+    /// `preview`: runs the wizard's robot for 5 s.
     Preview,
+    /// `zoom H`: height of the top and side views (m).
     Zoom(f32),
+    /// `screenshot FILE.png`.
     Screenshot(PathBuf),
+    /// `state FILE`: writes the state a test checks.
     State(PathBuf),
     /// A module library command.
     Module(crate::gui::module_editor::script::ModuleCommand),
+    /// `quit`.
     Quit,
 }
 

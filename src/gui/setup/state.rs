@@ -17,14 +17,18 @@ use crate::config::simulation::SimulationProperties;
 /// The tool on screen.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Tool {
+    /// The beginner wizard.
     Wizard,
+    /// The expert composition.
     Expert,
+    /// The environment editor.
     Editor,
 }
 
 /// The expert dialog's state.
 #[derive(Debug, Clone)]
 pub struct ExpertState {
+    /// The composition edited.
     pub composition: Composition,
     /// Where "Save" writes the simulation file.
     pub path: String,
@@ -35,23 +39,30 @@ pub struct ExpertState {
 /// A message for the status line.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Status {
+    /// Information.
     Info(String),
+    /// An error.
     Error(String),
 }
 
 /// Everything the configuration window shows and edits.
 #[derive(Resource)]
 pub struct SetupState {
+    /// The tool shown.
     pub tool: Tool,
     /// The module library's revision the wizard's registry was made at.
     pub module_revision: u64,
+    /// The wizard's model.
     pub wizard: Wizard,
     /// The standalone environment editor (the wizard's environment page has its own).
     pub editor: EnvEditor,
     /// Path typed for the editor's Load / Save.
     pub editor_path: String,
+    /// The expert composition.
     pub expert: ExpertState,
+    /// The last message.
     pub status: Option<Status>,
+    /// The editor's object library.
     pub library: Vec<LibraryItem>,
     /// Library item chosen for "Add".
     pub library_choice: usize,
@@ -135,6 +146,7 @@ impl SetupState {
         }
     }
 
+    /// The scene being edited (the editor's or the wizard's), to change.
     pub fn env_mut(&mut self) -> &mut EnvEditor {
         if self.tool == Tool::Editor {
             &mut self.editor

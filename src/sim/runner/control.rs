@@ -8,7 +8,7 @@ use crate::control::ControlKernel;
 use crate::sim::Simulator;
 use crate::sim::error::SimError;
 use crate::sim::kernel::{JointOverride, Kernel, SimRobot};
-use crate::sim::physics::{Physics, arr3, vec3};
+use crate::sim::physics::{SimPhysics, arr3, vec3};
 
 impl Simulator {
     /// Changes a module parameter of robot `robot` between steps (see
@@ -64,7 +64,7 @@ impl Simulator {
         if !delta.iter().all(|d| d.is_finite()) {
             return;
         }
-        let mut physics = self.world_mut().resource_mut::<Physics>();
+        let mut physics = self.world_mut().resource_mut::<SimPhysics>();
         for h in bodies {
             if let Some(b) = physics.world.bodies.get_mut(*h) {
                 let t = arr3(b.translation());
@@ -88,7 +88,7 @@ impl Simulator {
             count: bodies.len(),
         })?;
         if angvel.iter().all(|v| v.is_finite()) {
-            let mut physics = self.world_mut().resource_mut::<Physics>();
+            let mut physics = self.world_mut().resource_mut::<SimPhysics>();
             if let Some(b) = physics.world.bodies.get_mut(handle) {
                 b.set_angvel(vec3(angvel), true);
             }

@@ -10,10 +10,10 @@ use crate::sim::Simulator;
 use crate::sim::energy::Energy;
 use crate::sim::error::SimError;
 use crate::sim::kernel::{Kernel, SimRobot};
-use crate::sim::physics::{Physics, arr3};
+use crate::sim::physics::{SimPhysics, arr3};
 use crate::sim::record::{Track, centre_of_mass, heading};
 use crate::sim::servo::JointState;
-use crate::sim::spawn::{EnvObject, SimLink};
+use crate::sim::spawn::{SimEnvObject, SimLink};
 use crate::sim::tactile::{RobotSensors, TactileSensor};
 
 /// A body of the scene: an environment object or a robot link, with its rapier body.
@@ -56,8 +56,8 @@ impl Indexed for PadReading {
 }
 
 impl Simulator {
-    fn physics_resource(&self) -> &Physics {
-        self.world().resource::<Physics>()
+    fn physics_resource(&self) -> &SimPhysics {
+        self.world().resource::<SimPhysics>()
     }
 
     /// Centre of mass of robot `index` (m, z up).
@@ -129,7 +129,7 @@ impl Simulator {
 
     /// The environment's bodies, in the environment's order.
     pub fn environment_bodies(&self) -> Vec<SceneBody> {
-        self.collect_sorted(|o: &EnvObject| {
+        self.collect_sorted(|o: &SimEnvObject| {
             Some(SceneBody {
                 index: o.index,
                 handle: o.handle,

@@ -1,0 +1,105 @@
+//! The command line's logic as a library: `proleg::cli` returns typed reports, and tests
+//! assert on their values rather than on printed text.
+
+mod common;
+
+use proleg::cli::optimize::{OptimizeOptions, run as optimize};
+use proleg::cli::run::{RunRequest, run};
+use proleg::control::ModuleRegistry;
+
+fn request(duration: f64) -> RunRequest {
+    RunRequest {
+        config: common::root().join("configs/demo.simulation.xml"),
+        duration: Some(duration),
+        seed: None,
+        realtime: 0.0,
+        data: None,
+        every: None,
+    }
+}
+
+#[test]
+fn a_run_report_holds_the_motion_and_the_data_file() {
+    let dir = common::scratch("cli_reports_run");
+    let file = dir.join("run.data.xml");
+    let req = RunRequest {
+        data: Some(file.clone()),
+        every: Some(10),
+        ..request(3.0)
+    };
+    let r = run(&req, &ModuleRegistry::standard()).unwrap();
+    assert_eq!(r.summary.steps, 3000);
+    assert!((r.summary.sim_time - 3.0).abs() < 1e-9);
+    assert!(r.summary.displacement > 0.1, "{:?}", r.summary);
+    assert_eq!(r.robot, "snake5p");
+    assert!(!r.interrupted && r.failures.is_empty() && !r.real_robot_mode);
+    let (written, rounds) = r.data.clone().unwrap();
+    assert_eq!(written, file);
+    assert!(rounds >= 1 && file.is_file());
+    // The printed summary is the report's own rendering.
+    let text = r.to_string();
+    assert!(text.contains("steps           3000"), "{text}");
+}
+
+#[test]
+fn a_bad_request_is_an_error_naming_the_argument() {
+    let registry = ModuleRegistry::standard();
+    let e = run(&request(-1.0), &registry).unwrap_err();
+    assert!(e.contains("--duration -1"), "{e}");
+    let e = run(
+        &RunRequest {
+            realtime: f64::NAN,
+            ..request(1.0)
+        },
+        &registry,
+    )
+    .unwrap_err();
+    assert!(e.contains("--realtime NaN"), "{e}");
+    let e = run(
+        &RunRequest {
+            every: Some(0),
+            data: Some(common::scratch("cli_reports_every").join("x.data.xml")),
+            ..request(1.0)
+        },
+        &registry,
+    )
+    .unwrap_err();
+    assert!(e.contains("--every 0"), "{e}");
+}
+
+#[test]
+fn an_optimize_report_counts_evaluations_and_keeps_the_best() {
+    let dir = common::scratch("cli_reports_optimize");
+    let store = dir.join("ga.sqlite");
+    let o = OptimizeOptions {
+        config: common::root().join("configs/experiment1_ga.simulation.xml"),
+        seed: Some(3),
+        workers: Some(2),
+        batch: 0,
+        max_evaluations: Some(12),
+        duration: Some(1.0),
+        fitness: None,
+        out: None,
+        evaluations: None,
+        store: Some(store.clone()),
+        resume: false,
+        quiet: true,
+        crash_after: None,
+    };
+    let r = optimize(&o, &ModuleRegistry::standard()).unwrap();
+    // The budget ends the run after the round that reaches it (a GA generation).
+    assert!(
+        r.outcome.evaluations >= 12 && r.outcome.rounds >= 1,
+        "{r:?}"
+    );
+    assert_eq!(
+        r.outcome.simulated, r.outcome.evaluations,
+        "a new store: all simulated"
+    );
+    assert_eq!(r.store, (store.clone(), r.store.1));
+    assert!(store.is_file());
+    let start = r.outcome.start_score.unwrap();
+    assert!(r.outcome.best_score >= start, "{r:?}");
+    assert_eq!(r.best_values.len(), r.outcome.best.len());
+    assert!(r.per_hour() > 0.0);
+}
