@@ -277,9 +277,10 @@ fn main() -> ExitCode {
             runs,
             curve,
             export,
-        }),
+        })
+        .map(|r| r.to_string()),
         Command::Data { command } => match command {
-            DataCommand::Info { file } => cli::data::show_info(&file),
+            DataCommand::Info { file } => cli::data::show_info(&file).map(|r| r.to_string()),
             DataCommand::Export { pick } => {
                 cli::data::export_table(&pick.file, &pick.x, &pick.series, &pick.output)
             }
@@ -288,7 +289,7 @@ fn main() -> ExitCode {
             }
         },
         Command::Plugin { command } => cli::plugin::run(command, &plugins),
-        Command::Robot(options) => cli::robot::robot(&options, &registry),
+        Command::Robot(options) => cli::robot::robot(&options, &registry).map(|r| r.to_string()),
         Command::RobotEmulator(options) => cli::robot::emulator(&options),
         Command::Check { config } => proleg::control::load_simulation_in(&config, &registry)
             .map(|sim| format!("{}ok\n", proleg::config::summary::summary(&sim)))

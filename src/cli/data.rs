@@ -1,47 +1,65 @@
 //! `proleg data`: inspecting recorded data files (info, export as TSV/CSV).
 
-use std::fmt::Write as _;
+use std::fmt;
 use std::fs::File;
 use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::data::export::{SeriesSelector, XAxis, export};
 use crate::data::plot::plot;
-use crate::data::read::info;
+use crate::data::read::{DataInfo, info};
+
+/// What `proleg data info` found in a data file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InfoReport {
+    /// The data file.
+    pub file: PathBuf,
+    /// Its size in bytes, when readable.
+    pub size: Option<u64>,
+    /// Handlers, series, frames, time span, cut or complete.
+    pub info: DataInfo,
+}
 
 /// `proleg data info FILE`.
-pub fn show_info(file: &Path) -> Result<String, String> {
-    let i = info(file).map_err(|e| e.to_string())?;
-    let mut out = String::new();
-    let _ = writeln!(out, "file      {}", file.display());
-    if let Ok(m) = std::fs::metadata(file) {
-        let _ = writeln!(out, "size      {:.2} MB", m.len() as f64 / 1e6);
-    }
-    let _ = writeln!(out, "rounds    {}", i.rounds);
-    match (i.first_simtime_ms, i.last_simtime_ms) {
-        (Some(a), Some(b)) => {
-            let _ = writeln!(out, "simtime   {:.3} s .. {:.3} s", a / 1000.0, b / 1000.0);
+pub fn show_info(file: &Path) -> Result<InfoReport, String> {
+    Ok(InfoReport {
+        file: file.to_path_buf(),
+        size: std::fs::metadata(file).ok().map(|m| m.len()),
+        info: info(file).map_err(|e| e.to_string())?,
+    })
+}
+
+impl fmt::Display for InfoReport {
+    fn fmt(&self, out: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let i = &self.info;
+        writeln!(out, "file      {}", self.file.display())?;
+        if let Some(bytes) = self.size {
+            writeln!(out, "size      {:.2} MB", bytes as f64 / 1e6)?;
         }
-        _ => {
-            let _ = writeln!(out, "simtime   (no frames)");
+        writeln!(out, "rounds    {}", i.rounds)?;
+        match (i.first_simtime_ms, i.last_simtime_ms) {
+            (Some(a), Some(b)) => {
+                writeln!(out, "simtime   {:.3} s .. {:.3} s", a / 1000.0, b / 1000.0)?
+            }
+            _ => writeln!(out, "simtime   (no frames)")?,
         }
-    }
-    if i.cut {
-        let _ = writeln!(
-            out,
-            "status    CUT: the file ends before </dataRoot>; complete rounds up to here are readable"
-        );
-    } else {
-        let _ = writeln!(out, "status    complete");
-    }
-    for (h, frames) in i.handlers.iter().zip(&i.frames) {
-        let _ = writeln!(out, "handler   {} ({frames} frames)", h.name);
-        for (s, p) in h.series.iter().zip(&h.parts) {
-            let _ = writeln!(out, "  {s} [{p}]");
+        if i.cut {
+            writeln!(
+                out,
+                "status    CUT: the file ends before </dataRoot>; complete rounds up to here are readable"
+            )?;
+        } else {
+            writeln!(out, "status    complete")?;
         }
+        for (h, frames) in i.handlers.iter().zip(&i.frames) {
+            writeln!(out, "handler   {} ({frames} frames)", h.name)?;
+            for (s, p) in h.series.iter().zip(&h.parts) {
+                writeln!(out, "  {s} [{p}]")?;
+            }
+        }
+        Ok(())
     }
-    Ok(out)
 }
 
 /// `proleg data export FILE --x X --series LIST -o OUT`.

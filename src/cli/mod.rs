@@ -6,11 +6,11 @@
 //! | command | module |
 //! |---|---|
 //! | `proleg run` | [`run`] ([`run::RunReport`]) |
-//! | `proleg optimize` | [`optimize`] |
-//! | `proleg results` | [`results`] |
-//! | `proleg data info / export / plot` | [`data`] |
-//! | `proleg plugin new / build / list` | [`plugin`] |
-//! | `proleg robot`, `proleg robot-emulator` | [`robot`] |
+//! | `proleg optimize` | [`optimize`] ([`optimize::OptimizeReport`]) |
+//! | `proleg results` | [`results`] ([`results::ResultsReport`]) |
+//! | `proleg data info / export / plot` | [`data`] ([`data::InfoReport`]; export and plot: what was written) |
+//! | `proleg plugin new / build / list` | [`plugin`] (the listing's text) |
+//! | `proleg robot`, `proleg robot-emulator` | [`robot`] ([`robot::RobotReport`]; the emulator: its port) |
 
 pub mod data;
 pub mod optimize;

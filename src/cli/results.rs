@@ -20,6 +20,41 @@ pub struct ResultsOptions {
     pub export: Option<PathBuf>,
 }
 
+/// The runs of the stores, and the files written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ResultsReport {
+    /// Each store and its runs (those asked for).
+    pub stores: Vec<(PathBuf, Vec<RunRow>)>,
+    /// The learning curves' PNG, if drawn.
+    pub curve: Option<PathBuf>,
+    /// The evaluations' TSV, if written.
+    pub export: Option<PathBuf>,
+}
+
+impl std::fmt::Display for ResultsReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut out = String::new();
+        for (path, runs) in &self.stores {
+            if self.stores.len() > 1 {
+                let _ = writeln!(out, "{}:", path.display());
+            }
+            if runs.is_empty() {
+                out.push_str("no runs stored\n");
+            }
+            for r in runs {
+                describe(&mut out, r);
+            }
+        }
+        if let Some(png) = &self.curve {
+            let _ = writeln!(out, "learning curves written to {}", png.display());
+        }
+        if let Some(tsv) = &self.export {
+            let _ = writeln!(out, "evaluations written to {}", tsv.display());
+        }
+        f.write_str(&out)
+    }
+}
+
 fn describe(out: &mut String, r: &RunRow) {
     let _ = writeln!(
         out,
@@ -46,7 +81,7 @@ fn describe(out: &mut String, r: &RunRow) {
 }
 
 /// Lists the runs and best candidates of the stores; draws and exports as asked.
-pub fn run(o: &ResultsOptions) -> Result<String, String> {
+pub fn run(o: &ResultsOptions) -> Result<ResultsReport, String> {
     let mut opened: Vec<(Store, Vec<RunRow>)> = Vec::new();
     for path in &o.stores {
         if !path.exists() {
@@ -65,18 +100,6 @@ pub fn run(o: &ResultsOptions) -> Result<String, String> {
             .any(|(_, runs)| runs.iter().any(|r| r.id == **id))
     }) {
         return Err(format!("no run {missing} in the given store(s)"));
-    }
-    let mut out = String::new();
-    for (store, runs) in &opened {
-        if opened.len() > 1 {
-            let _ = writeln!(out, "{}:", store.path().display());
-        }
-        if runs.is_empty() {
-            out.push_str("no runs stored\n");
-        }
-        for r in runs {
-            describe(&mut out, r);
-        }
     }
     if let Some(png) = &o.curve {
         let mut curves = Vec::new();
@@ -99,7 +122,6 @@ pub fn run(o: &ResultsOptions) -> Result<String, String> {
             .map(|r| r.info.fitness.clone())
             .unwrap_or_else(|| "score".into());
         plot_curves(&curves, &fitness, png, (1100, 600))?;
-        let _ = writeln!(out, "learning curves written to {}", png.display());
     }
     if let Some(tsv) = &o.export {
         let mut text =
@@ -125,7 +147,13 @@ pub fn run(o: &ResultsOptions) -> Result<String, String> {
             }
         }
         std::fs::write(tsv, text).map_err(|e| format!("{}: cannot write: {e}", tsv.display()))?;
-        let _ = writeln!(out, "evaluations written to {}", tsv.display());
     }
-    Ok(out)
+    Ok(ResultsReport {
+        stores: opened
+            .into_iter()
+            .map(|(store, runs)| (store.path().to_path_buf(), runs))
+            .collect(),
+        curve: o.curve.clone(),
+        export: o.export.clone(),
+    })
 }

@@ -1,7 +1,7 @@
 //! `proleg robot` (the real-robot mode on a serial port) and `proleg robot-emulator` (an
 //! emulated Dynamixel bus on a pseudo-terminal to try it without hardware).
 
-use std::fmt::Write as _;
+use std::fmt;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -9,7 +9,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use crate::control::{ModuleRegistry, load_simulation_in};
 use crate::robot_io::dynamixel::DynamixelChain;
 use crate::robot_io::emulator::EmulatedBus;
-use crate::robot_io::real_mode::{RealOptions, run};
+use crate::robot_io::real_mode::{RealOptions, RealSummary, run};
 
 /// `proleg robot`'s arguments.
 #[derive(clap::Args)]
@@ -48,7 +48,7 @@ fn stop_flag() -> Arc<AtomicBool> {
 }
 
 /// Runs the real-robot mode and summarizes it.
-pub fn robot(o: &RobotOptions, registry: &ModuleRegistry) -> Result<String, String> {
+pub fn robot(o: &RobotOptions, registry: &ModuleRegistry) -> Result<RobotReport, String> {
     if let Some(d) = o.duration
         && !(d.is_finite() && d >= 0.0)
     {
@@ -68,50 +68,70 @@ pub fn robot(o: &RobotOptions, registry: &ModuleRegistry) -> Result<String, Stri
         every: o.every,
         seed: o.seed.unwrap_or(sim.files.simulation.properties.seed),
     };
-    let s = run(&sim, registry, &mut chain, &opts, o.data.as_deref(), &stop)?;
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "robot           {} on {}",
-        sim.robot.name,
-        o.port.display()
-    );
-    let _ = writeln!(
-        out,
-        "steps           {} ({} read-backs, {} failed)",
-        s.steps, s.reads, s.failed_reads
-    );
-    if let Some(e) = &s.last_read_error {
-        let _ = writeln!(out, "last failed read {e}");
+    let summary = run(&sim, registry, &mut chain, &opts, o.data.as_deref(), &stop)?;
+    let report = RobotReport {
+        robot: sim.robot.name.clone(),
+        port: o.port.clone(),
+        data: o.data.clone(),
+        summary,
+    };
+    match &report.summary.error {
+        Some(e) => Err(format!("{report}the run stopped: {e}")),
+        None => Ok(report),
     }
-    let _ = writeln!(out, "wall time       {:.3} s", s.wall);
-    let _ = writeln!(out, "late steps      {}", s.late_steps);
-    let f: Vec<String> = s
-        .readings
-        .positions
-        .iter()
-        .map(|a| format!("{a:.1}"))
-        .collect();
-    let _ = writeln!(out, "last angles     {} deg", f.join(" "));
-    if let Some(d) = &o.data {
-        let _ = writeln!(
+}
+
+/// What a real-robot run did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RobotReport {
+    /// The robot's name.
+    pub robot: String,
+    /// The serial port.
+    pub port: PathBuf,
+    /// The data file, if one was recorded.
+    pub data: Option<PathBuf>,
+    /// Steps, read-backs, timing, last readings, shutdown.
+    pub summary: RealSummary,
+}
+
+impl fmt::Display for RobotReport {
+    fn fmt(&self, out: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let s = &self.summary;
+        writeln!(
             out,
-            "data            {} ({} samples)",
-            d.display(),
-            s.samples
-        );
-    }
-    match &s.shutdown_error {
-        Some(e) => {
-            let _ = writeln!(out, "torque off      FAILED: {e}");
+            "robot           {} on {}",
+            self.robot,
+            self.port.display()
+        )?;
+        writeln!(
+            out,
+            "steps           {} ({} read-backs, {} failed)",
+            s.steps, s.reads, s.failed_reads
+        )?;
+        if let Some(e) = &s.last_read_error {
+            writeln!(out, "last failed read {e}")?;
         }
-        None => {
-            let _ = writeln!(out, "torque off      yes");
+        writeln!(out, "wall time       {:.3} s", s.wall)?;
+        writeln!(out, "late steps      {}", s.late_steps)?;
+        let angles: Vec<String> = s
+            .readings
+            .positions
+            .iter()
+            .map(|a| format!("{a:.1}"))
+            .collect();
+        writeln!(out, "last angles     {} deg", angles.join(" "))?;
+        if let Some(d) = &self.data {
+            writeln!(
+                out,
+                "data            {} ({} samples)",
+                d.display(),
+                s.samples
+            )?;
         }
-    }
-    match s.error {
-        Some(e) => Err(format!("{out}the run stopped: {e}")),
-        None => Ok(out),
+        match &s.shutdown_error {
+            Some(e) => writeln!(out, "torque off      FAILED: {e}"),
+            None => writeln!(out, "torque off      yes"),
+        }
     }
 }
 
