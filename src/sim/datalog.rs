@@ -172,11 +172,6 @@ impl DataLog {
             .map(|i| &self.rings[i])
     }
 
-    /// The robot's mass (kg).
-    pub fn mass(&self) -> f64 {
-        self.total_mass
-    }
-
     /// Samples taken so far.
     pub fn samples(&self) -> u64 {
         self.samples
