@@ -71,6 +71,19 @@ enum Command {
         /// The scenario's module that --module replaces.
         #[arg(long, default_value = "PatternGenerator_sinusoidal")]
         reference: String,
+        /// Instead: the accuracy gate on this simulation: its displacement, final heading
+        /// and joint tracking error at the production physics settings against a converged
+        /// reference (finer steps, more substeps), for --seconds.
+        #[arg(long, value_name = "CONFIG")]
+        convergence: Option<PathBuf>,
+        /// Most refinements the reference ladder may take.
+        #[arg(long, default_value_t = 5)]
+        rungs: usize,
+        /// Physics settings to use instead of the robot's production ones, as
+        /// key=value,... (substeps, steps_per_step, length_unit, warmstart_joints,
+        /// contact_recycling, coulomb_friction, pgs_iterations, contact_hz, halfspace_floor).
+        #[arg(long, default_value = "")]
+        physics: String,
     },
     /// Run one simulation headless and print what the robot did.
     Run(cli::run::RunRequest),
@@ -257,11 +270,17 @@ fn main() -> ExitCode {
             batches,
             module,
             reference,
-        } => match module {
-            Some(module) => {
+            convergence,
+            rungs,
+            physics,
+        } => match (module, convergence) {
+            (Some(module), _) => {
                 proleg::bench::modules::report(&config, seconds, &reference, &module, &registry)
             }
-            None => proleg::bench::report(&config, seconds, &batches),
+            (None, Some(config)) => {
+                proleg::bench::convergence::run(&config, seconds, rungs, &physics, &registry)
+            }
+            (None, None) => proleg::bench::report(&config, seconds, &batches, &physics),
         },
         Command::Run(request) => cli::run::run(&request, &registry).map(|r| r.to_string()),
         Command::Optimize(options) => {

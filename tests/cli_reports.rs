@@ -15,6 +15,7 @@ fn request(duration: f64) -> RunRequest {
         realtime: 0.0,
         data: None,
         every: None,
+        physics: String::new(),
     }
 }
 
@@ -65,6 +66,15 @@ fn a_bad_request_is_an_error_naming_the_argument() {
     )
     .unwrap_err();
     assert!(e.contains("--every 0"), "{e}");
+    let e = run(
+        &RunRequest {
+            physics: "substeps=many".into(),
+            ..request(1.0)
+        },
+        &registry,
+    )
+    .unwrap_err();
+    assert!(e.contains("physics setting `substeps`"), "{e}");
 }
 
 #[test]

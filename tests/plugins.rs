@@ -90,6 +90,7 @@ fn simulator(config: &Path, robots: usize) -> Simulator {
             robots,
             seed: 1,
             record: false,
+            physics: None,
         },
         &registry,
     )

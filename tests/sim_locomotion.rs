@@ -19,6 +19,7 @@ fn simulator(sim: &Simulation) -> Simulator {
             robots: 1,
             seed: 1,
             record: true,
+            physics: None,
         },
     )
     .unwrap()
@@ -183,6 +184,7 @@ fn robots_of_a_batch_are_independent() {
             robots: 3,
             seed: 1,
             record: false,
+            physics: None,
         },
     )
     .unwrap();

@@ -30,6 +30,7 @@ fn trajectory_hash(config: &str, seconds: f64) -> u64 {
         robots: 1,
         seed: sim.files.simulation.properties.seed,
         record: false,
+        physics: None,
     };
     let mut s = Simulator::new(&sim, &opts).unwrap();
     let steps = (seconds / s.clock().dt).round() as u64;

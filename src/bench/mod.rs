@@ -10,6 +10,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
+pub mod convergence;
 pub mod modules;
 
 use crate::config::Simulation;
@@ -17,6 +18,7 @@ use crate::control::{ModuleRegistry, load_simulation};
 use crate::data::store::DataStore;
 use crate::sim::datalog::DataSettings;
 use crate::sim::physics::SimPhysics;
+use crate::sim::physics_settings::PhysicsSettings;
 use crate::sim::{BuildOptions, SimError, Simulator};
 
 /// Repetitions of each figure; the fastest counts.
@@ -49,11 +51,19 @@ impl Figure {
     }
 }
 
-/// A world of `robots` copies of `sim`'s robot, modules made by `registry`.
+/// The robot's production physics settings with `overrides` (`key=value,...`, see
+/// [`PhysicsSettings::parse_overrides`]) applied.
+pub fn physics_of(sim: &Simulation, overrides: &str) -> Result<PhysicsSettings, String> {
+    PhysicsSettings::for_robot(sim).parse_overrides(overrides)
+}
+
+/// A world of `robots` copies of `sim`'s robot, modules made by `registry`, physics as
+/// `physics` (`None`: the production settings).
 pub(crate) fn world_of(
     sim: &Simulation,
     robots: usize,
     registry: &ModuleRegistry,
+    physics: Option<PhysicsSettings>,
 ) -> Result<Simulator, String> {
     Simulator::with_registry(
         sim,
@@ -61,28 +71,19 @@ pub(crate) fn world_of(
             robots,
             seed: 1,
             record: false,
+            physics,
         },
         registry,
     )
     .map_err(|e: SimError| e.to_string())
 }
 
-/// Best of [`REPEATS`]: each repetition builds a fresh world, warms up for one simulated
-/// second, then `measure` steps it for `seconds` and returns the wall time.
+/// Best of [`REPEATS`]: each repetition builds a fresh world of `sim` with `physics`, warms
+/// up for one simulated second, then `measure` steps it for `seconds` and returns the wall
+/// time.
 fn best(
-    config: &Path,
-    robots: usize,
-    seconds: f64,
-    label: &str,
-    measure: impl Fn(&mut Simulator, u64) -> f64,
-) -> Result<Figure, String> {
-    let sim = load_simulation(config).map_err(|e| e.to_string())?;
-    best_of(&sim, robots, seconds, label, measure)
-}
-
-/// [`best`] on a loaded simulation.
-fn best_of(
     sim: &Simulation,
+    physics: PhysicsSettings,
     robots: usize,
     seconds: f64,
     label: &str,
@@ -90,7 +91,7 @@ fn best_of(
 ) -> Result<Figure, String> {
     let mut fastest: Option<Figure> = None;
     for _ in 0..REPEATS {
-        let mut s = world_of(sim, robots, &ModuleRegistry::standard())?;
+        let mut s = world_of(sim, robots, &ModuleRegistry::standard(), Some(physics))?;
         let dt = s.clock().dt;
         s.run_steps((1.0 / dt).round() as u64);
         let steps = (seconds / dt).round() as u64;
@@ -109,9 +110,15 @@ fn best_of(
 }
 
 /// The full pipeline with `robots` robots in one world.
-pub fn pipeline(config: &Path, robots: usize, seconds: f64) -> Result<Figure, String> {
+pub fn pipeline(
+    sim: &Simulation,
+    physics: PhysicsSettings,
+    robots: usize,
+    seconds: f64,
+) -> Result<Figure, String> {
     best(
-        config,
+        sim,
+        physics,
         robots,
         seconds,
         &format!("pipeline, {robots} robot(s)/world"),
@@ -126,9 +133,14 @@ pub fn pipeline(config: &Path, robots: usize, seconds: f64) -> Result<Figure, St
 /// Rapier's step alone on the same world, the servo motors holding their last command: the
 /// robot barely moves (its bodies may even sleep), so this is a floor for the physics cost,
 /// not the same motion as the pipeline's rows.
-pub fn physics_only(config: &Path, seconds: f64) -> Result<Figure, String> {
+pub fn physics_only(
+    sim: &Simulation,
+    physics: PhysicsSettings,
+    seconds: f64,
+) -> Result<Figure, String> {
     best(
-        config,
+        sim,
+        physics,
         1,
         seconds,
         "rapier step, motors held, 1 robot",
@@ -146,11 +158,16 @@ pub fn physics_only(config: &Path, seconds: f64) -> Result<Figure, String> {
 /// The full pipeline, one robot, recording every data handler at every step into a data
 /// file (the background writer included: the time runs until the file is closed).
 /// Returns the figure and the file size in bytes.
-pub fn recording(config: &Path, seconds: f64) -> Result<(Figure, u64), String> {
+pub fn recording(
+    sim: &Simulation,
+    physics: PhysicsSettings,
+    seconds: f64,
+) -> Result<(Figure, u64), String> {
     let file = std::env::temp_dir().join(format!("proleg-bench-{}.data.xml", std::process::id()));
     let size = std::cell::Cell::new(0);
     let fig = best(
-        config,
+        sim,
+        physics,
         1,
         seconds,
         "pipeline + data file, 1 robot",
@@ -179,13 +196,21 @@ pub fn recording(config: &Path, seconds: f64) -> Result<(Figure, u64), String> {
     Ok((fig, size.get()))
 }
 
-/// Every figure, formatted for the terminal.
-pub fn report(config: &Path, seconds: f64, batches: &[usize]) -> Result<String, String> {
-    let raw = physics_only(config, seconds)?;
-    let (rec, size) = recording(config, seconds)?;
-    let mut figs = vec![pipeline(config, 1, seconds)?, rec.clone()];
+/// Every figure, formatted for the terminal; `overrides` change the robot's production
+/// physics settings (`key=value,...`, see [`PhysicsSettings::parse_overrides`]).
+pub fn report(
+    config: &Path,
+    seconds: f64,
+    batches: &[usize],
+    overrides: &str,
+) -> Result<String, String> {
+    let sim = load_simulation(config).map_err(|e| e.to_string())?;
+    let physics = physics_of(&sim, overrides)?;
+    let raw = physics_only(&sim, physics, seconds)?;
+    let (rec, size) = recording(&sim, physics, seconds)?;
+    let mut figs = vec![pipeline(&sim, physics, 1, seconds)?, rec.clone()];
     for b in batches.iter().filter(|b| **b > 1) {
-        figs.push(pipeline(config, *b, seconds)?);
+        figs.push(pipeline(&sim, physics, *b, seconds)?);
     }
     let mut out = String::new();
     let _ = writeln!(
@@ -193,6 +218,7 @@ pub fn report(config: &Path, seconds: f64, batches: &[usize]) -> Result<String, 
         "reference scenario: {}, {seconds} s simulated per figure (best of {REPEATS}), 1 core",
         config.display()
     );
+    let _ = writeln!(out, "physics: {physics}");
     let _ = writeln!(
         out,
         "{:<34} {:>16} {:>12} {:>16}",
@@ -216,5 +242,23 @@ pub fn report(config: &Path, seconds: f64, batches: &[usize]) -> Result<String, 
         (rec.wall / figs[0].wall - 1.0) * 100.0,
         size as f64 / 1e6 * 60.0 / seconds
     );
+    let batched = figs[2..]
+        .iter()
+        .map(Figure::robot_steps_per_s)
+        .fold(0.0, f64::max);
+    let _ = writeln!(
+        out,
+        "against issue 20's targets (reference scenario): one robot {:.0}% of {TARGET_ONE_ROBOT:.0} robot-steps/s, batched {:.0}% of {TARGET_BATCHED:.0}; real time {:.1}x (experiment 2's target: {TARGET_EXPERIMENT2_REALTIME:.0}x)",
+        100.0 * figs[0].robot_steps_per_s() / TARGET_ONE_ROBOT,
+        100.0 * batched / TARGET_BATCHED,
+        figs[0].realtime_factor()
+    );
     Ok(out)
 }
+
+/// Issue 20's target for one robot on the reference scenario (robot-steps/s, one core).
+pub const TARGET_ONE_ROBOT: f64 = 130_000.0;
+/// ... for robots sharing a world.
+pub const TARGET_BATCHED: f64 = 160_000.0;
+/// ... and experiment 2's real-time factor.
+pub const TARGET_EXPERIMENT2_REALTIME: f64 = 40.0;

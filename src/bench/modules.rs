@@ -89,7 +89,7 @@ fn pipeline_once(
     seconds: f64,
     registry: &ModuleRegistry,
 ) -> Result<(f64, u64), String> {
-    let mut s = world_of(sim, 1, registry)?;
+    let mut s = world_of(sim, 1, registry, None)?;
     let dt = s.clock().dt;
     s.run_steps((1.0 / dt).round() as u64);
     let steps = (seconds / dt).round() as u64;

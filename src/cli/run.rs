@@ -11,6 +11,7 @@ use std::time::Instant;
 use crate::config::simulation::Mode;
 use crate::control::{ModuleRegistry, load_simulation_in};
 use crate::sim::datalog::DataSettings;
+use crate::sim::physics_settings::PhysicsSettings;
 use crate::sim::{BuildOptions, Pacing, RunSummary, Simulator};
 
 /// What `proleg run` is asked to do (its command-line arguments).
@@ -33,6 +34,10 @@ pub struct RunRequest {
     /// Sample every this many steps (default: the file's accuracy).
     #[arg(long)]
     pub every: Option<u32>,
+    /// Physics settings instead of the robot's production ones, as key=value,... (see
+    /// `proleg bench --help`).
+    #[arg(long, default_value = "")]
+    pub physics: String,
 }
 
 /// What a run did.
@@ -78,10 +83,12 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Str
         ));
     }
     let seed = req.seed.unwrap_or(props.seed);
+    let physics = PhysicsSettings::for_robot(&sim).parse_overrides(&req.physics)?;
     let opts = BuildOptions {
         robots: 1,
         seed,
         record: false,
+        physics: Some(physics),
     };
     let mut simulator =
         Simulator::with_registry(&sim, &opts, registry).map_err(|e| e.to_string())?;

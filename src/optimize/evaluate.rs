@@ -110,6 +110,7 @@ impl Evaluator {
             robots: genomes.len(),
             seed: self.seed,
             record: false,
+            physics: None,
         };
         let mut s = Simulator::with_registry(&self.sim, &opts, &self.registry)
             .map_err(|e| e.to_string())?;

@@ -5,6 +5,8 @@
 //! - [`schedule`]: the [`SimStep`] schedule and its [`SimSystems`] sets
 //! - [`spawn`]: building the world from a loaded simulation
 //! - [`physics`], [`servo`], [`tactile`], [`laser`], [`kernel`], [`record`], [`clock`]: the stages of a step
+//! - [`physics_settings`]: substeps and tolerances of the physics engine, scaled to the robot
+//! - [`terrain`]: alternative terrain shapes (the floor as a half-space)
 //! - [`energy`]: each robot's servo power and energy (the `Record` stage)
 //! - [`runner`]: [`Simulator`], the one door to a running world that the CLI, benchmarks,
 //!   optimizers, the real-robot twin and the GUI use
@@ -20,6 +22,7 @@ pub mod kernel;
 pub mod laser;
 pub mod pacing;
 pub mod physics;
+pub mod physics_settings;
 pub mod position;
 pub mod record;
 pub mod runner;
@@ -27,6 +30,7 @@ pub mod schedule;
 pub mod servo;
 pub mod spawn;
 pub mod tactile;
+pub mod terrain;
 
 use bevy::prelude::*;
 

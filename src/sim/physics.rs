@@ -9,6 +9,8 @@
 use bevy::prelude::*;
 use rapier3d::prelude as rp;
 
+use crate::sim::physics_settings::PhysicsSettings;
+
 /// Most robots one world can hold (one collision group each, besides the environment).
 pub const MAX_ROBOTS_PER_WORLD: usize = 31;
 
@@ -17,17 +19,26 @@ pub const MAX_ROBOTS_PER_WORLD: usize = 31;
 pub struct SimPhysics {
     /// rapier's bodies, colliders, joints, contacts and integration parameters.
     pub world: rp::PhysicsWorld,
+    /// How it integrates a simulation step.
+    pub settings: PhysicsSettings,
 }
 
 impl SimPhysics {
-    /// A world with gravity (m/s², z up) and step width (s).
-    pub fn new(gravity: [f64; 3], dt: f64) -> Self {
-        let mut world = rp::PhysicsWorld {
+    /// A world with gravity (m/s², z up), simulation step width `dt` (s) and `settings`.
+    pub fn new(gravity: [f64; 3], dt: f64, settings: PhysicsSettings) -> Self {
+        let world = rp::PhysicsWorld {
             gravity: vec3(gravity),
+            integration_parameters: settings.integration_parameters(dt),
             ..Default::default()
         };
-        world.integration_parameters.dt = dt as f32;
-        SimPhysics { world }
+        SimPhysics { world, settings }
+    }
+
+    /// Duration of the last solver substep (s): the servos' torque is its motor impulse
+    /// divided by it.
+    pub fn substep_duration(&self) -> f64 {
+        let p = &self.world.integration_parameters;
+        p.dt as f64 / p.num_solver_iterations.max(1) as f64
     }
 }
 
@@ -55,7 +66,10 @@ pub fn pose(t: &crate::config::transform::Pose) -> rp::Pose {
     )
 }
 
-/// The physics step (the `Physics` set of the pipeline).
+/// The physics step (the `Physics` set of the pipeline): one rapier step, or several when
+/// the settings refine the simulation step (converged references).
 pub fn step_physics(mut physics: ResMut<SimPhysics>) {
-    physics.world.step();
+    for _ in 0..physics.settings.steps_per_step {
+        physics.world.step();
+    }
 }

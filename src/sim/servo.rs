@@ -6,7 +6,6 @@
 use bevy::prelude::*;
 use rapier3d::prelude as rp;
 
-use crate::sim::clock::SimClock;
 use crate::sim::physics::SimPhysics;
 
 /// Default proportional gain (1/s): a 1 Hz, 40° sine is followed within a few degrees.
@@ -95,13 +94,9 @@ impl SimJoint {
 }
 
 /// Reads every joint's angle, velocity and last torque (part of the `Sense` set).
-pub fn sense_joints(
-    physics: Res<SimPhysics>,
-    clock: Res<SimClock>,
-    mut joints: Query<(&SimJoint, &mut JointState)>,
-) {
+pub fn sense_joints(physics: Res<SimPhysics>, mut joints: Query<(&SimJoint, &mut JointState)>) {
+    let substep = physics.substep_duration();
     let w = &physics.world;
-    let substep = clock.dt / w.integration_parameters.num_solver_iterations.max(1) as f64;
     for (j, mut state) in &mut joints {
         let (angle, velocity) = j.measure(&w.bodies);
         state.angle = angle;

@@ -21,9 +21,11 @@ use crate::sim::error::SimError;
 use crate::sim::kernel::{Kernel, SimRobot};
 use crate::sim::laser::{Laser2dSensor, beam_angles};
 use crate::sim::physics::{MAX_ROBOTS_PER_WORLD, SimPhysics, group_bit, pose, vec3};
+use crate::sim::physics_settings::PhysicsSettings;
 use crate::sim::record::{RecordSettings, Track};
 use crate::sim::servo::{DEFAULT_SERVO_GAIN, JointState, MOTOR_DAMPING, Servo, SimJoint};
 use crate::sim::tactile::{RobotSensors, TactileSensor};
+use crate::sim::terrain::floor_halfspace;
 
 /// Friction of robot link surfaces; contacts take the smaller of the two coefficients, so
 /// the terrain's friction decides unless it is higher than this.
@@ -40,6 +42,9 @@ pub struct BuildOptions {
     pub seed: u64,
     /// Record trajectories (off for throughput runs).
     pub record: bool,
+    /// Physics settings instead of the robot's production ones (converged references,
+    /// lever measurements).
+    pub physics: Option<PhysicsSettings>,
 }
 
 impl Default for BuildOptions {
@@ -48,6 +53,7 @@ impl Default for BuildOptions {
             robots: 1,
             seed: 1,
             record: true,
+            physics: None,
         }
     }
 }
@@ -144,7 +150,10 @@ pub fn build_world(
         });
     }
     let props = &sim.files.simulation.properties;
-    let mut physics = SimPhysics::new(sim.environment.physics.gravity, props.step_width);
+    let settings = opts
+        .physics
+        .unwrap_or_else(|| PhysicsSettings::for_robot(sim));
+    let mut physics = SimPhysics::new(sim.environment.physics.gravity, props.step_width, settings);
     spawn_environment(world, &mut physics, sim, opts.robots)?;
     let limits: Vec<[f64; 2]> = sim.robot.joints.iter().map(|j| j.limits_deg).collect();
     let template = ControlKernel::from_actuation(&sim.actuation, registry, limits)?;
@@ -187,7 +196,16 @@ fn spawn_environment(
         };
         let handle = physics.world.bodies.insert(builder.pose(pose(&b.pose)));
         let friction = |g: &Geom| g.friction.unwrap_or(default_friction);
-        for c in colliders(sim, &b.geoms, b.mass, friction, env_groups)? {
+        let mut cs = colliders(sim, &b.geoms, b.mass, friction, env_groups)?;
+        if b.kind == BodyKind::Static && physics.settings.halfspace_floor {
+            for (c, g) in cs.iter_mut().zip(&b.geoms) {
+                if let Some((floor, at)) = floor_halfspace(&b.pose, g) {
+                    c.set_shape(floor);
+                    c.set_position_wrt_parent(at);
+                }
+            }
+        }
+        for c in cs {
             let w = &mut physics.world;
             w.colliders.insert_with_parent(c, handle, &mut w.bodies);
         }

@@ -193,6 +193,7 @@ fn build(sim: &Simulation, dt: f64) -> Result<(Simulator, ControlKernel), String
         robots: 1,
         seed: sim.files.simulation.properties.seed,
         record: true,
+        physics: None,
     };
     let registry = crate::plugin_host::registry();
     let mut simulator =

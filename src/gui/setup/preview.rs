@@ -64,6 +64,7 @@ pub fn run_preview(w: &Wizard, seconds: f64) -> Result<(PathBuf, f64), String> {
         robots: 1,
         seed: sim.files.simulation.properties.seed,
         record: false,
+        physics: None,
     };
     let mut s = Simulator::with_registry(&sim, &opts, &registry).map_err(|e| e.to_string())?;
     Ok((sim_path, s.run_for(seconds).displacement))

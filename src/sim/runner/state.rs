@@ -12,7 +12,7 @@ use crate::sim::error::SimError;
 use crate::sim::kernel::{Kernel, SimRobot};
 use crate::sim::physics::{SimPhysics, arr3};
 use crate::sim::record::{Track, centre_of_mass, heading};
-use crate::sim::servo::JointState;
+use crate::sim::servo::{JointState, Servo};
 use crate::sim::spawn::{SimEnvObject, SimLink};
 use crate::sim::tactile::{RobotSensors, TactileSensor};
 
@@ -92,6 +92,20 @@ impl Simulator {
             .iter()
             .map(|j| w.get::<JointState>(*j).copied().unwrap_or_default())
             .collect())
+    }
+
+    /// How far robot `index`'s joints are from their servo targets now: the mean of
+    /// |target - angle| over its joints (degrees).
+    pub fn tracking_error(&self, index: usize) -> Result<f64, SimError> {
+        let robot = self.robot_component::<SimRobot>(index)?;
+        let w = self.world();
+        let sum: f64 = robot
+            .joints
+            .iter()
+            .filter_map(|j| Some((w.get::<Servo>(*j)?, w.get::<JointState>(*j)?)))
+            .map(|(servo, state)| (servo.target - state.angle).abs())
+            .sum();
+        Ok(sum / robot.joints.len().max(1) as f64)
     }
 
     /// The latest sensor readings of robot `index`, as its modules see them.

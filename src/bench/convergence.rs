@@ -1,0 +1,257 @@
+//! The accuracy gate (`proleg bench --convergence CONFIG`): a scenario run at the
+//! production physics settings and along a ladder of refinements (every physics step split
+//! in 2, 4, 8, ... steps, each with more solver substeps, exact Coulomb friction and no
+//! contact recycling) until one more refinement moves the displacement by less than
+//! [`CONVERGED`]; the last rung is the converged reference. Prints displacement, final
+//! heading and mean joint tracking error of each run and the production run's distance from
+//! the reference; the gate is [`GATE`] on the displacement. The test suite runs it on the
+//! four gate scenarios (tests/sim_convergence.rs) so no change trades accuracy for speed
+//! unseen.
+
+use std::fmt::Write as _;
+use std::time::Instant;
+
+use crate::config::Simulation;
+use crate::control::ModuleRegistry;
+use crate::measure::ground_distance;
+use crate::sim::physics_settings::PhysicsSettings;
+use crate::sim::{BuildOptions, Simulator};
+
+/// A refinement that changes the displacement by less than this fraction has converged.
+pub const CONVERGED: f64 = 0.01;
+/// The gate: production displacement within this fraction of the converged reference.
+pub const GATE: f64 = 0.05;
+/// Solver substeps of every rung of the reference ladder.
+pub const REFERENCE_SUBSTEPS: usize = 8;
+
+/// What one run of a scenario did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Outcome {
+    /// The settings it ran with.
+    pub settings: PhysicsSettings,
+    /// Ground-plane distance of robot 0's centre of mass, start to end (m).
+    pub displacement: f64,
+    /// Tail-to-head heading at the end (degrees from +x).
+    pub heading: f64,
+    /// Mean over steps and joints of |servo target - joint angle| (degrees).
+    pub tracking_error: f64,
+    /// Wall-clock seconds the run took.
+    pub wall: f64,
+    /// Simulated seconds.
+    pub seconds: f64,
+}
+
+impl Outcome {
+    /// Simulated seconds per wall second.
+    pub fn realtime_factor(&self) -> f64 {
+        self.seconds / self.wall.max(1e-9)
+    }
+
+    /// Relative displacement difference from `reference`.
+    pub fn displacement_error(&self, reference: &Outcome) -> f64 {
+        (self.displacement - reference.displacement).abs() / reference.displacement.abs().max(1e-9)
+    }
+
+    /// Heading difference from `reference` (degrees, -180 ..= 180).
+    pub fn heading_difference(&self, reference: &Outcome) -> f64 {
+        let d = (self.heading - reference.heading).rem_euclid(360.0);
+        if d > 180.0 { d - 360.0 } else { d }
+    }
+}
+
+/// Runs `sim` for `seconds` with `settings` and measures what robot 0 did.
+pub fn episode(
+    sim: &Simulation,
+    settings: PhysicsSettings,
+    seconds: f64,
+    registry: &ModuleRegistry,
+) -> Result<Outcome, String> {
+    let opts = BuildOptions {
+        robots: 1,
+        seed: sim.files.simulation.properties.seed,
+        record: false,
+        physics: Some(settings),
+    };
+    let mut s = Simulator::with_registry(sim, &opts, registry).map_err(|e| e.to_string())?;
+    let steps = (seconds / s.clock().dt).round().max(1.0) as u64;
+    let start = s.com(0).map_err(|e| e.to_string())?;
+    let mut tracking = 0.0;
+    let t = Instant::now();
+    for _ in 0..steps {
+        s.step();
+        tracking += s.tracking_error(0).map_err(|e| e.to_string())?;
+    }
+    let wall = t.elapsed().as_secs_f64();
+    let end = s.com(0).map_err(|e| e.to_string())?;
+    let heading = s.heading(0).map_err(|e| e.to_string())?;
+    if !(end.iter().all(|v| v.is_finite()) && heading.is_finite()) {
+        return Err(format!(
+            "the run with {settings} blew up (non-finite positions)"
+        ));
+    }
+    Ok(Outcome {
+        settings,
+        displacement: ground_distance(start, end),
+        heading,
+        tracking_error: tracking / steps as f64,
+        wall,
+        seconds: steps as f64 * s.clock().dt,
+    })
+}
+
+/// The first rung of the reference ladder for a production setting: two physics steps per
+/// simulation step, [`REFERENCE_SUBSTEPS`] substeps each, exact friction, fresh contacts,
+/// rapier's widest tolerances (`length_unit` 1 m: speculative contacts from 2 cm). Only the
+/// model (contact stiffness, the floor's shape) is the production's.
+pub fn reference_base(production: PhysicsSettings) -> PhysicsSettings {
+    PhysicsSettings {
+        substeps: REFERENCE_SUBSTEPS.max(production.substeps),
+        steps_per_step: production.steps_per_step * 2,
+        length_unit: 1.0,
+        warmstart_joints: true,
+        contact_recycling: false,
+        coulomb_friction: true,
+        pgs_iterations: production.pgs_iterations.max(1),
+        contact_hz: production.contact_hz,
+        halfspace_floor: production.halfspace_floor,
+    }
+}
+
+/// A production run and its reference ladder.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Convergence {
+    /// The scenario (for printing).
+    pub name: String,
+    /// The run at the settings under test.
+    pub production: Outcome,
+    /// The refinements, coarsest first; the last is the reference.
+    pub ladder: Vec<Outcome>,
+    /// Whether the last refinement changed the displacement by less than [`CONVERGED`].
+    pub converged: bool,
+}
+
+impl Convergence {
+    /// The converged reference (the finest rung).
+    pub fn reference(&self) -> &Outcome {
+        self.ladder.last().unwrap_or(&self.production)
+    }
+
+    /// The production run's displacement error relative to the reference.
+    pub fn displacement_error(&self) -> f64 {
+        self.production.displacement_error(self.reference())
+    }
+
+    /// Whether the production run passes the gate against a converged reference.
+    pub fn passes(&self) -> bool {
+        self.converged && self.displacement_error() <= GATE
+    }
+}
+
+/// Runs `sim` for `seconds` with `production` settings, then refines until converged (at
+/// most `max_rungs` rungs).
+pub fn check(
+    name: &str,
+    sim: &Simulation,
+    production: PhysicsSettings,
+    seconds: f64,
+    max_rungs: usize,
+    registry: &ModuleRegistry,
+) -> Result<Convergence, String> {
+    let production_run = episode(sim, production, seconds, registry)?;
+    let mut ladder: Vec<Outcome> = Vec::new();
+    let mut settings = reference_base(production);
+    let mut converged = false;
+    while ladder.len() < max_rungs.max(2) {
+        let run = episode(sim, settings, seconds, registry)?;
+        if let Some(previous) = ladder.last() {
+            converged = run.displacement_error(previous) < CONVERGED;
+        }
+        ladder.push(run);
+        if converged {
+            break;
+        }
+        settings = settings.refined(2);
+    }
+    Ok(Convergence {
+        name: name.to_string(),
+        production: production_run,
+        ladder,
+        converged,
+    })
+}
+
+/// The check, formatted for the terminal.
+pub fn report(c: &Convergence) -> String {
+    let mut out = String::new();
+    let r = c.reference();
+    let _ = writeln!(
+        out,
+        "{}: {:.1} s simulated; reference = the finest rung ({})",
+        c.name,
+        r.seconds,
+        if c.converged {
+            "converged: its last refinement moved the displacement < 1 %"
+        } else {
+            "NOT converged within the rungs allowed"
+        }
+    );
+    let _ = writeln!(
+        out,
+        "{:<12} {:>8} {:>9} {:>14} {:>12} {:>10}  settings",
+        "run", "disp (m)", "vs ref", "heading (deg)", "track (deg)", "real-time"
+    );
+    let rows = std::iter::once(("production".to_string(), &c.production)).chain(
+        c.ladder
+            .iter()
+            .enumerate()
+            .map(|(i, o)| (format!("rung {}", i + 1), o)),
+    );
+    for (label, o) in rows {
+        let _ = writeln!(
+            out,
+            "{:<12} {:>8.4} {:>8.2}% {:>14.1} {:>12.2} {:>9.1}x  {}",
+            label,
+            o.displacement,
+            100.0 * o.displacement_error(r),
+            o.heading,
+            o.tracking_error,
+            o.realtime_factor(),
+            o.settings
+        );
+    }
+    let p = &c.production;
+    let _ = writeln!(
+        out,
+        "production vs reference: displacement {:+.2} %, final heading {:+.1} deg, tracking error {:+.2} deg; gate (displacement within {:.0} %): {}",
+        100.0 * (p.displacement - r.displacement) / r.displacement.abs().max(1e-9),
+        p.heading_difference(r),
+        p.tracking_error - r.tracking_error,
+        100.0 * GATE,
+        if c.passes() { "PASS" } else { "FAIL" }
+    );
+    out
+}
+
+/// `proleg bench --convergence CONFIG`: the check of one configuration, its production
+/// settings changed by `overrides` (`key=value,...`), printed; an error when it fails the
+/// gate, so scripts can stop on it.
+pub fn run(
+    config: &std::path::Path,
+    seconds: f64,
+    max_rungs: usize,
+    overrides: &str,
+    registry: &ModuleRegistry,
+) -> Result<String, String> {
+    let sim = crate::control::load_simulation_in(config, registry).map_err(|e| e.to_string())?;
+    let production = super::physics_of(&sim, overrides)?;
+    let c = check(
+        &config.display().to_string(),
+        &sim,
+        production,
+        seconds,
+        max_rungs,
+        registry,
+    )?;
+    let text = report(&c);
+    if c.passes() { Ok(text) } else { Err(text) }
+}

@@ -1,0 +1,269 @@
+//! The physics engine's settings for a robot: how finely rapier integrates (substeps, physics
+//! steps per simulation step) and its length-dependent tolerances, scaled to the robot's
+//! module size rather than rapier's human-sized defaults. Production runs derive them from
+//! the robot ([`PhysicsSettings::for_robot`]); the convergence check (`proleg bench
+//! --convergence`) and the lever measurements override them ([`PhysicsSettings::parse_overrides`]).
+//! Each setting's measured effect on speed and accuracy is in docs/DESIGN.md §3.
+
+use rapier3d::prelude as rp;
+
+use crate::config::Simulation;
+use crate::config::resolve::robot::geom_volume;
+
+/// How rapier integrates one simulation step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PhysicsSettings {
+    /// rapier's `num_solver_iterations`: solver substeps per physics step.
+    pub substeps: usize,
+    /// Physics steps per simulation step (the control kernel, sensors and servos run once per
+    /// simulation step); more than 1 only for converged references.
+    pub steps_per_step: u32,
+    /// rapier's `length_unit` (m): scales its tolerances (allowed penetration, speculative
+    /// prediction distance, contact recycling distance).
+    pub length_unit: f64,
+    /// Warm-start joint impulses from the previous step.
+    pub warmstart_joints: bool,
+    /// Reuse contacts of pairs that moved less than the recycling distance.
+    pub contact_recycling: bool,
+    /// One Coulomb friction constraint per contact point instead of rapier's simplified
+    /// (one per manifold plus twist) model.
+    pub coulomb_friction: bool,
+    /// rapier's `num_internal_pgs_iterations`: solver iterations per substep.
+    pub pgs_iterations: usize,
+    /// Natural frequency of contacts between moving bodies (Hz); contacts with fixed bodies
+    /// (the terrain) are twice as stiff, as in rapier's defaults (30 Hz and 60 Hz).
+    pub contact_hz: f64,
+    /// The floor box as a half-space ([`crate::sim::terrain`]); measured slower than the
+    /// box, so off in production.
+    pub halfspace_floor: bool,
+}
+
+/// Production substeps: measured against the converged reference (DESIGN.md §3).
+pub const PRODUCTION_SUBSTEPS: usize = 4;
+/// Production solver iterations per substep: the second halves the displacement error of
+/// the reference scenario for 5 % more instructions per step (DESIGN.md §3).
+pub const PRODUCTION_PGS_ITERATIONS: usize = 2;
+/// rapier's tolerances are tuned for objects of about this size (m).
+pub const RAPIER_REFERENCE_SIZE: f64 = 1.0;
+
+impl Default for PhysicsSettings {
+    /// rapier's own defaults, one physics step per simulation step.
+    fn default() -> Self {
+        PhysicsSettings {
+            substeps: 4,
+            steps_per_step: 1,
+            length_unit: 1.0,
+            warmstart_joints: false,
+            contact_recycling: true,
+            coulomb_friction: false,
+            pgs_iterations: 1,
+            contact_hz: 30.0,
+            halfspace_floor: false,
+        }
+    }
+}
+
+impl PhysicsSettings {
+    /// The production settings for `sim`'s robot: tolerances scaled to its module size.
+    pub fn for_robot(sim: &Simulation) -> Self {
+        PhysicsSettings {
+            substeps: PRODUCTION_SUBSTEPS,
+            pgs_iterations: PRODUCTION_PGS_ITERATIONS,
+            ..PhysicsSettings::default()
+        }
+        .scaled_to(module_size(sim))
+    }
+
+    /// The same settings with rapier's tolerances scaled from its reference object size
+    /// ([`RAPIER_REFERENCE_SIZE`]) to modules of `size` metres.
+    pub fn scaled_to(self, size: f64) -> Self {
+        PhysicsSettings {
+            length_unit: size / RAPIER_REFERENCE_SIZE,
+            ..self
+        }
+    }
+
+    /// A refinement of these settings: `factor` times as many physics steps per simulation
+    /// step, each as many substeps (a converged reference's ladder).
+    pub fn refined(self, factor: u32) -> Self {
+        PhysicsSettings {
+            steps_per_step: self.steps_per_step * factor,
+            ..self
+        }
+    }
+
+    /// Applies `key=value` overrides separated by commas (`substeps=2,length_unit=0.05`);
+    /// keys are the field names, booleans `true`/`false`/`1`/`0`.
+    pub fn parse_overrides(mut self, text: &str) -> Result<Self, String> {
+        for item in text.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+            let (key, value) = item
+                .split_once('=')
+                .ok_or_else(|| format!("physics setting `{item}`: expected key=value"))?;
+            let (key, value) = (key.trim(), value.trim());
+            let bad = |what: &str| format!("physics setting `{key}`: `{value}` is not {what}");
+            let positive = |v: &str| v.parse::<u32>().ok().filter(|n| *n > 0);
+            let flag = |v: &str| match v {
+                "1" | "true" => Some(true),
+                "0" | "false" => Some(false),
+                _ => None,
+            };
+            match key {
+                "substeps" => {
+                    self.substeps =
+                        positive(value).ok_or_else(|| bad("a positive integer"))? as usize
+                }
+                "steps_per_step" => {
+                    self.steps_per_step =
+                        positive(value).ok_or_else(|| bad("a positive integer"))?
+                }
+                "length_unit" => {
+                    self.length_unit = value
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|v| v.is_finite() && *v > 0.0)
+                        .ok_or_else(|| bad("a positive length in metres"))?
+                }
+                "warmstart_joints" => {
+                    self.warmstart_joints = flag(value).ok_or_else(|| bad("true or false"))?
+                }
+                "contact_recycling" => {
+                    self.contact_recycling = flag(value).ok_or_else(|| bad("true or false"))?
+                }
+                "coulomb_friction" => {
+                    self.coulomb_friction = flag(value).ok_or_else(|| bad("true or false"))?
+                }
+                "halfspace_floor" => {
+                    self.halfspace_floor = flag(value).ok_or_else(|| bad("true or false"))?
+                }
+                "pgs_iterations" => {
+                    self.pgs_iterations =
+                        positive(value).ok_or_else(|| bad("a positive integer"))? as usize
+                }
+                "contact_hz" => {
+                    self.contact_hz = value
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|v| v.is_finite() && *v > 0.0)
+                        .ok_or_else(|| bad("a positive frequency in Hz"))?
+                }
+                _ => {
+                    return Err(format!(
+                        "unknown physics setting `{key}` (known: substeps, steps_per_step, \
+                         length_unit, warmstart_joints, contact_recycling, coulomb_friction, \
+                         pgs_iterations, contact_hz, halfspace_floor)"
+                    ));
+                }
+            }
+        }
+        Ok(self)
+    }
+
+    /// rapier's integration parameters for a simulation step of `dt` seconds.
+    pub fn integration_parameters(&self, dt: f64) -> rp::IntegrationParameters {
+        rp::IntegrationParameters {
+            dt: (dt / self.steps_per_step as f64) as f32,
+            num_solver_iterations: self.substeps,
+            length_unit: self.length_unit as f32,
+            warmstart_joints: self.warmstart_joints,
+            contact_recycling: self.contact_recycling,
+            num_internal_pgs_iterations: self.pgs_iterations,
+            contact_softness: rp::SpringCoefficients {
+                natural_frequency: self.contact_hz as f32,
+                ..rp::SpringCoefficients::contact_defaults()
+            },
+            static_contact_softness: rp::SpringCoefficients {
+                natural_frequency: 2.0 * self.contact_hz as f32,
+                ..rp::SpringCoefficients::contact_static_defaults()
+            },
+            friction_model: if self.coulomb_friction {
+                rp::FrictionModel::Coulomb
+            } else {
+                rp::FrictionModel::Simplified
+            },
+            ..rp::IntegrationParameters::default()
+        }
+    }
+}
+
+impl std::fmt::Display for PhysicsSettings {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "substeps={},steps_per_step={},length_unit={},warmstart_joints={},contact_recycling={},coulomb_friction={},pgs_iterations={},contact_hz={},halfspace_floor={}",
+            self.substeps,
+            self.steps_per_step,
+            self.length_unit,
+            self.warmstart_joints,
+            self.contact_recycling,
+            self.coulomb_friction,
+            self.pgs_iterations,
+            self.contact_hz,
+            self.halfspace_floor
+        )
+    }
+}
+
+/// The robot's module size (m): the cube root of its links' mean volume.
+pub fn module_size(sim: &Simulation) -> f64 {
+    let links = &sim.robot.links;
+    if links.is_empty() {
+        return RAPIER_REFERENCE_SIZE;
+    }
+    let volume: f64 = links
+        .iter()
+        .map(|l| l.geoms.iter().map(geom_volume).sum::<f64>())
+        .sum::<f64>()
+        / links.len() as f64;
+    if volume > 0.0 {
+        volume.cbrt()
+    } else {
+        RAPIER_REFERENCE_SIZE
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn overrides_parse_and_name_the_bad_one() {
+        let s = PhysicsSettings::default()
+            .parse_overrides("substeps=2, length_unit=0.05,warmstart_joints=true")
+            .unwrap();
+        assert_eq!(
+            (s.substeps, s.length_unit, s.warmstart_joints),
+            (2, 0.05, true)
+        );
+        let e = PhysicsSettings::default()
+            .parse_overrides("substep=2")
+            .unwrap_err();
+        assert!(e.contains("unknown physics setting `substep`"), "{e}");
+        let e = PhysicsSettings::default()
+            .parse_overrides("length_unit=NaN")
+            .unwrap_err();
+        assert!(e.contains("positive length"), "{e}");
+        let e = PhysicsSettings::default()
+            .parse_overrides("substeps=0")
+            .unwrap_err();
+        assert!(e.contains("positive integer"), "{e}");
+    }
+
+    #[test]
+    fn display_round_trips() {
+        let s = PhysicsSettings::default()
+            .parse_overrides("substeps=3,coulomb_friction=1,contact_recycling=0")
+            .unwrap();
+        assert_eq!(
+            PhysicsSettings::default().parse_overrides(&s.to_string()),
+            Ok(s)
+        );
+    }
+
+    #[test]
+    fn refinement_multiplies_physics_steps() {
+        let s = PhysicsSettings::default().refined(2).refined(4);
+        assert_eq!(s.steps_per_step, 8);
+        let p = s.integration_parameters(0.001);
+        assert!((p.dt - 0.000125).abs() < 1e-9);
+    }
+}

@@ -1,0 +1,67 @@
+//! The accuracy gate (issue 20): each gate scenario at the production physics settings
+//! against its converged reference (`proleg bench --convergence`), displacement within 5 %.
+//! Short runs (8 simulated seconds) keep the suite quick; the 30-second figures are in
+//! docs/DESIGN.md §3. A physics change that trades accuracy for speed fails here.
+
+mod common;
+
+use proleg::bench::convergence::{Convergence, check, report};
+use proleg::control::{ModuleRegistry, load_simulation};
+use proleg::sim::physics_settings::PhysicsSettings;
+
+const SECONDS: f64 = 8.0;
+const RUNGS: usize = 4;
+
+fn gate(config: &str) -> Convergence {
+    let sim = load_simulation(common::root().join("configs").join(config)).unwrap();
+    let registry = ModuleRegistry::standard();
+    let production = PhysicsSettings::for_robot(&sim);
+    let c = check(config, &sim, production, SECONDS, RUNGS, &registry).unwrap();
+    println!("{}", report(&c));
+    assert!(
+        c.converged,
+        "the reference ladder did not converge:\n{}",
+        report(&c)
+    );
+    assert!(
+        c.production.displacement > 0.1,
+        "the robot should crawl: {}",
+        report(&c)
+    );
+    assert!(c.passes(), "accuracy gate failed:\n{}", report(&c));
+    c
+}
+
+#[test]
+fn a_demo_is_within_the_gate() {
+    gate("demo.simulation.xml");
+}
+
+#[test]
+fn b_demo_with_the_tail_straight_is_within_the_gate() {
+    gate("demo_tail_straight.simulation.xml");
+}
+
+#[test]
+fn c_pitch_yaw_snake_on_the_slope_is_within_the_gate() {
+    gate("snake8py_slope.simulation.xml");
+}
+
+#[test]
+#[ignore = "fails today: experiment 2's reference ladder does not converge within 4 rungs \
+            (touch-pad events shift with the step), production is 12 % from the finest rung"]
+fn d_experiment2_is_within_the_gate() {
+    gate("experiment2_adaptive.simulation.xml");
+}
+
+#[test]
+fn the_reference_ladder_refines_the_production_settings() {
+    let sim = load_simulation(common::root().join("configs/demo.simulation.xml")).unwrap();
+    let production = PhysicsSettings::for_robot(&sim);
+    let base = proleg::bench::convergence::reference_base(production);
+    assert!(base.steps_per_step > production.steps_per_step);
+    assert!(base.substeps >= production.substeps);
+    assert!(!base.contact_recycling && base.coulomb_friction);
+    // The model is the production's: only the numerics are refined.
+    assert_eq!(base.contact_hz, production.contact_hz);
+}
