@@ -32,8 +32,10 @@ pub struct OptimizeOptions {
     /// Parallel evaluation threads (default: the number of cores).
     #[arg(long)]
     pub workers: Option<usize>,
-    /// Robots per world (default 0: each round split evenly over the workers).
-    #[arg(long, default_value_t = 0)]
+    /// Robots per world (default 1: scores independent of --workers; 0 splits each round
+    /// evenly over the workers; more is faster on small robots, but scores can then move
+    /// slightly with the batch size, see docs/DESIGN.md §7).
+    #[arg(long, default_value_t = crate::optimize::settings::DEFAULT_BATCH)]
     pub batch: usize,
     /// Stop after this many evaluations (default: the optimizer file's <maxEvaluations>).
     #[arg(long = "max-evals")]

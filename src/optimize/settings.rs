@@ -55,15 +55,22 @@ pub struct RunSettings {
     pub stop: StopFlag,
 }
 
+/// Robots per world unless the user asks for more: each evaluation in a world of its own,
+/// so scores do not depend on the number of workers. Sharing worlds (`--batch N`) is faster
+/// on small robots, but on scenarios with many contacts (experiment 2) the scores move
+/// slightly with N (docs/DESIGN.md §7).
+pub const DEFAULT_BATCH: usize = 1;
+
 /// What the user chose; `None` takes the simulation's files (the optimizer file's budget
 /// and fitness, the simulation's seed and duration) or, for workers, every core.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct RunChoices {
     /// Seed of the run (default: the simulation's).
     pub seed: Option<u64>,
     /// Worker threads (default: the cores available).
     pub workers: Option<usize>,
-    /// Robots per world (0: split each round evenly over the workers).
+    /// Robots per world (0: split each round evenly over the workers; default
+    /// [`DEFAULT_BATCH`]).
     pub batch: usize,
     /// Evaluation budget (default: the optimizer file's, else unlimited).
     pub max_evaluations: Option<u64>,
@@ -71,6 +78,19 @@ pub struct RunChoices {
     pub duration: Option<f64>,
     /// Fitness (default: the optimizer file's, else displacement).
     pub fitness: Option<Fitness>,
+}
+
+impl Default for RunChoices {
+    fn default() -> Self {
+        RunChoices {
+            seed: None,
+            workers: None,
+            batch: DEFAULT_BATCH,
+            max_evaluations: None,
+            duration: None,
+            fitness: None,
+        }
+    }
 }
 
 impl RunSettings {
