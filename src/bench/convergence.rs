@@ -243,7 +243,7 @@ pub fn run(
     registry: &ModuleRegistry,
 ) -> Result<String, String> {
     let sim = crate::control::load_simulation_in(config, registry).map_err(|e| e.to_string())?;
-    let production = super::physics_of(&sim, overrides)?;
+    let production = PhysicsSettings::for_robot_with(&sim, overrides)?;
     let c = check(
         &config.display().to_string(),
         &sim,

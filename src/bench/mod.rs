@@ -51,12 +51,6 @@ impl Figure {
     }
 }
 
-/// The robot's production physics settings with `overrides` (`key=value,...`, see
-/// [`PhysicsSettings::parse_overrides`]) applied.
-pub fn physics_of(sim: &Simulation, overrides: &str) -> Result<PhysicsSettings, String> {
-    PhysicsSettings::for_robot(sim).parse_overrides(overrides)
-}
-
 /// A world of `robots` copies of `sim`'s robot, modules made by `registry`, physics as
 /// `physics` (`None`: the production settings).
 pub(crate) fn world_of(
@@ -205,7 +199,7 @@ pub fn report(
     overrides: &str,
 ) -> Result<String, String> {
     let sim = load_simulation(config).map_err(|e| e.to_string())?;
-    let physics = physics_of(&sim, overrides)?;
+    let physics = PhysicsSettings::for_robot_with(&sim, overrides)?;
     let raw = physics_only(&sim, physics, seconds)?;
     let (rec, size) = recording(&sim, physics, seconds)?;
     let mut figs = vec![pipeline(&sim, physics, 1, seconds)?, rec.clone()];

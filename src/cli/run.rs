@@ -83,7 +83,7 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Str
         ));
     }
     let seed = req.seed.unwrap_or(props.seed);
-    let physics = PhysicsSettings::for_robot(&sim).parse_overrides(&req.physics)?;
+    let physics = PhysicsSettings::for_robot_with(&sim, &req.physics)?;
     let opts = BuildOptions {
         robots: 1,
         seed,

@@ -43,6 +43,18 @@ pub const PRODUCTION_SUBSTEPS: usize = 4;
 /// Production solver iterations per substep: the second halves the displacement error of
 /// the reference scenario for 5 % more instructions per step (DESIGN.md §3).
 pub const PRODUCTION_PGS_ITERATIONS: usize = 2;
+/// The keys `--physics key=value,...` knows: the fields' names.
+pub const OVERRIDE_KEYS: [&str; 9] = [
+    "substeps",
+    "steps_per_step",
+    "length_unit",
+    "warmstart_joints",
+    "contact_recycling",
+    "coulomb_friction",
+    "pgs_iterations",
+    "contact_hz",
+    "halfspace_floor",
+];
 /// rapier's tolerances are tuned for objects of about this size (m).
 pub const RAPIER_REFERENCE_SIZE: f64 = 1.0;
 
@@ -93,7 +105,7 @@ impl PhysicsSettings {
     }
 
     /// Applies `key=value` overrides separated by commas (`substeps=2,length_unit=0.05`);
-    /// keys are the field names, booleans `true`/`false`/`1`/`0`.
+    /// keys are the field names ([`OVERRIDE_KEYS`]), booleans `true`/`false`/`1`/`0`.
     pub fn parse_overrides(mut self, text: &str) -> Result<Self, String> {
         for item in text.split(',').map(str::trim).filter(|s| !s.is_empty()) {
             let (key, value) = item
@@ -101,61 +113,47 @@ impl PhysicsSettings {
                 .ok_or_else(|| format!("physics setting `{item}`: expected key=value"))?;
             let (key, value) = (key.trim(), value.trim());
             let bad = |what: &str| format!("physics setting `{key}`: `{value}` is not {what}");
-            let positive = |v: &str| v.parse::<u32>().ok().filter(|n| *n > 0);
-            let flag = |v: &str| match v {
-                "1" | "true" => Some(true),
-                "0" | "false" => Some(false),
-                _ => None,
+            let count = || {
+                (value.parse::<u32>().ok().filter(|n| *n > 0))
+                    .ok_or_else(|| bad("a positive integer"))
+            };
+            let real = |what: &str| {
+                (value
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite() && *v > 0.0))
+                .ok_or_else(|| bad(what))
+            };
+            let flag = || match value {
+                "1" | "true" => Ok(true),
+                "0" | "false" => Ok(false),
+                _ => Err(bad("true or false")),
             };
             match key {
-                "substeps" => {
-                    self.substeps =
-                        positive(value).ok_or_else(|| bad("a positive integer"))? as usize
-                }
-                "steps_per_step" => {
-                    self.steps_per_step =
-                        positive(value).ok_or_else(|| bad("a positive integer"))?
-                }
-                "length_unit" => {
-                    self.length_unit = value
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|v| v.is_finite() && *v > 0.0)
-                        .ok_or_else(|| bad("a positive length in metres"))?
-                }
-                "warmstart_joints" => {
-                    self.warmstart_joints = flag(value).ok_or_else(|| bad("true or false"))?
-                }
-                "contact_recycling" => {
-                    self.contact_recycling = flag(value).ok_or_else(|| bad("true or false"))?
-                }
-                "coulomb_friction" => {
-                    self.coulomb_friction = flag(value).ok_or_else(|| bad("true or false"))?
-                }
-                "halfspace_floor" => {
-                    self.halfspace_floor = flag(value).ok_or_else(|| bad("true or false"))?
-                }
-                "pgs_iterations" => {
-                    self.pgs_iterations =
-                        positive(value).ok_or_else(|| bad("a positive integer"))? as usize
-                }
-                "contact_hz" => {
-                    self.contact_hz = value
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|v| v.is_finite() && *v > 0.0)
-                        .ok_or_else(|| bad("a positive frequency in Hz"))?
-                }
+                "substeps" => self.substeps = count()? as usize,
+                "steps_per_step" => self.steps_per_step = count()?,
+                "pgs_iterations" => self.pgs_iterations = count()? as usize,
+                "length_unit" => self.length_unit = real("a positive length in metres")?,
+                "contact_hz" => self.contact_hz = real("a positive frequency in Hz")?,
+                "warmstart_joints" => self.warmstart_joints = flag()?,
+                "contact_recycling" => self.contact_recycling = flag()?,
+                "coulomb_friction" => self.coulomb_friction = flag()?,
+                "halfspace_floor" => self.halfspace_floor = flag()?,
                 _ => {
                     return Err(format!(
-                        "unknown physics setting `{key}` (known: substeps, steps_per_step, \
-                         length_unit, warmstart_joints, contact_recycling, coulomb_friction, \
-                         pgs_iterations, contact_hz, halfspace_floor)"
+                        "unknown physics setting `{key}` (known: {})",
+                        OVERRIDE_KEYS.join(", ")
                     ));
                 }
             }
         }
         Ok(self)
+    }
+
+    /// The production settings of `sim`'s robot with `overrides` applied (see
+    /// [`PhysicsSettings::parse_overrides`]).
+    pub fn for_robot_with(sim: &Simulation, overrides: &str) -> Result<Self, String> {
+        PhysicsSettings::for_robot(sim).parse_overrides(overrides)
     }
 
     /// rapier's integration parameters for a simulation step of `dt` seconds.

@@ -50,11 +50,6 @@ pub fn draw_debug(view: Res<DebugView>, session: NonSend<SimSession>, mut gizmos
             );
         } else if let Some(s) = c.shape().as_ball() {
             gizmos.sphere(Isometry3d::new(centre, rotation), s.radius, colour);
-        } else if c.shape().as_halfspace().is_some() {
-            // The floor as a half-space (sim::terrain): its boundary plane, as wide as the
-            // shipped floors.
-            let side = 2.0 * crate::sim::terrain::FLOOR_MIN_HALF_EXTENT as f32;
-            gizmos.rect(Isometry3d::new(centre, rotation), Vec2::splat(side), colour);
         } else {
             let aabb = c.compute_aabb();
             let (lo, hi) = (point(aabb.mins), point(aabb.maxs));
