@@ -40,6 +40,13 @@ pub enum SimError {
         /// The robot's links.
         count: usize,
     },
+    /// A tactile pad that lies on none of its link's geometries (it reads their contacts).
+    PadOffLink {
+        /// The sensor's name.
+        sensor: String,
+        /// Its link's name.
+        link: String,
+    },
 }
 
 impl fmt::Display for SimError {
@@ -62,6 +69,11 @@ impl fmt::Display for SimError {
             SimError::NoSuchLink { link, count } => {
                 write!(f, "no link {link}: the robot has {count}")
             }
+            SimError::PadOffLink { sensor, link } => write!(
+                f,
+                "tactile pad \"{sensor}\" lies on none of link \"{link}\"'s geometries; \
+                 a pad reads the contacts of its link's surface, so its box must touch one"
+            ),
         }
     }
 }

@@ -24,7 +24,7 @@ use crate::sim::physics::{MAX_ROBOTS_PER_WORLD, SimPhysics, group_bit, pose, vec
 use crate::sim::physics_settings::PhysicsSettings;
 use crate::sim::record::{RecordSettings, Track};
 use crate::sim::servo::{DEFAULT_SERVO_GAIN, JointState, MOTOR_DAMPING, Servo, SimJoint};
-use crate::sim::tactile::{RobotSensors, TactileSensor};
+use crate::sim::tactile::{PadArea, RobotSensors, TactileSensor};
 use crate::sim::terrain::floor_halfspace;
 
 /// Friction of robot link surfaces; contacts take the smaller of the two coefficients, so
@@ -135,8 +135,8 @@ fn colliders(
 }
 
 /// Builds the world of `sim` into `world` (resources and entities); returns the robots.
-/// Bodies are inserted in a fixed order (environment, then each robot's links, joints and
-/// pads), so rapier's handles and hence the trajectory depend only on the configuration.
+/// Bodies are inserted in a fixed order (environment, then each robot's links and joints),
+/// so rapier's handles and hence the trajectory depend only on the configuration.
 pub fn build_world(
     world: &mut World,
     sim: &Simulation,
@@ -244,7 +244,7 @@ fn spawn_robot(
     let robot = world.spawn(Name::new(name)).id();
     let (links, bodies) = spawn_links(world, physics, sim, robot, groups)?;
     let joints = spawn_joints(world, physics, sim, robot, &bodies);
-    let sensors = spawn_sensors(world, physics, sim, robot, &bodies, groups);
+    let sensors = spawn_sensors(world, physics, sim, robot, &bodies, groups)?;
     let samples =
         (props.duration / props.step_width / props.accuracy.max(1) as f64).ceil() as usize + 1;
     let n = model.joints.len();
@@ -360,8 +360,9 @@ fn spawn_joints(
     entities
 }
 
-/// Lasers and tactile pads (thin box colliders on their links); returns the robot's empty
-/// sensor readings, sized for them.
+/// Lasers and tactile pads (areas on their links' colliders); returns the robot's empty
+/// sensor readings, sized for them, or an error for a pad that lies on none of its link's
+/// geometries.
 fn spawn_sensors(
     world: &mut World,
     physics: &mut SimPhysics,
@@ -369,7 +370,7 @@ fn spawn_sensors(
     robot: Entity,
     bodies: &[(rp::RigidBodyHandle, f64)],
     groups: rp::InteractionGroups,
-) -> SensorData {
+) -> Result<SensorData, SimError> {
     let step_width = sim.files.simulation.properties.step_width;
     let mut pads = 0;
     let mut beams = Vec::new();
@@ -393,20 +394,23 @@ fn spawn_sensors(
                 world.spawn((name, laser, ChildOf(robot)));
             }
             Sensor::Tactile(t) => {
-                let [x, y, z] = t.extents;
-                let pad = rp::ColliderBuilder::cuboid(x as f32, y as f32, z as f32)
-                    .position(pose(&s.pose))
-                    .mass(0.0)
-                    .friction(LINK_FRICTION as f32)
-                    .friction_combine_rule(rp::CoefficientCombineRule::Min)
-                    .collision_groups(groups)
-                    .build();
-                let w = &mut physics.world;
-                let collider = w.colliders.insert_with_parent(pad, body, &mut w.bodies);
+                let area = PadArea {
+                    pose: pose(&s.pose),
+                    half_extents: vec3(t.extents),
+                };
+                let colliders = pad_colliders(physics, body, &area);
+                if colliders.iter().all(|(_, on)| !on) {
+                    return Err(SimError::PadOffLink {
+                        sensor: s.name.clone(),
+                        link: sim.robot.links[s.link].name.clone(),
+                    });
+                }
                 let sensor = TactileSensor {
                     robot,
                     index: pads,
-                    collider,
+                    link: body,
+                    area,
+                    colliders: colliders.into_iter().map(|(c, _)| c).collect(),
                     debounce_steps: t.debounce,
                     state: Debounce::default(),
                     raw: false,
@@ -416,5 +420,27 @@ fn spawn_sensors(
             }
         }
     }
-    SensorData::new(pads, &beams)
+    Ok(SensorData::new(pads, &beams))
+}
+
+/// The colliders of link `body`, each with the map from its frame to the pad's and whether
+/// the pad lies on it.
+fn pad_colliders(
+    physics: &SimPhysics,
+    body: rp::RigidBodyHandle,
+    area: &PadArea,
+) -> Vec<((rp::ColliderHandle, rp::Pose), bool)> {
+    let w = &physics.world;
+    let Some(link) = w.bodies.get(body) else {
+        return Vec::new();
+    };
+    let from_link = area.pose.inverse();
+    link.colliders()
+        .iter()
+        .filter_map(|h| {
+            let c = w.colliders.get(*h)?;
+            let to_pad = from_link * c.position_wrt_parent().copied().unwrap_or_default();
+            Some(((*h, to_pad), area.lies_on(c.shape(), &to_pad)))
+        })
+        .collect()
 }

@@ -122,7 +122,6 @@ fn spawn_pads(
     session: &SimSession,
     links: &[Option<(Entity, rp::RigidBodyHandle)>],
 ) {
-    let physics = session.simulator.physics();
     let pressed = materials.add(StandardMaterial {
         base_color: Color::srgb(1.0, 0.1, 0.05),
         emissive: LinearRgba::rgb(2.0, 0.1, 0.0),
@@ -130,25 +129,13 @@ fn spawn_pads(
     });
     let released = materials.add(Color::srgb(0.45, 0.1, 0.1));
     for pad in session.simulator.tactile_pads(0).unwrap_or_default() {
-        let Some(collider) = physics.colliders.get(pad.collider) else {
+        let Some((link, _)) = links.iter().flatten().find(|(_, lh)| *lh == pad.link) else {
             continue;
         };
-        let Some((link, _)) = collider
-            .parent()
-            .and_then(|h| links.iter().flatten().find(|(_, lh)| *lh == h))
-        else {
-            continue;
-        };
-        let Some(cuboid) = collider.shape().as_cuboid() else {
-            continue;
-        };
-        let he = cuboid.half_extents;
-        let local = collider.position_wrt_parent().copied().unwrap_or_default();
-        let t = Transform::from_translation(Vec3::new(
-            local.translation.x,
-            local.translation.y,
-            local.translation.z,
-        ));
+        let he = pad.area.half_extents;
+        let (t, r) = (pad.area.pose.translation, pad.area.pose.rotation);
+        let t = Transform::from_translation(Vec3::new(t.x, t.y, t.z))
+            .with_rotation(Quat::from_xyzw(r.x, r.y, r.z, r.w));
         let e = commands
             .spawn((
                 Name::new(format!("touch pad {}", pad.index)),

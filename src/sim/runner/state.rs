@@ -14,7 +14,7 @@ use crate::sim::physics::{SimPhysics, arr3};
 use crate::sim::record::{Track, centre_of_mass, heading};
 use crate::sim::servo::{JointState, Servo};
 use crate::sim::spawn::{SimEnvObject, SimLink};
-use crate::sim::tactile::{RobotSensors, TactileSensor};
+use crate::sim::tactile::{PadArea, RobotSensors, TactileSensor};
 
 /// A body of the scene: an environment object or a robot link, with its rapier body.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -30,8 +30,10 @@ pub struct SceneBody {
 pub struct PadReading {
     /// Index among the robot's pads (the order of `SensorData::tactile`).
     pub index: usize,
-    /// The pad's collider (a thin box on its link).
-    pub collider: rp::ColliderHandle,
+    /// The link it sits on.
+    pub link: rp::RigidBodyHandle,
+    /// Its area on the link.
+    pub area: PadArea,
     /// Contact this step, before debouncing.
     pub raw: bool,
     /// The debounced reading modules see.
@@ -119,7 +121,8 @@ impl Simulator {
         Ok(self.collect_sorted(|p: &TactileSensor| {
             (p.robot == robot).then_some(PadReading {
                 index: p.index,
-                collider: p.collider,
+                link: p.link,
+                area: p.area,
                 raw: p.raw,
                 pressed: p.state.pressed,
             })
