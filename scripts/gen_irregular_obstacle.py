@@ -3,8 +3,10 @@
 
 A surface 2.4 m x --length-factor long (from y = 0.6 m) and 2 x --half-width wide, z up:
 a 6.8 cm convex hump, a 7.5 cm plateau with a concave trough in it, and a last 10.5 cm
-hill, slightly uneven across its width. Closed with side and end walls down to z = 0 so
-it is a solid for collisions.
+hill, slightly uneven across its width. Closed with side walls down to z = 0 so it is a
+solid as a `trimesh`. Every vertex lies on one regular x-y grid, so the file is also a
+height map: configs/environments/irregular.env.xml loads it as `type="heightfield"` (the
+walls' vertices sit under grid nodes and only the highest vertex of a node counts).
 
 The experiment uses --half-width 1.0 --length-factor 1.5 (3.6 m long, y = 0.6..4.2 m;
 2 m wide so a robot that turns does not fall off its side). There the experiment-2 robot

@@ -145,9 +145,18 @@ fn irregular_obstacle_terrain_is_rebuilt_in_the_editor() {
             };
             let same_shape = match (&og.shape, &rg.shape) {
                 (Shape::Box { extents: a }, Shape::Box { extents: b }) => close(a, b),
-                (Shape::Trimesh { file: a, scale: sa }, Shape::Trimesh { file: b, scale: sb }) => {
-                    a == b && (sa - sb).abs() < 1e-12
-                }
+                (
+                    Shape::Trimesh {
+                        file: a,
+                        scale: sa,
+                        collision: ca,
+                    },
+                    Shape::Trimesh {
+                        file: b,
+                        scale: sb,
+                        collision: cb,
+                    },
+                ) => a == b && (sa - sb).abs() < 1e-12 && ca == cb,
                 _ => false,
             };
             same_shape

@@ -587,3 +587,38 @@ fn deep_nesting_is_refused_not_overflowed() {
     assert_eq!(e.kind, ErrorKind::Syntax);
     assert!(e.to_string().contains("nested deeper than"), "{e}");
 }
+
+#[test]
+fn a_heightfield_mesh_must_be_a_height_map() {
+    // A tetrahedron: its vertices span a 2 x 2 x-y grid, but node (1, 1) has none.
+    let tetra = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n";
+    let geom = r#"<Geom type="heightfield">
+        <data>tetra.obj</data>
+      </Geom>
+      <Geom type="box">"#;
+    let mut src = MemSource::new();
+    for (name, text) in FILES {
+        let text = if name.ends_with("e.env.xml") {
+            text.replacen(r#"<Geom type="box">"#, geom, 1)
+        } else {
+            text.to_string()
+        };
+        src.insert(name, text);
+    }
+    src.insert("cfg/tetra.obj", tetra);
+    let result = load_simulation_with(
+        &src,
+        Path::new("cfg/s.simulation.xml"),
+        &ModuleRegistry::default(),
+    );
+    expect(
+        result,
+        ErrorKind::InvalidValue,
+        "e.env.xml",
+        4,
+        &[
+            "tetra.obj cannot be a heightfield",
+            "grid node (1, 1) has no vertex",
+        ],
+    );
+}

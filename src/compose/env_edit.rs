@@ -11,14 +11,15 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use crate::compose::library::LibraryItem;
-use crate::config::body::{BodyKind, Geom, MAX_FRICTION, Mass, Shape};
+use crate::config::body::{BodyKind, Geom, MAX_FRICTION, Mass, MeshCollision, Shape};
 use crate::config::environment::{
     EnvObject, EnvironmentFile, Physics, parse_environment_file, write_environment_file,
 };
 use crate::config::kinbody::KinBody;
-use crate::config::mesh::Meshes;
+use crate::config::mesh::{Meshes, TriMesh};
 use crate::config::resolve::environment::resolve_environment;
 use crate::config::source::{FsSource, resolve_include};
 use crate::config::transform::{Pose, quat_mul};
@@ -301,9 +302,9 @@ impl EnvEditor {
         true
     }
 
-    /// Bounds of a mesh file as named in the scene, read once; a file that cannot be found
-    /// or parsed has none, and its error is kept ([`EnvEditor::mesh_errors`]).
-    fn mesh_aabb(&mut self, file: &str, scale: f64) -> Option<Aabb> {
+    /// A mesh file as named in the scene, read once; a file that cannot be found or parsed
+    /// is none, and its error is kept ([`EnvEditor::mesh_errors`]).
+    fn mesh(&mut self, file: &str) -> Option<Arc<TriMesh>> {
         let loaded = match resolve_include(&FsSource, &self.file, file) {
             Some(path) => self.meshes.load(&path).map_err(|e| e.to_string()),
             None => Err(format!(
@@ -311,17 +312,30 @@ impl EnvEditor {
                 self.file.display()
             )),
         };
-        match loaded {
-            Ok(m) => {
-                let (min, max) = m.bounds();
-                Some(Aabb {
-                    min: min.map(|v| v * scale),
-                    max: max.map(|v| v * scale),
-                })
-            }
-            Err(e) => {
-                self.mesh_errors.insert(file.to_string(), e);
-                None
+        loaded
+            .map_err(|e| self.mesh_errors.insert(file.to_string(), e))
+            .ok()
+    }
+
+    /// Bounds of a mesh file as named in the scene (none when it cannot be read).
+    fn mesh_aabb(&mut self, file: &str, scale: f64) -> Option<Aabb> {
+        let (min, max) = self.mesh(file)?.bounds();
+        Some(Aabb {
+            min: min.map(|v| v * scale),
+            max: max.map(|v| v * scale),
+        })
+    }
+
+    /// Makes every mesh geometry of `kb` whose mesh is a height map collide as a height
+    /// field (cheaper terrain contacts than its triangles).
+    fn height_fields_where_possible(&mut self, kb: &mut KinBody) {
+        for g in kb.bodies.iter_mut().flat_map(|b| &mut b.geoms) {
+            if let Shape::Trimesh {
+                file, collision, ..
+            } = &mut g.shape
+                && self.mesh(file).is_some_and(|m| m.height_map().is_ok())
+            {
+                *collision = MeshCollision::HeightField;
             }
         }
     }
@@ -351,7 +365,7 @@ impl EnvEditor {
                         min: [-radius, -height / 2.0, -radius],
                         max: [*radius, height / 2.0, *radius],
                     },
-                    Shape::Trimesh { file, scale } => match self.mesh_aabb(file, *scale) {
+                    Shape::Trimesh { file, scale, .. } => match self.mesh_aabb(file, *scale) {
                         Some(b) => b,
                         None => continue,
                     },
@@ -428,10 +442,12 @@ impl EnvEditor {
     }
 
     /// Drops a library item at (x, y): it lands on the ground or on the object under that
-    /// point, and is selected. Returns its index.
+    /// point, and is selected; a mesh that is a height map becomes a height field. Returns
+    /// its index.
     pub fn add(&mut self, item: &LibraryItem, x: f64, y: f64) -> usize {
         let name = self.unique_name(&item.label());
         let mut kb = item.kinbody(&name);
+        self.height_fields_where_possible(&mut kb);
         let local = self.kinbody_aabb(&kb, &Pose::IDENTITY);
         let surface = self.surface_at(x, y, None);
         let lift = if local.is_empty() { 0.0 } else { -local.min[2] };

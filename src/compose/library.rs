@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use crate::config::body::{Body, BodyKind, Geom, Shape};
+use crate::config::body::{Body, BodyKind, Geom, MeshCollision, Shape};
 use crate::config::error::Pos;
 use crate::config::kinbody::KinBody;
 use crate::config::transform::Pose;
@@ -160,6 +160,7 @@ impl LibraryItem {
                 Shape::Trimesh {
                     file: path.clone(),
                     scale: 1.0,
+                    collision: MeshCollision::Triangles,
                 },
                 [0.6, 0.45, 0.3],
             )],

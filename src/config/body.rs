@@ -43,13 +43,27 @@ pub enum Shape {
         /// Height along its axis (m).
         height: f64,
     },
-    /// A triangle mesh from a file (Wavefront OBJ), scaled uniformly.
+    /// A surface from a file (Wavefront OBJ), scaled uniformly: `type="trimesh"` collides
+    /// as its triangles, `type="heightfield"` as a height field (the OBJ must then be a
+    /// height map, see [`crate::config::mesh::TriMesh::height_map`]).
     Trimesh {
         /// The OBJ file (resolved after loading).
         file: String,
         /// Scale applied to its vertices.
         scale: f64,
+        /// How the physics represents it.
+        collision: MeshCollision,
     },
+}
+
+/// How the physics represents a mesh geometry. Both are drawn from the same OBJ.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MeshCollision {
+    /// Its triangles (any mesh).
+    #[default]
+    Triangles,
+    /// A height field over its x-y grid (a height map: cheaper terrain contacts).
+    HeightField,
 }
 
 impl Shape {
@@ -63,7 +77,17 @@ impl Shape {
             Shape::Cylinder { radius, height } => {
                 format!("cylinder r={} h={} m", num(*radius), num(*height))
             }
-            Shape::Trimesh { file, scale } => format!("mesh {file} (scale {})", num(*scale)),
+            Shape::Trimesh {
+                file,
+                scale,
+                collision,
+            } => {
+                let kind = match collision {
+                    MeshCollision::Triangles => "mesh",
+                    MeshCollision::HeightField => "height field",
+                };
+                format!("{kind} {file} (scale {})", num(*scale))
+            }
         }
     }
 }
@@ -161,7 +185,7 @@ impl Geom {
                 radius: positive("radius")?,
                 height: positive("height")?,
             },
-            "trimesh" => {
+            kind @ ("trimesh" | "heightfield") => {
                 let c = r.required(el, "data")?;
                 let text = r.text(c)?;
                 let mut words = text.split_whitespace();
@@ -180,13 +204,22 @@ impl Geom {
                     }
                     None => 1.0,
                 };
-                Shape::Trimesh { file, scale }
+                let collision = if kind == "heightfield" {
+                    MeshCollision::HeightField
+                } else {
+                    MeshCollision::Triangles
+                };
+                Shape::Trimesh {
+                    file,
+                    scale,
+                    collision,
+                }
             }
             other => {
                 return Err(r.err(
                     ty.pos,
                     ErrorKind::InvalidValue,
-                    format!("unknown geometry type \"{other}\"; expected one of: box, sphere, cylinder, trimesh"),
+                    format!("unknown geometry type \"{other}\"; expected one of: box, sphere, cylinder, trimesh, heightfield"),
                 ));
             }
         };
@@ -232,7 +265,14 @@ impl Geom {
             Shape::Box { .. } => "box",
             Shape::Sphere { .. } => "sphere",
             Shape::Cylinder { .. } => "cylinder",
-            Shape::Trimesh { .. } => "trimesh",
+            Shape::Trimesh {
+                collision: MeshCollision::Triangles,
+                ..
+            } => "trimesh",
+            Shape::Trimesh {
+                collision: MeshCollision::HeightField,
+                ..
+            } => "heightfield",
         };
         let mut attrs = vec![("type", ty.to_string())];
         if !self.visible {
@@ -247,7 +287,9 @@ impl Geom {
                 w.num("radius", *radius);
                 w.num("height", *height);
             }
-            Shape::Trimesh { file, scale } => w.leaf("data", &format!("{file} {}", num(*scale))),
+            Shape::Trimesh { file, scale, .. } => {
+                w.leaf("data", &format!("{file} {}", num(*scale)))
+            }
         }
         if let Some(c) = self.diffuse_color {
             w.nums("diffuseColor", &c);

@@ -1,5 +1,6 @@
-//! Triangle meshes for `trimesh` geometries: a small Wavefront OBJ reader (vertices and
-//! faces; polygons are fanned into triangles).
+//! Triangle meshes for `trimesh` and `heightfield` geometries: a small Wavefront OBJ reader
+//! (vertices and faces; polygons are fanned into triangles), and the test that a mesh is a
+//! height map.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -75,6 +76,92 @@ impl TriMesh {
     }
 }
 
+/// A mesh's top surface sampled on its regular x-y grid (see [`TriMesh::height_map`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeightMap {
+    /// Smallest and largest x of the grid.
+    pub x: [f64; 2],
+    /// Smallest and largest y of the grid.
+    pub y: [f64; 2],
+    /// Grid nodes along x.
+    pub nx: usize,
+    /// Grid nodes along y.
+    pub ny: usize,
+    /// Height of node `(i, j)` (i along x, j along y) at `j * nx + i`: the highest vertex
+    /// there.
+    pub heights: Vec<f64>,
+}
+
+impl HeightMap {
+    /// Height of node `i` along x, `j` along y.
+    pub fn at(&self, i: usize, j: usize) -> f64 {
+        self.heights[j * self.nx + i]
+    }
+}
+
+/// The sorted distinct values of `values`, merged within `eps`.
+fn distinct(mut values: Vec<f64>, eps: f64) -> Vec<f64> {
+    values.sort_by(f64::total_cmp);
+    values.dedup_by(|b, a| (*b - *a).abs() <= eps);
+    values
+}
+
+/// Index of `v` among `grid` (evenly spaced from `grid[0]` by `step`), if it lies on a node.
+fn node(grid: &[f64], step: f64, v: f64, eps: f64) -> Option<usize> {
+    let k = ((v - grid[0]) / step).round();
+    (k >= 0.0 && (k as usize) < grid.len() && (grid[0] + k * step - v).abs() <= eps)
+        .then_some(k as usize)
+}
+
+impl TriMesh {
+    /// The mesh as a height map: every vertex lies on one regular grid in x and y (nodes
+    /// evenly spaced along each axis, every node holding a vertex), and the height of a
+    /// node is its highest vertex, so walls and a base below the surface are allowed. An
+    /// error says why it is not one.
+    pub fn height_map(&self) -> Result<HeightMap, String> {
+        let ([x0, y0, _], [x1, y1, _]) = self.bounds();
+        let eps = 1e-5 * (x1 - x0).max(y1 - y0).max(1e-9);
+        let xs = distinct(self.vertices.iter().map(|v| v[0]).collect(), eps);
+        let ys = distinct(self.vertices.iter().map(|v| v[1]).collect(), eps);
+        let (nx, ny) = (xs.len(), ys.len());
+        if nx < 2 || ny < 2 {
+            return Err("its vertices do not span an x-y grid (one row or column)".into());
+        }
+        if nx.saturating_mul(ny) > self.vertices.len() {
+            return Err(format!(
+                "{} vertices cannot fill its {nx} x {ny} x-y grid: some grid nodes have no vertex",
+                self.vertices.len()
+            ));
+        }
+        let (dx, dy) = ((x1 - x0) / (nx - 1) as f64, (y1 - y0) / (ny - 1) as f64);
+        let mut heights = vec![f64::NEG_INFINITY; nx * ny];
+        for v in &self.vertices {
+            let (Some(i), Some(j)) = (node(&xs, dx, v[0], eps), node(&ys, dy, v[1], eps)) else {
+                return Err(format!(
+                    "vertex ({}, {}) is off the evenly spaced x-y grid ({nx} x {ny} nodes)",
+                    v[0], v[1]
+                ));
+            };
+            let h = &mut heights[j * nx + i];
+            *h = h.max(v[2]);
+        }
+        if let Some(k) = heights.iter().position(|h| h.is_infinite()) {
+            return Err(format!(
+                "grid node ({}, {}) has no vertex",
+                xs[k % nx],
+                ys[k / nx]
+            ));
+        }
+        Ok(HeightMap {
+            x: [x0, x1],
+            y: [y0, y1],
+            nx,
+            ny,
+            heights,
+        })
+    }
+}
+
 /// Parses OBJ text; errors name the line.
 pub fn parse_obj(file: &Path, text: &str) -> ConfigResult<TriMesh> {
     let mut mesh = TriMesh {
@@ -140,4 +227,49 @@ pub fn parse_obj(file: &Path, text: &str) -> ConfigResult<TriMesh> {
         ));
     }
     Ok(mesh)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 3 x 2 grid (x 0, 0.5, 1; y 2, 3) with heights x + y / 10, walls down to 0 under
+    /// the edge nodes.
+    fn grid_with_walls() -> TriMesh {
+        let mut vertices = Vec::new();
+        for y in [2.0, 3.0] {
+            for x in [0.0, 0.5, 1.0] {
+                vertices.push([x, y, x + y / 10.0]);
+                vertices.push([x, y, 0.0]);
+            }
+        }
+        TriMesh {
+            vertices,
+            triangles: vec![[0, 2, 6]],
+        }
+    }
+
+    #[test]
+    fn a_grid_with_walls_is_a_height_map_of_its_top() {
+        let m = grid_with_walls().height_map().unwrap();
+        assert_eq!((m.nx, m.ny, m.x, m.y), (3, 2, [0.0, 1.0], [2.0, 3.0]));
+        assert!((m.at(2, 1) - 1.3).abs() < 1e-12, "{m:?}");
+        assert!((m.at(1, 0) - 0.7).abs() < 1e-12, "{m:?}");
+    }
+
+    #[test]
+    fn uneven_spacing_or_a_missing_node_is_not() {
+        let mut uneven = grid_with_walls();
+        for v in &mut uneven.vertices {
+            if v[0] == 0.5 {
+                v[0] = 0.4;
+            }
+        }
+        let e = uneven.height_map().unwrap_err();
+        assert!(e.contains("off the evenly spaced x-y grid"), "{e}");
+        let mut holed = grid_with_walls();
+        holed.vertices.retain(|v| !(v[0] == 1.0 && v[1] == 3.0));
+        let e = holed.height_map().unwrap_err();
+        assert!(e.contains("grid node (1, 3) has no vertex"), "{e}");
+    }
 }

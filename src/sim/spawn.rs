@@ -8,7 +8,7 @@ use bevy::prelude::*;
 use rapier3d::prelude as rp;
 
 use crate::config::Simulation;
-use crate::config::body::{BodyKind, Geom, Shape};
+use crate::config::body::{BodyKind, Geom, MeshCollision, Shape};
 use crate::config::resolve::robot::geom_volume;
 use crate::config::sensor::Sensor;
 use crate::config::transform::Pose;
@@ -25,7 +25,7 @@ use crate::sim::physics_settings::PhysicsSettings;
 use crate::sim::record::{RecordSettings, Track};
 use crate::sim::servo::{DEFAULT_SERVO_GAIN, JointState, MOTOR_DAMPING, Servo, SimJoint};
 use crate::sim::tactile::{PadArea, RobotSensors, TactileSensor};
-use crate::sim::terrain::floor_halfspace;
+use crate::sim::terrain::{floor_halfspace, heightfield};
 
 /// Friction of robot link surfaces; contacts take the smaller of the two coefficients, so
 /// the terrain's friction decides unless it is higher than this.
@@ -82,17 +82,24 @@ pub struct SimLink {
 #[derive(Resource, Debug, Clone)]
 pub struct LoadedSimulation(pub Simulation);
 
-/// The rapier shape of a geometry; a trimesh takes the mesh parsed at load time.
-fn shape(g: &Geom, sim: &Simulation) -> Result<rp::SharedShape, SimError> {
-    Ok(match &g.shape {
+/// The rapier shape of a geometry and its placement in the geometry's frame (identity but
+/// for height fields); a mesh takes the one parsed at load time.
+fn shape(g: &Geom, sim: &Simulation) -> Result<(rp::SharedShape, rp::Pose), SimError> {
+    let at_origin = |s| Ok((s, rp::Pose::IDENTITY));
+    match &g.shape {
         Shape::Box { extents: [x, y, z] } => {
-            rp::SharedShape::cuboid(*x as f32, *y as f32, *z as f32)
+            at_origin(rp::SharedShape::cuboid(*x as f32, *y as f32, *z as f32))
         }
-        Shape::Sphere { radius } => rp::SharedShape::ball(*radius as f32),
-        Shape::Cylinder { radius, height } => {
-            rp::SharedShape::cylinder((height / 2.0) as f32, *radius as f32)
-        }
-        Shape::Trimesh { file, scale } => {
+        Shape::Sphere { radius } => at_origin(rp::SharedShape::ball(*radius as f32)),
+        Shape::Cylinder { radius, height } => at_origin(rp::SharedShape::cylinder(
+            (height / 2.0) as f32,
+            *radius as f32,
+        )),
+        Shape::Trimesh {
+            file,
+            scale,
+            collision,
+        } => {
             let err = |message: String| SimError::Mesh {
                 file: file.clone(),
                 message,
@@ -100,15 +107,24 @@ fn shape(g: &Geom, sim: &Simulation) -> Result<rp::SharedShape, SimError> {
             let mesh = sim
                 .mesh(file)
                 .ok_or_else(|| err("not among the meshes the configuration loaded".into()))?;
-            let vertices = mesh
-                .vertices
-                .iter()
-                .map(|v| vec3(v.map(|c| c * scale)))
-                .collect();
-            rp::SharedShape::trimesh(vertices, mesh.triangles.clone())
-                .map_err(|e| err(format!("{e:?}")))?
+            match collision {
+                MeshCollision::HeightField => {
+                    let map = mesh.height_map().map_err(err)?;
+                    Ok(heightfield(&map, *scale))
+                }
+                MeshCollision::Triangles => {
+                    let vertices = mesh
+                        .vertices
+                        .iter()
+                        .map(|v| vec3(v.map(|c| c * scale)))
+                        .collect();
+                    let trimesh = rp::SharedShape::trimesh(vertices, mesh.triangles.clone())
+                        .map_err(|e| err(format!("{e:?}")))?;
+                    at_origin(trimesh)
+                }
+            }
         }
-    })
+    }
 }
 
 /// Colliders for a body's geometries, its mass split by volume.
@@ -123,8 +139,9 @@ fn colliders(
     geoms
         .iter()
         .map(|g| {
-            Ok(rp::ColliderBuilder::new(shape(g, sim)?)
-                .position(pose(&g.pose))
+            let (shape, at) = shape(g, sim)?;
+            Ok(rp::ColliderBuilder::new(shape)
+                .position(pose(&g.pose) * at)
                 .mass((mass * geom_volume(g) / volume) as f32)
                 .friction(friction(g) as f32)
                 .friction_combine_rule(rp::CoefficientCombineRule::Min)

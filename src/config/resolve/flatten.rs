@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use crate::config::body::{Body, Geom, Shape};
+use crate::config::body::{Body, Geom, MeshCollision, Shape};
 use crate::config::error::{ConfigError, ConfigResult, ErrorKind, Pos};
 use crate::config::kinbody::{Include, Joint, KinBody, parse_kinbody_file};
 use crate::config::mesh::{Meshes, parse_obj};
@@ -173,15 +173,31 @@ impl<'a> Flattener<'a> {
         result.map_err(|e| e.included_from(file, inc.pos))
     }
 
-    /// Replaces a trimesh's file name by the resolved path and keeps the parsed mesh.
+    /// Replaces a mesh's file name by the resolved path and keeps the parsed mesh; a
+    /// heightfield's mesh must be a height map.
     fn resolve_mesh(&mut self, g: &mut Geom, file: &Path) -> ConfigResult<()> {
-        if let Shape::Trimesh { file: mesh, .. } = &mut g.shape {
+        if let Shape::Trimesh {
+            file: mesh,
+            collision,
+            ..
+        } = &mut g.shape
+        {
             let path = find_file(self.src, file, mesh, g.pos, "mesh")?;
             let key = path.display().to_string();
             if self.out.meshes.get(&key).is_none() {
                 let text = read_file(self.src, &path, file, g.pos)?;
                 let parsed = parse_obj(&path, &text).map_err(|e| e.included_from(file, g.pos))?;
                 self.out.meshes.insert(key.clone(), Arc::new(parsed));
+            }
+            if *collision == MeshCollision::HeightField
+                && let Some(Err(why)) = self.out.meshes.get(&key).map(|m| m.height_map())
+            {
+                return Err(ConfigError::new(
+                    file,
+                    g.pos,
+                    ErrorKind::InvalidValue,
+                    format!("{} cannot be a heightfield: {why}", path.display()),
+                ));
             }
             *mesh = key;
             self.out.files.push(path);
