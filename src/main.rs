@@ -221,7 +221,8 @@ fn wizard(opts: WizardOptions) -> Result<String, String> {
     }
 }
 
-/// The `wizard` command's arguments.
+/// The `wizard` command's arguments (read by the windows only, absent from a headless build).
+#[cfg_attr(not(feature = "gui"), allow(dead_code))]
 struct WizardOptions {
     configs: PathBuf,
     out: PathBuf,
