@@ -48,8 +48,9 @@ fn c_pitch_yaw_snake_on_the_slope_is_within_the_gate() {
 }
 
 #[test]
-#[ignore = "fails today: experiment 2's reference ladder does not converge within 4 rungs \
-            (touch-pad events shift with the step), production is 12 % from the finest rung"]
+#[ignore = "fails today: experiment 2's reference ladder does not converge within 5 rungs \
+            (0.314, 0.514, 0.503, 0.427, 0.512 m in 8 s); the sine alone on the same robot \
+            neither (0.557, 0.566, 0.535, 0.595 m), production is 11 % from the finest rung"]
 fn d_experiment2_is_within_the_gate() {
     gate("experiment2_adaptive.simulation.xml");
 }
