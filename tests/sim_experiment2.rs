@@ -6,6 +6,7 @@
 
 mod common;
 
+use proleg::config::body::BodyKind;
 use proleg::control::load_simulation;
 use proleg::sim::{BuildOptions, Simulator};
 
@@ -65,4 +66,38 @@ fn the_adaptive_module_gets_over_the_last_hill() {
         "did not get over the last hill: y = {}",
         end[1]
     );
+}
+
+#[test]
+fn a_height_field_on_a_moving_body_collides_as_its_triangles() {
+    // Rapier's height fields have no volume: a dynamic body made of one would get no mass
+    // and no inertia. The obstacle made dynamic keeps the mass it is given and settles.
+    let mut sim =
+        load_simulation(common::root().join("configs/experiment2_adaptive.simulation.xml"))
+            .unwrap();
+    let obstacle = sim
+        .environment
+        .bodies
+        .iter()
+        .position(|b| b.name == "obstacle");
+    let obstacle = obstacle.expect("the obstacle body");
+    sim.environment.bodies[obstacle].kind = BodyKind::Dynamic;
+    sim.environment.bodies[obstacle].mass = 20.0;
+    let mut s = Simulator::new(&sim, &BuildOptions::default()).unwrap();
+    let body = s.environment_bodies()[obstacle].handle;
+    let props = s
+        .physics()
+        .bodies
+        .get(body)
+        .map(|b| b.mass_properties().local_mprops);
+    let props = props.expect("the obstacle's rigid body");
+    assert!((props.mass() - 20.0).abs() < 1e-3, "{props:?}");
+    let inertia = props.principal_inertia();
+    assert!(
+        inertia.min_element() > 0.0,
+        "a moving body needs inertia: {inertia:?}"
+    );
+    s.run_steps(500);
+    let at = s.body_position(body).unwrap();
+    assert!(at.iter().all(|v| v.is_finite()), "{at:?}");
 }

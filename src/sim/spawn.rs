@@ -83,8 +83,10 @@ pub struct SimLink {
 pub struct LoadedSimulation(pub Simulation);
 
 /// The rapier shape of a geometry and its placement in the geometry's frame (identity but
-/// for height fields); a mesh takes the one parsed at load time.
-fn shape(g: &Geom, sim: &Simulation) -> Result<(rp::SharedShape, rp::Pose), SimError> {
+/// for height fields); a mesh takes the one parsed at load time. A height field on a body
+/// that moves (`fixed` false) collides as its triangles: rapier's height fields have no
+/// volume, hence no mass or inertia.
+fn shape(g: &Geom, sim: &Simulation, fixed: bool) -> Result<(rp::SharedShape, rp::Pose), SimError> {
     let at_origin = |s| Ok((s, rp::Pose::IDENTITY));
     match &g.shape {
         Shape::Box { extents: [x, y, z] } => {
@@ -108,11 +110,11 @@ fn shape(g: &Geom, sim: &Simulation) -> Result<(rp::SharedShape, rp::Pose), SimE
                 .mesh(file)
                 .ok_or_else(|| err("not among the meshes the configuration loaded".into()))?;
             match collision {
-                MeshCollision::HeightField => {
+                MeshCollision::HeightField if fixed => {
                     let map = mesh.height_map().map_err(err)?;
                     Ok(heightfield(&map, *scale))
                 }
-                MeshCollision::Triangles => {
+                MeshCollision::Triangles | MeshCollision::HeightField => {
                     let vertices = mesh
                         .vertices
                         .iter()
@@ -127,10 +129,11 @@ fn shape(g: &Geom, sim: &Simulation) -> Result<(rp::SharedShape, rp::Pose), SimE
     }
 }
 
-/// Colliders for a body's geometries, its mass split by volume.
+/// Colliders for a body's geometries, its mass split by volume; `fixed` for a static body.
 fn colliders(
     sim: &Simulation,
     geoms: &[Geom],
+    fixed: bool,
     mass: f64,
     friction: impl Fn(&Geom) -> f64,
     groups: rp::InteractionGroups,
@@ -139,7 +142,7 @@ fn colliders(
     geoms
         .iter()
         .map(|g| {
-            let (shape, at) = shape(g, sim)?;
+            let (shape, at) = shape(g, sim, fixed)?;
             Ok(rp::ColliderBuilder::new(shape)
                 .position(pose(&g.pose) * at)
                 .mass((mass * geom_volume(g) / volume) as f32)
@@ -213,7 +216,8 @@ fn spawn_environment(
         };
         let handle = physics.world.bodies.insert(builder.pose(pose(&b.pose)));
         let friction = |g: &Geom| g.friction.unwrap_or(default_friction);
-        let mut cs = colliders(sim, &b.geoms, b.mass, friction, env_groups)?;
+        let fixed = b.kind == BodyKind::Static;
+        let mut cs = colliders(sim, &b.geoms, fixed, b.mass, friction, env_groups)?;
         if b.kind == BodyKind::Static && physics.settings.halfspace_floor {
             for (c, g) in cs.iter_mut().zip(&b.geoms) {
                 if let Some((floor, at)) = floor_halfspace(&b.pose, g) {
@@ -301,7 +305,7 @@ fn spawn_links(
                 .pose(pose(&p))
                 .can_sleep(false),
         );
-        for c in colliders(sim, &l.geoms, l.mass, |_| LINK_FRICTION, groups)? {
+        for c in colliders(sim, &l.geoms, false, l.mass, |_| LINK_FRICTION, groups)? {
             let w = &mut physics.world;
             w.colliders.insert_with_parent(c, handle, &mut w.bodies);
         }
