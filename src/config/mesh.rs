@@ -4,7 +4,7 @@
 
 use std::collections::BTreeMap;
 use std::path::Path;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use crate::config::error::{ConfigError, ConfigResult, ErrorKind, Pos};
 
@@ -59,6 +59,9 @@ pub struct TriMesh {
     pub vertices: Vec<[f64; 3]>,
     /// Triangles as vertex indices.
     pub triangles: Vec<[u32; 3]>,
+    /// [`TriMesh::height_map`], worked out on first use (the load check) and shared by
+    /// every world built from the mesh.
+    height_map: OnceLock<Result<HeightMap, String>>,
 }
 
 impl TriMesh {
@@ -117,8 +120,16 @@ impl TriMesh {
     /// The mesh as a height map: every vertex lies on one regular grid in x and y (nodes
     /// evenly spaced along each axis, every node holding a vertex), and the height of a
     /// node is its highest vertex, so walls and a base below the surface are allowed. An
-    /// error says why it is not one.
-    pub fn height_map(&self) -> Result<HeightMap, String> {
+    /// error says why it is not one. Worked out once per mesh.
+    pub fn height_map(&self) -> Result<&HeightMap, &str> {
+        self.height_map
+            .get_or_init(|| self.grid_heights())
+            .as_ref()
+            .map_err(String::as_str)
+    }
+
+    /// [`TriMesh::height_map`], worked out.
+    fn grid_heights(&self) -> Result<HeightMap, String> {
         let ([x0, y0, _], [x1, y1, _]) = self.bounds();
         let eps = 1e-5 * (x1 - x0).max(y1 - y0).max(1e-9);
         let xs = distinct(self.vertices.iter().map(|v| v[0]).collect(), eps);
@@ -167,6 +178,7 @@ pub fn parse_obj(file: &Path, text: &str) -> ConfigResult<TriMesh> {
     let mut mesh = TriMesh {
         vertices: Vec::new(),
         triangles: Vec::new(),
+        height_map: OnceLock::new(),
     };
     let err = |line: usize, msg: String| {
         ConfigError::new(
@@ -246,12 +258,14 @@ mod tests {
         TriMesh {
             vertices,
             triangles: vec![[0, 2, 6]],
+            height_map: OnceLock::new(),
         }
     }
 
     #[test]
     fn a_grid_with_walls_is_a_height_map_of_its_top() {
-        let m = grid_with_walls().height_map().unwrap();
+        let mesh = grid_with_walls();
+        let m = mesh.height_map().unwrap();
         assert_eq!((m.nx, m.ny, m.x, m.y), (3, 2, [0.0, 1.0], [2.0, 3.0]));
         assert!((m.at(2, 1) - 1.3).abs() < 1e-12, "{m:?}");
         assert!((m.at(1, 0) - 0.7).abs() < 1e-12, "{m:?}");

@@ -111,8 +111,8 @@ fn shape(g: &Geom, sim: &Simulation, fixed: bool) -> Result<(rp::SharedShape, rp
                 .ok_or_else(|| err("not among the meshes the configuration loaded".into()))?;
             match collision {
                 MeshCollision::HeightField if fixed => {
-                    let map = mesh.height_map().map_err(err)?;
-                    Ok(heightfield(&map, *scale))
+                    let map = mesh.height_map().map_err(|why| err(why.into()))?;
+                    Ok(heightfield(map, *scale))
                 }
                 MeshCollision::Triangles | MeshCollision::HeightField => {
                     let vertices = mesh

@@ -133,9 +133,7 @@ fn spawn_pads(
             continue;
         };
         let he = pad.area.half_extents;
-        let (t, r) = (pad.area.pose.translation, pad.area.pose.rotation);
-        let t = Transform::from_translation(Vec3::new(t.x, t.y, t.z))
-            .with_rotation(Quat::from_xyzw(r.x, r.y, r.z, r.w));
+        let t = rapier_transform(&pad.area.pose);
         let e = commands
             .spawn((
                 Name::new(format!("touch pad {}", pad.index)),
@@ -257,6 +255,13 @@ pub fn to_transform(p: &Pose) -> Transform {
         .with_rotation(Quat::from_xyzw(x as f32, y as f32, z as f32, w as f32).normalize())
 }
 
+/// A rapier pose as a Bevy transform (same frame: the scene root converts).
+pub fn rapier_transform(p: &rp::Pose) -> Transform {
+    let (t, r) = (p.translation, p.rotation);
+    Transform::from_translation(Vec3::new(t.x, t.y, t.z))
+        .with_rotation(Quat::from_xyzw(r.x, r.y, r.z, r.w))
+}
+
 /// Moves every body visual to its rapier body's pose.
 pub fn follow_bodies(
     session: NonSend<SimSession>,
@@ -265,10 +270,7 @@ pub fn follow_bodies(
     let bodies = &session.simulator.physics().bodies;
     for (v, mut t) in &mut visuals {
         if let Some(b) = bodies.get(v.handle) {
-            let p = b.translation();
-            let r = b.rotation();
-            t.translation = Vec3::new(p.x, p.y, p.z);
-            t.rotation = Quat::from_xyzw(r.x, r.y, r.z, r.w);
+            *t = rapier_transform(b.position());
         }
     }
 }
