@@ -91,9 +91,10 @@ enum Command {
     Optimize(cli::optimize::OptimizeOptions),
     /// Runs and best candidates of an experiment store; learning curves and TSV export.
     Results {
-        /// SQLite stores written by `proleg optimize` (runs of all are drawn together).
+        /// Stores written by `proleg optimize`: SQLite files or postgres:// URLs (runs of all
+        /// are drawn together).
         #[arg(required = true)]
-        stores: Vec<PathBuf>,
+        stores: Vec<String>,
         /// Only these runs (comma-separated ids).
         #[arg(long, value_delimiter = ',')]
         runs: Vec<i64>,
@@ -104,6 +105,9 @@ enum Command {
         #[arg(long)]
         export: Option<PathBuf>,
     },
+    /// Evaluate the pending candidates of a shared postgres:// store (runs of `proleg
+    /// optimize --store URL` on any host), until stopped or idle.
+    Worker(cli::worker::WorkerArgs),
     /// Real-robot mode: the simulation's control kernel drives Dynamixel servos on a port.
     Robot(cli::robot::RobotOptions),
     /// An emulated Dynamixel bus on a pseudo-terminal (try `proleg robot` without hardware).
@@ -309,6 +313,7 @@ fn main() -> ExitCode {
             }
         },
         Command::Plugin { command } => cli::plugin::run(command, &plugins),
+        Command::Worker(args) => cli::worker::run(&args, &registry).map(|r| r.to_string()),
         Command::Robot(options) => cli::robot::robot(&options, &registry).map(|r| r.to_string()),
         Command::RobotEmulator(options) => cli::robot::emulator(&options),
         Command::Check { config } => proleg::control::load_simulation_in(&config, &registry)

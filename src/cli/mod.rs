@@ -8,6 +8,7 @@
 //! | `proleg run` | [`run`] ([`run::RunReport`]) |
 //! | `proleg optimize` | [`optimize`] ([`optimize::OptimizeReport`]) |
 //! | `proleg results` | [`results`] ([`results::ResultsReport`]) |
+//! | `proleg worker` | [`worker`] ([`worker::WorkerRun`]) |
 //! | `proleg data info / export / plot` | [`data`] ([`data::InfoReport`]; export and plot: what was written) |
 //! | `proleg plugin new / build / list` | [`plugin`] (the listing's text) |
 //! | `proleg robot`, `proleg robot-emulator` | [`robot`] ([`robot::RobotReport`]; the emulator: its port) |
@@ -18,3 +19,4 @@ pub mod plugin;
 pub mod results;
 pub mod robot;
 pub mod run;
+pub mod worker;

@@ -10,16 +10,16 @@ use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::config::Simulation;
 use crate::config::actuation::write_actuation_file;
-use crate::control::{ModuleRegistry, load_simulation_in};
+use crate::config::{FsSource, RecordingSource, Simulation, load_simulation_with};
+use crate::control::ModuleRegistry;
 use crate::optimize::fitness::Fitness;
 use crate::optimize::result::actuation_with;
 use crate::optimize::run::{
     Evaluation, Outcome, Recording, RunChoices, RunSettings, optimize, prepare,
 };
 use crate::optimize::space::SearchSpace;
-use crate::optimize::store::{RunInfo, Store, StoredEval};
+use crate::optimize::store::{RunInfo, Store, StoreLocation, StoredEval};
 
 /// Command-line options of `proleg optimize`.
 #[derive(clap::Args)]
@@ -29,7 +29,8 @@ pub struct OptimizeOptions {
     /// Random seed (default: the file's seed).
     #[arg(long)]
     pub seed: Option<u64>,
-    /// Parallel evaluation threads (default: the number of cores).
+    /// Parallel evaluation threads (default: the number of cores; 0 with a postgres://
+    /// store: only `proleg worker`s evaluate).
     #[arg(long)]
     pub workers: Option<usize>,
     /// Robots per world (default 1: scores independent of --workers; 0 splits each round
@@ -53,9 +54,11 @@ pub struct OptimizeOptions {
     /// Write every evaluation (score, best so far, gene values) as TSV.
     #[arg(long)]
     pub evaluations: Option<PathBuf>,
-    /// The SQLite experiment store (default: CONFIG-STEM.results.sqlite here).
+    /// The experiment store: a SQLite file (default: CONFIG-STEM.results.sqlite here), or a
+    /// postgres://USER@HOST[:PORT]/DATABASE URL shared with `proleg worker`s on other hosts
+    /// (password from the URL, PGPASSWORD or ~/.pgpass; never printed).
     #[arg(long)]
-    pub store: Option<PathBuf>,
+    pub store: Option<String>,
     /// Continue the last unfinished run of the same configuration, seed, fitness and
     /// duration in the store, reusing its stored evaluations.
     #[arg(long)]
@@ -83,8 +86,8 @@ pub struct OptimizeReport {
     pub space_size: f64,
     /// The best candidate's parameter values, by gene label.
     pub best_values: Vec<(String, f64)>,
-    /// The experiment store and the run's id in it.
-    pub store: (PathBuf, i64),
+    /// The experiment store (as it may be shown: no password) and the run's id in it.
+    pub store: (String, i64),
     /// Where the best candidate was written as an actuation file.
     pub actuation: Option<PathBuf>,
 }
@@ -98,7 +101,10 @@ impl OptimizeReport {
 
 /// Runs the optimization the options ask for; progress goes to stderr unless quiet.
 pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeReport, String> {
-    let sim = load_simulation_in(&o.config, registry).map_err(|e| e.to_string())?;
+    // Every file the configuration reads is kept: the store holds it with the run, so a
+    // worker on another host needs nothing but the store.
+    let source = RecordingSource::new(&FsSource);
+    let sim = load_simulation_with(&source, &o.config, registry).map_err(|e| e.to_string())?;
     let fitness = o.fitness.as_deref().map(Fitness::parse).transpose()?;
     let settings = RunSettings::of(
         &sim,
@@ -112,15 +118,15 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
         },
     )?;
     let (space, _) = prepare(&sim, registry)?;
+    let location = match &o.store {
+        Some(text) => StoreLocation::parse(text)?,
+        None => StoreLocation::sqlite(default_store(&o.config)),
+    };
+    let mut store = Store::open(&location)?;
     if !o.quiet {
         eprint!("{}", header(&sim, &space, &settings));
     }
     let mut table = open_table(o.evaluations.as_deref(), &space)?;
-    let store_path = o.store.clone().unwrap_or_else(|| default_store(&o.config));
-    let mut store = Store::open(&store_path)?;
-    if let Some(n) = o.crash_after {
-        store.crash_after(n);
-    }
     let info = RunInfo {
         config: sim.file.display().to_string(),
         algorithm: algorithm_label(&sim).to_string(),
@@ -129,11 +135,13 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
         duration: settings.duration,
         genes: space.genes.iter().map(|g| g.label()).collect(),
     };
-    let (run, known) = open_run(&mut store, &store_path, &info, o.resume, o.quiet)?;
+    let (run, known) = open_run(&mut store, &info, &source.files(), o.resume, o.quiet)?;
+    let shown = store.describe();
     let recording = Recording {
         store: &mut store,
         run,
         known,
+        crash_after: o.crash_after,
     };
     let t = Instant::now();
     let budget = Some(settings.max_evaluations).filter(|m| *m != u64::MAX);
@@ -179,7 +187,7 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
         duration: settings.duration,
         workers: settings.workers,
         space_size: space.size(),
-        store: (store_path, run),
+        store: (shown, run),
         actuation: o.out.clone(),
     })
 }
@@ -260,22 +268,23 @@ fn default_store(config: &Path) -> PathBuf {
     PathBuf::from(format!("{stem}.results.sqlite"))
 }
 
-/// A new run in the store, or with `resume` the last unfinished one of the same
-/// configuration, seed, fitness and duration with its stored evaluations.
+/// A new run in the store (with its configuration `files`), or with `resume` the last
+/// unfinished one of the same configuration, seed, fitness and duration with its stored
+/// evaluations.
 fn open_run(
     store: &mut Store,
-    path: &Path,
     info: &RunInfo,
+    files: &[(String, String)],
     resume: bool,
     quiet: bool,
 ) -> Result<(i64, Vec<StoredEval>), String> {
     if !resume {
-        return Ok((store.start_run(info)?, Vec::new()));
+        return Ok((store.start_run(info, files)?, Vec::new()));
     }
     let Some(id) = store.find_unfinished(info)? else {
         return Err(format!(
             "--resume: {} holds no unfinished run of {} with seed {}, fitness {} and {} s episodes",
-            path.display(),
+            store.describe(),
             info.config,
             info.seed,
             info.fitness,
@@ -286,7 +295,7 @@ fn open_run(
     if !quiet {
         eprintln!(
             "resuming run {id} of {}: {} evaluations stored",
-            path.display(),
+            store.describe(),
             known.len()
         );
     }
@@ -356,9 +365,9 @@ impl fmt::Display for OptimizeReport {
             let per_hour = self.per_hour();
             writeln!(
                 out,
-                "throughput      {per_hour:.0} evaluations/h of {} s ({:.1}x real time per worker); 6000 such evaluations (the thesis's experiment-2 budget, eq. 3.6) take {:.2} h",
+                "throughput      {per_hour:.0} evaluations/h of {} s ({:.1}x real time per local worker); 6000 such evaluations (the thesis's experiment-2 budget, eq. 3.6) take {:.2} h",
                 self.duration,
-                o.simulated as f64 * self.duration / self.wall / self.workers as f64,
+                o.simulated as f64 * self.duration / self.wall / self.workers.max(1) as f64,
                 6000.0 / per_hour
             )?;
             writeln!(
@@ -370,7 +379,7 @@ impl fmt::Display for OptimizeReport {
         }
         writeln!(out, "evaluation      {}", o.batching)?;
         let (store, run) = &self.store;
-        writeln!(out, "store           {} (run {run})", store.display())?;
+        writeln!(out, "store           {store} (run {run})")?;
         if let Some(s0) = o.start_score {
             writeln!(out, "start score {s0:.4} (the configured values)")?;
         }

@@ -6,12 +6,13 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::optimize::curve::plot_curves;
-use crate::optimize::store::{RunRow, Store};
+use crate::optimize::store::{RunRow, Store, StoreLocation};
 
 /// Options of `proleg results`.
 pub struct ResultsOptions {
-    /// One or more stores; their runs are listed and drawn together.
-    pub stores: Vec<PathBuf>,
+    /// One or more stores (SQLite files or postgres:// URLs); their runs are listed and
+    /// drawn together.
+    pub stores: Vec<String>,
     /// Only these runs (default: all).
     pub runs: Vec<i64>,
     /// Draw the learning curves into this PNG.
@@ -23,8 +24,8 @@ pub struct ResultsOptions {
 /// The runs of the stores, and the files written.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ResultsReport {
-    /// Each store and its runs (those asked for).
-    pub stores: Vec<(PathBuf, Vec<RunRow>)>,
+    /// Each store (as it may be shown: no password) and its runs (those asked for).
+    pub stores: Vec<(String, Vec<RunRow>)>,
     /// The learning curves' PNG, if drawn.
     pub curve: Option<PathBuf>,
     /// The evaluations' TSV, if written.
@@ -36,7 +37,7 @@ impl std::fmt::Display for ResultsReport {
         let mut out = String::new();
         for (path, runs) in &self.stores {
             if self.stores.len() > 1 {
-                let _ = writeln!(out, "{}:", path.display());
+                let _ = writeln!(out, "{path}:");
             }
             if runs.is_empty() {
                 out.push_str("no runs stored\n");
@@ -83,11 +84,8 @@ fn describe(out: &mut String, r: &RunRow) {
 /// Lists the runs and best candidates of the stores; draws and exports as asked.
 pub fn run(o: &ResultsOptions) -> Result<ResultsReport, String> {
     let mut opened: Vec<(Store, Vec<RunRow>)> = Vec::new();
-    for path in &o.stores {
-        if !path.exists() {
-            return Err(format!("{}: no such store", path.display()));
-        }
-        let store = Store::open(path)?;
+    for text in &o.stores {
+        let mut store = Store::open_existing(&StoreLocation::parse(text)?)?;
         let mut runs = store.runs()?;
         if !o.runs.is_empty() {
             runs.retain(|r| o.runs.contains(&r.id));
@@ -103,8 +101,8 @@ pub fn run(o: &ResultsOptions) -> Result<ResultsReport, String> {
     }
     if let Some(png) = &o.curve {
         let mut curves = Vec::new();
-        for (store, runs) in &opened {
-            for r in runs {
+        for (store, runs) in &mut opened {
+            for r in runs.iter() {
                 let scores: Vec<f64> = store.evaluations(r.id)?.iter().map(|e| e.score).collect();
                 let name = Path::new(&r.info.config)
                     .file_name()
@@ -126,15 +124,16 @@ pub fn run(o: &ResultsOptions) -> Result<ResultsReport, String> {
     if let Some(tsv) = &o.export {
         let mut text =
             String::from("store\trun\tevaluation\tround\tscore\twall_s\tgenome\tvalues\n");
-        for (store, runs) in &opened {
-            for r in runs {
+        for (store, runs) in &mut opened {
+            let shown = store.describe();
+            for r in runs.iter() {
                 for e in store.evaluations(r.id)? {
                     let g: Vec<String> = e.genome.iter().map(|k| k.to_string()).collect();
                     let v: Vec<String> = e.values.iter().map(|k| k.to_string()).collect();
                     let _ = writeln!(
                         text,
                         "{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}",
-                        store.path().display(),
+                        shown,
                         r.id,
                         e.number,
                         e.round,
@@ -151,7 +150,7 @@ pub fn run(o: &ResultsOptions) -> Result<ResultsReport, String> {
     Ok(ResultsReport {
         stores: opened
             .into_iter()
-            .map(|(store, runs)| (store.path().to_path_buf(), runs))
+            .map(|(store, runs)| (store.describe(), runs))
             .collect(),
         curve: o.curve.clone(),
         export: o.export.clone(),

@@ -39,4 +39,4 @@ pub mod xml;
 
 pub use error::{ConfigError, ConfigResult, ErrorKind, Pos};
 pub use resolve::{Simulation, load_simulation_with};
-pub use source::{FileSource, FsSource, MemSource};
+pub use source::{FileSource, FsSource, MemSource, RecordingSource};

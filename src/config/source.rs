@@ -74,6 +74,49 @@ impl FileSource for MemSource {
     }
 }
 
+/// Another source that keeps a copy of every file read through it: the resolved
+/// configuration of a run, stored with it so a worker on another host needs nothing else.
+pub struct RecordingSource<'a> {
+    inner: &'a dyn FileSource,
+    read: std::sync::Mutex<BTreeMap<PathBuf, String>>,
+}
+
+impl<'a> RecordingSource<'a> {
+    /// Records what is read from `inner`.
+    pub fn new(inner: &'a dyn FileSource) -> Self {
+        RecordingSource {
+            inner,
+            read: std::sync::Mutex::new(BTreeMap::new()),
+        }
+    }
+
+    /// Every file read, as (normalized path, text), by path.
+    pub fn files(&self) -> Vec<(String, String)> {
+        self.read
+            .lock()
+            .map(|m| {
+                m.iter()
+                    .map(|(p, t)| (p.display().to_string(), t.clone()))
+                    .collect()
+            })
+            .unwrap_or_default()
+    }
+}
+
+impl FileSource for RecordingSource<'_> {
+    fn read(&self, path: &Path) -> io::Result<String> {
+        let text = self.inner.read(path)?;
+        if let Ok(mut m) = self.read.lock() {
+            m.insert(normalize(path), text.clone());
+        }
+        Ok(text)
+    }
+
+    fn exists(&self, path: &Path) -> bool {
+        self.inner.exists(path)
+    }
+}
+
 /// Removes `.` and resolves `..` lexically (no file-system access).
 pub fn normalize(path: &Path) -> PathBuf {
     let mut out = PathBuf::new();

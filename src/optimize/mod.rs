@@ -3,7 +3,8 @@
 //! the modified great deluge ([`deluge`]) behind one ask/tell interface
 //! ([`Optimizer`]), fitness functions ([`fitness`]) and the evaluator that runs
 //! candidates as seeded headless episodes, batched per world, on every core
-//! ([`evaluate`]).
+//! ([`evaluate`]); the experiment store ([`store`]: SQLite, or PostgreSQL shared by a
+//! driver and workers on many hosts, [`shared`]).
 
 pub mod curve;
 pub mod deluge;
@@ -13,6 +14,7 @@ pub mod ga;
 pub mod result;
 pub mod run;
 pub mod settings;
+pub mod shared;
 pub mod space;
 pub mod store;
 

@@ -12,7 +12,9 @@ use crate::optimize::deluge::GreatDeluge;
 use crate::optimize::evaluate::Evaluator;
 use crate::optimize::ga::GeneticAlgorithm;
 use crate::optimize::space::{Genome, SearchSpace};
-use crate::optimize::store::{Store, StoredEval};
+use crate::optimize::shared::driver::{LocalWorkers, evaluate_round};
+use crate::optimize::store::pg_queue::{DONE, Pending};
+use crate::optimize::store::{PgStore, Store, StoredEval};
 
 pub use crate::optimize::settings::{RunChoices, RunSettings, StopFlag};
 
@@ -88,6 +90,9 @@ pub struct Recording<'a> {
     /// Evaluations stored by an earlier, interrupted attempt of this run, sorted by
     /// number (as [`Store::evaluations`] returns them).
     pub known: Vec<StoredEval>,
+    /// Testing aid for resumption: abort the process (no clean-up, like `kill -9`) right
+    /// after the batch that brings this call's stored evaluations to this many.
+    pub crash_after: Option<u64>,
 }
 
 /// Runs the optimization of `sim`, calling `on_eval` for every evaluation in order. With a
@@ -105,21 +110,38 @@ pub fn optimize(
         return Err("no optimizer".into());
     };
     let mut optimizer = build_optimizer(&model.spec.algorithm, &space, &start, settings);
-    let workers = settings.workers.max(1);
-    let mut evaluator = Evaluator {
+    let shared = recording
+        .as_mut()
+        .and_then(|r| r.store.shared())
+        .is_some();
+    check_workers(settings, shared)?;
+    let workers = settings.workers;
+    let evaluator = |workers: usize| Evaluator {
         sim: sim.clone(),
         registry: registry.clone(),
-        space,
+        space: space.clone(),
         fitness: settings.fitness,
         duration: settings.duration,
         seed: settings.seed,
         batch: settings.batch,
         workers,
     };
+    let mut local = match recording.as_mut() {
+        Some(r) if shared => match r.store.shared() {
+            Some(pg) => {
+                pg.listen(DONE)?;
+                Some(LocalWorkers::start(pg, registry, evaluator(1), r.run, workers))
+            }
+            None => None,
+        },
+        _ => None,
+    };
+    let mut evaluator = evaluator(workers.max(1));
     let (mut n, mut round, mut best) = (0u64, 0u64, f64::NEG_INFINITY);
     let mut start_score = None;
     let mut simulated = 0u64;
-    let mut batching = Batching::new(settings.batch, workers);
+    let mut batching = Batching::new(settings.batch, workers.max(1));
+    let mut stored = 0u64;
     while !optimizer.finished() && !settings.stop.is_set() {
         let candidates = optimizer.ask();
         if candidates.is_empty() {
@@ -133,14 +155,23 @@ pub fn optimize(
             candidates: &candidates,
             missing: &missing,
         };
-        simulate_missing(
-            &mut evaluator,
-            &mut batching,
-            &round_of,
-            &mut scores,
-            &mut recording,
-            settings.seed,
-        )?;
+        match (local.as_mut(), recording.as_mut()) {
+            (Some(local), Some(rec)) => {
+                let run = rec.run;
+                let Some(pg) = rec.store.shared() else {
+                    return Err("the shared store went away".into());
+                };
+                queue_missing(pg, run, settings.seed, &evaluator.space, &round_of, &mut scores, local)?;
+            }
+            _ => simulate_missing(
+                &mut evaluator,
+                &mut batching,
+                &round_of,
+                &mut scores,
+                &mut recording,
+                (settings.seed, &mut stored),
+            )?,
+        }
         for (g, s) in candidates.iter().zip(&scores) {
             if n == 0 {
                 start_score = Some(*s);
@@ -158,7 +189,11 @@ pub fn optimize(
         optimizer.tell(&scores);
         round += 1;
     }
-    if let Some(r) = recording.as_ref() {
+    if let (Some(local), Some(pg)) = (local, recording.as_mut().and_then(|r| r.store.shared())) {
+        local.finish(pg)?;
+        batching.description = format!("one world per candidate, through the shared store ({workers} local worker thread(s))");
+    }
+    if let Some(r) = recording.as_mut() {
         r.store.finish_run(r.run)?;
     }
     let (g, s) = optimizer
@@ -175,6 +210,52 @@ pub fn optimize(
         batching: batching.description,
         rounds: round,
     })
+}
+
+/// Local worker threads: at least one, unless a shared store's workers evaluate; one robot
+/// per world with a shared store (scores must not depend on who claims what).
+fn check_workers(settings: &RunSettings, shared: bool) -> Result<(), String> {
+    if settings.workers == 0 && !shared {
+        return Err("--workers 0: give at least 1 (0 only with a shared postgres:// store, whose workers evaluate)".into());
+    }
+    if shared && settings.batch != 1 {
+        return Err(format!(
+            "--batch {}: a shared store evaluates one robot per world, so that a score does not depend on which worker claimed what",
+            settings.batch
+        ));
+    }
+    Ok(())
+}
+
+/// Puts the round's missing candidates in the shared store's queue and fills their scores
+/// as the workers (local and remote) write them.
+fn queue_missing(
+    pg: &mut PgStore,
+    run: i64,
+    seed: u64,
+    space: &crate::optimize::space::SearchSpace,
+    r: &RoundRef<'_>,
+    scores: &mut [f64],
+    local: &mut LocalWorkers,
+) -> Result<(), String> {
+    if r.missing.is_empty() {
+        return Ok(());
+    }
+    let pending: Vec<Pending> = r
+        .missing
+        .iter()
+        .map(|&i| Pending {
+            number: r.first + i as u64,
+            round: r.round,
+            genome: r.candidates[i].clone(),
+            values: space.decode(&r.candidates[i]),
+        })
+        .collect();
+    let got = evaluate_round(pg, run, seed, &pending, local)?;
+    for (k, s) in got.into_iter().enumerate() {
+        scores[r.missing[k]] = if s.is_nan() { f64::NEG_INFINITY } else { s };
+    }
+    Ok(())
 }
 
 /// The optimizer an optimizer file names, starting from `start`.
@@ -311,7 +392,7 @@ fn simulate_missing(
     r: &RoundRef<'_>,
     scores: &mut [f64],
     recording: &mut Option<Recording<'_>>,
-    seed: u64,
+    (seed, stored): (u64, &mut u64),
 ) -> Result<(), String> {
     if r.missing.is_empty() {
         return Ok(());
@@ -345,6 +426,10 @@ fn simulate_missing(
                 .collect();
             if let Err(e) = rec.store.record(rec.run, seed, &evals) {
                 store_error.get_or_insert(e);
+            }
+            *stored += evals.len() as u64;
+            if rec.crash_after.is_some_and(|n| *stored >= n) {
+                std::process::abort();
             }
         })?;
         if let Some(e) = store_error {

@@ -39,7 +39,7 @@ impl PartialEq for StopFlag {
 pub struct RunSettings {
     /// Seed of the optimizer and of every episode.
     pub seed: u64,
-    /// Worker threads evaluating batches.
+    /// Worker threads evaluating batches (0 only with a shared store: remote workers).
     pub workers: usize,
     /// Robots per world (0: split each round evenly over the workers).
     pub batch: usize,
@@ -110,9 +110,6 @@ impl RunSettings {
                 .map(|n| n.get())
                 .unwrap_or(1)
         });
-        if workers == 0 {
-            return Err("--workers 0: give at least 1".into());
-        }
         Ok(RunSettings {
             seed: choices.seed.unwrap_or(props.seed),
             workers,

@@ -1,0 +1,108 @@
+//! The driver's end of a shared store: a round's candidates go into the queue and their
+//! scores come back in candidate order; the driver's own cores evaluate too, as a pool of
+//! workers restricted to its run.
+
+use std::sync::Arc;
+use std::thread::JoinHandle;
+
+use crate::control::ModuleRegistry;
+use crate::optimize::evaluate::Evaluator;
+use crate::optimize::settings::StopFlag;
+use crate::optimize::shared::worker::{DEFAULT_LEASE, WorkerOptions, WorkerReport, run_pool};
+use crate::optimize::store::PgStore;
+use crate::optimize::store::pg_queue::Pending;
+
+/// Queues `pending` (candidates of `run`) and waits for their scores, in the same order;
+/// a failed episode scores NaN. The wait ends with an error if the local workers fail.
+pub fn evaluate_round(
+    store: &mut PgStore,
+    run: i64,
+    seed: u64,
+    pending: &[Pending],
+    local: &mut LocalWorkers,
+) -> Result<Vec<f64>, String> {
+    store.enqueue(run, seed, pending)?;
+    let numbers: Vec<u64> = pending.iter().map(|p| p.number).collect();
+    store.wait_scores(run, &numbers, |_| local.check())
+}
+
+/// The driver's own evaluating threads, running beside it until dropped or finished.
+pub struct LocalWorkers {
+    stop: StopFlag,
+    handle: Option<JoinHandle<Result<WorkerReport, String>>>,
+}
+
+impl LocalWorkers {
+    /// Starts `threads` workers (none for 0) on `run` of `store`, with `evaluator` already
+    /// built from the driver's configuration.
+    pub fn start(
+        store: &PgStore,
+        registry: &ModuleRegistry,
+        evaluator: Evaluator,
+        run: i64,
+        threads: usize,
+    ) -> LocalWorkers {
+        let stop = StopFlag::default();
+        if threads == 0 {
+            return LocalWorkers { stop, handle: None };
+        }
+        let target = store.target().clone();
+        let registry = registry.clone();
+        let options = WorkerOptions {
+            threads,
+            lease: DEFAULT_LEASE,
+            idle_exit: None,
+            only_run: Some(run),
+        };
+        let flag = stop.clone();
+        let evaluator = Arc::new(evaluator);
+        let handle = std::thread::spawn(move || {
+            run_pool(
+                &target,
+                &registry,
+                &options,
+                &flag,
+                Some((run, evaluator)),
+                &|_| {},
+            )
+        });
+        LocalWorkers {
+            stop,
+            handle: Some(handle),
+        }
+    }
+
+    /// An error if the threads ended on one (a lost connection): the driver would otherwise
+    /// wait for results no one computes.
+    pub fn check(&mut self) -> Result<(), String> {
+        if !self.handle.as_ref().is_some_and(|h| h.is_finished()) {
+            return Ok(());
+        }
+        match self.handle.take().map(|h| h.join()) {
+            Some(Ok(Err(e))) => Err(format!("the local workers stopped: {e}")),
+            Some(Err(_)) => Err("a local worker panicked".into()),
+            _ => Ok(()),
+        }
+    }
+
+    /// Stops the threads (woken through `store`) and returns what they did.
+    pub fn finish(mut self, store: &mut PgStore) -> Result<WorkerReport, String> {
+        self.stop.stop();
+        store.wake_workers()?;
+        match self.handle.take() {
+            None => Ok(WorkerReport::default()),
+            Some(h) => h
+                .join()
+                .unwrap_or_else(|_| Err("a local worker panicked".into())),
+        }
+    }
+}
+
+impl Drop for LocalWorkers {
+    fn drop(&mut self) {
+        self.stop.stop();
+        if let Some(h) = self.handle.take() {
+            let _ = h.join();
+        }
+    }
+}

@@ -1,0 +1,65 @@
+//! Shared evaluation: one optimization spread over many processes and hosts through a
+//! PostgreSQL store.
+//!
+//! The optimizing process is the **driver** (it owns the optimizer's state): each round it
+//! writes the candidates still to score as pending evaluations ([`driver`]) and waits for
+//! their scores, read back in candidate order. **Workers** ([`worker`]) claim pending
+//! evaluations, run each as a seeded headless episode in a world of its own, and write the
+//! score: the driver's own threads, and `proleg worker --store URL` on any host, which needs
+//! nothing but the URL: the run's configuration files are in the store ([`run_evaluator`]).
+//!
+//! Each episode is a pure function of the stored configuration, the run's seed and the
+//! candidate, so the scores, and therefore every later candidate, are the same whoever
+//! evaluates them.
+
+pub mod driver;
+pub mod worker;
+
+use std::path::Path;
+
+use crate::config::{MemSource, load_simulation_with};
+use crate::control::ModuleRegistry;
+use crate::optimize::evaluate::Evaluator;
+use crate::optimize::fitness::Fitness;
+use crate::optimize::run::prepare;
+use crate::optimize::store::{RunSpec, program_version};
+
+/// The evaluator of a stored run, built from its stored files with this host's module
+/// types; an error says why this host cannot evaluate it (another program version, a
+/// module type it lacks, a configuration that does not load).
+pub fn run_evaluator(spec: &RunSpec, registry: &ModuleRegistry) -> Result<Evaluator, String> {
+    let here = program_version();
+    if spec.program != here {
+        return Err(format!(
+            "started by {}, this host runs {here}: its scores could differ, so it is left to workers of the same version",
+            spec.program
+        ));
+    }
+    let mut src = MemSource::new();
+    for (path, text) in &spec.files {
+        src.insert(path, text.as_str());
+    }
+    let sim = load_simulation_with(&src, Path::new(&spec.info.config), registry).map_err(|e| {
+        format!("its configuration does not load on this host: {e}")
+    })?;
+    let (space, _) = prepare(&sim, registry)?;
+    let genes: Vec<String> = space.genes.iter().map(|g| g.label()).collect();
+    if genes != spec.info.genes {
+        return Err(format!(
+            "this host reads other genes from its configuration ({} instead of {})",
+            genes.join(", "),
+            spec.info.genes.join(", ")
+        ));
+    }
+    let fitness = Fitness::parse(&spec.info.fitness)?;
+    Ok(Evaluator {
+        sim,
+        registry: registry.clone(),
+        space,
+        fitness,
+        duration: spec.info.duration,
+        seed: spec.info.seed,
+        batch: 1,
+        workers: 1,
+    })
+}

@@ -1,0 +1,272 @@
+//! The evaluating end of a shared store: threads that claim pending evaluations, run each
+//! in a world of its own and write the score, and a heartbeat that renews their leases.
+//! `proleg worker` runs one such pool; the driver runs another on its own cores.
+
+use std::collections::HashMap;
+use std::sync::mpsc::{RecvTimeoutError, channel};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use crate::control::ModuleRegistry;
+use crate::optimize::evaluate::Evaluator;
+use crate::optimize::settings::StopFlag;
+use crate::optimize::shared::run_evaluator;
+use crate::optimize::store::pg_queue::{Claim, PENDING};
+use crate::optimize::store::{PgStore, PgTarget};
+
+/// How long a claim stays valid without a heartbeat, unless the user says otherwise.
+pub const DEFAULT_LEASE: Duration = Duration::from_secs(60);
+
+/// Longest wait between two looks for work when no notification comes (an expired lease
+/// announces itself to no one).
+const IDLE_POLL: Duration = Duration::from_secs(1);
+
+/// How a pool of workers runs.
+#[derive(Debug, Clone)]
+pub struct WorkerOptions {
+    /// Evaluating threads (each with its own connection).
+    pub threads: usize,
+    /// Lease of a claim; the heartbeat renews it every third of it.
+    pub lease: Duration,
+    /// Exit after this long with nothing to claim (`None`: run until stopped).
+    pub idle_exit: Option<Duration>,
+    /// Claim only this run's evaluations (the driver's own threads).
+    pub only_run: Option<i64>,
+}
+
+/// What a pool did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct WorkerReport {
+    /// Results written.
+    pub evaluated: u64,
+    /// Results discarded because their claim's lease had run out.
+    pub discarded: u64,
+    /// Episodes that failed to build (stored as failed, scored `-inf` by the driver).
+    pub failed: u64,
+    /// Why runs were refused (one line each).
+    pub refused: Vec<String>,
+    /// Seconds spent in successful claims and in writing results (the coordination).
+    pub coordination: f64,
+    /// Wall seconds of the pool.
+    pub wall: f64,
+}
+
+impl WorkerReport {
+    /// Milliseconds of claim and write per evaluation.
+    pub fn overhead_ms(&self) -> f64 {
+        let n = (self.evaluated + self.discarded).max(1);
+        self.coordination * 1000.0 / n as f64
+    }
+}
+
+/// This process's name in claims: host, process id and start time (a reused pid differs).
+pub fn worker_id() -> String {
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .map(|h| h.trim().to_string())
+        .unwrap_or_else(|_| "host".into());
+    let nonce = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.subsec_nanos())
+        .unwrap_or(0);
+    format!("{host}/{}/{nonce:08x}", std::process::id())
+}
+
+/// What the threads of a pool share.
+struct Pool<'a> {
+    target: &'a PgTarget,
+    registry: &'a ModuleRegistry,
+    options: &'a WorkerOptions,
+    id: String,
+    stop: &'a StopFlag,
+    preloaded: Option<(i64, Arc<Evaluator>)>,
+    refused: Mutex<Vec<i64>>,
+    report: Mutex<WorkerReport>,
+    on_message: &'a (dyn Fn(&str) + Sync),
+}
+
+/// Runs a pool until `stop` is set, or it has been idle for `idle_exit`; `preloaded` is an
+/// evaluator for one run already built (the driver's), `on_message` hears refusals and
+/// failed episodes.
+pub fn run_pool(
+    target: &PgTarget,
+    registry: &ModuleRegistry,
+    options: &WorkerOptions,
+    stop: &StopFlag,
+    preloaded: Option<(i64, Arc<Evaluator>)>,
+    on_message: &(dyn Fn(&str) + Sync),
+) -> Result<WorkerReport, String> {
+    let t = Instant::now();
+    let pool = Pool {
+        target,
+        registry,
+        options,
+        id: worker_id(),
+        stop,
+        preloaded,
+        refused: Mutex::new(Vec::new()),
+        report: Mutex::new(WorkerReport::default()),
+        on_message,
+    };
+    let mut heartbeat_store = PgStore::open(target, false)?;
+    let (alive, beats) = channel::<()>();
+    // The heartbeat hears nothing but the close of this channel when the last thread ends.
+    let results = std::thread::scope(|s| {
+        let pool = &pool;
+        let threads: Vec<_> = (0..options.threads.max(1))
+            .map(|_| {
+                let alive = alive.clone();
+                s.spawn(move || {
+                    let r = pool.evaluate_loop();
+                    drop(alive);
+                    r
+                })
+            })
+            .collect();
+        drop(alive);
+        let beat = heartbeat(&mut heartbeat_store, &pool.id, options.lease, &beats);
+        let mut results: Vec<Result<(), String>> = threads
+            .into_iter()
+            .map(|h| h.join().unwrap_or_else(|_| Err("a worker thread panicked".into())))
+            .collect();
+        results.push(beat);
+        results
+    });
+    let mut report = pool.report.into_inner().unwrap_or_default();
+    report.wall = t.elapsed().as_secs_f64();
+    match results.into_iter().find_map(Result::err) {
+        Some(e) => Err(e),
+        None => Ok(report),
+    }
+}
+
+/// Renews the pool's leases every third of a lease until every thread has ended (the
+/// channel closes).
+fn heartbeat(
+    store: &mut PgStore,
+    id: &str,
+    lease: Duration,
+    beats: &std::sync::mpsc::Receiver<()>,
+) -> Result<(), String> {
+    loop {
+        if let Err(RecvTimeoutError::Disconnected) = beats.recv_timeout(lease / 3) {
+            return Ok(());
+        }
+        store.renew(id, lease)?;
+    }
+}
+
+impl Pool<'_> {
+    /// One thread: claim, evaluate, write, until stopped or idle long enough.
+    fn evaluate_loop(&self) -> Result<(), String> {
+        let mut store = PgStore::open(self.target, false)?;
+        store.listen(PENDING)?;
+        let mut evaluators: HashMap<i64, Arc<Evaluator>> = HashMap::new();
+        if let Some((run, e)) = &self.preloaded {
+            evaluators.insert(*run, e.clone());
+        }
+        let mut idle_since = Instant::now();
+        while !self.stop.is_set() {
+            let refused = self.refused.lock().map(|r| r.clone()).unwrap_or_default();
+            let t = Instant::now();
+            let claims = store.claim(
+                &self.id,
+                self.options.lease,
+                self.options.only_run,
+                &refused,
+                1,
+            )?;
+            let claim_seconds = t.elapsed().as_secs_f64();
+            let Some(claim) = claims.into_iter().next() else {
+                if self
+                    .options
+                    .idle_exit
+                    .is_some_and(|limit| idle_since.elapsed() >= limit)
+                {
+                    return Ok(());
+                }
+                store.wait_notification(IDLE_POLL)?;
+                continue;
+            };
+            let evaluator = match self.evaluator(&mut store, &mut evaluators, claim.run) {
+                Ok(e) => e,
+                Err(why) => {
+                    self.refuse(claim.run, why);
+                    store.release(&self.id, &claim)?;
+                    continue;
+                }
+            };
+            self.evaluate(&mut store, &evaluator, &claim, claim_seconds)?;
+            idle_since = Instant::now();
+        }
+        Ok(())
+    }
+
+    /// Runs one claimed episode and writes its score.
+    fn evaluate(
+        &self,
+        store: &mut PgStore,
+        evaluator: &Evaluator,
+        claim: &Claim,
+        claim_seconds: f64,
+    ) -> Result<(), String> {
+        let t = Instant::now();
+        let score = match evaluator.run_batch(std::slice::from_ref(&claim.genome)) {
+            Ok(scores) => scores.first().copied().unwrap_or(f64::NAN),
+            Err(e) => {
+                (self.on_message)(&format!(
+                    "run {} evaluation {}: the episode failed: {e}",
+                    claim.run, claim.number
+                ));
+                f64::NAN
+            }
+        };
+        let wall = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let accepted = store.submit(&self.id, claim, score, wall)?;
+        let submit_seconds = t.elapsed().as_secs_f64();
+        if let Ok(mut r) = self.report.lock() {
+            r.coordination += claim_seconds + submit_seconds;
+            if !accepted {
+                r.discarded += 1;
+            } else if score.is_nan() {
+                r.failed += 1;
+                r.evaluated += 1;
+            } else {
+                r.evaluated += 1;
+            }
+        }
+        Ok(())
+    }
+
+    /// The evaluator of `run`, built from the store on its first claim.
+    fn evaluator(
+        &self,
+        store: &mut PgStore,
+        cache: &mut HashMap<i64, Arc<Evaluator>>,
+        run: i64,
+    ) -> Result<Arc<Evaluator>, String> {
+        if let Some(e) = cache.get(&run) {
+            return Ok(e.clone());
+        }
+        let spec = store.run_spec(run)?;
+        let e = Arc::new(run_evaluator(&spec, self.registry)?);
+        cache.insert(run, e.clone());
+        Ok(e)
+    }
+
+    /// Leaves `run` to other workers from now on, saying why once.
+    fn refuse(&self, run: i64, why: String) {
+        let Ok(mut refused) = self.refused.lock() else {
+            return;
+        };
+        if refused.contains(&run) {
+            return;
+        }
+        refused.push(run);
+        let line = format!("refusing run {run}: {why}");
+        (self.on_message)(&line);
+        if let Ok(mut r) = self.report.lock() {
+            r.refused.push(line);
+        }
+    }
+}

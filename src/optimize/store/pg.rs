@@ -1,0 +1,360 @@
+//! The PostgreSQL experiment store, shared by a driver and workers on many hosts: the same
+//! tables as the SQLite store, created by the first driver under an advisory lock. Every
+//! statement is parameterized; errors name the store by its URL without the password.
+//! The queue of shared evaluations (claims, leases, results) is in [`super::pg_queue`].
+
+use postgres::{Client, Transaction};
+
+use crate::optimize::store::location::PgTarget;
+use crate::optimize::store::{
+    RunInfo, RunRow, RunSpec, SCHEMA_VERSION, StoredEval, join, parse_list, score_of,
+};
+
+/// An open connection to a PostgreSQL store.
+pub struct PgStore {
+    pub(super) client: Client,
+    pub(super) target: PgTarget,
+}
+
+/// Advisory-lock key under which the first driver creates the tables.
+const SCHEMA_LOCK: i64 = 0x7072_6f6c_6567;
+
+const CREATE: &str = "
+CREATE TABLE proleg_meta (schema_version INTEGER NOT NULL);
+CREATE TABLE runs (
+    id BIGSERIAL PRIMARY KEY,
+    config TEXT NOT NULL, algorithm TEXT NOT NULL, seed BIGINT NOT NULL,
+    fitness TEXT NOT NULL, duration DOUBLE PRECISION NOT NULL, genes TEXT NOT NULL,
+    started TEXT NOT NULL DEFAULT to_char(now() AT TIME ZONE 'UTC', 'YYYY-MM-DD HH24:MI:SS'),
+    finished INTEGER NOT NULL DEFAULT 0,
+    program TEXT NOT NULL DEFAULT '');
+CREATE TABLE run_files (
+    run BIGINT NOT NULL REFERENCES runs(id), path TEXT NOT NULL, content TEXT NOT NULL,
+    PRIMARY KEY (run, path));
+CREATE TABLE evaluations (
+    run BIGINT NOT NULL REFERENCES runs(id), number BIGINT NOT NULL,
+    round BIGINT NOT NULL, genome TEXT NOT NULL, vals TEXT NOT NULL,
+    score DOUBLE PRECISION, seed BIGINT NOT NULL, wall DOUBLE PRECISION NOT NULL DEFAULT 0,
+    state TEXT NOT NULL DEFAULT 'done' CHECK (state IN ('pending', 'running', 'done')),
+    worker TEXT, attempt INTEGER NOT NULL DEFAULT 0, lease_until TIMESTAMPTZ,
+    PRIMARY KEY (run, number));
+CREATE INDEX evaluations_open ON evaluations (run, number) WHERE state <> 'done';";
+
+impl PgStore {
+    /// Connects; with `create`, makes the tables when the database has none. A database
+    /// holding another schema version (or foreign tables of the same names) is refused
+    /// before anything is written.
+    pub fn open(target: &PgTarget, create: bool) -> Result<PgStore, String> {
+        let client = connect(target)?;
+        let mut store = PgStore {
+            client,
+            target: target.clone(),
+        };
+        let fail = store.failer();
+        let mut tx = store.client.transaction().map_err(&fail)?;
+        if create {
+            tx.execute("SELECT pg_advisory_xact_lock($1)", &[&SCHEMA_LOCK])
+                .map_err(&fail)?;
+        }
+        match schema_version(&mut tx).map_err(&fail)? {
+            Some(v) if v == SCHEMA_VERSION => {}
+            Some(v) => {
+                return Err(format!(
+                    "{target}: the store has schema version {v}; this proleg reads version {SCHEMA_VERSION}"
+                ));
+            }
+            None if !create => {
+                return Err(format!(
+                    "{target}: no proleg store in this database (no table proleg_meta); `proleg optimize --store URL` creates it"
+                ));
+            }
+            None => {
+                let foreign: bool = tx
+                    .query_one(
+                        "SELECT to_regclass('runs') IS NOT NULL OR to_regclass('evaluations') IS NOT NULL",
+                        &[],
+                    )
+                    .and_then(|r| r.try_get(0))
+                    .map_err(&fail)?;
+                if foreign {
+                    return Err(format!(
+                        "{target}: the database has tables named runs or evaluations that are not a proleg store; use another database"
+                    ));
+                }
+                tx.batch_execute(CREATE).map_err(&fail)?;
+                tx.execute(
+                    "INSERT INTO proleg_meta (schema_version) VALUES ($1)",
+                    &[&(SCHEMA_VERSION as i32)],
+                )
+                .map_err(&fail)?;
+            }
+        }
+        tx.commit().map_err(&fail)?;
+        Ok(store)
+    }
+
+    /// The store's location (no password).
+    pub fn target(&self) -> &PgTarget {
+        &self.target
+    }
+
+    /// Maps a driver error to a message naming the store.
+    pub(super) fn failer(&self) -> impl Fn(postgres::Error) -> String + use<> {
+        let shown = self.target.to_string();
+        move |e| describe_error(&shown, &e)
+    }
+
+    /// Registers a new run with its configuration files; returns its id.
+    pub fn start_run(
+        &mut self,
+        info: &RunInfo,
+        program: &str,
+        files: &[(String, String)],
+    ) -> Result<i64, String> {
+        let fail = self.failer();
+        let mut tx = self.client.transaction().map_err(&fail)?;
+        let id: i64 = tx
+            .query_one(
+                "INSERT INTO runs (config, algorithm, seed, fitness, duration, genes, program)
+                 VALUES ($1, $2, $3, $4, $5, $6, $7) RETURNING id",
+                &[
+                    &info.config,
+                    &info.algorithm,
+                    &(info.seed as i64),
+                    &info.fitness,
+                    &info.duration,
+                    &info.genes.join("\t"),
+                    &program,
+                ],
+            )
+            .and_then(|r| r.try_get(0))
+            .map_err(&fail)?;
+        for (p, text) in files {
+            tx.execute(
+                "INSERT INTO run_files (run, path, content) VALUES ($1, $2, $3)",
+                &[&id, p, text],
+            )
+            .map_err(&fail)?;
+        }
+        tx.commit().map_err(&fail)?;
+        Ok(id)
+    }
+
+    /// The latest unfinished run matching `info`.
+    pub fn find_unfinished(&mut self, info: &RunInfo) -> Result<Option<i64>, String> {
+        let fail = self.failer();
+        let row = self
+            .client
+            .query_opt(
+                "SELECT id FROM runs WHERE config = $1 AND algorithm = $2 AND seed = $3 AND fitness = $4
+                 AND duration = $5 AND genes = $6 AND finished = 0 ORDER BY id DESC LIMIT 1",
+                &[
+                    &info.config,
+                    &info.algorithm,
+                    &(info.seed as i64),
+                    &info.fitness,
+                    &info.duration,
+                    &info.genes.join("\t"),
+                ],
+            )
+            .map_err(&fail)?;
+        row.map(|r| r.try_get(0)).transpose().map_err(&fail)
+    }
+
+    /// Stores finished evaluations (one transaction), replacing what their numbers held.
+    pub fn record(&mut self, run: i64, seed: u64, evals: &[StoredEval]) -> Result<(), String> {
+        let fail = self.failer();
+        let mut tx = self.client.transaction().map_err(&fail)?;
+        let st = tx
+            .prepare(
+                "INSERT INTO evaluations (run, number, round, genome, vals, score, seed, wall)
+                 VALUES ($1, $2, $3, $4, $5, $6, $7, $8)
+                 ON CONFLICT (run, number) DO UPDATE SET round = EXCLUDED.round,
+                   genome = EXCLUDED.genome, vals = EXCLUDED.vals, score = EXCLUDED.score,
+                   seed = EXCLUDED.seed, wall = EXCLUDED.wall, state = 'done', lease_until = NULL",
+            )
+            .map_err(&fail)?;
+        for e in evals {
+            tx.execute(
+                &st,
+                &[
+                    &run,
+                    &(e.number as i64),
+                    &(e.round as i64),
+                    &join(&e.genome),
+                    &join(&e.values),
+                    &score_of(e.score),
+                    &(seed as i64),
+                    &e.wall,
+                ],
+            )
+            .map_err(&fail)?;
+        }
+        tx.commit().map_err(&fail)
+    }
+
+    /// Every finished evaluation of `run`, by number.
+    pub fn evaluations(&mut self, run: i64) -> Result<Vec<StoredEval>, String> {
+        self.evaluations_from(run, 0)
+    }
+
+    /// The finished evaluations of `run` numbered `first` or more, by number.
+    pub fn evaluations_from(&mut self, run: i64, first: u64) -> Result<Vec<StoredEval>, String> {
+        let fail = self.failer();
+        let rows = self
+            .client
+            .query(
+                "SELECT number, round, genome, vals, score, wall FROM evaluations
+                 WHERE run = $1 AND number >= $2 AND state = 'done' ORDER BY number",
+                &[&run, &(first as i64)],
+            )
+            .map_err(&fail)?;
+        rows.iter()
+            .map(|r| {
+                Ok(StoredEval {
+                    number: r.try_get::<_, i64>(0)? as u64,
+                    round: r.try_get::<_, i64>(1)? as u64,
+                    genome: parse_list(r.try_get(2)?),
+                    values: parse_list(r.try_get(3)?),
+                    score: r.try_get::<_, Option<f64>>(4)?.unwrap_or(f64::NAN),
+                    wall: r.try_get(5)?,
+                })
+            })
+            .collect::<Result<Vec<_>, postgres::Error>>()
+            .map_err(&fail)
+    }
+
+    /// Marks `run` finished.
+    pub fn finish_run(&mut self, run: i64) -> Result<(), String> {
+        let fail = self.failer();
+        self.client
+            .execute("UPDATE runs SET finished = 1 WHERE id = $1", &[&run])
+            .map(|_| ())
+            .map_err(&fail)
+    }
+
+    /// Every run with its best evaluation.
+    pub fn runs(&mut self) -> Result<Vec<RunRow>, String> {
+        let fail = self.failer();
+        let rows = self
+            .client
+            .query(
+                "SELECT r.id, r.config, r.algorithm, r.seed, r.fitness, r.duration, r.genes, r.started, r.finished,
+                        (SELECT COUNT(*) FROM evaluations e WHERE e.run = r.id AND e.state = 'done'),
+                        (SELECT MAX(score) FROM evaluations e WHERE e.run = r.id AND e.state = 'done'),
+                        (SELECT vals FROM evaluations e WHERE e.run = r.id AND e.state = 'done' AND e.score IS NOT NULL
+                         ORDER BY score DESC, number LIMIT 1)
+                 FROM runs r ORDER BY r.id",
+                &[],
+            )
+            .map_err(&fail)?;
+        rows.iter()
+            .map(|r| {
+                Ok(RunRow {
+                    id: r.try_get(0)?,
+                    info: run_info(r)?,
+                    started: r.try_get(7)?,
+                    finished: r.try_get::<_, i32>(8)? != 0,
+                    evaluations: r.try_get::<_, i64>(9)? as u64,
+                    best_score: r.try_get(10)?,
+                    best_values: r.try_get(11)?,
+                })
+            })
+            .collect::<Result<Vec<_>, postgres::Error>>()
+            .map_err(&fail)
+    }
+
+    /// What a worker needs to evaluate `run`'s candidates: the run, the program that
+    /// started it and its configuration files.
+    pub fn run_spec(&mut self, run: i64) -> Result<RunSpec, String> {
+        let fail = self.failer();
+        let row = self
+            .client
+            .query_opt(
+                "SELECT id, config, algorithm, seed, fitness, duration, genes, program, finished
+                 FROM runs WHERE id = $1",
+                &[&run],
+            )
+            .map_err(&fail)?
+            .ok_or_else(|| format!("{}: no run {run}", self.target))?;
+        let files = self
+            .client
+            .query(
+                "SELECT path, content FROM run_files WHERE run = $1 ORDER BY path",
+                &[&run],
+            )
+            .map_err(&fail)?;
+        let files = files
+            .iter()
+            .map(|f| Ok((f.try_get(0)?, f.try_get(1)?)))
+            .collect::<Result<Vec<(String, String)>, postgres::Error>>()
+            .map_err(&fail)?;
+        Ok(RunSpec {
+            id: run,
+            info: run_info(&row).map_err(&fail)?,
+            program: row.try_get(7).map_err(&fail)?,
+            finished: row.try_get::<_, i32>(8).map_err(&fail)? != 0,
+            files,
+        })
+    }
+}
+
+/// The run description in columns 1..=6 of `r`.
+fn run_info(r: &postgres::Row) -> Result<RunInfo, postgres::Error> {
+    let genes: String = r.try_get(6)?;
+    Ok(RunInfo {
+        config: r.try_get(1)?,
+        algorithm: r.try_get(2)?,
+        seed: r.try_get::<_, i64>(3)? as u64,
+        fitness: r.try_get(4)?,
+        duration: r.try_get(5)?,
+        genes: genes.split('\t').map(str::to_string).collect(),
+    })
+}
+
+/// The schema version of the store in this database, if it has one.
+fn schema_version(tx: &mut Transaction<'_>) -> Result<Option<i64>, postgres::Error> {
+    let exists: bool = tx
+        .query_one("SELECT to_regclass('proleg_meta') IS NOT NULL", &[])?
+        .try_get(0)?;
+    if !exists {
+        return Ok(None);
+    }
+    let v: Option<i32> = tx
+        .query_one("SELECT MAX(schema_version) FROM proleg_meta", &[])?
+        .try_get(0)?;
+    Ok(v.map(i64::from))
+}
+
+/// A connection to `target`: TLS when the URL's `sslmode` asks for it (`require`
+/// encrypts without checking the server's certificate, as libpq does).
+pub fn connect(target: &PgTarget) -> Result<Client, String> {
+    let tls = native_tls::TlsConnector::builder()
+        .danger_accept_invalid_certs(true)
+        .danger_accept_invalid_hostnames(true)
+        .build()
+        .map_err(|e| format!("{target}: cannot set up TLS: {e}"))?;
+    target
+        .config
+        .connect(postgres_native_tls::MakeTlsConnector::new(tls))
+        .map_err(|e| describe_error(&target.to_string(), &e))
+}
+
+/// One line naming the store and the cause (the server's message when it sent one).
+pub fn describe_error(shown: &str, e: &postgres::Error) -> String {
+    match e.as_db_error() {
+        Some(db) => format!("{shown}: {}", db.message()),
+        None => {
+            let mut text = e.to_string();
+            let mut source = std::error::Error::source(e);
+            while let Some(s) = source {
+                let more = s.to_string();
+                if !text.contains(&more) {
+                    text = format!("{text}: {more}");
+                }
+                source = s.source();
+            }
+            format!("{shown}: {text}")
+        }
+    }
+}

@@ -1,0 +1,264 @@
+//! The embedded SQLite experiment store (one machine): WAL journal, each batch of
+//! evaluations one transaction. Its tables are the shared store's (see [`super`]); stores
+//! written before the schema had a version (version 1) are brought to the current one.
+
+use std::path::{Path, PathBuf};
+
+use rusqlite::{Connection, OptionalExtension, params};
+
+use crate::optimize::store::{
+    RunInfo, RunRow, SCHEMA_VERSION, StoredEval, join, parse_list, score_of,
+};
+
+/// An open SQLite store.
+pub struct SqliteStore {
+    conn: Connection,
+    path: PathBuf,
+}
+
+const CREATE: &str = "
+CREATE TABLE IF NOT EXISTS proleg_meta (schema_version INTEGER NOT NULL);
+CREATE TABLE IF NOT EXISTS runs (
+    id INTEGER PRIMARY KEY,
+    config TEXT NOT NULL, algorithm TEXT NOT NULL, seed INTEGER NOT NULL,
+    fitness TEXT NOT NULL, duration REAL NOT NULL, genes TEXT NOT NULL,
+    started TEXT NOT NULL DEFAULT (datetime('now')),
+    finished INTEGER NOT NULL DEFAULT 0,
+    program TEXT NOT NULL DEFAULT '');
+CREATE TABLE IF NOT EXISTS run_files (
+    run INTEGER NOT NULL REFERENCES runs(id), path TEXT NOT NULL, content TEXT NOT NULL,
+    PRIMARY KEY (run, path));
+CREATE TABLE IF NOT EXISTS evaluations (
+    run INTEGER NOT NULL REFERENCES runs(id), number INTEGER NOT NULL,
+    round INTEGER NOT NULL, genome TEXT NOT NULL, vals TEXT NOT NULL,
+    score REAL, seed INTEGER NOT NULL, wall REAL NOT NULL DEFAULT 0,
+    state TEXT NOT NULL DEFAULT 'done', worker TEXT, attempt INTEGER NOT NULL DEFAULT 0,
+    lease_until REAL,
+    PRIMARY KEY (run, number));";
+
+/// Version 1 (no `proleg_meta`) to 2: the columns of shared evaluation and the run's files.
+const FROM_V1: &str = "
+ALTER TABLE runs ADD COLUMN program TEXT NOT NULL DEFAULT '';
+ALTER TABLE evaluations ADD COLUMN state TEXT NOT NULL DEFAULT 'done';
+ALTER TABLE evaluations ADD COLUMN worker TEXT;
+ALTER TABLE evaluations ADD COLUMN attempt INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE evaluations ADD COLUMN lease_until REAL;";
+
+impl SqliteStore {
+    /// Opens (creating if needed) the store at `path`.
+    pub fn open(path: &Path) -> Result<SqliteStore, String> {
+        let fail = |e: rusqlite::Error| format!("{}: {e}", path.display());
+        let conn = Connection::open(path).map_err(fail)?;
+        conn.pragma_update(None, "journal_mode", "WAL")
+            .map_err(fail)?;
+        conn.pragma_update(None, "synchronous", "NORMAL")
+            .map_err(fail)?;
+        let store = SqliteStore {
+            conn,
+            path: path.to_path_buf(),
+        };
+        store.upgrade()?;
+        Ok(store)
+    }
+
+    /// Creates the tables, or brings an older store to [`SCHEMA_VERSION`]; a newer store is
+    /// refused.
+    fn upgrade(&self) -> Result<(), String> {
+        let has = |table: &str| -> Result<bool, String> {
+            self.conn
+                .query_row(
+                    "SELECT COUNT(*) FROM sqlite_master WHERE type = 'table' AND name = ?1",
+                    params![table],
+                    |r| r.get::<_, i64>(0),
+                )
+                .map(|n| n > 0)
+                .map_err(|e| self.fail(e))
+        };
+        let version: Option<i64> = if has("proleg_meta")? {
+            self.conn
+                .query_row("SELECT MAX(schema_version) FROM proleg_meta", [], |r| {
+                    r.get(0)
+                })
+                .map_err(|e| self.fail(e))?
+        } else if has("runs")? {
+            Some(1)
+        } else {
+            None
+        };
+        match version {
+            Some(v) if v == SCHEMA_VERSION => Ok(()),
+            Some(v) if v > SCHEMA_VERSION => Err(format!(
+                "{}: the store has schema version {v}; this proleg reads version {SCHEMA_VERSION} (a newer proleg wrote it)",
+                self.path.display()
+            )),
+            old => {
+                if old == Some(1) {
+                    self.conn.execute_batch(FROM_V1).map_err(|e| self.fail(e))?;
+                }
+                self.conn.execute_batch(CREATE).map_err(|e| self.fail(e))?;
+                self.conn
+                    .execute("DELETE FROM proleg_meta", [])
+                    .and_then(|_| {
+                        self.conn.execute(
+                            "INSERT INTO proleg_meta (schema_version) VALUES (?1)",
+                            params![SCHEMA_VERSION],
+                        )
+                    })
+                    .map(|_| ())
+                    .map_err(|e| self.fail(e))
+            }
+        }
+    }
+
+    /// The store's file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    fn fail(&self, e: rusqlite::Error) -> String {
+        format!("{}: {e}", self.path.display())
+    }
+
+    /// Registers a new run with its configuration files; returns its id.
+    pub fn start_run(
+        &mut self,
+        info: &RunInfo,
+        program: &str,
+        files: &[(String, String)],
+    ) -> Result<i64, String> {
+        let path = self.path.clone();
+        let fail = |e: rusqlite::Error| format!("{}: {e}", path.display());
+        let tx = self.conn.transaction().map_err(fail)?;
+        tx.execute(
+            "INSERT INTO runs (config, algorithm, seed, fitness, duration, genes, program) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)",
+            params![info.config, info.algorithm, info.seed as i64, info.fitness, info.duration, info.genes.join("\t"), program],
+        )
+        .map_err(fail)?;
+        let id = tx.last_insert_rowid();
+        for (p, text) in files {
+            tx.execute(
+                "INSERT INTO run_files (run, path, content) VALUES (?1, ?2, ?3)",
+                params![id, p, text],
+            )
+            .map_err(fail)?;
+        }
+        tx.commit().map_err(fail)?;
+        Ok(id)
+    }
+
+    /// The latest unfinished run matching `info`.
+    pub fn find_unfinished(&self, info: &RunInfo) -> Result<Option<i64>, String> {
+        self.conn
+            .query_row(
+                "SELECT id FROM runs WHERE config = ?1 AND algorithm = ?2 AND seed = ?3 AND fitness = ?4
+                 AND duration = ?5 AND genes = ?6 AND finished = 0 ORDER BY id DESC LIMIT 1",
+                params![info.config, info.algorithm, info.seed as i64, info.fitness, info.duration, info.genes.join("\t")],
+                |r| r.get(0),
+            )
+            .optional()
+            .map_err(|e| self.fail(e))
+    }
+
+    /// Stores evaluations (one transaction).
+    pub fn record(&mut self, run: i64, seed: u64, evals: &[StoredEval]) -> Result<(), String> {
+        let path = self.path.clone();
+        let fail = |e: rusqlite::Error| format!("{}: {e}", path.display());
+        let tx = self.conn.transaction().map_err(fail)?;
+        {
+            let mut st = tx
+                .prepare_cached(
+                    "INSERT OR REPLACE INTO evaluations (run, number, round, genome, vals, score, seed, wall)
+                     VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)",
+                )
+                .map_err(fail)?;
+            for e in evals {
+                st.execute(params![
+                    run,
+                    e.number as i64,
+                    e.round as i64,
+                    join(&e.genome),
+                    join(&e.values),
+                    score_of(e.score),
+                    seed as i64,
+                    e.wall
+                ])
+                .map_err(fail)?;
+            }
+        }
+        tx.commit().map_err(fail)
+    }
+
+    /// Every finished evaluation of `run`, by number.
+    pub fn evaluations(&self, run: i64) -> Result<Vec<StoredEval>, String> {
+        let mut st = self
+            .conn
+            .prepare(
+                "SELECT number, round, genome, vals, score, wall FROM evaluations
+                 WHERE run = ?1 AND state = 'done' ORDER BY number",
+            )
+            .map_err(|e| self.fail(e))?;
+        let rows = st
+            .query_map(params![run], |r| {
+                let genome: String = r.get(2)?;
+                let vals: String = r.get(3)?;
+                let score: Option<f64> = r.get(4)?;
+                Ok(StoredEval {
+                    number: r.get::<_, i64>(0)? as u64,
+                    round: r.get::<_, i64>(1)? as u64,
+                    genome: parse_list(&genome),
+                    values: parse_list(&vals),
+                    score: score.unwrap_or(f64::NAN),
+                    wall: r.get(5)?,
+                })
+            })
+            .map_err(|e| self.fail(e))?;
+        rows.collect::<Result<Vec<_>, _>>()
+            .map_err(|e| self.fail(e))
+    }
+
+    /// Marks `run` finished.
+    pub fn finish_run(&self, run: i64) -> Result<(), String> {
+        self.conn
+            .execute("UPDATE runs SET finished = 1 WHERE id = ?1", params![run])
+            .map(|_| ())
+            .map_err(|e| self.fail(e))
+    }
+
+    /// Every run with its best evaluation.
+    pub fn runs(&self) -> Result<Vec<RunRow>, String> {
+        let mut st = self
+            .conn
+            .prepare(
+                "SELECT r.id, r.config, r.algorithm, r.seed, r.fitness, r.duration, r.genes, r.started, r.finished,
+                        (SELECT COUNT(*) FROM evaluations e WHERE e.run = r.id AND e.state = 'done'),
+                        (SELECT MAX(score) FROM evaluations e WHERE e.run = r.id AND e.state = 'done'),
+                        (SELECT vals FROM evaluations e WHERE e.run = r.id AND e.state = 'done' AND e.score IS NOT NULL
+                         ORDER BY score DESC, number LIMIT 1)
+                 FROM runs r ORDER BY r.id",
+            )
+            .map_err(|e| self.fail(e))?;
+        let rows = st
+            .query_map([], |r| {
+                let genes: String = r.get(6)?;
+                Ok(RunRow {
+                    id: r.get(0)?,
+                    info: RunInfo {
+                        config: r.get(1)?,
+                        algorithm: r.get(2)?,
+                        seed: r.get::<_, i64>(3)? as u64,
+                        fitness: r.get(4)?,
+                        duration: r.get(5)?,
+                        genes: genes.split('\t').map(str::to_string).collect(),
+                    },
+                    started: r.get(7)?,
+                    finished: r.get::<_, i64>(8)? != 0,
+                    evaluations: r.get::<_, i64>(9)? as u64,
+                    best_score: r.get(10)?,
+                    best_values: r.get(11)?,
+                })
+            })
+            .map_err(|e| self.fail(e))?;
+        rows.collect::<Result<Vec<_>, _>>()
+            .map_err(|e| self.fail(e))
+    }
+}
