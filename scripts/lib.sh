@@ -28,8 +28,13 @@ ensure_rust() {
 }
 
 # Build dependencies of the headless core (C compiler and pkg-config for -sys crates;
-# fontconfig and freetype for the plot text, with a font to draw it).
-HEADLESS_PACKAGES=(pkg-config gcc libfontconfig1-dev libfreetype-dev fonts-dejavu-core)
+# fontconfig and freetype for the plot text, with a font to draw it; OpenSSL for TLS to a
+# shared PostgreSQL store).
+HEADLESS_PACKAGES=(pkg-config gcc libfontconfig1-dev libfreetype-dev fonts-dejavu-core libssl-dev)
+
+# The tests of the shared store run a private PostgreSQL server (scripts/pg-test-server),
+# with a throw-away certificate made by openssl.
+TEST_PACKAGES=(postgresql openssl)
 
 # The control window: gamepad support builds against libudev; GUI tests render under Xvfb
 # with Mesa's software Vulkan (llvmpipe).

@@ -63,6 +63,10 @@ pub struct OptimizeOptions {
     /// duration in the store, reusing its stored evaluations.
     #[arg(long)]
     pub resume: bool,
+    /// With a postgres:// store: seconds a claim stays valid without a heartbeat (a killed
+    /// worker's evaluations are claimed again this long after its last one; default 60).
+    #[arg(long)]
+    pub lease: Option<f64>,
     /// No progress on stderr.
     #[arg(long)]
     pub quiet: bool,
@@ -115,6 +119,7 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
             max_evaluations: o.max_evaluations,
             duration: o.duration,
             fitness,
+            lease: o.lease,
         },
     )?;
     let (space, _) = prepare(&sim, registry)?;

@@ -21,7 +21,7 @@ pub struct WorkerArgs {
     pub threads: Option<usize>,
     /// Seconds a claim stays valid without a heartbeat; a killed worker's evaluations are
     /// claimed again this long after its last heartbeat.
-    #[arg(long, default_value_t = 60.0)]
+    #[arg(long, default_value_t = crate::optimize::settings::DEFAULT_LEASE_S)]
     pub lease: f64,
     /// Exit after this many seconds with nothing to claim (default: run until stopped).
     #[arg(long)]
@@ -94,8 +94,14 @@ impl fmt::Display for WorkerRun {
         let r = &self.report;
         writeln!(
             f,
-            "worker on {} ({} thread(s)), {:.1} s: {} evaluations written, {} late results discarded, {} failed episodes",
-            self.store, self.threads, r.wall, r.evaluated, r.discarded, r.failed
+            "worker on {} ({}, {} thread(s)), {:.1} s: {} evaluations written, {} late results discarded, {} failed episodes",
+            self.store,
+            if r.encrypted { "TLS" } else { "unencrypted" },
+            self.threads,
+            r.wall,
+            r.evaluated,
+            r.discarded,
+            r.failed
         )?;
         writeln!(
             f,

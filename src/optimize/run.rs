@@ -11,8 +11,8 @@ use crate::optimize::Optimizer;
 use crate::optimize::deluge::GreatDeluge;
 use crate::optimize::evaluate::Evaluator;
 use crate::optimize::ga::GeneticAlgorithm;
-use crate::optimize::space::{Genome, SearchSpace};
 use crate::optimize::shared::driver::{LocalWorkers, evaluate_round};
+use crate::optimize::space::{Genome, SearchSpace};
 use crate::optimize::store::pg_queue::{DONE, Pending};
 use crate::optimize::store::{PgStore, Store, StoredEval};
 
@@ -110,10 +110,7 @@ pub fn optimize(
         return Err("no optimizer".into());
     };
     let mut optimizer = build_optimizer(&model.spec.algorithm, &space, &start, settings);
-    let shared = recording
-        .as_mut()
-        .and_then(|r| r.store.shared())
-        .is_some();
+    let shared = recording.as_mut().and_then(|r| r.store.shared()).is_some();
     check_workers(settings, shared)?;
     let workers = settings.workers;
     let evaluator = |workers: usize| Evaluator {
@@ -130,7 +127,13 @@ pub fn optimize(
         Some(r) if shared => match r.store.shared() {
             Some(pg) => {
                 pg.listen(DONE)?;
-                Some(LocalWorkers::start(pg, registry, evaluator(1), r.run, workers))
+                Some(LocalWorkers::start(
+                    pg,
+                    registry,
+                    evaluator(1),
+                    (r.run, workers),
+                    settings.lease,
+                ))
             }
             None => None,
         },
@@ -161,7 +164,15 @@ pub fn optimize(
                 let Some(pg) = rec.store.shared() else {
                     return Err("the shared store went away".into());
                 };
-                queue_missing(pg, run, settings.seed, &evaluator.space, &round_of, &mut scores, local)?;
+                queue_missing(
+                    pg,
+                    run,
+                    settings.seed,
+                    &evaluator.space,
+                    &round_of,
+                    &mut scores,
+                    local,
+                )?;
             }
             _ => simulate_missing(
                 &mut evaluator,
@@ -191,7 +202,9 @@ pub fn optimize(
     }
     if let (Some(local), Some(pg)) = (local, recording.as_mut().and_then(|r| r.store.shared())) {
         local.finish(pg)?;
-        batching.description = format!("one world per candidate, through the shared store ({workers} local worker thread(s))");
+        batching.description = format!(
+            "one world per candidate, through the shared store ({workers} local worker thread(s))"
+        );
     }
     if let Some(r) = recording.as_mut() {
         r.store.finish_run(r.run)?;

@@ -4,6 +4,7 @@
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
 
 use crate::config::Simulation;
 use crate::optimize::fitness::Fitness;
@@ -11,6 +12,9 @@ use crate::optimize::fitness::Fitness;
 /// Neighbours the great deluge hands out per round (fixed, so its candidates do not depend
 /// on the worker count).
 pub const DELUGE_BATCH: usize = 8;
+
+/// Seconds a shared store's claim stays valid without a heartbeat, unless chosen.
+pub const DEFAULT_LEASE_S: f64 = 60.0;
 
 /// Set from another thread to end a run after its current round (the GUI's Stop).
 #[derive(Debug, Clone, Default)]
@@ -51,6 +55,9 @@ pub struct RunSettings {
     pub duration: f64,
     /// How episodes are scored.
     pub fitness: Fitness,
+    /// With a shared store: how long a claim stays valid without a heartbeat (a killed
+    /// worker's evaluations are claimed again this long after its last one).
+    pub lease: Duration,
     /// Ends the run early when set (between rounds).
     pub stop: StopFlag,
 }
@@ -78,6 +85,8 @@ pub struct RunChoices {
     pub duration: Option<f64>,
     /// Fitness (default: the optimizer file's, else displacement).
     pub fitness: Option<Fitness>,
+    /// Lease of a shared store's claims, seconds (default [`DEFAULT_LEASE_S`]).
+    pub lease: Option<f64>,
 }
 
 impl Default for RunChoices {
@@ -89,6 +98,7 @@ impl Default for RunChoices {
             max_evaluations: None,
             duration: None,
             fitness: None,
+            lease: None,
         }
     }
 }
@@ -104,6 +114,10 @@ impl RunSettings {
             return Err(format!(
                 "--duration {duration}: give a number of seconds > 0"
             ));
+        }
+        let lease = choices.lease.unwrap_or(DEFAULT_LEASE_S);
+        if !lease.is_finite() || lease <= 0.0 {
+            return Err(format!("--lease {lease}: give a number of seconds > 0"));
         }
         let workers = choices.workers.unwrap_or_else(|| {
             std::thread::available_parallelism()
@@ -124,6 +138,7 @@ impl RunSettings {
                 .fitness
                 .or(spec.map(|s| s.fitness))
                 .unwrap_or(Fitness::Displacement),
+            lease: Duration::from_secs_f64(lease),
             stop: StopFlag::default(),
         })
     }

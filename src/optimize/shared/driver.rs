@@ -8,7 +8,9 @@ use std::thread::JoinHandle;
 use crate::control::ModuleRegistry;
 use crate::optimize::evaluate::Evaluator;
 use crate::optimize::settings::StopFlag;
-use crate::optimize::shared::worker::{DEFAULT_LEASE, WorkerOptions, WorkerReport, run_pool};
+use std::time::Duration;
+
+use crate::optimize::shared::worker::{WorkerOptions, WorkerReport, run_pool};
 use crate::optimize::store::PgStore;
 use crate::optimize::store::pg_queue::Pending;
 
@@ -34,13 +36,13 @@ pub struct LocalWorkers {
 
 impl LocalWorkers {
     /// Starts `threads` workers (none for 0) on `run` of `store`, with `evaluator` already
-    /// built from the driver's configuration.
+    /// built from the driver's configuration, claiming with `lease`.
     pub fn start(
         store: &PgStore,
         registry: &ModuleRegistry,
         evaluator: Evaluator,
-        run: i64,
-        threads: usize,
+        (run, threads): (i64, usize),
+        lease: Duration,
     ) -> LocalWorkers {
         let stop = StopFlag::default();
         if threads == 0 {
@@ -50,7 +52,7 @@ impl LocalWorkers {
         let registry = registry.clone();
         let options = WorkerOptions {
             threads,
-            lease: DEFAULT_LEASE,
+            lease,
             idle_exit: None,
             only_run: Some(run),
         };

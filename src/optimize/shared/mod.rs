@@ -39,9 +39,8 @@ pub fn run_evaluator(spec: &RunSpec, registry: &ModuleRegistry) -> Result<Evalua
     for (path, text) in &spec.files {
         src.insert(path, text.as_str());
     }
-    let sim = load_simulation_with(&src, Path::new(&spec.info.config), registry).map_err(|e| {
-        format!("its configuration does not load on this host: {e}")
-    })?;
+    let sim = load_simulation_with(&src, Path::new(&spec.info.config), registry)
+        .map_err(|e| format!("its configuration does not load on this host: {e}"))?;
     let (space, _) = prepare(&sim, registry)?;
     let genes: Vec<String> = space.genes.iter().map(|g| g.label()).collect();
     if genes != spec.info.genes {

@@ -14,9 +14,6 @@ use crate::optimize::shared::run_evaluator;
 use crate::optimize::store::pg_queue::{Claim, PENDING};
 use crate::optimize::store::{PgStore, PgTarget};
 
-/// How long a claim stays valid without a heartbeat, unless the user says otherwise.
-pub const DEFAULT_LEASE: Duration = Duration::from_secs(60);
-
 /// Longest wait between two looks for work when no notification comes (an expired lease
 /// announces itself to no one).
 const IDLE_POLL: Duration = Duration::from_secs(1);
@@ -49,6 +46,8 @@ pub struct WorkerReport {
     pub coordination: f64,
     /// Wall seconds of the pool.
     pub wall: f64,
+    /// Whether the connections are encrypted (TLS).
+    pub encrypted: bool,
 }
 
 impl WorkerReport {
@@ -108,6 +107,7 @@ pub fn run_pool(
         on_message,
     };
     let mut heartbeat_store = PgStore::open(target, false)?;
+    let encrypted = heartbeat_store.encrypted()?;
     let (alive, beats) = channel::<()>();
     // The heartbeat hears nothing but the close of this channel when the last thread ends.
     let results = std::thread::scope(|s| {
@@ -126,13 +126,17 @@ pub fn run_pool(
         let beat = heartbeat(&mut heartbeat_store, &pool.id, options.lease, &beats);
         let mut results: Vec<Result<(), String>> = threads
             .into_iter()
-            .map(|h| h.join().unwrap_or_else(|_| Err("a worker thread panicked".into())))
+            .map(|h| {
+                h.join()
+                    .unwrap_or_else(|_| Err("a worker thread panicked".into()))
+            })
             .collect();
         results.push(beat);
         results
     });
     let mut report = pool.report.into_inner().unwrap_or_default();
     report.wall = t.elapsed().as_secs_f64();
+    report.encrypted = encrypted;
     match results.into_iter().find_map(Result::err) {
         Some(e) => Err(e),
         None => Ok(report),

@@ -52,7 +52,10 @@ impl StoreLocation {
             format!("--store: not a valid PostgreSQL URL ({e}); expected postgres://USER@HOST[:PORT]/DATABASE[?sslmode=require]")
         })?;
         if config.get_dbname().is_none() {
-            return Err("--store: the PostgreSQL URL names no database (postgres://USER@HOST/DATABASE)".into());
+            return Err(
+                "--store: the PostgreSQL URL names no database (postgres://USER@HOST/DATABASE)"
+                    .into(),
+            );
         }
         if config.get_user().is_none() {
             config.user(std::env::var("USER").as_deref().unwrap_or("postgres"));
@@ -210,14 +213,20 @@ mod tests {
         };
         assert_eq!(t.config.get_password(), Some(&b"s3cret"[..]));
         let shown = t.to_string();
-        assert_eq!(shown, "postgres://lab@db.example:5433/proleg?sslmode=require");
+        assert_eq!(
+            shown,
+            "postgres://lab@db.example:5433/proleg?sslmode=require"
+        );
         assert!(!format!("{t:?}").contains("s3cret"));
     }
 
     #[test]
     fn typos_in_urls_are_named() {
         let scheme = StoreLocation::parse("postgress://lab@db/proleg").unwrap_err();
-        assert!(scheme.contains("unknown URL scheme \"postgress://\""), "{scheme}");
+        assert!(
+            scheme.contains("unknown URL scheme \"postgress://\""),
+            "{scheme}"
+        );
         let port = StoreLocation::parse("postgres://lab@db:54x2/proleg").unwrap_err();
         assert!(port.contains("not a valid PostgreSQL URL"), "{port}");
         let db = StoreLocation::parse("postgres://lab@db:5432").unwrap_err();

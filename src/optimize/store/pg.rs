@@ -93,6 +93,18 @@ impl PgStore {
         Ok(store)
     }
 
+    /// Whether this connection is encrypted (TLS).
+    pub fn encrypted(&mut self) -> Result<bool, String> {
+        let fail = self.failer();
+        self.client
+            .query_one(
+                "SELECT COALESCE((SELECT ssl FROM pg_stat_ssl WHERE pid = pg_backend_pid()), false)",
+                &[],
+            )
+            .and_then(|r| r.try_get(0))
+            .map_err(&fail)
+    }
+
     /// The store's location (no password).
     pub fn target(&self) -> &PgTarget {
         &self.target

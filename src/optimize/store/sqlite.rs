@@ -262,3 +262,47 @@ impl SqliteStore {
             .map_err(|e| self.fail(e))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_store_of_version_1_is_brought_to_the_current_schema_with_its_runs() {
+        let dir = std::env::temp_dir().join(format!("proleg-sqlite-v1-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("old.sqlite");
+        {
+            let c = Connection::open(&path).unwrap();
+            c.execute_batch(
+                "CREATE TABLE runs (id INTEGER PRIMARY KEY, config TEXT NOT NULL, algorithm TEXT NOT NULL,
+                    seed INTEGER NOT NULL, fitness TEXT NOT NULL, duration REAL NOT NULL, genes TEXT NOT NULL,
+                    started TEXT NOT NULL DEFAULT (datetime('now')), finished INTEGER NOT NULL DEFAULT 0);
+                 CREATE TABLE evaluations (run INTEGER NOT NULL REFERENCES runs(id), number INTEGER NOT NULL,
+                    round INTEGER NOT NULL, genome TEXT NOT NULL, vals TEXT NOT NULL, score REAL,
+                    seed INTEGER NOT NULL, wall REAL NOT NULL, PRIMARY KEY (run, number));
+                 INSERT INTO runs (config, algorithm, seed, fitness, duration, genes)
+                    VALUES ('a.simulation.xml', 'great deluge', 3, 'displacement', 2.0, 'g');
+                 INSERT INTO evaluations VALUES (1, 0, 0, '4', '40', 0.5, 3, 0.1);",
+            )
+            .unwrap();
+        }
+        let store = SqliteStore::open(&path).unwrap();
+        let runs = store.runs().unwrap();
+        assert_eq!(runs.len(), 1);
+        assert_eq!(runs[0].best_score, Some(0.5));
+        assert_eq!(store.evaluations(1).unwrap()[0].genome, vec![4]);
+        drop(store);
+        // A store of a newer schema is refused.
+        let c = Connection::open(&path).unwrap();
+        c.execute("UPDATE proleg_meta SET schema_version = 9", [])
+            .unwrap();
+        let err = SqliteStore::open(&path).err().unwrap_or_default();
+        assert!(
+            err.contains("schema version 9; this proleg reads version 2"),
+            "{err}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

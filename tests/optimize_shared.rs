@@ -1,0 +1,543 @@
+//! The shared PostgreSQL store with real processes on a real server (`scripts/test` starts a
+//! private one): a driver and worker processes find what one process finds on SQLite; a
+//! worker or the driver killed with SIGKILL loses and duplicates nothing; bad stores are
+//! one-line errors that never show the password.
+
+mod common;
+
+use std::path::Path;
+use std::process::Child;
+use std::time::{Duration, Instant};
+
+use common::pg::{Pg, output, server, spawn, text};
+use proleg::config::{FsSource, RecordingSource, load_simulation_with};
+use proleg::control::ModuleRegistry;
+use proleg::optimize::settings::StopFlag;
+use proleg::optimize::shared::worker::{WorkerOptions, run_pool};
+use proleg::optimize::store::pg_queue::Pending;
+use proleg::optimize::store::{PgStore, RunInfo, StoreLocation, program_version};
+
+const GA: &str = "configs/experiment1_ga.simulation.xml";
+
+/// The lines that state the result: best score and best values.
+fn result_lines(out: &str) -> Vec<String> {
+    out.lines()
+        .skip_while(|l| !l.starts_with("best score"))
+        .map(str::to_string)
+        .collect()
+}
+
+/// `optimize` arguments of the GA runs below.
+fn ga_args<'a>(evals: &'a str, duration: &'a str, store: &'a str) -> Vec<&'a str> {
+    vec![
+        "optimize",
+        GA,
+        "--max-evals",
+        evals,
+        "--duration",
+        duration,
+        "--quiet",
+        "--store",
+        store,
+    ]
+}
+
+/// The same run on a SQLite store, in one process: its best and its store.
+fn sqlite_run(name: &str, evals: &str, duration: &str) -> (Vec<String>, String) {
+    let dir = common::scratch(name);
+    let path = dir.join("reference.sqlite").display().to_string();
+    let (ok, out, err) = common::proleg(&ga_args(evals, duration, &path));
+    assert!(ok, "{err}");
+    let lines = result_lines(&out);
+    assert_eq!(lines.len(), 6, "{out}");
+    (lines, path)
+}
+
+/// Every evaluation of a store's runs as (number, round, score, genome), by `proleg results
+/// --export` (store name and wall seconds left out).
+fn evaluations(pg: &Pg, store: &str, name: &str) -> Vec<String> {
+    let tsv = common::scratch(name).join("evaluations.tsv");
+    let out = output(pg.proleg(&["results", store, "--export", tsv.to_str().unwrap()]));
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let all = std::fs::read_to_string(&tsv).unwrap();
+    let rows: Vec<String> = all
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split('\t').collect();
+            format!("{} {} {} {}", f[2], f[3], f[4], f[6])
+        })
+        .collect();
+    assert!(!rows.is_empty());
+    rows
+}
+
+/// Waits (up to a minute) until `query` on `db` returns true; fails if `child` ends first.
+fn wait_until(pg: &Pg, db: &str, query: &str, child: &mut Child) {
+    let deadline = Instant::now() + Duration::from_secs(60);
+    let mut c = pg.connect(db);
+    loop {
+        let holds = c
+            .query_one(query, &[])
+            .ok()
+            .and_then(|r| r.try_get::<_, bool>(0).ok())
+            .unwrap_or(false);
+        if holds {
+            return;
+        }
+        if let Ok(Some(status)) = child.try_wait() {
+            panic!("the process ended ({status}) before: {query}");
+        }
+        assert!(Instant::now() < deadline, "timed out waiting for: {query}");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+const HAS_STORE: &str = "SELECT to_regclass('evaluations') IS NOT NULL";
+
+/// The least-privilege worker role of the README, on database `db`.
+fn worker_role(pg: &Pg, db: &str, role: &str, password: &str) {
+    let mut c = pg.connect(db);
+    c.batch_execute(&format!(
+        "DROP ROLE IF EXISTS {role};
+         CREATE ROLE {role} LOGIN PASSWORD '{password}';
+         GRANT CONNECT ON DATABASE {db} TO {role};
+         GRANT USAGE ON SCHEMA public TO {role};
+         GRANT SELECT ON proleg_meta, runs, run_files TO {role};
+         GRANT SELECT, UPDATE (state, worker, attempt, lease_until, score, wall) ON evaluations TO {role};"
+    ))
+    .expect("worker role");
+}
+
+/// (written, discarded) of a worker's report.
+fn worker_counts(out: &str) -> (u64, u64) {
+    let number_before = |marker: &str| -> u64 {
+        out.split(marker)
+            .next()
+            .and_then(|head| head.split_whitespace().last())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("no '{marker}' in {out}"))
+    };
+    (
+        number_before(" evaluations written"),
+        number_before(" late results discarded"),
+    )
+}
+
+#[test]
+fn a_driver_and_three_workers_store_each_evaluation_once_and_find_the_sqlite_best() {
+    let (expected, reference) = sqlite_run("optimize_shared_three", "75", "1");
+    let pg = server();
+    let url = pg.database("shared_three");
+    let mut args = ga_args("75", "1", &url);
+    args.extend(["--workers", "0"]);
+    let mut driver = spawn(pg.proleg(&args));
+    wait_until(&pg, "shared_three", HAS_STORE, &mut driver);
+    worker_role(&pg, "shared_three", "proleg_worker_three", "w-three");
+    let worker_url = url.replace("proleg_admin@", "proleg_worker_three@");
+    let workers: Vec<Child> = (0..3)
+        .map(|_| {
+            spawn(pg.proleg_as(
+                "w-three",
+                &[
+                    "worker",
+                    "--store",
+                    &worker_url,
+                    "--threads",
+                    "1",
+                    "--idle-exit",
+                    "1",
+                ],
+            ))
+        })
+        .collect();
+    let out = driver.wait_with_output().expect("driver");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let report = text(&out.stdout);
+    assert!(
+        report.contains("75 evaluations in 3 rounds (75 simulated"),
+        "{report}"
+    );
+    assert_eq!(result_lines(&report), expected, "{report}");
+    // The same candidates with the same scores, evaluation by evaluation.
+    assert_eq!(
+        evaluations(&pg, &url, "optimize_shared_three_pg"),
+        evaluations(&pg, &reference, "optimize_shared_three_sqlite")
+    );
+
+    let mut written = 0;
+    for w in workers {
+        let out = w.wait_with_output().expect("worker");
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let (n, discarded) = worker_counts(&text(&out.stdout));
+        assert_eq!(discarded, 0);
+        written += n;
+    }
+    assert_eq!(written, 75, "every evaluation computed exactly once");
+    let mut c = pg.connect("shared_three");
+    let row = c
+        .query_one(
+            "SELECT COUNT(*), COUNT(DISTINCT number), MIN(number), MAX(number),
+                    COUNT(*) FILTER (WHERE state = 'done'), MAX(attempt), COUNT(DISTINCT worker)
+             FROM evaluations",
+            &[],
+        )
+        .unwrap();
+    let get = |i: usize| row.get::<_, i64>(i);
+    assert_eq!(
+        (get(0), get(1), get(2), get(3), get(4)),
+        (75, 75, 0, 74, 75)
+    );
+    assert_eq!(row.get::<_, i32>(5), 1, "no evaluation claimed twice");
+    assert!(get(6) >= 2, "the workers shared the work: {}", get(6));
+}
+
+#[test]
+fn a_killed_worker_s_evaluation_is_claimed_again_and_nothing_is_lost() {
+    let (expected, reference) = sqlite_run("optimize_shared_kill_worker", "30", "4");
+    let pg = server();
+    let url = pg.database("shared_kill_worker");
+    let mut args = ga_args("30", "4", &url);
+    args.extend(["--workers", "0"]);
+    let mut driver = spawn(pg.proleg(&args));
+    wait_until(&pg, "shared_kill_worker", HAS_STORE, &mut driver);
+    let worker = |idle: &str| {
+        spawn(pg.proleg(&[
+            "worker",
+            "--store",
+            &url,
+            "--threads",
+            "1",
+            "--lease",
+            "3",
+            "--idle-exit",
+            idle,
+        ]))
+    };
+    let mut doomed = worker("60");
+    let pid = doomed.id();
+    let running = format!(
+        "SELECT EXISTS (SELECT 1 FROM evaluations WHERE state = 'running' AND worker LIKE '%/{pid}/%')"
+    );
+    wait_until(&pg, "shared_kill_worker", &running, &mut doomed);
+    let mut c = pg.connect("shared_kill_worker");
+    let lost: i64 = c
+        .query_one(
+            &format!(
+                "SELECT number FROM evaluations WHERE state = 'running' AND worker LIKE '%/{pid}/%'"
+            ),
+            &[],
+        )
+        .unwrap()
+        .get(0);
+    doomed.kill().expect("SIGKILL");
+    let _ = doomed.wait();
+    // Idle longer than the lease, so that it is there when the lease runs out.
+    let survivor = worker("6");
+    let out = driver.wait_with_output().expect("driver");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(result_lines(&text(&out.stdout)), expected);
+    assert_eq!(
+        evaluations(&pg, &url, "optimize_shared_kill_worker_pg"),
+        evaluations(&pg, &reference, "optimize_shared_kill_worker_sqlite")
+    );
+    let out = survivor.wait_with_output().expect("worker");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+
+    let row = c
+        .query_one(
+            "SELECT state, attempt, score IS NOT NULL FROM evaluations WHERE number = $1",
+            &[&lost],
+        )
+        .unwrap();
+    assert_eq!(row.get::<_, String>(0), "done");
+    assert!(row.get::<_, i32>(1) >= 2, "claimed again after the kill");
+    assert!(row.get::<_, bool>(2));
+    let row = c
+        .query_one(
+            "SELECT COUNT(*), COUNT(*) FILTER (WHERE state = 'done') FROM evaluations",
+            &[],
+        )
+        .unwrap();
+    assert_eq!((row.get::<_, i64>(0), row.get::<_, i64>(1)), (30, 30));
+}
+
+#[test]
+fn a_killed_driver_resumes_to_the_same_best() {
+    let (expected, reference) = sqlite_run("optimize_shared_kill_driver", "75", "1");
+    let pg = server();
+    let url = pg.database("shared_kill_driver");
+    let mut args = ga_args("75", "1", &url);
+    args.extend(["--workers", "1", "--lease", "2"]);
+    let mut driver = spawn(pg.proleg(&args));
+    wait_until(&pg, "shared_kill_driver", HAS_STORE, &mut driver);
+    wait_until(
+        &pg,
+        "shared_kill_driver",
+        "SELECT COUNT(*) >= 35 FROM evaluations WHERE state = 'done'",
+        &mut driver,
+    );
+    driver.kill().expect("SIGKILL");
+    let _ = driver.wait();
+
+    let mut args: Vec<&str> = ga_args("75", "1", &url)
+        .into_iter()
+        .filter(|a| *a != "--quiet")
+        .collect();
+    args.extend(["--workers", "2", "--lease", "2", "--resume"]);
+    let out = output(pg.proleg(&args));
+    let (report, err) = (text(&out.stdout), text(&out.stderr));
+    assert!(out.status.success(), "{err}");
+    let stored: u64 = err
+        .lines()
+        .find_map(|l| {
+            l.split(": ")
+                .nth(1)
+                .and_then(|t| t.strip_suffix(" evaluations stored"))
+        })
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no resume line in {err}"));
+    assert!((35..75).contains(&stored), "{err}");
+    assert_eq!(result_lines(&report), expected, "{report}");
+    assert_eq!(
+        evaluations(&pg, &url, "optimize_shared_kill_driver_pg"),
+        evaluations(&pg, &reference, "optimize_shared_kill_driver_sqlite")
+    );
+    let mut c = pg.connect("shared_kill_driver");
+    let row = c
+        .query_one(
+            "SELECT COUNT(*), COUNT(*) FILTER (WHERE state = 'done'), (SELECT COUNT(*) FROM runs)
+             FROM evaluations",
+            &[],
+        )
+        .unwrap();
+    let get = |i: usize| row.get::<_, i64>(i);
+    assert_eq!((get(0), get(1), get(2)), (75, 75, 1));
+}
+
+/// A one-line error naming `cause`, exit code 1, no panic, and never `secret`.
+fn refused(out: std::process::Output, cause: &str, secret: &str) {
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains(cause), "expected '{cause}' in: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(!err.contains(secret) && !text(&out.stdout).contains(secret));
+}
+
+#[test]
+fn bad_stores_are_one_line_errors_that_never_show_the_password() {
+    let pg = server();
+    let url = pg.database("shared_bad");
+    let secret = "Wr0ng-pa55word-41";
+    // A wrong password, in the URL and in PGPASSWORD.
+    let with_password = url.replace("proleg_admin@", &format!("proleg_admin:{secret}@"));
+    refused(
+        output(pg.proleg(&["results", &with_password])),
+        "password authentication failed",
+        secret,
+    );
+    refused(
+        output(pg.proleg_as(secret, &ga_args("2", "0.1", &url))),
+        "password authentication failed",
+        secret,
+    );
+    // Nothing answers on the port.
+    let closed = url.replace(&url[url.rfind(':').unwrap()..url.rfind('/').unwrap()], ":1");
+    refused(
+        output(pg.proleg(&["worker", "--store", &closed])),
+        "error connecting to server",
+        &pg.password,
+    );
+    // Typos in the URL.
+    let typo = url.replace("postgres://", "postgress://");
+    refused(
+        output(pg.proleg(&ga_args("2", "0.1", &typo))),
+        "unknown URL scheme \"postgress://\"",
+        &pg.password,
+    );
+    let port = url.replace("127.0.0.1:", "127.0.0.1:x");
+    refused(
+        output(pg.proleg(&["results", &port])),
+        "not a valid PostgreSQL URL",
+        &pg.password,
+    );
+    // A store of another schema version: refused, nothing written.
+    let mut c = pg.connect("shared_bad");
+    c.batch_execute(
+        "CREATE TABLE proleg_meta (schema_version INTEGER NOT NULL);
+         INSERT INTO proleg_meta VALUES (99);",
+    )
+    .unwrap();
+    refused(
+        output(pg.proleg(&ga_args("2", "0.1", &url))),
+        "the store has schema version 99; this proleg reads version 2",
+        &pg.password,
+    );
+    let tables: i64 = c
+        .query_one(
+            "SELECT COUNT(*) FROM pg_tables WHERE schemaname = 'public'",
+            &[],
+        )
+        .unwrap()
+        .get(0);
+    assert_eq!(
+        tables, 1,
+        "nothing written beside the foreign version table"
+    );
+}
+
+#[test]
+fn tls_is_used_when_the_url_requires_it() {
+    let pg = server();
+    let url = pg.database("shared_tls");
+    let (ok, _, err) = {
+        let out = output(pg.proleg(&ga_args("2", "0.1", &url)));
+        (out.status.success(), text(&out.stdout), text(&out.stderr))
+    };
+    assert!(ok, "{err}");
+    for (mode, shown) in [("require", "TLS"), ("disable", "unencrypted")] {
+        let out = output(pg.proleg(&[
+            "worker",
+            "--store",
+            &format!("{url}?sslmode={mode}"),
+            "--idle-exit",
+            "0.2",
+        ]));
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let report = text(&out.stdout);
+        assert!(
+            report.contains(&format!("?sslmode={mode} ({shown},")),
+            "{report}"
+        );
+    }
+}
+
+/// The library's view of the test database `db`, with the password in the URL (kept in this
+/// process; never printed).
+fn open_store(pg: &Pg, db: &str) -> PgStore {
+    let url = pg
+        .url_of(db)
+        .replace("proleg_admin@", &format!("proleg_admin:{}@", pg.password));
+    let Ok(StoreLocation::Postgres(target)) = StoreLocation::parse(&url) else {
+        panic!("a postgres URL");
+    };
+    match PgStore::open(&target, true) {
+        Ok(s) => s,
+        Err(e) => panic!("{e}"),
+    }
+}
+
+fn info(config: &str) -> RunInfo {
+    RunInfo {
+        config: config.into(),
+        algorithm: "genetic algorithm".into(),
+        seed: 1,
+        fitness: "displacement".into(),
+        duration: 0.5,
+        genes: vec!["PatternGenerator_sinusoidal.Amplitude[0]".into()],
+    }
+}
+
+fn pending(number: u64) -> Pending {
+    Pending {
+        number,
+        round: 0,
+        genome: vec![3],
+        values: vec![30.0],
+    }
+}
+
+#[test]
+fn a_result_after_the_lease_ran_out_is_discarded() {
+    let pg = server();
+    pg.database("shared_late");
+    let mut store = open_store(&pg, "shared_late");
+    let run = store.start_run(&info(GA), "proleg test", &[]).unwrap();
+    store.enqueue(run, 1, &[pending(0)]).unwrap();
+    // Worker a's lease runs out at once; b claims the evaluation again.
+    let a = store.claim("a", Duration::ZERO, None, &[], 5).unwrap();
+    assert_eq!(a.len(), 1);
+    assert_eq!(a[0].attempt, 1);
+    let b = store
+        .claim("b", Duration::from_secs(60), None, &[], 5)
+        .unwrap();
+    assert_eq!((b.len(), b[0].attempt), (1, 2));
+    assert!(
+        store
+            .claim("c", Duration::from_secs(60), None, &[], 5)
+            .unwrap()
+            .is_empty()
+    );
+    assert!(
+        !store.submit("a", &a[0], 1.0, 0.1).unwrap(),
+        "a's late result is discarded"
+    );
+    assert!(store.submit("b", &b[0], 2.0, 0.1).unwrap());
+    assert!(!store.submit("b", &b[0], 3.0, 0.1).unwrap(), "written once");
+    let stored = store.evaluations(run).unwrap();
+    assert_eq!(stored.len(), 1);
+    assert_eq!(stored[0].score, 2.0);
+}
+
+#[test]
+fn a_worker_refuses_runs_it_cannot_evaluate_and_leaves_them_pending() {
+    let pg = server();
+    pg.database("shared_refuse");
+    let mut store = open_store(&pg, "shared_refuse");
+    // A run of another program version, and one whose module this host lacks.
+    let other = store.start_run(&info(GA), "proleg 0.0.0", &[]).unwrap();
+    let source = RecordingSource::new(&FsSource);
+    load_simulation_with(&source, Path::new(GA), &ModuleRegistry::standard()).unwrap();
+    let files: Vec<(String, String)> = source
+        .files()
+        .into_iter()
+        .map(|(p, t)| {
+            (
+                p,
+                t.replace("PatternGenerator_sinusoidal", "Plugin_not_here"),
+            )
+        })
+        .collect();
+    let missing = store
+        .start_run(&info(GA), &program_version(), &files)
+        .unwrap();
+    store.enqueue(other, 1, &[pending(0)]).unwrap();
+    store.enqueue(missing, 1, &[pending(0)]).unwrap();
+    let options = WorkerOptions {
+        threads: 1,
+        lease: Duration::from_secs(60),
+        idle_exit: Some(Duration::from_millis(300)),
+        only_run: None,
+    };
+    let target = store.target().clone();
+    let report = run_pool(
+        &target,
+        &ModuleRegistry::standard(),
+        &options,
+        &StopFlag::default(),
+        None,
+        &|_| {},
+    )
+    .unwrap();
+    assert_eq!(report.evaluated, 0);
+    assert_eq!(report.refused.len(), 2, "{:?}", report.refused);
+    assert!(
+        report.refused[0].contains("started by proleg 0.0.0"),
+        "{:?}",
+        report.refused
+    );
+    assert!(
+        report.refused[1].contains("does not load on this host")
+            && report.refused[1].contains("Plugin_not_here"),
+        "{:?}",
+        report.refused
+    );
+    for run in [other, missing] {
+        assert_eq!(
+            store.queue_counts(run).unwrap(),
+            (1, 0, 0),
+            "left pending for others"
+        );
+    }
+}
