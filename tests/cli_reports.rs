@@ -91,8 +91,9 @@ fn an_optimize_report_counts_evaluations_and_keeps_the_best() {
         fitness: None,
         out: None,
         evaluations: None,
-        store: Some(store.clone()),
+        store: Some(store.display().to_string()),
         resume: false,
+        lease: None,
         quiet: true,
         crash_after: None,
     };
@@ -106,7 +107,7 @@ fn an_optimize_report_counts_evaluations_and_keeps_the_best() {
         r.outcome.simulated, r.outcome.evaluations,
         "a new store: all simulated"
     );
-    assert_eq!(r.store, (store.clone(), r.store.1));
+    assert_eq!(r.store, (store.display().to_string(), r.store.1));
     assert!(store.is_file());
     let start = r.outcome.start_score.unwrap();
     assert!(r.outcome.best_score >= start, "{r:?}");

@@ -21,7 +21,7 @@ pub enum StoreLocation {
     /// An embedded SQLite database file.
     Sqlite(PathBuf),
     /// A PostgreSQL database.
-    Postgres(PgTarget),
+    Postgres(Box<PgTarget>),
 }
 
 /// A PostgreSQL server, database and role; the password is inside `config` and never shown.
@@ -66,7 +66,7 @@ impl StoreLocation {
         config.application_name("proleg");
         let mut target = PgTarget { config };
         target.find_password();
-        Ok(StoreLocation::Postgres(target))
+        Ok(StoreLocation::Postgres(Box::new(target)))
     }
 
     /// A SQLite store at `path`.

@@ -107,7 +107,7 @@ pub enum Store {
     /// The embedded SQLite store.
     Sqlite(SqliteStore),
     /// A shared PostgreSQL store.
-    Postgres(PgStore),
+    Postgres(Box<PgStore>),
 }
 
 impl Store {
@@ -115,7 +115,9 @@ impl Store {
     pub fn open(location: &StoreLocation) -> Result<Store, String> {
         match location {
             StoreLocation::Sqlite(p) => SqliteStore::open(p).map(Store::Sqlite),
-            StoreLocation::Postgres(t) => PgStore::open(t, true).map(Store::Postgres),
+            StoreLocation::Postgres(t) => {
+                PgStore::open(t, true).map(|s| Store::Postgres(Box::new(s)))
+            }
         }
     }
 
@@ -126,7 +128,9 @@ impl Store {
                 Err(format!("{}: no such store", p.display()))
             }
             StoreLocation::Sqlite(p) => SqliteStore::open(p).map(Store::Sqlite),
-            StoreLocation::Postgres(t) => PgStore::open(t, false).map(Store::Postgres),
+            StoreLocation::Postgres(t) => {
+                PgStore::open(t, false).map(|s| Store::Postgres(Box::new(s)))
+            }
         }
     }
 
@@ -142,7 +146,7 @@ impl Store {
     pub fn shared(&mut self) -> Option<&mut PgStore> {
         match self {
             Store::Sqlite(_) => None,
-            Store::Postgres(p) => Some(p),
+            Store::Postgres(p) => Some(p.as_mut()),
         }
     }
 
