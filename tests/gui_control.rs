@@ -154,6 +154,60 @@ fn optimization_view_runs_the_ga_and_replays_the_best() {
 }
 
 #[test]
+fn optimization_view_attaches_to_a_shared_run_and_draws_its_curve() {
+    let pg = common::pg::server();
+    let url = pg.database("gui_attach");
+    let mut driver = common::pg::spawn(pg.proleg(&[
+        "optimize",
+        "configs/experiment1_ga.simulation.xml",
+        "--max-evals",
+        "60",
+        "--duration",
+        "2",
+        "--workers",
+        "1",
+        "--quiet",
+        "--store",
+        &url,
+    ]));
+    pg.wait_until(
+        "gui_attach",
+        "SELECT to_regclass('evaluations') IS NOT NULL",
+        &mut driver,
+    );
+    let dir = scratch("attach");
+    let (st, script) = (dir.join("state.txt"), dir.join("attach.script"));
+    let text = format!(
+        "wait 1\nattach {url} 30\nscreenshot {}\nstate {}\nquit\n",
+        dir.join("attached.png").display(),
+        st.display()
+    );
+    std::fs::write(&script, text).expect("script");
+    let (ok, out) = common::window::run_env(
+        &["gui", "configs/experiment1_ga.simulation.xml"],
+        &script,
+        &[("PGPASSWORD", pg.password.as_str())],
+    );
+    assert!(ok, "the window failed:\n{out}");
+    let s = state(&st);
+    let n: u64 = get(&s, "optimizer_evaluations").parse().expect("count");
+    assert!(n >= 30, "{n} evaluations drawn");
+    let best: f64 = get(&s, "optimizer_best").parse().expect("a best score");
+    let driver = driver.wait_with_output().expect("driver");
+    assert!(driver.status.success());
+    // The view's best is the run's best over the evaluations it drew.
+    let stored: f64 = pg
+        .connect("gui_attach")
+        .query_one(
+            "SELECT MAX(score) FROM evaluations WHERE number < $1",
+            &[&(n as i64)],
+        )
+        .expect("the run's evaluations")
+        .get(0);
+    assert!((best - stored).abs() < 1e-6, "view {best}, store {stored}");
+}
+
+#[test]
 fn a_selected_robot_moves_with_the_drag_path_and_the_debug_view_draws() {
     let s = scripted_state(
         "pick",

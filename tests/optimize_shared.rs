@@ -72,27 +72,6 @@ fn evaluations(pg: &Pg, store: &str, name: &str) -> Vec<String> {
     rows
 }
 
-/// Waits (up to a minute) until `query` on `db` returns true; fails if `child` ends first.
-fn wait_until(pg: &Pg, db: &str, query: &str, child: &mut Child) {
-    let deadline = Instant::now() + Duration::from_secs(60);
-    let mut c = pg.connect(db);
-    loop {
-        let holds = c
-            .query_one(query, &[])
-            .ok()
-            .and_then(|r| r.try_get::<_, bool>(0).ok())
-            .unwrap_or(false);
-        if holds {
-            return;
-        }
-        if let Ok(Some(status)) = child.try_wait() {
-            panic!("the process ended ({status}) before: {query}");
-        }
-        assert!(Instant::now() < deadline, "timed out waiting for: {query}");
-        std::thread::sleep(Duration::from_millis(20));
-    }
-}
-
 const HAS_STORE: &str = "SELECT to_regclass('evaluations') IS NOT NULL";
 
 /// The least-privilege worker role of the README, on database `db`.
@@ -132,7 +111,7 @@ fn a_driver_and_three_workers_store_each_evaluation_once_and_find_the_sqlite_bes
     let mut args = ga_args("75", "1", &url);
     args.extend(["--workers", "0"]);
     let mut driver = spawn(pg.proleg(&args));
-    wait_until(&pg, "shared_three", HAS_STORE, &mut driver);
+    pg.wait_until("shared_three", HAS_STORE, &mut driver);
     worker_role(&pg, "shared_three", "proleg_worker_three", "w-three");
     let worker_url = url.replace("proleg_admin@", "proleg_worker_three@");
     let workers: Vec<Child> = (0..3)
@@ -200,7 +179,7 @@ fn a_killed_worker_s_evaluation_is_claimed_again_and_nothing_is_lost() {
     let mut args = ga_args("30", "4", &url);
     args.extend(["--workers", "0"]);
     let mut driver = spawn(pg.proleg(&args));
-    wait_until(&pg, "shared_kill_worker", HAS_STORE, &mut driver);
+    pg.wait_until("shared_kill_worker", HAS_STORE, &mut driver);
     let worker = |idle: &str| {
         spawn(pg.proleg(&[
             "worker",
@@ -219,7 +198,7 @@ fn a_killed_worker_s_evaluation_is_claimed_again_and_nothing_is_lost() {
     let running = format!(
         "SELECT EXISTS (SELECT 1 FROM evaluations WHERE state = 'running' AND worker LIKE '%/{pid}/%')"
     );
-    wait_until(&pg, "shared_kill_worker", &running, &mut doomed);
+    pg.wait_until("shared_kill_worker", &running, &mut doomed);
     let mut c = pg.connect("shared_kill_worker");
     let lost: i64 = c
         .query_one(
@@ -270,9 +249,8 @@ fn a_killed_driver_resumes_to_the_same_best() {
     let mut args = ga_args("75", "1", &url);
     args.extend(["--workers", "1", "--lease", "2"]);
     let mut driver = spawn(pg.proleg(&args));
-    wait_until(&pg, "shared_kill_driver", HAS_STORE, &mut driver);
-    wait_until(
-        &pg,
+    pg.wait_until("shared_kill_driver", HAS_STORE, &mut driver);
+    pg.wait_until(
         "shared_kill_driver",
         "SELECT COUNT(*) >= 35 FROM evaluations WHERE state = 'done'",
         &mut driver,

@@ -370,9 +370,15 @@ impl fmt::Display for OptimizeReport {
             let per_hour = self.per_hour();
             writeln!(
                 out,
-                "throughput      {per_hour:.0} evaluations/h of {} s ({:.1}x real time per local worker); 6000 such evaluations (the thesis's experiment-2 budget, eq. 3.6) take {:.2} h",
+                "throughput      {per_hour:.0} evaluations/h of {} s ({}); 6000 such evaluations (the thesis's experiment-2 budget, eq. 3.6) take {:.2} h",
                 self.duration,
-                o.simulated as f64 * self.duration / self.wall / self.workers.max(1) as f64,
+                match self.workers {
+                    0 => "all by workers of the shared store".to_string(),
+                    w => format!(
+                        "{:.1}x real time per local worker",
+                        o.simulated as f64 * self.duration / self.wall / w as f64
+                    ),
+                },
                 6000.0 / per_hour
             )?;
             writeln!(

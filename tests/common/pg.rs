@@ -75,6 +75,32 @@ impl Pg {
     }
 }
 
+impl Pg {
+    /// Waits (up to a minute) until `query` on `db` returns true; fails if `child` ends first.
+    pub fn wait_until(&self, db: &str, query: &str, child: &mut Child) {
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+        let mut c = self.connect(db);
+        loop {
+            let holds = c
+                .query_one(query, &[])
+                .ok()
+                .and_then(|r| r.try_get::<_, bool>(0).ok())
+                .unwrap_or(false);
+            if holds {
+                return;
+            }
+            if let Ok(Some(status)) = child.try_wait() {
+                panic!("the process ended ({status}) before: {query}");
+            }
+            assert!(
+                std::time::Instant::now() < deadline,
+                "timed out waiting for: {query}"
+            );
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+    }
+}
+
 /// Runs a command to its end: its output.
 pub fn output(mut c: Command) -> Output {
     c.output().expect("proleg runs")

@@ -19,6 +19,11 @@ pub fn scratch(name: &str) -> PathBuf {
 /// Runs `proleg ARGS --script SCRIPT` (under xvfb-run without a display); returns
 /// whether it succeeded and what it printed.
 pub fn run(args: &[&str], script: &Path) -> (bool, String) {
+    run_env(args, script, &[])
+}
+
+/// [`run`] with these environment variables set for the window.
+pub fn run_env(args: &[&str], script: &Path, env: &[(&str, &str)]) -> (bool, String) {
     let exe = env!("CARGO_BIN_EXE_proleg");
     let mut cmd = if std::env::var_os("DISPLAY").is_some() {
         Command::new(exe)
@@ -33,6 +38,7 @@ pub fn run(args: &[&str], script: &Path) -> (bool, String) {
         .arg(script)
         .env("XDG_RUNTIME_DIR", &runtime)
         .env("WGPU_BACKEND", "vulkan")
+        .envs(env.iter().copied())
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());

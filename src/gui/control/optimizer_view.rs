@@ -2,7 +2,10 @@
 //! deluge, run that optimization on headless workers in the background (the same
 //! [`crate::optimize::run::optimize`] as `proleg optimize`), show its progress, evaluations
 //! per second, a live learning curve and the best candidate's parameter values, and replay
-//! the best candidate in the viewer (its values put into the shown robot's kernel).
+//! the best candidate in the viewer (its values put into the shown robot's kernel). Or
+//! attach, read-only, to a run going on elsewhere (a shared `postgres://` store's driver and
+//! workers, or any store) and draw its learning curve live
+//! ([`crate::optimize::shared::follow::follow_run`]).
 
 use std::sync::mpsc::{Receiver, channel};
 use std::time::Instant;
@@ -15,12 +18,15 @@ use crate::gui::control::session::SimSession;
 use crate::optimize::run::{
     Evaluation, Outcome, RunChoices, RunSettings, StopFlag, optimize, prepare,
 };
+use crate::optimize::shared::follow::{FOLLOW_POLL, Followed, follow_run};
 use crate::optimize::space::{Genome, SearchSpace};
+use crate::optimize::store::StoreLocation;
 
 /// A message from the optimization thread.
 enum Report {
     Eval(Evaluation),
     Done(Result<Outcome, String>),
+    Detached(Result<Followed, String>),
 }
 
 /// The view's state and the running optimization, if any.
@@ -40,6 +46,10 @@ pub struct OptimizerView {
     pub started: Option<Instant>,
     /// What the run is doing, or why it stopped.
     pub status: String,
+    /// The store to attach to (a path or a postgres:// URL; its run: the latest unfinished).
+    pub attach_to: String,
+    /// Whether the view follows a run elsewhere (read-only) rather than running its own.
+    pub attached: bool,
     stop: StopFlag,
     rx: Option<std::sync::Mutex<Receiver<Report>>>,
     /// The search space of the session's world (by its generation), built once.
@@ -95,7 +105,37 @@ impl OptimizerView {
         self.rx = Some(std::sync::Mutex::new(rx));
     }
 
-    /// Asks the run to end after its current round.
+    /// Follows the latest unfinished run of the store `attach_to` names, read-only.
+    pub fn attach(&mut self) {
+        if self.running() {
+            return;
+        }
+        let location = match StoreLocation::parse(self.attach_to.trim()) {
+            Ok(l) => l,
+            Err(e) => {
+                self.status = e;
+                return;
+            }
+        };
+        self.stop = StopFlag::default();
+        self.curve.clear();
+        self.best = None;
+        self.started = Some(Instant::now());
+        self.attached = true;
+        self.status = format!("attached to {location} (read-only)");
+        let stop = self.stop.clone();
+        let (tx, rx) = channel();
+        std::thread::spawn(move || {
+            let eval_tx = tx.clone();
+            let result = follow_run(&location, None, &stop, FOLLOW_POLL, |e| {
+                let _ = eval_tx.send(Report::Eval(e.clone()));
+            });
+            let _ = tx.send(Report::Detached(result));
+        });
+        self.rx = Some(std::sync::Mutex::new(rx));
+    }
+
+    /// Asks the run to end after its current round (detaches from a followed run).
     pub fn stop(&self) {
         self.stop.stop();
     }
@@ -119,19 +159,33 @@ impl OptimizerView {
                             self.best = Some((e.genome.clone(), e.score));
                         }
                     }
-                    Report::Done(r) => done = Some(r),
+                    Report::Done(r) => {
+                        done = Some(match r {
+                            Ok(o) => format!(
+                                "finished: {} evaluations, best {:.4} ({})",
+                                o.evaluations, o.best_score, o.batching
+                            ),
+                            Err(e) => format!("failed: {e}"),
+                        })
+                    }
+                    Report::Detached(r) => {
+                        done = Some(match r {
+                            Ok(f) if f.finished => {
+                                format!("run {} finished: {} evaluations", f.run, f.evaluations)
+                            }
+                            Ok(f) => format!(
+                                "detached from run {} after {} evaluations",
+                                f.run, f.evaluations
+                            ),
+                            Err(e) => format!("cannot attach: {e}"),
+                        })
+                    }
                 }
             }
         }
-        if let Some(r) = done {
+        if let Some(status) = done {
             self.rx = None;
-            self.status = match r {
-                Ok(o) => format!(
-                    "finished: {} evaluations, best {:.4} ({})",
-                    o.evaluations, o.best_score, o.batching
-                ),
-                Err(e) => format!("failed: {e}"),
-            };
+            self.status = status;
         }
     }
 
@@ -198,12 +252,34 @@ pub fn show(ctx: &egui::Context, session: &mut SimSession, view: &mut OptimizerV
                 ui.add(egui::DragValue::new(&mut view.max_evals).range(0..=1_000_000));
                 ui.label("workers");
                 ui.add(egui::DragValue::new(&mut view.workers).range(1..=64));
-                if view.running() {
+                if view.running() && !view.attached {
                     if ui.button("Stop").clicked() {
                         view.stop();
                     }
-                } else if ui.button("Start").clicked() {
+                } else if ui
+                    .add_enabled(!view.running(), egui::Button::new("Start"))
+                    .clicked()
+                {
+                    view.attached = false;
                     view.start(session);
+                }
+            });
+            ui.horizontal(|ui| {
+                ui.label("or follow a run elsewhere:");
+                ui.add(
+                    egui::TextEdit::singleline(&mut view.attach_to)
+                        .hint_text("postgres://user@host/db or a .sqlite file")
+                        .desired_width(260.0),
+                );
+                if view.running() && view.attached {
+                    if ui.button("Detach").clicked() {
+                        view.stop();
+                    }
+                } else if ui
+                    .add_enabled(!view.running(), egui::Button::new("Attach"))
+                    .clicked()
+                {
+                    view.attach();
                 }
             });
             let best = view.best.as_ref().map_or(f64::NAN, |b| b.1);

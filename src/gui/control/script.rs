@@ -16,6 +16,8 @@
 //! move-by 0.5 0 0                # move the selection (metres, z up), as a drag does
 //! inspect out/demo.data.xml Robot_Data/y_pos   # data file inspection with a graph
 //! optimize 8                    # run the optimization mode for 8 evaluations, wait
+//! attach postgres://u@h/db 30     # follow the store's latest unfinished run read-only,
+//!                                # wait for 30 evaluations (or the run's end)
 //! replay-best                    # show the best candidate in the viewer
 //! remote open|close              # the remote control dialog
 //! remote-set LeftStickX 1        # a gamepad element's value, as if the pad sent it
@@ -89,6 +91,9 @@ pub enum Command {
     Inspect(PathBuf, Vec<SeriesSelector>),
     /// Run the simulation's optimization for this many evaluations and wait for it.
     Optimize(u64),
+    /// Attach the optimization view to the store's latest unfinished run (read-only) and
+    /// wait until this many of its evaluations are drawn (or the run ends).
+    Attach(String, u64),
     /// Replay the best candidate found in the viewer.
     ReplayBest,
     /// Open or close the remote control dialog.
@@ -211,6 +216,10 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             "screenshot" if words.len() == 2 => Command::Screenshot(PathBuf::from(words[1])),
             "state" if words.len() == 2 => Command::State(PathBuf::from(words[1])),
             "optimize" => Command::Optimize(num(words.get(1), "evaluations")?.max(1.0) as u64),
+            "attach" if words.len() == 3 => Command::Attach(
+                words[1].to_string(),
+                num(words.get(2), "evaluations")?.max(0.0) as u64,
+            ),
             "replay-best" => Command::ReplayBest,
             w if w.starts_with("remote") || w.starts_with("robot") => {
                 device_command(words, &num, at)?

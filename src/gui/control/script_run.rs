@@ -63,7 +63,7 @@ fn carry_out(
         | C::RobotDrive(_)
         | C::RobotTwin(_)
         | C::RobotDisconnect => robot_command(c, session, views),
-        C::Module(_) | C::Assign(..) | C::Optimize(_) | C::ReplayBest => {
+        C::Module(_) | C::Assign(..) | C::Optimize(_) | C::Attach(..) | C::ReplayBest => {
             tool_command(c, session, views)
         }
         C::Screenshot(_) | C::State(_) | C::Quit => {
@@ -318,6 +318,23 @@ fn tool_command(c: Command, session: &mut SimSession, views: &mut Views) -> Resu
             views.assign.mask = mask;
             views.assign.assign(session)?;
             Flow::Next
+        }
+        Command::Attach(store, n) => {
+            let o = &mut views.optimizer;
+            if !o.attached {
+                o.open = true;
+                o.attach_to = store.clone();
+                o.attach();
+            }
+            o.poll();
+            if o.status.starts_with("cannot attach") || o.status.starts_with("--store") {
+                return Err(o.status.clone());
+            }
+            if o.running() && (o.curve.len() as u64) < n {
+                Flow::Again
+            } else {
+                Flow::Next
+            }
         }
         Command::Optimize(n) => {
             if session.sim.optimizer.is_none() {

@@ -183,6 +183,22 @@ impl Store {
         }
     }
 
+    /// The finished evaluations of `run` numbered `first` or more, by number.
+    pub fn evaluations_from(&mut self, run: i64, first: u64) -> Result<Vec<StoredEval>, String> {
+        match self {
+            Store::Sqlite(s) => s.evaluations_from(run, first),
+            Store::Postgres(p) => p.evaluations_from(run, first),
+        }
+    }
+
+    /// Whether `run` has finished.
+    pub fn run_finished(&mut self, run: i64) -> Result<bool, String> {
+        match self {
+            Store::Sqlite(s) => s.run_finished(run),
+            Store::Postgres(p) => p.run_finished(run),
+        }
+    }
+
     /// Marks `run` finished.
     pub fn finish_run(&mut self, run: i64) -> Result<(), String> {
         match self {

@@ -236,6 +236,16 @@ impl PgStore {
             .map_err(&fail)
     }
 
+    /// Whether `run` has finished.
+    pub fn run_finished(&mut self, run: i64) -> Result<bool, String> {
+        let fail = self.failer();
+        let row = self
+            .client
+            .query_one("SELECT finished FROM runs WHERE id = $1", &[&run])
+            .map_err(&fail)?;
+        row.try_get::<_, i32>(0).map(|f| f != 0).map_err(&fail)
+    }
+
     /// Marks `run` finished.
     pub fn finish_run(&mut self, run: i64) -> Result<(), String> {
         let fail = self.failer();

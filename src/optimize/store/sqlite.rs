@@ -190,15 +190,32 @@ impl SqliteStore {
 
     /// Every finished evaluation of `run`, by number.
     pub fn evaluations(&self, run: i64) -> Result<Vec<StoredEval>, String> {
+        self.evaluations_from(run, 0)
+    }
+
+    /// Whether `run` has finished.
+    pub fn run_finished(&self, run: i64) -> Result<bool, String> {
+        self.conn
+            .query_row(
+                "SELECT finished FROM runs WHERE id = ?1",
+                params![run],
+                |r| r.get::<_, i64>(0),
+            )
+            .map(|f| f != 0)
+            .map_err(|e| self.fail(e))
+    }
+
+    /// The finished evaluations of `run` numbered `first` or more, by number.
+    pub fn evaluations_from(&self, run: i64, first: u64) -> Result<Vec<StoredEval>, String> {
         let mut st = self
             .conn
             .prepare(
                 "SELECT number, round, genome, vals, score, wall FROM evaluations
-                 WHERE run = ?1 AND state = 'done' ORDER BY number",
+                 WHERE run = ?1 AND number >= ?2 AND state = 'done' ORDER BY number",
             )
             .map_err(|e| self.fail(e))?;
         let rows = st
-            .query_map(params![run], |r| {
+            .query_map(params![run, first as i64], |r| {
                 let genome: String = r.get(2)?;
                 let vals: String = r.get(3)?;
                 let score: Option<f64> = r.get(4)?;
