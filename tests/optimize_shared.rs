@@ -7,7 +7,7 @@ mod common;
 
 use std::path::Path;
 use std::process::Child;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use common::pg::{Pg, output, server, spawn, text};
 use proleg::config::{FsSource, RecordingSource, load_simulation_with};
