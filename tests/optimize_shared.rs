@@ -340,8 +340,25 @@ fn bad_stores_are_one_line_errors_that_never_show_the_password() {
         "not a valid PostgreSQL URL",
         &pg.password,
     );
-    // A store of another schema version: refused, nothing written.
+    // A choice a shared store cannot honour: refused before the store is opened.
+    let mut args = ga_args("2", "0.1", &url);
+    args.extend(["--batch", "4"]);
+    refused(
+        output(pg.proleg(&args)),
+        "--batch 4: a shared store evaluates one robot per world",
+        &pg.password,
+    );
     let mut c = pg.connect("shared_bad");
+    let tables = |c: &mut postgres::Client| -> i64 {
+        c.query_one(
+            "SELECT COUNT(*) FROM pg_tables WHERE schemaname = 'public'",
+            &[],
+        )
+        .unwrap()
+        .get(0)
+    };
+    assert_eq!(tables(&mut c), 0, "nothing written");
+    // A store of another schema version: refused, nothing written.
     c.batch_execute(
         "CREATE TABLE proleg_meta (schema_version INTEGER NOT NULL);
          INSERT INTO proleg_meta VALUES (99);",
@@ -352,15 +369,9 @@ fn bad_stores_are_one_line_errors_that_never_show_the_password() {
         "the store has schema version 99; this proleg reads version 2",
         &pg.password,
     );
-    let tables: i64 = c
-        .query_one(
-            "SELECT COUNT(*) FROM pg_tables WHERE schemaname = 'public'",
-            &[],
-        )
-        .unwrap()
-        .get(0);
     assert_eq!(
-        tables, 1,
+        tables(&mut c),
+        1,
         "nothing written beside the foreign version table"
     );
 }

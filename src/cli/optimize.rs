@@ -16,7 +16,7 @@ use crate::control::ModuleRegistry;
 use crate::optimize::fitness::Fitness;
 use crate::optimize::result::actuation_with;
 use crate::optimize::run::{
-    Evaluation, Outcome, Recording, RunChoices, RunSettings, optimize, prepare,
+    Evaluation, Outcome, Recording, RunChoices, RunSettings, check_workers, optimize, prepare,
 };
 use crate::optimize::space::SearchSpace;
 use crate::optimize::store::{RunInfo, Store, StoreLocation, StoredEval};
@@ -127,6 +127,9 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
         Some(text) => StoreLocation::parse(text)?,
         None => StoreLocation::sqlite(default_store(&o.config)),
     };
+    let shared = matches!(location, StoreLocation::Postgres(_));
+    // Bad choices are refused before the store is touched.
+    check_workers(&settings, shared)?;
     let mut store = Store::open(&location)?;
     if !o.quiet {
         eprint!("{}", header(&sim, &space, &settings));

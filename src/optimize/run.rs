@@ -227,7 +227,7 @@ pub fn optimize(
 
 /// Local worker threads: at least one, unless a shared store's workers evaluate; one robot
 /// per world with a shared store (scores must not depend on who claims what).
-fn check_workers(settings: &RunSettings, shared: bool) -> Result<(), String> {
+pub fn check_workers(settings: &RunSettings, shared: bool) -> Result<(), String> {
     if settings.workers == 0 && !shared {
         return Err("--workers 0: give at least 1 (0 only with a shared postgres:// store, whose workers evaluate)".into());
     }
