@@ -12,6 +12,7 @@ use crate::optimize::deluge::GreatDeluge;
 use crate::optimize::evaluate::Evaluator;
 use crate::optimize::ga::GeneticAlgorithm;
 use crate::optimize::shared::driver::{LocalWorkers, evaluate_round};
+use crate::optimize::shared::worker::OUTAGE;
 use crate::optimize::space::{Genome, SearchSpace};
 use crate::optimize::store::pg_queue::{DONE, Pending};
 use crate::optimize::store::{PgStore, Store, StoredEval};
@@ -264,7 +265,15 @@ fn queue_missing(
             values: space.decode(&r.candidates[i]),
         })
         .collect();
-    let got = evaluate_round(pg, run, seed, &pending, local)?;
+    // A lost connection (the server restarted) is made again; queueing the same
+    // candidates again changes nothing, and the workers' results are in the store.
+    let got = loop {
+        match evaluate_round(pg, run, seed, &pending, local) {
+            Ok(got) => break got,
+            Err(_) if pg.is_closed() => pg.reconnect(OUTAGE, &|| false)?,
+            Err(e) => return Err(e),
+        }
+    };
     for (k, s) in got.into_iter().enumerate() {
         scores[r.missing[k]] = if s.is_nan() { f64::NEG_INFINITY } else { s };
     }

@@ -3,7 +3,7 @@
 //! `proleg worker` runs one such pool; the driver runs another on its own cores.
 
 use std::collections::HashMap;
-use std::sync::mpsc::{RecvTimeoutError, channel};
+use std::sync::mpsc::{RecvTimeoutError, TryRecvError, channel};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -68,6 +68,27 @@ pub fn worker_id() -> String {
         .map(|d| d.subsec_nanos())
         .unwrap_or(0);
     format!("{host}/{}/{nonce:08x}", std::process::id())
+}
+
+/// How long workers and the driver try to reach a store that went away before giving up.
+pub const OUTAGE: Duration = Duration::from_secs(300);
+
+/// An evaluated claim whose score is still to be written.
+struct Unsent {
+    claim: Claim,
+    score: f64,
+    wall: f64,
+    claim_seconds: f64,
+}
+
+/// What one evaluating thread keeps between claims.
+struct ThreadState {
+    /// Evaluators of the runs seen, by run.
+    evaluators: HashMap<i64, Arc<Evaluator>>,
+    /// Since when there was nothing to claim.
+    idle_since: Instant,
+    /// A result the store could not take (its connection was lost).
+    unsent: Option<Unsent>,
 }
 
 /// What the threads of a pool share.
@@ -155,64 +176,98 @@ fn heartbeat(
         if let Err(RecvTimeoutError::Disconnected) = beats.recv_timeout(lease / 3) {
             return Ok(());
         }
-        store.renew(id, lease)?;
+        if let Err(e) = store.renew(id, lease) {
+            if !store.is_closed() {
+                return Err(e);
+            }
+            let threads_ended = || matches!(beats.try_recv(), Err(TryRecvError::Disconnected));
+            if let Err(e) = store.reconnect(OUTAGE, &threads_ended)
+                && !threads_ended()
+            {
+                return Err(e);
+            }
+        }
     }
 }
 
 impl Pool<'_> {
-    /// One thread: claim, evaluate, write, until stopped or idle long enough.
+    /// One thread: claim, evaluate, write, until stopped or idle long enough. A lost
+    /// connection (the server restarted) is made again, for up to [`OUTAGE`]; a result
+    /// that could not be written then is written after it, if its lease still holds.
     fn evaluate_loop(&self) -> Result<(), String> {
         let mut store = PgStore::open(self.target, false)?;
         store.listen(PENDING)?;
-        let mut evaluators: HashMap<i64, Arc<Evaluator>> = HashMap::new();
+        let mut thread = ThreadState {
+            evaluators: HashMap::new(),
+            idle_since: Instant::now(),
+            unsent: None,
+        };
         if let Some((run, e)) = &self.preloaded {
-            evaluators.insert(*run, e.clone());
+            thread.evaluators.insert(*run, e.clone());
         }
-        let mut idle_since = Instant::now();
         while !self.stop.is_set() {
-            let refused = self.refused.lock().map(|r| r.clone()).unwrap_or_default();
-            let t = Instant::now();
-            let claims = store.claim(
-                &self.id,
-                self.options.lease,
-                self.options.only_run,
-                &refused,
-                1,
-            )?;
-            let claim_seconds = t.elapsed().as_secs_f64();
-            let Some(claim) = claims.into_iter().next() else {
-                if self
-                    .options
-                    .idle_exit
-                    .is_some_and(|limit| idle_since.elapsed() >= limit)
-                {
-                    return Ok(());
+            match self.step(&mut store, &mut thread) {
+                Ok(true) => {}
+                Ok(false) => return Ok(()),
+                Err(e) if store.is_closed() => {
+                    (self.on_message)(&format!("lost the store ({e}); connecting again"));
+                    store.reconnect(OUTAGE, &|| self.stop.is_set())?;
+                    (self.on_message)("connected again");
                 }
-                store.wait_notification(IDLE_POLL)?;
-                continue;
-            };
-            let evaluator = match self.evaluator(&mut store, &mut evaluators, claim.run) {
-                Ok(e) => e,
-                Err(why) => {
-                    self.refuse(claim.run, why);
-                    store.release(&self.id, &claim)?;
-                    continue;
-                }
-            };
-            self.evaluate(&mut store, &evaluator, &claim, claim_seconds)?;
-            idle_since = Instant::now();
+                Err(e) => return Err(e),
+            }
         }
         Ok(())
     }
 
-    /// Runs one claimed episode and writes its score.
-    fn evaluate(
-        &self,
-        store: &mut PgStore,
-        evaluator: &Evaluator,
-        claim: &Claim,
-        claim_seconds: f64,
-    ) -> Result<(), String> {
+    /// One claim and its evaluation (or a wait for work); `false` when idle long enough.
+    fn step(&self, store: &mut PgStore, thread: &mut ThreadState) -> Result<bool, String> {
+        if let Some(u) = &thread.unsent {
+            self.submit(store, u)?;
+            thread.unsent = None;
+        }
+        let refused = self.refused.lock().map(|r| r.clone()).unwrap_or_default();
+        let t = Instant::now();
+        let claims = store.claim(
+            &self.id,
+            self.options.lease,
+            self.options.only_run,
+            &refused,
+            1,
+        )?;
+        let claim_seconds = t.elapsed().as_secs_f64();
+        let Some(claim) = claims.into_iter().next() else {
+            if self
+                .options
+                .idle_exit
+                .is_some_and(|limit| thread.idle_since.elapsed() >= limit)
+            {
+                return Ok(false);
+            }
+            store.wait_notification(IDLE_POLL)?;
+            return Ok(true);
+        };
+        let evaluator = match self.evaluator(store, &mut thread.evaluators, claim.run) {
+            Ok(e) => e,
+            Err(e) if store.is_closed() => return Err(e),
+            Err(why) => {
+                self.refuse(claim.run, why);
+                store.release(&self.id, &claim)?;
+                return Ok(true);
+            }
+        };
+        let result = self.evaluate(&evaluator, claim, claim_seconds);
+        let sent = self.submit(store, &result);
+        if sent.is_err() {
+            thread.unsent = Some(result);
+        }
+        sent?;
+        thread.idle_since = Instant::now();
+        Ok(true)
+    }
+
+    /// Runs one claimed episode.
+    fn evaluate(&self, evaluator: &Evaluator, claim: Claim, claim_seconds: f64) -> Unsent {
         let t = Instant::now();
         let score = match evaluator.run_batch(std::slice::from_ref(&claim.genome)) {
             Ok(scores) => scores.first().copied().unwrap_or(f64::NAN),
@@ -224,19 +279,28 @@ impl Pool<'_> {
                 f64::NAN
             }
         };
-        let wall = t.elapsed().as_secs_f64();
+        Unsent {
+            claim,
+            score,
+            wall: t.elapsed().as_secs_f64(),
+            claim_seconds,
+        }
+    }
+
+    /// Writes an evaluated claim's score, and counts it.
+    fn submit(&self, store: &mut PgStore, u: &Unsent) -> Result<(), String> {
         let t = Instant::now();
-        let accepted = store.submit(&self.id, claim, score, wall)?;
+        let accepted = store.submit(&self.id, &u.claim, u.score, u.wall)?;
         let submit_seconds = t.elapsed().as_secs_f64();
         if let Ok(mut r) = self.report.lock() {
-            r.coordination += claim_seconds + submit_seconds;
+            r.coordination += u.claim_seconds + submit_seconds;
             if !accepted {
                 r.discarded += 1;
-            } else if score.is_nan() {
-                r.failed += 1;
-                r.evaluated += 1;
             } else {
                 r.evaluated += 1;
+                if u.score.is_nan() {
+                    r.failed += 1;
+                }
             }
         }
         Ok(())

@@ -3,6 +3,8 @@
 //! statement is parameterized; errors name the store by its URL without the password.
 //! The queue of shared evaluations (claims, leases, results) is in [`super::pg_queue`].
 
+use std::time::{Duration, Instant};
+
 use postgres::{Client, Transaction};
 
 use crate::optimize::store::location::PgTarget;
@@ -14,6 +16,8 @@ use crate::optimize::store::{
 pub struct PgStore {
     pub(super) client: Client,
     pub(super) target: PgTarget,
+    /// The notification channels this connection listens to (again after a reconnect).
+    pub(super) listening: Vec<&'static str>,
 }
 
 /// Advisory-lock key under which the first driver creates the tables.
@@ -49,6 +53,7 @@ impl PgStore {
         let mut store = PgStore {
             client,
             target: target.clone(),
+            listening: Vec::new(),
         };
         let fail = store.failer();
         let mut tx = store.client.transaction().map_err(&fail)?;
@@ -91,6 +96,43 @@ impl PgStore {
         }
         tx.commit().map_err(&fail)?;
         Ok(store)
+    }
+
+    /// Whether the connection is gone (the server restarted, the network was cut).
+    pub fn is_closed(&self) -> bool {
+        self.client.is_closed()
+    }
+
+    /// Connects again after the connection was lost, listening again to its channels;
+    /// tries every 0.5 s, doubling up to 8 s, and gives up after `give_up` (or when
+    /// `stopped` says so) with the last error.
+    pub fn reconnect(
+        &mut self,
+        give_up: Duration,
+        stopped: &dyn Fn() -> bool,
+    ) -> Result<(), String> {
+        let started = Instant::now();
+        let mut pause = Duration::from_millis(500);
+        loop {
+            let attempt = connect(&self.target).and_then(|client| {
+                self.client = client;
+                let channels = self.listening.clone();
+                channels.iter().try_for_each(|c| self.listen(c))
+            });
+            match attempt {
+                Ok(()) => return Ok(()),
+                Err(e) if stopped() || started.elapsed() >= give_up => {
+                    return Err(format!(
+                        "the store has been unreachable for {:.0} s: {e}",
+                        started.elapsed().as_secs_f64()
+                    ));
+                }
+                Err(_) => {
+                    std::thread::sleep(pause);
+                    pause = (pause * 2).min(Duration::from_secs(8));
+                }
+            }
+        }
     }
 
     /// Whether this connection is encrypted (TLS).

@@ -52,11 +52,15 @@ impl PgStore {
     /// Subscribes this connection to `channel` ([`PENDING`] or [`DONE`]).
     pub fn listen(&mut self, channel: &str) -> Result<(), String> {
         let fail = self.failer();
-        let statement = match channel {
-            PENDING => "LISTEN proleg_pending",
-            _ => "LISTEN proleg_done",
+        let (name, statement) = match channel {
+            PENDING => (PENDING, "LISTEN proleg_pending"),
+            _ => (DONE, "LISTEN proleg_done"),
         };
-        self.client.batch_execute(statement).map_err(&fail)
+        self.client.batch_execute(statement).map_err(&fail)?;
+        if !self.listening.contains(&name) {
+            self.listening.push(name);
+        }
+        Ok(())
     }
 
     /// Waits up to `timeout` for a notification on a channel this connection listens to.
