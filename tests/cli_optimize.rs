@@ -94,6 +94,58 @@ fn a_killed_run_resumes_to_the_same_best() {
 }
 
 #[test]
+fn a_killed_cma_es_run_resumes_to_the_same_best_and_improves_on_its_start() {
+    let dir = common::scratch("cli_optimize_cma");
+    let args = |store: &str| {
+        vec![
+            "optimize".to_string(),
+            "configs/experiment1_cmaes.simulation.xml".into(),
+            "--max-evals".into(),
+            "61".into(),
+            "--duration".into(),
+            "3".into(),
+            "--quiet".into(),
+            "--store".into(),
+            store.into(),
+        ]
+    };
+    let run = |extra: &[&str], store: &str| {
+        let mut a = args(store);
+        a.extend(extra.iter().map(|s| s.to_string()));
+        let a: Vec<&str> = a.iter().map(String::as_str).collect();
+        proleg(&a)
+    };
+    let whole = dir.join("whole.sqlite");
+    let (ok, full, err) = run(&[], whole.to_str().unwrap());
+    assert!(ok, "{err}");
+    // The start alone, then 6 generations of 10.
+    assert!(full.contains("61 evaluations in 7 rounds"), "{full}");
+    let expected = result_lines(&full);
+    let start: f64 = full
+        .lines()
+        .find_map(|l| l.strip_prefix("start score "))
+        .and_then(|l| l.split_whitespace().next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no start score in {full}"));
+    let best: f64 = expected[0]
+        .split_whitespace()
+        .nth(2)
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no best score in {full}"));
+    assert!(
+        best > start,
+        "CMA-ES improved on its start: {start} -> {best}"
+    );
+
+    let killed = dir.join("killed.sqlite");
+    let (ok, _, _) = run(&["--crash-after", "25"], killed.to_str().unwrap());
+    assert!(!ok, "the crash aid aborts the process");
+    let (ok, resumed, err) = run(&["--resume"], killed.to_str().unwrap());
+    assert!(ok, "{err}");
+    assert_eq!(result_lines(&resumed), expected);
+}
+
+#[test]
 fn optimize_refuses_a_single_run_configuration() {
     let dir = common::scratch("cli_optimize_refuse");
     let store = dir.join("s.sqlite");

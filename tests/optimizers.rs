@@ -7,6 +7,7 @@ use proleg::config::optimizer::{GaSettings, GdSettings};
 use proleg::control::ModuleRegistry;
 use proleg::control::load_simulation;
 use proleg::optimize::Optimizer;
+use proleg::optimize::cmaes::CmaOptimizer;
 use proleg::optimize::deluge::GreatDeluge;
 use proleg::optimize::evaluate::Evaluator;
 use proleg::optimize::fitness::Fitness;
@@ -106,6 +107,18 @@ fn the_great_deluge_finds_the_optimum_of_a_quadratic() {
 }
 
 #[test]
+fn cma_es_finds_the_optimum_of_a_quadratic_on_the_allele_grid() {
+    let s = space();
+    let o = CmaOptimizer::new(s.clone(), vec![160; 5], 0.3, 0, 1, 20_000);
+    let (best, asked) = drive(o, &s);
+    eprintln!("CMA-ES: best {best} after {} evaluations", asked.len());
+    // The grid's optimum (0) exactly, long before the GA's budget: converged, it stops.
+    assert_eq!(best, 0.0, "best {best}");
+    assert!(asked.len() <= 2_000, "{} evaluations", asked.len());
+    assert_eq!(asked[0], vec![160; 5], "the start is evaluated first");
+}
+
+#[test]
 fn the_great_deluge_stops_when_its_credits_are_gone() {
     // A water level no candidate reaches: every credit is spent on failures.
     let settings = GdSettings {
@@ -137,6 +150,13 @@ fn the_same_seed_gives_the_same_candidates() {
     let (_, b) = drive(gd(5, 4, 2_000), &s);
     assert_eq!(a, b);
     assert_eq!(a.len(), 2_000, "the evaluation budget is kept");
+    let cma = |seed| CmaOptimizer::new(space(), vec![0; 5], 0.3, 0, seed, 300);
+    let (_, a) = drive(cma(5), &s);
+    let (_, b) = drive(cma(5), &s);
+    let (_, c) = drive(cma(6), &s);
+    assert_eq!(a, b);
+    assert_ne!(a, c);
+    assert!(a.len() <= 300, "the evaluation budget is kept");
 }
 
 #[test]

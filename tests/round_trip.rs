@@ -57,6 +57,7 @@ fn every_file_round_trips() {
         for p in common::files_ending(&dir, ".ga.xml")
             .into_iter()
             .chain(common::files_ending(&dir, ".gd.xml"))
+            .chain(common::files_ending(&dir, ".cmaes.xml"))
         {
             n += check(&p, parse_optimizer_file, write_optimizer_file);
         }

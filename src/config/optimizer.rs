@@ -8,7 +8,10 @@
 //! `valueSpace` 1 is such a range; 0 an enumerated set given in `<values>`. `genomeType`
 //! and `valueType` are kept as written (1 = real-valued genome, as in the thesis).
 //! Great-deluge files have the root `<greatDeluge>` and the properties `credits`,
-//! `retries`, `initialWaterLevel`, `rain`, `confidence`.
+//! `retries`, `initialWaterLevel`, `rain`, `confidence`. CMA-ES files (our extension) have
+//! the root `<cmaEvolutionStrategy>` and the optional properties `popsize` (samples per
+//! generation; 0 or absent: 4 + 3 ln n) and `sigma` (the initial step size as a fraction of
+//! each gene's range, in (0, 1]; default 0.3).
 
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::fitness::Fitness;
@@ -110,6 +113,18 @@ pub struct GdSettings {
     pub confidence: u32,
 }
 
+/// CMA-ES settings (our extension).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CmaSettings {
+    /// Samples per generation (0: the default 4 + 3 ln n).
+    pub popsize: u32,
+    /// Initial step size, as a fraction of each gene's range.
+    pub sigma: f64,
+}
+
+/// CMA-ES's initial step size unless the file gives one.
+pub const DEFAULT_CMA_SIGMA: f64 = 0.3;
+
 /// Which optimizer, with its settings.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Algorithm {
@@ -117,6 +132,8 @@ pub enum Algorithm {
     Genetic(GaSettings),
     /// The modified great deluge.
     GreatDeluge(GdSettings),
+    /// The covariance matrix adaptation evolution strategy.
+    CmaEs(CmaSettings),
 }
 
 /// An optimizer file as written.
@@ -140,6 +157,7 @@ impl OptimizerFile {
         match self.algorithm {
             Algorithm::Genetic(_) => "genetic algorithm",
             Algorithm::GreatDeluge(_) => "modified great deluge",
+            Algorithm::CmaEs(_) => "CMA-ES",
         }
     }
 }
@@ -361,7 +379,7 @@ fn read_parameters(r: &Reader, props: &Element) -> ConfigResult<Vec<RegisteredPa
     Ok(out)
 }
 
-/// Reads an optimizer file (`<geneticAlgorithm>` or `<greatDeluge>`).
+/// Reads an optimizer file (`<geneticAlgorithm>`, `<greatDeluge>` or `<cmaEvolutionStrategy>`).
 pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFile> {
     let doc = crate::config::xml::dom::parse(file, text)?;
     let r = Reader::new(file);
@@ -438,12 +456,32 @@ fn read_algorithm(r: &Reader, root: &Element, props: &Element) -> ConfigResult<A
             rain: r.f64_in(rain, 0.0, f64::INFINITY)?,
             confidence: count(r, props, "confidence", 1)?,
         })
+    } else if root.is("cmaevolutionstrategy") {
+        let mut allowed = vec!["popsize", "sigma"];
+        allowed.extend(common);
+        r.only_children(props, &allowed)?;
+        let popsize = match r.at_most_one(props, "popsize")? {
+            Some(el) => r.u32(el)?,
+            None => 0,
+        };
+        let sigma = match r.at_most_one(props, "sigma")? {
+            Some(el) if r.f64(el)? <= 0.0 => {
+                return Err(r.err(
+                    el.pos,
+                    ErrorKind::InvalidValue,
+                    "sigma must be > 0 (a fraction of each gene's range)",
+                ));
+            }
+            Some(el) => r.f64_in(el, 0.0, 1.0)?,
+            None => DEFAULT_CMA_SIGMA,
+        };
+        Algorithm::CmaEs(CmaSettings { popsize, sigma })
     } else {
         return Err(r.err(
             root.pos,
             ErrorKind::UnknownElement,
             format!(
-                "an optimizer file starts with <geneticAlgorithm> or <greatDeluge>, not <{}>",
+                "an optimizer file starts with <geneticAlgorithm>, <greatDeluge> or <cmaEvolutionStrategy>, not <{}>",
                 root.name
             ),
         ));
@@ -499,6 +537,7 @@ pub fn write_optimizer_file(o: &OptimizerFile) -> String {
     let root = match &o.algorithm {
         Algorithm::Genetic(_) => "geneticAlgorithm",
         Algorithm::GreatDeluge(_) => "greatDeluge",
+        Algorithm::CmaEs(_) => "cmaEvolutionStrategy",
     };
     w.open(root, &[]);
     w.open("properties", &[]);
@@ -518,6 +557,10 @@ pub fn write_optimizer_file(o: &OptimizerFile) -> String {
             w.num("initialWaterLevel", g.initial_water_level);
             w.num("rain", g.rain);
             w.leaf("confidence", &g.confidence.to_string());
+        }
+        Algorithm::CmaEs(c) => {
+            w.leaf("popsize", &c.popsize.to_string());
+            w.num("sigma", c.sigma);
         }
     }
     if o.fitness != Fitness::Displacement {
@@ -641,5 +684,39 @@ mod tests {
         let e = parse_optimizer_file("x.ga.xml", &bad).unwrap_err();
         assert_eq!(e.kind, ErrorKind::InvalidValue);
         assert!(e.to_string().contains("unknown fitness"), "{e}");
+    }
+
+    #[test]
+    fn cma_es_settings_are_read_with_defaults_and_checked() {
+        let base = include_str!("../../configs/optimizer/experiment1.cmaes.xml");
+        let o = parse_optimizer_file("x.cmaes.xml", base).unwrap();
+        assert_eq!(
+            o.algorithm,
+            Algorithm::CmaEs(CmaSettings {
+                popsize: 10,
+                sigma: 0.25
+            })
+        );
+        assert_eq!(o.label(), "CMA-ES");
+        let plain = base
+            .replace("    <popsize>10</popsize>\n", "")
+            .replace("    <sigma>0.25</sigma>\n", "");
+        let o = parse_optimizer_file("x.cmaes.xml", &plain).unwrap();
+        assert_eq!(
+            o.algorithm,
+            Algorithm::CmaEs(CmaSettings {
+                popsize: 0,
+                sigma: DEFAULT_CMA_SIGMA
+            })
+        );
+        for bad in [
+            "<sigma>0</sigma>",
+            "<sigma>1.5</sigma>",
+            "<credits>3</credits>",
+        ] {
+            let text = base.replace("<sigma>0.25</sigma>", bad);
+            let e = parse_optimizer_file("x.cmaes.xml", &text).unwrap_err();
+            assert!(e.to_string().starts_with("x.cmaes.xml:"), "{bad}: {e}");
+        }
     }
 }

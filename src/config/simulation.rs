@@ -30,6 +30,8 @@ pub enum Mode {
     GeneticAlgorithm,
     /// Optimize with the great deluge.
     GreatDeluge,
+    /// Optimize with CMA-ES.
+    CmaEs,
 }
 
 impl Mode {
@@ -40,11 +42,12 @@ impl Mode {
             Mode::RealRobot => "Real Robot Control",
             Mode::GeneticAlgorithm => "GA optimization",
             Mode::GreatDeluge => "Great Deluge optimization",
+            Mode::CmaEs => "CMA-ES optimization",
         }
     }
 
     /// Accepted spellings (compared ignoring case, spaces, `_` and `-`).
-    const ALIASES: [(Mode, &'static [&'static str]); 4] = [
+    const ALIASES: [(Mode, &'static [&'static str]); 5] = [
         (
             Mode::SingleRun,
             &["Single Run Simulation", "Single Run", "single"],
@@ -73,6 +76,7 @@ impl Mode {
                 "GD",
             ],
         ),
+        (Mode::CmaEs, &["CMA-ES optimization", "CMA-ES", "CMAES"]),
     ];
 
     /// Reads a mode as files write it (other spellings accepted).
@@ -85,7 +89,10 @@ impl Mode {
 
     /// Whether the mode optimizes.
     pub fn is_optimization(self) -> bool {
-        matches!(self, Mode::GeneticAlgorithm | Mode::GreatDeluge)
+        matches!(
+            self,
+            Mode::GeneticAlgorithm | Mode::GreatDeluge | Mode::CmaEs
+        )
     }
 }
 

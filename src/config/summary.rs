@@ -204,6 +204,18 @@ fn optimizer_part(s: &mut String, sim: &Simulation) {
                 g.confidence
             );
         }
+        Algorithm::CmaEs(c) => {
+            let _ = writeln!(
+                s,
+                "  population {}, initial step size {} of each range",
+                if c.popsize == 0 {
+                    "4 + 3 ln n".to_string()
+                } else {
+                    c.popsize.to_string()
+                },
+                num(c.sigma)
+            );
+        }
     }
     for p in &o.parameters {
         let g = &p.genome;

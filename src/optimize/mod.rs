@@ -6,6 +6,7 @@
 //! ([`evaluate`]); the experiment store ([`store`]: SQLite, or PostgreSQL shared by a
 //! driver and workers on many hosts, [`shared`]).
 
+pub mod cmaes;
 pub mod curve;
 pub mod deluge;
 pub mod evaluate;

@@ -8,6 +8,7 @@ use crate::config::Simulation;
 use crate::config::optimizer::Algorithm;
 use crate::control::{ControlKernel, ModuleRegistry};
 use crate::optimize::Optimizer;
+use crate::optimize::cmaes::CmaOptimizer;
 use crate::optimize::deluge::GreatDeluge;
 use crate::optimize::evaluate::Evaluator;
 use crate::optimize::ga::GeneticAlgorithm;
@@ -292,6 +293,14 @@ fn build_optimizer(
             space.clone(),
             ga.clone(),
             start.clone(),
+            settings.seed,
+            settings.max_evaluations,
+        )),
+        Algorithm::CmaEs(c) => Box::new(CmaOptimizer::new(
+            space.clone(),
+            start.clone(),
+            c.sigma,
+            c.popsize as usize,
             settings.seed,
             settings.max_evaluations,
         )),

@@ -205,6 +205,7 @@ fn load_optimizer(
     let expected = match sim.properties.mode {
         Mode::GeneticAlgorithm => Some("genetic algorithm"),
         Mode::GreatDeluge => Some("modified great deluge"),
+        Mode::CmaEs => Some("CMA-ES"),
         _ => None,
     };
     if let Some(expected) = expected
