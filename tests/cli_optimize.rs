@@ -146,6 +146,30 @@ fn a_killed_cma_es_run_resumes_to_the_same_best_and_improves_on_its_start() {
 }
 
 #[test]
+fn the_demo_s_gait_from_scratch_improves_on_its_start_by_more_than_a_fifth() {
+    let dir = common::scratch("cli_optimize_scratch");
+    let store = dir.join("s.sqlite");
+    let (ok, out, err) = proleg(&[
+        "optimize",
+        "configs/gait_from_scratch_cmaes.simulation.xml",
+        "--max-evals",
+        "31",
+        "--duration",
+        "5",
+        "--quiet",
+        "--store",
+        store.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let gain: f64 = out
+        .lines()
+        .find_map(|l| l.split('(').nth(1)?.strip_suffix("% over the start)"))
+        .and_then(|g| g.trim_start_matches('+').parse().ok())
+        .unwrap_or_else(|| panic!("no gain in {out}"));
+    assert!(gain >= 20.0, "{out}");
+}
+
+#[test]
 fn optimize_refuses_a_single_run_configuration() {
     let dir = common::scratch("cli_optimize_refuse");
     let store = dir.join("s.sqlite");
