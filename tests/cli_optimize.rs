@@ -143,6 +143,18 @@ fn a_killed_cma_es_run_resumes_to_the_same_best_and_improves_on_its_start() {
     let (ok, resumed, err) = run(&["--resume"], killed.to_str().unwrap());
     assert!(ok, "{err}");
     assert_eq!(result_lines(&resumed), expected);
+
+    // Two runs of one optimizer on one configuration draw as a band.
+    let png = dir.join("band.png");
+    let (ok, _, err) = proleg(&[
+        "results",
+        whole.to_str().unwrap(),
+        killed.to_str().unwrap(),
+        "--curve",
+        png.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
 }
 
 #[test]

@@ -5,7 +5,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::optimize::curve::plot_curves;
+use crate::optimize::curve::{CurveGroup, plot_curves};
 use crate::optimize::store::{RunRow, Store, StoreLocation};
 
 /// Options of `proleg results`.
@@ -100,7 +100,8 @@ pub fn run(o: &ResultsOptions) -> Result<ResultsReport, String> {
         return Err(format!("no run {missing} in the given store(s)"));
     }
     if let Some(png) = &o.curve {
-        let mut curves = Vec::new();
+        // Runs of one optimizer on one configuration (seeds) make one group: a band.
+        let mut groups: Vec<((String, String), Vec<(i64, Vec<f64>)>)> = Vec::new();
         for (store, runs) in &mut opened {
             for r in runs.iter() {
                 let scores: Vec<f64> = store.evaluations(r.id)?.iter().map(|e| e.score).collect();
@@ -108,12 +109,26 @@ pub fn run(o: &ResultsOptions) -> Result<ResultsReport, String> {
                     .file_name()
                     .map(|n| n.to_string_lossy().into_owned())
                     .unwrap_or_default();
-                curves.push((
-                    format!("{name} run {} ({})", r.id, r.info.algorithm),
-                    scores,
-                ));
+                let key = (name, r.info.algorithm.clone());
+                match groups.iter_mut().find(|(k, _)| *k == key) {
+                    Some((_, g)) => g.push((r.id, scores)),
+                    None => groups.push((key, vec![(r.id, scores)])),
+                }
             }
         }
+        let curves: Vec<CurveGroup> = groups
+            .into_iter()
+            .map(|((name, algorithm), runs)| CurveGroup {
+                label: match runs.as_slice() {
+                    [(id, _)] => format!("{name} run {id} ({algorithm})"),
+                    _ => format!(
+                        "{name} ({algorithm}): mean and range of {} runs",
+                        runs.len()
+                    ),
+                },
+                runs: runs.into_iter().map(|(_, s)| s).collect(),
+            })
+            .collect();
         let fitness = opened
             .iter()
             .find_map(|(_, runs)| runs.first())
