@@ -8,6 +8,11 @@ use std::path::{Path, PathBuf};
 use crate::optimize::curve::{CurveGroup, plot_curves};
 use crate::optimize::store::{RunRow, Store, StoreLocation};
 
+/// Which curve a run belongs to: its configuration file's name and its optimizer.
+type GroupKey = (String, String);
+/// A run's id and its scores in evaluation order.
+type RunScores = (i64, Vec<f64>);
+
 /// Options of `proleg results`.
 pub struct ResultsOptions {
     /// One or more stores (SQLite files or postgres:// URLs); their runs are listed and
@@ -100,35 +105,7 @@ pub fn run(o: &ResultsOptions) -> Result<ResultsReport, String> {
         return Err(format!("no run {missing} in the given store(s)"));
     }
     if let Some(png) = &o.curve {
-        // Runs of one optimizer on one configuration (seeds) make one group: a band.
-        let mut groups: Vec<((String, String), Vec<(i64, Vec<f64>)>)> = Vec::new();
-        for (store, runs) in &mut opened {
-            for r in runs.iter() {
-                let scores: Vec<f64> = store.evaluations(r.id)?.iter().map(|e| e.score).collect();
-                let name = Path::new(&r.info.config)
-                    .file_name()
-                    .map(|n| n.to_string_lossy().into_owned())
-                    .unwrap_or_default();
-                let key = (name, r.info.algorithm.clone());
-                match groups.iter_mut().find(|(k, _)| *k == key) {
-                    Some((_, g)) => g.push((r.id, scores)),
-                    None => groups.push((key, vec![(r.id, scores)])),
-                }
-            }
-        }
-        let curves: Vec<CurveGroup> = groups
-            .into_iter()
-            .map(|((name, algorithm), runs)| CurveGroup {
-                label: match runs.as_slice() {
-                    [(id, _)] => format!("{name} run {id} ({algorithm})"),
-                    _ => format!(
-                        "{name} ({algorithm}): mean and range of {} runs",
-                        runs.len()
-                    ),
-                },
-                runs: runs.into_iter().map(|(_, s)| s).collect(),
-            })
-            .collect();
+        let curves = curve_groups(&mut opened)?;
         let fitness = opened
             .iter()
             .find_map(|(_, runs)| runs.first())
@@ -170,4 +147,37 @@ pub fn run(o: &ResultsOptions) -> Result<ResultsReport, String> {
         curve: o.curve.clone(),
         export: o.export.clone(),
     })
+}
+
+/// The runs' learning curves: runs of one optimizer on one configuration (seeds) make one
+/// group, drawn as a band.
+fn curve_groups(opened: &mut [(Store, Vec<RunRow>)]) -> Result<Vec<CurveGroup>, String> {
+    let mut groups: Vec<(GroupKey, Vec<RunScores>)> = Vec::new();
+    for (store, runs) in opened.iter_mut() {
+        for r in runs.iter() {
+            let scores: Vec<f64> = store.evaluations(r.id)?.iter().map(|e| e.score).collect();
+            let name = Path::new(&r.info.config)
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let key = (name, r.info.algorithm.clone());
+            match groups.iter_mut().find(|(k, _)| *k == key) {
+                Some((_, g)) => g.push((r.id, scores)),
+                None => groups.push((key, vec![(r.id, scores)])),
+            }
+        }
+    }
+    Ok(groups
+        .into_iter()
+        .map(|((name, algorithm), runs)| CurveGroup {
+            label: match runs.as_slice() {
+                [(id, _)] => format!("{name} run {id} ({algorithm})"),
+                _ => format!(
+                    "{name} ({algorithm}): mean and range of {} runs",
+                    runs.len()
+                ),
+            },
+            runs: runs.into_iter().map(|(_, s)| s).collect(),
+        })
+        .collect())
 }

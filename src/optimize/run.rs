@@ -125,70 +125,27 @@ pub fn optimize(
         batch: settings.batch,
         workers,
     };
-    let mut local = match recording.as_mut() {
-        Some(r) if shared => match r.store.shared() {
-            Some(pg) => {
-                pg.listen(DONE)?;
-                Some(LocalWorkers::start(
-                    pg,
-                    registry,
-                    evaluator(1),
-                    (r.run, workers),
-                    settings.lease,
-                ))
-            }
-            None => None,
-        },
+    let local = match recording.as_mut() {
+        Some(r) if shared => start_local_workers(r, registry, evaluator(1), settings)?,
         _ => None,
     };
-    let mut evaluator = evaluator(workers.max(1));
+    let mut scoring = Scoring {
+        evaluator: evaluator(workers.max(1)),
+        batching: Batching::new(settings.batch, workers.max(1)),
+        local,
+        stored: 0,
+        simulated: 0,
+    };
     let (mut n, mut round, mut best) = (0u64, 0u64, f64::NEG_INFINITY);
     let mut start_score = None;
-    let mut simulated = 0u64;
-    let mut batching = Batching::new(settings.batch, workers.max(1));
-    let mut stored = 0u64;
     while !optimizer.finished() && !settings.stop.is_set() {
         let candidates = optimizer.ask();
         if candidates.is_empty() {
             break;
         }
-        let (mut scores, missing) = reuse_stored(recording.as_ref(), n, &candidates);
-        simulated += missing.len() as u64;
-        let round_of = RoundRef {
-            first: n,
-            round,
-            candidates: &candidates,
-            missing: &missing,
-        };
-        match (local.as_mut(), recording.as_mut()) {
-            (Some(local), Some(rec)) => {
-                let run = rec.run;
-                let Some(pg) = rec.store.shared() else {
-                    return Err("the shared store went away".into());
-                };
-                queue_missing(
-                    pg,
-                    run,
-                    settings.seed,
-                    &evaluator.space,
-                    &round_of,
-                    &mut scores,
-                    local,
-                )?;
-            }
-            _ => simulate_missing(
-                &mut evaluator,
-                &mut batching,
-                &round_of,
-                &mut scores,
-                &mut recording,
-                (settings.seed, &mut stored),
-            )?,
-        }
+        let scores = scoring.score(&mut recording, (n, round), &candidates, settings.seed)?;
         for (g, s) in candidates.iter().zip(&scores) {
-            if n == 0 {
-                start_score = Some(*s);
-            }
+            start_score = start_score.or(Some(*s));
             best = best.max(*s);
             on_eval(&Evaluation {
                 number: n,
@@ -202,12 +159,7 @@ pub fn optimize(
         optimizer.tell(&scores);
         round += 1;
     }
-    if let (Some(local), Some(pg)) = (local, recording.as_mut().and_then(|r| r.store.shared())) {
-        local.finish(pg)?;
-        batching.description = format!(
-            "one world per candidate, through the shared store ({workers} local worker thread(s))"
-        );
-    }
+    let (batching, simulated) = scoring.finish(&mut recording, workers)?;
     if let Some(r) = recording.as_mut() {
         r.store.finish_run(r.run)?;
     }
@@ -222,9 +174,100 @@ pub fn optimize(
         start_score,
         evaluations: n,
         simulated,
-        batching: batching.description,
+        batching,
         rounds: round,
     })
+}
+
+/// How a run's candidates get their scores: from the store (resuming), simulated here, or
+/// through a shared store's queue with the driver's local workers.
+struct Scoring {
+    evaluator: Evaluator,
+    batching: Batching,
+    local: Option<LocalWorkers>,
+    /// Evaluations stored by this call (for the crash aid).
+    stored: u64,
+    /// Evaluations simulated by this call (the rest came from the store).
+    simulated: u64,
+}
+
+impl Scoring {
+    /// The scores of a round's candidates, the first numbered `first`.
+    fn score(
+        &mut self,
+        recording: &mut Option<Recording<'_>>,
+        (first, round): (u64, u64),
+        candidates: &[Genome],
+        seed: u64,
+    ) -> Result<Vec<f64>, String> {
+        let (mut scores, missing) = reuse_stored(recording.as_ref(), first, candidates);
+        self.simulated += missing.len() as u64;
+        let round_of = RoundRef {
+            first,
+            round,
+            candidates,
+            missing: &missing,
+        };
+        match (self.local.as_mut(), recording.as_mut()) {
+            (Some(local), Some(rec)) => {
+                let run = rec.run;
+                let Some(pg) = rec.store.shared() else {
+                    return Err("the shared store went away".into());
+                };
+                let space = &self.evaluator.space;
+                queue_missing(pg, run, seed, space, &round_of, &mut scores, local)?;
+            }
+            _ => simulate_missing(
+                &mut self.evaluator,
+                &mut self.batching,
+                &round_of,
+                &mut scores,
+                recording,
+                (seed, &mut self.stored),
+            )?,
+        }
+        Ok(scores)
+    }
+
+    /// Stops the local workers; how candidates were spread, and how many were simulated.
+    fn finish(
+        self,
+        recording: &mut Option<Recording<'_>>,
+        workers: usize,
+    ) -> Result<(String, u64), String> {
+        let mut description = self.batching.description;
+        if let (Some(local), Some(pg)) = (
+            self.local,
+            recording.as_mut().and_then(|r| r.store.shared()),
+        ) {
+            local.finish(pg)?;
+            description = format!(
+                "one world per candidate, through the shared store ({workers} local worker thread(s))"
+            );
+        }
+        Ok((description, self.simulated))
+    }
+}
+
+/// The driver's own evaluating threads on a shared store (listening for results first).
+fn start_local_workers(
+    r: &mut Recording<'_>,
+    registry: &ModuleRegistry,
+    evaluator: Evaluator,
+    settings: &RunSettings,
+) -> Result<Option<LocalWorkers>, String> {
+    let run = r.run;
+    let Some(pg) = r.store.shared() else {
+        return Ok(None);
+    };
+    pg.listen(DONE)?;
+    Ok(Some(LocalWorkers::start(
+        pg,
+        registry,
+        evaluator,
+        (run, settings.workers),
+        settings.lease,
+    )))
 }
 
 /// Local worker threads: at least one, unless a shared store's workers evaluate; one robot
