@@ -119,6 +119,37 @@ fn cma_es_finds_the_optimum_of_a_quadratic_on_the_allele_grid() {
 }
 
 #[test]
+fn cma_es_restarts_with_a_doubled_population_after_converging() {
+    let s = space();
+    let alone = drive(
+        CmaOptimizer::new(s.clone(), vec![160; 5], 0.3, 0, 1, 5_000),
+        &s,
+    );
+    let o = CmaOptimizer::with_restarts(s.clone(), vec![160; 5], (0.3, 0), 1, 5_000, 2);
+    let (best, asked) = drive(o, &s);
+    assert_eq!(best, 0.0);
+    // Without restarts it stops at convergence; with two it goes on, with 8 then 16 then
+    // 32 candidates per generation (the default for 5 genes is 8).
+    assert!(
+        asked.len() > alone.1.len(),
+        "{} vs {}",
+        asked.len(),
+        alone.1.len()
+    );
+    let mut o = CmaOptimizer::with_restarts(s.clone(), vec![160; 5], (0.3, 0), 1, 5_000, 2);
+    let mut sizes = Vec::new();
+    while !o.finished() {
+        let c = o.ask();
+        sizes.push(c.len());
+        let scores: Vec<f64> = c.iter().map(|g| objective(&s, g)).collect();
+        o.tell(&scores);
+    }
+    assert_eq!(o.restarts_done(), 2);
+    assert_eq!(sizes[1], 8);
+    assert!(sizes.contains(&16) && sizes.contains(&32), "{sizes:?}");
+}
+
+#[test]
 fn the_great_deluge_stops_when_its_credits_are_gone() {
     // A water level no candidate reaches: every credit is spent on failures.
     let settings = GdSettings {

@@ -11,7 +11,8 @@
 //! `retries`, `initialWaterLevel`, `rain`, `confidence`. CMA-ES files (our extension) have
 //! the root `<cmaEvolutionStrategy>` and the optional properties `popsize` (samples per
 //! generation; 0 or absent: 4 + 3 ln n) and `sigma` (the initial step size as a fraction of
-//! each gene's range, in (0, 1]; default 0.3).
+//! each gene's range, in (0, 1]; default 0.3) and `restarts` (IPOP restarts after
+//! convergence, each with twice the population; default 0).
 
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::fitness::Fitness;
@@ -120,6 +121,8 @@ pub struct CmaSettings {
     pub popsize: u32,
     /// Initial step size, as a fraction of each gene's range.
     pub sigma: f64,
+    /// IPOP restarts after convergence (each with twice the population; 0: none).
+    pub restarts: u32,
 }
 
 /// CMA-ES's initial step size unless the file gives one.
@@ -457,7 +460,7 @@ fn read_algorithm(r: &Reader, root: &Element, props: &Element) -> ConfigResult<A
             confidence: count(r, props, "confidence", 1)?,
         })
     } else if root.is("cmaevolutionstrategy") {
-        let mut allowed = vec!["popsize", "sigma"];
+        let mut allowed = vec!["popsize", "sigma", "restarts"];
         allowed.extend(common);
         r.only_children(props, &allowed)?;
         let popsize = match r.at_most_one(props, "popsize")? {
@@ -475,7 +478,15 @@ fn read_algorithm(r: &Reader, root: &Element, props: &Element) -> ConfigResult<A
             Some(el) => r.f64_in(el, 0.0, 1.0)?,
             None => DEFAULT_CMA_SIGMA,
         };
-        Algorithm::CmaEs(CmaSettings { popsize, sigma })
+        let restarts = match r.at_most_one(props, "restarts")? {
+            Some(el) => r.u32(el)?,
+            None => 0,
+        };
+        Algorithm::CmaEs(CmaSettings {
+            popsize,
+            sigma,
+            restarts,
+        })
     } else {
         return Err(r.err(
             root.pos,
@@ -561,6 +572,9 @@ pub fn write_optimizer_file(o: &OptimizerFile) -> String {
         Algorithm::CmaEs(c) => {
             w.leaf("popsize", &c.popsize.to_string());
             w.num("sigma", c.sigma);
+            if c.restarts > 0 {
+                w.leaf("restarts", &c.restarts.to_string());
+            }
         }
     }
     if o.fitness != Fitness::Displacement {
@@ -694,7 +708,8 @@ mod tests {
             o.algorithm,
             Algorithm::CmaEs(CmaSettings {
                 popsize: 10,
-                sigma: 0.25
+                sigma: 0.25,
+                restarts: 0
             })
         );
         assert_eq!(o.label(), "CMA-ES");
@@ -706,7 +721,8 @@ mod tests {
             o.algorithm,
             Algorithm::CmaEs(CmaSettings {
                 popsize: 0,
-                sigma: DEFAULT_CMA_SIGMA
+                sigma: DEFAULT_CMA_SIGMA,
+                restarts: 0
             })
         );
         for bad in [

@@ -207,13 +207,14 @@ fn optimizer_part(s: &mut String, sim: &Simulation) {
         Algorithm::CmaEs(c) => {
             let _ = writeln!(
                 s,
-                "  population {}, initial step size {} of each range",
+                "  population {}, initial step size {} of each range, {} IPOP restarts",
                 if c.popsize == 0 {
                     "4 + 3 ln n".to_string()
                 } else {
                     c.popsize.to_string()
                 },
-                num(c.sigma)
+                num(c.sigma),
+                c.restarts
             );
         }
     }

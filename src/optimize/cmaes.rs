@@ -7,7 +7,8 @@
 //! space's genes to [0, 1] each (allele index / (count - 1)), clips samples into the box and
 //! rounds them to the nearest allele, and maximizes the score. The first round is the start
 //! candidate alone (its score is the run's reference), then one generation of `lambda`
-//! samples per round.
+//! samples per round. When the samples all round to the same candidates, the search stops,
+//! or restarts (IPOP, up to `restarts` times) from a random point with twice the population.
 //!
 //! *Deviation:* written here rather than taken from the `cmaes` crate, whose run loop calls
 //! the objective itself (no ask/tell, so no store, resume or remote workers) and which pulls
@@ -191,6 +192,11 @@ impl CmaEs {
 pub struct CmaOptimizer {
     space: SearchSpace,
     cma: CmaEs,
+    sigma: f64,
+    seed: u64,
+    /// Restarts still allowed (IPOP: each from a random point with twice the population).
+    restarts: u32,
+    restarted: u32,
     start: Option<Genome>,
     /// The last generation's points (in [0, 1] per gene) and genomes.
     pending: Vec<(DVector<f64>, Genome)>,
@@ -206,7 +212,7 @@ const CONVERGED_STEPS: f64 = 0.1;
 
 impl CmaOptimizer {
     /// CMA-ES from `start` with step size `sigma` (a fraction of each gene's range) and
-    /// `lambda` samples per generation (0: the default).
+    /// `lambda` samples per generation (0: the default), without restarts.
     pub fn new(
         space: SearchSpace,
         start: Genome,
@@ -214,6 +220,19 @@ impl CmaOptimizer {
         lambda: usize,
         seed: u64,
         max_evaluations: u64,
+    ) -> CmaOptimizer {
+        Self::with_restarts(space, start, (sigma, lambda), seed, max_evaluations, 0)
+    }
+
+    /// As [`CmaOptimizer::new`], restarting up to `restarts` times when the search has
+    /// converged and budget is left (IPOP: from a random point, the population doubled).
+    pub fn with_restarts(
+        space: SearchSpace,
+        start: Genome,
+        (sigma, lambda): (f64, usize),
+        seed: u64,
+        max_evaluations: u64,
+        restarts: u32,
     ) -> CmaOptimizer {
         let mean = space
             .genes
@@ -227,6 +246,10 @@ impl CmaOptimizer {
         CmaOptimizer {
             cma: CmaEs::new(mean, sigma, lambda, seed),
             space,
+            sigma,
+            seed,
+            restarts,
+            restarted: 0,
             start: Some(start),
             pending: Vec::new(),
             best: None,
@@ -247,6 +270,22 @@ impl CmaOptimizer {
                 (v.clamp(0.0, 1.0) * f64::from(top)).round() as u32
             })
             .collect()
+    }
+
+    /// Runs since the first one (IPOP restarts).
+    pub fn restarts_done(&self) -> u32 {
+        self.restarted
+    }
+
+    /// A new search from a random point with twice the population (IPOP).
+    fn restart(&mut self) {
+        self.restarts -= 1;
+        self.restarted += 1;
+        let seed = self.seed.wrapping_add(u64::from(self.restarted) << 32);
+        let mut rng = SimRng::new(seed);
+        let mean = (0..self.space.genes.len()).map(|_| rng.uniform()).collect();
+        let lambda = self.cma.lambda() * 2;
+        self.cma = CmaEs::new(mean, self.sigma, lambda, seed);
     }
 
     /// The finest allele step, as a fraction of its gene's range.
@@ -300,9 +339,12 @@ impl Optimizer for CmaOptimizer {
             let values: Vec<f64> = scores.iter().map(|s| -s).collect();
             self.cma.tell(&points, &values);
         }
-        if self.evaluations >= self.max_evaluations
-            || self.cma.spread() < CONVERGED_STEPS * self.finest_step()
-        {
+        let converged = self.cma.spread() < CONVERGED_STEPS * self.finest_step();
+        if self.evaluations >= self.max_evaluations {
+            self.done = true;
+        } else if converged && self.restarts > 0 {
+            self.restart();
+        } else if converged {
             self.done = true;
         }
     }

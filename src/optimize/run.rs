@@ -339,13 +339,13 @@ fn build_optimizer(
             settings.seed,
             settings.max_evaluations,
         )),
-        Algorithm::CmaEs(c) => Box::new(CmaOptimizer::new(
+        Algorithm::CmaEs(c) => Box::new(CmaOptimizer::with_restarts(
             space.clone(),
             start.clone(),
-            c.sigma,
-            c.popsize as usize,
+            (c.sigma, c.popsize as usize),
             settings.seed,
             settings.max_evaluations,
+            c.restarts,
         )),
         Algorithm::GreatDeluge(gd) => Box::new(GreatDeluge::new(
             space.clone(),
