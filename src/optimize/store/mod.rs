@@ -216,6 +216,15 @@ impl Store {
     }
 }
 
+/// Every run with its count of finished evaluations, best score and best values, by id:
+/// the same statement on both engines (it takes no parameters).
+pub(crate) const RUNS_WITH_BEST: &str = "SELECT r.id, r.config, r.algorithm, r.seed, r.fitness, r.duration, r.genes, r.started, r.finished,
+        (SELECT COUNT(*) FROM evaluations e WHERE e.run = r.id AND e.state = 'done'),
+        (SELECT MAX(score) FROM evaluations e WHERE e.run = r.id AND e.state = 'done'),
+        (SELECT vals FROM evaluations e WHERE e.run = r.id AND e.state = 'done' AND e.score IS NOT NULL
+         ORDER BY score DESC, number LIMIT 1)
+     FROM runs r ORDER BY r.id";
+
 /// Numbers as one space-separated text column.
 pub(crate) fn join<T: ToString>(v: &[T]) -> String {
     v.iter().map(T::to_string).collect::<Vec<_>>().join(" ")

@@ -9,7 +9,8 @@ use postgres::{Client, Transaction};
 
 use crate::optimize::store::location::PgTarget;
 use crate::optimize::store::{
-    RunInfo, RunRow, RunSpec, SCHEMA_VERSION, StoredEval, join, parse_list, score_of,
+    RUNS_WITH_BEST, RunInfo, RunRow, RunSpec, SCHEMA_VERSION, StoredEval, join, parse_list,
+    score_of,
 };
 
 /// An open connection to a PostgreSQL store.
@@ -300,18 +301,7 @@ impl PgStore {
     /// Every run with its best evaluation.
     pub fn runs(&mut self) -> Result<Vec<RunRow>, String> {
         let fail = self.failer();
-        let rows = self
-            .client
-            .query(
-                "SELECT r.id, r.config, r.algorithm, r.seed, r.fitness, r.duration, r.genes, r.started, r.finished,
-                        (SELECT COUNT(*) FROM evaluations e WHERE e.run = r.id AND e.state = 'done'),
-                        (SELECT MAX(score) FROM evaluations e WHERE e.run = r.id AND e.state = 'done'),
-                        (SELECT vals FROM evaluations e WHERE e.run = r.id AND e.state = 'done' AND e.score IS NOT NULL
-                         ORDER BY score DESC, number LIMIT 1)
-                 FROM runs r ORDER BY r.id",
-                &[],
-            )
-            .map_err(&fail)?;
+        let rows = self.client.query(RUNS_WITH_BEST, &[]).map_err(&fail)?;
         rows.iter()
             .map(|r| {
                 Ok(RunRow {

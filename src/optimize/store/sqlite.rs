@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use rusqlite::{Connection, OptionalExtension, params};
 
 use crate::optimize::store::{
-    RunInfo, RunRow, SCHEMA_VERSION, StoredEval, join, parse_list, score_of,
+    RUNS_WITH_BEST, RunInfo, RunRow, SCHEMA_VERSION, StoredEval, join, parse_list, score_of,
 };
 
 /// An open SQLite store.
@@ -245,14 +245,7 @@ impl SqliteStore {
     pub fn runs(&self) -> Result<Vec<RunRow>, String> {
         let mut st = self
             .conn
-            .prepare(
-                "SELECT r.id, r.config, r.algorithm, r.seed, r.fitness, r.duration, r.genes, r.started, r.finished,
-                        (SELECT COUNT(*) FROM evaluations e WHERE e.run = r.id AND e.state = 'done'),
-                        (SELECT MAX(score) FROM evaluations e WHERE e.run = r.id AND e.state = 'done'),
-                        (SELECT vals FROM evaluations e WHERE e.run = r.id AND e.state = 'done' AND e.score IS NOT NULL
-                         ORDER BY score DESC, number LIMIT 1)
-                 FROM runs r ORDER BY r.id",
-            )
+            .prepare(RUNS_WITH_BEST)
             .map_err(|e| self.fail(e))?;
         let rows = st
             .query_map([], |r| {
