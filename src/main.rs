@@ -23,6 +23,19 @@ enum Command {
         /// A `*.simulation.xml` file.
         #[arg(default_value = DEMO_CONFIG)]
         config: PathBuf,
+        /// Replay a stored evaluation instead: the store (a results .sqlite file or a
+        /// postgres:// URL) holding the run.
+        #[arg(long, requires = "run")]
+        replay: Option<String>,
+        /// With --replay: the run's id (`proleg results STORE` lists them).
+        #[arg(long, requires = "replay")]
+        run: Option<i64>,
+        /// With --replay: the evaluation's number, or "best".
+        #[arg(long, default_value = "best", requires = "replay")]
+        eval: String,
+        /// With --replay of a run with robust fitness: the randomized episode (default 0).
+        #[arg(long, requires = "replay")]
+        episode: Option<u32>,
         /// Drive the window from a script (tests, screenshots; see proleg::gui::control::script).
         #[arg(long)]
         script: Option<PathBuf>,
@@ -105,6 +118,9 @@ enum Command {
         #[arg(long)]
         export: Option<PathBuf>,
     },
+    /// Re-evaluate a stored candidate on fresh randomized episodes (friction, masses, servo
+    /// torque and gain, start pose, sensor noise): how much of its score a gait keeps.
+    Robustness(cli::robustness::RobustnessArgs),
     /// Evaluate the pending candidates of a shared postgres:// store (runs of `proleg
     /// optimize --store URL` on any host), until stopped or idle.
     Worker(cli::worker::WorkerArgs),
@@ -191,16 +207,17 @@ const DEMO_CONFIG: &str = "configs/demo.simulation.xml";
 /// The control window, or why there is none in this build.
 fn gui(
     config: &std::path::Path,
+    replay: Option<proleg::optimize::replay::Replay>,
     script: Option<&std::path::Path>,
     remote: Option<&std::path::Path>,
 ) -> Result<String, String> {
     #[cfg(feature = "gui")]
     {
-        proleg::gui::run(config, script, remote).map(|()| String::new())
+        proleg::gui::run(config, replay, script, remote).map(|()| String::new())
     }
     #[cfg(not(feature = "gui"))]
     {
-        let _ = (config, script, remote);
+        let _ = (config, replay, script, remote);
         Err("this proleg was built without the `gui` feature; use the headless commands (proleg --help)".into())
     }
 }
@@ -248,14 +265,25 @@ fn main() -> ExitCode {
     // The module types every command may use: the standard library and the plugins.
     let registry = proleg::plugin_host::registry();
     let Some(command) = cli.command else {
-        return finish(gui(std::path::Path::new(DEMO_CONFIG), None, None));
+        return finish(gui(std::path::Path::new(DEMO_CONFIG), None, None, None));
     };
     finish(match command {
         Command::Gui {
             config,
+            replay,
+            run,
+            eval,
+            episode,
             script,
             remote,
-        } => gui(&config, script.as_deref(), remote.as_deref()),
+        } => match (replay, run) {
+            (Some(store), Some(run)) => proleg::optimize::replay::Which::parse(&eval)
+                .and_then(|which| {
+                    proleg::optimize::replay::replay_from(&store, run, which, episode, &registry)
+                })
+                .and_then(|r| gui(&config, Some(r), script.as_deref(), remote.as_deref())),
+            _ => gui(&config, None, script.as_deref(), remote.as_deref()),
+        },
         Command::Wizard {
             configs,
             out,
@@ -314,6 +342,7 @@ fn main() -> ExitCode {
         },
         Command::Plugin { command } => cli::plugin::run(command, &plugins),
         Command::Worker(args) => cli::worker::run(&args, &registry).map(|r| r.to_string()),
+        Command::Robustness(args) => cli::robustness::run(&args, &registry).map(|r| r.to_string()),
         Command::Robot(options) => cli::robot::robot(&options, &registry).map(|r| r.to_string()),
         Command::RobotEmulator(options) => cli::robot::emulator(&options),
         Command::Check { config } => proleg::control::load_simulation_in(&config, &registry)

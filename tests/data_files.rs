@@ -24,6 +24,7 @@ fn record(file: &Path, seconds: f64, round_frames: usize) -> Simulator {
             seed: 3,
             record: false,
             physics: None,
+            ..Default::default()
         },
     )
     .unwrap();

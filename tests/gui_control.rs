@@ -154,6 +154,54 @@ fn optimization_view_runs_the_ga_and_replays_the_best() {
 }
 
 #[test]
+fn a_stored_evaluation_replays_in_the_window_to_its_stored_score() {
+    let dir = scratch("replay_window");
+    let store = dir.join("r.sqlite");
+    let (ok, _, err) = common::proleg(&[
+        "optimize",
+        "configs/gait_from_scratch_cmaes.simulation.xml",
+        "--max-evals",
+        "8",
+        "--duration",
+        "3",
+        "--quiet",
+        "--evaluations",
+        dir.join("evals.tsv").to_str().unwrap(),
+        "--store",
+        store.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let table = std::fs::read_to_string(dir.join("evals.tsv")).expect("table");
+    let stored: f64 = table
+        .lines()
+        .find(|l| l.starts_with("5\t"))
+        .and_then(|l| l.split('\t').nth(2))
+        .and_then(|v| v.parse().ok())
+        .expect("evaluation 5's score");
+    let (st, script) = (dir.join("state.txt"), dir.join("replay.script"));
+    let text = format!("wait 1\nstep-to 3\nstate {}\nquit\n", st.display());
+    std::fs::write(&script, text).expect("script");
+    let args = [
+        "gui",
+        "--replay",
+        store.to_str().unwrap(),
+        "--run",
+        "1",
+        "--eval",
+        "5",
+    ];
+    let (ok, out) = common::window::run(&args, &script);
+    assert!(ok, "the window failed:\n{out}");
+    let s = state(&st);
+    assert_eq!(get(&s, "sim_time"), "3.000000");
+    let replayed: f64 = get(&s, "replay_score").parse().expect("a score");
+    assert!(
+        (replayed - stored).abs() < 1e-8,
+        "replayed {replayed}, stored {stored}"
+    );
+}
+
+#[test]
 fn optimization_view_attaches_to_a_shared_run_and_draws_its_curve() {
     let pg = common::pg::server();
     let url = pg.database("gui_attach");

@@ -15,7 +15,7 @@ use proleg::control::ModuleRegistry;
 use proleg::optimize::settings::StopFlag;
 use proleg::optimize::shared::worker::{WorkerOptions, run_pool};
 use proleg::optimize::store::pg_queue::Pending;
-use proleg::optimize::store::{PgStore, RunInfo, StoreLocation, program_version};
+use proleg::optimize::store::{PgStore, RunInfo, SCHEMA_VERSION, StoreLocation, program_version};
 
 const GA: &str = "configs/experiment1_ga.simulation.xml";
 
@@ -82,7 +82,7 @@ fn worker_role(pg: &Pg, db: &str, role: &str, password: &str) {
          CREATE ROLE {role} LOGIN PASSWORD '{password}';
          GRANT CONNECT ON DATABASE {db} TO {role};
          GRANT USAGE ON SCHEMA public TO {role};
-         GRANT SELECT ON proleg_meta, runs, run_files TO {role};
+         GRANT SELECT ON proleg_meta, runs, run_files, run_episodes TO {role};
          GRANT SELECT, UPDATE (state, worker, attempt, lease_until, score, wall) ON evaluations TO {role};"
     ))
     .expect("worker role");
@@ -366,13 +366,42 @@ fn bad_stores_are_one_line_errors_that_never_show_the_password() {
     .unwrap();
     refused(
         output(pg.proleg(&ga_args("2", "0.1", &url))),
-        "the store has schema version 99; this proleg reads version 2",
+        &format!("the store has schema version 99; this proleg reads version {SCHEMA_VERSION}"),
         &pg.password,
     );
     assert_eq!(
         tables(&mut c),
         1,
         "nothing written beside the foreign version table"
+    );
+}
+
+#[test]
+fn a_store_of_version_2_is_brought_to_version_3_by_the_driver() {
+    let pg = server();
+    let url = pg.database("shared_v2");
+    let out = output(pg.proleg(&ga_args("2", "0.1", &url)));
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    // What a version-2 store looks like: no run_episodes.
+    let mut c = pg.connect("shared_v2");
+    c.batch_execute("DROP TABLE run_episodes; UPDATE proleg_meta SET schema_version = 2;")
+        .unwrap();
+    let out = output(pg.proleg(&ga_args("2", "0.1", &url)));
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let version: i32 = c
+        .query_one("SELECT schema_version FROM proleg_meta", &[])
+        .unwrap()
+        .get(0);
+    assert_eq!(i64::from(version), SCHEMA_VERSION);
+    let runs: i64 = c
+        .query_one("SELECT COUNT(*) FROM runs", &[])
+        .unwrap()
+        .get(0);
+    assert_eq!(runs, 2, "the old run kept, the new one added");
+    assert!(
+        c.query_one("SELECT to_regclass('run_episodes') IS NOT NULL", &[])
+            .unwrap()
+            .get::<_, bool>(0)
     );
 }
 
@@ -442,7 +471,7 @@ fn a_result_after_the_lease_ran_out_is_discarded() {
     let pg = server();
     pg.database("shared_late");
     let mut store = open_store(&pg, "shared_late");
-    let run = store.start_run(&info(GA), "proleg test", &[]).unwrap();
+    let run = store.start_run(&info(GA), "proleg test", &[], &[]).unwrap();
     store.enqueue(run, 1, &[pending(0)]).unwrap();
     // Worker a's lease runs out at once; b claims the evaluation again.
     let a = store.claim("a", Duration::ZERO, None, &[], 5).unwrap();
@@ -475,7 +504,9 @@ fn a_worker_refuses_runs_it_cannot_evaluate_and_leaves_them_pending() {
     pg.database("shared_refuse");
     let mut store = open_store(&pg, "shared_refuse");
     // A run of another program version, and one whose module this host lacks.
-    let other = store.start_run(&info(GA), "proleg 0.0.0", &[]).unwrap();
+    let other = store
+        .start_run(&info(GA), "proleg 0.0.0", &[], &[])
+        .unwrap();
     let source = RecordingSource::new(&FsSource);
     load_simulation_with(&source, Path::new(GA), &ModuleRegistry::standard()).unwrap();
     let files: Vec<(String, String)> = source
@@ -489,7 +520,7 @@ fn a_worker_refuses_runs_it_cannot_evaluate_and_leaves_them_pending() {
         })
         .collect();
     let missing = store
-        .start_run(&info(GA), &program_version(), &files)
+        .start_run(&info(GA), &program_version(), &files, &[])
         .unwrap();
     store.enqueue(other, 1, &[pending(0)]).unwrap();
     store.enqueue(missing, 1, &[pending(0)]).unwrap();

@@ -238,14 +238,16 @@ fn scores_do_not_depend_on_workers_or_batching() {
     ];
     let eval = |workers: usize, batch: usize| {
         Evaluator {
-            sim: sim.clone(),
-            registry: ModuleRegistry::standard(),
-            space: space.clone(),
-            fitness: Fitness::Displacement,
-            duration: 2.0,
-            seed: 1,
             batch,
             workers,
+            ..Evaluator::new(
+                &sim,
+                &ModuleRegistry::standard(),
+                &space,
+                Fitness::Displacement,
+                2.0,
+                1,
+            )
         }
         .evaluate(&genomes)
         .unwrap()

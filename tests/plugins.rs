@@ -91,6 +91,7 @@ fn simulator(config: &Path, robots: usize) -> Simulator {
             seed: 1,
             record: false,
             physics: None,
+            ..Default::default()
         },
         &registry,
     )

@@ -30,6 +30,7 @@ fn run(config: &str, without_obstacle: bool) -> [f64; 3] {
             seed: 1,
             record: false,
             physics: None,
+            ..Default::default()
         },
     )
     .unwrap();

@@ -54,16 +54,14 @@ fn cost_of_transport_weighs_the_robot_with_the_world_gravity() {
     let space = SearchSpace::from_model(sim.optimizer.as_ref().unwrap());
     let reference = Simulator::new(&sim, &BuildOptions::default()).unwrap();
     let genome = space.encode_kernel(reference.kernel(0).unwrap());
-    let evaluator = Evaluator {
-        sim: sim.clone(),
-        registry: ModuleRegistry::standard(),
-        space: space.clone(),
-        fitness: Fitness::CostOfTransport,
-        duration: 2.0,
-        seed: 1,
-        batch: 1,
-        workers: 1,
-    };
+    let evaluator = Evaluator::new(
+        &sim,
+        &ModuleRegistry::standard(),
+        &space,
+        Fitness::CostOfTransport,
+        2.0,
+        1,
+    );
     let score = evaluator.evaluate(std::slice::from_ref(&genome)).unwrap()[0];
     // The same episode by hand.
     let episode = BuildOptions {

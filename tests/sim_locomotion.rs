@@ -20,6 +20,7 @@ fn simulator(sim: &Simulation) -> Simulator {
             seed: 1,
             record: true,
             physics: None,
+            ..Default::default()
         },
     )
     .unwrap()
@@ -185,6 +186,7 @@ fn robots_of_a_batch_are_independent() {
             seed: 1,
             record: false,
             physics: None,
+            ..Default::default()
         },
     )
     .unwrap();

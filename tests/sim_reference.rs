@@ -31,6 +31,7 @@ fn trajectory_hash(config: &str, seconds: f64) -> u64 {
         seed: sim.files.simulation.properties.seed,
         record: false,
         physics: None,
+        ..Default::default()
     };
     let mut s = Simulator::new(&sim, &opts).unwrap();
     let steps = (seconds / s.clock().dt).round() as u64;

@@ -71,6 +71,7 @@ pub fn episode(
         seed: sim.files.simulation.properties.seed,
         record: false,
         physics: Some(settings),
+        ..Default::default()
     };
     let mut s = Simulator::with_registry(sim, &opts, registry).map_err(|e| e.to_string())?;
     let steps = (seconds / s.clock().dt).round().max(1.0) as u64;

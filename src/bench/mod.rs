@@ -66,6 +66,7 @@ pub(crate) fn world_of(
             seed: 1,
             record: false,
             physics,
+            ..Default::default()
         },
         registry,
     )

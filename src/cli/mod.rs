@@ -18,5 +18,6 @@ pub mod optimize;
 pub mod plugin;
 pub mod results;
 pub mod robot;
+pub mod robustness;
 pub mod run;
 pub mod worker;

@@ -15,11 +15,12 @@ use crate::config::{FsSource, RecordingSource, Simulation, load_simulation_with}
 use crate::control::ModuleRegistry;
 use crate::optimize::fitness::Fitness;
 use crate::optimize::result::actuation_with;
+use crate::optimize::robust::episode_records;
 use crate::optimize::run::{
     Evaluation, Outcome, Recording, RunChoices, RunSettings, check_workers, optimize, prepare,
 };
 use crate::optimize::space::SearchSpace;
-use crate::optimize::store::{RunInfo, Store, StoreLocation, StoredEval};
+use crate::optimize::store::{EpisodeRecord, RunInfo, Store, StoreLocation, StoredEval};
 
 /// Command-line options of `proleg optimize`.
 #[derive(clap::Args)]
@@ -84,6 +85,8 @@ pub struct OptimizeReport {
     pub wall: f64,
     /// Simulated seconds per episode.
     pub duration: f64,
+    /// Episodes per evaluation (robust fitness; else 1).
+    pub episodes: u32,
     /// Worker threads.
     pub workers: usize,
     /// Candidates in the search space (eq. 3.3 / 3.5).
@@ -143,7 +146,9 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
         duration: settings.duration,
         genes: space.genes.iter().map(|g| g.label()).collect(),
     };
-    let (run, known) = open_run(&mut store, &info, &source.files(), o.resume, o.quiet)?;
+    let episodes = episode_records(&sim, settings.seed);
+    let run_files = (source.files(), episodes);
+    let (run, known) = open_run(&mut store, &info, &run_files, o.resume, o.quiet)?;
     let shown = store.describe();
     let recording = Recording {
         store: &mut store,
@@ -193,6 +198,11 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
         outcome,
         wall,
         duration: settings.duration,
+        episodes: sim
+            .optimizer
+            .as_ref()
+            .and_then(|m| m.spec.robustness)
+            .map_or(1, |r| r.episodes),
         workers: settings.workers,
         space_size: space.size(),
         store: (shown, run),
@@ -232,6 +242,13 @@ fn header(sim: &Simulation, space: &SearchSpace, settings: &RunSettings) -> Stri
         settings.seed,
         settings.workers
     );
+    let spec = sim.optimizer.as_ref().map(|m| &m.spec);
+    if let Some(r) = spec.and_then(|s| s.robustness.as_ref()) {
+        let _ = writeln!(head, "robust fitness: {}", r.describe());
+    }
+    if spec.is_some_and(|s| s.random_start) {
+        let _ = writeln!(head, "random start (drawn from seed {})", settings.seed);
+    }
     head
 }
 
@@ -276,18 +293,18 @@ fn default_store(config: &Path) -> PathBuf {
     PathBuf::from(format!("{stem}.results.sqlite"))
 }
 
-/// A new run in the store (with its configuration `files`), or with `resume` the last
+/// A new run in the store (with its configuration `files` and randomized `episodes`), or with `resume` the last
 /// unfinished one of the same configuration, seed, fitness and duration with its stored
 /// evaluations.
 fn open_run(
     store: &mut Store,
     info: &RunInfo,
-    files: &[(String, String)],
+    (files, episodes): &(Vec<(String, String)>, Vec<EpisodeRecord>),
     resume: bool,
     quiet: bool,
 ) -> Result<(i64, Vec<StoredEval>), String> {
     if !resume {
-        return Ok((store.start_run(info, files)?, Vec::new()));
+        return Ok((store.start_run(info, files, episodes)?, Vec::new()));
     }
     let Some(id) = store.find_unfinished(info)? else {
         return Err(format!(
@@ -373,13 +390,18 @@ impl fmt::Display for OptimizeReport {
             let per_hour = self.per_hour();
             writeln!(
                 out,
-                "throughput      {per_hour:.0} evaluations/h of {} s ({}); 6000 such evaluations (the thesis's experiment-2 budget, eq. 3.6) take {:.2} h",
-                self.duration,
+                "throughput      {per_hour:.0} evaluations/h of {} ({}); 6000 such evaluations (the thesis's experiment-2 budget, eq. 3.6) take {:.2} h",
+                match self.episodes {
+                    1 => format!("{} s", self.duration),
+                    k => format!("{k} episodes of {} s", self.duration),
+                },
                 match self.workers {
                     0 => "all by workers of the shared store".to_string(),
                     w => format!(
                         "{:.1}x real time per local worker",
-                        o.simulated as f64 * self.duration / self.wall / w as f64
+                        o.simulated as f64 * f64::from(self.episodes) * self.duration
+                            / self.wall
+                            / w as f64
                     ),
                 },
                 6000.0 / per_hour
@@ -395,7 +417,12 @@ impl fmt::Display for OptimizeReport {
         let (store, run) = &self.store;
         writeln!(out, "store           {store} (run {run})")?;
         if let Some(s0) = o.start_score {
-            writeln!(out, "start score {s0:.4} (the configured values)")?;
+            let whence = if o.start_drawn {
+                "drawn from the seed"
+            } else {
+                "the configured values"
+            };
+            writeln!(out, "start score {s0:.4} ({whence})")?;
         }
         let gain = o
             .start_score

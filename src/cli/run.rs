@@ -89,6 +89,7 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Str
         seed,
         record: false,
         physics: Some(physics),
+        ..Default::default()
     };
     let mut simulator =
         Simulator::with_registry(&sim, &opts, registry).map_err(|e| e.to_string())?;

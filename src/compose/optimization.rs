@@ -1,14 +1,16 @@
 //! The optimization page (thesis 4.4.8): module parameters registered for the genetic
-//! algorithm or the modified great deluge, each on all or selected joints, uniform (one
+//! algorithm, the modified great deluge or CMA-ES, each on all or selected joints, uniform (one
 //! gene) or individual (one gene per joint), with a value set (a range with an increment,
 //! or listed values), and the algorithm settings with the thesis's defaults
-//! (tables 6.1 and 6.3).
+//! (tables 6.1 and 6.3), CMA-ES's defaults, a random start and robust fitness.
 
 use crate::config::error::Pos;
 use crate::config::mask::JointMask;
 use crate::config::optimizer::{
-    Algorithm, BoundType, GaSettings, GdSettings, GenomeConfig, OptimizerFile, RegisteredParameter,
+    Algorithm, BoundType, CmaSettings, DEFAULT_CMA_SIGMA, GaSettings, GdSettings, GenomeConfig,
+    OptimizerFile, RegisteredParameter,
 };
+use crate::config::robustness::Robustness;
 use crate::optimize::fitness::Fitness;
 
 /// The values a registered parameter may take.
@@ -51,6 +53,8 @@ pub enum Method {
     Genetic,
     /// The modified great deluge.
     GreatDeluge,
+    /// The covariance matrix adaptation evolution strategy.
+    CmaEs,
 }
 
 /// The optimization page's content.
@@ -62,6 +66,12 @@ pub struct OptimizationSpec {
     pub ga: GaSettings,
     /// Great-deluge settings.
     pub gd: GdSettings,
+    /// CMA-ES settings.
+    pub cma: CmaSettings,
+    /// Start from a point drawn from the run's seed.
+    pub random_start: bool,
+    /// Robust fitness over randomized episodes, if asked for.
+    pub robustness: Option<Robustness>,
     /// The registered parameters.
     pub params: Vec<Registration>,
     /// How episodes are scored.
@@ -91,6 +101,13 @@ impl OptimizationSpec {
                 rain: 0.01,
                 confidence: 20,
             },
+            cma: CmaSettings {
+                popsize: 0,
+                sigma: DEFAULT_CMA_SIGMA,
+                restarts: 0,
+            },
+            random_start: false,
+            robustness: None,
             params: Vec::new(),
             fitness: Fitness::Displacement,
             max_evaluations: None,
@@ -194,11 +211,14 @@ impl OptimizationSpec {
             algorithm: match self.method {
                 Method::Genetic => Algorithm::Genetic(self.ga.clone()),
                 Method::GreatDeluge => Algorithm::GreatDeluge(self.gd.clone()),
+                Method::CmaEs => Algorithm::CmaEs(self.cma.clone()),
             },
             parameters,
             genome,
             fitness: self.fitness,
             max_evaluations: self.max_evaluations,
+            random_start: self.random_start,
+            robustness: self.robustness,
         }
     }
 }

@@ -267,6 +267,7 @@ impl Wizard {
                 f(match self.optimization.method {
                     Method::Genetic => "ga.xml",
                     Method::GreatDeluge => "gd.xml",
+                    Method::CmaEs => "cmaes.xml",
                 })
             }),
             simulation: f("simulation.xml"),
@@ -551,8 +552,13 @@ impl Wizard {
                         self.optimization.method = Method::GreatDeluge;
                         Mode::GreatDeluge
                     }
-                    other => Mode::parse(other)
-                        .ok_or_else(|| format!("mode \"{other}\": expected single, ga or gd"))?,
+                    "cmaes" => {
+                        self.optimization.method = Method::CmaEs;
+                        Mode::CmaEs
+                    }
+                    other => Mode::parse(other).ok_or_else(|| {
+                        format!("mode \"{other}\": expected single, ga, gd or cmaes")
+                    })?,
                 }
             }
             "sim.step" => self.props.step_width = parse_num(value, key)?,

@@ -29,6 +29,7 @@ pub mod optimizer;
 pub mod remote;
 pub mod resolve;
 pub mod robot;
+pub mod robustness;
 pub mod sensor;
 pub mod servos;
 pub mod simulation;

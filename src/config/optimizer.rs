@@ -13,10 +13,15 @@
 //! generation; 0 or absent: 4 + 3 ln n) and `sigma` (the initial step size as a fraction of
 //! each gene's range, in (0, 1]; default 0.3) and `restarts` (IPOP restarts after
 //! convergence, each with twice the population; default 0).
+//!
+//! Every optimizer file may also have (our extensions) `<randomStart>1</randomStart>` in its
+//! properties (the search starts from a point drawn from the run's seed instead of the
+//! actuation file's values) and a `<robustness>` element ([`crate::config::robustness`]).
 
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::fitness::Fitness;
 use crate::config::mask::JointMask;
+use crate::config::robustness::{Robustness, read_robustness, write_robustness};
 use crate::config::xml::dom::Element;
 use crate::config::xml::read::Reader;
 use crate::config::xml::write::{XmlWriter, num};
@@ -152,6 +157,10 @@ pub struct OptimizerFile {
     pub fitness: Fitness,
     /// Our extension `<maxEvaluations>`: stop after this many evaluations.
     pub max_evaluations: Option<u64>,
+    /// Our extension `<randomStart>`: start from a point drawn from the run's seed.
+    pub random_start: bool,
+    /// Our extension `<robustness>`: K randomized episodes per candidate.
+    pub robustness: Option<Robustness>,
 }
 
 impl OptimizerFile {
@@ -387,7 +396,7 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
     let doc = crate::config::xml::dom::parse(file, text)?;
     let r = Reader::new(file);
     let root = &doc.root;
-    r.only_children(root, &["properties", "genomeconfig"])?;
+    r.only_children(root, &["properties", "genomeconfig", "robustness"])?;
     r.only_attrs(root, &[])?;
     let props = r.required(root, "properties")?;
     let algorithm = read_algorithm(&r, root, props)?;
@@ -403,12 +412,22 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
         .at_most_one(props, "maxevaluations")?
         .map(|el| r.u32(el).map(u64::from))
         .transpose()?;
+    let random_start = match r.at_most_one(props, "randomstart")? {
+        Some(el) => r.flag(el)?,
+        None => false,
+    };
+    let robustness = r
+        .at_most_one(root, "robustness")?
+        .map(|el| read_robustness(&r, el))
+        .transpose()?;
     Ok(OptimizerFile {
         algorithm,
         parameters,
         genome,
         fitness,
         max_evaluations,
+        random_start,
+        robustness,
     })
 }
 
@@ -419,6 +438,7 @@ fn read_algorithm(r: &Reader, root: &Element, props: &Element) -> ConfigResult<A
         "registeredparameters",
         "fitness",
         "maxevaluations",
+        "randomstart",
     ];
     Ok(if root.is("geneticalgorithm") {
         let mut allowed = vec![
@@ -583,6 +603,9 @@ pub fn write_optimizer_file(o: &OptimizerFile) -> String {
     if let Some(m) = o.max_evaluations {
         w.leaf("maxEvaluations", &m.to_string());
     }
+    if o.random_start {
+        w.flag("randomStart", true);
+    }
     w.leaf("numOfParametersToOptimize", &o.parameters.len().to_string());
     w.open("registeredParameters", &[]);
     for p in &o.parameters {
@@ -625,6 +648,9 @@ pub fn write_optimizer_file(o: &OptimizerFile) -> String {
         }
         w.flag("uniform", g.uniform);
         w.close();
+    }
+    if let Some(rb) = &o.robustness {
+        write_robustness(&mut w, rb);
     }
     w.finish()
 }

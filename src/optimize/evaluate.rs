@@ -2,6 +2,8 @@
 //! Candidates are batched, up to `batch` robots sharing one world (they do not touch each
 //! other), and the batches are spread over `workers` threads. A physics blow-up (a
 //! non-finite or far-flung centre of mass) scores the candidate `-inf` and the run goes on.
+//! With robust fitness ([`RobustEpisodes`]) a candidate is scored over its K randomized
+//! episodes, each a world of its own, one candidate per job.
 
 use std::sync::Mutex;
 use std::sync::mpsc::channel;
@@ -11,14 +13,17 @@ use crate::config::Simulation;
 use crate::control::ModuleRegistry;
 use crate::measure::ground_distance;
 use crate::optimize::fitness::{Episode, Fitness};
+use crate::optimize::robust::RobustEpisodes;
 use crate::optimize::space::{Genome, SearchSpace};
 use crate::sim::physics::MAX_ROBOTS_PER_WORLD;
+use crate::sim::randomize::SensorNoise;
 use crate::sim::{BuildOptions, Simulator};
 
 /// Farther than this from the start (m) counts as a blow-up.
 const BLOW_UP_DISTANCE: f64 = 1000.0;
 
 /// Runs candidates.
+#[derive(Clone)]
 pub struct Evaluator {
     /// The simulation every episode runs.
     pub sim: Simulation,
@@ -36,9 +41,44 @@ pub struct Evaluator {
     pub batch: usize,
     /// Worker threads.
     pub workers: usize,
+    /// The randomized episodes of robust fitness, if the optimizer file asks for them.
+    pub robust: Option<RobustEpisodes>,
 }
 
 impl Evaluator {
+    /// An evaluator of `sim`'s candidates (one robot per world, one thread), with the
+    /// randomized episodes its optimizer file asks for, drawn from `seed`.
+    pub fn new(
+        sim: &Simulation,
+        registry: &ModuleRegistry,
+        space: &SearchSpace,
+        fitness: Fitness,
+        duration: f64,
+        seed: u64,
+    ) -> Evaluator {
+        Evaluator {
+            robust: RobustEpisodes::of(sim, seed),
+            sim: sim.clone(),
+            registry: registry.clone(),
+            space: space.clone(),
+            fitness,
+            duration,
+            seed,
+            batch: 1,
+            workers: 1,
+        }
+    }
+
+    /// Robots per world this evaluator uses (1 with robust fitness: each episode's physics
+    /// is its own).
+    pub fn robots_per_world(&self) -> usize {
+        if self.robust.is_some() {
+            1
+        } else {
+            self.batch.clamp(1, MAX_ROBOTS_PER_WORLD)
+        }
+    }
+
     /// Scores of `genomes`, in order.
     pub fn evaluate(&self, genomes: &[Genome]) -> Result<Vec<f64>, String> {
         self.evaluate_with(genomes, |_, _, _| {})
@@ -51,7 +91,7 @@ impl Evaluator {
         genomes: &[Genome],
         mut on_batch: impl FnMut(usize, &[f64], f64),
     ) -> Result<Vec<f64>, String> {
-        let batch = self.batch.clamp(1, MAX_ROBOTS_PER_WORLD);
+        let batch = self.robots_per_world();
         let chunks: Vec<(usize, &[Genome])> = genomes
             .chunks(batch)
             .enumerate()
@@ -104,16 +144,43 @@ impl Evaluator {
         }
     }
 
-    /// One world with a robot per genome.
+    /// The scores of `genomes`: one world with a robot per genome, or with robust fitness
+    /// each genome's randomized episodes, combined.
     pub fn run_batch(&self, genomes: &[Genome]) -> Result<Vec<f64>, String> {
+        let Some(robust) = &self.robust else {
+            return self.run_world(&self.sim, self.seed, SensorNoise::default(), genomes);
+        };
+        let mut scores = Vec::with_capacity(genomes.len());
+        let mut episodes = Vec::with_capacity(robust.episodes.len());
+        for g in genomes {
+            episodes.clear();
+            for e in &robust.episodes {
+                let s = self.run_world(&e.sim, e.seed, e.noise, std::slice::from_ref(g))?;
+                episodes.extend(s);
+            }
+            scores.push(robust.combine(&episodes));
+        }
+        Ok(scores)
+    }
+
+    /// The scores of `genomes` as robots of one world of `sim`, built with `seed` and
+    /// `noise`.
+    pub fn run_world(
+        &self,
+        sim: &Simulation,
+        seed: u64,
+        noise: SensorNoise,
+        genomes: &[Genome],
+    ) -> Result<Vec<f64>, String> {
         let opts = BuildOptions {
             robots: genomes.len(),
-            seed: self.seed,
+            seed,
             record: false,
             physics: None,
+            noise,
         };
-        let mut s = Simulator::with_registry(&self.sim, &opts, &self.registry)
-            .map_err(|e| e.to_string())?;
+        let mut s =
+            Simulator::with_registry(sim, &opts, &self.registry).map_err(|e| e.to_string())?;
         for (i, g) in genomes.iter().enumerate() {
             let kernel = s.kernel_mut(i).map_err(|e| e.to_string())?;
             self.space.apply(g, kernel).map_err(|e| e.to_string())?;
@@ -129,30 +196,42 @@ impl Evaluator {
         let steps = (self.duration / dt).round() as u64;
         s.run_steps(steps);
         let time = steps as f64 * dt;
-        let gravity = s.gravity();
         let mut scores = Vec::with_capacity(genomes.len());
-        for (i, (com0, heading0)) in start.into_iter().enumerate() {
-            let end = s.com(i).map_err(|e| e.to_string())?;
-            if !end.iter().all(|v| v.is_finite()) || ground_distance(com0, end) > BLOW_UP_DISTANCE {
-                scores.push(f64::NEG_INFINITY);
-                continue;
-            }
-            let e = Episode {
-                start_com: com0,
-                end_com: end,
-                start_heading: heading0,
-                time,
-                energy: s.energy(i).map_err(|e| e.to_string())?.joules,
-                mass: s.mass(i).map_err(|e| e.to_string())?,
-                gravity,
-            };
-            let score = self.fitness.score(&e);
-            scores.push(if score.is_nan() {
-                f64::NEG_INFINITY
-            } else {
-                score
-            });
+        for (i, start) in start.into_iter().enumerate() {
+            scores.push(robot_score(&s, i, start, time, self.fitness)?);
         }
         Ok(scores)
     }
+}
+
+/// Robot `robot`'s score after an episode that started with its centre of mass and heading
+/// at `start` and ran `time` simulated seconds: `-inf` for a blow-up (a non-finite or
+/// far-flung centre of mass) or an undefined score, else the fitness (evaluations and
+/// replays score through here).
+pub fn robot_score(
+    s: &Simulator,
+    robot: usize,
+    (start_com, start_heading): ([f64; 3], f64),
+    time: f64,
+    fitness: Fitness,
+) -> Result<f64, String> {
+    let end = s.com(robot).map_err(|e| e.to_string())?;
+    if !end.iter().all(|v| v.is_finite()) || ground_distance(start_com, end) > BLOW_UP_DISTANCE {
+        return Ok(f64::NEG_INFINITY);
+    }
+    let e = Episode {
+        start_com,
+        end_com: end,
+        start_heading,
+        time,
+        energy: s.energy(robot).map_err(|e| e.to_string())?.joules,
+        mass: s.mass(robot).map_err(|e| e.to_string())?,
+        gravity: s.gravity(),
+    };
+    let score = fitness.score(&e);
+    Ok(if score.is_nan() {
+        f64::NEG_INFINITY
+    } else {
+        score
+    })
 }

@@ -17,8 +17,12 @@ use crate::optimize::shared::worker::OUTAGE;
 use crate::optimize::space::{Genome, SearchSpace};
 use crate::optimize::store::pg_queue::{DONE, Pending};
 use crate::optimize::store::{PgStore, Store, StoredEval};
+use crate::rng::SimRng;
 
 pub use crate::optimize::settings::{RunChoices, RunSettings, StopFlag};
+
+/// Salt of the stream a random start (`<randomStart>`) is drawn from.
+const RANDOM_START_STREAM: u64 = 0x7374_6172_7420_7074;
 
 /// One finished evaluation.
 #[derive(Debug, Clone, PartialEq)]
@@ -42,8 +46,11 @@ pub struct Outcome {
     pub best: Genome,
     /// Its score.
     pub best_score: f64,
-    /// The configured start candidate.
+    /// The start candidate: the configured one, or with `<randomStart>` one drawn from the
+    /// seed.
     pub start: Genome,
+    /// Whether the start was drawn from the seed (`<randomStart>`).
+    pub start_drawn: bool,
     /// The start candidate's score (when it was evaluated first).
     pub start_score: Option<f64>,
     /// Evaluations done (simulated or from the store).
@@ -107,23 +114,31 @@ pub fn optimize(
     mut recording: Option<Recording<'_>>,
     mut on_eval: impl FnMut(&Evaluation),
 ) -> Result<Outcome, String> {
-    let (space, start) = prepare(sim, registry)?;
+    let (space, configured) = prepare(sim, registry)?;
     let Some(model) = sim.optimizer.as_ref() else {
         return Err("no optimizer".into());
+    };
+    let start = if model.spec.random_start {
+        space.random(&mut SimRng::new(settings.seed ^ RANDOM_START_STREAM))
+    } else {
+        configured
     };
     let mut optimizer = build_optimizer(&model.spec.algorithm, &space, &start, settings);
     let shared = recording.as_mut().and_then(|r| r.store.shared()).is_some();
     check_workers(settings, shared)?;
     let workers = settings.workers;
+    let base = Evaluator::new(
+        sim,
+        registry,
+        &space,
+        settings.fitness,
+        settings.duration,
+        settings.seed,
+    );
     let evaluator = |workers: usize| Evaluator {
-        sim: sim.clone(),
-        registry: registry.clone(),
-        space: space.clone(),
-        fitness: settings.fitness,
-        duration: settings.duration,
-        seed: settings.seed,
         batch: settings.batch,
         workers,
+        ..base.clone()
     };
     let local = match recording.as_mut() {
         Some(r) if shared => start_local_workers(r, registry, evaluator(1), settings)?,
@@ -171,6 +186,7 @@ pub fn optimize(
         best: g,
         best_score: s,
         start,
+        start_drawn: model.spec.random_start,
         start_score,
         evaluations: n,
         simulated,

@@ -1,11 +1,12 @@
 //! The control kernel in the pipeline: each robot's [`ControlKernel`] computes its modules
-//! from the measured joint angles (`Actuate`), sums them (`Kernel`) and hands the sums to
+//! from the measured joint angles (`Actuate`; with their noise in randomized episodes), sums them (`Kernel`) and hands the sums to
 //! the servos.
 
 use bevy::prelude::*;
 
 use crate::control::ControlKernel;
 use crate::sim::clock::SimClock;
+use crate::sim::randomize::NoisySensors;
 use crate::sim::servo::{JointState, Servo};
 use crate::sim::tactile::RobotSensors;
 
@@ -36,14 +37,22 @@ pub struct JointOverride(pub Vec<f64>);
 /// Gathers the measured angles and lets every module compute (the `Actuate` set).
 pub fn actuate(
     clock: Res<SimClock>,
-    mut robots: Query<(&mut SimRobot, &mut Kernel, &RobotSensors)>,
+    mut robots: Query<(
+        &mut SimRobot,
+        &mut Kernel,
+        &RobotSensors,
+        Option<&mut NoisySensors>,
+    )>,
     states: Query<&JointState>,
 ) {
     let time = clock.time();
-    for (mut robot, mut kernel, sensors) in &mut robots {
+    for (mut robot, mut kernel, sensors, noise) in &mut robots {
         let robot = &mut *robot;
         for (slot, e) in robot.measured.iter_mut().zip(&robot.joints) {
             *slot = states.get(*e).map_or(0.0, |s| s.angle);
+        }
+        if let Some(mut n) = noise {
+            n.perturb_angles(&mut robot.measured);
         }
         kernel
             .0

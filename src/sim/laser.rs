@@ -10,6 +10,7 @@ use rapier3d::prelude as rp;
 use crate::config::sensor::Laser2d;
 use crate::sim::clock::SimClock;
 use crate::sim::physics::SimPhysics;
+use crate::sim::randomize::NoisySensors;
 use crate::sim::tactile::RobotSensors;
 
 /// One laser.
@@ -46,14 +47,15 @@ pub fn scan_lasers(
     physics: Res<SimPhysics>,
     clock: Res<SimClock>,
     lasers: Query<&Laser2dSensor>,
-    mut robots: Query<&mut RobotSensors>,
+    mut robots: Query<(&mut RobotSensors, Option<&mut NoisySensors>)>,
 ) {
     let w = &physics.world;
     for laser in &lasers {
         if !clock.step.is_multiple_of(laser.period.max(1)) {
             continue;
         }
-        let (Some(body), Ok(mut sensors)) = (w.bodies.get(laser.body), robots.get_mut(laser.robot))
+        let (Some(body), Ok((mut sensors, noise))) =
+            (w.bodies.get(laser.body), robots.get_mut(laser.robot))
         else {
             continue;
         };
@@ -70,6 +72,9 @@ pub fn scan_lasers(
             *range = w
                 .cast_ray(&ray, laser.max_range as f32, true, filter)
                 .map_or(laser.max_range, |(_, toi)| toi as f64);
+        }
+        if let Some(mut n) = noise {
+            n.perturb_ranges(ranges, laser.max_range);
         }
     }
 }

@@ -24,6 +24,7 @@ pub mod pacing;
 pub mod physics;
 pub mod physics_settings;
 pub mod position;
+pub mod randomize;
 pub mod record;
 pub mod runner;
 pub mod schedule;

@@ -22,6 +22,7 @@ use crate::sim::kernel::{Kernel, SimRobot};
 use crate::sim::laser::{Laser2dSensor, beam_angles};
 use crate::sim::physics::{MAX_ROBOTS_PER_WORLD, SimPhysics, group_bit, pose, vec3};
 use crate::sim::physics_settings::PhysicsSettings;
+use crate::sim::randomize::{NoisySensors, SensorNoise};
 use crate::sim::record::{RecordSettings, Track};
 use crate::sim::servo::{DEFAULT_SERVO_GAIN, JointState, MOTOR_DAMPING, Servo, SimJoint};
 use crate::sim::tactile::{PadArea, RobotSensors, TactileSensor};
@@ -45,6 +46,8 @@ pub struct BuildOptions {
     /// Physics settings instead of the robot's production ones (converged references,
     /// lever measurements).
     pub physics: Option<PhysicsSettings>,
+    /// Noise on what modules read (randomized episodes; none by default).
+    pub noise: SensorNoise,
 }
 
 impl Default for BuildOptions {
@@ -54,9 +57,13 @@ impl Default for BuildOptions {
             seed: 1,
             record: true,
             physics: None,
+            noise: SensorNoise::default(),
         }
     }
 }
+
+/// Salt of the sensor-noise streams (apart from the modules' streams of the same seed).
+const NOISE_STREAM: u64 = 0x6e6f_6973_6520_7374;
 
 /// A static or dynamic body of the environment.
 #[derive(Component, Debug, Clone)]
@@ -282,6 +289,12 @@ fn spawn_robot(
         Track::with_capacity(n, if opts.record { samples } else { 0 }),
         Energy::default(),
     ));
+    if opts.noise.is_active() {
+        world.entity_mut(robot).insert(NoisySensors {
+            noise: opts.noise,
+            rng: SimRng::new(opts.seed ^ NOISE_STREAM).fork(r as u64),
+        });
+    }
     Ok(robot)
 }
 

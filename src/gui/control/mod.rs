@@ -22,6 +22,7 @@ pub mod params;
 pub mod picking;
 pub mod plots;
 pub mod remote_view;
+pub mod results_view;
 pub mod robot_view;
 pub mod scene;
 pub mod script;
@@ -54,6 +55,7 @@ use crate::gui::control::script::ScriptRunner;
 use crate::gui::control::session::SimSession;
 use crate::gui::control::toolbar::ToolbarState;
 use crate::gui::module_editor::ModuleEditor;
+use crate::optimize::replay::Replay;
 use crate::remote::gamepad::{GamepadRemote, GamepadRemotePlugin};
 
 /// Which of the docked views are open.
@@ -107,10 +109,20 @@ pub enum GuiSystems {
     Present,
 }
 
-/// Opens the control window on `config`; with `script`, runs it (see [`script`]); with
-/// `remote`, binds the gamepad as that `*.remote.xml` says (else the default binding).
-pub fn run(config: &Path, script: Option<&Path>, remote: Option<&Path>) -> Result<(), String> {
-    let session = SimSession::open(config)?;
+/// Opens the control window on `config`, or on the stored evaluation `replay` (`proleg gui
+/// --replay`); with `script`, runs it (see [`script`]); with `remote`, binds the gamepad as
+/// that `*.remote.xml` says (else the default binding).
+pub fn run(
+    config: &Path,
+    replay: Option<Replay>,
+    script: Option<&Path>,
+    remote: Option<&Path>,
+) -> Result<(), String> {
+    let session = match replay {
+        Some(r) => SimSession::open_replay(r)?,
+        None => SimSession::open(config)?,
+    };
+    let config = session.path.clone();
     let mut remote_view = RemoteView::default();
     if let Some(r) = remote {
         remote_view.load(r)?;
@@ -119,7 +131,10 @@ pub fn run(config: &Path, script: Option<&Path>, remote: Option<&Path>) -> Resul
         Some(p) => ScriptRunner::new(script::load(p)?),
         None => ScriptRunner::default(),
     };
-    let title = format!("proleg — {}", config.display());
+    let title = match &session.replay {
+        Some(r) => format!("proleg — replay of {}", r.label),
+        None => format!("proleg — {}", config.display()),
+    };
     // A real-robot configuration opens with the real-robot tab.
     let mut robot_view = RobotView::default();
     robot_view.open =
@@ -135,7 +150,7 @@ pub fn run(config: &Path, script: Option<&Path>, remote: Option<&Path>) -> Resul
     }))
     .add_plugins((EguiPlugin::default(), MeshPickingPlugin))
     .insert_resource(ClearColor(Color::srgb(0.62, 0.74, 0.86)))
-    .insert_resource(ToolbarState::new(config))
+    .insert_resource(ToolbarState::new(&config))
     .insert_resource(runner)
     .insert_non_send(session)
     .insert_resource(remote_view)

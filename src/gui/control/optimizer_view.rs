@@ -5,7 +5,8 @@
 //! the best candidate in the viewer (its values put into the shown robot's kernel). Or
 //! attach, read-only, to a run going on elsewhere (a shared `postgres://` store's driver and
 //! workers, or any store) and draw its learning curve live
-//! ([`crate::optimize::shared::follow::follow_run`]).
+//! ([`crate::optimize::shared::follow::follow_run`]). Below, a store's runs with their
+//! Replay action ([`results_view`]).
 
 use std::sync::mpsc::{Receiver, channel};
 use std::time::Instant;
@@ -14,6 +15,7 @@ use bevy::prelude::*;
 use bevy_egui::egui;
 use egui_plot::{Legend, Line, Plot, PlotPoints, Points};
 
+use crate::gui::control::results_view::{self, StoredResults};
 use crate::gui::control::session::SimSession;
 use crate::optimize::run::{
     Evaluation, Outcome, RunChoices, RunSettings, StopFlag, optimize, prepare,
@@ -50,6 +52,8 @@ pub struct OptimizerView {
     pub attach_to: String,
     /// Whether the view follows a run elsewhere (read-only) rather than running its own.
     pub attached: bool,
+    /// The stored runs listed, with their Replay action.
+    pub results: StoredResults,
     stop: StopFlag,
     rx: Option<std::sync::Mutex<Receiver<Report>>>,
     /// The search space of the session's world (by its generation), built once.
@@ -311,6 +315,7 @@ pub fn show(ctx: &egui::Context, session: &mut SimSession, view: &mut OptimizerV
                     replay(session, &genome);
                 }
             }
+            results_view::show(ui, session, &mut view.results);
         });
     view.open = open;
     view.space = Some((generation, space));

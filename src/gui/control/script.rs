@@ -6,6 +6,7 @@
 //! wait 5                         # frames
 //! start | pause | restart
 //! run-until 3.0                  # simulated seconds (starts the simulation)
+//! step-to 10                     # step, paused, to exactly this simulated second
 //! speed 0                        # real-time factor (0: as fast as possible)
 //! set PatternGenerator_sinusoidal Amplitude 20 [JOINT]   # JOINT as in the robot file: 1 = J1
 //! plot Robot_Data/y_pos Sinus_Generator/Angle[2]   # a live plot of these series
@@ -19,6 +20,7 @@
 //! attach postgres://u@h/db 30     # follow the store's latest unfinished run read-only,
 //!                                # wait for 30 evaluations (or the run's end)
 //! replay-best                    # show the best candidate in the viewer
+//! replay STORE RUN N|best [EP]   # a stored evaluation (episode EP of a robust run)
 //! remote open|close              # the remote control dialog
 //! remote-set LeftStickX 1        # a gamepad element's value, as if the pad sent it
 //! remote-bind RightStickX rate PatternGenerator_sinusoidal Phase_Difference all 20
@@ -55,6 +57,9 @@ pub enum Command {
     Restart,
     /// `run-until S`: runs until simulated second S.
     RunUntil(f64),
+    /// `step-to S`: step, paused, to exactly this simulated time (seconds, to the step): a replay's
+    /// episode ends where the optimization's did.
+    StepTo(f64),
     /// Real-time factor (0: as fast as possible).
     Speed(f64),
     /// `set MODULE PARAM VALUE [JOINT]`: a module parameter (joint from 1).
@@ -91,6 +96,17 @@ pub enum Command {
     Inspect(PathBuf, Vec<SeriesSelector>),
     /// Run the simulation's optimization for this many evaluations and wait for it.
     Optimize(u64),
+    /// `replay STORE RUN N|best [EP]`: a stored evaluation: store, run, evaluation (or best), episode of a robust run.
+    Replay {
+        /// The store (a path or a postgres:// URL).
+        store: String,
+        /// The run's id.
+        run: i64,
+        /// Which evaluation.
+        which: crate::optimize::replay::Which,
+        /// The episode of a robust run.
+        episode: Option<u32>,
+    },
     /// Attach the optimization view to the store's latest unfinished run (read-only) and
     /// wait until this many of its evaluations are drawn (or the run ends).
     Attach(String, u64),
@@ -172,6 +188,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             "pause" => Command::Pause,
             "restart" => Command::Restart,
             "run-until" => Command::RunUntil(num(words.get(1), "seconds")?),
+            "step-to" => Command::StepTo(num(words.get(1), "seconds")?),
             "speed" => Command::Speed(num(words.get(1), "real-time factor")?.max(0.0)),
             "set" => {
                 if words.len() < 4 {
@@ -221,6 +238,15 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
                 num(words.get(2), "evaluations")?.max(0.0) as u64,
             ),
             "replay-best" => Command::ReplayBest,
+            "replay" if (4..=5).contains(&words.len()) => Command::Replay {
+                store: words[1].to_string(),
+                run: num(words.get(2), "run")? as i64,
+                which: crate::optimize::replay::Which::parse(words[3]).map_err(&at)?,
+                episode: match words.get(4) {
+                    Some(_) => Some(num(words.get(4), "episode")?.max(0.0) as u32),
+                    None => None,
+                },
+            },
             w if w.starts_with("remote") || w.starts_with("robot") => {
                 device_command(words, &num, at)?
             }

@@ -9,6 +9,7 @@ use bevy::prelude::*;
 use crate::data::export::resolve;
 use crate::gui::control::optimizer_view::replay;
 use crate::gui::control::plots::LiveSeries;
+use crate::gui::control::results_view::replay_stored;
 use crate::gui::control::scene::BodyVisual;
 use crate::gui::control::script::{Command, ScriptRunner, state_report};
 use crate::gui::control::session::SimSession;
@@ -40,9 +41,13 @@ fn carry_out(
 ) -> Result<Flow, String> {
     use Command as C;
     match c {
-        C::Wait(_) | C::Start | C::Pause | C::Restart | C::RunUntil(_) | C::Speed(_) => {
-            simulation_command(c, script, session)
-        }
+        C::Wait(_)
+        | C::Start
+        | C::Pause
+        | C::Restart
+        | C::RunUntil(_)
+        | C::StepTo(_)
+        | C::Speed(_) => simulation_command(c, script, session),
         C::Set { .. } => simulation_command(c, script, session),
         C::Plot(_)
         | C::Panel(_)
@@ -63,14 +68,20 @@ fn carry_out(
         | C::RobotDrive(_)
         | C::RobotTwin(_)
         | C::RobotDisconnect => robot_command(c, session, views),
-        C::Module(_) | C::Assign(..) | C::Optimize(_) | C::Attach(..) | C::ReplayBest => {
-            tool_command(c, session, views)
-        }
+        C::Module(_)
+        | C::Assign(..)
+        | C::Optimize(_)
+        | C::Attach(..)
+        | C::ReplayBest
+        | C::Replay { .. } => tool_command(c, session, views),
         C::Screenshot(_) | C::State(_) | C::Quit => {
             output_command(c, commands, script, session, views)
         }
     }
 }
+
+/// Most steps `step-to` runs per frame (the window stays responsive).
+const STEPS_PER_FRAME: u64 = 2000;
 
 /// A command outside its group (cannot happen: [`carry_out`] dispatches by group).
 fn misrouted(c: &Command) -> String {
@@ -105,6 +116,14 @@ fn simulation_command(
             Flow::Again
         }
         Command::RunUntil(_) => Flow::Next,
+        Command::StepTo(t) => {
+            session.running = false;
+            if session.step_to(t, STEPS_PER_FRAME) {
+                Flow::Next
+            } else {
+                Flow::Again
+            }
+        }
         Command::Speed(f) => {
             session.pacing.realtime_factor = f;
             Flow::Next
@@ -358,6 +377,15 @@ fn tool_command(c: Command, session: &mut SimSession, views: &mut Views) -> Resu
             replay(session, &genome);
             Flow::Next
         }
+        Command::Replay {
+            store,
+            run,
+            which,
+            episode,
+        } => {
+            replay_stored(session, &store, run, which, episode)?;
+            Flow::Next
+        }
         other => return Err(misrouted(&other)),
     })
 }
@@ -416,6 +444,12 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
     }
     if let Ok(h) = session.simulator.heading(0) {
         pairs.push(("heading", format!("{h:.3}")));
+    }
+    if let Some(score) = session.replay_score() {
+        pairs.push((
+            "replay_score",
+            score.map_or_else(|e| e, |s| format!("{s:.9}")),
+        ));
     }
     pairs.push(("remote_open", views.remote.open.to_string()));
     pairs.push((

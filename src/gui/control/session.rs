@@ -9,6 +9,8 @@ use std::time::Instant;
 use crate::config::Simulation;
 use crate::control::ControlKernel;
 use crate::control::load_simulation_in;
+use crate::optimize::evaluate::robot_score;
+use crate::optimize::replay::Replay;
 use crate::sim::datalog::DataSettings;
 use crate::sim::{BuildOptions, Pacer, Pacing, Simulator};
 
@@ -40,6 +42,12 @@ pub struct SimSession {
     pub error: Option<String>,
     /// Counts the worlds built (load, restart), so views know when to rebuild.
     pub generation: u64,
+    /// The stored evaluation shown (`proleg gui --replay`, the results' Replay), rebuilt
+    /// with its genome, seed and noise at every restart.
+    pub replay: Option<Replay>,
+    /// Robot 0's centre of mass and heading when the world was built (for the replay's
+    /// score).
+    start: ([f64; 3], f64),
 }
 
 impl SimSession {
@@ -47,11 +55,25 @@ impl SimSession {
     pub fn open(path: &Path) -> Result<SimSession, String> {
         let registry = crate::plugin_host::registry();
         let sim = load_simulation_in(path, &registry).map_err(|e| e.to_string())?;
+        SimSession::with(path.to_path_buf(), sim, None)
+    }
+
+    /// A stored evaluation's world (its configuration, genome, seed and noise), paused.
+    pub fn open_replay(replay: Replay) -> Result<SimSession, String> {
+        SimSession::with(
+            PathBuf::from(&replay.config),
+            replay.sim.clone(),
+            Some(replay),
+        )
+    }
+
+    fn with(path: PathBuf, sim: Simulation, replay: Option<Replay>) -> Result<SimSession, String> {
         let step_width = sim.files.simulation.properties.step_width;
         let pacing = Pacing::of(&sim.files.simulation.properties);
-        let (simulator, initial_kernel) = build(&sim, step_width)?;
+        let (simulator, initial_kernel) = build(&sim, step_width, replay.as_ref())?;
+        let start = robot_start(&simulator);
         Ok(SimSession {
-            path: path.to_path_buf(),
+            path,
             sim,
             simulator,
             initial_kernel,
@@ -62,7 +84,35 @@ impl SimSession {
             real_time: 0.0,
             error: None,
             generation: 0,
+            replay,
+            start,
         })
+    }
+
+    /// Shows stored evaluation `replay` instead (see [`SimSession::open_replay`]); on
+    /// failure keeps the current world and records the error.
+    pub fn load_replay(&mut self, replay: Replay) {
+        match SimSession::open_replay(replay) {
+            Ok(s) => {
+                let generation = self.generation + 1;
+                *self = s;
+                self.generation = generation;
+            }
+            Err(e) => self.error = Some(e),
+        }
+    }
+
+    /// The replayed episode's score so far (the optimizers' formula on robot 0 since the
+    /// world was built); at the episode's duration it is the score the run stored.
+    pub fn replay_score(&self) -> Option<Result<f64, String>> {
+        let r = self.replay.as_ref()?;
+        Some(robot_score(
+            &self.simulator,
+            0,
+            self.start,
+            self.sim_time(),
+            r.fitness(),
+        ))
     }
 
     /// Loads another configuration; on failure keeps the current one and records the error.
@@ -79,7 +129,7 @@ impl SimSession {
 
     /// Rebuilds the world from the configuration (with the chosen step width), paused.
     pub fn restart(&mut self) {
-        match build(&self.sim, self.step_width) {
+        match build(&self.sim, self.step_width, self.replay.as_ref()) {
             Ok((simulator, kernel)) => self.install(simulator, kernel),
             Err(e) => self.error = Some(e),
         }
@@ -87,6 +137,7 @@ impl SimSession {
 
     /// Shows a newly built world, paused at 0.
     fn install(&mut self, simulator: Simulator, kernel: ControlKernel) {
+        self.start = robot_start(&simulator);
         self.simulator = simulator;
         self.initial_kernel = kernel;
         self.real_time = 0.0;
@@ -137,7 +188,7 @@ impl SimSession {
                 joints: crate::config::mask::JointMask(bits),
                 params: Vec::new(),
             });
-        let (simulator, kernel) = build(&sim, self.step_width)?;
+        let (simulator, kernel) = build(&sim, self.step_width, self.replay.as_ref())?;
         self.sim = sim;
         self.install(simulator, kernel);
         Ok(())
@@ -146,6 +197,15 @@ impl SimSession {
     /// Simulated seconds so far.
     pub fn sim_time(&self) -> f64 {
         self.simulator.clock().time()
+    }
+
+    /// Steps toward simulated time `t` (rounded to whole steps), at most `budget` of them;
+    /// true once there.
+    pub fn step_to(&mut self, t: f64, budget: u64) -> bool {
+        let target = (t / self.simulator.clock().dt).round().max(0.0) as u64;
+        let left = target.saturating_sub(self.steps());
+        self.simulator.run_steps(left.min(budget));
+        left <= budget
     }
 
     /// Steps so far.
@@ -181,23 +241,42 @@ impl SimSession {
     }
 }
 
+/// Robot 0's centre of mass and heading (zero when there is no robot 0).
+fn robot_start(simulator: &Simulator) -> ([f64; 3], f64) {
+    (
+        simulator.com(0).unwrap_or_default(),
+        simulator.heading(0).unwrap_or_default(),
+    )
+}
+
 /// A simulator for `sim` at step width `dt`, recording into ring buffers for the live
-/// plots, and a copy of its kernel as built.
-fn build(sim: &Simulation, dt: f64) -> Result<(Simulator, ControlKernel), String> {
+/// plots, and a copy of its kernel as built; with `replay`, built with its seed and noise
+/// and its candidate's values in the kernel.
+fn build(
+    sim: &Simulation,
+    dt: f64,
+    replay: Option<&Replay>,
+) -> Result<(Simulator, ControlKernel), String> {
     if !(dt.is_finite() && dt > 0.0) {
         return Err(format!("step width {dt} s: give a positive number"));
     }
     let mut sim = sim.clone();
     sim.files.simulation.properties.step_width = dt;
-    let opts = BuildOptions {
-        robots: 1,
-        seed: sim.files.simulation.properties.seed,
-        record: true,
-        physics: None,
+    let opts = match replay {
+        Some(r) => r.build_options(true),
+        None => BuildOptions {
+            robots: 1,
+            seed: sim.files.simulation.properties.seed,
+            record: true,
+            ..Default::default()
+        },
     };
     let registry = crate::plugin_host::registry();
     let mut simulator =
         Simulator::with_registry(&sim, &opts, &registry).map_err(|e| e.to_string())?;
+    if let Some(r) = replay {
+        r.apply(&mut simulator).map_err(|e| e.to_string())?;
+    }
     let every = sim.files.simulation.properties.accuracy.max(1);
     simulator.enable_data(
         DataSettings {

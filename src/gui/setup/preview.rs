@@ -65,6 +65,7 @@ pub fn run_preview(w: &Wizard, seconds: f64) -> Result<(PathBuf, f64), String> {
         seed: sim.files.simulation.properties.seed,
         record: false,
         physics: None,
+        ..Default::default()
     };
     let mut s = Simulator::with_registry(&sim, &opts, &registry).map_err(|e| e.to_string())?;
     Ok((sim_path, s.run_for(seconds).displacement))

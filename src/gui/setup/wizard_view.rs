@@ -12,6 +12,7 @@ use crate::compose::robot_builder::{MAX_JOINTS, Orientation, PartSet, RobotSpec}
 use crate::compose::wizard::{Page, RobotChoice, Wizard};
 use crate::config::actuation::ParamValue;
 use crate::config::module_types::ModuleDescriptor;
+use crate::config::robustness::Robustness;
 use crate::config::simulation::Mode;
 use crate::gui::setup::state::{SetupState, Status};
 
@@ -329,6 +330,7 @@ fn simulation_page(ui: &mut egui::Ui, w: &mut Wizard) {
     match w.props.mode {
         Mode::GeneticAlgorithm => w.optimization.method = Method::Genetic,
         Mode::GreatDeluge => w.optimization.method = Method::GreatDeluge,
+        Mode::CmaEs => w.optimization.method = Method::CmaEs,
         _ => {}
     }
 }
@@ -340,6 +342,7 @@ fn optimization_page(ui: &mut egui::Ui, w: &mut Wizard) {
     ui.label(match o.method {
         Method::Genetic => "Genetic algorithm",
         Method::GreatDeluge => "Modified great deluge",
+        Method::CmaEs => "CMA-ES",
     });
     let mut remove = None;
     for (i, r) in o.params.iter_mut().enumerate() {
@@ -438,7 +441,7 @@ fn registration_view(ui: &mut egui::Ui, i: usize, r: &mut Registration, joints: 
     remove
 }
 
-/// The optimizer's own settings (GA or great deluge).
+/// The optimizer's own settings (GA, great deluge or CMA-ES).
 fn algorithm_settings(ui: &mut egui::Ui, o: &mut OptimizationSpec) {
     match o.method {
         Method::Genetic => {
@@ -482,6 +485,61 @@ fn algorithm_settings(ui: &mut egui::Ui, o: &mut OptimizationSpec) {
                     .range(1..=10_000)
                     .prefix("confidence "),
             );
+        }
+        Method::CmaEs => {
+            ui.add(
+                egui::DragValue::new(&mut o.cma.popsize)
+                    .range(0..=10_000)
+                    .prefix("samples per generation (0: 4 + 3 ln n) "),
+            );
+            ui.add(
+                egui::Slider::new(&mut o.cma.sigma, 0.01..=1.0)
+                    .text("initial step (of each range)"),
+            );
+            ui.add(
+                egui::DragValue::new(&mut o.cma.restarts)
+                    .range(0..=20)
+                    .prefix("IPOP restarts "),
+            );
+        }
+    }
+    ui.checkbox(
+        &mut o.random_start,
+        "start from a random point (drawn from the seed)",
+    );
+    robustness_settings(ui, o);
+}
+
+/// Robust fitness: K randomized episodes per candidate.
+fn robustness_settings(ui: &mut egui::Ui, o: &mut OptimizationSpec) {
+    let mut on = o.robustness.is_some();
+    ui.checkbox(&mut on, "robust fitness (randomized episodes)");
+    match (on, o.robustness.as_mut()) {
+        (false, _) => o.robustness = None,
+        (true, None) => o.robustness = Some(Robustness::typical()),
+        (true, Some(r)) => {
+            ui.add(
+                egui::DragValue::new(&mut r.episodes)
+                    .range(1..=1000)
+                    .prefix("episodes "),
+            );
+            for (v, label, max) in [
+                (&mut r.friction_pct, "friction +-% ", 90.0),
+                (&mut r.mass_pct, "link masses +-% ", 90.0),
+                (&mut r.torque_pct, "servo torque +-% ", 90.0),
+                (&mut r.gain_pct, "servo gain +-% ", 90.0),
+                (&mut r.heading_deg, "start heading +-deg ", 180.0),
+                (&mut r.position_m, "start position +-m ", 10.0),
+                (&mut r.angle_noise_deg, "angle noise sigma deg ", 90.0),
+                (&mut r.range_noise_m, "range noise sigma m ", 10.0),
+            ] {
+                ui.add(
+                    egui::DragValue::new(v)
+                        .range(0.0..=max)
+                        .speed(0.1)
+                        .prefix(label),
+                );
+            }
         }
     }
 }

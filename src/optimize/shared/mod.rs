@@ -20,12 +20,22 @@ pub mod worker;
 
 use std::path::Path;
 
-use crate::config::{MemSource, load_simulation_with};
+use crate::config::{MemSource, Simulation, load_simulation_with};
 use crate::control::ModuleRegistry;
 use crate::optimize::evaluate::Evaluator;
 use crate::optimize::fitness::Fitness;
 use crate::optimize::run::prepare;
 use crate::optimize::store::{RunSpec, program_version};
+
+/// A stored run's simulation, loaded from its stored files with this host's module types.
+pub fn stored_simulation(spec: &RunSpec, registry: &ModuleRegistry) -> Result<Simulation, String> {
+    let mut src = MemSource::new();
+    for (path, text) in &spec.files {
+        src.insert(path, text.as_str());
+    }
+    load_simulation_with(&src, Path::new(&spec.info.config), registry)
+        .map_err(|e| format!("its configuration does not load on this host: {e}"))
+}
 
 /// The evaluator of a stored run, built from its stored files with this host's module
 /// types; an error says why this host cannot evaluate it (another program version, a
@@ -38,12 +48,7 @@ pub fn run_evaluator(spec: &RunSpec, registry: &ModuleRegistry) -> Result<Evalua
             spec.program
         ));
     }
-    let mut src = MemSource::new();
-    for (path, text) in &spec.files {
-        src.insert(path, text.as_str());
-    }
-    let sim = load_simulation_with(&src, Path::new(&spec.info.config), registry)
-        .map_err(|e| format!("its configuration does not load on this host: {e}"))?;
+    let sim = stored_simulation(spec, registry)?;
     let (space, _) = prepare(&sim, registry)?;
     let genes: Vec<String> = space.genes.iter().map(|g| g.label()).collect();
     if genes != spec.info.genes {
@@ -54,14 +59,12 @@ pub fn run_evaluator(spec: &RunSpec, registry: &ModuleRegistry) -> Result<Evalua
         ));
     }
     let fitness = Fitness::parse(&spec.info.fitness)?;
-    Ok(Evaluator {
-        sim,
-        registry: registry.clone(),
-        space,
+    Ok(Evaluator::new(
+        &sim,
+        registry,
+        &space,
         fitness,
-        duration: spec.info.duration,
-        seed: spec.info.seed,
-        batch: 1,
-        workers: 1,
-    })
+        spec.info.duration,
+        spec.info.seed,
+    ))
 }

@@ -8,6 +8,7 @@
 //! | `proleg_meta` | the schema version ([`SCHEMA_VERSION`]) |
 //! | `runs` | what identifies a run ([`RunInfo`]), when it started, whether it finished, the program that started it |
 //! | `run_files` | the run's resolved configuration: every file it read (simulation, robot, parts, actuation, environment, meshes, optimizer) |
+//! | `run_episodes` | robust fitness: each randomized episode's seed and what it drew |
 //! | `evaluations` | one row per candidate: number, round, genome, values, score, seed, wall seconds; and for shared evaluation its `state` (`pending`, `running`, `done`), the claiming `worker`, the claim's `attempt` and `lease_until` |
 //!
 //! [`sqlite`] is the embedded store of one machine (evaluations run in the optimizing
@@ -25,8 +26,9 @@ pub use location::{PgTarget, StoreLocation};
 pub use pg::PgStore;
 pub use sqlite::SqliteStore;
 
-/// The layout this program reads and writes (1: before shared evaluation).
-pub const SCHEMA_VERSION: i64 = 2;
+/// The layout this program reads and writes (1: before shared evaluation; 2: before
+/// `run_episodes`).
+pub const SCHEMA_VERSION: i64 = 3;
 
 /// The program that starts a run, stored with it: a worker of another version refuses the
 /// run (its physics may differ, so its scores would not be the driver's).
@@ -83,6 +85,19 @@ pub struct RunSpec {
     pub finished: bool,
     /// Its configuration files: (path as the driver read it, text).
     pub files: Vec<(String, String)>,
+    /// Its randomized episodes (robust fitness; empty without).
+    pub episodes: Vec<EpisodeRecord>,
+}
+
+/// One randomized episode of a run with robust fitness, as stored.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EpisodeRecord {
+    /// 0-based episode number.
+    pub episode: u32,
+    /// Its seed.
+    pub seed: u64,
+    /// What it drew (friction, masses, start pose), for people.
+    pub draws: String,
 }
 
 /// One stored evaluation.
@@ -150,12 +165,27 @@ impl Store {
         }
     }
 
-    /// Registers a new run, with the files of its configuration; returns its id.
-    pub fn start_run(&mut self, info: &RunInfo, files: &[(String, String)]) -> Result<i64, String> {
+    /// Registers a new run, with the files of its configuration and its randomized
+    /// episodes; returns its id.
+    pub fn start_run(
+        &mut self,
+        info: &RunInfo,
+        files: &[(String, String)],
+        episodes: &[EpisodeRecord],
+    ) -> Result<i64, String> {
         let program = program_version();
         match self {
-            Store::Sqlite(s) => s.start_run(info, &program, files),
-            Store::Postgres(p) => p.start_run(info, &program, files),
+            Store::Sqlite(s) => s.start_run(info, &program, files, episodes),
+            Store::Postgres(p) => p.start_run(info, &program, files, episodes),
+        }
+    }
+
+    /// Everything needed to evaluate `run`'s candidates again: the run, the program that
+    /// started it, its configuration files and its episodes.
+    pub fn run_spec(&mut self, run: i64) -> Result<RunSpec, String> {
+        match self {
+            Store::Sqlite(s) => s.run_spec(run),
+            Store::Postgres(p) => p.run_spec(run),
         }
     }
 

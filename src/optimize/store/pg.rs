@@ -9,8 +9,8 @@ use postgres::{Client, Transaction};
 
 use crate::optimize::store::location::PgTarget;
 use crate::optimize::store::{
-    RUNS_WITH_BEST, RunInfo, RunRow, RunSpec, SCHEMA_VERSION, StoredEval, join, parse_list,
-    score_of,
+    EpisodeRecord, RUNS_WITH_BEST, RunInfo, RunRow, RunSpec, SCHEMA_VERSION, StoredEval, join,
+    parse_list, score_of,
 };
 
 /// An open connection to a PostgreSQL store.
@@ -36,6 +36,9 @@ CREATE TABLE runs (
 CREATE TABLE run_files (
     run BIGINT NOT NULL REFERENCES runs(id), path TEXT NOT NULL, content TEXT NOT NULL,
     PRIMARY KEY (run, path));
+CREATE TABLE run_episodes (
+    run BIGINT NOT NULL REFERENCES runs(id), episode INTEGER NOT NULL, seed BIGINT NOT NULL,
+    draws TEXT NOT NULL, PRIMARY KEY (run, episode));
 CREATE TABLE evaluations (
     run BIGINT NOT NULL REFERENCES runs(id), number BIGINT NOT NULL,
     round BIGINT NOT NULL, genome TEXT NOT NULL, vals TEXT NOT NULL,
@@ -44,6 +47,13 @@ CREATE TABLE evaluations (
     worker TEXT, attempt INTEGER NOT NULL DEFAULT 0, lease_until TIMESTAMPTZ,
     PRIMARY KEY (run, number));
 CREATE INDEX evaluations_open ON evaluations (run, number) WHERE state <> 'done';";
+
+/// Version 2 to 3: the episodes of robust fitness.
+const FROM_V2: &str = "
+CREATE TABLE run_episodes (
+    run BIGINT NOT NULL REFERENCES runs(id), episode INTEGER NOT NULL, seed BIGINT NOT NULL,
+    draws TEXT NOT NULL, PRIMARY KEY (run, episode));
+UPDATE proleg_meta SET schema_version = 3;";
 
 impl PgStore {
     /// Connects; with `create`, makes the tables when the database has none. A database
@@ -64,6 +74,9 @@ impl PgStore {
         }
         match schema_version(&mut tx).map_err(&fail)? {
             Some(v) if v == SCHEMA_VERSION => {}
+            Some(2) if create => {
+                tx.batch_execute(FROM_V2).map_err(&fail)?;
+            }
             Some(v) => {
                 return Err(format!(
                     "{target}: the store has schema version {v}; this proleg reads version {SCHEMA_VERSION}"
@@ -165,6 +178,7 @@ impl PgStore {
         info: &RunInfo,
         program: &str,
         files: &[(String, String)],
+        episodes: &[EpisodeRecord],
     ) -> Result<i64, String> {
         let fail = self.failer();
         let mut tx = self.client.transaction().map_err(&fail)?;
@@ -188,6 +202,13 @@ impl PgStore {
             tx.execute(
                 "INSERT INTO run_files (run, path, content) VALUES ($1, $2, $3)",
                 &[&id, p, text],
+            )
+            .map_err(&fail)?;
+        }
+        for e in episodes {
+            tx.execute(
+                "INSERT INTO run_episodes (run, episode, seed, draws) VALUES ($1, $2, $3, $4)",
+                &[&id, &(e.episode as i32), &(e.seed as i64), &e.draws],
             )
             .map_err(&fail)?;
         }
@@ -343,12 +364,30 @@ impl PgStore {
             .map(|f| Ok((f.try_get(0)?, f.try_get(1)?)))
             .collect::<Result<Vec<(String, String)>, postgres::Error>>()
             .map_err(&fail)?;
+        let episodes = self
+            .client
+            .query(
+                "SELECT episode, seed, draws FROM run_episodes WHERE run = $1 ORDER BY episode",
+                &[&run],
+            )
+            .map_err(&fail)?
+            .iter()
+            .map(|e| {
+                Ok(EpisodeRecord {
+                    episode: e.try_get::<_, i32>(0)? as u32,
+                    seed: e.try_get::<_, i64>(1)? as u64,
+                    draws: e.try_get(2)?,
+                })
+            })
+            .collect::<Result<Vec<_>, postgres::Error>>()
+            .map_err(&fail)?;
         Ok(RunSpec {
             id: run,
             info: run_info(&row).map_err(&fail)?,
             program: row.try_get(7).map_err(&fail)?,
             finished: row.try_get::<_, i32>(8).map_err(&fail)? != 0,
             files,
+            episodes,
         })
     }
 }

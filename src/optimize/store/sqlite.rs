@@ -7,7 +7,8 @@ use std::path::{Path, PathBuf};
 use rusqlite::{Connection, OptionalExtension, params};
 
 use crate::optimize::store::{
-    RUNS_WITH_BEST, RunInfo, RunRow, SCHEMA_VERSION, StoredEval, join, parse_list, score_of,
+    EpisodeRecord, RUNS_WITH_BEST, RunInfo, RunRow, RunSpec, SCHEMA_VERSION, StoredEval, join,
+    parse_list, score_of,
 };
 
 /// An open SQLite store.
@@ -28,6 +29,9 @@ CREATE TABLE IF NOT EXISTS runs (
 CREATE TABLE IF NOT EXISTS run_files (
     run INTEGER NOT NULL REFERENCES runs(id), path TEXT NOT NULL, content TEXT NOT NULL,
     PRIMARY KEY (run, path));
+CREATE TABLE IF NOT EXISTS run_episodes (
+    run INTEGER NOT NULL REFERENCES runs(id), episode INTEGER NOT NULL, seed INTEGER NOT NULL,
+    draws TEXT NOT NULL, PRIMARY KEY (run, episode));
 CREATE TABLE IF NOT EXISTS evaluations (
     run INTEGER NOT NULL REFERENCES runs(id), number INTEGER NOT NULL,
     round INTEGER NOT NULL, genome TEXT NOT NULL, vals TEXT NOT NULL,
@@ -125,6 +129,7 @@ impl SqliteStore {
         info: &RunInfo,
         program: &str,
         files: &[(String, String)],
+        episodes: &[EpisodeRecord],
     ) -> Result<i64, String> {
         let path = self.path.clone();
         let fail = |e: rusqlite::Error| format!("{}: {e}", path.display());
@@ -142,8 +147,74 @@ impl SqliteStore {
             )
             .map_err(fail)?;
         }
+        for e in episodes {
+            tx.execute(
+                "INSERT INTO run_episodes (run, episode, seed, draws) VALUES (?1, ?2, ?3, ?4)",
+                params![id, e.episode, e.seed as i64, e.draws],
+            )
+            .map_err(fail)?;
+        }
         tx.commit().map_err(fail)?;
         Ok(id)
+    }
+
+    /// The run, its program, configuration files and episodes.
+    pub fn run_spec(&self, run: i64) -> Result<RunSpec, String> {
+        let fail = |e: rusqlite::Error| self.fail(e);
+        let (info, program, finished) = self
+            .conn
+            .query_row(
+                "SELECT config, algorithm, seed, fitness, duration, genes, program, finished
+                 FROM runs WHERE id = ?1",
+                params![run],
+                |r| {
+                    let genes: String = r.get(5)?;
+                    let info = RunInfo {
+                        config: r.get(0)?,
+                        algorithm: r.get(1)?,
+                        seed: r.get::<_, i64>(2)? as u64,
+                        fitness: r.get(3)?,
+                        duration: r.get(4)?,
+                        genes: genes.split('\t').map(String::from).collect(),
+                    };
+                    Ok((info, r.get::<_, String>(6)?, r.get::<_, i64>(7)? != 0))
+                },
+            )
+            .optional()
+            .map_err(fail)?
+            .ok_or_else(|| format!("{}: no run {run}", self.path.display()))?;
+        let mut q = self
+            .conn
+            .prepare("SELECT path, content FROM run_files WHERE run = ?1 ORDER BY path")
+            .map_err(fail)?;
+        let files = q
+            .query_map(params![run], |r| Ok((r.get(0)?, r.get(1)?)))
+            .and_then(|rows| rows.collect::<Result<Vec<(String, String)>, _>>())
+            .map_err(fail)?;
+        let mut q = self
+            .conn
+            .prepare(
+                "SELECT episode, seed, draws FROM run_episodes WHERE run = ?1 ORDER BY episode",
+            )
+            .map_err(fail)?;
+        let episodes = q
+            .query_map(params![run], |r| {
+                Ok(EpisodeRecord {
+                    episode: r.get(0)?,
+                    seed: r.get::<_, i64>(1)? as u64,
+                    draws: r.get(2)?,
+                })
+            })
+            .and_then(|rows| rows.collect::<Result<Vec<_>, _>>())
+            .map_err(fail)?;
+        Ok(RunSpec {
+            id: run,
+            info,
+            program,
+            finished,
+            files,
+            episodes,
+        })
     }
 
     /// The latest unfinished run matching `info`.
@@ -303,6 +374,8 @@ mod tests {
         assert_eq!(runs.len(), 1);
         assert_eq!(runs[0].best_score, Some(0.5));
         assert_eq!(store.evaluations(1).unwrap()[0].genome, vec![4]);
+        // Version 3's run_episodes is there (empty for an old run).
+        assert!(store.run_spec(1).unwrap().episodes.is_empty());
         drop(store);
         // A store of a newer schema is refused.
         let c = Connection::open(&path).unwrap();
@@ -310,7 +383,9 @@ mod tests {
             .unwrap();
         let err = SqliteStore::open(&path).err().unwrap_or_default();
         assert!(
-            err.contains("schema version 9; this proleg reads version 2"),
+            err.contains(&format!(
+                "schema version 9; this proleg reads version {SCHEMA_VERSION}"
+            )),
             "{err}"
         );
         let _ = std::fs::remove_dir_all(&dir);

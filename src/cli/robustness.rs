@@ -1,0 +1,62 @@
+//! `proleg robustness`: a stored candidate (a run's best, or any evaluation) re-evaluated on
+//! fresh randomized episodes — how much of its displacement a gait keeps on a floor, robot
+//! and start it was not tuned on, before it goes to the real robot.
+
+use std::fmt;
+
+use crate::config::robustness::Robustness;
+use crate::control::ModuleRegistry;
+use crate::optimize::replay::{RandomizedCheck, Which, randomized_check};
+
+/// Command-line options of `proleg robustness`.
+#[derive(clap::Args)]
+pub struct RobustnessArgs {
+    /// The store holding the run (a results .sqlite file or a postgres:// URL).
+    pub store: String,
+    /// The run's id (`proleg results STORE` lists them).
+    #[arg(long)]
+    pub run: i64,
+    /// The evaluation's number, or "best".
+    #[arg(long, default_value = "best")]
+    pub eval: String,
+    /// Randomized episodes.
+    #[arg(long, default_value_t = 20)]
+    pub episodes: u32,
+    /// Seed of the episodes (choose one no run used, for fresh episodes).
+    #[arg(long, default_value_t = 1000)]
+    pub seed: u64,
+}
+
+/// Runs the check the options ask for, with [`Robustness::typical`] ranges.
+pub fn run(a: &RobustnessArgs, registry: &ModuleRegistry) -> Result<RandomizedCheck, String> {
+    let which = Which::parse(&a.eval)?;
+    randomized_check(
+        &a.store,
+        (a.run, which),
+        &Robustness::typical(),
+        (a.episodes, a.seed),
+        registry,
+    )
+}
+
+impl fmt::Display for RandomizedCheck {
+    fn fmt(&self, out: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(out, "{}", self.label)?;
+        writeln!(out, "randomized: {}", self.ranges.describe())?;
+        let scores: Vec<String> = self.scores.iter().map(|s| format!("{s:.3}")).collect();
+        writeln!(out, "episodes    {}", scores.join(" "))?;
+        writeln!(out, "nominal     {:.4}", self.nominal)?;
+        writeln!(
+            out,
+            "randomized  mean {:.4}, lower quartile {:.4}, min {:.4}",
+            self.mean(),
+            self.lower_quartile(),
+            self.scores.iter().copied().fold(f64::INFINITY, f64::min)
+        )?;
+        write!(
+            out,
+            "kept        {:.1}% of the nominal score",
+            self.kept() * 100.0
+        )
+    }
+}

@@ -1,0 +1,293 @@
+//! Replaying a stored evaluation: the run's stored configuration, the candidate's genome,
+//! the world's seed (the run's, or a randomized episode's seed and physics), so the
+//! trajectory is the one the optimization scored, step for step — headless
+//! ([`Replay::score`]) or in the control window (`proleg gui --replay`).
+
+use crate::config::Simulation;
+use crate::config::robustness::Robustness;
+use crate::control::ModuleRegistry;
+use crate::optimize::evaluate::Evaluator;
+use crate::optimize::fitness::Fitness;
+use crate::optimize::robust::{RobustEpisodes, combine};
+use crate::optimize::run::prepare;
+use crate::optimize::shared::stored_simulation;
+use crate::optimize::space::{Genome, SearchSpace};
+use crate::optimize::store::{Store, program_version};
+use crate::sim::randomize::SensorNoise;
+use crate::sim::{BuildOptions, SimError, Simulator};
+
+/// A stored evaluation, ready to run again.
+#[derive(Clone)]
+pub struct Replay {
+    /// The world to build: the stored configuration, or a randomized episode of it.
+    pub sim: Simulation,
+    /// How the genome maps to module parameters.
+    pub space: SearchSpace,
+    /// The candidate.
+    pub genome: Genome,
+    /// The world's seed.
+    pub seed: u64,
+    /// The world's sensor noise (randomized episodes).
+    pub noise: SensorNoise,
+    /// Simulated seconds of the episode.
+    pub duration: f64,
+    /// The stored score (with robust fitness: of all the run's episodes together).
+    pub stored_score: f64,
+    /// What is replayed, for titles and messages.
+    pub label: String,
+    /// The run's simulation file, as the optimizing host named it.
+    pub config: String,
+    /// The stored configuration (without an episode's randomization).
+    pub nominal: Simulation,
+    evaluator: Evaluator,
+}
+
+/// Evaluation `number` of run `run` in `store`; for a run with robust fitness, its episode
+/// `episode` (default 0).
+pub fn load_replay(
+    store: &mut Store,
+    run: i64,
+    number: u64,
+    episode: Option<u32>,
+    registry: &ModuleRegistry,
+) -> Result<Replay, String> {
+    let spec = store.run_spec(run)?;
+    let eval = store
+        .evaluations_from(run, number)?
+        .into_iter()
+        .find(|e| e.number == number)
+        .ok_or_else(|| {
+            format!(
+                "{}: run {run} has no finished evaluation {number}",
+                store.describe()
+            )
+        })?;
+    let sim = stored_simulation(&spec, registry)?;
+    let (space, _) = prepare(&sim, registry)?;
+    if eval.genome.len() != space.genes.len() {
+        return Err(format!(
+            "evaluation {number} has {} genes, its configuration {}",
+            eval.genome.len(),
+            space.genes.len()
+        ));
+    }
+    let fitness = Fitness::parse(&spec.info.fitness)?;
+    let evaluator = Evaluator::new(
+        &sim,
+        registry,
+        &space,
+        fitness,
+        spec.info.duration,
+        spec.info.seed,
+    );
+    let mut label = format!(
+        "{} run {run}, evaluation {number} (stored score {:.4})",
+        store.describe(),
+        eval.score
+    );
+    if spec.program != program_version() {
+        label.push_str(&format!(
+            "; started by {}, this is {}: the trajectory may differ",
+            spec.program,
+            program_version()
+        ));
+    }
+    let (world, seed, noise) = match (&evaluator.robust, episode) {
+        (None, Some(k)) => {
+            return Err(format!(
+                "run {run} has no randomized episodes (no <robustness>), so no episode {k}"
+            ));
+        }
+        (None, None) => (sim.clone(), spec.info.seed, SensorNoise::default()),
+        (Some(r), k) => {
+            let (world, seed, noise) = episode_of(r, k.unwrap_or(0))?;
+            label.push_str(&format!(
+                ", episode {} of {}",
+                k.unwrap_or(0),
+                r.episodes.len()
+            ));
+            (world, seed, noise)
+        }
+    };
+    Ok(Replay {
+        sim: world,
+        space,
+        genome: eval.genome,
+        seed,
+        noise,
+        duration: spec.info.duration,
+        stored_score: eval.score,
+        label,
+        config: spec.info.config.clone(),
+        nominal: sim,
+        evaluator,
+    })
+}
+
+/// Episode `k`'s world, seed and noise.
+fn episode_of(r: &RobustEpisodes, k: u32) -> Result<(Simulation, u64, SensorNoise), String> {
+    let e = r.episodes.get(k as usize).ok_or_else(|| {
+        format!(
+            "episode {k}: the run has episodes 0 to {}",
+            r.episodes.len().saturating_sub(1)
+        )
+    })?;
+    Ok((e.sim.clone(), e.seed, e.noise))
+}
+
+impl Replay {
+    /// How the replayed world is built (`record`: with trajectories, for the viewer).
+    pub fn build_options(&self, record: bool) -> BuildOptions {
+        BuildOptions {
+            robots: 1,
+            seed: self.seed,
+            record,
+            noise: self.noise,
+            ..BuildOptions::default()
+        }
+    }
+
+    /// Puts the candidate's values into robot 0's kernel of a world built with
+    /// [`Replay::build_options`].
+    pub fn apply(&self, simulator: &mut Simulator) -> Result<(), SimError> {
+        let kernel = simulator.kernel_mut(0)?;
+        self.space
+            .apply(&self.genome, kernel)
+            .map_err(SimError::from)
+    }
+
+    /// How the replayed episode is scored.
+    pub fn fitness(&self) -> Fitness {
+        self.evaluator.fitness
+    }
+
+    /// The replayed episode's score, run headless by the optimizers' own evaluator.
+    pub fn score(&self) -> Result<f64, String> {
+        let scores = self.evaluator.run_world(
+            &self.sim,
+            self.seed,
+            self.noise,
+            std::slice::from_ref(&self.genome),
+        )?;
+        scores
+            .first()
+            .copied()
+            .ok_or_else(|| "the replay scored nothing".to_string())
+    }
+}
+
+/// Which evaluation of a run to replay.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Which {
+    /// The run's best (the first of equal scores).
+    Best,
+    /// Evaluation number N.
+    Number(u64),
+}
+
+impl Which {
+    /// `best` or a number.
+    pub fn parse(text: &str) -> Result<Which, String> {
+        match text.trim() {
+            "best" => Ok(Which::Best),
+            t => t
+                .parse()
+                .map(Which::Number)
+                .map_err(|_| format!("evaluation {t:?}: give a number or \"best\"")),
+        }
+    }
+
+    /// The evaluation's number in `run`.
+    pub fn number(self, store: &mut Store, run: i64) -> Result<u64, String> {
+        match self {
+            Which::Number(n) => Ok(n),
+            Which::Best => store
+                .evaluations(run)?
+                .into_iter()
+                .filter(|e| !e.score.is_nan())
+                .fold(None, |best: Option<(u64, f64)>, e| match best {
+                    Some((_, s)) if s >= e.score => best,
+                    _ => Some((e.number, e.score)),
+                })
+                .map(|(n, _)| n)
+                .ok_or_else(|| format!("{}: run {run} has no evaluation", store.describe())),
+        }
+    }
+}
+
+/// Opens the store at `location` and loads `which` evaluation of `run` (episode `episode`
+/// of a robust run) for replay.
+pub fn replay_from(
+    location: &str,
+    run: i64,
+    which: Which,
+    episode: Option<u32>,
+    registry: &ModuleRegistry,
+) -> Result<Replay, String> {
+    let location = crate::optimize::store::StoreLocation::parse(location)?;
+    let mut store = Store::open_existing(&location)?;
+    let number = which.number(&mut store, run)?;
+    load_replay(&mut store, run, number, episode, registry)
+}
+
+/// A stored candidate re-evaluated on fresh randomized episodes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RandomizedCheck {
+    /// What was checked.
+    pub label: String,
+    /// Its score in the nominal world (the stored configuration, the run's seed).
+    pub nominal: f64,
+    /// Its score in each randomized episode.
+    pub scores: Vec<f64>,
+    /// The ranges the episodes were drawn from.
+    pub ranges: Robustness,
+}
+
+impl RandomizedCheck {
+    /// The mean of the episodes' scores.
+    pub fn mean(&self) -> f64 {
+        combine(&self.scores, None)
+    }
+
+    /// The lower quartile of the episodes' scores.
+    pub fn lower_quartile(&self) -> f64 {
+        combine(&self.scores, Some(0.25))
+    }
+
+    /// The share of the nominal score the randomized mean keeps (1: nothing lost).
+    pub fn kept(&self) -> f64 {
+        self.mean() / self.nominal
+    }
+}
+
+/// Re-evaluates `which` evaluation of `run` in the store at `location` on `episodes`
+/// episodes drawn from `ranges` with `seed` (fresh seeds, not the run's own episodes):
+/// how much of its score a gait keeps when the world is not the one it was tuned in.
+pub fn randomized_check(
+    location: &str,
+    (run, which): (i64, Which),
+    ranges: &Robustness,
+    (episodes, seed): (u32, u64),
+    registry: &ModuleRegistry,
+) -> Result<RandomizedCheck, String> {
+    let location = crate::optimize::store::StoreLocation::parse(location)?;
+    let mut store = Store::open_existing(&location)?;
+    let number = which.number(&mut store, run)?;
+    let replay = load_replay(&mut store, run, number, None, registry)?;
+    let (e, nominal_sim) = (&replay.evaluator, &replay.nominal);
+    let genome = std::slice::from_ref(&replay.genome);
+    let nominal = e.run_world(nominal_sim, e.seed, SensorNoise::default(), genome)?[0];
+    let mut ranges = *ranges;
+    ranges.episodes = episodes.max(1);
+    let drawn = RobustEpisodes::new(nominal_sim, &ranges, seed);
+    let mut scores = Vec::with_capacity(drawn.episodes.len());
+    for ep in &drawn.episodes {
+        scores.extend(e.run_world(&ep.sim, ep.seed, ep.noise, genome)?);
+    }
+    Ok(RandomizedCheck {
+        label: format!("{} run {run}, evaluation {number}", store.describe()),
+        nominal,
+        scores,
+        ranges,
+    })
+}

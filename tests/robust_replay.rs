@@ -1,0 +1,163 @@
+//! Robust fitness and replay (issue 22): a stored evaluation replayed from the store scores
+//! exactly what the optimization stored; a robust candidate's score is the mean of its
+//! randomized episodes, whose seeds are in the store; randomized episodes really differ; a
+//! random start is drawn from the seed.
+
+mod common;
+
+use proleg::cli::optimize::{OptimizeOptions, OptimizeReport, run};
+use proleg::control::ModuleRegistry;
+use proleg::optimize::replay::{Which, load_replay, randomized_check, replay_from};
+use proleg::optimize::robust::combine;
+use proleg::optimize::store::{Store, StoreLocation};
+use proleg::sim::randomize::episode_seeds;
+
+/// `proleg optimize CONFIG` for `evals` evaluations of `duration` s into `store`.
+fn optimize(config: &str, store: &str, seed: u64, evals: u64, duration: f64) -> OptimizeReport {
+    let o = OptimizeOptions {
+        config: common::root().join(config),
+        seed: Some(seed),
+        workers: Some(2),
+        batch: 1,
+        max_evaluations: Some(evals),
+        duration: Some(duration),
+        fitness: None,
+        out: None,
+        evaluations: None,
+        store: Some(store.to_string()),
+        resume: false,
+        lease: None,
+        quiet: true,
+        crash_after: None,
+    };
+    run(&o, &ModuleRegistry::standard()).expect("the optimization runs")
+}
+
+fn open(store: &str) -> Store {
+    Store::open_existing(&StoreLocation::parse(store).expect("location")).expect("store")
+}
+
+#[test]
+fn a_replayed_evaluation_scores_what_the_optimization_stored() {
+    let dir = common::scratch("replay");
+    let store = dir.join("r.sqlite").display().to_string();
+    let report = optimize(
+        "configs/gait_from_scratch_cmaes.simulation.xml",
+        &store,
+        4,
+        12,
+        3.0,
+    );
+    let registry = ModuleRegistry::standard();
+    let mut s = open(&store);
+    let stored = s.evaluations(report.store.1).expect("evaluations");
+    assert_eq!(stored.len(), 12);
+    let mut distinct = 0;
+    for e in &stored {
+        let r = load_replay(&mut s, report.store.1, e.number, None, &registry).expect("replay");
+        assert_eq!(r.genome, e.genome);
+        let replayed = r.score().expect("replayed");
+        assert_eq!(replayed, e.score, "evaluation {}", e.number);
+        distinct += usize::from((e.score - stored[0].score).abs() > 1e-6);
+    }
+    assert!(distinct > 5, "the candidates moved differently");
+    // "best" is the highest stored score.
+    let best = replay_from(&store, report.store.1, Which::Best, None, &registry).expect("best");
+    assert_eq!(best.stored_score, report.outcome.best_score);
+    // Bad requests say what is wrong.
+    let err = |r: Result<_, String>| r.err().unwrap_or_default();
+    let e = err(replay_from(&store, 99, Which::Best, None, &registry).map(|_| ()));
+    assert!(e.contains("no run 99") || e.contains("run 99"), "{e}");
+    let e = err(replay_from(&store, 1, Which::Number(500), None, &registry).map(|_| ()));
+    assert!(e.contains("no finished evaluation 500"), "{e}");
+    let e = err(replay_from(&store, 1, Which::Number(3), Some(2), &registry).map(|_| ()));
+    assert!(e.contains("no randomized episodes"), "{e}");
+    let e = err(replay_from(
+        &dir.join("none.sqlite").display().to_string(),
+        1,
+        Which::Best,
+        None,
+        &registry,
+    )
+    .map(|_| ()));
+    assert!(e.contains("no such store"), "{e}");
+}
+
+#[test]
+fn a_random_start_is_drawn_from_the_seed() {
+    let dir = common::scratch("random_start");
+    let store = dir.join("s.sqlite").display().to_string();
+    let config = "configs/gait_from_scratch_ga.simulation.xml";
+    let a = optimize(config, &store, 1, 1, 1.0).outcome;
+    let b = optimize(config, &store, 1, 1, 1.0).outcome;
+    let c = optimize(config, &store, 2, 1, 1.0).outcome;
+    assert!(a.start_drawn);
+    assert_eq!(a.start, b.start, "same seed, same start");
+    assert_ne!(a.start, c.start, "another seed, another start");
+    assert_eq!(a.start_score, b.start_score);
+}
+
+#[test]
+fn robust_fitness_is_the_mean_of_its_stored_randomized_episodes() {
+    let dir = common::scratch("robust");
+    let store = dir.join("robust.sqlite").display().to_string();
+    let report = optimize(
+        "configs/gait_from_scratch_robust.simulation.xml",
+        &store,
+        3,
+        3,
+        2.0,
+    );
+    let run = report.store.1;
+    let registry = ModuleRegistry::standard();
+    let mut s = open(&store);
+    let spec = s.run_spec(run).expect("spec");
+    // Every episode's seed is stored, drawn from the run's seed.
+    let seeds: Vec<u64> = spec.episodes.iter().map(|e| e.seed).collect();
+    assert_eq!(seeds, episode_seeds(3, 8));
+    assert!(
+        spec.episodes[0].draws.contains("friction x"),
+        "{:?}",
+        spec.episodes[0]
+    );
+    for e in s.evaluations(run).expect("evaluations") {
+        let scores: Vec<f64> = (0..8)
+            .map(|k| {
+                load_replay(&mut s, run, e.number, Some(k), &registry)
+                    .and_then(|r| r.score())
+                    .expect("episode")
+            })
+            .collect();
+        assert_eq!(combine(&scores, None), e.score, "evaluation {}", e.number);
+        let spread = scores.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+            - scores.iter().copied().fold(f64::INFINITY, f64::min);
+        assert!(spread > 1e-3, "the episodes differ: {scores:?}");
+    }
+    let e = replay_from(&store, run, Which::Best, Some(8), &registry)
+        .err()
+        .unwrap_or_default();
+    assert!(e.contains("episodes 0 to 7"), "{e}");
+}
+
+#[test]
+fn the_robustness_check_reevaluates_on_fresh_episodes() {
+    let dir = common::scratch("robust_check");
+    let store = dir.join("c.sqlite").display().to_string();
+    let report = optimize(
+        "configs/gait_from_scratch_cmaes.simulation.xml",
+        &store,
+        2,
+        2,
+        2.0,
+    );
+    let registry = ModuleRegistry::standard();
+    let ranges = proleg::config::robustness::Robustness::typical();
+    let check = |seed| {
+        randomized_check(&store, (1, Which::Best), &ranges, (5, seed), &registry).expect("check")
+    };
+    let a = check(1000);
+    assert_eq!(a.nominal, report.outcome.best_score, "nominal = stored");
+    assert_eq!(a.scores.len(), 5);
+    assert_eq!(a, check(1000), "seeded");
+    assert_ne!(a.scores, check(1001).scores, "another seed, other episodes");
+}
