@@ -233,3 +233,24 @@ fn joint_limits_stop_a_joint_the_servo_cannot_hold() {
     assert!(worst > 5.0, "the push did not move the joint ({worst} deg)");
     assert!(worst < 11.0, "the limit did not hold: {worst} deg");
 }
+
+#[test]
+fn both_cpgs_are_standard_modules_and_the_phase_chain_crawls() {
+    let sim = load_simulation(common::root().join("configs/gait_from_scratch_cpg.simulation.xml"))
+        .unwrap();
+    let registry = proleg::control::ModuleRegistry::standard();
+    assert!(registry.get("PatternGenerator_cpg_matsuoka").is_some());
+    // The experiment-1 wave, made by the phase-oscillator chain instead of the sine.
+    let (start, end, _) = crawl(&sim, 10.0, |s| {
+        for (name, value) in [
+            ("Amplitude", 40.0),
+            ("Phase_Difference", 55.0),
+            ("Frequency", 1.0),
+        ] {
+            s.set_parameter(0, 0, name, None, value).unwrap();
+        }
+    });
+    let dy = end[1] - start[1];
+    eprintln!("phase-oscillator CPG, 40 deg / 55 deg / 1 Hz: {dy:.3} m in 10 s");
+    assert!(dy > 0.5, "moved only {dy} m along +y");
+}

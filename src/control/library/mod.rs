@@ -22,4 +22,12 @@ pub fn register(r: &mut ModuleRegistry) {
         adaptive_touch::descriptor(),
         factory(|n| Box::new(adaptive_touch::AdaptiveTouch::new(n))),
     );
+    r.register(
+        cpg_phase::descriptor(),
+        factory(|n| Box::new(cpg_phase::CpgPhase::new(n))),
+    );
+    r.register(
+        cpg_matsuoka::descriptor(),
+        factory(|n| Box::new(cpg_matsuoka::CpgMatsuoka::new(n))),
+    );
 }
