@@ -138,14 +138,7 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
         eprint!("{}", header(&sim, &space, &settings));
     }
     let mut table = open_table(o.evaluations.as_deref(), &space)?;
-    let info = RunInfo {
-        config: sim.file.display().to_string(),
-        algorithm: algorithm_label(&sim).to_string(),
-        seed: settings.seed,
-        fitness: settings.fitness.name().to_string(),
-        duration: settings.duration,
-        genes: space.genes.iter().map(|g| g.label()).collect(),
-    };
+    let info = run_info(&sim, &space, &settings);
     let episodes = episode_records(&sim, settings.seed);
     let run_files = (source.files(), episodes);
     let (run, known) = open_run(&mut store, &info, &run_files, o.resume, o.quiet)?;
@@ -184,9 +177,7 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
     }
     let wall = t.elapsed().as_secs_f64();
     if let Some(p) = &o.out {
-        let file = actuation_with(&sim, &space, &outcome.best);
-        std::fs::write(p, write_actuation_file(&file))
-            .map_err(|e| format!("{}: cannot write: {e}", p.display()))?;
+        write_best(p, &sim, &space, &outcome.best)?;
     }
     Ok(OptimizeReport {
         best_values: space
@@ -198,16 +189,44 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
         outcome,
         wall,
         duration: settings.duration,
-        episodes: sim
-            .optimizer
-            .as_ref()
-            .and_then(|m| m.spec.robustness)
-            .map_or(1, |r| r.episodes),
+        episodes: episodes_per_candidate(&sim),
         workers: settings.workers,
         space_size: space.size(),
         store: (shown, run),
         actuation: o.out.clone(),
     })
+}
+
+/// What identifies the run in the store.
+fn run_info(sim: &Simulation, space: &SearchSpace, settings: &RunSettings) -> RunInfo {
+    RunInfo {
+        config: sim.file.display().to_string(),
+        algorithm: algorithm_label(sim).to_string(),
+        seed: settings.seed,
+        fitness: settings.fitness.name().to_string(),
+        duration: settings.duration,
+        genes: space.genes.iter().map(|g| g.label()).collect(),
+    }
+}
+
+/// Episodes per evaluation: the optimizer file's robust fitness K, else 1.
+fn episodes_per_candidate(sim: &Simulation) -> u32 {
+    sim.optimizer
+        .as_ref()
+        .and_then(|m| m.spec.robustness)
+        .map_or(1, |r| r.episodes)
+}
+
+/// Writes the best candidate as an actuation file at `path`.
+fn write_best(
+    path: &Path,
+    sim: &Simulation,
+    space: &SearchSpace,
+    best: &[u32],
+) -> Result<(), String> {
+    let file = actuation_with(sim, space, best);
+    std::fs::write(path, write_actuation_file(&file))
+        .map_err(|e| format!("{}: cannot write: {e}", path.display()))
 }
 
 /// The optimizer's name as its file gives it.

@@ -483,30 +483,7 @@ fn read_algorithm(r: &Reader, root: &Element, props: &Element) -> ConfigResult<A
         let mut allowed = vec!["popsize", "sigma", "restarts"];
         allowed.extend(common);
         r.only_children(props, &allowed)?;
-        let popsize = match r.at_most_one(props, "popsize")? {
-            Some(el) => r.u32(el)?,
-            None => 0,
-        };
-        let sigma = match r.at_most_one(props, "sigma")? {
-            Some(el) if r.f64(el)? <= 0.0 => {
-                return Err(r.err(
-                    el.pos,
-                    ErrorKind::InvalidValue,
-                    "sigma must be > 0 (a fraction of each gene's range)",
-                ));
-            }
-            Some(el) => r.f64_in(el, 0.0, 1.0)?,
-            None => DEFAULT_CMA_SIGMA,
-        };
-        let restarts = match r.at_most_one(props, "restarts")? {
-            Some(el) => r.u32(el)?,
-            None => 0,
-        };
-        Algorithm::CmaEs(CmaSettings {
-            popsize,
-            sigma,
-            restarts,
-        })
+        Algorithm::CmaEs(read_cma(r, props)?)
     } else {
         return Err(r.err(
             root.pos,
@@ -516,6 +493,34 @@ fn read_algorithm(r: &Reader, root: &Element, props: &Element) -> ConfigResult<A
                 root.name
             ),
         ));
+    })
+}
+
+/// CMA-ES's properties, with their defaults.
+fn read_cma(r: &Reader, props: &Element) -> ConfigResult<CmaSettings> {
+    let popsize = match r.at_most_one(props, "popsize")? {
+        Some(el) => r.u32(el)?,
+        None => 0,
+    };
+    let sigma = match r.at_most_one(props, "sigma")? {
+        Some(el) if r.f64(el)? <= 0.0 => {
+            return Err(r.err(
+                el.pos,
+                ErrorKind::InvalidValue,
+                "sigma must be > 0 (a fraction of each gene's range)",
+            ));
+        }
+        Some(el) => r.f64_in(el, 0.0, 1.0)?,
+        None => DEFAULT_CMA_SIGMA,
+    };
+    let restarts = match r.at_most_one(props, "restarts")? {
+        Some(el) => r.u32(el)?,
+        None => 0,
+    };
+    Ok(CmaSettings {
+        popsize,
+        sigma,
+        restarts,
     })
 }
 
@@ -572,31 +577,7 @@ pub fn write_optimizer_file(o: &OptimizerFile) -> String {
     };
     w.open(root, &[]);
     w.open("properties", &[]);
-    match &o.algorithm {
-        Algorithm::Genetic(g) => {
-            w.leaf("popsize", &g.popsize.to_string());
-            w.num("pmut", g.pmut);
-            w.num("pcross", g.pcross);
-            w.leaf("nConvergence", &g.n_convergence.to_string());
-            w.num("pConvergence", g.p_convergence);
-            w.leaf("flushFrequency", &g.flush_frequency.to_string());
-            w.leaf("gaMode", &g.ga_mode.to_string());
-        }
-        Algorithm::GreatDeluge(g) => {
-            w.leaf("credits", &g.credits.to_string());
-            w.leaf("retries", &g.retries.to_string());
-            w.num("initialWaterLevel", g.initial_water_level);
-            w.num("rain", g.rain);
-            w.leaf("confidence", &g.confidence.to_string());
-        }
-        Algorithm::CmaEs(c) => {
-            w.leaf("popsize", &c.popsize.to_string());
-            w.num("sigma", c.sigma);
-            if c.restarts > 0 {
-                w.leaf("restarts", &c.restarts.to_string());
-            }
-        }
-    }
+    write_algorithm(&mut w, &o.algorithm);
     if o.fitness != Fitness::Displacement {
         w.leaf("fitness", o.fitness.name());
     }
@@ -653,6 +634,35 @@ pub fn write_optimizer_file(o: &OptimizerFile) -> String {
         write_robustness(&mut w, rb);
     }
     w.finish()
+}
+
+/// The algorithm's own properties.
+fn write_algorithm(w: &mut XmlWriter, algorithm: &Algorithm) {
+    match algorithm {
+        Algorithm::Genetic(g) => {
+            w.leaf("popsize", &g.popsize.to_string());
+            w.num("pmut", g.pmut);
+            w.num("pcross", g.pcross);
+            w.leaf("nConvergence", &g.n_convergence.to_string());
+            w.num("pConvergence", g.p_convergence);
+            w.leaf("flushFrequency", &g.flush_frequency.to_string());
+            w.leaf("gaMode", &g.ga_mode.to_string());
+        }
+        Algorithm::GreatDeluge(g) => {
+            w.leaf("credits", &g.credits.to_string());
+            w.leaf("retries", &g.retries.to_string());
+            w.num("initialWaterLevel", g.initial_water_level);
+            w.num("rain", g.rain);
+            w.leaf("confidence", &g.confidence.to_string());
+        }
+        Algorithm::CmaEs(c) => {
+            w.leaf("popsize", &c.popsize.to_string());
+            w.num("sigma", c.sigma);
+            if c.restarts > 0 {
+                w.leaf("restarts", &c.restarts.to_string());
+            }
+        }
+    }
 }
 
 /// Number of allowed values of one gene with the given range (GAlib discretized allele).

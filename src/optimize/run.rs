@@ -90,6 +90,15 @@ pub fn prepare(
     Ok((space, start))
 }
 
+/// The search's start: the configured candidate, or with `random` one drawn from `seed`.
+fn start_candidate(random: bool, space: &SearchSpace, configured: Genome, seed: u64) -> Genome {
+    if random {
+        space.random(&mut SimRng::new(seed ^ RANDOM_START_STREAM))
+    } else {
+        configured
+    }
+}
+
 /// Where a run stores its evaluations, and what it already holds (for `--resume`).
 pub struct Recording<'a> {
     /// The experiment store.
@@ -118,25 +127,23 @@ pub fn optimize(
     let Some(model) = sim.optimizer.as_ref() else {
         return Err("no optimizer".into());
     };
-    let start = if model.spec.random_start {
-        space.random(&mut SimRng::new(settings.seed ^ RANDOM_START_STREAM))
-    } else {
-        configured
-    };
+    let start = start_candidate(model.spec.random_start, &space, configured, settings.seed);
     let mut optimizer = build_optimizer(&model.spec.algorithm, &space, &start, settings);
     let shared = recording.as_mut().and_then(|r| r.store.shared()).is_some();
     check_workers(settings, shared)?;
     let workers = settings.workers;
-    let base = Evaluator::new(
-        sim,
-        registry,
-        &space,
-        settings.fitness,
-        settings.duration,
-        settings.seed,
-    );
-    let evaluator = |workers: usize| Evaluator {
+    let base = Evaluator {
         batch: settings.batch,
+        ..Evaluator::new(
+            sim,
+            registry,
+            &space,
+            settings.fitness,
+            settings.duration,
+            settings.seed,
+        )
+    };
+    let evaluator = |workers: usize| Evaluator {
         workers,
         ..base.clone()
     };

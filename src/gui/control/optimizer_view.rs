@@ -225,6 +225,25 @@ pub fn replay(session: &mut SimSession, genome: &Genome) {
     }
 }
 
+/// The best candidate's values and its Replay button.
+fn best_candidate(
+    ui: &mut egui::Ui,
+    session: &mut SimSession,
+    view: &OptimizerView,
+    space: &SearchSpace,
+) {
+    let Some((genome, score)) = view.best.as_ref() else {
+        return;
+    };
+    ui.label(format!("best candidate ({score:.4}):"));
+    for (g, v) in space.genes.iter().zip(space.decode(genome)) {
+        ui.monospace(format!("  {} = {v}", g.label()));
+    }
+    if ui.button("Replay best in the viewer").clicked() {
+        replay(session, genome);
+    }
+}
+
 /// Draws the optimization window (only for optimization modes).
 pub fn show(ctx: &egui::Context, session: &mut SimSession, view: &mut OptimizerView) {
     let Some(model) = session.sim.optimizer.as_ref() else {
@@ -305,15 +324,8 @@ pub fn show(ctx: &egui::Context, session: &mut SimSession, view: &mut OptimizerV
                     p.points(Points::new("score", PlotPoints::from(scores)).radius(1.5));
                     p.line(Line::new("best so far", PlotPoints::from(bests)));
                 });
-            if let (Some((genome, score)), Some(space)) = (view.best.clone(), space.as_ref()) {
-                ui.label(format!("best candidate ({score:.4}):"));
-                let values = space.decode(&genome);
-                for (g, v) in space.genes.iter().zip(values) {
-                    ui.monospace(format!("  {} = {v}", g.label()));
-                }
-                if ui.button("Replay best in the viewer").clicked() {
-                    replay(session, &genome);
-                }
+            if let Some(space) = space.as_ref() {
+                best_candidate(ui, session, view, space);
             }
             results_view::show(ui, session, &mut view.results);
         });

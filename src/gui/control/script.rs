@@ -20,6 +20,7 @@
 //! attach postgres://u@h/db 30     # follow the store's latest unfinished run read-only,
 //!                                # wait for 30 evaluations (or the run's end)
 //! replay-best                    # show the best candidate in the viewer
+//! results STORE                  # the optimization window lists the store's runs
 //! replay STORE RUN N|best [EP]   # a stored evaluation (episode EP of a robust run)
 //! remote open|close              # the remote control dialog
 //! remote-set LeftStickX 1        # a gamepad element's value, as if the pad sent it
@@ -96,6 +97,8 @@ pub enum Command {
     Inspect(PathBuf, Vec<SeriesSelector>),
     /// Run the simulation's optimization for this many evaluations and wait for it.
     Optimize(u64),
+    /// `results STORE`: open the optimization window and list the store's runs.
+    Results(String),
     /// `replay STORE RUN N|best [EP]`: a stored evaluation: store, run, evaluation (or best), episode of a robust run.
     Replay {
         /// The store (a path or a postgres:// URL).
@@ -238,6 +241,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
                 num(words.get(2), "evaluations")?.max(0.0) as u64,
             ),
             "replay-best" => Command::ReplayBest,
+            "results" if words.len() == 2 => Command::Results(words[1].to_string()),
             "replay" if (4..=5).contains(&words.len()) => Command::Replay {
                 store: words[1].to_string(),
                 run: num(words.get(2), "run")? as i64,

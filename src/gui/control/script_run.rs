@@ -73,6 +73,7 @@ fn carry_out(
         | C::Optimize(_)
         | C::Attach(..)
         | C::ReplayBest
+        | C::Results(_)
         | C::Replay { .. } => tool_command(c, session, views),
         C::Screenshot(_) | C::State(_) | C::Quit => {
             output_command(c, commands, script, session, views)
@@ -377,6 +378,13 @@ fn tool_command(c: Command, session: &mut SimSession, views: &mut Views) -> Resu
             replay(session, &genome);
             Flow::Next
         }
+        Command::Results(store) => {
+            let o = &mut views.optimizer;
+            o.open = true;
+            o.results.store = store;
+            o.results.list();
+            Flow::Next
+        }
         Command::Replay {
             store,
             run,
@@ -413,6 +421,25 @@ fn output_command(
     })
 }
 
+/// The optimization view's and the replay's part of the state.
+fn optimizer_pairs(pairs: &mut Vec<(&str, String)>, session: &SimSession, views: &Views) {
+    let o = &views.optimizer;
+    pairs.push(("optimizer_evaluations", o.curve.len().to_string()));
+    pairs.push((
+        "optimizer_best",
+        o.best
+            .as_ref()
+            .map_or("none".into(), |b| format!("{:.6}", b.1)),
+    ));
+    pairs.push(("stored_runs", o.results.runs.len().to_string()));
+    if let Some(score) = session.replay_score() {
+        pairs.push((
+            "replay_score",
+            score.map_or_else(|e| e, |s| format!("{s:.9}")),
+        ));
+    }
+}
+
 /// The state a GUI test checks.
 fn state_lines(session: &SimSession, views: &Views) -> String {
     let mut pairs: Vec<(&str, String)> = vec![
@@ -426,30 +453,13 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
         ("debug_view", views.debug.0.to_string()),
         ("selected", views.selection.body.is_some().to_string()),
         ("inspect_graphs", views.inspect.graphs.len().to_string()),
-        (
-            "optimizer_evaluations",
-            views.optimizer.curve.len().to_string(),
-        ),
-        (
-            "optimizer_best",
-            views
-                .optimizer
-                .best
-                .as_ref()
-                .map_or("none".into(), |b| format!("{:.6}", b.1)),
-        ),
     ];
+    optimizer_pairs(&mut pairs, session, views);
     if let Ok(c) = session.simulator.com(0) {
         pairs.push(("com", format!("{:.6} {:.6} {:.6}", c[0], c[1], c[2])));
     }
     if let Ok(h) = session.simulator.heading(0) {
         pairs.push(("heading", format!("{h:.3}")));
-    }
-    if let Some(score) = session.replay_score() {
-        pairs.push((
-            "replay_score",
-            score.map_or_else(|e| e, |s| format!("{s:.9}")),
-        ));
     }
     pairs.push(("remote_open", views.remote.open.to_string()));
     pairs.push((
