@@ -172,6 +172,67 @@ fn a_driver_and_three_workers_store_each_evaluation_once_and_find_the_sqlite_bes
 }
 
 #[test]
+fn a_robust_cma_es_run_scores_the_same_through_a_worker_as_in_one_process() {
+    // CMA-ES through the queue, each candidate scored over 8 randomized episodes by a
+    // least-privilege worker that has nothing but the URL: the same evaluations as SQLite.
+    let config = "configs/gait_from_scratch_robust.simulation.xml";
+    let args = |store: &str| -> Vec<String> {
+        [
+            "optimize",
+            config,
+            "--max-evals",
+            "11",
+            "--duration",
+            "1",
+            "--quiet",
+            "--store",
+            store,
+        ]
+        .map(String::from)
+        .to_vec()
+    };
+    let dir = common::scratch("shared_robust");
+    let reference = dir.join("reference.sqlite").display().to_string();
+    let a = args(&reference);
+    let (ok, _, err) = common::proleg(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(ok, "{err}");
+    let pg = server();
+    let url = pg.database("shared_robust");
+    let mut a = args(&url);
+    a.extend(["--workers".into(), "0".into()]);
+    let mut driver = spawn(pg.proleg(&a.iter().map(String::as_str).collect::<Vec<_>>()));
+    pg.wait_until("shared_robust", HAS_STORE, &mut driver);
+    worker_role(&pg, "shared_robust", "proleg_worker_robust", "w-robust");
+    let worker_url = url.replace("proleg_admin@", "proleg_worker_robust@");
+    let worker = spawn(pg.proleg_as(
+        "w-robust",
+        &[
+            "worker",
+            "--store",
+            &worker_url,
+            "--threads",
+            "2",
+            "--idle-exit",
+            "1",
+        ],
+    ));
+    let out = driver.wait_with_output().expect("driver");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let w = worker.wait_with_output().expect("worker");
+    assert!(w.status.success(), "{}", text(&w.stderr));
+    assert_eq!(
+        evaluations(&pg, &url, "shared_robust_pg"),
+        evaluations(&pg, &reference, "shared_robust_sqlite")
+    );
+    let episodes: i64 = pg
+        .connect("shared_robust")
+        .query_one("SELECT COUNT(*) FROM run_episodes", &[])
+        .unwrap()
+        .get(0);
+    assert_eq!(episodes, 8, "the episodes' seeds are stored with the run");
+}
+
+#[test]
 fn a_killed_worker_s_evaluation_is_claimed_again_and_nothing_is_lost() {
     let (expected, reference) = sqlite_run("optimize_shared_kill_worker", "30", "4");
     let pg = server();
