@@ -201,6 +201,13 @@ fn finish(result: Result<String, String>) -> ExitCode {
     }
 }
 
+/// What a headless build says when asked for a window.
+#[cfg(not(feature = "gui"))]
+const NO_WINDOWS: &str = "this proleg was built without the `gui` feature, so it has no windows: \
+scripts/demo builds the complete program (it installs the Debian packages the windows need, \
+libudev-dev among them, and runs `cargo build --release`); the headless commands work here \
+(proleg --help)";
+
 /// The simulation the window opens without arguments.
 const DEMO_CONFIG: &str = "configs/demo.simulation.xml";
 
@@ -218,7 +225,7 @@ fn gui(
     #[cfg(not(feature = "gui"))]
     {
         let _ = (config, replay, script, remote);
-        Err("this proleg was built without the `gui` feature; use the headless commands (proleg --help)".into())
+        Err(NO_WINDOWS.into())
     }
 }
 
@@ -238,7 +245,7 @@ fn wizard(opts: WizardOptions) -> Result<String, String> {
     #[cfg(not(feature = "gui"))]
     {
         let _ = opts;
-        Err("this proleg was built without the `gui` feature; use the headless commands (proleg --help)".into())
+        Err(NO_WINDOWS.into())
     }
 }
 

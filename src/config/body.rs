@@ -5,7 +5,7 @@
 //! cylinders stand along their local y axis (OpenRAVE's convention).
 
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
-use crate::config::transform::{POSE_ELEMENTS, Pose};
+use crate::config::transform::{POSE_ELEMENTS, Pose, round_to};
 use crate::config::xml::dom::Element;
 use crate::config::xml::read::Reader;
 use crate::config::xml::write::{XmlWriter, num};
@@ -281,11 +281,12 @@ impl Geom {
         w.open("Geom", &attrs);
         self.pose.write(w);
         match &self.shape {
-            Shape::Box { extents } => w.nums("extents", extents),
-            Shape::Sphere { radius } => w.num("radius", *radius),
+            // Sizes to 0.01 mm: files people read, not float noise.
+            Shape::Box { extents } => w.nums("extents", &extents.map(|v| round_to(v, 1e5))),
+            Shape::Sphere { radius } => w.num("radius", round_to(*radius, 1e5)),
             Shape::Cylinder { radius, height } => {
-                w.num("radius", *radius);
-                w.num("height", *height);
+                w.num("radius", round_to(*radius, 1e5));
+                w.num("height", round_to(*height, 1e5));
             }
             Shape::Trimesh { file, scale, .. } => {
                 w.leaf("data", &format!("{file} {}", num(*scale)))

@@ -101,15 +101,22 @@ impl Pose {
         Ok(tf)
     }
 
-    /// Writes `<translation>` and `<quat>` (each only when not neutral).
+    /// Writes `<translation>` rounded to 0.1 mm and `<quat>` to 9 decimals (each only when
+    /// not neutral): files people read, not float noise such as `-0.1559227705001831`.
     pub fn write(&self, w: &mut XmlWriter) {
-        if self.translation != [0.0; 3] {
-            w.nums("translation", &self.translation);
+        let t = self.translation.map(|v| round_to(v, 1e4));
+        if t != [0.0; 3] {
+            w.nums("translation", &t);
         }
         if self.rotation != Pose::IDENTITY.rotation {
-            w.nums("quat", &self.rotation);
+            w.nums("quat", &self.rotation.map(|v| round_to(v, 1e9)));
         }
     }
+}
+
+/// `v` rounded to `1 / scale` (a plain `0` for a negative zero).
+pub fn round_to(v: f64, scale: f64) -> f64 {
+    (v * scale).round() / scale + 0.0
 }
 
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {

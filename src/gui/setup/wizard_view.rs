@@ -177,11 +177,11 @@ fn robot_form(ui: &mut egui::Ui, spec: &mut RobotSpec) {
             }
         });
     ui.label(format!(
-        "{} modules, {} m long; touch sensors: {}",
+        "{} modules, {:.0} mm long; touch sensors: {}",
         spec.modules(),
         match spec.parts {
-            PartSet::Cube => 0.06,
-            _ => 0.072,
+            PartSet::Cube => 60.0,
+            _ => 72.0,
         } * spec.modules() as f64,
         if spec.parts == PartSet::Touch {
             "12 pads per module, under the links"
