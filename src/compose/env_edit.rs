@@ -861,7 +861,7 @@ mod tests {
         // Positions are written rounded to 0.1 mm: the scene read back writes the same file.
         let text = write_environment_file(&e.to_file());
         assert_eq!(write_environment_file(&back.to_file()), text);
-        let pose = |f: &EnvironmentFile| f.robot_pose.clone().unwrap_or_default();
+        let pose = |f: &EnvironmentFile| f.robot_pose.unwrap_or_default();
         let (a, b) = (pose(&e.to_file()), pose(&back.to_file()));
         for (x, y) in a.translation.iter().zip(b.translation) {
             assert!((x - y).abs() <= 0.5e-4, "{a:?} vs {b:?}");
