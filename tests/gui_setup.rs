@@ -204,8 +204,7 @@ fn editor_adds_drops_moves_turns_scales_and_saves() {
         (b.pose.translation[0] + 1.5).abs() < 1e-9 && (b.pose.translation[1] - 2.0).abs() < 1e-9
     );
     let yaw = proleg::compose::env_edit::yaw_of(b.pose.rotation);
-    // Quaternions are written to 9 decimals: the heading to well under a micro-degree.
-    assert!((yaw - 45.0).abs() < 1e-6, "box heading {yaw}");
+    assert!((yaw - 45.0).abs() < 1e-9, "box heading {yaw}");
     let g = &b.bodies[0].geoms[0];
     assert_eq!(
         g.shape,

@@ -101,15 +101,15 @@ impl Pose {
         Ok(tf)
     }
 
-    /// Writes `<translation>` rounded to 0.1 mm and `<quat>` to 9 decimals (each only when
-    /// not neutral): files people read, not float noise such as `-0.1559227705001831`.
+    /// Writes `<translation>` rounded to 0.1 mm (files people read, not float noise such as
+    /// `-0.1559227705001831`) and `<quat>` as it is (each only when not neutral).
     pub fn write(&self, w: &mut XmlWriter) {
         let t = self.translation.map(|v| round_to(v, 1e4));
         if t != [0.0; 3] {
             w.nums("translation", &t);
         }
         if self.rotation != Pose::IDENTITY.rotation {
-            w.nums("quat", &self.rotation.map(|v| round_to(v, 1e9)));
+            w.nums("quat", &self.rotation);
         }
     }
 }
