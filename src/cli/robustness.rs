@@ -53,7 +53,7 @@ impl fmt::Display for RandomizedCheck {
             self.lower_quartile(),
             self.scores.iter().copied().fold(f64::INFINITY, f64::min)
         )?;
-        write!(
+        writeln!(
             out,
             "kept        {:.1}% of the nominal score",
             self.kept() * 100.0
