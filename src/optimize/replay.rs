@@ -10,7 +10,7 @@ use crate::optimize::evaluate::Evaluator;
 use crate::optimize::fitness::Fitness;
 use crate::optimize::robust::{RobustEpisodes, combine};
 use crate::optimize::run::prepare;
-use crate::optimize::shared::stored_simulation;
+use crate::optimize::shared::{stored_evaluator, stored_simulation};
 use crate::optimize::space::{Genome, SearchSpace};
 use crate::optimize::store::{Store, program_version};
 use crate::sim::randomize::SensorNoise;
@@ -71,15 +71,7 @@ pub fn load_replay(
             space.genes.len()
         ));
     }
-    let fitness = Fitness::parse(&spec.info.fitness)?;
-    let evaluator = Evaluator::new(
-        &sim,
-        registry,
-        &space,
-        fitness,
-        spec.info.duration,
-        spec.info.seed,
-    );
+    let evaluator = stored_evaluator(&spec, &sim, &space, registry)?;
     let mut label = format!(
         "{} run {run}, evaluation {number} (stored score {:.4})",
         store.describe(),

@@ -25,6 +25,7 @@ use crate::control::ModuleRegistry;
 use crate::optimize::evaluate::Evaluator;
 use crate::optimize::fitness::Fitness;
 use crate::optimize::run::prepare;
+use crate::optimize::space::SearchSpace;
 use crate::optimize::store::{RunSpec, program_version};
 
 /// A stored run's simulation, loaded from its stored files with this host's module types.
@@ -58,11 +59,23 @@ pub fn run_evaluator(spec: &RunSpec, registry: &ModuleRegistry) -> Result<Evalua
             spec.info.genes.join(", ")
         ));
     }
+    stored_evaluator(spec, &sim, &space, registry)
+}
+
+/// The evaluator of a stored run's candidates in `sim` (its stored simulation): the run's
+/// fitness, episode duration and seed, and the randomized episodes its optimizer file asks
+/// for.
+pub fn stored_evaluator(
+    spec: &RunSpec,
+    sim: &Simulation,
+    space: &SearchSpace,
+    registry: &ModuleRegistry,
+) -> Result<Evaluator, String> {
     let fitness = Fitness::parse(&spec.info.fitness)?;
     Ok(Evaluator::new(
-        &sim,
+        sim,
         registry,
-        &space,
+        space,
         fitness,
         spec.info.duration,
         spec.info.seed,
