@@ -34,7 +34,23 @@ HEADLESS_PACKAGES=(pkg-config gcc libfontconfig1-dev libfreetype-dev fonts-dejav
 
 # The tests of the shared store run a private PostgreSQL server (scripts/pg-test-server),
 # with a throw-away certificate made by openssl.
-TEST_PACKAGES=(postgresql openssl)
+TEST_PACKAGES=(postgresql openssl python3 python3-venv)
+
+# Peer checks from the Python registry: URDFs we did not write (pybullet's pybullet_data)
+# for the import tests, and MuJoCo for the cross-engine check of an exported gait.
+PYTHON_PACKAGES=(pybullet==3.2.7 mujoco==4.0.0)
+
+# A virtual environment with PYTHON_PACKAGES under ~/.cache/proleg/python (made once);
+# exports PROLEG_PYTHON, its interpreter, for the tests.
+ensure_python() {
+  local venv="$HOME/.cache/proleg/python"
+  if ! "$venv/bin/python" -c "import mujoco, pybullet_data" >/dev/null 2>&1; then
+    echo "installing into $venv: ${PYTHON_PACKAGES[*]}"
+    python3 -m venv "$venv"
+    "$venv/bin/pip" install -q "${PYTHON_PACKAGES[@]}"
+  fi
+  export PROLEG_PYTHON="$venv/bin/python"
+}
 
 # The control window: gamepad support builds against libudev; GUI tests render under Xvfb
 # with Mesa's software Vulkan (llvmpipe).

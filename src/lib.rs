@@ -16,6 +16,7 @@
 //!   standard module library and the control kernel.
 //! - `gui` (feature `gui`): the control window, a Bevy 3D viewer with egui views on the
 //!   same core.
+//! - [`interop`]: other robotics formats: URDF robots in, MuJoCo MJCF out.
 //! - [`measure`]: formulas on positions shared by every layer (displacement, potential
 //!   energy).
 //! - [`plugin_host`]: user actuation modules in runtime-loaded libraries (the
@@ -40,6 +41,7 @@ pub mod control;
 pub mod data;
 #[cfg(feature = "gui")]
 pub mod gui;
+pub mod interop;
 pub mod measure;
 pub mod optimize;
 pub mod plugin_host;

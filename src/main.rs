@@ -98,6 +98,20 @@ enum Command {
         #[arg(long, default_value = "")]
         physics: String,
     },
+    /// Import a URDF robot: a robot file with its meshes, plus a floor, a sine on every
+    /// joint and a simulation file, checked; what cannot be represented is listed.
+    Import {
+        /// The `.urdf` file.
+        urdf: PathBuf,
+        /// Output folder (default: imported/NAME).
+        #[arg(short, long)]
+        out: Option<PathBuf>,
+    },
+    /// Write a simulation in another format.
+    Export {
+        #[command(subcommand)]
+        command: ExportCommand,
+    },
     /// Run one simulation headless and print what the robot did.
     Run(cli::run::RunRequest),
     /// Optimize the registered parameters of a GA / great-deluge simulation, headless.
@@ -137,6 +151,22 @@ enum Command {
     Data {
         #[command(subcommand)]
         command: DataCommand,
+    },
+}
+
+#[derive(Subcommand)]
+enum ExportCommand {
+    /// MuJoCo MJCF: robot, terrain, friction, the servos as position actuators.
+    Mjcf {
+        /// A `*.simulation.xml` file.
+        config: PathBuf,
+        /// The MJCF file to write.
+        #[arg(short, long)]
+        out: PathBuf,
+        /// Also run the simulation this many seconds and write every step's servo targets
+        /// to OUT.gait.tsv (for scripts/mujoco_gait.py), printing proleg's displacement.
+        #[arg(long, value_name = "SECONDS")]
+        gait: Option<f64>,
     },
 }
 
@@ -352,6 +382,13 @@ fn main() -> ExitCode {
         Command::Robustness(args) => cli::robustness::run(&args, &registry).map(|r| r.to_string()),
         Command::Robot(options) => cli::robot::robot(&options, &registry).map(|r| r.to_string()),
         Command::RobotEmulator(options) => cli::robot::emulator(&options),
+        Command::Import { urdf, out } => {
+            let out = out.unwrap_or_else(|| cli::interop::default_import_dir(&urdf));
+            cli::interop::import(&urdf, &out, &registry).map(|r| r.to_string())
+        }
+        Command::Export {
+            command: ExportCommand::Mjcf { config, out, gait },
+        } => cli::interop::export_mjcf(&config, &out, gait, &registry).map(|r| r.to_string()),
         Command::Check { config } => proleg::control::load_simulation_in(&config, &registry)
             .map(|sim| format!("{}ok\n", proleg::config::summary::summary(&sim)))
             .map_err(|e| e.to_string()),

@@ -29,6 +29,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
         "compose",
         &["config", "control", "measure", "optimize", "sim"],
     ),
+    ("interop", &["config", "sim"]),
     (
         "bench",
         &["config", "control", "data", "measure", "rng", "sim"],
@@ -46,6 +47,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "rng",
             "sim",
             "bench",
+            "interop",
         ],
     ),
 ];

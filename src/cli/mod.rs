@@ -11,9 +11,11 @@
 //! | `proleg worker` | [`worker`] ([`worker::WorkerRun`]) |
 //! | `proleg data info / export / plot` | [`data`] ([`data::InfoReport`]; export and plot: what was written) |
 //! | `proleg plugin new / build / list` | [`plugin`] (the listing's text) |
+//! | `proleg import`, `proleg export mjcf` | [`interop`] ([`interop::ImportReport`]) |
 //! | `proleg robot`, `proleg robot-emulator` | [`robot`] ([`robot::RobotReport`]; the emulator: its port) |
 
 pub mod data;
+pub mod interop;
 pub mod optimize;
 pub mod plugin;
 pub mod results;

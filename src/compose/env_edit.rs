@@ -679,6 +679,7 @@ impl EnvEditor {
                 total: kg / n,
                 distribution: "mimicgeom".into(),
                 com: None,
+                inertia: None,
                 pos: b.pos,
             });
         }

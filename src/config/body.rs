@@ -45,7 +45,8 @@ pub enum Shape {
     },
     /// A surface from a file (Wavefront OBJ), scaled uniformly: `type="trimesh"` collides
     /// as its triangles, `type="heightfield"` as a height field (the OBJ must then be a
-    /// height map, see [`crate::config::mesh::TriMesh::height_map`]).
+    /// height map, see [`crate::config::mesh::TriMesh::height_map`]), `type="convexhull"`
+    /// as its convex hull.
     Trimesh {
         /// The OBJ file (resolved after loading).
         file: String,
@@ -64,6 +65,9 @@ pub enum MeshCollision {
     Triangles,
     /// A height field over its x-y grid (a height map: cheaper terrain contacts).
     HeightField,
+    /// Its convex hull (`type="convexhull"`): what robot links made of meshes collide as,
+    /// as in MuJoCo (imported URDF links).
+    ConvexHull,
 }
 
 impl Shape {
@@ -85,6 +89,7 @@ impl Shape {
                 let kind = match collision {
                     MeshCollision::Triangles => "mesh",
                     MeshCollision::HeightField => "height field",
+                    MeshCollision::ConvexHull => "convex mesh",
                 };
                 format!("{kind} {file} (scale {})", num(*scale))
             }
@@ -122,6 +127,10 @@ pub struct Mass {
     pub distribution: String,
     /// Centre of mass in the body frame, for `custom`.
     pub com: Option<[f64; 3]>,
+    /// Inertia tensor about the centre of mass in the body frame (kg·m², row-major 3x3,
+    /// OpenRAVE's `<inertia>`); when given, the physics uses it and `com` instead of
+    /// spreading the mass over the geometry.
+    pub inertia: Option<[f64; 9]>,
     /// Where it was written (line, column).
     pub pos: Pos,
 }
@@ -185,7 +194,7 @@ impl Geom {
                 radius: positive("radius")?,
                 height: positive("height")?,
             },
-            kind @ ("trimesh" | "heightfield") => {
+            kind @ ("trimesh" | "heightfield" | "convexhull") => {
                 let c = r.required(el, "data")?;
                 let text = r.text(c)?;
                 let mut words = text.split_whitespace();
@@ -204,10 +213,10 @@ impl Geom {
                     }
                     None => 1.0,
                 };
-                let collision = if kind == "heightfield" {
-                    MeshCollision::HeightField
-                } else {
-                    MeshCollision::Triangles
+                let collision = match kind {
+                    "heightfield" => MeshCollision::HeightField,
+                    "convexhull" => MeshCollision::ConvexHull,
+                    _ => MeshCollision::Triangles,
                 };
                 Shape::Trimesh {
                     file,
@@ -219,7 +228,7 @@ impl Geom {
                 return Err(r.err(
                     ty.pos,
                     ErrorKind::InvalidValue,
-                    format!("unknown geometry type \"{other}\"; expected one of: box, sphere, cylinder, trimesh, heightfield"),
+                    format!("unknown geometry type \"{other}\"; expected one of: box, sphere, cylinder, trimesh, heightfield, convexhull"),
                 ));
             }
         };
@@ -273,6 +282,10 @@ impl Geom {
                 collision: MeshCollision::HeightField,
                 ..
             } => "heightfield",
+            Shape::Trimesh {
+                collision: MeshCollision::ConvexHull,
+                ..
+            } => "convexhull",
         };
         let mut attrs = vec![("type", ty.to_string())];
         if !self.visible {
@@ -328,6 +341,10 @@ impl Mass {
             .at_most_one(el, "com")?
             .map(|c| r.array::<3>(c))
             .transpose()?;
+        let inertia = r
+            .at_most_one(el, "inertia")?
+            .map(|c| read_inertia(r, c))
+            .transpose()?;
         Ok(Mass {
             total,
             distribution: el
@@ -335,6 +352,7 @@ impl Mass {
                 .map(|a| a.value.to_ascii_lowercase())
                 .unwrap_or_else(|| "mimicgeom".into()),
             com,
+            inertia,
             pos: el.pos,
         })
     }
@@ -346,8 +364,27 @@ impl Mass {
         if let Some(c) = self.com {
             w.nums("com", &c);
         }
+        if let Some(i) = self.inertia {
+            w.nums("inertia", &i);
+        }
         w.close();
     }
+}
+
+/// An `<inertia>` tensor: 9 numbers, symmetric, with positive diagonal.
+fn read_inertia(r: &Reader, c: &Element) -> ConfigResult<[f64; 9]> {
+    let m = r.array::<9>(c)?;
+    let symmetric = (0..3).all(|i| {
+        (0..3).all(|j| (m[3 * i + j] - m[3 * j + i]).abs() <= 1e-9 * (1.0 + m[3 * i + j].abs()))
+    });
+    if !symmetric || m[0] <= 0.0 || m[4] <= 0.0 || m[8] <= 0.0 {
+        return Err(r.err(
+            c.text_pos,
+            ErrorKind::OutOfRange,
+            "<inertia> must be a symmetric 3x3 tensor (9 numbers, kg m^2) with a positive diagonal",
+        ));
+    }
+    Ok(m)
 }
 
 impl Body {

@@ -65,6 +65,15 @@ pub struct TriMesh {
 }
 
 impl TriMesh {
+    /// A mesh of these vertices and triangles (indices into `vertices`).
+    pub fn new(vertices: Vec<[f64; 3]>, triangles: Vec<[u32; 3]>) -> Self {
+        TriMesh {
+            vertices,
+            triangles,
+            height_map: OnceLock::new(),
+        }
+    }
+
     /// Axis-aligned bounds `(min, max)`.
     pub fn bounds(&self) -> ([f64; 3], [f64; 3]) {
         let mut lo = [f64::INFINITY; 3];

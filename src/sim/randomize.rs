@@ -99,6 +99,9 @@ pub fn randomize(sim: &Simulation, r: &Robustness, seed: u64) -> RandomizedEpiso
     for l in &mut out.robot.links {
         let k = factor(&mut rng, r.mass_pct);
         l.mass *= k;
+        if let Some(i) = &mut l.inertia {
+            i.tensor = i.tensor.map(|v| v * k);
+        }
         masses = (masses.0.min(k), masses.1.max(k));
     }
     for j in &mut out.robot.joints {

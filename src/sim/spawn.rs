@@ -9,7 +9,7 @@ use rapier3d::prelude as rp;
 
 use crate::config::Simulation;
 use crate::config::body::{BodyKind, Geom, MeshCollision, Shape};
-use crate::config::resolve::robot::geom_volume;
+use crate::config::resolve::robot::{LinkInertia, geom_volume};
 use crate::config::sensor::Sensor;
 use crate::config::transform::Pose;
 use crate::control::{ControlKernel, ModuleRegistry};
@@ -120,6 +120,17 @@ fn shape(g: &Geom, sim: &Simulation, fixed: bool) -> Result<(rp::SharedShape, rp
                 MeshCollision::HeightField if fixed => {
                     let map = mesh.height_map().map_err(|why| err(why.into()))?;
                     Ok(heightfield(map, *scale))
+                }
+                MeshCollision::ConvexHull => {
+                    let points: Vec<rp::Vector> = mesh
+                        .vertices
+                        .iter()
+                        .map(|v| vec3(v.map(|c| c * scale)))
+                        .collect();
+                    let hull = rp::SharedShape::convex_hull(&points).ok_or_else(|| {
+                        err("its convex hull is degenerate (flat or empty)".into())
+                    })?;
+                    at_origin(hull)
                 }
                 MeshCollision::Triangles | MeshCollision::HeightField => {
                     let vertices = mesh
@@ -313,12 +324,26 @@ fn spawn_links(
     let mut bodies = Vec::with_capacity(sim.robot.links.len());
     for (i, l) in sim.robot.links.iter().enumerate() {
         let p = start.mul(&l.pose);
-        let handle = physics.world.bodies.insert(
-            rp::RigidBodyBuilder::dynamic()
-                .pose(pose(&p))
-                .can_sleep(false),
-        );
-        for c in colliders(sim, &l.geoms, false, l.mass, |_| LINK_FRICTION, groups)? {
+        let mut body = rp::RigidBodyBuilder::dynamic()
+            .pose(pose(&p))
+            .can_sleep(false);
+        // A link with its inertia given carries it on the body; its colliders add none.
+        let collider_mass = match &l.inertia {
+            Some(i) => {
+                body = body.additional_mass_properties(mass_properties(l.mass, i));
+                0.0
+            }
+            None => l.mass,
+        };
+        let handle = physics.world.bodies.insert(body);
+        for c in colliders(
+            sim,
+            &l.geoms,
+            false,
+            collider_mass,
+            |_| LINK_FRICTION,
+            groups,
+        )? {
             let w = &mut physics.world;
             w.colliders.insert_with_parent(c, handle, &mut w.bodies);
         }
@@ -332,6 +357,17 @@ fn spawn_links(
         entities.push(world.spawn((name, link, ChildOf(robot))).id());
     }
     Ok((entities, bodies))
+}
+
+/// Rapier's mass properties of a link's given mass, centre of mass and inertia tensor.
+fn mass_properties(mass: f64, i: &LinkInertia) -> rp::MassProperties {
+    let m = i.tensor.map(|v| v as f32);
+    let matrix = rp::Matrix::from_cols(
+        rp::Vector::new(m[0], m[3], m[6]),
+        rp::Vector::new(m[1], m[4], m[7]),
+        rp::Vector::new(m[2], m[5], m[8]),
+    );
+    rp::MassProperties::with_inertia_matrix(vec3(i.com), mass as f32, matrix)
 }
 
 /// The hinges: revolute impulse joints with limits and a force-based velocity motor, each

@@ -70,6 +70,18 @@ pub struct Link {
     pub mass: f64,
     /// True when the file gave no mass and it was computed from the geometry.
     pub mass_from_geometry: bool,
+    /// Centre of mass and inertia tensor when the file gives them (else the mass is
+    /// spread over the geometry).
+    pub inertia: Option<LinkInertia>,
+}
+
+/// A link's given centre of mass and inertia, in the link frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinkInertia {
+    /// Centre of mass (m).
+    pub com: [f64; 3],
+    /// Inertia tensor about the centre of mass (kg·m², row-major 3x3).
+    pub tensor: [f64; 9],
 }
 
 impl Link {
@@ -375,12 +387,19 @@ fn link_of(pb: &PlacedBody) -> Link {
             true,
         ),
     };
+    let inertia = pb.body.mass.as_ref().and_then(|m| {
+        m.inertia.map(|tensor| LinkInertia {
+            com: m.com.unwrap_or([0.0; 3]),
+            tensor,
+        })
+    });
     Link {
         name: pb.body.name.clone(),
         pose: pb.world,
         geoms: pb.body.geoms.clone(),
         mass,
         mass_from_geometry: from_geom,
+        inertia,
     }
 }
 

@@ -96,6 +96,17 @@ impl Simulator {
             .collect())
     }
 
+    /// The servo targets (degrees) of robot `index`'s joints, as the last step drove them.
+    pub fn servo_targets(&self, index: usize) -> Result<Vec<f64>, SimError> {
+        let robot = self.robot_component::<SimRobot>(index)?;
+        let w = self.world();
+        Ok(robot
+            .joints
+            .iter()
+            .map(|j| w.get::<Servo>(*j).map_or(0.0, |s| s.target))
+            .collect())
+    }
+
     /// How far robot `index`'s joints are from their servo targets now: the mean of
     /// |target - angle| over its joints (degrees).
     pub fn tracking_error(&self, index: usize) -> Result<f64, SimError> {

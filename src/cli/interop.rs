@@ -1,0 +1,176 @@
+//! `proleg import` and `proleg export mjcf`: other formats in and out, each result loaded
+//! back as any configuration is, so a conversion never hands over a file `proleg check`
+//! would refuse.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use crate::control::{ModuleRegistry, load_simulation_in};
+use crate::interop::urdf::{UrdfImport, import_urdf};
+
+/// An import and the check of what it wrote.
+#[derive(Debug, Clone)]
+pub struct ImportReport {
+    /// What was written and the warnings.
+    pub import: UrdfImport,
+    /// The check summary of the written simulation, when one was written.
+    pub check: Option<String>,
+}
+
+impl fmt::Display for ImportReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.import)?;
+        if let Some(c) = &self.check {
+            write!(f, "proleg check: ok\n{c}")?;
+        }
+        Ok(())
+    }
+}
+
+/// Imports `urdf` into `out` and checks the simulation it wrote.
+pub fn import(urdf: &Path, out: &Path, registry: &ModuleRegistry) -> Result<ImportReport, String> {
+    let import = import_urdf(urdf, out).map_err(|e| e.to_string())?;
+    let check = match &import.simulation_file {
+        Some(sim) => Some(
+            load_simulation_in(sim, registry)
+                .map(|s| crate::config::summary::summary(&s))
+                .map_err(|e| format!("the imported files do not load: {e}"))?,
+        ),
+        None => None,
+    };
+    Ok(ImportReport { import, check })
+}
+
+/// The default output folder of an import: `imported/NAME` beside the working directory.
+pub fn default_import_dir(urdf: &Path) -> PathBuf {
+    let stem = urdf
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "robot".into());
+    PathBuf::from("imported").join(stem)
+}
+
+/// An MJCF export and, when asked, the gait proleg ran for the cross-engine check.
+#[derive(Debug, Clone)]
+pub struct ExportReport {
+    /// The MJCF file written.
+    pub file: PathBuf,
+    /// What it holds.
+    pub export: crate::interop::mjcf::MjcfExport,
+    /// The recorded gait, when `--gait SECONDS` was given.
+    pub gait: Option<GaitRecord>,
+}
+
+/// The servo targets of a proleg run, one row per step, and how far the robot went.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GaitRecord {
+    /// The TSV written (`time` then one column per joint, degrees).
+    pub file: PathBuf,
+    /// Simulated seconds.
+    pub seconds: f64,
+    /// Steps recorded.
+    pub steps: u64,
+    /// Horizontal displacement of the robot's centre of mass in proleg (m).
+    pub displacement: f64,
+}
+
+impl fmt::Display for ExportReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let e = &self.export;
+        writeln!(
+            f,
+            "wrote {}: {} bodies, {} hinges with position servos, {} assets",
+            self.file.display(),
+            e.bodies,
+            e.joints,
+            e.assets
+        )?;
+        for n in &e.notes {
+            writeln!(f, "note: {n}")?;
+        }
+        if let Some(g) = &self.gait {
+            writeln!(
+                f,
+                "gait: {} ({} steps, {} s); proleg displacement {:.4} m",
+                g.file.display(),
+                g.steps,
+                g.seconds,
+                g.displacement
+            )?;
+            writeln!(
+                f,
+                "replay it in MuJoCo: python3 scripts/mujoco_gait.py {} {}",
+                self.file.display(),
+                g.file.display()
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// Exports `config` as MJCF to `out`; with `gait`, also runs it for that many seconds and
+/// writes the servo targets of every step beside it (`OUT.gait.tsv`).
+pub fn export_mjcf(
+    config: &Path,
+    out: &Path,
+    gait: Option<f64>,
+    registry: &ModuleRegistry,
+) -> Result<ExportReport, String> {
+    let sim = load_simulation_in(config, registry).map_err(|e| e.to_string())?;
+    let export = crate::interop::mjcf::export_mjcf(&sim, out).map_err(|e| e.to_string())?;
+    let gait = match gait {
+        Some(seconds) if seconds > 0.0 && seconds.is_finite() => {
+            Some(record_gait(&sim, out, seconds, registry)?)
+        }
+        Some(seconds) => return Err(format!("--gait {seconds}: give seconds > 0")),
+        None => None,
+    };
+    Ok(ExportReport {
+        file: out.to_path_buf(),
+        export,
+        gait,
+    })
+}
+
+/// Runs `sim` for `seconds`, writing every step's servo targets.
+fn record_gait(
+    sim: &crate::config::Simulation,
+    out: &Path,
+    seconds: f64,
+    registry: &ModuleRegistry,
+) -> Result<GaitRecord, String> {
+    use std::fmt::Write as _;
+    let opts = crate::sim::BuildOptions {
+        robots: 1,
+        record: false,
+        ..Default::default()
+    };
+    let mut s =
+        crate::sim::Simulator::with_registry(sim, &opts, registry).map_err(|e| e.to_string())?;
+    let dt = sim.files.simulation.properties.step_width;
+    let steps = (seconds / dt).round() as u64;
+    let mut tsv = String::from("time");
+    for j in &sim.robot.joints {
+        tsv.push('\t');
+        tsv.push_str(&j.name);
+    }
+    tsv.push('\n');
+    let start = s.com(0).map_err(|e| e.to_string())?;
+    for k in 1..=steps {
+        s.step();
+        let _ = write!(tsv, "{:.6}", k as f64 * dt);
+        for t in s.servo_targets(0).map_err(|e| e.to_string())? {
+            let _ = write!(tsv, "\t{t:.6}");
+        }
+        tsv.push('\n');
+    }
+    let end = s.com(0).map_err(|e| e.to_string())?;
+    let file = out.with_extension("gait.tsv");
+    crate::interop::write_text(&file, &tsv).map_err(|e| e.to_string())?;
+    Ok(GaitRecord {
+        file,
+        seconds: steps as f64 * dt,
+        steps,
+        displacement: crate::measure::ground_distance(start, end),
+    })
+}

@@ -1,0 +1,148 @@
+//! Mesh files named by a URDF (`package://`, `file://` or relative paths; OBJ or STL),
+//! scaled and written once each as OBJ next to the imported robot.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use crate::config::mesh::{TriMesh, parse_obj};
+use crate::interop::{InteropError, write_text};
+
+/// Converts and writes the meshes of one import; each (file, scale) once.
+pub struct MeshWriter {
+    /// The URDF's folder (relative mesh paths start here).
+    urdf_dir: PathBuf,
+    /// The output folder (meshes go to its `meshes/`).
+    out_dir: PathBuf,
+    /// Written meshes by source path and scale: their relative name and vertices.
+    written: BTreeMap<String, (String, TriMesh)>,
+}
+
+impl MeshWriter {
+    /// A writer for a URDF in `urdf_dir` imported into `out_dir`.
+    pub fn new(urdf_dir: &Path, out_dir: &Path) -> Self {
+        MeshWriter {
+            urdf_dir: urdf_dir.to_path_buf(),
+            out_dir: out_dir.to_path_buf(),
+            written: BTreeMap::new(),
+        }
+    }
+
+    /// How many mesh files were written.
+    pub fn count(&self) -> usize {
+        self.written.len()
+    }
+
+    /// The written mesh named `file` (as returned by [`MeshWriter::convert`]).
+    pub fn mesh(&self, file: &str) -> Option<&TriMesh> {
+        self.written
+            .values()
+            .find(|(f, _)| f == file)
+            .map(|(_, m)| m)
+    }
+
+    /// The OBJ (relative to the output folder) holding `filename` scaled by `scale`;
+    /// `None` for a format other than OBJ or STL.
+    pub fn convert(
+        &mut self,
+        filename: &str,
+        scale: [f64; 3],
+    ) -> Result<Option<String>, InteropError> {
+        let source = self.resolve(filename)?;
+        let key = format!("{} {scale:?}", source.display());
+        if let Some((file, _)) = self.written.get(&key) {
+            return Ok(Some(file.clone()));
+        }
+        let ext = source
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        let mut mesh = match ext.as_str() {
+            "obj" => read_obj(&source)?,
+            "stl" => read_stl(&source)?,
+            _ => return Ok(None),
+        };
+        for v in &mut mesh.vertices {
+            for k in 0..3 {
+                v[k] *= scale[k];
+            }
+        }
+        let stem = source
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "mesh".into());
+        let mut file = format!("meshes/{stem}.obj");
+        let mut n = 1;
+        while self.written.values().any(|(f, _)| *f == file) {
+            n += 1;
+            file = format!("meshes/{stem}_{n}.obj");
+        }
+        write_text(&self.out_dir.join(&file), &obj_text(&mesh))?;
+        self.written.insert(key, (file.clone(), mesh));
+        Ok(Some(file))
+    }
+
+    /// The file a URDF mesh name points to: `package://NAME/rest` is looked for as
+    /// `NAME/rest` or `rest` in the URDF's folder and every folder above it.
+    fn resolve(&self, filename: &str) -> Result<PathBuf, InteropError> {
+        if let Some(path) = filename.strip_prefix("file://") {
+            return Ok(PathBuf::from(path));
+        }
+        let Some(rest) = filename.strip_prefix("package://") else {
+            return Ok(self.urdf_dir.join(filename));
+        };
+        let (package, inner) = rest.split_once('/').unwrap_or((rest, ""));
+        for dir in self.urdf_dir.ancestors() {
+            let inside = dir.join(package).join(inner);
+            if inside.is_file() {
+                return Ok(inside);
+            }
+            if dir.file_name().is_some_and(|n| n == package) && dir.join(inner).is_file() {
+                return Ok(dir.join(inner));
+            }
+        }
+        Err(InteropError::new(
+            &self.urdf_dir,
+            format!("mesh {filename}: package \"{package}\" not found in this folder or above"),
+        ))
+    }
+}
+
+fn read_obj(path: &Path) -> Result<TriMesh, InteropError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| InteropError::new(path, format!("cannot read the mesh: {e}")))?;
+    parse_obj(path, &text).map_err(|e| InteropError::new(path, e.to_string()))
+}
+
+fn read_stl(path: &Path) -> Result<TriMesh, InteropError> {
+    let mut file = std::fs::File::open(path)
+        .map_err(|e| InteropError::new(path, format!("cannot read the mesh: {e}")))?;
+    let stl = stl_io::read_stl(&mut file)
+        .map_err(|e| InteropError::new(path, format!("not a readable STL file: {e}")))?;
+    let vertices = stl
+        .vertices
+        .iter()
+        .map(|v| [v[0], v[1], v[2]].map(f64::from))
+        .collect();
+    let triangles = stl
+        .faces
+        .iter()
+        .map(|f| f.vertices.map(|i| i as u32))
+        .collect::<Vec<_>>();
+    if triangles.is_empty() {
+        return Err(InteropError::new(path, "the mesh has no faces"));
+    }
+    Ok(TriMesh::new(vertices, triangles))
+}
+
+/// OBJ text of a mesh, vertices to 1 µm.
+fn obj_text(mesh: &TriMesh) -> String {
+    let mut s = String::from("# written by proleg import (scaled to metres)\n");
+    for v in &mesh.vertices {
+        let _ = writeln!(s, "v {:.6} {:.6} {:.6}", v[0], v[1], v[2]);
+    }
+    for t in &mesh.triangles {
+        let _ = writeln!(s, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    s
+}

@@ -1,0 +1,258 @@
+//! URDF import (`proleg import URDF -o DIR`): a URDF robot, parsed by the `urdf-rs` crate,
+//! written as a proleg robot file with its meshes, plus a floor, a sine actuation and a
+//! simulation file so that it runs at once.
+//!
+//! | URDF | proleg |
+//! |---|---|
+//! | link, `<collision>` box / sphere / cylinder | `<Body>` with `<Geom>` box / sphere / cylinder (turned: ours stand along y) |
+//! | `<collision>` mesh (OBJ, STL), with scale | OBJ in `meshes/`, scaled, `type="convexhull"` |
+//! | `<inertial>` mass, origin, inertia | `<Mass type="custom">` total, `<com>`, `<inertia>` (merged links: parallel-axis theorem) |
+//! | revolute joint | hinge: axis, limits (deg), effort -> `maxtorque`, velocity -> `maxvel` |
+//! | continuous joint | hinge limited to +-180 deg (warning) |
+//! | fixed joint | child link merged into its parent body |
+//! | prismatic / floating / planar / spherical joint, capsule, other mesh formats, visual-only geometry, mimic, damping | warnings, listed in the report |
+
+mod links;
+mod meshes;
+mod outputs;
+mod tree;
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use crate::config::error::Pos;
+use crate::config::kinbody::{Joint, KinBody};
+use crate::config::robot::{RobotFile, write_robot_file};
+use crate::config::transform::Pose;
+use crate::interop::{InteropError, write_text};
+use links::body;
+use meshes::MeshWriter;
+pub use outputs::SINE_AMPLITUDE_DEG;
+use outputs::{lowest_point, write_run_files};
+use tree::{Tree, is_hinge};
+
+/// What an import wrote and what it could not represent.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UrdfImport {
+    /// The robot's name (from the URDF, made safe for file names).
+    pub name: String,
+    /// The robot file written.
+    pub robot_file: PathBuf,
+    /// The simulation file written beside it (floor, sine on every joint).
+    pub simulation_file: Option<PathBuf>,
+    /// Links in the URDF.
+    pub urdf_links: usize,
+    /// Joints in the URDF.
+    pub urdf_joints: usize,
+    /// Bodies written (links after merging those on fixed joints).
+    pub bodies: usize,
+    /// Hinges written (revolute and continuous joints).
+    pub hinges: usize,
+    /// Mesh files written.
+    pub meshes: usize,
+    /// What could not be represented, one line each.
+    pub warnings: Vec<String>,
+}
+
+impl fmt::Display for UrdfImport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "imported {}: {} links and {} joints -> {} bodies, {} hinges, {} meshes",
+            self.name, self.urdf_links, self.urdf_joints, self.bodies, self.hinges, self.meshes
+        )?;
+        writeln!(f, "robot: {}", self.robot_file.display())?;
+        match &self.simulation_file {
+            Some(s) => writeln!(f, "run it: proleg run {}", s.display())?,
+            None => writeln!(f, "no hinge to drive: no simulation file written")?,
+        }
+        for w in &self.warnings {
+            writeln!(f, "warning: {w}")?;
+        }
+        Ok(())
+    }
+}
+
+/// Imports the URDF at `urdf` into `out_dir`.
+pub fn import_urdf(urdf: &Path, out_dir: &Path) -> Result<UrdfImport, InteropError> {
+    let text = std::fs::read_to_string(urdf)
+        .map_err(|e| InteropError::new(urdf, format!("cannot read: {e}")))?;
+    let robot = urdf_rs::read_from_string(&text)
+        .map_err(|e| InteropError::new(urdf, format!("not a valid URDF: {e}")))?;
+    let tree = Tree::new(urdf, &robot)?;
+    let mut warnings = joint_warnings(&robot);
+    let urdf_dir = urdf.parent().unwrap_or(Path::new("."));
+    let mut meshes = MeshWriter::new(urdf_dir, out_dir);
+    let mut bodies = Vec::new();
+    for &l in &tree.order {
+        if tree.body_of[l] == l {
+            bodies.push(body(&robot, &tree, l, &mut meshes, &mut warnings)?);
+        }
+    }
+    let joints: Vec<Joint> = tree
+        .order
+        .iter()
+        .filter_map(|&l| tree.parent_joint[l].map(|k| (l, k)))
+        .filter(|&(_, k)| is_hinge(&robot.joints[k]))
+        .map(|(l, k)| hinge(&robot, &tree, l, k, &mut warnings))
+        .collect();
+    // Files are named after the URDF (robot names such as "physics" say little).
+    let stem = urdf.file_stem().map(|s| s.to_string_lossy().into_owned());
+    let name = file_name(stem.as_deref().unwrap_or(&robot.name));
+    let robot_file = out_dir.join(format!("{name}.robot.xml"));
+    let file = RobotFile {
+        name: name.clone(),
+        kinbody: KinBody {
+            name: Some(name.clone()),
+            pose: Pose::IDENTITY,
+            includes: Vec::new(),
+            bodies,
+            joints,
+            sensors: Vec::new(),
+            pos: Pos::default(),
+        },
+        sensors: Vec::new(),
+        servos: None,
+        pos: Pos::default(),
+    };
+    write_text(&robot_file, &write_robot_file(&file))?;
+    let hinges = file.kinbody.joints.len();
+    let simulation_file = if hinges > 0 {
+        let low = lowest_point(&file.kinbody.bodies, &meshes);
+        Some(write_run_files(out_dir, &name, hinges, low)?)
+    } else {
+        warnings.push("no revolute or continuous joint: there is nothing to drive".into());
+        None
+    };
+    Ok(UrdfImport {
+        name,
+        robot_file,
+        simulation_file,
+        urdf_links: robot.links.len(),
+        urdf_joints: robot.joints.len(),
+        bodies: file.kinbody.bodies.len(),
+        hinges,
+        meshes: meshes.count(),
+        warnings,
+    })
+}
+
+/// Warnings for joints proleg does not drive as the URDF says.
+fn joint_warnings(robot: &urdf_rs::Robot) -> Vec<String> {
+    let mut w = Vec::new();
+    for j in &robot.joints {
+        use urdf_rs::JointType as T;
+        match j.joint_type {
+            T::Prismatic | T::Floating | T::Planar | T::Spherical => w.push(format!(
+                "joint {}: a {:?} joint is not supported; its child link is fixed to its parent",
+                j.name, j.joint_type
+            )),
+            _ => {}
+        }
+        if let Some(m) = &j.mimic {
+            w.push(format!(
+                "joint {}: mimics {}; proleg drives it on its own",
+                j.name, m.joint
+            ));
+        }
+        if let Some(d) = &j.dynamics
+            && (d.damping != 0.0 || d.friction != 0.0)
+        {
+            w.push(format!(
+                "joint {}: damping {} and friction {} are not represented (the servo model sets them)",
+                j.name, d.damping, d.friction
+            ));
+        }
+    }
+    w
+}
+
+/// The hinge of joint `k` whose child is link `child`: anchor and axis in the frame of the
+/// parent's body.
+fn hinge(
+    robot: &urdf_rs::Robot,
+    tree: &Tree,
+    child: usize,
+    k: usize,
+    warn: &mut Vec<String>,
+) -> Joint {
+    let j = &robot.joints[k];
+    let parent_link = robot
+        .links
+        .iter()
+        .position(|l| l.name == j.parent.link)
+        .unwrap_or(child);
+    let parent_body = tree.body_of[parent_link];
+    let to_parent = tree.world[parent_body].inverse() * tree.world[child];
+    let axis =
+        to_parent.rotation * nalgebra::Vector3::new(j.axis.xyz[0], j.axis.xyz[1], j.axis.xyz[2]);
+    let anchor = to_parent.translation.vector;
+    let lim = &j.limit;
+    let limits_deg = match j.joint_type {
+        urdf_rs::JointType::Continuous => {
+            warn.push(format!(
+                "joint {}: continuous, limited to +-180 deg (proleg's servos hold positions)",
+                j.name
+            ));
+            [-180.0, 180.0]
+        }
+        _ if lim.lower.is_finite() && lim.upper.is_finite() && lim.lower < lim.upper => {
+            let (lo, hi) = (lim.lower.to_degrees(), lim.upper.to_degrees());
+            if lo < -180.0 || hi > 180.0 {
+                warn.push(format!(
+                    "joint {}: limits {lo:.1}..{hi:.1} deg are cut to -180..180 (proleg's hinge range)",
+                    j.name
+                ));
+            }
+            [lo.max(-180.0), hi.min(180.0)]
+        }
+        _ => {
+            warn.push(format!(
+                "joint {}: limits {}..{} rad are not a range; +-180 deg is used",
+                j.name, lim.lower, lim.upper
+            ));
+            [-180.0, 180.0]
+        }
+    };
+    let positive = |v: f64, what: &str, default: &str, warn: &mut Vec<String>| {
+        if v > 0.0 && v.is_finite() {
+            Some(v)
+        } else {
+            warn.push(format!(
+                "joint {}: no {what}; proleg's default {default} applies",
+                j.name
+            ));
+            None
+        }
+    };
+    Joint {
+        name: j.name.clone(),
+        bodies: [
+            robot.links[parent_body].name.clone(),
+            robot.links[child].name.clone(),
+        ],
+        offset_from: None,
+        anchor: [anchor.x, anchor.y, anchor.z],
+        axis: [axis.x, axis.y, axis.z],
+        max_torque: positive(lim.effort, "effort", "0.4 N m", warn),
+        max_vel: positive(lim.velocity, "velocity", "4.5 rad/s", warn),
+        limits_deg: Some(limits_deg.map(|d| (d * 1e4).round() / 1e4)),
+        servo_gain: None,
+        pos: Pos::default(),
+    }
+}
+
+/// A robot name as a file name: letters, digits, `_` and `-`.
+fn file_name(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() { "robot".into() } else { s }
+}

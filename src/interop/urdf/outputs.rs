@@ -1,0 +1,130 @@
+//! The files around an imported robot that make it runnable at once: a flat floor with the
+//! robot standing on it, a gentle sine on every joint and the simulation naming them.
+
+use std::path::Path;
+
+use crate::config::body::{Body, Shape};
+use crate::interop::urdf::meshes::MeshWriter;
+use crate::interop::{InteropError, write_text};
+
+/// Amplitude (deg) of the sine the import writes: small enough for any joint range.
+pub const SINE_AMPLITUDE_DEG: f64 = 15.0;
+
+/// Clearance (m) between the robot's lowest point and the floor at the start.
+const CLEARANCE: f64 = 0.005;
+
+/// The lowest z (robot frame) of any geometry of `bodies`; 0 without geometry.
+pub fn lowest_point(bodies: &[Body], meshes: &MeshWriter) -> f64 {
+    let mut low = f64::INFINITY;
+    for b in bodies {
+        for g in &b.geoms {
+            let at = b.pose.mul(&g.pose);
+            let z = |p: [f64; 3]| {
+                at.mul(&crate::config::transform::Pose::from_translation(p))
+                    .translation[2]
+            };
+            let corners = |e: [f64; 3]| {
+                (0..8).map(move |k| {
+                    let s = |bit: usize| if k >> bit & 1 == 1 { 1.0 } else { -1.0 };
+                    [s(0) * e[0], s(1) * e[1], s(2) * e[2]]
+                })
+            };
+            let g_low = match &g.shape {
+                Shape::Box { extents } => corners(*extents).map(z).fold(f64::INFINITY, f64::min),
+                Shape::Sphere { radius } => z([0.0; 3]) - radius,
+                // Bounded by the box around it (r, h/2, r).
+                Shape::Cylinder { radius, height } => corners([*radius, height / 2.0, *radius])
+                    .map(z)
+                    .fold(f64::INFINITY, f64::min),
+                Shape::Trimesh { file, .. } => meshes
+                    .mesh(file)
+                    .map(|m| {
+                        m.vertices
+                            .iter()
+                            .map(|v| z(*v))
+                            .fold(f64::INFINITY, f64::min)
+                    })
+                    .unwrap_or(f64::INFINITY),
+            };
+            low = low.min(g_low);
+        }
+    }
+    if low.is_finite() { low } else { 0.0 }
+}
+
+/// Writes `NAME.env.xml`, `NAME.actuation.xml` and `NAME.simulation.xml` into `dir`
+/// beside `NAME.robot.xml`; returns the simulation file.
+pub fn write_run_files(
+    dir: &Path,
+    name: &str,
+    joints: usize,
+    lowest: f64,
+) -> Result<std::path::PathBuf, InteropError> {
+    let lift = CLEARANCE - lowest;
+    let env = format!(
+        r#"<?xml version="1.0" encoding="utf-8"?>
+<!-- A flat floor for the imported robot {name}; it starts {clear} mm above it. -->
+<Environment>
+  <physicsengine type="ode">
+    <odeproperties>
+      <gravity>0 0 -9.81</gravity>
+      <selfcollision>0</selfcollision>
+    </odeproperties>
+  </physicsengine>
+  <KinBody name="floor">
+    <Body type="static">
+      <Translation>0 0 -0.05</Translation>
+      <Geom type="box">
+        <extents>20 20 0.05</extents>
+        <diffuseColor>0.6 0.6 0.6</diffuseColor>
+        <friction>0.8</friction>
+      </Geom>
+    </Body>
+  </KinBody>
+  <RobotPose>
+    <Translation>0 0 {lift:.4}</Translation>
+  </RobotPose>
+</Environment>
+"#,
+        clear = CLEARANCE * 1000.0
+    );
+    let actuation = format!(
+        r#"<?xml version="1.0" encoding="utf-8"?>
+<!-- A gentle travelling sine on every joint of the imported robot {name}. -->
+<actuation>
+  <validRobot robotName="{name}.robot.xml"/>
+  <actuationModule name="PatternGenerator_sinusoidal">
+    <jointConfiguration joints="{mask}"/>
+    <parameter name="Amplitude" value="{SINE_AMPLITUDE_DEG}"/>
+    <parameter name="Phase_Difference" value="45"/>
+    <parameter name="Frequency" value="0.5"/>
+    <parameter name="Offset" value="0"/>
+  </actuationModule>
+</actuation>
+"#,
+        mask = "1".repeat(joints)
+    );
+    let simulation = format!(
+        r#"<?xml version="1.0" encoding="utf-8"?>
+<simulation>
+  <description>{name}, imported from URDF, on a flat floor with a sine on every joint.</description>
+  <robot>{name}.robot.xml</robot>
+  <actuation>{name}.actuation.xml</actuation>
+  <environment>{name}.env.xml</environment>
+  <simulationProperties>
+    <showViewer>1</showViewer>
+    <storingData>0</storingData>
+    <mode>Single Run Simulation</mode>
+    <stepWidth>0.001</stepWidth>
+    <duration>10</duration>
+    <seed>1</seed>
+  </simulationProperties>
+</simulation>
+"#
+    );
+    write_text(&dir.join(format!("{name}.env.xml")), &env)?;
+    write_text(&dir.join(format!("{name}.actuation.xml")), &actuation)?;
+    let sim = dir.join(format!("{name}.simulation.xml"));
+    write_text(&sim, &simulation)?;
+    Ok(sim)
+}
