@@ -53,5 +53,5 @@ ensure_python() {
 }
 
 # The control window: gamepad support builds against libudev; GUI tests render under Xvfb
-# with Mesa's software Vulkan (llvmpipe).
-GUI_PACKAGES=(libudev-dev xvfb xauth mesa-vulkan-drivers libvulkan1)
+# with Mesa's software Vulkan (llvmpipe); videos are encoded (and tested) by ffmpeg.
+GUI_PACKAGES=(libudev-dev xvfb xauth mesa-vulkan-drivers libvulkan1 ffmpeg)

@@ -259,6 +259,29 @@ fn gui(
     }
 }
 
+/// `proleg run --video`: the run rendered off-screen.
+fn video(req: &cli::run::RunRequest) -> Result<String, String> {
+    if req.seed.is_some() || req.data.is_some() || !req.physics.is_empty() || req.realtime != 0.0 {
+        return Err("--video renders the file's own run: leave out --seed, --data, --physics and --realtime".into());
+    }
+    #[cfg(feature = "gui")]
+    {
+        let out = req.video.clone().unwrap_or_default();
+        let request = proleg::gui::video::VideoRequest {
+            config: req.config.clone(),
+            out,
+            fps: req.fps,
+            size: proleg::gui::video::parse_size(&req.size)?,
+            seconds: req.duration,
+        };
+        proleg::gui::video::record_video(&request).map(|r| r.to_string())
+    }
+    #[cfg(not(feature = "gui"))]
+    {
+        Err(NO_WINDOWS.replace("it has no windows", "it renders no videos"))
+    }
+}
+
 /// Opens the configuration window.
 fn wizard(opts: WizardOptions) -> Result<String, String> {
     #[cfg(feature = "gui")]
@@ -352,6 +375,7 @@ fn main() -> ExitCode {
             }
             (None, None) => proleg::bench::report(&config, seconds, &batches, &physics),
         },
+        Command::Run(request) if request.video.is_some() => video(&request),
         Command::Run(request) => cli::run::run(&request, &registry).map(|r| r.to_string()),
         Command::Optimize(options) => {
             cli::optimize::run(&options, &registry).map(|r| r.to_string())

@@ -16,6 +16,9 @@ fn request(duration: f64) -> RunRequest {
         data: None,
         every: None,
         physics: String::new(),
+        video: None,
+        fps: 30,
+        size: "1280x720".into(),
     }
 }
 

@@ -38,6 +38,17 @@ pub struct RunRequest {
     /// `proleg bench --help`).
     #[arg(long, default_value = "")]
     pub physics: String,
+    /// Render the run off-screen into a video following the robot (.mp4, .webm, .gif by
+    /// ffmpeg; a folder: PNG frames, also when no ffmpeg is installed). Needs the gui
+    /// feature, no display.
+    #[arg(long)]
+    pub video: Option<PathBuf>,
+    /// Video frames per simulated second.
+    #[arg(long, default_value_t = 30)]
+    pub fps: u32,
+    /// Video size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1280x720")]
+    pub size: String,
 }
 
 /// What a run did.

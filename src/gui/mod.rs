@@ -6,10 +6,12 @@
 //! - [`scripting`]: what both windows' scripts share (parsing, waits, screenshots)
 //! - [`setup`]: the configuration window (thesis 4.4) — beginner wizard, expert
 //!   composition, 3D environment editor.
+//! - [`video`]: videos of a run rendered off-screen (`proleg run --video`)
 
 pub mod control;
 pub mod module_editor;
 pub mod scripting;
 pub mod setup;
+pub mod video;
 
 pub use control::run;

@@ -21,6 +21,7 @@ pub mod overlay;
 pub mod params;
 pub mod picking;
 pub mod plots;
+pub mod recorder;
 pub mod remote_view;
 pub mod results_view;
 pub mod robot_view;
@@ -47,6 +48,7 @@ use crate::gui::control::overlay::RobotOverlay;
 use crate::gui::control::params::ParamsState;
 use crate::gui::control::picking::Selection;
 use crate::gui::control::plots::PlotsState;
+use crate::gui::control::recorder::Recorder;
 use crate::gui::control::remote_view::RemoteView;
 use crate::gui::control::robot_view::RobotView;
 use crate::gui::control::scene::BodyVisual;
@@ -96,6 +98,8 @@ pub struct Views<'w> {
     pub assign: ResMut<'w, AssignState>,
     /// The real-robot tab.
     pub robot: ResMut<'w, RobotView>,
+    /// The Record button's recorder.
+    pub recorder: ResMut<'w, Recorder>,
 }
 
 /// Ordering of the window's per-frame work.
@@ -176,6 +180,7 @@ impl Plugin for ControlWindowPlugin {
             .init_resource::<InspectState>()
             .init_resource::<DebugView>()
             .init_resource::<Selection>()
+            .init_resource::<Recorder>()
             .add_observer(picking::on_click)
             .add_observer(picking::on_drag_start)
             .add_observer(picking::on_drag)
@@ -220,6 +225,7 @@ impl Plugin for ControlWindowPlugin {
                     scene::colour_pads,
                     camera::orbit_camera,
                     debug_view::draw_debug,
+                    recorder::capture,
                 )
                     .chain()
                     .in_set(GuiSystems::Present),
@@ -266,6 +272,7 @@ fn draw_ui(
         modules,
         assign,
         robot,
+        recorder,
     } = &mut views;
     let ctx = contexts.ctx_mut()?.clone();
     let mut root = egui::Ui::new(
@@ -288,6 +295,8 @@ fn draw_ui(
             ui.toggle_value(&mut remote.open, "Remote control");
             ui.toggle_value(&mut modules.open, "Module library");
             ui.toggle_value(&mut robot.open, "Real robot");
+            ui.separator();
+            recorder::button(ui, recorder, &session.path);
         });
     });
     if panels.plots {

@@ -33,6 +33,8 @@
 //! robot-connect PORT             # connect to the servos on PORT (e.g. an emulator's pty)
 //! robot-torque on|off | robot-drive on|off | robot-twin on|off | robot-disconnect
 //! screenshot docs/control_window.png
+//! record on [FILE] | record off   # the Record button: the window's frames (default file:
+//!                                # out/recordings/NAME-TIME.mp4)
 //! state out/state.txt            # the app state as key = value lines
 //! quit
 //! ```
@@ -76,6 +78,8 @@ pub enum Command {
     },
     /// Series as `proleg data` selects them: `Handler/series`, `[k]` or `[a..b]` (from 0).
     Plot(Vec<SeriesSelector>),
+    /// `record on [FILE]` (`Some`, with the file if given) or `record off` (`None`).
+    Record(Option<Option<PathBuf>>),
     /// `panel params|plots|all`.
     Panel(String),
     /// Show a parameter of module tab N per joint (individual mode) or not.
@@ -234,6 +238,10 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
                     .collect::<Result<_, _>>()?,
             ),
             "screenshot" if words.len() == 2 => Command::Screenshot(PathBuf::from(words[1])),
+            "record" if words.get(1) == Some(&"on") && words.len() <= 3 => {
+                Command::Record(Some(words.get(2).map(PathBuf::from)))
+            }
+            "record" if words.len() == 2 && words[1] == "off" => Command::Record(None),
             "state" if words.len() == 2 => Command::State(PathBuf::from(words[1])),
             "optimize" => Command::Optimize(num(words.get(1), "evaluations")?.max(1.0) as u64),
             "attach" if words.len() == 3 => Command::Attach(

@@ -75,7 +75,7 @@ fn carry_out(
         | C::ReplayBest
         | C::Results(_)
         | C::Replay { .. } => tool_command(c, session, views),
-        C::Screenshot(_) | C::State(_) | C::Quit => {
+        C::Screenshot(_) | C::State(_) | C::Record(_) | C::Quit => {
             output_command(c, commands, script, session, views)
         }
     }
@@ -416,6 +416,14 @@ fn output_command(
                 .map_err(|e| format!("{}: {e}", path.display()))?;
             Flow::Next
         }
+        Command::Record(Some(file)) => {
+            views.recorder.start(&session.path, file);
+            Flow::Next
+        }
+        Command::Record(None) => {
+            views.recorder.stop();
+            Flow::Next
+        }
         Command::Quit => Flow::Quit,
         other => return Err(misrouted(&other)),
     })
@@ -455,6 +463,11 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
         ("inspect_graphs", views.inspect.graphs.len().to_string()),
     ];
     optimizer_pairs(&mut pairs, session, views);
+    pairs.push(("recording", views.recorder.recording().to_string()));
+    if let Some((file, frames)) = &views.recorder.last {
+        pairs.push(("recording_file", file.display().to_string()));
+        pairs.push(("recorded_frames", frames.to_string()));
+    }
     if let Ok(c) = session.simulator.com(0) {
         pairs.push(("com", format!("{:.6} {:.6} {:.6}", c[0], c[1], c[2])));
     }

@@ -1,0 +1,331 @@
+//! Videos of a run, rendered off-screen (`proleg run CONFIG --video out.mp4`): the control
+//! window's scene ([`crate::gui::control::scene`]) drawn by a camera that follows the
+//! robot into an image instead of a window, one frame every 1/fps simulated seconds, each
+//! read back and handed to a [`sink::VideoSink`] (ffmpeg or PNG frames). Bevy's update
+//! loop is pumped here, frame by frame, so the video's time is simulated time whatever
+//! the rendering speed (no window, no display needed: Mesa's software Vulkan renders).
+
+pub mod sink;
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+
+use bevy::asset::RenderAssetUsages;
+use bevy::camera::RenderTarget;
+use bevy::prelude::*;
+use bevy::render::RenderPlugin;
+use bevy::render::render_resource::{
+    Extent3d, PollType, TextureDimension, TextureFormat, TextureUsages,
+};
+use bevy::render::renderer::RenderDevice;
+use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
+use bevy::window::ExitCondition;
+use bevy::winit::WinitPlugin;
+
+use crate::gui::control::camera::{OrbitCamera, to_bevy};
+use crate::gui::control::scene::{self, SceneBuilt};
+use crate::gui::control::session::SimSession;
+use sink::{Frame, VideoSink, Written};
+
+/// What to render.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VideoRequest {
+    /// The simulation file.
+    pub config: PathBuf,
+    /// The video file (or a folder for PNG frames).
+    pub out: PathBuf,
+    /// Frames per simulated second.
+    pub fps: u32,
+    /// Width and height in pixels.
+    pub size: (u32, u32),
+    /// Simulated seconds (default: the file's duration).
+    pub seconds: Option<f64>,
+}
+
+/// What was rendered.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VideoReport {
+    /// The file or folder written and its frame count.
+    pub written: Written,
+    /// Why the output differs from the one asked for (no ffmpeg), if it does.
+    pub notice: Option<String>,
+    /// Simulated seconds shown.
+    pub seconds: f64,
+    /// Frames per second and size.
+    pub fps: u32,
+    /// Width and height.
+    pub size: (u32, u32),
+    /// Horizontal displacement of the robot's centre of mass over the video (m).
+    pub displacement: f64,
+}
+
+impl std::fmt::Display for VideoReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if let Some(n) = &self.notice {
+            writeln!(f, "{n}")?;
+        }
+        let what = if self.written.pngs {
+            "PNG frames in"
+        } else {
+            "video"
+        };
+        writeln!(
+            f,
+            "{what} {}: {} frames, {}x{} at {} fps, {} s simulated; displacement {:.4} m",
+            self.written.path.display(),
+            self.written.frames,
+            self.size.0,
+            self.size.1,
+            self.fps,
+            self.seconds,
+            self.displacement
+        )
+    }
+}
+
+/// Frames read back, waiting to go out in order.
+#[derive(Default)]
+struct Captured {
+    frames: BTreeMap<u64, Frame>,
+    error: Option<String>,
+}
+
+/// The camera of the video (follows robot 0).
+#[derive(Component)]
+struct VideoCamera;
+
+/// Renders `req`'s run into its output.
+pub fn record_video(req: &VideoRequest) -> Result<VideoReport, String> {
+    check(req)?;
+    let session = SimSession::open(&req.config)?;
+    let seconds = req
+        .seconds
+        .unwrap_or(session.sim.files.simulation.properties.duration);
+    if !(seconds.is_finite() && seconds > 0.0) {
+        return Err(format!(
+            "duration {seconds} s: give a positive number of seconds"
+        ));
+    }
+    let frames = (seconds * f64::from(req.fps)).round().max(1.0) as u64;
+    let start = session.simulator.com(0).unwrap_or_default();
+    let (mut sink, notice) = VideoSink::open(&req.out, req.size, req.fps)?;
+    let captured = Arc::new(Mutex::new(Captured::default()));
+    let rendered = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        render(session, req, frames, &captured, &mut sink)
+    }))
+    .map_err(|_| {
+        "rendering failed (no usable graphics driver? Debian: mesa-vulkan-drivers)".to_string()
+    })?;
+    let end = rendered?;
+    let written = sink.finish()?;
+    Ok(VideoReport {
+        written,
+        notice,
+        seconds: frames as f64 / f64::from(req.fps),
+        fps: req.fps,
+        size: req.size,
+        displacement: crate::measure::ground_distance(start, end),
+    })
+}
+
+fn check(req: &VideoRequest) -> Result<(), String> {
+    if req.fps == 0 || req.fps > 240 {
+        return Err(format!(
+            "--fps {}: give 1 to 240 frames per second",
+            req.fps
+        ));
+    }
+    let (w, h) = req.size;
+    if !(16..=7680).contains(&w) || !(16..=4320).contains(&h) {
+        return Err(format!("--size {w}x{h}: give 16x16 to 7680x4320 pixels"));
+    }
+    Ok(())
+}
+
+/// Pumps the app: each frame, steps to its time, renders and reads it back; returns robot
+/// 0's final centre of mass.
+fn render(
+    session: SimSession,
+    req: &VideoRequest,
+    frames: u64,
+    captured: &Arc<Mutex<Captured>>,
+    sink: &mut VideoSink,
+) -> Result<[f64; 3], String> {
+    let mut app = video_app(session);
+    let target = render_target(&mut app, req.size);
+    app.world_mut().spawn((
+        Name::new("video camera"),
+        VideoCamera,
+        Camera3d::default(),
+        RenderTarget::from(target.clone()),
+        OrbitCamera::default().transform(),
+        OrbitCamera::default(),
+    ));
+    let mut next = 0;
+    for k in 0..frames {
+        let t = k as f64 / f64::from(req.fps);
+        app.world_mut()
+            .non_send_mut::<SimSession>()
+            .step_to(t, u64::MAX);
+        let shared = captured.clone();
+        app.world_mut()
+            .spawn(Screenshot::image(target.clone()))
+            .observe(move |shot: On<ScreenshotCaptured>| {
+                let frame = to_frame(&shot.image);
+                if let Ok(mut c) = shared.lock() {
+                    match frame {
+                        Ok(f) => {
+                            c.frames.insert(k, f);
+                        }
+                        Err(e) => c.error = Some(e),
+                    }
+                }
+            });
+        update(&mut app)?;
+        next = drain(captured, sink, next)?;
+    }
+    // Read-backs finish an update or two after their frame.
+    for _ in 0..8 {
+        if next >= frames {
+            break;
+        }
+        update(&mut app)?;
+        next = drain(captured, sink, next)?;
+    }
+    if next < frames {
+        return Err(format!(
+            "only {next} of {frames} frames came back from the renderer"
+        ));
+    }
+    let session = app.world().non_send::<SimSession>();
+    session.simulator.com(0).map_err(|e| e.to_string())
+}
+
+/// The app: Bevy's plugins without windows or winit, the scene of the control window and
+/// the following camera.
+fn video_app(session: SimSession) -> App {
+    let mut app = App::new();
+    app.add_plugins(
+        DefaultPlugins
+            .set(WindowPlugin {
+                primary_window: None,
+                exit_condition: ExitCondition::DontExit,
+                ..default()
+            })
+            .set(RenderPlugin {
+                synchronous_pipeline_compilation: true,
+                ..default()
+            })
+            .disable::<WinitPlugin>(),
+    )
+    .insert_resource(ClearColor(Color::srgb(0.62, 0.74, 0.86)))
+    .insert_non_send(session)
+    .init_resource::<SceneBuilt>()
+    .add_systems(Startup, scene::spawn_lights)
+    .add_systems(
+        Update,
+        (
+            scene::build_scene,
+            scene::follow_bodies,
+            scene::colour_pads,
+            follow_robot,
+        )
+            .chain(),
+    );
+    app.finish();
+    app.cleanup();
+    app
+}
+
+/// An image to render into.
+fn render_target(app: &mut App, (width, height): (u32, u32)) -> Handle<Image> {
+    let mut image = Image::new_uninit(
+        Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        TextureDimension::D2,
+        TextureFormat::Rgba8UnormSrgb,
+        RenderAssetUsages::RENDER_WORLD,
+    );
+    image.texture_descriptor.usage |= TextureUsages::RENDER_ATTACHMENT;
+    app.world_mut().resource_mut::<Assets<Image>>().add(image)
+}
+
+/// One update, waiting for the GPU to finish it.
+fn update(app: &mut App) -> Result<(), String> {
+    app.update();
+    app.world()
+        .resource::<RenderDevice>()
+        .wgpu_device()
+        .poll(PollType::Wait {
+            submission_index: None,
+            timeout: None,
+        })
+        .map(|_| ())
+        .map_err(|e| format!("the renderer failed: {e}"))
+}
+
+/// Writes the frames that are next in order; returns the next frame expected.
+fn drain(
+    captured: &Arc<Mutex<Captured>>,
+    sink: &mut VideoSink,
+    mut next: u64,
+) -> Result<u64, String> {
+    let mut c = captured
+        .lock()
+        .map_err(|_| "a frame read-back panicked".to_string())?;
+    if let Some(e) = c.error.take() {
+        return Err(e);
+    }
+    while let Some(frame) = c.frames.remove(&next) {
+        sink.push(&frame)?;
+        next += 1;
+    }
+    Ok(next)
+}
+
+/// A read-back image as RGBA bytes.
+fn to_frame(image: &Image) -> Result<Frame, String> {
+    let rgba = image
+        .clone()
+        .try_into_dynamic()
+        .map_err(|e| format!("a frame could not be read: {e}"))?
+        .to_rgba8();
+    Ok(Frame {
+        width: rgba.width(),
+        height: rgba.height(),
+        rgba: rgba.into_raw(),
+    })
+}
+
+/// Keeps robot 0's centre of mass in focus, smoothed over frames (as the window's follow
+/// mode, but per frame, so the video does not depend on rendering speed).
+fn follow_robot(
+    session: NonSend<SimSession>,
+    mut cameras: Query<(&mut OrbitCamera, &mut Transform), With<VideoCamera>>,
+) {
+    let Ok(com) = session.simulator.com(0) else {
+        return;
+    };
+    for (mut orbit, mut t) in &mut cameras {
+        let target = to_bevy(com);
+        orbit.focus = orbit.focus.lerp(target, 0.2);
+        *t = orbit.transform();
+    }
+}
+
+/// `WIDTHxHEIGHT` as numbers.
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("--size {s}: expected WIDTHxHEIGHT, e.g. 1280x720"))?;
+    let n = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("--size {s}: expected WIDTHxHEIGHT, e.g. 1280x720"))
+    };
+    Ok((n(w)?, n(h)?))
+}
