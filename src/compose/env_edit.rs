@@ -21,6 +21,7 @@ use crate::config::environment::{
 use crate::config::kinbody::KinBody;
 use crate::config::mesh::{Meshes, TriMesh};
 use crate::config::resolve::environment::resolve_environment;
+use crate::config::resolve::robot::RobotModel;
 use crate::config::source::{FsSource, resolve_include};
 use crate::config::transform::{Pose, quat_mul};
 
@@ -79,6 +80,66 @@ impl Aabb {
             return [0.0; 3];
         }
         [0, 1, 2].map(|i| self.max[i] - self.min[i])
+    }
+}
+
+/// How deep (m) an object's bounds may reach into the robot's before the editor warns
+/// (a robot resting on the floor touches it).
+pub const OVERLAP_TOLERANCE: f64 = 0.002;
+
+/// Bounds of a box, sphere or cylinder in its own frame (meshes: see the callers).
+fn shape_aabb(shape: &Shape) -> Option<Aabb> {
+    match shape {
+        Shape::Box { extents } => Some(Aabb {
+            min: extents.map(|e| -e),
+            max: *extents,
+        }),
+        Shape::Sphere { radius } => Some(Aabb {
+            min: [-radius; 3],
+            max: [*radius; 3],
+        }),
+        Shape::Cylinder { radius, height } => Some(Aabb {
+            min: [-radius, -height / 2.0, -radius],
+            max: [*radius, height / 2.0, *radius],
+        }),
+        Shape::Trimesh { .. } => None,
+    }
+}
+
+/// How deep two boxes overlap: the smallest overlap along the three axes (<= 0: apart).
+fn overlap(a: &Aabb, b: &Aabb) -> f64 {
+    if a.is_empty() || b.is_empty() {
+        return 0.0;
+    }
+    [0, 1, 2]
+        .map(|k| a.max[k].min(b.max[k]) - a.min[k].max(b.min[k]))
+        .into_iter()
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Grows `out` by geometry `g` of a body at `body` whose own-frame bounds are `local`.
+fn add_geom(out: &mut Aabb, g: &Geom, body: &Pose, local: Option<Aabb>) {
+    let Some(local) = local else {
+        return;
+    };
+    let gp = body.mul(&g.pose);
+    if let Shape::Sphere { radius } = &g.shape {
+        // Turning a sphere changes nothing.
+        let t = gp.translation;
+        out.add(t.map(|v| v - radius));
+        out.add(t.map(|v| v + radius));
+        return;
+    }
+    for k in 0..8 {
+        let c = [0, 1, 2].map(|i| {
+            if k >> i & 1 == 0 {
+                local.min[i]
+            } else {
+                local.max[i]
+            }
+        });
+        let r = gp.rotate(c);
+        out.add([0, 1, 2].map(|i| r[i] + gp.translation[i]));
     }
 }
 
@@ -351,65 +412,100 @@ impl EnvEditor {
         for body in &kb.bodies {
             let bp = pose.mul(&body.pose);
             for g in &body.geoms {
-                let gp = bp.mul(&g.pose);
                 let local = match &g.shape {
-                    Shape::Box { extents } => Aabb {
-                        min: extents.map(|e| -e),
-                        max: *extents,
-                    },
-                    Shape::Sphere { radius } => Aabb {
-                        min: [-radius; 3],
-                        max: [*radius; 3],
-                    },
-                    Shape::Cylinder { radius, height } => Aabb {
-                        min: [-radius, -height / 2.0, -radius],
-                        max: [*radius, height / 2.0, *radius],
-                    },
-                    Shape::Trimesh { file, scale, .. } => match self.mesh_aabb(file, *scale) {
-                        Some(b) => b,
-                        None => continue,
-                    },
+                    Shape::Trimesh { file, scale, .. } => self.mesh_aabb(file, *scale),
+                    other => shape_aabb(other),
                 };
-                if let Shape::Sphere { radius } = &g.shape {
-                    // Turning a sphere changes nothing.
-                    let t = gp.translation;
-                    out.add(t.map(|v| v - radius));
-                    out.add(t.map(|v| v + radius));
-                    continue;
-                }
-                for k in 0..8 {
-                    let c = [0, 1, 2].map(|i| {
-                        if k >> i & 1 == 0 {
-                            local.min[i]
-                        } else {
-                            local.max[i]
-                        }
-                    });
-                    let r = gp.rotate(c);
-                    out.add([0, 1, 2].map(|i| r[i] + gp.translation[i]));
-                }
+                add_geom(&mut out, g, &bp, local);
             }
         }
         out
     }
 
+    /// Objects with a geometry whose bounds overlap a robot link's at the start pose by
+    /// more than [`OVERLAP_TOLERANCE`] along every axis (the robot would start inside
+    /// them), each as a warning naming the object.
+    pub fn robot_overlaps(&mut self, robot: &RobotModel) -> Vec<String> {
+        let mut links = Vec::new();
+        for l in &robot.links {
+            let lp = self.robot_pose.mul(&l.pose);
+            for g in &l.geoms {
+                let local = match &g.shape {
+                    Shape::Trimesh { file, scale, .. } => robot.meshes.get(file).map(|m| {
+                        let (min, max) = m.bounds();
+                        Aabb {
+                            min: min.map(|v| v * scale),
+                            max: max.map(|v| v * scale),
+                        }
+                    }),
+                    other => shape_aabb(other),
+                };
+                let mut b = Aabb::EMPTY;
+                add_geom(&mut b, g, &lp, local);
+                links.push(b);
+            }
+        }
+        let mut out = Vec::new();
+        for i in 0..self.objects.len() {
+            let deepest = self
+                .geom_bounds(i)
+                .iter()
+                .flat_map(|b| links.iter().map(move |l| overlap(b, l)))
+                .fold(0.0, f64::max);
+            if deepest > OVERLAP_TOLERANCE {
+                out.push(format!(
+                    "{} overlaps the robot's start pose (by {:.0} mm): move one of them",
+                    object_name(&self.objects[i], i),
+                    deepest * 1000.0
+                ));
+            }
+        }
+        out
+    }
+
+    /// World bounds of each geometry of object `i`.
+    fn geom_bounds(&mut self, i: usize) -> Vec<Aabb> {
+        let Some(kb) = self.placed_kinbody(i) else {
+            return Vec::new();
+        };
+        let mut out = Vec::new();
+        for body in &kb.0.bodies {
+            let bp = kb.1.mul(&body.pose);
+            for g in &body.geoms {
+                let local = match &g.shape {
+                    Shape::Trimesh { file, scale, .. } => self.mesh_aabb(file, *scale),
+                    other => shape_aabb(other),
+                };
+                let mut b = Aabb::EMPTY;
+                add_geom(&mut b, g, &bp, local);
+                out.push(b);
+            }
+        }
+        out
+    }
+
+    /// Object `i` as a kinbody and its placement (none for an included file that cannot
+    /// be read).
+    fn placed_kinbody(&self, i: usize) -> Option<(KinBody, Pose)> {
+        match self.objects.get(i)? {
+            EnvObject::Inline(kb) => Some((kb.clone(), kb.pose)),
+            EnvObject::Include(inc) => {
+                let p = resolve_include(&FsSource, &self.file, &inc.file)?;
+                let text = std::fs::read_to_string(&p).ok()?;
+                let kb =
+                    crate::config::kinbody::parse_kinbody_file(&p.display().to_string(), &text)
+                        .ok()?;
+                let pose = inc.pose.mul(&kb.pose);
+                Some((kb, pose))
+            }
+        }
+    }
+
     /// World bounds of object `i` (empty for an included file that cannot be read).
     pub fn bounds(&mut self, i: usize) -> Aabb {
-        let Some(o) = self.objects.get(i).cloned() else {
-            return Aabb::EMPTY;
-        };
-        match &o {
-            EnvObject::Inline(kb) => self.kinbody_aabb(kb, &kb.pose),
-            EnvObject::Include(inc) => {
-                let kb = resolve_include(&FsSource, &self.file, &inc.file).and_then(|p| {
-                    let text = std::fs::read_to_string(&p).ok()?;
-                    crate::config::kinbody::parse_kinbody_file(&p.display().to_string(), &text).ok()
-                });
-                match kb {
-                    Some(kb) => self.kinbody_aabb(&kb, &inc.pose.mul(&kb.pose)),
-                    None => Aabb::EMPTY,
-                }
-            }
+        match self.placed_kinbody(i) {
+            Some((kb, pose)) => self.kinbody_aabb(&kb, &pose),
+            None => Aabb::EMPTY,
         }
     }
 
@@ -776,6 +872,39 @@ mod tests {
         e.drag_to(2.0, 2.0).unwrap();
         let z = e.pose(Selected::Object(s)).unwrap().translation[2];
         assert!((z - 0.1).abs() < 1e-9, "{z}");
+    }
+
+    #[test]
+    fn an_object_on_the_robots_start_pose_is_a_warning() {
+        let mut e = editor();
+        let sim = crate::control::load_simulation("configs/demo.simulation.xml").unwrap();
+        assert!(
+            e.robot_overlaps(&sim.robot).is_empty(),
+            "the floor only touches it"
+        );
+        e.add(&LibraryItem::Box, 0.0, 0.15);
+        let w = e.robot_overlaps(&sim.robot);
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(w[0].contains("overlaps the robot's start pose"), "{w:?}");
+        e.drag_to(1.0, 1.0).unwrap();
+        assert!(e.robot_overlaps(&sim.robot).is_empty());
+    }
+
+    #[test]
+    fn the_shipped_environments_leave_their_robots_room() {
+        for config in [
+            "configs/demo.simulation.xml",
+            "configs/experiment2_sine_only.simulation.xml",
+            "configs/snake16py_stairs.simulation.xml",
+            "configs/snake8py_slope.simulation.xml",
+            "configs/gait_from_scratch_slope.simulation.xml",
+        ] {
+            let sim = crate::control::load_simulation(config).unwrap();
+            let env = sim.environment.file.clone().unwrap();
+            let mut e = EnvEditor::load(&env).unwrap();
+            let w = e.robot_overlaps(&sim.robot);
+            assert!(w.is_empty(), "{config}: {w:?}");
+        }
     }
 
     #[test]

@@ -15,8 +15,9 @@ use crate::gui::setup::state::{SetupState, Status, Tool};
 /// Seconds of the preview run.
 pub const PREVIEW_SECONDS: f64 = 5.0;
 
-/// The library and scene list (left panel).
-pub fn show_library(ui: &mut egui::Ui, state: &mut SetupState) {
+/// The library and scene list (left panel); `overlaps` are the objects the robot would
+/// start inside.
+pub fn show_library(ui: &mut egui::Ui, state: &mut SetupState, overlaps: &[String]) {
     ui.heading("Object library");
     ui.label("Drag an object onto a 3D view; it lands on the ground or on what is below.");
     let items = state.library.clone();
@@ -45,6 +46,9 @@ pub fn show_library(ui: &mut egui::Ui, state: &mut SetupState) {
     }
     for e in state.env().mesh_errors() {
         ui.colored_label(egui::Color32::from_rgb(230, 80, 60), e);
+    }
+    for w in overlaps {
+        ui.colored_label(egui::Color32::from_rgb(230, 140, 20), format!("⚠ {w}"));
     }
     ui.separator();
     ui.horizontal(|ui| {

@@ -223,7 +223,9 @@ fn draw_ui(
         egui::Panel::left("library")
             .resizable(true)
             .default_size(250.0)
-            .show(&mut root, |ui| editor_view::show_library(ui, state));
+            .show(&mut root, |ui| {
+                editor_view::show_library(ui, state, &cache.overlaps)
+            });
     }
     match state.tool {
         Tool::Wizard => {

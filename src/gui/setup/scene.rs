@@ -39,6 +39,8 @@ pub struct SceneCache {
     expert_env: Option<(std::path::PathBuf, Option<EnvEditor>)>,
     /// The robot preview, or why there is none.
     pub robot: Option<Result<RobotModel, String>>,
+    /// Objects of the edited environment the robot would start inside (warnings).
+    pub overlaps: Vec<String>,
     meshes: HashMap<String, Handle<Mesh>>,
     /// Mesh files read for `trimesh` geometries (a file that fails to load is not drawn; the
     /// environment editor reports why).
@@ -102,6 +104,10 @@ pub fn sync_scene(
         Some(state.env().clone())
     } else {
         cache.expert_env.as_ref().and_then(|(_, e)| e.clone())
+    };
+    cache.overlaps = match (&shown_env, &robot) {
+        (Some(env), Some(r)) if editing => env.clone().robot_overlaps(r),
+        _ => Vec::new(),
     };
     let cache = &mut *cache;
     let mut spawner = Spawner {

@@ -56,7 +56,9 @@ pub struct VideoReport {
     pub fps: u32,
     /// Width and height.
     pub size: (u32, u32),
-    /// Horizontal displacement of the robot's centre of mass over the video (m).
+    /// Simulated time of the last frame (frame k shows time k / fps).
+    pub last_frame_time: f64,
+    /// Horizontal displacement of the robot's centre of mass up to the last frame (m).
     pub displacement: f64,
 }
 
@@ -72,14 +74,15 @@ impl std::fmt::Display for VideoReport {
         };
         writeln!(
             f,
-            "{what} {}: {} frames, {}x{} at {} fps, {} s simulated; displacement {:.4} m",
+            "{what} {}: {} frames, {}x{} at {} fps, {} s; displacement {:.4} m at the last frame ({:.3} s)",
             self.written.path.display(),
             self.written.frames,
             self.size.0,
             self.size.1,
             self.fps,
             self.seconds,
-            self.displacement
+            self.displacement,
+            self.last_frame_time
         )
     }
 }
@@ -123,6 +126,7 @@ pub fn record_video(req: &VideoRequest) -> Result<VideoReport, String> {
         written,
         notice,
         seconds: frames as f64 / f64::from(req.fps),
+        last_frame_time: (frames - 1) as f64 / f64::from(req.fps),
         fps: req.fps,
         size: req.size,
         displacement: crate::measure::ground_distance(start, end),
@@ -154,13 +158,18 @@ fn render(
 ) -> Result<[f64; 3], String> {
     let mut app = video_app(session);
     let target = render_target(&mut app, req.size);
+    // Closer than the window's default view: the robot fills the frame.
+    let orbit = OrbitCamera {
+        distance: 0.75,
+        ..OrbitCamera::default()
+    };
     app.world_mut().spawn((
         Name::new("video camera"),
         VideoCamera,
         Camera3d::default(),
         RenderTarget::from(target.clone()),
-        OrbitCamera::default().transform(),
-        OrbitCamera::default(),
+        orbit.transform(),
+        orbit,
     ));
     let mut next = 0;
     for k in 0..frames {
