@@ -119,6 +119,14 @@ impl Composition {
         })
     }
 
+    /// [`Composition::open`] after loading the simulation with everything it includes, as
+    /// the control window and `proleg check` do: a broken file gives the same located
+    /// error (`file:line:col: cause`).
+    pub fn open_checked(path: &Path, registry: &ModuleRegistry) -> Result<Composition, String> {
+        crate::control::load_simulation_in(path, registry).map_err(|e| e.to_string())?;
+        Composition::open(path)
+    }
+
     /// The simulation file, naming its parts relative to `path`'s folder.
     pub fn to_file(&self, path: &Path) -> SimulationFile {
         let dir = path.parent().unwrap_or(Path::new(""));

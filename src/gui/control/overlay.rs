@@ -48,10 +48,17 @@ impl RobotOverlay {
     }
 }
 
-/// Draws the overlay in the viewer's top-left corner.
-pub fn show(ctx: &egui::Context, o: &RobotOverlay, toolbar: &ToolbarState, follow: &mut bool) {
+/// Draws the overlay in the viewer's top-left corner, below the toolbar (whose bottom is
+/// at `top`).
+pub fn show(
+    ctx: &egui::Context,
+    o: &RobotOverlay,
+    toolbar: &ToolbarState,
+    follow: &mut bool,
+    top: f32,
+) {
     egui::Window::new("Robot")
-        .anchor(egui::Align2::LEFT_TOP, [8.0, 80.0])
+        .anchor(egui::Align2::LEFT_TOP, [8.0, top + 8.0])
         .resizable(false)
         .collapsible(true)
         .show(ctx, |ui| {

@@ -5,6 +5,7 @@
 //! ```text
 //! wait 5                         # frames
 //! start | pause | restart
+//! load CONFIG                    # the toolbar's Load (a broken file: its error, the world kept)
 //! run-until 3.0                  # simulated seconds (starts the simulation)
 //! step-to 10                     # step, paused, to exactly this simulated second
 //! speed 0                        # real-time factor (0: as fast as possible)
@@ -58,6 +59,8 @@ pub enum Command {
     Pause,
     /// `restart`.
     Restart,
+    /// `load FILE`: the toolbar's Load.
+    Load(PathBuf),
     /// `run-until S`: runs until simulated second S.
     RunUntil(f64),
     /// `step-to S`: step, paused, to exactly this simulated time (seconds, to the step): a replay's
@@ -194,6 +197,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             "start" => Command::Start,
             "pause" => Command::Pause,
             "restart" => Command::Restart,
+            "load" if words.len() == 2 => Command::Load(PathBuf::from(words[1])),
             "run-until" => Command::RunUntil(num(words.get(1), "seconds")?),
             "step-to" => Command::StepTo(num(words.get(1), "seconds")?),
             "speed" => Command::Speed(num(words.get(1), "real-time factor")?.max(0.0)),

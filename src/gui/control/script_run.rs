@@ -45,6 +45,7 @@ fn carry_out(
         | C::Start
         | C::Pause
         | C::Restart
+        | C::Load(_)
         | C::RunUntil(_)
         | C::StepTo(_)
         | C::Speed(_) => simulation_command(c, script, session),
@@ -110,6 +111,10 @@ fn simulation_command(
         }
         Command::Restart => {
             session.restart();
+            Flow::Next
+        }
+        Command::Load(path) => {
+            session.load(&path);
             Flow::Next
         }
         Command::RunUntil(t) if session.sim_time() + 1e-9 < t => {
@@ -464,6 +469,9 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
     ];
     optimizer_pairs(&mut pairs, session, views);
     pairs.push(("recording", views.recorder.recording().to_string()));
+    // One line per key: an error's "included from" lines are joined by \n.
+    let error = session.error.clone().unwrap_or_default();
+    pairs.push(("error", error.replace('\n', "\\n")));
     if let Some((file, frames)) = &views.recorder.last {
         pairs.push(("recording_file", file.display().to_string()));
         pairs.push(("recorded_frames", frames.to_string()));

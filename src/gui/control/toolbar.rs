@@ -158,8 +158,15 @@ pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut ToolbarStat
             state.speed,
             state.fps,
         ));
-        if let Some(e) = &session.error {
-            ui.colored_label(egui::Color32::LIGHT_RED, e);
-        }
     });
+    // A failed load or restart: the located error on its own rows (the world shown is the
+    // previous one), until dismissed.
+    if let Some(e) = session.error.clone() {
+        ui.horizontal(|ui| {
+            if ui.small_button("Dismiss").clicked() {
+                session.error = None;
+            }
+            ui.add(egui::Label::new(egui::RichText::new(e).color(egui::Color32::LIGHT_RED)).wrap());
+        });
+    }
 }

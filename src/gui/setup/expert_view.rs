@@ -75,6 +75,16 @@ pub fn edit_in_wizard(state: &mut SetupState) {
     }
 }
 
+/// Opens the composition of the simulation file `path`, checked as the control window
+/// loads it; a broken file keeps the current composition and shows the located error.
+pub fn open(state: &mut SetupState, path: &std::path::Path) {
+    let r = Composition::open_checked(path, &state.wizard.registry);
+    state.expert.check = r.as_ref().err().map(|e| Err(e.clone()));
+    if let Some(c) = state.report(r, |_| format!("opened {}", path.display())) {
+        state.expert.composition = c;
+    }
+}
+
 /// The expert dialog.
 pub fn show(ui: &mut egui::Ui, state: &mut SetupState) {
     ui.heading("Compose a simulation from existing files");
@@ -114,10 +124,7 @@ pub fn show(ui: &mut egui::Ui, state: &mut SetupState) {
             .on_hover_text("Load the composition of this simulation file")
             .clicked()
         {
-            let r = Composition::open(&path);
-            if let Some(c) = state.report(r, |_| format!("opened {}", path.display())) {
-                state.expert.composition = c;
-            }
+            open(state, &path);
         }
         if ui.button("Check").clicked() {
             state.expert.check = Some(

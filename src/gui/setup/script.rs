@@ -16,6 +16,7 @@
 //! env-save PATH | env-load PATH        # the standalone editor's file
 //! expert robot|actuation|environment|optimizer PATH|none
 //! expert-save PATH
+//! expert-open PATH                     # the expert dialog's Open (a broken file: its error)
 //! expert-edit                          # hand the composition to the wizard
 //! preview                              # run the robot in the scene for 5 s
 //! zoom 3                               # height of the top and side views (m)
@@ -89,6 +90,8 @@ pub enum Command {
     ExpertSave(PathBuf),
     /// `expert-edit`: hands the composition to the wizard.
     ExpertEdit,
+    /// `expert-open FILE`: the expert dialog's Open.
+    ExpertOpen(PathBuf),
     /// `preview`: runs the wizard's robot for 5 s.
     Preview,
     /// `zoom H`: height of the top and side views (m).
@@ -185,6 +188,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             "expert" => Command::Expert(arg(1, "part")?, arg(2, "path or none")?),
             "expert-save" => Command::ExpertSave(PathBuf::from(arg(1, "path")?)),
             "expert-edit" => Command::ExpertEdit,
+            "expert-open" => Command::ExpertOpen(PathBuf::from(arg(1, "path")?)),
             "preview" => Command::Preview,
             "zoom" => Command::Zoom(num(1, "view height (m)")? as f32),
             "screenshot" => Command::Screenshot(PathBuf::from(arg(1, "path")?)),

@@ -91,9 +91,10 @@ fn carry_out(
         | Command::Redo
         | Command::EnvSave(_)
         | Command::EnvLoad(_) => return editor_command(c, state),
-        Command::Expert(..) | Command::ExpertSave(_) | Command::ExpertEdit => {
-            expert_command(c, state)?
-        }
+        Command::Expert(..)
+        | Command::ExpertSave(_)
+        | Command::ExpertEdit
+        | Command::ExpertOpen(_) => expert_command(c, state)?,
         Command::Preview => {
             preview(state);
             if let Some(Err(e)) = &state.preview {
@@ -228,6 +229,10 @@ fn expert_command(c: Command, state: &mut SetupState) -> Result<(), String> {
             state.expert.composition.save(&p, &state.wizard.registry)?;
             state.expert.check = Some(state.expert.composition.check(&p, &state.wizard.registry));
         }
+        Command::ExpertOpen(p) => {
+            state.expert.path = p.display().to_string();
+            crate::gui::setup::expert_view::open(state, &p);
+        }
         Command::ExpertEdit => {
             crate::gui::setup::expert_view::edit_in_wizard(state);
             if let Some(Status::Error(e)) = &state.status {
@@ -271,15 +276,19 @@ fn state_lines(state: &mut SetupState, modules: &ModuleEditor) -> String {
             "status",
             match &state.status {
                 Some(Status::Info(s)) => s.clone(),
-                Some(Status::Error(s)) => format!("error: {s}"),
+                Some(Status::Error(s)) => format!("error: {}", s.replace('\n', "\\n")),
                 None => String::new(),
             },
+        ),
+        (
+            "expert_robot",
+            state.expert.composition.robot.display().to_string(),
         ),
         (
             "expert_check",
             match &state.expert.check {
                 Some(Ok(s)) => s.clone(),
-                Some(Err(e)) => format!("error: {e}"),
+                Some(Err(e)) => format!("error: {}", e.replace('\n', "\\n")),
                 None => String::new(),
             },
         ),
