@@ -11,11 +11,13 @@
 //!   [`plots`], [`overlay`], [`inspect`], [`optimizer_view`],
 //!   [`remote_view`]: the egui views
 //! - [`script`], [`script_run`]: scripted driving for tests and screenshots
+//! - [`keys`]: keyboard shortcuts; [`recorder`]: the Record button
 
 pub mod assign_view;
 pub mod camera;
 pub mod debug_view;
 pub mod inspect;
+pub mod keys;
 pub mod optimizer_view;
 pub mod overlay;
 pub mod params;
@@ -209,6 +211,7 @@ impl Plugin for ControlWindowPlugin {
             .add_systems(
                 Update,
                 (
+                    keys::shortcuts,
                     picking::apply_moves,
                     remote_view::apply_remote,
                     robot_view::exchange,

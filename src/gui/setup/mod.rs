@@ -11,6 +11,7 @@
 pub mod cameras;
 pub mod editor_view;
 pub mod expert_view;
+pub mod keys;
 pub mod picking;
 pub mod preview;
 pub mod properties_view;
@@ -134,6 +135,7 @@ impl Plugin for SetupWindowPlugin {
             .add_systems(
                 Update,
                 (
+                    keys::shortcuts,
                     picking::apply_drop,
                     scene::sync_scene,
                     scene::draw_selection,
