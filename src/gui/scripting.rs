@@ -18,6 +18,8 @@ pub struct Pacing {
     pub waiting: u32,
     /// A screenshot being written: path and frames waited for it.
     pub pending_shot: Option<(PathBuf, u32)>,
+    /// Frames a `wait-for` has polled its condition.
+    pub polls: u32,
 }
 
 impl Pacing {

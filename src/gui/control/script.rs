@@ -7,6 +7,8 @@
 //! start | pause | restart
 //! load CONFIG                    # the toolbar's Load (a broken file: its error, the world kept)
 //! run-until 3.0                  # simulated seconds (starts the simulation)
+//! wait-for running|paused|debug 600   # until the state holds (e.g. after a real key press
+//!                                # from xdotool), at most this many frames
 //! step-to 10                     # step, paused, to exactly this simulated second
 //! speed 0                        # real-time factor (0: as fast as possible)
 //! set PatternGenerator_sinusoidal Amplitude 20 [JOINT]   # JOINT as in the robot file: 1 = J1
@@ -63,6 +65,8 @@ pub enum Command {
     Load(PathBuf),
     /// `run-until S`: runs until simulated second S.
     RunUntil(f64),
+    /// `wait-for STATE FRAMES`: until `running`, `paused` or `debug` holds.
+    WaitFor(String, u32),
     /// `step-to S`: step, paused, to exactly this simulated time (seconds, to the step): a replay's
     /// episode ends where the optimization's did.
     StepTo(f64),
@@ -199,6 +203,14 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             "restart" => Command::Restart,
             "load" if words.len() == 2 => Command::Load(PathBuf::from(words[1])),
             "run-until" => Command::RunUntil(num(words.get(1), "seconds")?),
+            "wait-for"
+                if words.len() == 3 && ["running", "paused", "debug"].contains(&words[1]) =>
+            {
+                Command::WaitFor(
+                    words[1].to_string(),
+                    num(words.get(2), "frames")?.max(1.0) as u32,
+                )
+            }
             "step-to" => Command::StepTo(num(words.get(1), "seconds")?),
             "speed" => Command::Speed(num(words.get(1), "real-time factor")?.max(0.0)),
             "set" => {

@@ -76,7 +76,7 @@ fn carry_out(
         | C::ReplayBest
         | C::Results(_)
         | C::Replay { .. } => tool_command(c, session, views),
-        C::Screenshot(_) | C::State(_) | C::Record(_) | C::Quit => {
+        C::Screenshot(_) | C::State(_) | C::Record(_) | C::WaitFor(..) | C::Quit => {
             output_command(c, commands, script, session, views)
         }
     }
@@ -420,6 +420,22 @@ fn output_command(
             std::fs::write(&path, state_lines(session, views))
                 .map_err(|e| format!("{}: {e}", path.display()))?;
             Flow::Next
+        }
+        Command::WaitFor(what, frames) => {
+            let holds = match what.as_str() {
+                "running" => session.running,
+                "paused" => !session.running,
+                _ => views.debug.0,
+            };
+            script.pacing.polls += 1;
+            if holds {
+                script.pacing.polls = 0;
+                Flow::Next
+            } else if script.pacing.polls > frames {
+                return Err(format!("waited {frames} frames for {what}"));
+            } else {
+                Flow::Again
+            }
         }
         Command::Record(Some(file)) => {
             views.recorder.start(&session.path, file);

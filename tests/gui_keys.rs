@@ -1,0 +1,108 @@
+//! A real keyboard and mouse on the control window: xdotool (Debian's, installed by the
+//! test command) clicks into the viewer of `proleg gui` on an Xvfb server of the test's
+//! own and presses Space, then D; the window's script waits until the simulation runs
+//! and the debug view is on, so nothing depends on timing.
+#![cfg(feature = "gui")]
+
+mod common;
+
+use std::io::BufRead;
+use std::process::{Child, Command, Stdio};
+
+use common::window::{get, scratch, state};
+
+/// An Xvfb server on a display of its own, stopped when dropped.
+struct Xvfb(Child, String);
+
+impl Xvfb {
+    /// Starts a server on a free display; returns once it accepts clients (`-displayfd`
+    /// writes the display number then).
+    fn start() -> Xvfb {
+        let mut child = Command::new("Xvfb")
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                "1280x800x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("Xvfb (Debian's xvfb)");
+        let stdout = child.stdout.take().expect("Xvfb's output");
+        let mut line = String::new();
+        std::io::BufReader::new(stdout)
+            .read_line(&mut line)
+            .expect("Xvfb's display");
+        Xvfb(child, format!(":{}", line.trim()))
+    }
+
+    /// Runs xdotool on this display (at most 5 minutes: a window that never shows fails).
+    fn xdotool(&self, args: &[&str]) -> String {
+        let out = Command::new("timeout")
+            .arg("300")
+            .arg("xdotool")
+            .args(args)
+            .env("DISPLAY", &self.1)
+            .output()
+            .expect("xdotool (Debian's xdotool; scripts/test installs it)");
+        assert!(
+            out.status.success(),
+            "xdotool {args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+#[test]
+fn space_and_d_pressed_on_a_real_keyboard_start_the_run_and_the_debug_view() {
+    let dir = scratch("keys");
+    let (st, script) = (dir.join("state.txt"), dir.join("keys.script"));
+    std::fs::write(
+        &script,
+        format!(
+            "wait-for running 600\nwait-for debug 600\nstate {}\nquit\n",
+            st.display()
+        ),
+    )
+    .unwrap();
+    let x = Xvfb::start();
+    // xdotool's --sync search waits for the window to show.
+    let window = Command::new(env!("CARGO_BIN_EXE_proleg"))
+        .args(["gui", "configs/demo.simulation.xml", "--script"])
+        .arg(&script)
+        .env("DISPLAY", &x.1)
+        .env("XDG_RUNTIME_DIR", scratch("keys-xdg"))
+        .current_dir(common::root())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("proleg gui");
+    let id = x.xdotool(&["search", "--sync", "--onlyvisible", "--name", "proleg"]);
+    let id = id.lines().next().expect("the window").to_string();
+    // A click in the viewer focuses the window (no window manager here), then the keys.
+    x.xdotool(&["windowfocus", "--sync", &id]);
+    x.xdotool(&["mousemove", "--window", &id, "600", "300", "click", "1"]);
+    x.xdotool(&["keydown", "space", "keyup", "space"]);
+    x.xdotool(&["keydown", "d", "keyup", "d"]);
+    let out = window.wait_with_output().expect("the window");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let s = state(&st);
+    assert_eq!(get(&s, "running"), "true");
+    assert_eq!(get(&s, "debug_view"), "true");
+}
