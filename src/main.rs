@@ -184,7 +184,7 @@ enum DataCommand {
         #[command(flatten)]
         pick: Selection,
         /// Image size in pixels, WIDTHxHEIGHT.
-        #[arg(long, default_value = "1200x700", value_parser = parse_size)]
+        #[arg(long, default_value = "1200x700", value_parser = cli::parse_size)]
         size: (u32, u32),
     },
 }
@@ -202,19 +202,6 @@ struct Selection {
     /// Output file.
     #[arg(short, long)]
     output: PathBuf,
-}
-
-/// Parses `WIDTHxHEIGHT`.
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s
-        .split_once('x')
-        .ok_or_else(|| format!("{s:?}: expected WIDTHxHEIGHT, e.g. 1200x700"))?;
-    let n = |t: &str| {
-        t.trim()
-            .parse::<u32>()
-            .map_err(|_| format!("{s:?}: {t:?} is not a pixel count"))
-    };
-    Ok((n(w)?, n(h)?))
 }
 
 /// Prints a command's output, or its error, and gives the exit code.
@@ -271,7 +258,7 @@ fn video(req: &cli::run::RunRequest) -> Result<String, String> {
             config: req.config.clone(),
             out,
             fps: req.fps,
-            size: proleg::gui::video::parse_size(&req.size)?,
+            size: req.size,
             seconds: req.duration,
         };
         proleg::gui::video::record_video(&request).map(|r| r.to_string())

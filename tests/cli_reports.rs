@@ -18,7 +18,7 @@ fn request(duration: f64) -> RunRequest {
         physics: String::new(),
         video: None,
         fps: 30,
-        size: "1280x720".into(),
+        size: (1280, 720),
     }
 }
 

@@ -110,7 +110,11 @@ fn bad_video_requests_are_refused_with_the_reason() {
         .output()
         .expect("proleg");
     assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--size big"));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--size") && err.contains("WIDTHxHEIGHT"),
+        "{err}"
+    );
 }
 
 #[test]

@@ -23,3 +23,17 @@ pub mod robot;
 pub mod robustness;
 pub mod run;
 pub mod worker;
+
+/// `WIDTHxHEIGHT` in pixels (image and video sizes of `proleg data plot`, `proleg run
+/// --video`).
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("{s:?}: expected WIDTHxHEIGHT, e.g. 1280x720"))?;
+    let n = |t: &str| {
+        t.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("{s:?}: {t:?} is not a pixel count"))
+    };
+    Ok((n(w)?, n(h)?))
+}

@@ -47,8 +47,8 @@ pub struct RunRequest {
     #[arg(long, default_value_t = 30)]
     pub fps: u32,
     /// Video size, WIDTHxHEIGHT.
-    #[arg(long, default_value = "1280x720")]
-    pub size: String,
+    #[arg(long, default_value = "1280x720", value_parser = crate::cli::parse_size)]
+    pub size: (u32, u32),
 }
 
 /// What a run did.

@@ -325,16 +325,3 @@ fn follow_robot(
         *t = orbit.transform();
     }
 }
-
-/// `WIDTHxHEIGHT` as numbers.
-pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("--size {s}: expected WIDTHxHEIGHT, e.g. 1280x720"))?;
-    let n = |v: &str| {
-        v.trim()
-            .parse::<u32>()
-            .map_err(|_| format!("--size {s}: expected WIDTHxHEIGHT, e.g. 1280x720"))
-    };
-    Ok((n(w)?, n(h)?))
-}
