@@ -168,16 +168,11 @@ impl SqliteStore {
                  FROM runs WHERE id = ?1",
                 params![run],
                 |r| {
-                    let genes: String = r.get(5)?;
-                    let info = RunInfo {
-                        config: r.get(0)?,
-                        algorithm: r.get(1)?,
-                        seed: r.get::<_, i64>(2)? as u64,
-                        fitness: r.get(3)?,
-                        duration: r.get(4)?,
-                        genes: genes.split('\t').map(String::from).collect(),
-                    };
-                    Ok((info, r.get::<_, String>(6)?, r.get::<_, i64>(7)? != 0))
+                    Ok((
+                        run_info(r, 0)?,
+                        r.get::<_, String>(6)?,
+                        r.get::<_, i64>(7)? != 0,
+                    ))
                 },
             )
             .optional()
@@ -320,17 +315,9 @@ impl SqliteStore {
             .map_err(|e| self.fail(e))?;
         let rows = st
             .query_map([], |r| {
-                let genes: String = r.get(6)?;
                 Ok(RunRow {
                     id: r.get(0)?,
-                    info: RunInfo {
-                        config: r.get(1)?,
-                        algorithm: r.get(2)?,
-                        seed: r.get::<_, i64>(3)? as u64,
-                        fitness: r.get(4)?,
-                        duration: r.get(5)?,
-                        genes: genes.split('\t').map(str::to_string).collect(),
-                    },
+                    info: run_info(r, 1)?,
                     started: r.get(7)?,
                     finished: r.get::<_, i64>(8)? != 0,
                     evaluations: r.get::<_, i64>(9)? as u64,
@@ -342,6 +329,20 @@ impl SqliteStore {
         rows.collect::<Result<Vec<_>, _>>()
             .map_err(|e| self.fail(e))
     }
+}
+
+/// A run's settings from a row whose columns `first..first + 6` are config, algorithm,
+/// seed, fitness, duration and the tab-separated genes.
+fn run_info(r: &rusqlite::Row, first: usize) -> rusqlite::Result<RunInfo> {
+    let genes: String = r.get(first + 5)?;
+    Ok(RunInfo {
+        config: r.get(first)?,
+        algorithm: r.get(first + 1)?,
+        seed: r.get::<_, i64>(first + 2)? as u64,
+        fitness: r.get(first + 3)?,
+        duration: r.get(first + 4)?,
+        genes: genes.split('\t').map(str::to_string).collect(),
+    })
 }
 
 #[cfg(test)]
