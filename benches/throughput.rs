@@ -6,7 +6,7 @@
 fn main() {
     let config =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/demo.simulation.xml");
-    match proleg::bench::report(&config, 10.0, &[8, 31], "") {
+    match proleg::bench::report(&config, 10.0, &[8, 31], "", None) {
         Ok(text) => print!("{text}"),
         Err(e) => {
             eprintln!("error: {e}");

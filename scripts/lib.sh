@@ -55,3 +55,38 @@ ensure_python() {
 # The control window: gamepad support builds against libudev; GUI tests render under Xvfb
 # with Mesa's software Vulkan (llvmpipe); videos are encoded (and tested) by ffmpeg.
 GUI_PACKAGES=(libudev-dev xvfb xauth mesa-vulkan-drivers libvulkan1 ffmpeg)
+
+# MuJoCo, the second physics engine (`--engine mujoco`): its C library and headers from the
+# Python registry's mujoco-core wheel, unpacked under ~/.local/share/proleg/mujoco (lib/,
+# include/). PROLEG_MUJOCO overrides where proleg looks for the library (a file or a folder).
+MUJOCO_VERSION=4.0.0
+ensure_mujoco() {
+  local dir="${PROLEG_MUJOCO_DIR:-$HOME/.local/share/proleg/mujoco}"
+  if [ ! -f "$dir/lib/libmujoco.so.$MUJOCO_VERSION" ]; then
+    echo "installing MuJoCo $MUJOCO_VERSION (mujoco-core) into $dir"
+    local tmp
+    tmp=$(mktemp -d)
+    python3 -m pip download -q --no-deps --only-binary=:all: -d "$tmp" "mujoco-core==$MUJOCO_VERSION"
+    python3 - "$tmp" "$dir" "$MUJOCO_VERSION" <<'PY'
+import glob, os, shutil, sys, zipfile
+tmp, dest, version = sys.argv[1:]
+wheel = glob.glob(os.path.join(tmp, "mujoco_core-*.whl"))[0]
+lib, inc = os.path.join(dest, "lib"), os.path.join(dest, "include")
+shutil.rmtree(dest, ignore_errors=True)
+os.makedirs(lib)
+with zipfile.ZipFile(wheel) as z:
+    for name in z.namelist():
+        if name == f"mujoco/libmujoco.so.{version}":
+            with z.open(name) as src, open(os.path.join(lib, os.path.basename(name)), "wb") as dst:
+                shutil.copyfileobj(src, dst)
+        elif name.startswith("mujoco/include/") and not name.endswith("/"):
+            path = os.path.join(inc, name[len("mujoco/include/"):])
+            os.makedirs(os.path.dirname(path), exist_ok=True)
+            with z.open(name) as src, open(path, "wb") as dst:
+                shutil.copyfileobj(src, dst)
+PY
+    rm -rf "$tmp"
+  fi
+  export PROLEG_MUJOCO_DIR="$dir"
+  export PROLEG_MUJOCO="${PROLEG_MUJOCO:-$dir/lib/libmujoco.so.$MUJOCO_VERSION}"
+}

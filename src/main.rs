@@ -42,6 +42,9 @@ enum Command {
         /// Gamepad bindings (`*.remote.xml`; default: configs/remote/default.remote.xml).
         #[arg(long)]
         remote: Option<PathBuf>,
+        /// The physics engine instead of the one the simulation file names (rapier, mujoco).
+        #[arg(long)]
+        engine: Option<proleg::config::simulation::EngineKind>,
     },
     /// Open the configuration window: beginner wizard, expert composition, environment editor.
     Wizard {
@@ -97,6 +100,10 @@ enum Command {
         /// contact_recycling, coulomb_friction, pgs_iterations, contact_hz, halfspace_floor).
         #[arg(long, default_value = "")]
         physics: String,
+        /// The physics engine instead of the one the simulation file names (rapier,
+        /// mujoco); on MuJoCo the figures end with MuJoCo's own rollout of the scenario.
+        #[arg(long)]
+        engine: Option<proleg::config::simulation::EngineKind>,
     },
     /// Import a URDF robot: a robot file with its meshes, plus a floor, a sine on every
     /// joint and a simulation file, checked; what cannot be represented is listed.
@@ -167,6 +174,9 @@ enum ExportCommand {
         /// to OUT.gait.tsv (for scripts/mujoco_gait.py), printing proleg's displacement.
         #[arg(long, value_name = "SECONDS")]
         gait: Option<f64>,
+        /// With --gait: the engine that runs it instead of the file's (rapier, mujoco).
+        #[arg(long, requires = "gait")]
+        engine: Option<proleg::config::simulation::EngineKind>,
     },
 }
 
@@ -231,17 +241,18 @@ const DEMO_CONFIG: &str = "configs/demo.simulation.xml";
 /// The control window, or why there is none in this build.
 fn gui(
     config: &std::path::Path,
+    engine: Option<proleg::config::simulation::EngineKind>,
     replay: Option<proleg::optimize::replay::Replay>,
     script: Option<&std::path::Path>,
     remote: Option<&std::path::Path>,
 ) -> Result<String, String> {
     #[cfg(feature = "gui")]
     {
-        proleg::gui::run(config, replay, script, remote).map(|()| String::new())
+        proleg::gui::run(config, engine, replay, script, remote).map(|()| String::new())
     }
     #[cfg(not(feature = "gui"))]
     {
-        let _ = (config, replay, script, remote);
+        let _ = (config, engine, replay, script, remote);
         Err(NO_WINDOWS.into())
     }
 }
@@ -260,6 +271,7 @@ fn video(req: &cli::run::RunRequest) -> Result<String, String> {
             fps: req.fps,
             size: req.size,
             seconds: req.duration,
+            engine: req.engine,
         };
         proleg::gui::video::record_video(&request).map(|r| r.to_string())
     }
@@ -312,7 +324,13 @@ fn main() -> ExitCode {
     // The module types every command may use: the standard library and the plugins.
     let registry = proleg::plugin_host::registry();
     let Some(command) = cli.command else {
-        return finish(gui(std::path::Path::new(DEMO_CONFIG), None, None, None));
+        return finish(gui(
+            std::path::Path::new(DEMO_CONFIG),
+            None,
+            None,
+            None,
+            None,
+        ));
     };
     finish(match command {
         Command::Gui {
@@ -323,13 +341,14 @@ fn main() -> ExitCode {
             episode,
             script,
             remote,
+            engine,
         } => match (replay, run) {
             (Some(store), Some(run)) => proleg::optimize::replay::Which::parse(&eval)
                 .and_then(|which| {
                     proleg::optimize::replay::replay_from(&store, run, which, episode, &registry)
                 })
-                .and_then(|r| gui(&config, Some(r), script.as_deref(), remote.as_deref())),
-            _ => gui(&config, None, script.as_deref(), remote.as_deref()),
+                .and_then(|r| gui(&config, None, Some(r), script.as_deref(), remote.as_deref())),
+            _ => gui(&config, engine, None, script.as_deref(), remote.as_deref()),
         },
         Command::Wizard {
             configs,
@@ -353,14 +372,15 @@ fn main() -> ExitCode {
             convergence,
             rungs,
             physics,
+            engine,
         } => match (module, convergence) {
             (Some(module), _) => {
                 proleg::bench::modules::report(&config, seconds, &reference, &module, &registry)
             }
-            (None, Some(config)) => {
-                proleg::bench::convergence::run(&config, seconds, rungs, &physics, &registry)
-            }
-            (None, None) => proleg::bench::report(&config, seconds, &batches, &physics),
+            (None, Some(config)) => proleg::bench::convergence::run(
+                &config, seconds, rungs, &physics, engine, &registry,
+            ),
+            (None, None) => proleg::bench::report(&config, seconds, &batches, &physics, engine),
         },
         Command::Run(request) if request.video.is_some() => video(&request),
         Command::Run(request) => cli::run::run(&request, &registry).map(|r| r.to_string()),
@@ -398,8 +418,16 @@ fn main() -> ExitCode {
             cli::interop::import(&urdf, &out, &registry).map(|r| r.to_string())
         }
         Command::Export {
-            command: ExportCommand::Mjcf { config, out, gait },
-        } => cli::interop::export_mjcf(&config, &out, gait, &registry).map(|r| r.to_string()),
+            command:
+                ExportCommand::Mjcf {
+                    config,
+                    out,
+                    gait,
+                    engine,
+                },
+        } => {
+            cli::interop::export_mjcf(&config, &out, gait, engine, &registry).map(|r| r.to_string())
+        }
         Command::Check { config } => proleg::control::load_simulation_in(&config, &registry)
             .map(|sim| format!("{}ok\n", proleg::config::summary::summary(&sim)))
             .map_err(|e| e.to_string()),

@@ -280,6 +280,7 @@ fn cross_engine(config: &str, seconds: f64, name: &str) -> (f64, f64) {
         &common::root().join(config),
         &out,
         Some(seconds),
+        None,
         &ModuleRegistry::standard(),
     )
     .unwrap();
@@ -335,7 +336,7 @@ fn a_height_field_terrain_and_an_imported_mesh_robot_load_and_run_in_mujoco() {
     .unwrap();
     let sim = report.import.simulation_file.unwrap();
     let out = dir.join("laikago.xml");
-    let e = export_mjcf(&sim, &out, Some(1.0), &ModuleRegistry::standard()).unwrap();
+    let e = export_mjcf(&sim, &out, Some(1.0), None, &ModuleRegistry::standard()).unwrap();
     assert_eq!(e.export.assets, 6);
     let script = common::root().join("scripts/mujoco_gait.py");
     let gait = e.gait.unwrap().file;

@@ -97,3 +97,46 @@ fn dependencies_point_one_way() {
     }
     assert!(wrong.is_empty(), "layering broken:\n{}", wrong.join("\n"));
 }
+
+/// Each engine's types stay inside its own module (docs/DESIGN.md §3): rapier's under
+/// `src/sim/engine/rapier/`, MuJoCo's (its bindings, `mjModel`, `mjData`) under
+/// `src/sim/engine/mujoco/`. Everything else reaches physics through `PhysicsEngine`.
+#[test]
+fn engine_types_stay_in_their_engine_module() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let engines: [(&str, &[&str]); 2] = [
+        ("sim/engine/rapier/", &["rapier3d", "rp::"]),
+        (
+            "sim/engine/mujoco/",
+            &["mjModel", "mjData", "mujoco::ffi", "mjContact"],
+        ),
+    ];
+    let mut wrong = Vec::new();
+    for f in &files {
+        let rel = f
+            .strip_prefix(&src)
+            .unwrap()
+            .to_string_lossy()
+            .replace('\\', "/");
+        let text = std::fs::read_to_string(f).unwrap();
+        for (home, words) in engines {
+            if rel.starts_with(home) {
+                continue;
+            }
+            for (n, line) in text.lines().enumerate() {
+                let code = line.split("//").next().unwrap_or("");
+                if let Some(w) = words.iter().find(|w| code.contains(*w)) {
+                    wrong.push(format!("src/{rel}:{}: {w} outside {home}", n + 1));
+                }
+            }
+        }
+    }
+    assert!(files.len() > 50, "found only {} source files", files.len());
+    assert!(
+        wrong.is_empty(),
+        "engine types leaked:\n{}",
+        wrong.join("\n")
+    );
+}

@@ -719,3 +719,71 @@ fn a_server_restart_in_the_middle_of_a_run_costs_nothing() {
         evaluations(pg, &reference, "optimize_shared_restart_sqlite")
     );
 }
+
+#[test]
+fn a_mujoco_run_scores_the_same_through_workers_as_in_one_process_and_a_host_without_mujoco_refuses_it()
+ {
+    if !common::mujoco_here("shared MuJoCo run") {
+        return;
+    }
+    let dir = common::scratch("optimize_shared_mujoco");
+    let reference = dir.join("reference.sqlite").display().to_string();
+    let mut args = ga_args("30", "1", &reference);
+    args.extend(["--engine", "mujoco"]);
+    let (ok, out, err) = common::proleg(&args);
+    assert!(ok, "{err}");
+    let expected = result_lines(&out);
+    assert_eq!(expected.len(), 6, "{out}");
+
+    let pg = server();
+    let url = pg.database("shared_mujoco");
+    let mut args = ga_args("30", "1", &url);
+    args.extend(["--workers", "0", "--engine", "mujoco"]);
+    let mut driver = spawn(pg.proleg(&args));
+    pg.wait_until("shared_mujoco", HAS_STORE, &mut driver);
+    let queued = "SELECT EXISTS (SELECT 1 FROM evaluations WHERE state = 'pending')";
+    pg.wait_until("shared_mujoco", queued, &mut driver);
+    // A host without the library refuses the run and leaves it to the others.
+    let mut lacking = pg.proleg(&[
+        "worker",
+        "--store",
+        &url,
+        "--threads",
+        "1",
+        "--idle-exit",
+        "1",
+    ]);
+    lacking.env("PROLEG_MUJOCO", "/nonexistent/libmujoco.so.4.0.0");
+    let lacking = output(lacking);
+    assert!(lacking.status.success(), "{}", text(&lacking.stderr));
+    let said = format!("{}{}", text(&lacking.stdout), text(&lacking.stderr));
+    assert!(
+        said.contains("runs on MuJoCo, which this host lacks"),
+        "{said}"
+    );
+    assert_eq!(worker_counts(&text(&lacking.stdout)).0, 0, "{said}");
+    let workers: Vec<Child> = (0..2)
+        .map(|_| {
+            spawn(pg.proleg(&[
+                "worker",
+                "--store",
+                &url,
+                "--threads",
+                "1",
+                "--idle-exit",
+                "1",
+            ]))
+        })
+        .collect();
+    let out = driver.wait_with_output().expect("driver");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(result_lines(&text(&out.stdout)), expected);
+    assert_eq!(
+        evaluations(&pg, &url, "optimize_shared_mujoco_pg"),
+        evaluations(&pg, &reference, "optimize_shared_mujoco_sqlite")
+    );
+    for w in workers {
+        let out = w.wait_with_output().expect("worker");
+        assert!(out.status.success(), "{}", text(&out.stderr));
+    }
+}

@@ -153,7 +153,15 @@ fn the_robustness_check_reevaluates_on_fresh_episodes() {
     let registry = ModuleRegistry::standard();
     let ranges = proleg::config::robustness::Robustness::typical();
     let check = |seed| {
-        randomized_check(&store, (1, Which::Best), &ranges, (5, seed), &registry).expect("check")
+        randomized_check(
+            &store,
+            (1, Which::Best),
+            &ranges,
+            (5, seed),
+            None,
+            &registry,
+        )
+        .expect("check")
     };
     let a = check(1000);
     assert_eq!(a.nominal, report.outcome.best_score, "nominal = stored");

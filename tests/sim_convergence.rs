@@ -7,7 +7,8 @@ mod common;
 
 use proleg::bench::convergence::{Convergence, check, report};
 use proleg::control::{ModuleRegistry, load_simulation};
-use proleg::sim::physics_settings::PhysicsSettings;
+use proleg::sim::engine::EngineSettings;
+use proleg::sim::engine::rapier::PhysicsSettings;
 
 const SECONDS: f64 = 8.0;
 const RUNGS: usize = 4;
@@ -15,7 +16,7 @@ const RUNGS: usize = 4;
 fn gate(config: &str) -> Convergence {
     let sim = load_simulation(common::root().join("configs").join(config)).unwrap();
     let registry = ModuleRegistry::standard();
-    let production = PhysicsSettings::for_robot(&sim);
+    let production = EngineSettings::Rapier(PhysicsSettings::for_robot(&sim));
     let c = check(config, &sim, production, SECONDS, RUNGS, &registry).unwrap();
     println!("{}", report(&c));
     assert!(

@@ -1,6 +1,7 @@
-//! Reference trajectories: each reference scenario runs a few seconds and its trajectory
-//! (centre of mass, heading and every joint angle, every 10 steps, as exact bits) is hashed
-//! and compared with the hash stored in `tests/reference/trajectories.tsv`. Any change to
+//! Reference trajectories: each reference scenario runs a few seconds on each engine and
+//! its trajectory (centre of mass, heading and every joint angle, every 10 steps, as exact
+//! bits) is hashed and compared with the hash stored in `tests/reference/trajectories.tsv`
+//! (MuJoCo's rows are the scenario prefixed `mujoco:`). Any change to
 //! physics, servos, modules or the order of the step shows up here. When a change is meant
 //! to move the trajectories, update the file deliberately and say why in the commit:
 //!
@@ -11,6 +12,9 @@
 use std::hash::Hasher;
 use std::path::Path;
 
+mod common;
+
+use proleg::config::simulation::EngineKind;
 use proleg::control::load_simulation;
 use proleg::sim::{BuildOptions, Simulator};
 
@@ -24,13 +28,13 @@ const SCENARIOS: [(&str, f64); 4] = [
     ("configs/snake16py_stairs.simulation.xml", 2.0),
 ];
 
-fn trajectory_hash(config: &str, seconds: f64) -> u64 {
+fn trajectory_hash(config: &str, seconds: f64, engine: EngineKind) -> u64 {
     let sim = load_simulation(config).unwrap();
     let opts = BuildOptions {
         robots: 1,
         seed: sim.files.simulation.properties.seed,
         record: false,
-        physics: None,
+        engine: Some(engine),
         ..Default::default()
     };
     let mut s = Simulator::new(&sim, &opts).unwrap();
@@ -63,13 +67,23 @@ fn reference_trajectories_match_their_stored_hashes() {
     };
     let mut table = String::from("# scenario\tseconds\ttrajectory hash (tests/sim_reference.rs)\n");
     let mut changed = Vec::new();
-    for (config, seconds) in SCENARIOS {
-        let hash = format!("{:016x}", trajectory_hash(config, seconds));
-        eprintln!("{config} {seconds} s: {hash}");
-        if lookup(config).as_deref() != Some(hash.as_str()) {
-            changed.push(format!("{config}: stored {:?}, now {hash}", lookup(config)));
+    let mut engines = vec![EngineKind::Rapier];
+    if common::mujoco_here("reference trajectories on MuJoCo") {
+        engines.push(EngineKind::Mujoco);
+    }
+    for engine in engines {
+        for (config, seconds) in SCENARIOS {
+            let key = match engine {
+                EngineKind::Rapier => config.to_string(),
+                EngineKind::Mujoco => format!("mujoco:{config}"),
+            };
+            let hash = format!("{:016x}", trajectory_hash(config, seconds, engine));
+            eprintln!("{key} {seconds} s: {hash}");
+            if lookup(&key).as_deref() != Some(hash.as_str()) {
+                changed.push(format!("{key}: stored {:?}, now {hash}", lookup(&key)));
+            }
+            table.push_str(&format!("{key}\t{seconds}\t{hash}\n"));
         }
-        table.push_str(&format!("{config}\t{seconds}\t{hash}\n"));
     }
     if std::env::var_os("PROLEG_UPDATE_REFERENCE").is_some() {
         std::fs::write(Path::new(TABLE), table).unwrap();

@@ -1,14 +1,47 @@
 //! Tactile pads in the simulated world: resting on the floor they read pressed, lifted
-//! they read released, and a change is reported only after its debounce steps.
+//! they read released, and a change is reported only after its debounce steps; a laser
+//! measures a wall at a known distance. Every test runs on both engines (MuJoCo where its
+//! library is, see `common::mujoco_here`).
 
 mod common;
 
 use proleg::config::Simulation;
+use proleg::config::simulation::EngineKind;
 use proleg::control::load_simulation;
 use proleg::sim::{BuildOptions, Simulator};
 
-fn tactile_sine_only() -> Simulation {
-    load_simulation(common::root().join("configs/experiment2_sine_only.simulation.xml")).unwrap()
+/// Each test as a module with one test per engine.
+macro_rules! on_both_engines {
+    ($($name:ident),*) => {$(
+        mod $name {
+            use super::*;
+
+            #[test]
+            fn rapier() {
+                super::$name(EngineKind::Rapier);
+            }
+
+            #[test]
+            fn mujoco() {
+                if common::mujoco_here(stringify!($name)) {
+                    super::$name(EngineKind::Mujoco);
+                }
+            }
+        }
+    )*};
+}
+
+on_both_engines!(
+    pads_resting_on_the_floor_read_pressed,
+    lifted_pads_read_released_until_they_land,
+    a_landing_is_reported_after_the_debounce_steps,
+    laser_measures_a_wall_at_a_known_distance
+);
+
+fn tactile_sine_only(engine: EngineKind) -> Simulation {
+    load_simulation(common::root().join("configs/experiment2_sine_only.simulation.xml"))
+        .unwrap()
+        .with_engine(Some(engine))
 }
 
 fn still(sim: &Simulation) -> Simulator {
@@ -21,9 +54,8 @@ fn readings(s: &Simulator) -> Vec<bool> {
     s.sensors(0).unwrap().tactile.clone()
 }
 
-#[test]
-fn pads_resting_on_the_floor_read_pressed() {
-    let mut s = still(&tactile_sine_only());
+fn pads_resting_on_the_floor_read_pressed(engine: EngineKind) {
+    let mut s = still(&tactile_sine_only(engine));
     s.run_steps(200);
     let r = readings(&s);
     assert_eq!(r.len(), 12);
@@ -35,9 +67,8 @@ fn pads_resting_on_the_floor_read_pressed() {
     );
 }
 
-#[test]
-fn lifted_pads_read_released_until_they_land() {
-    let mut sim = tactile_sine_only();
+fn lifted_pads_read_released_until_they_land(engine: EngineKind) {
+    let mut sim = tactile_sine_only(engine);
     sim.environment.robot_pose.translation[2] = 0.3;
     let mut s = still(&sim);
     s.run_steps(50);
@@ -50,9 +81,8 @@ fn lifted_pads_read_released_until_they_land() {
     );
 }
 
-#[test]
-fn a_landing_is_reported_after_the_debounce_steps() {
-    let mut sim = tactile_sine_only();
+fn a_landing_is_reported_after_the_debounce_steps(engine: EngineKind) {
+    let mut sim = tactile_sine_only(engine);
     sim.environment.robot_pose.translation[2] = 0.05;
     let mut s = still(&sim);
     let debounce = sim.robot.sensors.iter().find_map(|x| match &x.sensor {
@@ -80,13 +110,14 @@ fn a_landing_is_reported_after_the_debounce_steps() {
     );
 }
 
-#[test]
-fn laser_measures_a_wall_at_a_known_distance() {
+fn laser_measures_a_wall_at_a_known_distance(engine: EngineKind) {
     use proleg::config::body::{BodyKind, Geom, Shape};
     use proleg::config::resolve::{EnvBody, RobotSensor};
     use proleg::config::sensor::{Laser2d, Sensor};
     use proleg::config::transform::Pose;
-    let mut sim = load_simulation(common::root().join("configs/demo.simulation.xml")).unwrap();
+    let mut sim = load_simulation(common::root().join("configs/demo.simulation.xml"))
+        .unwrap()
+        .with_engine(Some(engine));
     // A laser 7 cm ahead of the head's joint, 2 cm up; a wall whose face is at y = 1.95 m.
     let head = sim
         .robot

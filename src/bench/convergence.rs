@@ -1,8 +1,9 @@
-//! The accuracy gate (`proleg bench --convergence CONFIG`): a scenario run at the
-//! production physics settings and along a ladder of refinements (every physics step split
-//! in 2, 4, 8, ... steps, each with more solver substeps, exact Coulomb friction and no
-//! contact recycling) until one more refinement moves the displacement by less than
-//! [`CONVERGED`]; the last rung is the converged reference. Prints displacement, final
+//! The accuracy gate (`proleg bench --convergence CONFIG [--engine E]`): a scenario run at
+//! the production physics settings and along a ladder of refinements until one more
+//! refinement moves the displacement by less than [`CONVERGED`]; the last rung is the
+//! converged reference. On rapier every physics step is split in 2, 4, 8, ... steps, each
+//! with more solver substeps, exact Coulomb friction and no contact recycling; on MuJoCo in
+//! 2, 4, 8, ... steps with the elliptic cone and twice the solver iterations. Prints displacement, final
 //! heading and mean joint tracking error of each run and the production run's distance from
 //! the reference; the gate is [`GATE`] on the displacement. The test suite runs it on the
 //! four gate scenarios (tests/sim_convergence.rs) so no change trades accuracy for speed
@@ -12,9 +13,12 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use crate::config::Simulation;
+use crate::config::simulation::EngineKind;
 use crate::control::ModuleRegistry;
 use crate::measure::ground_distance;
-use crate::sim::physics_settings::PhysicsSettings;
+use crate::sim::engine::EngineSettings;
+use crate::sim::engine::mujoco::MujocoSettings;
+use crate::sim::engine::rapier::PhysicsSettings;
 use crate::sim::{BuildOptions, Simulator};
 
 /// A refinement that changes the displacement by less than this fraction has converged.
@@ -27,8 +31,8 @@ pub const REFERENCE_SUBSTEPS: usize = 8;
 /// What one run of a scenario did.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Outcome {
-    /// The settings it ran with.
-    pub settings: PhysicsSettings,
+    /// The engine and settings it ran with.
+    pub settings: EngineSettings,
     /// Ground-plane distance of robot 0's centre of mass, start to end (m).
     pub displacement: f64,
     /// Tail-to-head heading at the end (degrees from +x).
@@ -62,17 +66,21 @@ impl Outcome {
 /// Runs `sim` for `seconds` with `settings` and measures what robot 0 did.
 pub fn episode(
     sim: &Simulation,
-    settings: PhysicsSettings,
+    settings: EngineSettings,
     seconds: f64,
     registry: &ModuleRegistry,
 ) -> Result<Outcome, String> {
-    let opts = BuildOptions {
+    let mut opts = BuildOptions {
         robots: 1,
         seed: sim.files.simulation.properties.seed,
         record: false,
-        physics: Some(settings),
+        engine: Some(settings.kind()),
         ..Default::default()
     };
+    match settings {
+        EngineSettings::Rapier(s) => opts.physics = Some(s),
+        EngineSettings::Mujoco(s) => opts.mujoco = Some(s),
+    }
     let mut s = Simulator::with_registry(sim, &opts, registry).map_err(|e| e.to_string())?;
     let steps = (seconds / s.clock().dt).round().max(1.0) as u64;
     let start = s.com(0).map_err(|e| e.to_string())?;
@@ -100,10 +108,22 @@ pub fn episode(
     })
 }
 
-/// The first rung of the reference ladder for a production setting: two physics steps per
-/// simulation step, [`REFERENCE_SUBSTEPS`] substeps each, exact friction, fresh contacts,
-/// rapier's widest tolerances (`length_unit` 1 m: speculative contacts from 2 cm). Only the
-/// model (contact stiffness, the floor's shape) is the production's.
+/// The first rung of the reference ladder for a production setting: on rapier
+/// [`reference_base`], on MuJoCo two steps per simulation step with the elliptic cone and
+/// more solver iterations ([`MujocoSettings::reference`]).
+pub fn reference_of(production: EngineSettings) -> EngineSettings {
+    match production {
+        EngineSettings::Rapier(p) => EngineSettings::Rapier(reference_base(p)),
+        EngineSettings::Mujoco(p) => {
+            EngineSettings::Mujoco(MujocoSettings::reference(2 * p.steps_per_step))
+        }
+    }
+}
+
+/// The first rung of rapier's reference ladder for a production setting: two physics steps
+/// per simulation step, [`REFERENCE_SUBSTEPS`] substeps each, exact friction, fresh
+/// contacts, rapier's widest tolerances (`length_unit` 1 m: speculative contacts from
+/// 2 cm). Only the model (contact stiffness, the floor's shape) is the production's.
 pub fn reference_base(production: PhysicsSettings) -> PhysicsSettings {
     PhysicsSettings {
         substeps: REFERENCE_SUBSTEPS.max(production.substeps),
@@ -153,14 +173,14 @@ impl Convergence {
 pub fn check(
     name: &str,
     sim: &Simulation,
-    production: PhysicsSettings,
+    production: EngineSettings,
     seconds: f64,
     max_rungs: usize,
     registry: &ModuleRegistry,
 ) -> Result<Convergence, String> {
     let production_run = episode(sim, production, seconds, registry)?;
     let mut ladder: Vec<Outcome> = Vec::new();
-    let mut settings = reference_base(production);
+    let mut settings = reference_of(production);
     let mut converged = false;
     while ladder.len() < max_rungs.max(2) {
         let run = episode(sim, settings, seconds, registry)?;
@@ -241,10 +261,23 @@ pub fn run(
     seconds: f64,
     max_rungs: usize,
     overrides: &str,
+    engine: Option<EngineKind>,
     registry: &ModuleRegistry,
 ) -> Result<String, String> {
-    let sim = crate::control::load_simulation_in(config, registry).map_err(|e| e.to_string())?;
-    let production = PhysicsSettings::for_robot_with(&sim, overrides)?;
+    let sim = crate::control::load_simulation_in(config, registry)
+        .map_err(|e| e.to_string())?
+        .with_engine(engine);
+    let production = match sim.engine() {
+        EngineKind::Rapier => {
+            EngineSettings::Rapier(PhysicsSettings::for_robot_with(&sim, overrides)?)
+        }
+        EngineKind::Mujoco if overrides.is_empty() => {
+            EngineSettings::Mujoco(MujocoSettings::default())
+        }
+        EngineKind::Mujoco => {
+            return Err("--physics sets rapier's settings; this check is on mujoco".into());
+        }
+    };
     let c = check(
         &config.display().to_string(),
         &sim,

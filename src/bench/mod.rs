@@ -1,9 +1,11 @@
 //! Throughput figures of the reference scenario (`proleg bench`, `cargo bench`): the
 //! experiment-1 robot (snake5p) on the flat floor with the uniform 40° / 55° sine, 1 ms
-//! steps. Measures rapier's step alone, the full pipeline (sense, kernel, servos, physics,
-//! clock; recording off), the pipeline recording every data handler at every step into a
-//! data file, and batches of robots sharing one world. Each figure is the
-//! best of [`REPEATS`] fresh worlds after one simulated second of warm-up: the machines
+//! steps, on either engine. Measures the engine's step alone, the full pipeline (sense,
+//! kernel, servos, physics, clock; recording off: the configuration `optimize` uses, one
+//! robot per world and per core), the pipeline recording every data handler at every step
+//! into a data file, and batches of robots sharing one world; on MuJoCo also MuJoCo's own
+//! `mujoco.rollout` on the exported scenario in the same run ([`rollout`]). Each figure is
+//! the best of [`REPEATS`] fresh worlds after one simulated second of warm-up: the machines
 //! here are shared VMs whose speed varies from run to run.
 
 use std::fmt::Write as _;
@@ -12,13 +14,15 @@ use std::time::Instant;
 
 pub mod convergence;
 pub mod modules;
+pub mod rollout;
 
 use crate::config::Simulation;
+use crate::config::simulation::EngineKind;
 use crate::control::{ModuleRegistry, load_simulation};
 use crate::data::store::DataStore;
 use crate::sim::datalog::DataSettings;
+use crate::sim::engine::rapier::PhysicsSettings;
 use crate::sim::physics::SimPhysics;
-use crate::sim::physics_settings::PhysicsSettings;
 use crate::sim::{BuildOptions, SimError, Simulator};
 
 /// Repetitions of each figure; the fastest counts.
@@ -125,7 +129,7 @@ pub fn pipeline(
     )
 }
 
-/// Rapier's step alone on the same world, the servo motors holding their last command: the
+/// The engine's step alone on the same world, the servo motors holding their last command: the
 /// robot barely moves (its bodies may even sleep), so this is a floor for the physics cost,
 /// not the same motion as the pipeline's rows.
 pub fn physics_only(
@@ -138,12 +142,12 @@ pub fn physics_only(
         physics,
         1,
         seconds,
-        "rapier step, motors held, 1 robot",
+        &format!("{} step, motors held, 1 robot", sim.engine()),
         |s, steps| {
             let mut physics = s.world_mut().resource_mut::<SimPhysics>();
             let t = Instant::now();
             for _ in 0..steps {
-                physics.world.step();
+                physics.engine.step();
             }
             t.elapsed().as_secs_f64()
         },
@@ -198,14 +202,24 @@ pub fn report(
     seconds: f64,
     batches: &[usize],
     overrides: &str,
+    engine: Option<EngineKind>,
 ) -> Result<String, String> {
-    let sim = load_simulation(config).map_err(|e| e.to_string())?;
+    let sim = load_simulation(config)
+        .map_err(|e| e.to_string())?
+        .with_engine(engine);
+    if sim.engine() != EngineKind::Rapier && !overrides.is_empty() {
+        return Err(format!(
+            "--physics sets rapier's settings; this bench is on {}",
+            sim.engine()
+        ));
+    }
     let physics = PhysicsSettings::for_robot_with(&sim, overrides)?;
     let raw = physics_only(&sim, physics, seconds)?;
     let (rec, size) = recording(&sim, physics, seconds)?;
     let mut figs = vec![pipeline(&sim, physics, 1, seconds)?, rec.clone()];
+    let most = crate::sim::engine::max_robots(sim.engine());
     for b in batches.iter().filter(|b| **b > 1) {
-        figs.push(pipeline(&sim, physics, *b, seconds)?);
+        figs.push(pipeline(&sim, physics, (*b).min(most), seconds)?);
     }
     let mut out = String::new();
     let _ = writeln!(
@@ -213,11 +227,17 @@ pub fn report(
         "reference scenario: {}, {seconds} s simulated per figure (best of {REPEATS}), 1 core",
         config.display()
     );
-    let _ = writeln!(out, "physics: {physics}");
+    let settings = world_of(&sim, 1, &ModuleRegistry::standard(), Some(physics))?
+        .engine()
+        .settings();
+    let _ = writeln!(out, "physics: {settings}");
     let _ = writeln!(
         out,
         "{:<34} {:>16} {:>12} {:>16}",
-        "", "robot-steps/s", "real-time", "vs rapier only"
+        "",
+        "robot-steps/s",
+        "real-time",
+        format!("vs {} only", sim.engine())
     );
     let raw_rate = raw.robot_steps_per_s();
     for f in std::iter::once(&raw).chain(&figs) {
@@ -237,6 +257,9 @@ pub fn report(
         (rec.wall / figs[0].wall - 1.0) * 100.0,
         size as f64 / 1e6 * 60.0 / seconds
     );
+    if sim.engine() == EngineKind::Mujoco {
+        let _ = writeln!(out, "{}", rollout::compare(&sim, seconds, &figs[0]));
+    }
     let batched = figs[2..]
         .iter()
         .map(Figure::robot_steps_per_s)

@@ -114,9 +114,12 @@ pub fn export_mjcf(
     config: &Path,
     out: &Path,
     gait: Option<f64>,
+    engine: Option<crate::config::simulation::EngineKind>,
     registry: &ModuleRegistry,
 ) -> Result<ExportReport, String> {
-    let sim = load_simulation_in(config, registry).map_err(|e| e.to_string())?;
+    let sim = load_simulation_in(config, registry)
+        .map_err(|e| e.to_string())?
+        .with_engine(engine);
     let export = crate::interop::mjcf::export_mjcf(&sim, out).map_err(|e| e.to_string())?;
     let gait = match gait {
         Some(seconds) if seconds > 0.0 && seconds.is_finite() => {

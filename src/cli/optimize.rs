@@ -71,6 +71,10 @@ pub struct OptimizeOptions {
     /// No progress on stderr.
     #[arg(long)]
     pub quiet: bool,
+    /// The physics engine instead of the one the simulation file names (rapier, mujoco);
+    /// stored with the run, so workers and replays use it too.
+    #[arg(long)]
+    pub engine: Option<crate::config::simulation::EngineKind>,
     /// Testing aid: abort (like kill -9) once this many evaluations are stored.
     #[arg(long, hide = true)]
     pub crash_after: Option<u64>,
@@ -111,7 +115,9 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
     // Every file the configuration reads is kept: the store holds it with the run, so a
     // worker on another host needs nothing but the store.
     let source = RecordingSource::new(&FsSource);
-    let sim = load_simulation_with(&source, &o.config, registry).map_err(|e| e.to_string())?;
+    let sim = load_simulation_with(&source, &o.config, registry)
+        .map_err(|e| e.to_string())?
+        .with_engine(o.engine);
     let fitness = o.fitness.as_deref().map(Fitness::parse).transpose()?;
     let settings = RunSettings::of(
         &sim,
@@ -140,7 +146,7 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
     let mut table = open_table(o.evaluations.as_deref(), &space)?;
     let info = run_info(&sim, &space, &settings);
     let episodes = episode_records(&sim, settings.seed);
-    let run_files = (source.files(), episodes);
+    let run_files = (stored_files(&source, &o.config, &sim), episodes);
     let (run, known) = open_run(&mut store, &info, &run_files, o.resume, o.quiet)?;
     let shown = store.describe();
     let recording = Recording {
@@ -300,6 +306,27 @@ fn write_row(w: &mut BufWriter<File>, space: &SearchSpace, e: &Evaluation) -> st
         e.best,
         values.join("\t")
     )
+}
+
+/// The files to store with the run: as read, but the simulation file as `sim` has it when
+/// `--engine` changed its engine (workers and replays then build the same world).
+fn stored_files(
+    source: &RecordingSource,
+    config: &Path,
+    sim: &Simulation,
+) -> Vec<(String, String)> {
+    let mut files = source.files();
+    let top = crate::config::source::normalize(config)
+        .display()
+        .to_string();
+    for (path, text) in &mut files {
+        let written = crate::config::simulation::parse_simulation_file(path, text)
+            .map(|f| f.properties.engine);
+        if *path == top && written.is_ok_and(|e| e != sim.engine()) {
+            *text = crate::config::simulation::write_simulation_file(&sim.files.simulation);
+        }
+    }
+    files
 }
 
 /// `CONFIG-STEM.results.sqlite` in the working folder.

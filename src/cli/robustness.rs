@@ -25,6 +25,10 @@ pub struct RobustnessArgs {
     /// Seed of the episodes (choose one no run used, for fresh episodes).
     #[arg(long, default_value_t = 1000)]
     pub seed: u64,
+    /// The physics engine instead of the run's (rapier, mujoco): how the gait fares on the
+    /// other engine.
+    #[arg(long)]
+    pub engine: Option<crate::config::simulation::EngineKind>,
 }
 
 /// Runs the check the options ask for, with [`Robustness::typical`] ranges.
@@ -35,6 +39,7 @@ pub fn run(a: &RobustnessArgs, registry: &ModuleRegistry) -> Result<RandomizedCh
         (a.run, which),
         &Robustness::typical(),
         (a.episodes, a.seed),
+        a.engine,
         registry,
     )
 }

@@ -8,10 +8,11 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
+use crate::config::simulation::EngineKind;
 use crate::config::simulation::Mode;
 use crate::control::{ModuleRegistry, load_simulation_in};
 use crate::sim::datalog::DataSettings;
-use crate::sim::physics_settings::PhysicsSettings;
+use crate::sim::engine::rapier::PhysicsSettings;
 use crate::sim::{BuildOptions, Pacing, RunSummary, Simulator};
 
 /// What `proleg run` is asked to do (its command-line arguments).
@@ -38,6 +39,9 @@ pub struct RunRequest {
     /// `proleg bench --help`).
     #[arg(long, default_value = "")]
     pub physics: String,
+    /// The physics engine instead of the one the simulation file names (rapier, mujoco).
+    #[arg(long)]
+    pub engine: Option<EngineKind>,
     /// Render the run off-screen into a video following the robot (.mp4, .webm, .gif by
     /// ffmpeg; a folder: PNG frames, also when no ffmpeg is installed). Needs the gui
     /// feature, no display.
@@ -58,6 +62,8 @@ pub struct RunReport {
     pub simulation: PathBuf,
     /// The robot's name.
     pub robot: String,
+    /// The physics engine and its settings.
+    pub engine: String,
     /// The seed used.
     pub seed: u64,
     /// The file asks for real-robot control (this run simulated the twin).
@@ -79,7 +85,9 @@ const CHUNK_SECONDS: f64 = 0.5;
 
 /// Loads, runs and summarizes; the error is the message to print.
 pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, String> {
-    let sim = load_simulation_in(&req.config, registry).map_err(|e| e.to_string())?;
+    let sim = load_simulation_in(&req.config, registry)
+        .map_err(|e| e.to_string())?
+        .with_engine(req.engine);
     let props = &sim.files.simulation.properties;
     let duration = req.duration.unwrap_or(props.duration);
     if !duration.is_finite() || duration < 0.0 {
@@ -94,6 +102,12 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Str
         ));
     }
     let seed = req.seed.unwrap_or(props.seed);
+    if sim.engine() != EngineKind::Rapier && !req.physics.is_empty() {
+        return Err(format!(
+            "--physics sets rapier's settings; this run is on {}",
+            sim.engine()
+        ));
+    }
     let physics = PhysicsSettings::for_robot_with(&sim, &req.physics)?;
     let opts = BuildOptions {
         robots: 1,
@@ -134,6 +148,7 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Str
     Ok(RunReport {
         simulation: sim.file.clone(),
         robot: sim.robot.name.clone(),
+        engine: simulator.engine().settings(),
         seed,
         real_robot_mode: props.mode == Mode::RealRobot,
         summary,
@@ -178,6 +193,7 @@ impl fmt::Display for RunReport {
         let f3 = |v: [f64; 3]| format!("{:.4} {:.4} {:.4}", v[0], v[1], v[2]);
         writeln!(out, "simulation      {}", self.simulation.display())?;
         writeln!(out, "robot           {} (seed {})", self.robot, self.seed)?;
+        writeln!(out, "physics         {}", self.engine)?;
         if self.real_robot_mode {
             writeln!(
                 out,

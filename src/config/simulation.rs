@@ -125,6 +125,58 @@ pub struct SimulationProperties {
     pub delay_ms: f64,
     /// 1 = real time, 0 = as fast as possible.
     pub realtime_factor: f64,
+    /// The physics engine that steps the world (`<physicsEngine>`; rapier when absent).
+    pub engine: EngineKind,
+}
+
+/// The physics engines a simulation can name (`<physicsEngine>rapier|mujoco</physicsEngine>`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum EngineKind {
+    /// rapier3d: pure Rust, always built, the engine the product was specified with.
+    #[default]
+    Rapier,
+    /// MuJoCo 4.0, loaded at run time from its shared library.
+    Mujoco,
+}
+
+impl EngineKind {
+    /// Every engine, in the order help texts list them.
+    pub const ALL: [EngineKind; 2] = [EngineKind::Rapier, EngineKind::Mujoco];
+
+    /// The name files and the command line use.
+    pub fn name(self) -> &'static str {
+        match self {
+            EngineKind::Rapier => "rapier",
+            EngineKind::Mujoco => "mujoco",
+        }
+    }
+
+    /// The engine named `s` (case-insensitive), if any.
+    pub fn parse(s: &str) -> Option<EngineKind> {
+        let s = s.trim();
+        EngineKind::ALL
+            .into_iter()
+            .find(|e| e.name().eq_ignore_ascii_case(s))
+    }
+}
+
+impl fmt::Display for EngineKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A name that is no physics engine's.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown physics engine `{0}` (known: rapier, mujoco)")]
+pub struct UnknownEngine(pub String);
+
+impl std::str::FromStr for EngineKind {
+    type Err = UnknownEngine;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        EngineKind::parse(s).ok_or_else(|| UnknownEngine(s.to_string()))
+    }
 }
 
 impl Default for SimulationProperties {
@@ -140,6 +192,7 @@ impl Default for SimulationProperties {
             seed: 1,
             delay_ms: 0.0,
             realtime_factor: 1.0,
+            engine: EngineKind::Rapier,
         }
     }
 }
@@ -191,6 +244,7 @@ fn read_properties(r: &Reader, el: &Element) -> ConfigResult<SimulationPropertie
             "seed",
             "delay",
             "realtimefactor",
+            "physicsengine",
         ],
     )?;
     let mut p = SimulationProperties::default();
@@ -257,6 +311,16 @@ fn read_properties(r: &Reader, el: &Element) -> ConfigResult<SimulationPropertie
     }
     if let Some(c) = r.at_most_one(el, "realtimefactor")? {
         p.realtime_factor = r.f64_in(c, 0.0, 1000.0)?;
+    }
+    if let Some(c) = r.at_most_one(el, "physicsengine")? {
+        let t = r.text(c)?;
+        p.engine = EngineKind::parse(t).ok_or_else(|| {
+            r.err(
+                c.text_pos,
+                ErrorKind::InvalidValue,
+                format!("unknown physics engine \"{t}\"; expected one of: rapier, mujoco"),
+            )
+        })?;
     }
     Ok(p)
 }
@@ -343,6 +407,9 @@ pub fn write_simulation_file(s: &SimulationFile) -> String {
     w.leaf("seed", &p.seed.to_string());
     w.num("delay", p.delay_ms);
     w.num("realtimeFactor", p.realtime_factor);
+    if p.engine != EngineKind::default() {
+        w.leaf("physicsEngine", p.engine.name());
+    }
     w.close();
     w.finish()
 }

@@ -61,6 +61,30 @@ impl Pose {
         }
     }
 
+    /// The inverse transform.
+    pub fn inverse(&self) -> Pose {
+        let [w, x, y, z] = self.rotation;
+        let conj = Pose {
+            translation: [0.0; 3],
+            rotation: [w, -x, -y, -z],
+        };
+        let t = conj.rotate(self.translation);
+        Pose {
+            translation: [-t[0], -t[1], -t[2]],
+            rotation: conj.rotation,
+        }
+    }
+
+    /// A point of this frame in the outer frame.
+    pub fn transform_point(&self, p: [f64; 3]) -> [f64; 3] {
+        let r = self.rotate(p);
+        [
+            r[0] + self.translation[0],
+            r[1] + self.translation[1],
+            r[2] + self.translation[2],
+        ]
+    }
+
     /// Rotates a vector by this transform's rotation.
     pub fn rotate(&self, v: [f64; 3]) -> [f64; 3] {
         let [w, x, y, z] = self.rotation;

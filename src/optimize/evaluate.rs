@@ -15,7 +15,6 @@ use crate::measure::ground_distance;
 use crate::optimize::fitness::{Episode, Fitness};
 use crate::optimize::robust::RobustEpisodes;
 use crate::optimize::space::{Genome, SearchSpace};
-use crate::sim::physics::MAX_ROBOTS_PER_WORLD;
 use crate::sim::randomize::SensorNoise;
 use crate::sim::{BuildOptions, Simulator};
 
@@ -75,7 +74,8 @@ impl Evaluator {
         if self.robust.is_some() {
             1
         } else {
-            self.batch.clamp(1, MAX_ROBOTS_PER_WORLD)
+            self.batch
+                .clamp(1, crate::sim::engine::max_robots(self.sim.engine()))
         }
     }
 
@@ -177,6 +177,8 @@ impl Evaluator {
             seed,
             record: false,
             physics: None,
+            engine: None,
+            mujoco: None,
             noise,
         };
         let mut s =

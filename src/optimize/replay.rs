@@ -5,6 +5,7 @@
 
 use crate::config::Simulation;
 use crate::config::robustness::Robustness;
+use crate::config::simulation::EngineKind;
 use crate::control::ModuleRegistry;
 use crate::optimize::evaluate::Evaluator;
 use crate::optimize::fitness::Fitness;
@@ -260,13 +261,15 @@ pub fn randomized_check(
     (run, which): (i64, Which),
     ranges: &Robustness,
     (episodes, seed): (u32, u64),
+    engine: Option<EngineKind>,
     registry: &ModuleRegistry,
 ) -> Result<RandomizedCheck, String> {
     let location = crate::optimize::store::StoreLocation::parse(location)?;
     let mut store = Store::open_existing(&location)?;
     let number = which.number(&mut store, run)?;
     let replay = load_replay(&mut store, run, number, None, registry)?;
-    let (e, nominal_sim) = (&replay.evaluator, &replay.nominal);
+    let nominal_sim = &replay.nominal.clone().with_engine(engine);
+    let e = &replay.evaluator;
     let genome = std::slice::from_ref(&replay.genome);
     let nominal = e.run_world(nominal_sim, e.seed, SensorNoise::default(), genome)?[0];
     let mut ranges = *ranges;
@@ -277,7 +280,11 @@ pub fn randomized_check(
         scores.extend(e.run_world(&ep.sim, ep.seed, ep.noise, genome)?);
     }
     Ok(RandomizedCheck {
-        label: format!("{} run {run}, evaluation {number}", store.describe()),
+        label: format!(
+            "{} run {run}, evaluation {number}, on {}",
+            store.describe(),
+            nominal_sim.engine()
+        ),
         nominal,
         scores,
         ranges,

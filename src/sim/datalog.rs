@@ -16,7 +16,7 @@ use crate::sensing::SensorData;
 use crate::sim::clock::SimClock;
 use crate::sim::energy::Energy;
 use crate::sim::kernel::{Kernel, SimRobot};
-use crate::sim::physics::{SimPhysics, arr3};
+use crate::sim::physics::SimPhysics;
 use crate::sim::record::centre_of_mass;
 use crate::sim::servo::JointState;
 use crate::sim::tactile::RobotSensors;
@@ -290,31 +290,30 @@ fn fill_robot_frame(
     clock: &SimClock,
     states: &Query<&JointState>,
 ) {
-    let bodies = &physics.world.bodies;
-    let gravity = arr3(physics.world.gravity);
-    let com = centre_of_mass(bodies, robot);
+    let engine = physics.engine.as_ref();
+    let gravity = engine.gravity();
+    let com = centre_of_mass(engine, robot);
     let start = *log.start_com.get_or_insert(com);
     if log.samples == 0 {
         log.start_time = clock.time();
     }
     let (mut momentum, mut potential) = ([0.0; 3], 0.0);
     for (b, m) in &robot.bodies {
-        if let Some(body) = bodies.get(*b) {
-            let v = arr3(body.linvel());
+        if let Some(body) = engine.body(*b) {
             for i in 0..3 {
-                momentum[i] += m * v[i];
+                momentum[i] += m * body.linvel[i];
             }
-            potential += potential_energy(*m, arr3(body.center_of_mass()), gravity);
+            potential += potential_energy(*m, body.com, gravity);
         }
     }
     let speed = norm(momentum) / log.total_mass.max(1e-12);
     let head = robot
         .bodies
         .last()
-        .and_then(|(b, _)| bodies.get(*b))
+        .and_then(|(b, _)| engine.body(*b))
         .map(|b| {
-            let r = b.rotation();
-            euler([r.x as f64, r.y as f64, r.z as f64, r.w as f64])
+            let [w, x, y, z] = b.pose.rotation;
+            euler([x, y, z, w])
         })
         .unwrap_or_default();
     let elapsed = clock.time() + clock.dt - log.start_time;

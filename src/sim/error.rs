@@ -47,12 +47,21 @@ pub enum SimError {
         /// Its link's name.
         link: String,
     },
+    /// The MuJoCo engine: a missing or wrong library, a model it rejects.
+    Mujoco(crate::sim::engine::mujoco::MujocoError),
+}
+
+impl From<crate::sim::engine::mujoco::MujocoError> for SimError {
+    fn from(e: crate::sim::engine::mujoco::MujocoError) -> Self {
+        SimError::Mujoco(e)
+    }
 }
 
 impl fmt::Display for SimError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             SimError::Config(e) => e.fmt(f),
+            SimError::Mujoco(e) => e.fmt(f),
             SimError::Kernel(e) => e.fmt(f),
             SimError::Mesh { file, message } => {
                 write!(f, "{file}: cannot build the collision mesh: {message}")

@@ -20,7 +20,7 @@ pub struct SimRobot {
     /// Link entities, in link order.
     pub links: Vec<Entity>,
     /// Link bodies and masses, for the centre of mass.
-    pub bodies: Vec<(rapier3d::prelude::RigidBodyHandle, f64)>,
+    pub bodies: Vec<(crate::sim::engine::BodyId, f64)>,
     /// Measured joint angles (degrees), gathered each step.
     pub(crate) measured: Vec<f64>,
 }

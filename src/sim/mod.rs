@@ -1,12 +1,12 @@
 //! The simulated world as ECS: the robot and terrain of a configuration built into
-//! entities and a rapier physics world, stepped by a fixed-step pipeline of ordered system
-//! sets, plus a headless runner.
+//! entities and a physics engine's world (rapier or MuJoCo, behind one interface), stepped
+//! by a fixed-step pipeline of ordered system sets, plus a headless runner.
 //!
 //! - [`schedule`]: the [`SimStep`] schedule and its [`SimSystems`] sets
 //! - [`spawn`]: building the world from a loaded simulation
 //! - [`physics`], [`servo`], [`tactile`], [`laser`], [`kernel`], [`record`], [`clock`]: the stages of a step
-//! - [`physics_settings`]: substeps and tolerances of the physics engine, scaled to the robot
-//! - [`terrain`]: alternative terrain shapes (the floor as a half-space)
+//! - [`engine`]: the one door to physics ([`engine::PhysicsEngine`]) and the engines behind
+//!   it (rapier, MuJoCo)
 //! - [`energy`]: each robot's servo power and energy (the `Record` stage)
 //! - [`runner`]: [`Simulator`], the one door to a running world that the CLI, benchmarks,
 //!   optimizers, the real-robot twin and the GUI use
@@ -17,12 +17,12 @@ pub mod clock;
 pub mod datalog;
 pub mod driver;
 pub mod energy;
+pub mod engine;
 pub mod error;
 pub mod kernel;
 pub mod laser;
 pub mod pacing;
 pub mod physics;
-pub mod physics_settings;
 pub mod position;
 pub mod randomize;
 pub mod record;
@@ -31,7 +31,6 @@ pub mod schedule;
 pub mod servo;
 pub mod spawn;
 pub mod tactile;
-pub mod terrain;
 
 use bevy::prelude::*;
 

@@ -10,8 +10,7 @@ use crate::sim::tactile::RobotSensors;
 
 /// Updates each robot's sensed position (part of the `Sense` set).
 pub fn sense_position(physics: Res<SimPhysics>, mut robots: Query<(&SimRobot, &mut RobotSensors)>) {
-    let bodies = &physics.world.bodies;
     for (robot, mut sensors) in &mut robots {
-        sensors.0.position = centre_of_mass(bodies, robot);
+        sensors.0.position = centre_of_mass(physics.engine.as_ref(), robot);
     }
 }

@@ -3,11 +3,11 @@
 //! set). Buffers are allocated once for the expected number of samples.
 
 use bevy::prelude::*;
-use rapier3d::prelude as rp;
 
 use crate::sim::clock::SimClock;
+use crate::sim::engine::PhysicsEngine;
 use crate::sim::kernel::{Kernel, SimRobot};
-use crate::sim::physics::{SimPhysics, arr3};
+use crate::sim::physics::SimPhysics;
 use crate::sim::servo::JointState;
 
 /// Whether and how often to record.
@@ -76,17 +76,15 @@ impl Track {
 }
 
 /// The mass-weighted centre of the robot's links (m).
-pub fn centre_of_mass(bodies: &rp::RigidBodySet, robot: &SimRobot) -> [f64; 3] {
+pub fn centre_of_mass(engine: &dyn PhysicsEngine, robot: &SimRobot) -> [f64; 3] {
     let mut sum = [0.0; 3];
     let mut mass = 0.0;
-    for (h, m) in &robot.bodies {
-        if let Some(b) = bodies.get(*h) {
-            let c = arr3(b.center_of_mass());
-            for i in 0..3 {
-                sum[i] += c[i] * m;
-            }
-            mass += m;
+    for (b, m) in &robot.bodies {
+        let c = engine.body_com(*b);
+        for i in 0..3 {
+            sum[i] += c[i] * m;
         }
+        mass += m;
     }
     if mass > 0.0 {
         sum.map(|s| s / mass)
@@ -96,14 +94,8 @@ pub fn centre_of_mass(bodies: &rp::RigidBodySet, robot: &SimRobot) -> [f64; 3] {
 }
 
 /// Direction from the first link (tail) to the last (head) in the ground plane, degrees.
-pub fn heading(bodies: &rp::RigidBodySet, robot: &SimRobot) -> f64 {
-    let pos = |i: usize| {
-        robot
-            .bodies
-            .get(i)
-            .and_then(|(h, _)| bodies.get(*h))
-            .map(|b| arr3(b.center_of_mass()))
-    };
+pub fn heading(engine: &dyn PhysicsEngine, robot: &SimRobot) -> f64 {
+    let pos = |i: usize| robot.bodies.get(i).map(|(b, _)| engine.body_com(*b));
     match (pos(0), robot.bodies.len().checked_sub(1).and_then(pos)) {
         (Some(a), Some(b)) => (b[1] - a[1]).atan2(b[0] - a[0]).to_degrees(),
         _ => 0.0,
@@ -121,11 +113,11 @@ pub fn record(
     if !settings.enabled || !(clock.step + 1).is_multiple_of(settings.every.max(1) as u64) {
         return;
     }
-    let bodies = &physics.world.bodies;
+    let engine = physics.engine.as_ref();
     for (robot, kernel, mut track) in &mut robots {
         track.times.push(clock.time() + clock.dt);
-        track.com.push(centre_of_mass(bodies, robot));
-        track.heading.push(heading(bodies, robot));
+        track.com.push(centre_of_mass(engine, robot));
+        track.heading.push(heading(engine, robot));
         for (e, desired) in robot.joints.iter().zip(kernel.0.desired()) {
             let s = states.get(*e).copied().unwrap_or_default();
             track.joints.push(JointSample {

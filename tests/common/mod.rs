@@ -69,3 +69,19 @@ pub fn proleg(args: &[&str]) -> (bool, String, String) {
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
 }
+
+/// Whether the MuJoCo engine can run here: its library loads. Without it a MuJoCo test
+/// prints why and passes, unless `PROLEG_REQUIRE_MUJOCO` is set (scripts/test sets it after
+/// installing the library), where a missing library fails the test.
+pub fn mujoco_here(test: &str) -> bool {
+    match proleg::sim::engine::mujoco::library::library() {
+        Ok(_) => true,
+        Err(e) if std::env::var_os("PROLEG_REQUIRE_MUJOCO").is_some() => {
+            panic!("{test}: MuJoCo is required here: {e}")
+        }
+        Err(e) => {
+            eprintln!("{test}: skipped, {e}");
+            false
+        }
+    }
+}

@@ -69,6 +69,20 @@ impl Simulation {
             .get(file)
             .or_else(|| self.environment.meshes.get(file))
     }
+
+    /// The physics engine that steps this simulation (`<physicsEngine>`, rapier by default).
+    pub fn engine(&self) -> crate::config::simulation::EngineKind {
+        self.files.simulation.properties.engine
+    }
+
+    /// This simulation on `engine` instead of the one its file names (`--engine`); `None`
+    /// keeps the file's.
+    pub fn with_engine(mut self, engine: Option<crate::config::simulation::EngineKind>) -> Self {
+        if let Some(e) = engine {
+            self.files.simulation.properties.engine = e;
+        }
+        self
+    }
 }
 
 fn read_top(src: &dyn FileSource, path: &Path) -> ConfigResult<String> {

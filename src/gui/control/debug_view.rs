@@ -1,11 +1,12 @@
 //! The physics debug view: every collider's shape outline (boxes, spheres; meshes by their
 //! bounding box) and the contact points with their normals, drawn with gizmos straight from
-//! the rapier world, so it shows what the physics sees rather than the meshes.
+//! the physics engine's view (either engine), so it shows what the physics sees rather than
+//! the meshes.
 
 use bevy::prelude::*;
-use rapier3d::prelude as rp;
 
 use crate::gui::control::session::SimSession;
+use crate::sim::engine::ShapeOutline;
 
 /// Whether the debug view is on.
 #[derive(Resource, Debug, Default, Clone, Copy)]
@@ -16,8 +17,8 @@ fn frame() -> Quat {
     Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2)
 }
 
-fn point(p: rp::Vector) -> Vec3 {
-    frame() * Vec3::new(p.x, p.y, p.z)
+fn point(p: [f64; 3]) -> Vec3 {
+    frame() * Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32)
 }
 
 /// Draws collider outlines and contacts.
@@ -25,56 +26,49 @@ pub fn draw_debug(view: Res<DebugView>, session: NonSend<SimSession>, mut gizmos
     if !view.0 {
         return;
     }
-    let w = session.simulator.physics();
-    for (_, c) in w.colliders.iter() {
-        let pose = c.position();
-        let r = pose.rotation;
-        let rotation = frame() * Quat::from_xyzw(r.x, r.y, r.z, r.w);
-        let centre = point(pose.translation);
-        let colour = if c
-            .parent()
-            .and_then(|b| w.bodies.get(b))
-            .is_some_and(|b| b.is_dynamic())
-        {
+    let engine = session.simulator.engine();
+    for c in engine.colliders() {
+        let [w, x, y, z] = c.pose.rotation;
+        let rotation = frame() * Quat::from_xyzw(x as f32, y as f32, z as f32, w as f32);
+        let centre = point(c.pose.translation);
+        let colour = if c.dynamic {
             Color::srgb(1.0, 1.0, 0.2)
         } else {
             Color::srgb(0.2, 1.0, 1.0)
         };
-        if let Some(b) = c.shape().as_cuboid() {
-            let he = b.half_extents;
-            gizmos.cube(
-                Transform::from_translation(centre)
-                    .with_rotation(rotation)
-                    .with_scale(Vec3::new(2.0 * he.x, 2.0 * he.y, 2.0 * he.z)),
-                colour,
-            );
-        } else if let Some(s) = c.shape().as_ball() {
-            gizmos.sphere(Isometry3d::new(centre, rotation), s.radius, colour);
-        } else {
-            let aabb = c.compute_aabb();
-            let (lo, hi) = (point(aabb.mins), point(aabb.maxs));
-            gizmos.cube(
-                Transform::from_translation((lo + hi) / 2.0).with_scale((hi - lo).abs()),
-                colour,
-            );
-        }
-    }
-    for pair in w.narrow_phase.contact_pairs() {
-        let Some(c1) = w.colliders.get(pair.collider1) else {
-            continue;
-        };
-        for m in pair.manifolds() {
-            let n = point(m.data.normal);
-            for p in &m.points {
-                let at = point(c1.position().transform_point(p.local_p1));
-                let colour = if p.dist <= 0.0 {
-                    Color::srgb(1.0, 0.1, 0.1)
-                } else {
-                    Color::srgb(1.0, 0.6, 0.1)
-                };
-                gizmos.sphere(Isometry3d::from_translation(at), 0.002, colour);
-                gizmos.line(at, at + n * 0.02, colour);
+        match c.shape {
+            ShapeOutline::Box(he) => {
+                gizmos.cube(
+                    Transform::from_translation(centre)
+                        .with_rotation(rotation)
+                        .with_scale(Vec3::new(
+                            2.0 * he[0] as f32,
+                            2.0 * he[1] as f32,
+                            2.0 * he[2] as f32,
+                        )),
+                    colour,
+                );
+            }
+            ShapeOutline::Sphere(r) => {
+                gizmos.sphere(Isometry3d::new(centre, rotation), r as f32, colour);
+            }
+            ShapeOutline::Bounds(lo, hi) => {
+                let (lo, hi) = (point(lo), point(hi));
+                gizmos.cube(
+                    Transform::from_translation((lo + hi) / 2.0).with_scale((hi - lo).abs()),
+                    colour,
+                );
             }
         }
+    }
+    for c in engine.contacts() {
+        let (at, n) = (point(c.point), point(c.normal));
+        let colour = if c.touching {
+            Color::srgb(1.0, 0.1, 0.1)
+        } else {
+            Color::srgb(1.0, 0.6, 0.1)
+        };
+        gizmos.sphere(Isometry3d::from_translation(at), 0.002, colour);
+        gizmos.line(at, at + n * 0.02, colour);
     }
 }

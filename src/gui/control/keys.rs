@@ -59,7 +59,7 @@ mod tests {
     fn app() -> App {
         let mut app = App::new();
         let session =
-            SimSession::open(std::path::Path::new("configs/demo.simulation.xml")).unwrap();
+            SimSession::open(std::path::Path::new("configs/demo.simulation.xml"), None).unwrap();
         app.insert_non_send(session)
             .init_resource::<ButtonInput<KeyCode>>()
             .init_resource::<EguiWantsInput>()

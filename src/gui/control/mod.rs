@@ -120,13 +120,14 @@ pub enum GuiSystems {
 /// that `*.remote.xml` says (else the default binding).
 pub fn run(
     config: &Path,
+    engine: Option<crate::config::simulation::EngineKind>,
     replay: Option<Replay>,
     script: Option<&Path>,
     remote: Option<&Path>,
 ) -> Result<(), String> {
     let session = match replay {
         Some(r) => SimSession::open_replay(r)?,
-        None => SimSession::open(config)?,
+        None => SimSession::open(config, engine)?,
     };
     let config = session.path.clone();
     let mut remote_view = RemoteView::default();
@@ -139,7 +140,11 @@ pub fn run(
     };
     let title = match &session.replay {
         Some(r) => format!("proleg — replay of {}", r.label),
-        None => format!("proleg — {}", config.display()),
+        None => format!(
+            "proleg — {} ({})",
+            config.display(),
+            session.simulator.engine_kind()
+        ),
     };
     // A real-robot configuration opens with the real-robot tab.
     let mut robot_view = RobotView::default();

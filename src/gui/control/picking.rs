@@ -92,10 +92,10 @@ pub fn on_drag_end(mut ev: On<Pointer<DragEnd>>, mut sel: ResMut<Selection>) {
 }
 
 /// The bodies that move with body visual `v`: the whole robot for a link, else the body.
-fn group(session: &SimSession, v: &BodyVisual) -> Vec<rapier3d::prelude::RigidBodyHandle> {
+fn group(session: &SimSession, v: &BodyVisual) -> Vec<crate::sim::engine::BodyId> {
     match v.link {
         Some(_) => session.simulator.robot_bodies(0).unwrap_or_default(),
-        None => vec![v.handle],
+        None => vec![v.body],
     }
 }
 
@@ -138,7 +138,7 @@ pub fn apply_moves(
 
 /// A body's position (m, z up).
 fn body_position(session: &SimSession, v: &BodyVisual) -> Option<[f64; 3]> {
-    session.simulator.body_position(v.handle)
+    session.simulator.body_position(v.body)
 }
 
 /// The "Selected body" window.

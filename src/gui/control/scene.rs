@@ -2,28 +2,28 @@
 //! link, touch pads that light up when pressed, lights with shadows. Physics runs in the
 //! configuration's frame (z up); one root entity turns it into Bevy's y-up frame, so every
 //! visual below it uses configuration coordinates. The scene is rebuilt whenever the
-//! session builds a new world (load, restart) and follows the rapier bodies every frame.
+//! session builds a new world (load, restart) and follows the engine's bodies every frame.
 
 use bevy::asset::RenderAssetUsages;
 use bevy::mesh::{Indices, PrimitiveTopology};
 use bevy::prelude::*;
-use rapier3d::prelude as rp;
 
 use crate::config::Simulation;
 use crate::config::body::{Geom, Shape};
 use crate::config::mesh::TriMesh;
 use crate::config::transform::Pose;
 use crate::gui::control::session::SimSession;
+use crate::sim::engine::BodyId;
 
 /// The root of the scene (configuration frame -> Bevy frame).
 #[derive(Component)]
 pub struct SceneRoot;
 
-/// A visual that follows a rapier body.
+/// A visual that follows a body of the physics engine.
 #[derive(Component)]
 pub struct BodyVisual {
-    /// The rapier body it follows.
-    pub handle: rp::RigidBodyHandle,
+    /// The engine's body it follows.
+    pub body: BodyId,
     /// Index of the robot link it shows (None: an environment body).
     pub link: Option<usize>,
 }
@@ -73,7 +73,7 @@ pub fn build_scene(
     for obj in session.simulator.environment_bodies() {
         if let Some(body) = sim.environment.bodies.get(obj.index) {
             let visual = BodyVisual {
-                handle: obj.handle,
+                body: obj.body,
                 link: None,
             };
             bodies.push((format!("environment: {}", body.name), visual, &body.geoms));
@@ -82,7 +82,7 @@ pub fn build_scene(
     for l in session.simulator.links(0).unwrap_or_default() {
         if let Some(model) = sim.robot.links.get(l.index) {
             let visual = BodyVisual {
-                handle: l.handle,
+                body: l.body,
                 link: Some(l.index),
             };
             bodies.push((format!("link {}", model.name), visual, &model.geoms));
@@ -90,7 +90,7 @@ pub fn build_scene(
     }
     let mut link_entities = vec![None; sim.robot.links.len()];
     for (name, visual, geoms) in bodies {
-        let (handle, link) = (visual.handle, visual.link);
+        let (handle, link) = (visual.body, visual.link);
         let e = spawn_body(
             &mut commands,
             &mut meshes,
@@ -120,7 +120,7 @@ fn spawn_pads(
     meshes: &mut Assets<Mesh>,
     materials: &mut Assets<StandardMaterial>,
     session: &SimSession,
-    links: &[Option<(Entity, rp::RigidBodyHandle)>],
+    links: &[Option<(Entity, BodyId)>],
 ) {
     let pressed = materials.add(StandardMaterial {
         base_color: Color::srgb(1.0, 0.1, 0.05),
@@ -133,7 +133,7 @@ fn spawn_pads(
             continue;
         };
         let he = pad.area.half_extents;
-        let t = rapier_transform(&pad.area.pose);
+        let t = to_transform(&pad.area.pose);
         let e = commands
             .spawn((
                 Name::new(format!("touch pad {}", pad.index)),
@@ -143,9 +143,9 @@ fn spawn_pads(
                     released: released.clone(),
                 },
                 Mesh3d(meshes.add(Cuboid::new(
-                    2.0 * he.x + 0.001,
-                    2.0 * he.y + 0.001,
-                    2.0 * he.z + 0.001,
+                    2.0 * he[0] as f32 + 0.001,
+                    2.0 * he[1] as f32 + 0.001,
+                    2.0 * he[2] as f32 + 0.001,
                 ))),
                 MeshMaterial3d(released.clone()),
                 t,
@@ -255,22 +255,15 @@ pub fn to_transform(p: &Pose) -> Transform {
         .with_rotation(Quat::from_xyzw(x as f32, y as f32, z as f32, w as f32).normalize())
 }
 
-/// A rapier pose as a Bevy transform (same frame: the scene root converts).
-pub fn rapier_transform(p: &rp::Pose) -> Transform {
-    let (t, r) = (p.translation, p.rotation);
-    Transform::from_translation(Vec3::new(t.x, t.y, t.z))
-        .with_rotation(Quat::from_xyzw(r.x, r.y, r.z, r.w))
-}
-
-/// Moves every body visual to its rapier body's pose.
+/// Moves every body visual to its engine body's pose.
 pub fn follow_bodies(
     session: NonSend<SimSession>,
     mut visuals: Query<(&BodyVisual, &mut Transform)>,
 ) {
-    let bodies = &session.simulator.physics().bodies;
+    let engine = session.simulator.engine();
     for (v, mut t) in &mut visuals {
-        if let Some(b) = bodies.get(v.handle) {
-            *t = rapier_transform(b.position());
+        if let Some(b) = engine.body(v.body) {
+            *t = to_transform(&b.pose);
         }
     }
 }

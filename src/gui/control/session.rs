@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::config::Simulation;
+use crate::config::simulation::EngineKind;
 use crate::control::ControlKernel;
 use crate::control::load_simulation_in;
 use crate::optimize::evaluate::robot_score;
@@ -48,14 +49,21 @@ pub struct SimSession {
     /// Robot 0's centre of mass and heading when the world was built (for the replay's
     /// score).
     start: ([f64; 3], f64),
+    /// The engine chosen on the command line (`--engine`), kept for every file loaded.
+    pub engine: Option<EngineKind>,
 }
 
 impl SimSession {
-    /// Loads `path` and builds its world, paused.
-    pub fn open(path: &Path) -> Result<SimSession, String> {
+    /// Loads `path` and builds its world, paused, on `engine` instead of the file's when
+    /// given.
+    pub fn open(path: &Path, engine: Option<EngineKind>) -> Result<SimSession, String> {
         let registry = crate::plugin_host::registry();
-        let sim = load_simulation_in(path, &registry).map_err(|e| e.to_string())?;
-        SimSession::with(path.to_path_buf(), sim, None)
+        let sim = load_simulation_in(path, &registry)
+            .map_err(|e| e.to_string())?
+            .with_engine(engine);
+        let mut session = SimSession::with(path.to_path_buf(), sim, None)?;
+        session.engine = engine;
+        Ok(session)
     }
 
     /// A stored evaluation's world (its configuration, genome, seed and noise), paused.
@@ -86,6 +94,7 @@ impl SimSession {
             generation: 0,
             replay,
             start,
+            engine: None,
         })
     }
 
@@ -117,7 +126,7 @@ impl SimSession {
 
     /// Loads another configuration; on failure keeps the current one and records the error.
     pub fn load(&mut self, path: &Path) {
-        match SimSession::open(path) {
+        match SimSession::open(path, self.engine) {
             Ok(s) => {
                 let generation = self.generation + 1;
                 *self = s;

@@ -41,6 +41,8 @@ pub struct VideoRequest {
     pub size: (u32, u32),
     /// Simulated seconds (default: the file's duration).
     pub seconds: Option<f64>,
+    /// The physics engine instead of the file's.
+    pub engine: Option<crate::config::simulation::EngineKind>,
 }
 
 /// What was rendered.
@@ -101,7 +103,7 @@ struct VideoCamera;
 /// Renders `req`'s run into its output.
 pub fn record_video(req: &VideoRequest) -> Result<VideoReport, String> {
     check(req)?;
-    let session = SimSession::open(&req.config)?;
+    let session = SimSession::open(&req.config, req.engine)?;
     let seconds = req
         .seconds
         .unwrap_or(session.sim.files.simulation.properties.duration);

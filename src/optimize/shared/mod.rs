@@ -20,6 +20,7 @@ pub mod worker;
 
 use std::path::Path;
 
+use crate::config::simulation::EngineKind;
 use crate::config::{MemSource, Simulation, load_simulation_with};
 use crate::control::ModuleRegistry;
 use crate::optimize::evaluate::Evaluator;
@@ -50,6 +51,11 @@ pub fn run_evaluator(spec: &RunSpec, registry: &ModuleRegistry) -> Result<Evalua
         ));
     }
     let sim = stored_simulation(spec, registry)?;
+    if sim.engine() == EngineKind::Mujoco
+        && let Err(e) = crate::sim::engine::mujoco::library::library()
+    {
+        return Err(format!("it runs on MuJoCo, which this host lacks: {e}"));
+    }
     let (space, _) = prepare(&sim, registry)?;
     let genes: Vec<String> = space.genes.iter().map(|g| g.label()).collect();
     if genes != spec.info.genes {

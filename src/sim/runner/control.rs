@@ -2,13 +2,12 @@
 //! properties dialog, the gamepad, the optimizers), the twin's joint override, and moving
 //! bodies (the viewer's drag, perturbation tests).
 
-use rapier3d::prelude as rp;
-
 use crate::control::ControlKernel;
 use crate::sim::Simulator;
+use crate::sim::engine::BodyId;
 use crate::sim::error::SimError;
 use crate::sim::kernel::{JointOverride, Kernel, SimRobot};
-use crate::sim::physics::{SimPhysics, arr3, vec3};
+use crate::sim::physics::SimPhysics;
 
 impl Simulator {
     /// Changes a module parameter of robot `robot` between steps (see
@@ -60,17 +59,13 @@ impl Simulator {
 
     /// Moves `bodies` by `delta` metres (z up) between steps, keeping their velocities and
     /// orientations (the viewer's drag); unknown handles are skipped.
-    pub fn translate_bodies(&mut self, bodies: &[rp::RigidBodyHandle], delta: [f64; 3]) {
+    pub fn translate_bodies(&mut self, bodies: &[BodyId], delta: [f64; 3]) {
         if !delta.iter().all(|d| d.is_finite()) {
             return;
         }
         let mut physics = self.world_mut().resource_mut::<SimPhysics>();
-        for h in bodies {
-            if let Some(b) = physics.world.bodies.get_mut(*h) {
-                let t = arr3(b.translation());
-                let moved = [t[0] + delta[0], t[1] + delta[1], t[2] + delta[2]];
-                b.set_translation(vec3(moved), true);
-            }
+        for b in bodies {
+            physics.engine.translate_body(*b, delta);
         }
     }
 
@@ -83,15 +78,13 @@ impl Simulator {
         angvel: [f64; 3],
     ) -> Result<(), SimError> {
         let bodies = &self.robot_component::<SimRobot>(robot)?.bodies;
-        let (handle, _) = *bodies.get(link).ok_or(SimError::NoSuchLink {
+        let (body, _) = *bodies.get(link).ok_or(SimError::NoSuchLink {
             link,
             count: bodies.len(),
         })?;
         if angvel.iter().all(|v| v.is_finite()) {
             let mut physics = self.world_mut().resource_mut::<SimPhysics>();
-            if let Some(b) = physics.world.bodies.get_mut(handle) {
-                b.set_angvel(vec3(angvel), true);
-            }
+            physics.engine.set_angular_velocity(body, angvel);
         }
         Ok(())
     }

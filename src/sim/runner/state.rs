@@ -2,27 +2,28 @@
 //! servos report, and a read-only view of the bodies and contacts for drawing and picking.
 
 use bevy::prelude::Component;
-use rapier3d::prelude as rp;
 
+use crate::config::simulation::EngineKind;
 use crate::control::ControlKernel;
 use crate::sensing::SensorData;
 use crate::sim::Simulator;
 use crate::sim::energy::Energy;
+use crate::sim::engine::{BodyId, BodyState, PadArea, PhysicsEngine};
 use crate::sim::error::SimError;
 use crate::sim::kernel::{Kernel, SimRobot};
-use crate::sim::physics::{SimPhysics, arr3};
+use crate::sim::physics::SimPhysics;
 use crate::sim::record::{Track, centre_of_mass, heading};
 use crate::sim::servo::{JointState, Servo};
 use crate::sim::spawn::{SimEnvObject, SimLink};
-use crate::sim::tactile::{PadArea, RobotSensors, TactileSensor};
+use crate::sim::tactile::{RobotSensors, TactileSensor};
 
-/// A body of the scene: an environment object or a robot link, with its rapier body.
+/// A body of the scene: an environment object or a robot link, with its engine body.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SceneBody {
     /// Index among the environment's bodies, or among the robot's links.
     pub index: usize,
-    /// The rapier body.
-    pub handle: rp::RigidBodyHandle,
+    /// The engine's body.
+    pub body: BodyId,
 }
 
 /// One tactile pad of a robot.
@@ -31,7 +32,7 @@ pub struct PadReading {
     /// Index among the robot's pads (the order of `SensorData::tactile`).
     pub index: usize,
     /// The link it sits on.
-    pub link: rp::RigidBodyHandle,
+    pub link: BodyId,
     /// Its area on the link.
     pub area: PadArea,
     /// Contact this step, before debouncing.
@@ -58,20 +59,27 @@ impl Indexed for PadReading {
 }
 
 impl Simulator {
-    fn physics_resource(&self) -> &SimPhysics {
-        self.world().resource::<SimPhysics>()
+    /// A read-only view of the physics engine (bodies, colliders, contacts) for drawing
+    /// and picking; changes go through the typed writes.
+    pub fn engine(&self) -> &dyn PhysicsEngine {
+        self.world().resource::<SimPhysics>().engine.as_ref()
+    }
+
+    /// Which engine steps this world.
+    pub fn engine_kind(&self) -> EngineKind {
+        self.engine().kind()
     }
 
     /// Centre of mass of robot `index` (m, z up).
     pub fn com(&self, index: usize) -> Result<[f64; 3], SimError> {
         let robot = self.robot_component::<SimRobot>(index)?;
-        Ok(centre_of_mass(&self.physics_resource().world.bodies, robot))
+        Ok(centre_of_mass(self.engine(), robot))
     }
 
     /// Tail-to-head heading of robot `index` in the ground plane (degrees from +x).
     pub fn heading(&self, index: usize) -> Result<f64, SimError> {
         let robot = self.robot_component::<SimRobot>(index)?;
-        Ok(heading(&self.physics_resource().world.bodies, robot))
+        Ok(heading(self.engine(), robot))
     }
 
     /// The robot's mass (kg): the sum of its links'.
@@ -82,7 +90,7 @@ impl Simulator {
 
     /// The world's gravity (m/s², z up), as the environment file sets it.
     pub fn gravity(&self) -> [f64; 3] {
-        arr3(self.physics_resource().world.gravity)
+        self.engine().gravity()
     }
 
     /// The current state of every joint of robot `index`.
@@ -160,7 +168,7 @@ impl Simulator {
         self.collect_sorted(|o: &SimEnvObject| {
             Some(SceneBody {
                 index: o.index,
-                handle: o.handle,
+                body: o.body,
             })
         })
     }
@@ -171,7 +179,7 @@ impl Simulator {
         Ok(self.collect_sorted(|l: &SimLink| {
             (l.robot == robot).then_some(SceneBody {
                 index: l.index,
-                handle: l.handle,
+                body: l.body,
             })
         }))
     }
@@ -187,23 +195,19 @@ impl Simulator {
         out
     }
 
-    /// The link bodies of robot `index`, in link order (handles only).
-    pub fn robot_bodies(&self, index: usize) -> Result<Vec<rp::RigidBodyHandle>, SimError> {
+    /// The link bodies of robot `index`, in link order (ids only).
+    pub fn robot_bodies(&self, index: usize) -> Result<Vec<BodyId>, SimError> {
         let robot = self.robot_component::<SimRobot>(index)?;
-        Ok(robot.bodies.iter().map(|(h, _)| *h).collect())
-    }
-
-    /// A read-only view of rapier's world (bodies, colliders, contacts) for drawing and
-    /// picking; changes go through the typed writes.
-    pub fn physics(&self) -> &rp::PhysicsWorld {
-        &self.physics_resource().world
+        Ok(robot.bodies.iter().map(|(b, _)| *b).collect())
     }
 
     /// Position of a body (m, z up).
-    pub fn body_position(&self, handle: rp::RigidBodyHandle) -> Option<[f64; 3]> {
-        self.physics()
-            .bodies
-            .get(handle)
-            .map(|b| arr3(b.translation()))
+    pub fn body_position(&self, body: BodyId) -> Option<[f64; 3]> {
+        self.engine().body(body).map(|b| b.pose.translation)
+    }
+
+    /// Pose, centre of mass, velocity and mass of a body.
+    pub fn body_state(&self, body: BodyId) -> Option<BodyState> {
+        self.engine().body(body)
     }
 }

@@ -11,10 +11,10 @@
 use rapier3d::parry::utils::Array2;
 use rapier3d::prelude as rp;
 
+use super::pose;
 use crate::config::body::{Geom, Shape};
 use crate::config::mesh::HeightMap;
 use crate::config::transform::Pose;
-use crate::sim::physics::pose;
 
 /// A height map scaled by `scale` as rapier's height field, and its placement in the
 /// geometry's frame: the grid spans the map's x and y, heights along z.

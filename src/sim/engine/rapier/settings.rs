@@ -33,7 +33,7 @@ pub struct PhysicsSettings {
     /// Natural frequency of contacts between moving bodies (Hz); contacts with fixed bodies
     /// (the terrain) are twice as stiff, as in rapier's defaults (30 Hz and 60 Hz).
     pub contact_hz: f64,
-    /// The floor box as a half-space ([`crate::sim::terrain`]); measured slower than the
+    /// The floor box as a half-space ([`super::terrain`]); measured slower than the
     /// box, so off in production.
     pub halfspace_floor: bool,
 }

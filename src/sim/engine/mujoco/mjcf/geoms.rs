@@ -7,8 +7,8 @@ use crate::config::Simulation;
 use crate::config::body::{Geom, MeshCollision, Shape};
 use crate::config::transform::{Pose, round_to};
 use crate::config::xml::write::XmlWriter;
-use crate::interop::{InteropError, to_isometry, to_pose};
-use crate::sim::spawn::LINK_FRICTION;
+use crate::sim::engine::LINK_FRICTION;
+use crate::sim::engine::mujoco::MujocoError;
 
 /// Which side of a contact a geom is on.
 #[derive(Debug, Clone, Copy)]
@@ -18,8 +18,11 @@ pub enum Collision {
         /// Coulomb coefficient.
         friction: f64,
     },
-    /// A robot link; with or without collisions among the robot's links.
+    /// A link of robot `robot` of the batch; with or without collisions among the
+    /// robot's links.
     Link {
+        /// Index in the batch (its collision bit is `1 << (robot + 1)`).
+        robot: usize,
         /// Whether non-neighbouring links collide.
         self_collision: bool,
     },
@@ -81,7 +84,7 @@ impl Assets {
     }
 
     /// The `<asset>` section.
-    pub fn write(&self, w: &mut XmlWriter, sim: &Simulation) -> Result<(), InteropError> {
+    pub fn write(&self, w: &mut XmlWriter, sim: &Simulation) -> Result<(), MujocoError> {
         if self.files.is_empty() {
             return Ok(());
         }
@@ -128,17 +131,17 @@ impl Assets {
     }
 }
 
-fn height_map(
-    sim: &Simulation,
-    file: &str,
-) -> Result<crate::config::mesh::HeightMap, InteropError> {
-    let path = std::path::Path::new(file);
+fn height_map(sim: &Simulation, file: &str) -> Result<crate::config::mesh::HeightMap, MujocoError> {
+    let err = |cause: String| MujocoError::Mesh {
+        file: file.to_string(),
+        cause,
+    };
     let mesh = sim
         .mesh(file)
-        .ok_or_else(|| InteropError::new(path, "not among the loaded meshes"))?;
+        .ok_or_else(|| err("not among the loaded meshes".into()))?;
     mesh.height_map()
         .cloned()
-        .map_err(|why| InteropError::new(path, format!("not a height map: {why}")))
+        .map_err(|why| err(format!("not a height map: {why}")))
 }
 
 fn min_max(v: &[f64]) -> (f64, f64) {
@@ -173,7 +176,7 @@ pub fn geom_attrs(
     assets: &Assets,
     collision: Collision,
     mass: Option<f64>,
-) -> Result<Vec<(&'static str, String)>, InteropError> {
+) -> Result<Vec<(&'static str, String)>, MujocoError> {
     let mut at = g.pose;
     let mut a: Vec<(&'static str, String)> = Vec::new();
     match &g.shape {
@@ -186,10 +189,13 @@ pub fn geom_attrs(
             a.push(("size", mj(&[*radius])));
         }
         Shape::Cylinder { radius, height } => {
-            // Ours stand along y, MuJoCo's along z: turn z onto y.
-            let turn =
-                nalgebra::UnitQuaternion::from_euler_angles(-std::f64::consts::FRAC_PI_2, 0.0, 0.0);
-            at = to_pose(&(to_isometry(&g.pose) * turn));
+            // Ours stand along y, MuJoCo's along z: turn z onto y (-90 degrees about x).
+            let half = std::f64::consts::FRAC_PI_4;
+            let turn = Pose {
+                translation: [0.0; 3],
+                rotation: [half.cos(), -half.sin(), 0.0, 0.0],
+            };
+            at = g.pose.mul(&turn);
             a.push(("type", "cylinder".into()));
             a.push(("size", mj(&[*radius, height / 2.0])));
         }
@@ -200,9 +206,12 @@ pub fn geom_attrs(
         } => {
             let field = *kind == MeshCollision::HeightField
                 && matches!(collision, Collision::Terrain { .. });
-            let k = assets.index(file, *scale, field).ok_or_else(|| {
-                InteropError::new(std::path::Path::new(file), "asset not collected")
-            })?;
+            let k = assets
+                .index(file, *scale, field)
+                .ok_or_else(|| MujocoError::Mesh {
+                    file: file.clone(),
+                    cause: "asset not collected".into(),
+                })?;
             if field {
                 let map = height_map(sim, file)?;
                 let (lo, _) = min_max(&map.heights);
@@ -221,14 +230,26 @@ pub fn geom_attrs(
         }
     }
     a.extend(pose_attrs(&at));
+    // Terrain is collision bit 1, robot r of a batch bit 1 << (r + 1): MuJoCo pairs two
+    // geoms when one's contype meets the other's conaffinity, so every robot meets the
+    // terrain, none meets another robot, and a robot meets itself only with self-collision.
     let (friction, priority, contype, conaffinity) = match collision {
         // The smaller coefficient decides, as in proleg: a terrain geom below the links'
         // friction outranks them, the links outrank the others.
         Collision::Terrain { friction } => {
-            (friction, if friction < LINK_FRICTION { 2 } else { 0 }, 3, 3)
+            (friction, if friction < LINK_FRICTION { 2 } else { 0 }, 1, 1)
         }
-        Collision::Link { self_collision } => {
-            (LINK_FRICTION, 1, 2, if self_collision { 3 } else { 1 })
+        Collision::Link {
+            robot,
+            self_collision,
+        } => {
+            let bit = 1u32 << (robot + 1);
+            (
+                LINK_FRICTION,
+                1,
+                bit,
+                if self_collision { 1 | bit } else { 1 },
+            )
         }
     };
     a.push(("friction", mj(&[friction, 0.005, 0.0001])));

@@ -1,0 +1,346 @@
+//! The one door to physics: the [`PhysicsEngine`] interface the step's stages, the runner's
+//! typed reads, picking, dragging and drawing use, and the engines behind it.
+//!
+//! | engine | module | what it is |
+//! |---|---|---|
+//! | rapier | [`rapier`] | rapier3d, pure Rust, always built; the default |
+//! | MuJoCo | [`mujoco`] | MuJoCo 4.0.0's C library, loaded at run time (`libloading`) |
+//!
+//! An engine is built from a resolved [`Simulation`] ([`build`]) and hands back a
+//! [`Layout`]: engine-neutral ids ([`BodyId`], [`JointId`], [`PadId`], [`LaserId`]) of the
+//! environment's bodies and of each robot's links, joints, pads and lasers, which the ECS
+//! components keep. Every engine type (rapier's handles, MuJoCo's pointers) stays inside
+//! its own module; `tests/layering.rs` enforces it.
+//!
+//! Semantics both engines share (docs/DESIGN.md §3): the servo's velocity command is
+//! computed by our `Servo` stage and driven by a velocity motor of damping
+//! [`MOTOR_DAMPING`] limited to the joint's `maxtorque`; the contact friction is the
+//! smaller of the two surfaces'; links joined by a hinge do not collide; a pad is touched
+//! when a contact patch of its link overlaps its area.
+
+pub mod mujoco;
+pub mod pad;
+pub mod rapier;
+
+use crate::config::Simulation;
+use crate::config::simulation::EngineKind;
+use crate::config::transform::Pose;
+use crate::sim::error::SimError;
+
+pub use pad::PadArea;
+
+/// Damping of the servo's velocity motor (N·m·s/rad) on every engine: stiff enough that the
+/// torque limit, not the motor model, bounds the servo.
+pub const MOTOR_DAMPING: f64 = 10.0;
+
+/// Most robots one world can hold (one collision group each, besides the environment).
+pub const MAX_ROBOTS_PER_WORLD: usize = 31;
+
+/// Friction of robot link surfaces; contacts take the smaller of the two coefficients, so
+/// the terrain's friction decides unless it is higher than this.
+pub const LINK_FRICTION: f64 = 1.0;
+
+/// Friction of geometries that name none, when the environment gives no default.
+pub const DEFAULT_FRICTION: f64 = 0.5;
+
+/// Most robots one world of `kind` holds: MuJoCo's collision masks are 32-bit signed, so
+/// it holds one robot fewer.
+pub fn max_robots(kind: EngineKind) -> usize {
+    match kind {
+        EngineKind::Rapier => MAX_ROBOTS_PER_WORLD,
+        EngineKind::Mujoco => MAX_ROBOTS_PER_WORLD - 1,
+    }
+}
+
+/// A rigid body of the world (an environment body or a robot link).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct BodyId(pub u32);
+
+/// A hinge of a robot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct JointId(pub u32);
+
+/// A tactile pad of a robot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct PadId(pub u32);
+
+/// A 2D laser of a robot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct LaserId(pub u32);
+
+/// What a joint does now.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct JointReading {
+    /// Degrees.
+    pub angle: f64,
+    /// Degrees per second.
+    pub velocity: f64,
+    /// Torque the servo motor applied in the last step (N·m).
+    pub torque: f64,
+}
+
+/// Where a body is and how it moves.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyState {
+    /// The body's frame in the world (m, z up).
+    pub pose: Pose,
+    /// Its centre of mass in the world (m).
+    pub com: [f64; 3],
+    /// Linear velocity of the centre of mass (m/s).
+    pub linvel: [f64; 3],
+    /// Mass (kg); 0 for a static body.
+    pub mass: f64,
+    /// Principal moments of inertia (kg·m²).
+    pub inertia: [f64; 3],
+    /// Whether it moves (not part of the static scenery).
+    pub dynamic: bool,
+}
+
+/// The outline of a collision shape, for the debug view.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ShapeOutline {
+    /// A box with these half extents, at the collider's pose.
+    Box([f64; 3]),
+    /// A sphere of this radius.
+    Sphere(f64),
+    /// Anything else, by its world-space bounding box.
+    Bounds([f64; 3], [f64; 3]),
+}
+
+/// A collider as the debug view draws it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ColliderView {
+    /// Its pose in the world.
+    pub pose: Pose,
+    /// Its outline.
+    pub shape: ShapeOutline,
+    /// On a moving body.
+    pub dynamic: bool,
+}
+
+/// A contact point as the debug view draws it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactView {
+    /// Where (world, m).
+    pub point: [f64; 3],
+    /// The contact normal (unit).
+    pub normal: [f64; 3],
+    /// Penetrating (distance <= 0) rather than only predicted.
+    pub touching: bool,
+}
+
+/// The ids of one robot's parts, in the configuration's order.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RobotLayout {
+    /// Link bodies with their masses (kg).
+    pub links: Vec<(BodyId, f64)>,
+    /// Hinges.
+    pub joints: Vec<JointId>,
+    /// Tactile pads, in the robot's sensor order.
+    pub pads: Vec<PadId>,
+    /// Lasers, in the robot's sensor order.
+    pub lasers: Vec<LaserId>,
+}
+
+/// What an engine built.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Layout {
+    /// The environment's bodies, in the environment's order.
+    pub environment: Vec<BodyId>,
+    /// Each robot of the batch.
+    pub robots: Vec<RobotLayout>,
+}
+
+/// How to build an engine's world.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EngineBuild {
+    /// Which engine.
+    pub kind: EngineKind,
+    /// Copies of the robot (1 ..= [`MAX_ROBOTS_PER_WORLD`]).
+    pub robots: usize,
+    /// rapier's settings (substeps, tolerances), when not the robot's production ones.
+    pub rapier: Option<rapier::PhysicsSettings>,
+    /// MuJoCo's settings (solver, cone, refinement), when not the production ones.
+    pub mujoco: Option<mujoco::MujocoSettings>,
+}
+
+/// A physics engine's world, as every stage of the step and every view reaches it. The
+/// ids are those of the [`Layout`] the engine was built with; an unknown id reads as
+/// zero / nothing.
+pub trait PhysicsEngine: Send + Sync + 'static {
+    /// Which engine this is.
+    fn kind(&self) -> EngineKind;
+    /// The world's gravity (m/s², z up).
+    fn gravity(&self) -> [f64; 3];
+    /// A description of the settings the world runs with (for reports).
+    fn settings(&self) -> String;
+    /// Advances the world by one simulation step (several engine steps when the settings
+    /// refine it).
+    fn step(&mut self);
+    /// Joint `j`'s angle, speed and last motor torque.
+    fn joint(&self, j: JointId) -> JointReading;
+    /// Drives joint `j`'s velocity motor at `velocity` (degrees/s) for the next step;
+    /// `now` is what [`PhysicsEngine::joint`] read at the step's start.
+    fn drive_joint(&mut self, j: JointId, velocity: f64, now: &JointReading);
+    /// Body `b`'s centre of mass (world, m): the per-step read of the position sensor.
+    fn body_com(&self, b: BodyId) -> [f64; 3];
+    /// Everything about body `b`, or `None` for an unknown id.
+    fn body(&self, b: BodyId) -> Option<BodyState>;
+    /// Pad `p`'s raw contact this step and the summed contact normal (unit, pointing into
+    /// the pad's link) of the patches that touch it.
+    fn pad_contact(&self, p: PadId) -> (bool, [f64; 3]);
+    /// Casts laser `l`'s beams; fills `ranges` (m), the maximum range where nothing is hit.
+    fn scan(&self, l: LaserId, ranges: &mut [f64]);
+    /// Moves body `b` by `delta` (m), keeping its velocity and orientation.
+    fn translate_body(&mut self, b: BodyId, delta: [f64; 3]);
+    /// Sets body `b`'s angular velocity (rad/s).
+    fn set_angular_velocity(&mut self, b: BodyId, angvel: [f64; 3]);
+    /// Every collider, for the debug view.
+    fn colliders(&self) -> Vec<ColliderView>;
+    /// Every contact point, for the debug view.
+    fn contacts(&self) -> Vec<ContactView>;
+}
+
+/// A laser as the engines cast it: on `body` at `pose`, beams at `angles` (radians, in the
+/// sensor's x-y plane, 0 along +y, positive towards -x), up to `max_range` (m).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LaserSpec {
+    /// The robot it belongs to (index in the batch).
+    pub robot: usize,
+    /// Its link.
+    pub body: BodyId,
+    /// Its pose on the link.
+    pub pose: Pose,
+    /// Beam angles (rad).
+    pub angles: Vec<f64>,
+    /// Range (m).
+    pub max_range: f64,
+}
+
+impl LaserSpec {
+    /// Beam `i`'s direction in the sensor's frame.
+    pub fn direction(angle: f64) -> [f64; 3] {
+        [-angle.sin(), angle.cos(), 0.0]
+    }
+}
+
+/// Builds `sim`'s world on the engine `opts` names.
+pub fn build(
+    sim: &Simulation,
+    opts: &EngineBuild,
+) -> Result<(Box<dyn PhysicsEngine>, Layout), SimError> {
+    let max = max_robots(opts.kind);
+    if opts.robots == 0 || opts.robots > max {
+        return Err(SimError::TooManyRobots {
+            requested: opts.robots,
+            max,
+        });
+    }
+    match opts.kind {
+        EngineKind::Rapier => {
+            let settings = opts
+                .rapier
+                .unwrap_or_else(|| rapier::PhysicsSettings::for_robot(sim));
+            let (engine, layout) = rapier::RapierEngine::build(sim, opts.robots, settings)?;
+            Ok((Box::new(engine), layout))
+        }
+        EngineKind::Mujoco => {
+            let settings = opts.mujoco.unwrap_or_default();
+            let (engine, layout) = mujoco::MujocoEngine::build(sim, opts.robots, settings)?;
+            Ok((Box::new(engine), layout))
+        }
+    }
+}
+
+/// A sensor of the robot as the engines place it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SensorPart {
+    /// A tactile pad on link `link`.
+    Pad {
+        /// The sensor's name (for errors).
+        name: String,
+        /// Link index.
+        link: usize,
+        /// Its area on the link.
+        area: PadArea,
+    },
+    /// A 2D laser on link `link`: pose on the link, beam angles (rad), range (m).
+    Laser {
+        /// Link index.
+        link: usize,
+        /// Pose on the link.
+        pose: Pose,
+        /// Beam angles (rad).
+        angles: Vec<f64>,
+        /// Range (m).
+        max_range: f64,
+    },
+}
+
+/// The robot's sensors as engine parts, in the robot's sensor order.
+pub fn sensor_parts(sim: &Simulation) -> Vec<SensorPart> {
+    use crate::config::sensor::Sensor;
+    sim.robot
+        .sensors
+        .iter()
+        .map(|s| match &s.sensor {
+            Sensor::Laser2d(l) => SensorPart::Laser {
+                link: s.link,
+                pose: s.pose,
+                angles: crate::sim::laser::beam_angles(l)
+                    .iter()
+                    .map(|a| a.to_radians())
+                    .collect(),
+                max_range: l.max_range,
+            },
+            Sensor::Tactile(t) => SensorPart::Pad {
+                name: s.name.clone(),
+                link: s.link,
+                area: PadArea {
+                    pose: s.pose,
+                    half_extents: t.extents,
+                },
+            },
+        })
+        .collect()
+}
+
+/// An engine with its settings: what a converged-reference ladder refines.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum EngineSettings {
+    /// rapier with these settings.
+    Rapier(rapier::PhysicsSettings),
+    /// MuJoCo with these settings.
+    Mujoco(mujoco::MujocoSettings),
+}
+
+impl EngineSettings {
+    /// Which engine.
+    pub fn kind(&self) -> EngineKind {
+        match self {
+            EngineSettings::Rapier(_) => EngineKind::Rapier,
+            EngineSettings::Mujoco(_) => EngineKind::Mujoco,
+        }
+    }
+
+    /// The same settings with every simulation step split into `factor` times as many
+    /// engine steps.
+    pub fn refined(self, factor: u32) -> Self {
+        match self {
+            EngineSettings::Rapier(s) => EngineSettings::Rapier(s.refined(factor)),
+            EngineSettings::Mujoco(s) => EngineSettings::Mujoco(mujoco::MujocoSettings {
+                steps_per_step: s.steps_per_step * factor,
+                ..s
+            }),
+        }
+    }
+}
+
+impl std::fmt::Display for EngineSettings {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            EngineSettings::Rapier(s) => write!(f, "{s}"),
+            EngineSettings::Mujoco(s) => write!(f, "{s}"),
+        }
+    }
+}

@@ -1,0 +1,673 @@
+//! [`MujocoEngine`]: a MuJoCo model and its data, built in memory from the simulation's
+//! MJCF mapping (a virtual file system, no temporary file), stepped by `mj_step` and then
+//! `mj_kinematics`, so that the next simulation step senses the bodies where they are
+//! after the step (as on rapier), and the contacts found at the step's start (as on rapier,
+//! whose narrow phase runs before it integrates). The servo stage's speeds enter before
+//! `mj_step`, whose velocity stage then sees them.
+//!
+//! The servo stage's velocity command is the speed of the hinge's reference hinge (set,
+//! and held by the reference's stiff velocity actuator); the tendon between them holds the hinge at that speed with a friction-loss constraint of at
+//! most `maxtorque` ([`super::mjcf::Servos::Velocity`]): like rapier's motor, a velocity
+//! constraint with bounded force, solved implicitly. Joint limits are MuJoCo's own. A pad reads its link's contacts grouped by geometry pair (one
+//! patch per pair, as rapier's manifolds), a laser casts `mj_ray` per beam.
+//!
+//! Where MuJoCo differs from rapier here: dragging moves a robot by its root's free joint
+//! and a static body by its model position (inner links follow their root); an angular
+//! velocity is set on free bodies only; a laser in a batch of several robots also sees the
+//! other robots (`mj_ray` has no collision groups).
+
+use std::ffi::{CString, c_char, c_int};
+
+use super::ffi::{
+    mjData, mjModel, mjVFS, mjtGeom_mjGEOM_BOX, mjtGeom_mjGEOM_SPHERE, mjtObj_mjOBJ_BODY,
+    mjtObj_mjOBJ_JOINT,
+};
+use super::library::{Library, library, take_error};
+use super::mjcf::{MjcfOptions, Servos, env_body_name, mjcf, robot_prefix, servo_name};
+use super::{MujocoError, MujocoSettings};
+use crate::config::Simulation;
+use crate::config::simulation::EngineKind;
+use crate::config::transform::Pose;
+use crate::sim::engine::{
+    BodyId, BodyState, ColliderView, ContactView, JointId, JointReading, LaserId, Layout, PadArea,
+    PadId, PhysicsEngine, RobotLayout, SensorPart, ShapeOutline, sensor_parts,
+};
+use crate::sim::error::SimError;
+
+/// The name the model's document has in the virtual file system.
+const MODEL_NAME: &str = "proleg-model.xml";
+
+/// A hinge: where its angle and speed are, its servo reference's dof and actuator.
+#[derive(Debug, Clone, Copy)]
+struct Hinge {
+    qpos: usize,
+    dof: usize,
+    servo: usize,
+    actuator: usize,
+}
+
+/// A pad: its link's MuJoCo body and the map from the link's frame to the pad's.
+#[derive(Debug, Clone, Copy)]
+struct Pad {
+    body: c_int,
+    from_link: Pose,
+    area: PadArea,
+}
+
+/// A laser: its link's body, its pose there, beam directions in its frame and range.
+#[derive(Debug, Clone)]
+struct Laser {
+    body: c_int,
+    pose: Pose,
+    directions: Vec<[f64; 3]>,
+    max_range: f64,
+}
+
+/// A MuJoCo world.
+pub struct MujocoEngine {
+    lib: &'static Library,
+    model: *mut mjModel,
+    data: *mut mjData,
+    settings: MujocoSettings,
+    /// Our body ids to MuJoCo's.
+    bodies: Vec<c_int>,
+    hinges: Vec<Hinge>,
+    pads: Vec<Pad>,
+    lasers: Vec<Laser>,
+}
+
+// SAFETY: the model and data are plain memory owned by this value; MuJoCo keeps no
+// thread-affine state in them, and every access goes through `&self` / `&mut self`.
+unsafe impl Send for MujocoEngine {}
+// SAFETY: `&self` methods only read the model and data (mj_ray, mj_objectVelocity take
+// them as const).
+unsafe impl Sync for MujocoEngine {}
+
+impl Drop for MujocoEngine {
+    fn drop(&mut self) {
+        // SAFETY: both were made by MuJoCo in `build` and are freed once, here.
+        unsafe {
+            self.lib.api.mj_deleteData(self.data);
+            self.lib.api.mj_deleteModel(self.model);
+        }
+    }
+}
+
+/// `n` numbers at `ptr[at..]`.
+///
+/// # Safety
+/// `ptr` must point to an array MuJoCo sized to hold `at + N` values.
+unsafe fn read<const N: usize>(ptr: *const f64, at: usize) -> [f64; N] {
+    // SAFETY: guaranteed by the caller.
+    std::array::from_fn(|i| unsafe { *ptr.add(at + i) })
+}
+
+impl MujocoEngine {
+    /// `sim`'s world with `robots` copies of the robot, integrated with `settings`.
+    pub fn build(
+        sim: &Simulation,
+        robots: usize,
+        settings: MujocoSettings,
+    ) -> Result<(MujocoEngine, Layout), SimError> {
+        let lib = library()?;
+        let doc = mjcf(
+            sim,
+            &MjcfOptions {
+                robots,
+                servos: Servos::Velocity,
+                settings,
+            },
+        )?;
+        let model = load_model(lib, &doc.xml, sim)?;
+        // SAFETY: `model` is a valid model just compiled.
+        let data = unsafe { lib.api.mj_makeData(model) };
+        if data.is_null() {
+            // SAFETY: made above, not shared.
+            unsafe { lib.api.mj_deleteModel(model) };
+            return Err(rejected(sim, "mj_makeData failed".into()).into());
+        }
+        let mut engine = MujocoEngine {
+            lib,
+            model,
+            data,
+            settings,
+            bodies: Vec::new(),
+            hinges: Vec::new(),
+            pads: Vec::new(),
+            lasers: Vec::new(),
+        };
+        let layout = engine.layout(sim, robots)?;
+        // SAFETY: valid model and data; computes the positions, contacts and centres of
+        // mass of the start pose.
+        unsafe { lib.api.mj_forward(engine.model, engine.data) };
+        if let Some(e) = take_error() {
+            return Err(MujocoError::Library(e).into());
+        }
+        Ok((engine, layout))
+    }
+
+    fn m(&self) -> &mjModel {
+        // SAFETY: valid for the engine's life.
+        unsafe { &*self.model }
+    }
+
+    fn d(&self) -> &mjData {
+        // SAFETY: valid for the engine's life.
+        unsafe { &*self.data }
+    }
+
+    fn id(&self, kind: u32, name: &str, sim: &Simulation) -> Result<c_int, SimError> {
+        let c = CString::new(name).map_err(|_| rejected(sim, format!("name {name:?}")))?;
+        // SAFETY: valid model, NUL-terminated name.
+        let id = unsafe {
+            self.lib
+                .api
+                .mj_name2id(self.model, kind as c_int, c.as_ptr())
+        };
+        if id < 0 {
+            return Err(rejected(sim, format!("no object named {name} in the model")).into());
+        }
+        Ok(id)
+    }
+
+    fn add_body(&mut self, id: c_int) -> BodyId {
+        self.bodies.push(id);
+        BodyId(self.bodies.len() as u32 - 1)
+    }
+
+    /// Our ids of the environment and of each robot's parts, by name.
+    fn layout(&mut self, sim: &Simulation, robots: usize) -> Result<Layout, SimError> {
+        let mut layout = Layout::default();
+        for b in &sim.environment.bodies {
+            let id = self.id(mjtObj_mjOBJ_BODY, &env_body_name(&b.name), sim)?;
+            let body = self.add_body(id);
+            layout.environment.push(body);
+        }
+        let parts = sensor_parts(sim);
+        for r in 0..robots {
+            let prefix = robot_prefix(robots, r);
+            let mut robot = RobotLayout::default();
+            for l in &sim.robot.links {
+                let id = self.id(mjtObj_mjOBJ_BODY, &format!("{prefix}{}", l.name), sim)?;
+                let body = self.add_body(id);
+                robot.links.push((body, l.mass));
+            }
+            for j in &sim.robot.joints {
+                let name = format!("{prefix}{}", j.name);
+                let id = self.id(mjtObj_mjOBJ_JOINT, &name, sim)?;
+                let servo = self.id(mjtObj_mjOBJ_JOINT, &servo_name(&name), sim)?;
+                let m = self.m();
+                // SAFETY: both are joints of the model, the arrays have `njnt` entries.
+                let (qpos, dof, servo) = unsafe {
+                    (
+                        *m.jnt_qposadr.add(id as usize) as usize,
+                        *m.jnt_dofadr.add(id as usize) as usize,
+                        *m.jnt_dofadr.add(servo as usize) as usize,
+                    )
+                };
+                let actuator = self.hinges.len();
+                self.hinges.push(Hinge {
+                    qpos,
+                    dof,
+                    servo,
+                    actuator,
+                });
+                robot.joints.push(JointId(self.hinges.len() as u32 - 1));
+            }
+            for part in &parts {
+                self.add_sensor(sim, part, r, &mut robot)?;
+            }
+            layout.robots.push(robot);
+        }
+        Ok(layout)
+    }
+
+    fn add_sensor(
+        &mut self,
+        sim: &Simulation,
+        part: &SensorPart,
+        _robot: usize,
+        layout: &mut RobotLayout,
+    ) -> Result<(), SimError> {
+        match part {
+            SensorPart::Pad { name, link, area } => {
+                let body = self.bodies[layout.links[*link].0.0 as usize];
+                let pad = Pad {
+                    body,
+                    from_link: area.pose.inverse(),
+                    area: *area,
+                };
+                if !self.pad_on_link(&pad) {
+                    return Err(MujocoError::PadOffLink {
+                        sensor: name.clone(),
+                        link: sim.robot.links[*link].name.clone(),
+                    }
+                    .into());
+                }
+                self.pads.push(pad);
+                layout.pads.push(PadId(self.pads.len() as u32 - 1));
+            }
+            SensorPart::Laser {
+                link,
+                pose,
+                angles,
+                max_range,
+            } => {
+                let body = self.bodies[layout.links[*link].0.0 as usize];
+                self.lasers.push(Laser {
+                    body,
+                    pose: *pose,
+                    directions: angles
+                        .iter()
+                        .map(|a| crate::sim::engine::LaserSpec::direction(*a))
+                        .collect(),
+                    max_range: *max_range,
+                });
+                layout.lasers.push(LaserId(self.lasers.len() as u32 - 1));
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether the pad's box overlaps the bounding box of one of its link's geoms.
+    fn pad_on_link(&self, pad: &Pad) -> bool {
+        let m = self.m();
+        (0..m.ngeom as usize).any(|g| {
+            // SAFETY: `g < ngeom`; geom_pos 3, geom_quat 4, geom_aabb 6 values per geom.
+            let (body, pos, quat, aabb) = unsafe {
+                (
+                    *m.geom_bodyid.add(g),
+                    read::<3>(m.geom_pos, 3 * g),
+                    read::<4>(m.geom_quat, 4 * g),
+                    read::<6>(m.geom_aabb, 6 * g),
+                )
+            };
+            if body != pad.body {
+                return false;
+            }
+            let to_pad = pad.from_link.mul(&Pose {
+                translation: pos,
+                rotation: quat,
+            });
+            let corners = (0..8).map(|c| {
+                let corner = std::array::from_fn(|i| {
+                    let sign = if c >> i & 1 == 1 { 1.0 } else { -1.0 };
+                    aabb[i] + sign * aabb[3 + i]
+                });
+                to_pad.transform_point(corner)
+            });
+            pad.area.touched_by(corners)
+        })
+    }
+
+    /// Body `id`'s frame in the world.
+    fn body_pose(&self, id: c_int) -> Pose {
+        let d = self.d();
+        // SAFETY: `id < nbody`; xpos 3, xquat 4 values per body.
+        unsafe {
+            Pose {
+                translation: read::<3>(d.xpos, 3 * id as usize),
+                rotation: read::<4>(d.xquat, 4 * id as usize),
+            }
+        }
+    }
+
+    /// The address of body `id`'s free joint in `qpos` and `qvel`, if it has one.
+    fn free_joint(&self, id: c_int) -> Option<(usize, usize)> {
+        let m = self.m();
+        // SAFETY: `id < nbody`; a body's joints are `jntnum` joints from `jntadr`.
+        unsafe {
+            let (n, adr) = (
+                *m.body_jntnum.add(id as usize),
+                *m.body_jntadr.add(id as usize),
+            );
+            (n == 1 && *m.jnt_type.add(adr as usize) == 0).then(|| {
+                (
+                    *m.jnt_qposadr.add(adr as usize) as usize,
+                    *m.jnt_dofadr.add(adr as usize) as usize,
+                )
+            })
+        }
+    }
+
+    /// Recomputes positions and contacts after a change between steps.
+    fn refresh(&mut self) {
+        // SAFETY: valid model and data.
+        unsafe { self.lib.api.mj_forward(self.model, self.data) };
+    }
+}
+
+/// Compiles the MJCF document from memory.
+fn load_model(lib: &Library, xml: &str, sim: &Simulation) -> Result<*mut mjModel, SimError> {
+    let mut vfs = mjVFS {
+        impl_: std::ptr::null_mut(),
+    };
+    let name = CString::new(MODEL_NAME).map_err(|_| rejected(sim, "model name".into()))?;
+    let mut error = [0 as c_char; 1000];
+    // SAFETY: the VFS is initialised before use and deleted after; the buffer is copied
+    // by mj_addBufferVFS; `error` holds `error.len()` bytes.
+    let model = unsafe {
+        lib.api.mj_defaultVFS(&mut vfs);
+        let added = lib.api.mj_addBufferVFS(
+            &mut vfs,
+            name.as_ptr(),
+            xml.as_ptr().cast(),
+            xml.len() as c_int,
+        );
+        let model = if added == 0 {
+            lib.api.mj_loadXML(
+                name.as_ptr(),
+                &vfs,
+                error.as_mut_ptr(),
+                error.len() as c_int,
+            )
+        } else {
+            std::ptr::null_mut()
+        };
+        lib.api.mj_deleteVFS(&mut vfs);
+        model
+    };
+    if model.is_null() {
+        // SAFETY: MuJoCo writes a NUL-terminated message into `error`.
+        let text = unsafe { std::ffi::CStr::from_ptr(error.as_ptr()) }
+            .to_string_lossy()
+            .into_owned();
+        let cause = match take_error() {
+            Some(e) => format!("{text} {e}"),
+            None => text,
+        };
+        return Err(rejected(sim, cause.trim().to_string()).into());
+    }
+    Ok(model)
+}
+
+/// MuJoCo refused `sim`'s model; its message (which may span lines) on one line.
+fn rejected(sim: &Simulation, cause: String) -> MujocoError {
+    MujocoError::Rejected {
+        file: sim.file.display().to_string(),
+        cause: cause.split_whitespace().collect::<Vec<_>>().join(" "),
+    }
+}
+
+impl PhysicsEngine for MujocoEngine {
+    fn kind(&self) -> EngineKind {
+        EngineKind::Mujoco
+    }
+
+    fn gravity(&self) -> [f64; 3] {
+        self.m().opt.gravity
+    }
+
+    fn settings(&self) -> String {
+        self.settings.to_string()
+    }
+
+    fn step(&mut self) {
+        let api = &self.lib.api;
+        // SAFETY (both): valid model and data.
+        for _ in 0..self.settings.steps_per_step.max(1) {
+            unsafe { api.mj_step(self.model, self.data) };
+        }
+        unsafe { api.mj_kinematics(self.model, self.data) };
+    }
+
+    fn joint(&self, j: JointId) -> JointReading {
+        let Some(h) = self.hinges.get(j.0 as usize) else {
+            return JointReading::default();
+        };
+        let d = self.d();
+        // SAFETY: the addresses came from the model. The servo tendon's force acts on the
+        // hinge as on its reference hinge, with the opposite sign, and no other constraint
+        // acts on the reference hinge: its constraint force is the servo's torque.
+        unsafe {
+            JointReading {
+                angle: (*d.qpos.add(h.qpos)).to_degrees(),
+                velocity: (*d.qvel.add(h.dof)).to_degrees(),
+                torque: -*d.qfrc_constraint.add(h.servo),
+            }
+        }
+    }
+
+    fn drive_joint(&mut self, j: JointId, velocity: f64, _now: &JointReading) {
+        if let Some(h) = self.hinges.get(j.0 as usize) {
+            let v = velocity.to_radians();
+            // The reference turns at the command from the step's start (the tendon's
+            // constraint sees it this step, as rapier's motor sees its target), and its
+            // actuator holds it there. SAFETY: a dof of the model; `actuator < nu`.
+            unsafe {
+                *self.d().qvel.add(h.servo) = v;
+                *self.d().ctrl.add(h.actuator) = v;
+            }
+        }
+    }
+
+    fn body_com(&self, b: BodyId) -> [f64; 3] {
+        let Some(&id) = self.bodies.get(b.0 as usize) else {
+            return [0.0; 3];
+        };
+        // SAFETY: `id < nbody`; xipos has 3 values per body.
+        unsafe { read::<3>(self.d().xipos, 3 * id as usize) }
+    }
+
+    fn body(&self, b: BodyId) -> Option<BodyState> {
+        let id = *self.bodies.get(b.0 as usize)?;
+        let m = self.m();
+        let mut velocity = [0.0; 6];
+        // SAFETY: `id < nbody`; `velocity` holds the 6 values mj_objectVelocity writes.
+        let (mass, inertia, weld) = unsafe {
+            self.lib.api.mj_objectVelocity(
+                self.model,
+                self.data,
+                mjtObj_mjOBJ_BODY as c_int,
+                id,
+                velocity.as_mut_ptr(),
+                0,
+            );
+            (
+                *m.body_mass.add(id as usize),
+                read::<3>(m.body_inertia, 3 * id as usize),
+                *m.body_weldid.add(id as usize),
+            )
+        };
+        Some(BodyState {
+            pose: self.body_pose(id),
+            com: self.body_com(b),
+            linvel: [velocity[3], velocity[4], velocity[5]],
+            mass,
+            inertia,
+            dynamic: weld != 0,
+        })
+    }
+
+    fn pad_contact(&self, p: PadId) -> (bool, [f64; 3]) {
+        let Some(pad) = self.pads.get(p.0 as usize) else {
+            return (false, [0.0; 3]);
+        };
+        let (m, d) = (self.m(), self.d());
+        let to_world = self.body_pose(pad.body);
+        let to_pad = pad.from_link.mul(&to_world.inverse());
+        let (mut touching, mut normal) = (false, [0.0; 3]);
+        let n = d.ncon.max(0) as usize;
+        let mut i = 0;
+        while i < n {
+            // SAFETY: `i < ncon`; contacts of one geom pair are consecutive.
+            let c = unsafe { &*d.contact.add(i) };
+            let pair = (c.geom1, c.geom2);
+            let mut end = i + 1;
+            // SAFETY: as above.
+            while end < n
+                && unsafe { ((*d.contact.add(end)).geom1, (*d.contact.add(end)).geom2) } == pair
+            {
+                end += 1;
+            }
+            // SAFETY: geom ids of a contact are below ngeom.
+            let (b1, b2) = unsafe {
+                (
+                    *m.geom_bodyid.add(pair.0 as usize),
+                    *m.geom_bodyid.add(pair.1 as usize),
+                )
+            };
+            if b1 == pad.body || b2 == pad.body {
+                // SAFETY: `i..end` are contacts.
+                let patch = (i..end).map(|k| unsafe { &*d.contact.add(k) });
+                if pad
+                    .area
+                    .touched_by(patch.map(|c| to_pad.transform_point(c.pos)))
+                {
+                    touching = true;
+                    // MuJoCo's normal points from geom1 to geom2: into our link when the
+                    // other geom is geom1.
+                    let sign = if b1 == pad.body { -1.0 } else { 1.0 };
+                    for k in 0..3 {
+                        normal[k] += sign * c.frame[k];
+                    }
+                }
+            }
+            i = end;
+        }
+        let len = normal.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if len > 0.0 {
+            normal = normal.map(|v| v / len);
+        }
+        (touching, normal)
+    }
+
+    fn scan(&self, l: LaserId, ranges: &mut [f64]) {
+        let Some(laser) = self.lasers.get(l.0 as usize) else {
+            return;
+        };
+        let at = self.body_pose(laser.body).mul(&laser.pose);
+        let mut geom: c_int = -1;
+        for (range, local) in ranges.iter_mut().zip(&laser.directions) {
+            let dir = at.rotate(*local);
+            // SAFETY: valid model and data; `at.translation` and `dir` hold 3 values,
+            // `geom` one; no normal is asked for.
+            let hit = unsafe {
+                self.lib.api.mj_ray(
+                    self.model,
+                    self.data,
+                    at.translation.as_ptr(),
+                    dir.as_ptr(),
+                    std::ptr::null(),
+                    true,
+                    laser.body,
+                    &mut geom,
+                    std::ptr::null_mut(),
+                )
+            };
+            *range = if hit >= 0.0 && hit < laser.max_range {
+                hit
+            } else {
+                laser.max_range
+            };
+        }
+    }
+
+    fn translate_body(&mut self, b: BodyId, delta: [f64; 3]) {
+        let Some(&id) = self.bodies.get(b.0 as usize) else {
+            return;
+        };
+        // SAFETY (both arms): addresses from the model; qpos and body_pos hold 3 values there.
+        if let Some((qpos, _)) = self.free_joint(id) {
+            let q = self.d().qpos;
+            for (k, dk) in delta.iter().enumerate() {
+                unsafe { *q.add(qpos + k) += dk };
+            }
+        } else if unsafe { *self.m().body_weldid.add(id as usize) } == 0 {
+            let p = self.m().body_pos;
+            for (k, dk) in delta.iter().enumerate() {
+                unsafe { *p.add(3 * id as usize + k) += dk };
+            }
+        } else {
+            return;
+        }
+        self.refresh();
+    }
+
+    fn set_angular_velocity(&mut self, b: BodyId, angvel: [f64; 3]) {
+        let Some(&id) = self.bodies.get(b.0 as usize) else {
+            return;
+        };
+        let Some((_, dof)) = self.free_joint(id) else {
+            return;
+        };
+        // A free joint's angular velocity is in the body's frame.
+        let local = self.body_pose(id).inverse().rotate(angvel);
+        let v = self.d().qvel;
+        for (k, w) in local.iter().enumerate() {
+            // SAFETY: a free joint has 6 dofs from `dof`.
+            unsafe { *v.add(dof + 3 + k) = *w };
+        }
+        self.refresh();
+    }
+
+    fn colliders(&self) -> Vec<ColliderView> {
+        let (m, d) = (self.m(), self.d());
+        (0..m.ngeom as usize)
+            .map(|g| {
+                // SAFETY: `g < ngeom`; the arrays hold their per-geom values.
+                let (kind, size, pos, mat, aabb, body) = unsafe {
+                    (
+                        *m.geom_type.add(g) as u32,
+                        read::<3>(m.geom_size, 3 * g),
+                        read::<3>(d.geom_xpos, 3 * g),
+                        read::<9>(d.geom_xmat, 9 * g),
+                        read::<6>(m.geom_aabb, 6 * g),
+                        *m.geom_bodyid.add(g),
+                    )
+                };
+                let mut quat = [1.0, 0.0, 0.0, 0.0];
+                // SAFETY: 4 and 9 values.
+                unsafe { self.lib.api.mju_mat2Quat(quat.as_mut_ptr(), mat.as_ptr()) };
+                let pose = Pose {
+                    translation: pos,
+                    rotation: quat,
+                };
+                let shape = match kind {
+                    k if k == mjtGeom_mjGEOM_BOX => ShapeOutline::Box(size),
+                    k if k == mjtGeom_mjGEOM_SPHERE => ShapeOutline::Sphere(size[0]),
+                    _ => world_bounds(&pose, &aabb),
+                };
+                // SAFETY: `body < nbody`.
+                let dynamic = unsafe { *m.body_weldid.add(body as usize) } != 0;
+                ColliderView {
+                    pose,
+                    shape,
+                    dynamic,
+                }
+            })
+            .collect()
+    }
+
+    fn contacts(&self) -> Vec<ContactView> {
+        let d = self.d();
+        (0..d.ncon.max(0) as usize)
+            .map(|i| {
+                // SAFETY: `i < ncon`.
+                let c = unsafe { &*d.contact.add(i) };
+                ContactView {
+                    point: c.pos,
+                    normal: [c.frame[0], c.frame[1], c.frame[2]],
+                    touching: c.dist <= 0.0,
+                }
+            })
+            .collect()
+    }
+}
+
+/// The world-space bounding box of a geom's local box (`aabb`: centre, half sizes).
+fn world_bounds(pose: &Pose, aabb: &[f64; 6]) -> ShapeOutline {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for c in 0..8 {
+        let corner = std::array::from_fn(|i| {
+            let sign = if c >> i & 1 == 1 { 1.0 } else { -1.0 };
+            aabb[i] + sign * aabb[3 + i]
+        });
+        let p = pose.transform_point(corner);
+        for i in 0..3 {
+            lo[i] = lo[i].min(p[i]);
+            hi[i] = hi[i].max(p[i]);
+        }
+    }
+    ShapeOutline::Bounds(lo, hi)
+}

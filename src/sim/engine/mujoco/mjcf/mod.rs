@@ -1,0 +1,410 @@
+//! The one mapping of a resolved simulation to MuJoCo's MJCF, used by the MuJoCo engine
+//! (loaded from memory) and by `proleg export mjcf` (written to a file).
+//!
+//! | proleg | MJCF |
+//! |---|---|
+//! | robot links, hinges (tail to head) | nested `<body>`s under a free root, `<joint type="hinge">` with range |
+//! | link mass spread over its geometry / given inertia | per-geom `mass` / `<inertial fullinertia>` |
+//! | servo, in the engine: our P controller's velocity command, torque limit τ | a bounded velocity constraint: a `<fixed>` tendon (the hinge minus a reference hinge `NAME_servo`, which a stiff `<velocity>` actuator turns at the commanded speed) with `frictionloss` τ, `solreffriction` two engine steps |
+//! | servo, in an export: torque limit τ, speed limit v, gain g (1/s) | `<position>` actuator, `forcerange` ±τ, `kp` = g·τ/v, joint `damping` τ/v (so full torque gives speed v) |
+//! | contact friction: the smaller of the two geometries' | `friction` per geom, `priority` so the smaller one wins |
+//! | robots of a batch, self-collision off | `contype`/`conaffinity` bits: links meet the terrain (and their own robot with self-collision) |
+//! | boxes, spheres, cylinders, meshes, height fields | `box`, `sphere`, `cylinder` (turned: ours stand along y), `mesh` (MuJoCo collides as its convex hull), `hfield` |
+
+pub mod geoms;
+
+use crate::config::Simulation;
+use crate::config::body::BodyKind;
+use crate::config::resolve::robot::geom_volume;
+use crate::config::transform::Pose;
+use crate::config::xml::write::XmlWriter;
+use crate::sim::engine::DEFAULT_FRICTION;
+use crate::sim::engine::mujoco::{MujocoError, MujocoSettings};
+use crate::sim::servo::DEFAULT_SERVO_GAIN;
+use geoms::{Assets, Collision, geom_attrs, mj, pose_attrs};
+
+/// How the servos are modelled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Servos {
+    /// Bounded velocity constraints driven by proleg's servo stage every step (the engine):
+    /// MuJoCo's friction loss on a tendon between the hinge and a reference hinge whose
+    /// speed the stage sets (through the reference's actuator, so `mujoco.rollout` can
+    /// drive the same model), and the constraint solver (implicit, like rapier's motor
+    /// constraint) gives the torque that reaches the commanded speed, at most τ. A
+    /// `<velocity>` actuator on the hinge clamped to ±τ is explicit once clamped and
+    /// oscillates on these light links (docs/DESIGN.md §3 has the measurement).
+    Velocity,
+    /// Position actuators approximating the servo on their own (an export for other tools).
+    Position,
+}
+
+/// What to map.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MjcfOptions {
+    /// Copies of the robot (each its own collision bit; names prefixed `r<i>/` when > 1).
+    pub robots: usize,
+    /// The actuators.
+    pub servos: Servos,
+    /// Solver, cone and timestep refinement.
+    pub settings: MujocoSettings,
+}
+
+/// An MJCF document and what it holds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mjcf {
+    /// The document.
+    pub xml: String,
+    /// Bodies (environment and robot links) written.
+    pub bodies: usize,
+    /// Hinges (and actuators) written.
+    pub joints: usize,
+    /// Mesh and height-field assets written.
+    pub assets: usize,
+    /// Where MuJoCo will differ by construction, one line each.
+    pub notes: Vec<String>,
+}
+
+/// The name prefix of robot `r` of a batch of `robots`.
+pub fn robot_prefix(robots: usize, r: usize) -> String {
+    if robots > 1 {
+        format!("r{r}/")
+    } else {
+        String::new()
+    }
+}
+
+/// The name of the reference hinge (and its body and tendon) of hinge `joint`.
+pub fn servo_name(joint: &str) -> String {
+    format!("{joint}_servo")
+}
+
+/// The name of environment body `name`.
+pub fn env_body_name(name: &str) -> String {
+    format!("env_{name}")
+}
+
+/// `sim` as one MJCF document.
+pub fn mjcf(sim: &Simulation, opts: &MjcfOptions) -> Result<Mjcf, MujocoError> {
+    let assets = Assets::collect(sim);
+    let mut w = XmlWriter::new();
+    w.open("mujoco", &[("model", sim.robot.name.clone())]);
+    w.comment(&format!(
+        "Made by proleg from {}; the servo model and the contact friction rule are explained in proleg's docs/DESIGN.md.",
+        sim.file.display()
+    ));
+    w.empty(
+        "compiler",
+        &[("angle", "radian".into()), ("autolimits", "true".into())],
+    );
+    option(sim, &opts.settings, &mut w);
+    assets.write(&mut w, sim)?;
+    w.open("worldbody", &[]);
+    let env_bodies = environment(sim, &mut w, &assets)?;
+    for r in 0..opts.robots {
+        robot(sim, opts, r, &mut w, &assets)?;
+    }
+    if opts.servos == Servos::Velocity {
+        servo_references(sim, opts, &mut w);
+    }
+    w.close();
+    match opts.servos {
+        Servos::Velocity => servo_tendons(sim, opts, &mut w),
+        Servos::Position => actuators(sim, &mut w),
+    }
+    w.close();
+    Ok(Mjcf {
+        xml: w.finish(),
+        bodies: env_bodies + opts.robots * sim.robot.links.len(),
+        joints: opts.robots * sim.robot.joints.len(),
+        assets: assets.count(),
+        notes: assets.notes.clone(),
+    })
+}
+
+/// `<option>`: the engine's timestep (the simulation step divided by the refinement),
+/// gravity, the implicit-fast integrator (velocity actuators' `kv` implicit), cone and
+/// solver iterations.
+fn option(sim: &Simulation, s: &MujocoSettings, w: &mut XmlWriter) {
+    let dt = sim.files.simulation.properties.step_width / s.steps_per_step.max(1) as f64;
+    let mut attrs = vec![
+        ("timestep", mj(&[dt])),
+        ("gravity", mj(&sim.environment.physics.gravity)),
+        ("integrator", "implicitfast".into()),
+    ];
+    if s.elliptic_cone {
+        attrs.push(("cone", "elliptic".into()));
+    }
+    if let Some(n) = s.iterations {
+        attrs.push(("iterations", n.to_string()));
+    }
+    w.empty("option", &attrs);
+}
+
+/// The environment's bodies: static ones fixed to the world, dynamic ones free.
+fn environment(sim: &Simulation, w: &mut XmlWriter, assets: &Assets) -> Result<usize, MujocoError> {
+    let env = &sim.environment;
+    let default_friction = env.physics.default_friction.unwrap_or(DEFAULT_FRICTION);
+    for b in &env.bodies {
+        let mut attrs = vec![("name", env_body_name(&b.name))];
+        attrs.extend(pose_attrs(&b.pose));
+        w.open("body", &attrs);
+        let fixed = b.kind == BodyKind::Static;
+        if !fixed {
+            w.empty("freejoint", &[]);
+        }
+        let volume: f64 = b.geoms.iter().map(geom_volume).sum();
+        for g in &b.geoms {
+            let friction = g.friction.unwrap_or(default_friction);
+            let mass = (!fixed).then(|| b.mass * geom_volume(g) / volume.max(1e-12));
+            let attrs = geom_attrs(g, sim, assets, Collision::Terrain { friction }, mass)?;
+            w.empty("geom", &attrs);
+        }
+        w.close();
+    }
+    Ok(env.bodies.len())
+}
+
+/// Robot `r`'s links as a tree of bodies from its root, the hinges in the children.
+fn robot(
+    sim: &Simulation,
+    opts: &MjcfOptions,
+    r: usize,
+    w: &mut XmlWriter,
+    assets: &Assets,
+) -> Result<(), MujocoError> {
+    let robot = &sim.robot;
+    let mut parent_joint: Vec<Option<usize>> = vec![None; robot.links.len()];
+    for (k, j) in robot.joints.iter().enumerate() {
+        if parent_joint[j.child].replace(k).is_some() {
+            return Err(MujocoError::NotATree {
+                file: robot.file.display().to_string(),
+                cause: format!(
+                    "link {} is the child of two joints",
+                    robot.links[j.child].name
+                ),
+            });
+        }
+    }
+    let tree = Tree {
+        sim,
+        prefix: robot_prefix(opts.robots, r),
+        collision: Collision::Link {
+            robot: r,
+            self_collision: sim.environment.physics.self_collision,
+        },
+        servos: opts.servos,
+        assets,
+    };
+    let mut written = 0;
+    for root in (0..robot.links.len()).filter(|&l| parent_joint[l].is_none()) {
+        let at = sim.environment.robot_pose.mul(&robot.links[root].pose);
+        written += tree.link(root, &at, None, w)?;
+    }
+    if written != robot.links.len() {
+        return Err(MujocoError::NotATree {
+            file: robot.file.display().to_string(),
+            cause: "the joints form a cycle".into(),
+        });
+    }
+    Ok(())
+}
+
+/// What writing one robot's links needs.
+struct Tree<'a> {
+    sim: &'a Simulation,
+    prefix: String,
+    collision: Collision,
+    servos: Servos,
+    assets: &'a Assets,
+}
+
+impl Tree<'_> {
+    /// Link `l` as a body at `at` (its parent's frame), its hinge and its children; returns
+    /// how many links it wrote.
+    fn link(
+        &self,
+        l: usize,
+        at: &Pose,
+        joint: Option<usize>,
+        w: &mut XmlWriter,
+    ) -> Result<usize, MujocoError> {
+        let robot = &self.sim.robot;
+        let link = &robot.links[l];
+        let mut attrs = vec![("name", format!("{}{}", self.prefix, link.name))];
+        attrs.extend(pose_attrs(at));
+        w.open("body", &attrs);
+        match joint {
+            None => w.empty(
+                "freejoint",
+                &[("name", format!("{}{}_free", self.prefix, link.name))],
+            ),
+            Some(k) => self.hinge(k, w),
+        }
+        if let Some(i) = &link.inertia {
+            let t = i.tensor;
+            w.empty(
+                "inertial",
+                &[
+                    ("pos", mj(&i.com)),
+                    ("mass", mj(&[link.mass])),
+                    (
+                        "fullinertia",
+                        crate::config::xml::write::nums(&[t[0], t[4], t[8], t[1], t[2], t[5]]),
+                    ),
+                ],
+            );
+        }
+        let volume: f64 = link.geoms.iter().map(geom_volume).sum();
+        for g in &link.geoms {
+            let mass = link
+                .inertia
+                .is_none()
+                .then(|| link.mass * geom_volume(g) / volume.max(1e-12));
+            let attrs = geom_attrs(g, self.sim, self.assets, self.collision, mass)?;
+            w.empty("geom", &attrs);
+        }
+        let mut written = 1;
+        let here = link.pose.inverse();
+        for (k, j) in robot
+            .joints
+            .iter()
+            .enumerate()
+            .filter(|(_, j)| j.parent == l)
+        {
+            let rel = here.mul(&robot.links[j.child].pose);
+            written += self.link(j.child, &rel, Some(k), w)?;
+        }
+        w.close();
+        Ok(written)
+    }
+
+    /// Hinge `k` in its child's frame: range; in an export, the damping that caps the
+    /// speed at full torque at the servo's speed limit.
+    fn hinge(&self, k: usize, w: &mut XmlWriter) {
+        let robot = &self.sim.robot;
+        let j = &robot.joints[k];
+        let child = robot.links[j.child].pose.inverse();
+        let anchor = child.transform_point(j.anchor);
+        let axis = child.rotate(j.axis);
+        let mut attrs = vec![
+            ("name", format!("{}{}", self.prefix, j.name)),
+            ("type", "hinge".into()),
+            ("pos", mj(&anchor)),
+            ("axis", mj(&axis)),
+            ("range", mj(&j.limits_deg.map(f64::to_radians))),
+        ];
+        if self.servos == Servos::Position {
+            attrs.push(("damping", mj(&[j.max_torque / j.max_vel])));
+        }
+        w.empty("joint", &attrs);
+    }
+}
+
+/// Every hinge's name, robot by robot in joint order.
+fn hinge_names<'a>(
+    sim: &'a Simulation,
+    opts: &MjcfOptions,
+) -> impl Iterator<Item = (String, &'a crate::config::resolve::robot::RobotJoint)> {
+    let robots = opts.robots;
+    (0..robots).flat_map(move |r| {
+        let prefix = robot_prefix(robots, r);
+        sim.robot
+            .joints
+            .iter()
+            .map(move |j| (format!("{prefix}{}", j.name), j))
+    })
+}
+
+/// The reference hinges of the servos: on bodies of their own at the origin, their axis
+/// through their centre of mass (gravity does not turn them).
+fn servo_references(sim: &Simulation, opts: &MjcfOptions, w: &mut XmlWriter) {
+    for (name, _) in hinge_names(sim, opts) {
+        let servo = servo_name(&name);
+        w.open("body", &[("name", servo.clone())]);
+        w.empty(
+            "joint",
+            &[
+                ("name", servo),
+                ("type", "hinge".into()),
+                ("axis", "0 0 1".into()),
+                ("armature", mj(&[SERVO_REFERENCE_ARMATURE])),
+            ],
+        );
+        w.empty(
+            "inertial",
+            &[
+                ("pos", "0 0 0".into()),
+                ("mass", "1".into()),
+                ("diaginertia", "1 1 1".into()),
+            ],
+        );
+        w.close();
+    }
+}
+
+/// Armature of a servo's reference hinge (kg·m²).
+pub const SERVO_REFERENCE_ARMATURE: f64 = 1.0;
+
+/// Gain of the reference hinge's velocity actuator (N·m·s/rad), implicit in
+/// `implicitfast`: within one 1 ms step the reference reaches the commanded speed to
+/// 1/1001 (armature / (armature + dt·kv)), and a 1 N·m servo reaction moves it by 1e-6 rad/s.
+pub const SERVO_REFERENCE_GAIN: f64 = 1e6;
+
+/// The servos' tendons: hinge minus reference, friction loss up to the servo's torque,
+/// as stiff as MuJoCo allows (a time constant of two engine steps).
+fn servo_tendons(sim: &Simulation, opts: &MjcfOptions, w: &mut XmlWriter) {
+    let dt =
+        sim.files.simulation.properties.step_width / opts.settings.steps_per_step.max(1) as f64;
+    w.open("tendon", &[]);
+    for (name, j) in hinge_names(sim, opts) {
+        let servo = servo_name(&name);
+        w.open(
+            "fixed",
+            &[
+                ("name", servo.clone()),
+                ("frictionloss", mj(&[j.max_torque])),
+                ("solreffriction", mj(&[2.0 * dt, 1.0])),
+            ],
+        );
+        w.empty("joint", &[("joint", name), ("coef", "1".into())]);
+        w.empty("joint", &[("joint", servo), ("coef", "-1".into())]);
+        w.close();
+    }
+    w.close();
+    // The reference hinges' actuators, in hinge order: actuator k drives hinge k's servo.
+    w.open("actuator", &[]);
+    for (name, _) in hinge_names(sim, opts) {
+        let servo = servo_name(&name);
+        w.empty(
+            "velocity",
+            &[
+                ("name", servo.clone()),
+                ("joint", servo),
+                ("kv", mj(&[SERVO_REFERENCE_GAIN])),
+            ],
+        );
+    }
+    w.close();
+}
+
+/// A position actuator per hinge (an export's servo): torque limit, and the gain that gives
+/// the servo's velocity response `g * error` against the joint damping.
+fn actuators(sim: &Simulation, w: &mut XmlWriter) {
+    w.open("actuator", &[]);
+    for j in &sim.robot.joints {
+        let gain = j.servo_gain.unwrap_or(DEFAULT_SERVO_GAIN);
+        let damping = j.max_torque / j.max_vel;
+        let torque = j.max_torque;
+        w.empty(
+            "position",
+            &[
+                ("name", j.name.clone()),
+                ("joint", j.name.clone()),
+                ("kp", mj(&[gain * damping])),
+                ("forcerange", mj(&[-torque, torque])),
+                ("ctrlrange", mj(&j.limits_deg.map(f64::to_radians))),
+            ],
+        );
+    }
+    w.close();
+}
