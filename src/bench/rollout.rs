@@ -1,9 +1,15 @@
 //! MuJoCo's own speed on the same scenario, measured in the same run as proleg's pipeline
-//! on MuJoCo: the scenario exported with the MJCF mapping (its servos as position
-//! actuators), the servo targets proleg's run gave every step as the control sequence, and
-//! `mujoco.rollout` (Python's `mujoco` 4.0.0, one thread) timed on them by
-//! `scripts/mujoco_rollout.py`. The interpreter is `PROLEG_PYTHON` (scripts/test sets it
-//! to its virtual environment), else `python3`.
+//! on MuJoCo by `mujoco.rollout` (Python's `mujoco` 4.0.0, one thread, timed by
+//! `scripts/mujoco_rollout.py`), on two models of it from the MJCF mapping:
+//!
+//! - the export (`proleg export mjcf`): servos as position actuators, driven by the servo
+//!   targets proleg's run gave every step;
+//! - the engine's own model: servos as bounded velocity constraints (tendon friction loss,
+//!   two more constraint rows and one more dof per servo), driven by the speeds proleg's
+//!   servo stage commanded every step: the same physics proleg steps, without proleg.
+//!
+//! The interpreter is `PROLEG_PYTHON` (scripts/test sets it to its virtual environment),
+//! else `python3`.
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -18,32 +24,40 @@ use super::{Figure, world_of};
 /// The script, carried in the binary so the bench runs from any folder.
 const SCRIPT: &str = include_str!("../../scripts/mujoco_rollout.py");
 
-/// MuJoCo's rollout of `sim` for `seconds`, steps per second (one thread).
-pub fn rollout_rate(sim: &Simulation, seconds: f64) -> Result<f64, String> {
+/// What a run of `sim` commanded every step: the servo targets (rad) and the servo
+/// stage's speed commands (rad/s), as TSV rows.
+fn commands(sim: &Simulation, seconds: f64) -> Result<(String, String), String> {
     let mut s = world_of(sim, 1, &ModuleRegistry::standard(), None)?;
     let steps = (seconds / s.clock().dt).round() as u64;
-    let mut controls = String::new();
+    let (mut targets, mut speeds) = (String::new(), String::new());
+    let row = |out: &mut String, values: &mut dyn Iterator<Item = f64>| {
+        let cells: Vec<String> = values.map(|v| v.to_radians().to_string()).collect();
+        out.push_str(&cells.join("\t"));
+        out.push('\n');
+    };
     for _ in 0..steps {
         s.run_steps(1);
-        let targets = s.servo_targets(0).map_err(|e| e.to_string())?;
-        let row: Vec<String> = targets.iter().map(|t| t.to_radians().to_string()).collect();
-        controls.push_str(&row.join("\t"));
-        controls.push('\n');
+        let e = |e: crate::sim::SimError| e.to_string();
+        row(
+            &mut targets,
+            &mut s.servo_targets(0).map_err(e)?.into_iter(),
+        );
+        let states = s.joint_states(0).map_err(e)?;
+        row(
+            &mut speeds,
+            &mut states.iter().map(|j| j.commanded_velocity),
+        );
     }
-    let doc = mjcf(
-        sim,
-        &MjcfOptions {
-            robots: 1,
-            servos: Servos::Position,
-            settings: MujocoSettings::default(),
-        },
-    )
-    .map_err(|e| e.to_string())?;
+    Ok((targets, speeds))
+}
+
+/// MuJoCo's rollout of `model` driven by `controls`, steps per second (one thread).
+fn rollout_rate(model: &str, controls: &str) -> Result<f64, String> {
     let dir = std::env::temp_dir().join(format!("proleg-rollout-{}", std::process::id()));
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let files = [
-        ("model.xml", doc.xml.as_str()),
-        ("controls.tsv", controls.as_str()),
+        ("model.xml", model),
+        ("controls.tsv", controls),
         ("mujoco_rollout.py", SCRIPT),
     ];
     for (name, text) in files {
@@ -78,13 +92,33 @@ pub fn rollout_rate(sim: &Simulation, seconds: f64) -> Result<f64, String> {
         .ok_or_else(|| format!("unreadable rollout figure: {text}"))
 }
 
-/// The line comparing proleg's pipeline on MuJoCo (`pipeline`, one robot) with MuJoCo's
-/// rollout of the same scenario.
+/// The model of `sim` with `servos`.
+fn model(sim: &Simulation, servos: Servos) -> Result<String, String> {
+    let opts = MjcfOptions {
+        robots: 1,
+        servos,
+        settings: MujocoSettings::default(),
+    };
+    mjcf(sim, &opts).map(|m| m.xml).map_err(|e| e.to_string())
+}
+
+/// Rollout rates of the export and of the engine's own model, steps per second.
+pub fn rollout_rates(sim: &Simulation, seconds: f64) -> Result<(f64, f64), String> {
+    let (targets, speeds) = commands(sim, seconds)?;
+    let export = rollout_rate(&model(sim, Servos::Position)?, &targets)?;
+    let own = rollout_rate(&model(sim, Servos::Velocity)?, &speeds)?;
+    Ok((export, own))
+}
+
+/// The lines comparing proleg's pipeline on MuJoCo (`pipeline`, one robot) with MuJoCo's
+/// rollouts of the same scenario.
 pub fn compare(sim: &Simulation, seconds: f64, pipeline: &Figure) -> String {
-    match rollout_rate(sim, seconds) {
-        Ok(rate) => format!(
-            "MuJoCo's own mujoco.rollout on the exported scenario: {rate:.0} steps/s; proleg's pipeline on MuJoCo: {:.2}x rollout per core",
-            pipeline.robot_steps_per_s() / rate
+    let ours = pipeline.robot_steps_per_s();
+    match rollout_rates(sim, seconds) {
+        Ok((export, own)) => format!(
+            "MuJoCo's own mujoco.rollout, 1 thread: the exported scenario (position servos) {export:.0} steps/s, proleg's pipeline {:.2}x of it per core;\n  the engine's own model (bounded velocity servos) {own:.0} steps/s, proleg's pipeline {:.2}x of it per core",
+            ours / export,
+            ours / own
         ),
         Err(e) => format!("MuJoCo's own mujoco.rollout: not measured ({e})"),
     }

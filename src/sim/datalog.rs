@@ -300,8 +300,8 @@ fn fill_robot_frame(
     let (mut momentum, mut potential) = ([0.0; 3], 0.0);
     for (b, m) in &robot.bodies {
         if let Some(body) = engine.body(*b) {
-            for i in 0..3 {
-                momentum[i] += m * body.linvel[i];
+            for (p, v) in momentum.iter_mut().zip(body.linvel) {
+                *p += m * v;
             }
             potential += potential_energy(*m, body.com, gravity);
         }

@@ -110,6 +110,8 @@ impl MujocoEngine {
         settings: MujocoSettings,
     ) -> Result<(MujocoEngine, Layout), SimError> {
         let lib = library()?;
+        // An error left on this thread by another world is not this one's.
+        take_error();
         let doc = mjcf(
             sim,
             &MjcfOptions {
@@ -518,8 +520,8 @@ impl PhysicsEngine for MujocoEngine {
                     // MuJoCo's normal points from geom1 to geom2: into our link when the
                     // other geom is geom1.
                     let sign = if b1 == pad.body { -1.0 } else { 1.0 };
-                    for k in 0..3 {
-                        normal[k] += sign * c.frame[k];
+                    for (n, f) in normal.iter_mut().zip(&c.frame[..3]) {
+                        *n += sign * f;
                     }
                 }
             }

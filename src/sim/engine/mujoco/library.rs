@@ -43,31 +43,49 @@ pub fn library_path() -> PathBuf {
 thread_local! {
     /// The last error MuJoCo raised on this thread, taken by [`take_error`].
     static LAST_ERROR: RefCell<Option<String>> = const { RefCell::new(None) };
+    /// The last warning MuJoCo gave on this thread, taken by [`take_warning`].
+    static LAST_WARNING: RefCell<Option<String>> = const { RefCell::new(None) };
+}
+
+/// The text of a message MuJoCo passes to a hook.
+///
+/// # Safety
+/// `msg` is null or a NUL-terminated string that lives for the call.
+unsafe fn message(msg: *const c_char) -> String {
+    if msg.is_null() {
+        String::from("unknown error")
+    } else {
+        // SAFETY: guaranteed by the caller.
+        unsafe { CStr::from_ptr(msg) }
+            .to_string_lossy()
+            .trim()
+            .to_string()
+    }
 }
 
 /// MuJoCo's error hook: records the message instead of ending the process.
 unsafe extern "C" fn on_error(msg: *const c_char) {
-    let text = if msg.is_null() {
-        String::from("unknown error")
-    } else {
-        // SAFETY: MuJoCo passes a NUL-terminated message that lives for the call.
-        unsafe { CStr::from_ptr(msg) }
-            .to_string_lossy()
-            .into_owned()
-    };
+    // SAFETY: MuJoCo passes a NUL-terminated message that lives for the call.
+    let text = unsafe { message(msg) };
     LAST_ERROR.with(|e| *e.borrow_mut() = Some(text));
 }
 
-/// MuJoCo's warning hook: warnings (e.g. an unstable simulation it reset) are counted in
-/// `mjData::warning` too; we keep the message like an error's so a caller can report it.
+/// MuJoCo's warning hook: a warning (e.g. an unstable simulation it reset, also counted in
+/// `mjData::warning`) is kept for [`take_warning`], not printed.
 unsafe extern "C" fn on_warning(msg: *const c_char) {
     // SAFETY: as for `on_error`.
-    unsafe { on_error(msg) }
+    let text = unsafe { message(msg) };
+    LAST_WARNING.with(|w| *w.borrow_mut() = Some(text));
 }
 
 /// The error MuJoCo raised on this thread since the last call, if any.
 pub fn take_error() -> Option<String> {
     LAST_ERROR.with(|e| e.borrow_mut().take())
+}
+
+/// The warning MuJoCo gave on this thread since the last call, if any.
+pub fn take_warning() -> Option<String> {
+    LAST_WARNING.with(|w| w.borrow_mut().take())
 }
 
 /// The loaded library.
