@@ -258,7 +258,7 @@ pub fn report(
         size as f64 / 1e6 * 60.0 / seconds
     );
     if sim.engine() == EngineKind::Mujoco {
-        let _ = writeln!(out, "{}", rollout::compare(&sim, seconds, &figs[0]));
+        let _ = writeln!(out, "{}", rollout::compare(&sim, seconds));
     }
     let batched = figs[2..]
         .iter()

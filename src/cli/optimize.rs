@@ -101,6 +101,8 @@ pub struct OptimizeReport {
     pub store: (String, i64),
     /// Where the best candidate was written as an actuation file.
     pub actuation: Option<PathBuf>,
+    /// The physics engine the candidates ran on.
+    pub engine: crate::config::simulation::EngineKind,
 }
 
 impl OptimizeReport {
@@ -200,6 +202,7 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
         space_size: space.size(),
         store: (shown, run),
         actuation: o.out.clone(),
+        engine: sim.engine(),
     })
 }
 
@@ -247,7 +250,12 @@ fn algorithm_label(sim: &Simulation) -> &'static str {
 fn header(sim: &Simulation, space: &SearchSpace, settings: &RunSettings) -> String {
     let mut head = String::new();
     let label = algorithm_label(sim);
-    let _ = writeln!(head, "optimizing {} with the {label}", sim.file.display());
+    let _ = writeln!(
+        head,
+        "optimizing {} with the {label} on {}",
+        sim.file.display(),
+        sim.engine()
+    );
     for g in &space.genes {
         let _ = writeln!(
             head,
@@ -436,11 +444,12 @@ impl fmt::Display for OptimizeReport {
             let per_hour = self.per_hour();
             writeln!(
                 out,
-                "throughput      {per_hour:.0} evaluations/h of {} ({}); 6000 such evaluations (the thesis's experiment-2 budget, eq. 3.6) take {:.2} h",
+                "throughput      {per_hour:.0} evaluations/h of {} on {} ({}); 6000 such evaluations (the thesis's experiment-2 budget, eq. 3.6) take {:.2} h",
                 match self.episodes {
                     1 => format!("{} s", self.duration),
                     k => format!("{k} episodes of {} s", self.duration),
                 },
+                self.engine,
                 match self.workers {
                     0 => "all by workers of the shared store".to_string(),
                     w => format!(

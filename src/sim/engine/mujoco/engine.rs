@@ -74,6 +74,22 @@ pub struct MujocoEngine {
     hinges: Vec<Hinge>,
     pads: Vec<Pad>,
     lasers: Vec<Laser>,
+    /// Whether a MuJoCo body carries a pad (indexed by MuJoCo's body id).
+    pad_bodies: Vec<bool>,
+    /// This step's contact patches on pad links, indexed once per step (not per pad).
+    patches: Vec<Patch>,
+}
+
+/// The contacts of one geom pair (MuJoCo lists them one after another) on a pad's link.
+#[derive(Debug, Clone, Copy)]
+struct Patch {
+    /// The pad link's MuJoCo body.
+    body: c_int,
+    /// The contacts `start..end` of `mjData::contact`.
+    start: usize,
+    end: usize,
+    /// +1 when the link's geom is `geom2` (MuJoCo's normal points into it), else -1.
+    sign: f64,
 }
 
 // SAFETY: the model and data are plain memory owned by this value; MuJoCo keeps no
@@ -137,14 +153,22 @@ impl MujocoEngine {
             hinges: Vec::new(),
             pads: Vec::new(),
             lasers: Vec::new(),
+            pad_bodies: Vec::new(),
+            patches: Vec::new(),
         };
         let layout = engine.layout(sim, robots)?;
+        // SAFETY: nbody is the model's body count.
+        engine.pad_bodies = vec![false; unsafe { (*engine.model).nbody } as usize];
+        for pad in &engine.pads {
+            engine.pad_bodies[pad.body as usize] = true;
+        }
         // SAFETY: valid model and data; computes the positions, contacts and centres of
         // mass of the start pose.
         unsafe { lib.api.mj_forward(engine.model, engine.data) };
         if let Some(e) = take_error() {
             return Err(MujocoError::Library(e).into());
         }
+        engine.index_patches();
         Ok((engine, layout))
     }
 
@@ -336,6 +360,49 @@ impl MujocoEngine {
     fn refresh(&mut self) {
         // SAFETY: valid model and data.
         unsafe { self.lib.api.mj_forward(self.model, self.data) };
+        self.index_patches();
+    }
+
+    /// Finds this step's contact patches on pad links: one pass over the contacts, into a
+    /// buffer kept from step to step (no allocation once it is large enough).
+    fn index_patches(&mut self) {
+        self.patches.clear();
+        if self.pads.is_empty() {
+            return;
+        }
+        // SAFETY: valid for the engine's life; read only here, while `patches` is written.
+        let (m, d) = unsafe { (&*self.model, &*self.data) };
+        let n = d.ncon.max(0) as usize;
+        let mut i = 0;
+        while i < n {
+            // SAFETY: `i < ncon`; contacts of one geom pair are consecutive.
+            let pair = unsafe { ((*d.contact.add(i)).geom1, (*d.contact.add(i)).geom2) };
+            let mut end = i + 1;
+            // SAFETY: as above.
+            while end < n
+                && unsafe { ((*d.contact.add(end)).geom1, (*d.contact.add(end)).geom2) } == pair
+            {
+                end += 1;
+            }
+            // SAFETY: geom ids of a contact are below ngeom.
+            let bodies = unsafe {
+                [
+                    *m.geom_bodyid.add(pair.0 as usize),
+                    *m.geom_bodyid.add(pair.1 as usize),
+                ]
+            };
+            for (body, sign) in bodies.into_iter().zip([-1.0, 1.0]) {
+                if self.pad_bodies.get(body as usize).copied().unwrap_or(false) {
+                    self.patches.push(Patch {
+                        body,
+                        start: i,
+                        end,
+                        sign,
+                    });
+                }
+            }
+            i = end;
+        }
     }
 }
 
@@ -411,6 +478,7 @@ impl PhysicsEngine for MujocoEngine {
             unsafe { api.mj_step(self.model, self.data) };
         }
         unsafe { api.mj_kinematics(self.model, self.data) };
+        self.index_patches();
     }
 
     fn joint(&self, j: JointId) -> JointReading {
@@ -485,47 +553,20 @@ impl PhysicsEngine for MujocoEngine {
         let Some(pad) = self.pads.get(p.0 as usize) else {
             return (false, [0.0; 3]);
         };
-        let (m, d) = (self.m(), self.d());
-        let to_world = self.body_pose(pad.body);
-        let to_pad = pad.from_link.mul(&to_world.inverse());
+        let d = self.d();
+        let to_pad = pad.from_link.mul(&self.body_pose(pad.body).inverse());
         let (mut touching, mut normal) = (false, [0.0; 3]);
-        let n = d.ncon.max(0) as usize;
-        let mut i = 0;
-        while i < n {
-            // SAFETY: `i < ncon`; contacts of one geom pair are consecutive.
-            let c = unsafe { &*d.contact.add(i) };
-            let pair = (c.geom1, c.geom2);
-            let mut end = i + 1;
-            // SAFETY: as above.
-            while end < n
-                && unsafe { ((*d.contact.add(end)).geom1, (*d.contact.add(end)).geom2) } == pair
-            {
-                end += 1;
-            }
-            // SAFETY: geom ids of a contact are below ngeom.
-            let (b1, b2) = unsafe {
-                (
-                    *m.geom_bodyid.add(pair.0 as usize),
-                    *m.geom_bodyid.add(pair.1 as usize),
-                )
-            };
-            if b1 == pad.body || b2 == pad.body {
-                // SAFETY: `i..end` are contacts.
-                let patch = (i..end).map(|k| unsafe { &*d.contact.add(k) });
-                if pad
-                    .area
-                    .touched_by(patch.map(|c| to_pad.transform_point(c.pos)))
-                {
-                    touching = true;
-                    // MuJoCo's normal points from geom1 to geom2: into our link when the
-                    // other geom is geom1.
-                    let sign = if b1 == pad.body { -1.0 } else { 1.0 };
-                    for (n, f) in normal.iter_mut().zip(&c.frame[..3]) {
-                        *n += sign * f;
-                    }
+        for patch in self.patches.iter().filter(|q| q.body == pad.body) {
+            // SAFETY: the patch's contacts were indexed from this step's list.
+            let contact = |k: usize| unsafe { &*d.contact.add(k) };
+            let points = (patch.start..patch.end).map(|k| to_pad.transform_point(contact(k).pos));
+            if pad.area.touched_by(points) {
+                touching = true;
+                let frame = &contact(patch.start).frame;
+                for (n, f) in normal.iter_mut().zip(&frame[..3]) {
+                    *n += patch.sign * f;
                 }
             }
-            i = end;
         }
         let len = normal.iter().map(|v| v * v).sum::<f64>().sqrt();
         if len > 0.0 {

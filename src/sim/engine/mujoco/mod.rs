@@ -40,7 +40,7 @@ impl Default for MujocoSettings {
     fn default() -> Self {
         MujocoSettings {
             steps_per_step: 1,
-            elliptic_cone: false,
+            elliptic_cone: true,
             iterations: None,
         }
     }
