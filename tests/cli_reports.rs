@@ -19,6 +19,7 @@ fn request(duration: f64) -> RunRequest {
         video: None,
         fps: 30,
         size: (1280, 720),
+        engine: None,
     }
 }
 
@@ -99,6 +100,7 @@ fn an_optimize_report_counts_evaluations_and_keeps_the_best() {
         lease: None,
         quiet: true,
         crash_after: None,
+        engine: None,
     };
     let r = optimize(&o, &ModuleRegistry::standard()).unwrap();
     // The budget ends the run after the round that reaches it (a GA generation).

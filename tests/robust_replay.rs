@@ -29,6 +29,7 @@ fn optimize(config: &str, store: &str, seed: u64, evals: u64, duration: f64) -> 
         lease: None,
         quiet: true,
         crash_after: None,
+        engine: None,
     };
     run(&o, &ModuleRegistry::standard()).expect("the optimization runs")
 }

@@ -21,13 +21,41 @@ use crate::sim::engine::mujoco::mjcf::{MjcfOptions, Servos, mjcf};
 
 use super::world_of;
 
+/// Why MuJoCo's rollout could not be measured.
+#[derive(Debug, thiserror::Error)]
+pub enum RolloutError {
+    /// The scenario does not build or run.
+    #[error("{0}")]
+    Scenario(String),
+    /// The model or its controls could not be written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file or folder.
+        path: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// The interpreter failed or is missing.
+    #[error("{python} scripts/mujoco_rollout.py: {message}")]
+    Python {
+        /// The interpreter.
+        python: PathBuf,
+        /// Its last line of errors, or why it did not start.
+        message: String,
+    },
+    /// The script printed no figure.
+    #[error("unreadable rollout figure: {0}")]
+    Unreadable(String),
+}
+
 /// The script, carried in the binary so the bench runs from any folder.
 const SCRIPT: &str = include_str!("../../scripts/mujoco_rollout.py");
 
 /// What a run of `sim` commanded every step: the servo targets (rad) and the servo
 /// stage's speed commands (rad/s), as TSV rows.
-fn commands(sim: &Simulation, seconds: f64) -> Result<(String, String), String> {
-    let mut s = world_of(sim, 1, &ModuleRegistry::standard(), None)?;
+fn commands(sim: &Simulation, seconds: f64) -> Result<(String, String), RolloutError> {
+    let mut s =
+        world_of(sim, 1, &ModuleRegistry::standard(), None).map_err(RolloutError::Scenario)?;
     let steps = (seconds / s.clock().dt).round() as u64;
     let (mut targets, mut speeds) = (String::new(), String::new());
     let row = |out: &mut String, values: &mut dyn Iterator<Item = f64>| {
@@ -37,7 +65,7 @@ fn commands(sim: &Simulation, seconds: f64) -> Result<(String, String), String> 
     };
     for _ in 0..steps {
         s.run_steps(1);
-        let e = |e: crate::sim::SimError| e.to_string();
+        let e = |e: crate::sim::SimError| RolloutError::Scenario(e.to_string());
         row(
             &mut targets,
             &mut s.servo_targets(0).map_err(e)?.into_iter(),
@@ -52,9 +80,13 @@ fn commands(sim: &Simulation, seconds: f64) -> Result<(String, String), String> 
 }
 
 /// MuJoCo's rollout of `model` driven by `controls`, steps per second (one thread).
-fn rollout_rate(model: &str, controls: &str) -> Result<f64, String> {
+fn rollout_rate(model: &str, controls: &str) -> Result<f64, RolloutError> {
     let dir = std::env::temp_dir().join(format!("proleg-rollout-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let io = |path: &std::path::Path| {
+        let path = path.to_path_buf();
+        move |source| RolloutError::Io { path, source }
+    };
+    std::fs::create_dir_all(&dir).map_err(io(&dir))?;
     let files = [
         ("model.xml", model),
         ("controls.tsv", controls),
@@ -62,7 +94,7 @@ fn rollout_rate(model: &str, controls: &str) -> Result<f64, String> {
     ];
     for (name, text) in files {
         let p = dir.join(name);
-        std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))?;
+        std::fs::write(&p, text).map_err(io(&p))?;
     }
     let python =
         std::env::var_os("PROLEG_PYTHON").map_or_else(|| PathBuf::from("python3"), PathBuf::from);
@@ -71,7 +103,10 @@ fn rollout_rate(model: &str, controls: &str) -> Result<f64, String> {
         .arg(dir.join("model.xml"))
         .arg(dir.join("controls.tsv"))
         .output()
-        .map_err(|e| format!("{}: {e}", python.display()));
+        .map_err(|e| RolloutError::Python {
+            python: python.clone(),
+            message: e.to_string(),
+        });
     if let Err(e) = std::fs::remove_dir_all(&dir) {
         eprintln!("warning: {}: {e}", dir.display());
     }
@@ -80,30 +115,32 @@ fn rollout_rate(model: &str, controls: &str) -> Result<f64, String> {
     if !out.status.success() {
         let err = String::from_utf8_lossy(&out.stderr);
         let last = err.lines().last().unwrap_or("no output");
-        return Err(format!(
-            "{} scripts/mujoco_rollout.py: {last}",
-            python.display()
-        ));
+        return Err(RolloutError::Python {
+            python,
+            message: last.to_string(),
+        });
     }
     text.split(':')
         .nth(1)
         .and_then(|t| t.split_whitespace().next())
         .and_then(|n| n.parse::<f64>().ok())
-        .ok_or_else(|| format!("unreadable rollout figure: {text}"))
+        .ok_or_else(|| RolloutError::Unreadable(text.to_string()))
 }
 
 /// The model of `sim` with `servos`.
-fn model(sim: &Simulation, servos: Servos) -> Result<String, String> {
+fn model(sim: &Simulation, servos: Servos) -> Result<String, RolloutError> {
     let opts = MjcfOptions {
         robots: 1,
         servos,
         settings: MujocoSettings::default(),
     };
-    mjcf(sim, &opts).map(|m| m.xml).map_err(|e| e.to_string())
+    mjcf(sim, &opts)
+        .map(|m| m.xml)
+        .map_err(|e| RolloutError::Scenario(e.to_string()))
 }
 
 /// Rollout rates of the export and of the engine's own model, steps per second.
-pub fn rollout_rates(sim: &Simulation, seconds: f64) -> Result<(f64, f64), String> {
+pub fn rollout_rates(sim: &Simulation, seconds: f64) -> Result<(f64, f64), RolloutError> {
     let (targets, speeds) = commands(sim, seconds)?;
     let export = rollout_rate(&model(sim, Servos::Position)?, &targets)?;
     let own = rollout_rate(&model(sim, Servos::Velocity)?, &speeds)?;
@@ -112,10 +149,11 @@ pub fn rollout_rates(sim: &Simulation, seconds: f64) -> Result<(f64, f64), Strin
 
 /// proleg's pipeline over the rollouts' window (from the start, no warm-up: the rollouts
 /// start there too), best of [`super::REPEATS`], robot-steps per second.
-fn pipeline_from_start(sim: &Simulation, seconds: f64) -> Result<f64, String> {
+fn pipeline_from_start(sim: &Simulation, seconds: f64) -> Result<f64, RolloutError> {
     let mut best: f64 = 0.0;
     for _ in 0..super::REPEATS {
-        let mut s = world_of(sim, 1, &ModuleRegistry::standard(), None)?;
+        let mut s =
+            world_of(sim, 1, &ModuleRegistry::standard(), None).map_err(RolloutError::Scenario)?;
         let steps = (seconds / s.clock().dt).round() as u64;
         let t = std::time::Instant::now();
         s.run_steps(steps);
