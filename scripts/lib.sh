@@ -33,8 +33,9 @@ ensure_rust() {
 HEADLESS_PACKAGES=(pkg-config gcc libfontconfig1-dev libfreetype-dev fonts-dejavu-core libssl-dev)
 
 # The tests of the shared store run a private PostgreSQL server (scripts/pg-test-server),
-# with a throw-away certificate made by openssl; xdotool types on the control window.
-TEST_PACKAGES=(postgresql openssl python3 python3-venv xdotool)
+# with a throw-away certificate made by openssl; xdotool types on the control window;
+# Debian's old MuJoCo 2.2.2 is the "wrong version" proleg must refuse.
+TEST_PACKAGES=(postgresql openssl python3 python3-venv xdotool libmujoco2.2.2)
 
 # Peer checks from the Python registry: URDFs we did not write (pybullet's pybullet_data)
 # for the import tests, and MuJoCo for the cross-engine check of an exported gait.

@@ -1,7 +1,8 @@
 //! The MuJoCo engine inside the tool: the demo crawls on it through the same pipeline,
 //! its runs are bit-identical whatever runs beside them, its servos follow the same model
-//! as rapier's, and a missing library, a file that is not MuJoCo, or a model MuJoCo
-//! rejects is one line and exit 1 (never a panic, never an exit from inside MuJoCo).
+//! as rapier's, and a missing library, a file that is not MuJoCo, another MuJoCo version
+//! or a model MuJoCo rejects is one line and exit 1 (never a panic, never an exit from
+//! inside MuJoCo).
 
 mod common;
 
@@ -147,6 +148,14 @@ fn a_missing_or_foreign_library_is_one_line_and_exit_1() {
     assert!(!ok);
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(err.contains("is not MuJoCo 4.0.0's library"), "{err}");
+    // Debian's MuJoCo 2.2.2 (scripts/test installs it): another version, said so.
+    let old = "/usr/lib/x86_64-linux-gnu/libmujoco.so.2.2.2";
+    if std::path::Path::new(old).exists() {
+        let (ok, err) = run_with_library(old);
+        assert!(!ok);
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.contains("is MuJoCo 2.2.2, proleg needs 4.0.0"), "{err}");
+    }
     // Nothing else breaks: rapier runs without the library.
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_proleg"))
         .args(["run", "configs/demo.simulation.xml", "--duration", "0.1"])

@@ -264,11 +264,10 @@ impl MujocoEngine {
                     area: *area,
                 };
                 if !self.pad_on_link(&pad) {
-                    return Err(MujocoError::PadOffLink {
+                    return Err(SimError::PadOffLink {
                         sensor: name.clone(),
                         link: sim.robot.links[*link].name.clone(),
-                    }
-                    .into());
+                    });
                 }
                 self.pads.push(pad);
                 layout.pads.push(PadId(self.pads.len() as u32 - 1));

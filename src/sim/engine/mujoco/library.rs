@@ -124,6 +124,20 @@ fn load(path: PathBuf) -> Result<Library, MujocoError> {
     };
     // SAFETY: loading runs the library's initialisers; MuJoCo's only set up its globals.
     let lib = unsafe { libloading::Library::new(&path) }.map_err(not_mujoco)?;
+    // The version first, so that another MuJoCo says so rather than missing a symbol.
+    // SAFETY: `mj_version` is `int mj_version(void)` in every MuJoCo.
+    let version = unsafe {
+        let f = lib
+            .get::<unsafe extern "C" fn() -> std::ffi::c_int>(b"mj_version\0")
+            .map_err(not_mujoco)?;
+        f()
+    };
+    if version as u32 != mjVERSION_HEADER {
+        return Err(MujocoError::WrongVersion {
+            path: shown,
+            found: version_name(version),
+        });
+    }
     // SAFETY: both symbols are MuJoCo's `void (*)(const char*)` hook variables; writing a
     // function pointer of that type into them is what MuJoCo documents for them.
     unsafe {
@@ -141,14 +155,6 @@ fn load(path: PathBuf) -> Result<Library, MujocoError> {
     // SAFETY: every function of the table is looked up by its C name and has the
     // signature of the 4.0.0 headers; a missing one fails here.
     let api = unsafe { MujocoApi::from_library(lib) }.map_err(not_mujoco)?;
-    // SAFETY: `mj_version` takes no arguments and returns an int.
-    let version = unsafe { api.mj_version() };
-    if version as u32 != mjVERSION_HEADER {
-        return Err(MujocoError::WrongVersion {
-            path: shown,
-            found: version_name(version),
-        });
-    }
     Ok(Library { api, path })
 }
 
@@ -179,6 +185,28 @@ mod tests {
             panic!("a missing file loaded");
         };
         assert!(matches!(e, MujocoError::Missing { .. }), "{e:?}");
+    }
+
+    #[test]
+    fn another_mujoco_says_its_version() {
+        // Debian's MuJoCo (scripts/test installs libmujoco2.2.2).
+        let old = PathBuf::from("/usr/lib/x86_64-linux-gnu/libmujoco.so.2.2.2");
+        if !old.exists() {
+            assert!(
+                std::env::var_os("PROLEG_REQUIRE_MUJOCO").is_none(),
+                "scripts/test installs libmujoco2.2.2"
+            );
+            return;
+        }
+        let Err(e) = load(old) else {
+            panic!("MuJoCo 2.2.2 loaded as 4.0.0");
+        };
+        assert_eq!(
+            e.to_string().split(" is MuJoCo ").nth(1).map(|t| &t[..5]),
+            Some("2.2.2"),
+            "{e}"
+        );
+        assert!(matches!(e, MujocoError::WrongVersion { .. }), "{e:?}");
     }
 
     #[test]

@@ -127,14 +127,6 @@ pub enum MujocoError {
         /// What is wrong.
         cause: String,
     },
-    /// A tactile pad on no geometry of its link.
-    #[error("tactile sensor {sensor} lies on none of link {link}'s geometries")]
-    PadOffLink {
-        /// The sensor.
-        sensor: String,
-        /// Its link.
-        link: String,
-    },
     /// An error MuJoCo raised through its error hook.
     #[error("MuJoCo: {0}")]
     Library(String),
