@@ -187,3 +187,67 @@ fn a_model_mujoco_rejects_is_an_error_naming_the_file() {
     );
     assert_eq!(text.lines().count(), 1, "{text}");
 }
+
+#[test]
+fn dragging_a_robot_moves_it_on_mujoco_as_on_rapier() {
+    if !common::mujoco_here("drag on MuJoCo") {
+        return;
+    }
+    for engine in [EngineKind::Rapier, EngineKind::Mujoco] {
+        let sim = demo().with_engine(Some(engine));
+        let mut s = Simulator::new(&sim, &BuildOptions::default()).unwrap();
+        s.run_steps(100);
+        let before = s.com(0).unwrap();
+        // The viewer's drag: every link of the robot by the same offset.
+        let bodies = s.robot_bodies(0).unwrap();
+        s.translate_bodies(&bodies, [0.5, -0.25, 0.0]);
+        let after = s.com(0).unwrap();
+        assert!(
+            (after[0] - before[0] - 0.5).abs() < 1e-6 && (after[1] - before[1] + 0.25).abs() < 1e-6,
+            "{engine}: {before:?} -> {after:?}"
+        );
+        s.run_steps(100);
+        assert!(s.com(0).unwrap().iter().all(|v| v.is_finite()), "{engine}");
+    }
+}
+
+#[test]
+fn a_stored_mujoco_evaluation_replays_to_its_stored_score() {
+    if !common::mujoco_here("replay on MuJoCo") {
+        return;
+    }
+    let dir = common::scratch("mujoco_replay");
+    let store = dir.join("ga.sqlite").display().to_string();
+    let (ok, out, err) = common::proleg(&[
+        "optimize",
+        "configs/experiment1_ga.simulation.xml",
+        "--max-evals",
+        "10",
+        "--duration",
+        "1",
+        "--quiet",
+        "--engine",
+        "mujoco",
+        "--store",
+        &store,
+    ]);
+    assert!(ok, "{err}");
+    let best: f64 = out
+        .lines()
+        .find_map(|l| l.strip_prefix("best score"))
+        .and_then(|t| t.split_whitespace().next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no best score in {out}"));
+    let (ok, out, err) = common::proleg(&["robustness", &store, "--run", "1", "--episodes", "1"]);
+    assert!(ok, "{err}");
+    assert!(out.contains(", on mujoco"), "{out}");
+    let nominal: f64 = out
+        .lines()
+        .find_map(|l| l.strip_prefix("nominal"))
+        .and_then(|t| t.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no nominal score in {out}"));
+    assert!(
+        (nominal - best).abs() < 1e-4,
+        "stored {best}, replayed {nominal}"
+    );
+}
