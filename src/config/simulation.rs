@@ -413,3 +413,42 @@ pub fn write_simulation_file(s: &SimulationFile) -> String {
     w.close();
     w.finish()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn with_engine(engine: &str) -> String {
+        format!(
+            "<simulation><robot>r.robot.xml</robot><actuation>a.actuation.xml</actuation>\
+             <simulationProperties><physicsEngine>{engine}</physicsEngine></simulationProperties></simulation>"
+        )
+    }
+
+    #[test]
+    fn the_engine_is_read_written_and_read_again() {
+        let f = parse_simulation_file("s.simulation.xml", &with_engine("MuJoCo")).unwrap();
+        assert_eq!(f.properties.engine, EngineKind::Mujoco);
+        let text = write_simulation_file(&f);
+        assert!(
+            text.contains("<physicsEngine>mujoco</physicsEngine>"),
+            "{text}"
+        );
+        assert_eq!(parse_simulation_file("s.simulation.xml", &text).unwrap(), f);
+        // rapier, the default, is not written.
+        let rapier = parse_simulation_file("s.simulation.xml", &with_engine("rapier")).unwrap();
+        assert!(!write_simulation_file(&rapier).contains("physicsEngine"));
+    }
+
+    #[test]
+    fn an_unknown_engine_is_a_located_error_naming_the_known_ones() {
+        let e = parse_simulation_file("s.simulation.xml", &with_engine("bullet")).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.starts_with("s.simulation.xml:1:")
+                && text.contains("\"bullet\"")
+                && text.contains("rapier, mujoco"),
+            "{text}"
+        );
+    }
+}

@@ -37,8 +37,9 @@ fn simulation_part(s: &mut String, sim: &Simulation) {
     }
     let _ = writeln!(
         s,
-        "  mode {}, step {} ms, duration {} s ({} steps), seed {}, sampling every {} steps, recording {}",
+        "  mode {}, physics {}, step {} ms, duration {} s ({} steps), seed {}, sampling every {} steps, recording {}",
         p.mode,
+        p.engine,
         num(p.step_width * 1000.0),
         num(p.duration),
         (p.duration / p.step_width).round(),
