@@ -238,6 +238,9 @@ fn a_stored_mujoco_evaluation_replays_to_its_stored_score() {
         .and_then(|t| t.split_whitespace().next())
         .and_then(|n| n.parse().ok())
         .unwrap_or_else(|| panic!("no best score in {out}"));
+    let (ok, listing, err) = common::proleg(&["results", &store]);
+    assert!(ok, "{err}");
+    assert!(listing.contains("genetic algorithm on mujoco"), "{listing}");
     let (ok, out, err) = common::proleg(&["robustness", &store, "--run", "1", "--episodes", "1"]);
     assert!(ok, "{err}");
     assert!(out.contains(", on mujoco"), "{out}");

@@ -206,11 +206,17 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
     })
 }
 
-/// What identifies the run in the store.
+/// What identifies the run in the store; a run on another engine than rapier says so in
+/// its algorithm ("genetic algorithm on mujoco"), so `results` tells the runs apart and
+/// `--resume` does not continue a run of the other engine.
 fn run_info(sim: &Simulation, space: &SearchSpace, settings: &RunSettings) -> RunInfo {
+    let algorithm = match sim.engine() {
+        crate::config::simulation::EngineKind::Rapier => algorithm_label(sim).to_string(),
+        other => format!("{} on {other}", algorithm_label(sim)),
+    };
     RunInfo {
         config: sim.file.display().to_string(),
-        algorithm: algorithm_label(sim).to_string(),
+        algorithm,
         seed: settings.seed,
         fitness: settings.fitness.name().to_string(),
         duration: settings.duration,
