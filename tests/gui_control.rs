@@ -462,3 +462,35 @@ fn real_robot_tab_drives_the_emulated_servos_and_shows_the_twin() {
     assert_eq!((w, h), (1280, 800));
     assert!(colours > 50);
 }
+
+#[test]
+fn the_physics_choice_rebuilds_the_world_on_mujoco_and_it_crawls() {
+    if !common::mujoco_here("the window on MuJoCo") {
+        return;
+    }
+    let dir = scratch("control_mujoco");
+    let st = dir.join("state.txt");
+    let script = dir.join("mujoco.script");
+    std::fs::write(
+        &script,
+        format!(
+            "wait 2\nengine mujoco\nstart\nrun-until 2.0\npause\nstate {}\nquit\n",
+            st.display()
+        ),
+    )
+    .expect("script");
+    let (ok, out) = run_window("configs/demo.simulation.xml", &script);
+    assert!(ok, "the window failed:\n{out}");
+    let s = state(&st);
+    assert_eq!(get(&s, "engine"), "mujoco");
+    let t: f64 = get(&s, "sim_time").parse().expect("time");
+    assert!((2.0..2.5).contains(&t), "paused at {t} s");
+    let com: Vec<f64> = get(&s, "com")
+        .split(' ')
+        .map(|v| v.parse().expect("com"))
+        .collect();
+    assert!(
+        com[1] > 0.2,
+        "centre of mass {com:?}: the snake crawls on MuJoCo"
+    );
+}

@@ -63,6 +63,8 @@ pub enum Command {
     Restart,
     /// `load FILE`: the toolbar's Load.
     Load(PathBuf),
+    /// `engine rapier|mujoco`: the toolbar's physics choice.
+    Engine(crate::config::simulation::EngineKind),
     /// `run-until S`: runs until simulated second S.
     RunUntil(f64),
     /// `wait-for STATE FRAMES`: until `running`, `paused` or `debug` holds.
@@ -202,6 +204,14 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             "pause" => Command::Pause,
             "restart" => Command::Restart,
             "load" if words.len() == 2 => Command::Load(PathBuf::from(words[1])),
+            "engine" if words.len() == 2 => Command::Engine(
+                crate::config::simulation::EngineKind::parse(words[1]).ok_or_else(|| {
+                    at(format!(
+                        "unknown physics engine `{}` (rapier, mujoco)",
+                        words[1]
+                    ))
+                })?,
+            ),
             "run-until" => Command::RunUntil(num(words.get(1), "seconds")?),
             "wait-for"
                 if words.len() == 3 && ["running", "paused", "debug"].contains(&words[1]) =>

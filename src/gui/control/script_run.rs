@@ -46,6 +46,7 @@ fn carry_out(
         | C::Pause
         | C::Restart
         | C::Load(_)
+        | C::Engine(_)
         | C::RunUntil(_)
         | C::StepTo(_)
         | C::Speed(_) => simulation_command(c, script, session),
@@ -115,6 +116,10 @@ fn simulation_command(
         }
         Command::Load(path) => {
             session.load(&path);
+            Flow::Next
+        }
+        Command::Engine(kind) => {
+            session.set_engine(kind);
             Flow::Next
         }
         Command::RunUntil(t) if session.sim_time() + 1e-9 < t => {
@@ -476,6 +481,7 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
         ("running", session.running.to_string()),
         ("steps", session.steps().to_string()),
         ("sim_time", format!("{:.6}", session.sim_time())),
+        ("engine", session.simulator.engine_kind().to_string()),
         ("plots", views.plots.plots.len().to_string()),
         ("params_panel", views.panels.params.to_string()),
         ("plots_panel", views.panels.plots.to_string()),

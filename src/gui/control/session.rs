@@ -136,6 +136,24 @@ impl SimSession {
         }
     }
 
+    /// Rebuilds the world on `engine` (the toolbar's physics choice), paused; when it cannot
+    /// be built there (MuJoCo's library missing, a model it rejects) the world and engine
+    /// stay as they were and the error is shown.
+    pub fn set_engine(&mut self, engine: EngineKind) {
+        if engine == self.sim.engine() {
+            return;
+        }
+        let sim = self.sim.clone().with_engine(Some(engine));
+        match build(&sim, self.step_width, self.replay.as_ref()) {
+            Ok((simulator, kernel)) => {
+                self.sim = sim;
+                self.engine = Some(engine);
+                self.install(simulator, kernel);
+            }
+            Err(e) => self.error = Some(e),
+        }
+    }
+
     /// Rebuilds the world from the configuration (with the chosen step width), paused.
     pub fn restart(&mut self) {
         match build(&self.sim, self.step_width, self.replay.as_ref()) {

@@ -146,6 +146,19 @@ pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut ToolbarStat
                 .max_decimals(4),
         )
         .on_hover_text("used from the next restart");
+        ui.label("Physics:");
+        let now = session.simulator.engine_kind();
+        egui::ComboBox::from_id_salt("physics engine")
+            .selected_text(now.name())
+            .show_ui(ui, |ui| {
+                for kind in crate::config::simulation::EngineKind::ALL {
+                    if ui.selectable_label(kind == now, kind.name()).clicked() {
+                        session.set_engine(kind);
+                    }
+                }
+            })
+            .response
+            .on_hover_text("the physics engine: switching rebuilds the world, paused at 0");
     });
     ui.horizontal(|ui| {
         let dt = session.simulator.clock().dt;
