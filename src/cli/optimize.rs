@@ -333,10 +333,10 @@ fn stored_files(
     let top = crate::config::source::normalize(config)
         .display()
         .to_string();
-    for (path, text) in &mut files {
+    for (path, text) in files.iter_mut().filter(|(path, _)| *path == top) {
         let written = crate::config::simulation::parse_simulation_file(path, text)
             .map(|f| f.properties.engine);
-        if *path == top && written.is_ok_and(|e| e != sim.engine()) {
+        if written.is_ok_and(|e| e != sim.engine()) {
             *text = crate::config::simulation::write_simulation_file(&sim.files.simulation);
         }
     }

@@ -13,10 +13,10 @@
 //! its own module; `tests/layering.rs` enforces it.
 //!
 //! Semantics both engines share (docs/DESIGN.md §3): the servo's velocity command is
-//! computed by our `Servo` stage and driven by a velocity motor of damping
-//! [`MOTOR_DAMPING`] limited to the joint's `maxtorque`; the contact friction is the
-//! smaller of the two surfaces'; links joined by a hinge do not collide; a pad is touched
-//! when a contact patch of its link overlaps its area.
+//! computed by our `Servo` stage and driven by a velocity constraint whose torque is
+//! limited to the joint's `maxtorque` (rapier's motor, MuJoCo's tendon friction loss); the
+//! contact friction is the smaller of the two surfaces'; links joined by a hinge do not
+//! collide; a pad is touched when a contact patch of its link overlaps its area.
 
 pub mod mujoco;
 pub mod pad;
@@ -28,10 +28,6 @@ use crate::config::transform::Pose;
 use crate::sim::error::SimError;
 
 pub use pad::PadArea;
-
-/// Damping of the servo's velocity motor (N·m·s/rad) on every engine: stiff enough that the
-/// torque limit, not the motor model, bounds the servo.
-pub const MOTOR_DAMPING: f64 = 10.0;
 
 /// Most robots one world can hold (one collision group each, besides the environment).
 pub const MAX_ROBOTS_PER_WORLD: usize = 31;

@@ -14,7 +14,9 @@
 //! Where MuJoCo differs from rapier here: dragging moves a robot by its root's free joint
 //! and a static body by its model position (inner links follow their root); an angular
 //! velocity is set on free bodies only; a laser in a batch of several robots also sees the
-//! other robots (`mj_ray` has no collision groups).
+//! other robots (`mj_ray` has no collision groups); a body's linear velocity (the data
+//! log's speed and kinetic energy) is MuJoCo's from the step's start, since
+//! `mj_kinematics` updates positions only.
 
 use std::ffi::{CString, c_char, c_int};
 

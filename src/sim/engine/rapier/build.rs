@@ -7,14 +7,16 @@
 use rapier3d::prelude as rp;
 
 use super::terrain::{floor_halfspace, heightfield};
-use super::{Hinge, Laser, Pad, PhysicsSettings, RapierEngine, arr3, group_bit, pose, vec3};
+use super::{
+    Hinge, Laser, MOTOR_DAMPING, Pad, PhysicsSettings, RapierEngine, arr3, group_bit, pose, vec3,
+};
 use crate::config::Simulation;
 use crate::config::body::{BodyKind, Geom, MeshCollision, Shape};
 use crate::config::resolve::robot::{LinkInertia, geom_volume};
 use crate::config::transform::Pose;
 use crate::sim::engine::{
-    BodyId, DEFAULT_FRICTION, JointId, LINK_FRICTION, LaserId, LaserSpec, Layout, MOTOR_DAMPING,
-    PadArea, PadId, RobotLayout, SensorPart, sensor_parts,
+    BodyId, DEFAULT_FRICTION, JointId, LINK_FRICTION, LaserId, LaserSpec, Layout, PadArea, PadId,
+    RobotLayout, SensorPart, sensor_parts,
 };
 use crate::sim::error::SimError;
 

@@ -19,10 +19,14 @@ use crate::config::simulation::EngineKind;
 use crate::config::transform::Pose;
 use crate::sim::engine::{
     BodyId, BodyState, ColliderView, ContactView, JointId, JointReading, LaserId, LaserSpec,
-    MOTOR_DAMPING, PadArea, PadId, PhysicsEngine, ShapeOutline,
+    PadArea, PadId, PhysicsEngine, ShapeOutline,
 };
 
 pub use settings::PhysicsSettings;
+
+/// Damping of the servo's velocity motor (N·m·s/rad): stiff enough that the torque limit,
+/// not the motor model, bounds the servo.
+pub const MOTOR_DAMPING: f64 = 10.0;
 
 /// A joint closer than this to a limit (degrees) has its limit constraint active.
 pub const LIMIT_MARGIN_DEG: f64 = 15.0;
