@@ -105,6 +105,17 @@ enum Command {
         #[arg(long)]
         engine: Option<proleg::config::simulation::EngineKind>,
     },
+    /// Physical checks with known answers (friction onset on a slope, sliding to rest,
+    /// resting contact, a drop) on each engine at its production settings; exit 1 when one
+    /// fails.
+    CheckPhysics {
+        /// The simulation whose robot's first link is the module checked.
+        #[arg(long, default_value = DEMO_CONFIG)]
+        config: PathBuf,
+        /// Only this engine (default: rapier, and MuJoCo where its library is).
+        #[arg(long)]
+        engine: Option<proleg::config::simulation::EngineKind>,
+    },
     /// Import a URDF robot: a robot file with its meshes, plus a floor, a sine on every
     /// joint and a simulation file, checked; what cannot be represented is listed.
     Import {
@@ -281,6 +292,32 @@ fn video(req: &cli::run::RunRequest) -> Result<String, String> {
     }
 }
 
+/// `proleg check-physics`: the checks on each engine asked for, as one report.
+fn check_physics(
+    config: &std::path::Path,
+    engine: Option<proleg::config::simulation::EngineKind>,
+    registry: &proleg::control::ModuleRegistry,
+) -> Result<String, String> {
+    use proleg::bench::physics_checks;
+    use proleg::config::simulation::EngineKind;
+    let base = proleg::control::load_simulation_in(config, registry).map_err(|e| e.to_string())?;
+    let engines = match engine {
+        Some(e) => vec![e],
+        None if proleg::sim::engine::mujoco::library::available() => {
+            vec![EngineKind::Rapier, EngineKind::Mujoco]
+        }
+        None => vec![EngineKind::Rapier],
+    };
+    let mut text = String::new();
+    let mut all_pass = true;
+    for e in engines {
+        let checks = physics_checks::run(&base, e, registry)?;
+        all_pass &= checks.iter().all(|c| c.pass);
+        text.push_str(&physics_checks::report(e, &checks));
+    }
+    if all_pass { Ok(text) } else { Err(text) }
+}
+
 /// Opens the configuration window.
 fn wizard(opts: WizardOptions) -> Result<String, String> {
     #[cfg(feature = "gui")]
@@ -428,6 +465,7 @@ fn main() -> ExitCode {
         } => {
             cli::interop::export_mjcf(&config, &out, gait, engine, &registry).map(|r| r.to_string())
         }
+        Command::CheckPhysics { config, engine } => check_physics(&config, engine, &registry),
         Command::Check { config } => proleg::control::load_simulation_in(&config, &registry)
             .map(|sim| format!("{}ok\n", proleg::config::summary::summary(&sim)))
             .map_err(|e| e.to_string()),

@@ -14,6 +14,7 @@ use std::time::Instant;
 
 pub mod convergence;
 pub mod modules;
+pub mod physics_checks;
 pub mod rollout;
 
 use crate::config::Simulation;

@@ -191,6 +191,8 @@ pub trait PhysicsEngine: Send + Sync + 'static {
     fn translate_body(&mut self, b: BodyId, delta: [f64; 3]);
     /// Sets body `b`'s angular velocity (rad/s).
     fn set_angular_velocity(&mut self, b: BodyId, angvel: [f64; 3]);
+    /// Sets body `b`'s linear velocity (m/s): a launch, for the physical checks.
+    fn set_linear_velocity(&mut self, b: BodyId, linvel: [f64; 3]);
     /// Every collider, for the debug view.
     fn colliders(&self) -> Vec<ColliderView>;
     /// Every contact point, for the debug view.

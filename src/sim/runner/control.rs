@@ -69,6 +69,27 @@ impl Simulator {
         }
     }
 
+    /// Sets the linear velocity (m/s, z up) of link `link` of robot `robot` between steps:
+    /// a launch (the physical checks' sliding module). On MuJoCo only a robot's root link
+    /// (its free joint) can be set.
+    pub fn set_link_velocity(
+        &mut self,
+        robot: usize,
+        link: usize,
+        linvel: [f64; 3],
+    ) -> Result<(), SimError> {
+        let bodies = &self.robot_component::<SimRobot>(robot)?.bodies;
+        let (body, _) = *bodies.get(link).ok_or(SimError::NoSuchLink {
+            link,
+            count: bodies.len(),
+        })?;
+        if linvel.iter().all(|v| v.is_finite()) {
+            let mut physics = self.world_mut().resource_mut::<SimPhysics>();
+            physics.engine.set_linear_velocity(body, linvel);
+        }
+        Ok(())
+    }
+
     /// Sets the angular velocity (rad/s, z up) of link `link` of robot `robot` between
     /// steps: a push from outside, to test servos and limits.
     pub fn set_link_angular_velocity(

@@ -13,7 +13,7 @@
 //!
 //! Where MuJoCo differs from rapier here: dragging moves a robot by its root's free joint
 //! and a static body by its model position (inner links follow their root); an angular
-//! velocity is set on free bodies only; a laser in a batch of several robots also sees the
+//! or linear velocity is set on free bodies only; a laser in a batch of several robots also sees the
 //! other robots (`mj_ray` has no collision groups); a body's linear velocity (the data
 //! log's speed and kinetic energy) is MuJoCo's from the step's start, since
 //! `mj_kinematics` updates positions only.
@@ -641,6 +641,22 @@ impl PhysicsEngine for MujocoEngine {
         for (k, w) in local.iter().enumerate() {
             // SAFETY: a free joint has 6 dofs from `dof`.
             unsafe { *v.add(dof + 3 + k) = *w };
+        }
+        self.refresh();
+    }
+
+    fn set_linear_velocity(&mut self, b: BodyId, linvel: [f64; 3]) {
+        let Some(&id) = self.bodies.get(b.0 as usize) else {
+            return;
+        };
+        let Some((_, dof)) = self.free_joint(id) else {
+            return;
+        };
+        // A free joint's linear velocity is in the world frame.
+        let v = self.d().qvel;
+        for (k, x) in linvel.iter().enumerate() {
+            // SAFETY: a free joint has 6 dofs from `dof`.
+            unsafe { *v.add(dof + k) = *x };
         }
         self.refresh();
     }

@@ -306,6 +306,15 @@ impl PhysicsEngine for RapierEngine {
         }
     }
 
+    fn set_linear_velocity(&mut self, b: BodyId, linvel: [f64; 3]) {
+        let Some(h) = self.handle(b) else {
+            return;
+        };
+        if let Some(body) = self.world.bodies.get_mut(h) {
+            body.set_linvel(vec3(linvel), true);
+        }
+    }
+
     fn colliders(&self) -> Vec<ColliderView> {
         let w = &self.world;
         w.colliders

@@ -1,0 +1,303 @@
+//! Physical checks with known answers (`proleg check-physics [--engine E]`, issue 32 part
+//! 1, first half): one module (the snake's 72-mm tail link, 70 g) alone on the floor at the
+//! production settings of an engine, against what physics says exactly:
+//!
+//! | check | scene | expected |
+//! |---|---|---|
+//! | friction onset | gravity tilted by θ in 0.5° steps (a tilted floor), μ 0.3, 0.5, 1.0 | slides from θ = atan μ, ±1° |
+//! | sliding to rest | launched at 0.5 m/s, μ 0.5 | stops after v² / (2 μ g), ±5 % |
+//! | resting contact | 10 s at rest | penetration < 0.5 mm, drift < 1 mm |
+//! | drop | released 10 cm above the floor | at rest within 0.5 s, bounce < 2 mm |
+//!
+//! The pendulum and the servo step (joints) and the height-field and trimesh slopes are
+//! the second half of part 1, not here yet.
+
+use std::fmt::Write as _;
+
+use crate::config::Simulation;
+use crate::config::body::Shape;
+use crate::config::simulation::EngineKind;
+use crate::control::ModuleRegistry;
+use crate::sim::{BuildOptions, Simulator};
+
+/// Standard gravity (m/s²).
+const G: f64 = 9.81;
+
+/// One check: what was measured against what physics says.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Check {
+    /// What is checked.
+    pub name: String,
+    /// Measured value.
+    pub measured: f64,
+    /// Expected value (or the bound).
+    pub expected: f64,
+    /// Allowed difference (or, for a bound, 0).
+    pub tolerance: f64,
+    /// Unit of the three numbers.
+    pub unit: &'static str,
+    /// Whether it passes.
+    pub pass: bool,
+}
+
+impl Check {
+    fn within(
+        name: String,
+        measured: f64,
+        expected: f64,
+        tolerance: f64,
+        unit: &'static str,
+    ) -> Check {
+        let pass = (measured - expected).abs() <= tolerance;
+        Check {
+            name,
+            measured,
+            expected,
+            tolerance,
+            unit,
+            pass,
+        }
+    }
+
+    fn below(name: String, measured: f64, bound: f64, unit: &'static str) -> Check {
+        Check {
+            name,
+            measured,
+            expected: bound,
+            tolerance: 0.0,
+            unit,
+            pass: measured < bound,
+        }
+    }
+}
+
+/// The checks' scene: one module of `base`'s robot (its first link, no joints, no sensors,
+/// no modules) on `base`'s floor with friction `mu`, on `engine`.
+pub fn module_scene(base: &Simulation, engine: EngineKind, mu: f64) -> Simulation {
+    let mut sim = base.clone().with_engine(Some(engine));
+    sim.robot.links.truncate(1);
+    sim.robot.joints.clear();
+    sim.robot.sensors.clear();
+    sim.actuation.modules.clear();
+    for b in &mut sim.environment.bodies {
+        for g in &mut b.geoms {
+            g.friction = Some(mu);
+        }
+    }
+    sim.environment.physics.gravity = [0.0, 0.0, -G];
+    sim
+}
+
+/// Half height of the module's first box (m): its centre of mass rests this high.
+fn half_height(sim: &Simulation) -> f64 {
+    sim.robot.links[0]
+        .geoms
+        .iter()
+        .find_map(|g| match g.shape {
+            Shape::Box { extents } => Some(extents[2]),
+            _ => None,
+        })
+        .unwrap_or(0.0)
+}
+
+fn world(sim: &Simulation, registry: &ModuleRegistry) -> Result<Simulator, String> {
+    let opts = BuildOptions {
+        robots: 1,
+        record: false,
+        ..Default::default()
+    };
+    Simulator::with_registry(sim, &opts, registry).map_err(|e| e.to_string())
+}
+
+fn com(s: &Simulator) -> Result<[f64; 3], String> {
+    s.com(0).map_err(|e| e.to_string())
+}
+
+/// Steps of `seconds` in `s`.
+fn steps(s: &Simulator, seconds: f64) -> u64 {
+    (seconds / s.clock().dt).round() as u64
+}
+
+/// The tilt (degrees) from which the module slides with friction `mu`: gravity turned by
+/// θ about x, θ from atan μ - 4° in 0.5° steps; sliding = more than 5 mm along the slope
+/// in 1 s.
+fn friction_onset(
+    base: &Simulation,
+    engine: EngineKind,
+    mu: f64,
+    registry: &ModuleRegistry,
+) -> Result<Check, String> {
+    let expected = mu.atan().to_degrees();
+    let mut onset = f64::NAN;
+    for k in 0..=16 {
+        let theta = (expected - 4.0 + 0.5 * k as f64).max(0.0);
+        let mut sim = module_scene(base, engine, mu);
+        let t = theta.to_radians();
+        sim.environment.physics.gravity = [0.0, -G * t.sin(), -G * t.cos()];
+        let mut s = world(&sim, registry)?;
+        let start = com(&s)?;
+        s.run_steps(steps(&s, 1.0));
+        let end = com(&s)?;
+        if (start[1] - end[1]) > 0.005 {
+            onset = theta;
+            break;
+        }
+    }
+    Ok(Check::within(
+        format!("friction onset, mu {mu}"),
+        onset,
+        expected,
+        1.0,
+        "deg",
+    ))
+}
+
+/// The distance a module launched at 0.5 m/s slides on friction `mu`.
+fn sliding(
+    base: &Simulation,
+    engine: EngineKind,
+    mu: f64,
+    registry: &ModuleRegistry,
+) -> Result<Check, String> {
+    let v = 0.5;
+    let sim = module_scene(base, engine, mu);
+    let mut s = world(&sim, registry)?;
+    s.run_steps(steps(&s, 0.2));
+    let start = com(&s)?;
+    s.set_link_velocity(0, 0, [0.0, v, 0.0])
+        .map_err(|e| e.to_string())?;
+    s.run_steps(steps(&s, 1.0));
+    let end = com(&s)?;
+    let expected = v * v / (2.0 * mu * G);
+    Ok(Check::within(
+        format!("sliding to rest from 0.5 m/s, mu {mu}"),
+        end[1] - start[1],
+        expected,
+        0.05 * expected,
+        "m",
+    ))
+}
+
+/// Penetration and drift of a module at rest for 10 s.
+fn resting(
+    base: &Simulation,
+    engine: EngineKind,
+    registry: &ModuleRegistry,
+) -> Result<Vec<Check>, String> {
+    let sim = module_scene(base, engine, 0.5);
+    let h = half_height(&sim);
+    let mut s = world(&sim, registry)?;
+    s.run_steps(steps(&s, 0.5));
+    let start = com(&s)?;
+    let (mut deepest, mut highest) = (f64::INFINITY, f64::NEG_INFINITY);
+    for _ in 0..100 {
+        s.run_steps(steps(&s, 0.1));
+        let z = com(&s)?[2];
+        deepest = deepest.min(z);
+        highest = highest.max(z);
+    }
+    let end = com(&s)?;
+    let drift = ((end[0] - start[0]).powi(2) + (end[1] - start[1]).powi(2)).sqrt();
+    Ok(vec![
+        Check::below(
+            "resting: penetration".into(),
+            (h - deepest).max(0.0) * 1000.0,
+            0.5,
+            "mm",
+        ),
+        Check::below("resting: drift in 10 s".into(), drift * 1000.0, 1.0, "mm"),
+        Check::below(
+            "resting: jitter (z range)".into(),
+            (highest - deepest) * 1000.0,
+            0.1,
+            "mm",
+        ),
+    ])
+}
+
+/// A module dropped from 10 cm: when it comes to rest, and how high it bounces.
+fn drop(
+    base: &Simulation,
+    engine: EngineKind,
+    registry: &ModuleRegistry,
+) -> Result<Vec<Check>, String> {
+    let mut sim = module_scene(base, engine, 0.5);
+    sim.environment.robot_pose.translation[2] += 0.1;
+    let h = half_height(&sim);
+    let mut s = world(&sim, registry)?;
+    let (mut landed, mut bounce, mut rest) = (false, 0.0f64, f64::NAN);
+    let mut previous = com(&s)?[2];
+    for k in 1..=steps(&s, 1.0) {
+        s.step();
+        let z = com(&s)?[2];
+        let t = k as f64 * s.clock().dt;
+        if !landed && z <= h + 0.001 {
+            landed = true;
+        }
+        if landed {
+            bounce = bounce.max(z - h);
+            let settled = (z - previous).abs() / s.clock().dt < 0.005 && (z - h).abs() < 0.001;
+            if settled && rest.is_nan() {
+                rest = t;
+            } else if !settled {
+                rest = f64::NAN;
+            }
+        }
+        previous = z;
+    }
+    Ok(vec![
+        Check::below("drop from 10 cm: at rest after".into(), rest, 0.5, "s"),
+        Check::below("drop from 10 cm: bounce".into(), bounce * 1000.0, 2.0, "mm"),
+    ])
+}
+
+/// Every check on `engine`, the module taken from `base` (the demo's snake).
+pub fn run(
+    base: &Simulation,
+    engine: EngineKind,
+    registry: &ModuleRegistry,
+) -> Result<Vec<Check>, String> {
+    let mut checks = Vec::new();
+    for mu in [0.3, 0.5, 1.0] {
+        checks.push(friction_onset(base, engine, mu, registry)?);
+    }
+    checks.push(sliding(base, engine, 0.5, registry)?);
+    checks.extend(resting(base, engine, registry)?);
+    checks.extend(drop(base, engine, registry)?);
+    Ok(checks)
+}
+
+/// The checks as a table.
+pub fn report(engine: EngineKind, checks: &[Check]) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "physical checks on {engine} (production settings)");
+    let _ = writeln!(
+        out,
+        "{:<42} {:>10} {:>16}  result",
+        "check", "measured", "expected"
+    );
+    for c in checks {
+        let expected = if c.tolerance > 0.0 {
+            format!("{:.4} ± {:.4}", c.expected, c.tolerance)
+        } else {
+            format!("< {:.4}", c.expected)
+        };
+        let _ = writeln!(
+            out,
+            "{:<42} {:>10.4} {:>16} {}  {}",
+            c.name,
+            c.measured,
+            expected,
+            c.unit,
+            if c.pass { "PASS" } else { "FAIL" }
+        );
+    }
+    let failed = checks.iter().filter(|c| !c.pass).count();
+    let _ = writeln!(
+        out,
+        "{} of {} checks pass",
+        checks.len() - failed,
+        checks.len()
+    );
+    out
+}
