@@ -8,9 +8,10 @@
 //! | sliding to rest | launched at 0.5 m/s, μ 0.5 | stops after v² / (2 μ g), ±5 % |
 //! | resting contact | 10 s at rest | penetration < 0.5 mm, drift < 1 mm |
 //! | drop | released 10 cm above the floor | at rest within 0.5 s, bounce < 2 mm |
+//! | servo step | the whole snake without gravity, one joint's target stepped by 30° | the servo model's response (P at the gain, clamped to `maxvel`), ±1° |
 //!
-//! The pendulum and the servo step (joints) and the height-field and trimesh slopes are
-//! the second half of part 1, not here yet.
+//! The pendulum, the servo stalling against a load and the height-field and trimesh
+//! slopes are the rest of issue 32's part 1, not here yet.
 
 use std::fmt::Write as _;
 
@@ -251,6 +252,46 @@ fn drop(
     ])
 }
 
+/// The largest difference (degrees) between joint 2's angle and the servo model's response
+/// to a 30° step of its target, the snake floating without gravity (the servo's only load
+/// is the links' inertia), over 0.3 s. The model is the servo stage's own discrete law:
+/// each step the joint turns at the commanded speed, gain x error clamped to `maxvel`.
+fn servo_step(
+    base: &Simulation,
+    engine: EngineKind,
+    registry: &ModuleRegistry,
+) -> Result<Check, String> {
+    let mut sim = base.clone().with_engine(Some(engine));
+    sim.environment.physics.gravity = [0.0; 3];
+    sim.environment.robot_pose.translation[2] += 0.5;
+    let joint = 2;
+    let j = &sim.robot.joints[joint];
+    let (gain, vmax) = (
+        j.servo_gain
+            .unwrap_or(crate::sim::servo::DEFAULT_SERVO_GAIN),
+        j.max_vel.to_degrees(),
+    );
+    let mut s = world(&sim, registry)?;
+    let dt = s.clock().dt;
+    let mut targets = vec![0.0; sim.robot.joints.len()];
+    targets[joint] = 30.0;
+    s.set_joint_override(0, Some(targets))
+        .map_err(|e| e.to_string())?;
+    let (mut model, mut worst) = (0.0f64, 0.0f64);
+    for _ in 0..steps(&s, 0.3) {
+        s.step();
+        model += (gain * (30.0 - model)).clamp(-vmax, vmax) * dt;
+        let angle = s.joint_states(0).map_err(|e| e.to_string())?[joint].angle;
+        worst = worst.max((angle - model).abs());
+    }
+    Ok(Check::below(
+        "servo step of 30 deg: largest error vs the model".into(),
+        worst,
+        1.0,
+        "deg",
+    ))
+}
+
 /// Every check on `engine`, the module taken from `base` (the demo's snake).
 pub fn run(
     base: &Simulation,
@@ -264,6 +305,7 @@ pub fn run(
     checks.push(sliding(base, engine, 0.5, registry)?);
     checks.extend(resting(base, engine, registry)?);
     checks.extend(drop(base, engine, registry)?);
+    checks.push(servo_step(base, engine, registry)?);
     Ok(checks)
 }
 
