@@ -4,7 +4,7 @@
 
 use crate::control::ControlKernel;
 use crate::sim::Simulator;
-use crate::sim::engine::BodyId;
+use crate::sim::engine::{BodyId, PhysicsEngine};
 use crate::sim::error::SimError;
 use crate::sim::kernel::{JointOverride, Kernel, SimRobot};
 use crate::sim::physics::SimPhysics;
@@ -78,16 +78,9 @@ impl Simulator {
         link: usize,
         linvel: [f64; 3],
     ) -> Result<(), SimError> {
-        let bodies = &self.robot_component::<SimRobot>(robot)?.bodies;
-        let (body, _) = *bodies.get(link).ok_or(SimError::NoSuchLink {
-            link,
-            count: bodies.len(),
-        })?;
-        if linvel.iter().all(|v| v.is_finite()) {
-            let mut physics = self.world_mut().resource_mut::<SimPhysics>();
-            physics.engine.set_linear_velocity(body, linvel);
-        }
-        Ok(())
+        self.with_link_body(robot, link, linvel, |engine, body, v| {
+            engine.set_linear_velocity(body, v)
+        })
     }
 
     /// Sets the angular velocity (rad/s, z up) of link `link` of robot `robot` between
@@ -98,14 +91,28 @@ impl Simulator {
         link: usize,
         angvel: [f64; 3],
     ) -> Result<(), SimError> {
+        self.with_link_body(robot, link, angvel, |engine, body, w| {
+            engine.set_angular_velocity(body, w)
+        })
+    }
+
+    /// Hands link `link`'s body of robot `robot` and `value` to `set`, when every component
+    /// of `value` is finite.
+    fn with_link_body(
+        &mut self,
+        robot: usize,
+        link: usize,
+        value: [f64; 3],
+        set: impl FnOnce(&mut dyn PhysicsEngine, BodyId, [f64; 3]),
+    ) -> Result<(), SimError> {
         let bodies = &self.robot_component::<SimRobot>(robot)?.bodies;
         let (body, _) = *bodies.get(link).ok_or(SimError::NoSuchLink {
             link,
             count: bodies.len(),
         })?;
-        if angvel.iter().all(|v| v.is_finite()) {
+        if value.iter().all(|v| v.is_finite()) {
             let mut physics = self.world_mut().resource_mut::<SimPhysics>();
-            physics.engine.set_angular_velocity(body, angvel);
+            set(physics.engine.as_mut(), body, value);
         }
         Ok(())
     }
