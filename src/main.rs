@@ -106,7 +106,7 @@ enum Command {
         engine: Option<proleg::config::simulation::EngineKind>,
     },
     /// Physical checks with known answers (friction onset on a slope, sliding to rest,
-    /// resting contact, a drop, a servo step) on each engine at its production settings; exit 1 when one
+    /// resting contact, a drop, a servo step, a pendulum) on each engine at its production settings; exit 1 when one
     /// fails.
     CheckPhysics {
         /// The simulation whose robot's first link is the module checked.

@@ -9,9 +9,10 @@
 //! | resting contact | 10 s at rest | penetration < 0.5 mm, drift < 1 mm |
 //! | drop | released 10 cm above the floor | at rest within 0.5 s, bounce < 2 mm |
 //! | servo step | the whole snake without gravity, one joint's target stepped by 30° | the servo model's response (P at the gain, clamped to `maxvel`), ±1° |
+//! | pendulum | a module hanging 5° off vertical from an unpowered hinge on a 1-t module resting on a ledge | period 2π √(I / (m g d)), ±1 % |
 //!
-//! The pendulum, the servo stalling against a load and the height-field and trimesh
-//! slopes are the rest of issue 32's part 1, not here yet.
+//! The servo stalling against a load and the height-field and trimesh slopes are the rest
+//! of issue 32's part 1, not here yet.
 
 use std::fmt::Write as _;
 
@@ -292,6 +293,100 @@ fn servo_step(
     ))
 }
 
+/// A module hanging from an unpowered hinge: its period against the physical pendulum's.
+/// The first two links of `base`'s robot: the first made 1 t and resting on a ledge (a
+/// static box whose edge stops short of the hinge), the second turned about the hinge to
+/// hang 5° off vertical, the servo without torque and the limits wide.
+fn pendulum(
+    base: &Simulation,
+    engine: EngineKind,
+    registry: &ModuleRegistry,
+) -> Result<Check, String> {
+    use crate::config::body::BodyKind;
+    use crate::config::transform::Pose;
+    let mut sim = module_scene(base, engine, 0.5);
+    sim.robot.links = base.robot.links[..2].to_vec();
+    sim.robot.joints = base.robot.joints[..1].to_vec();
+    let j = &mut sim.robot.joints[0];
+    j.max_torque = 0.0;
+    j.limits_deg = [-179.0, 179.0];
+    let (anchor, axis) = (j.anchor, j.axis);
+    sim.robot.links[0].mass = 1000.0;
+    // Turn the second link about the hinge (axis x in the demo) to hang 5° off vertical.
+    let phi = (-85.0f64).to_radians();
+    let half = phi / 2.0;
+    let turn = Pose {
+        translation: [0.0; 3],
+        rotation: [
+            half.cos(),
+            axis[0] * half.sin(),
+            axis[1] * half.sin(),
+            axis[2] * half.sin(),
+        ],
+    };
+    let about_anchor = Pose::from_translation(anchor)
+        .mul(&turn)
+        .mul(&Pose::from_translation(anchor.map(|c| -c)));
+    let link = &mut sim.robot.links[1];
+    link.pose = about_anchor.mul(&link.pose);
+    // The ledge: everything below the first link up to 30 mm before the hinge.
+    let floor = sim
+        .environment
+        .bodies
+        .first_mut()
+        .ok_or("the base simulation has no floor")?;
+    floor.kind = BodyKind::Static;
+    floor.pose = Pose::from_translation([0.0, anchor[1] - 0.53, -0.5]);
+    if let Some(g) = floor.geoms.first_mut() {
+        g.shape = Shape::Box {
+            extents: [0.5, 0.5, 0.5],
+        };
+        g.pose = Pose::IDENTITY;
+    }
+    sim.environment.bodies.truncate(1);
+    // The physical pendulum: the hanging link's box about the hinge.
+    let l = &base.robot.links[1];
+    let g = l.geoms.first().ok_or("the second link has no geometry")?;
+    let Shape::Box {
+        extents: [_, ey, ez],
+    } = g.shape
+    else {
+        return Err("the second link's geometry is not a box".into());
+    };
+    let centre = l.pose.mul(&g.pose).translation;
+    let d = ((centre[1] - anchor[1]).powi(2) + (centre[2] - anchor[2]).powi(2)).sqrt();
+    let m = l.mass;
+    let inertia = m / 3.0 * (ey * ey + ez * ez) + m * d * d;
+    let expected = 2.0 * std::f64::consts::PI * (inertia / (m * G * d)).sqrt();
+    // Measured: the mean time between upward zero crossings of the angle about its mean.
+    let mut s = world(&sim, registry)?;
+    let dt = s.clock().dt;
+    let angles: Vec<f64> = (0..steps(&s, 3.0))
+        .map(|_| {
+            s.step();
+            s.joint_states(0).map_or(f64::NAN, |j| j[0].angle)
+        })
+        .collect();
+    let mean = angles.iter().sum::<f64>() / angles.len().max(1) as f64;
+    let ups: Vec<f64> = angles
+        .windows(2)
+        .enumerate()
+        .filter(|(_, w)| w[0] < mean && w[1] >= mean)
+        .map(|(k, _)| k as f64 * dt)
+        .collect();
+    let measured = match (ups.first(), ups.last()) {
+        (Some(a), Some(b)) if ups.len() > 2 => (b - a) / (ups.len() - 1) as f64,
+        _ => f64::NAN,
+    };
+    Ok(Check::within(
+        "pendulum: period of a 5-deg swing".into(),
+        measured,
+        expected,
+        0.01 * expected,
+        "s",
+    ))
+}
+
 /// Every check on `engine`, the module taken from `base` (the demo's snake).
 pub fn run(
     base: &Simulation,
@@ -306,6 +401,7 @@ pub fn run(
     checks.extend(resting(base, engine, registry)?);
     checks.extend(drop(base, engine, registry)?);
     checks.push(servo_step(base, engine, registry)?);
+    checks.push(pendulum(base, engine, registry)?);
     Ok(checks)
 }
 
