@@ -311,7 +311,7 @@ fn check_physics(
     let mut text = String::new();
     let mut all_pass = true;
     for e in engines {
-        let checks = physics_checks::run(&base, e, registry)?;
+        let checks = physics_checks::run(&base, e, registry).map_err(|e| e.to_string())?;
         all_pass &= checks.iter().all(|c| c.pass);
         text.push_str(&physics_checks::report(e, &checks));
     }

@@ -22,6 +22,17 @@ use crate::config::simulation::EngineKind;
 use crate::control::ModuleRegistry;
 use crate::sim::{BuildOptions, Simulator};
 
+/// Why a check could not be run (a failing check is a [`Check`] with `pass` false).
+#[derive(Debug, thiserror::Error)]
+pub enum PhysicsCheckError {
+    /// The scene does not build or run on the engine.
+    #[error(transparent)]
+    Sim(#[from] crate::sim::SimError),
+    /// The base simulation lacks what a scene is cut from.
+    #[error("the base simulation cannot make this scene: {0}")]
+    Scene(&'static str),
+}
+
 /// Standard gravity (m/s²).
 const G: f64 = 9.81;
 
@@ -102,17 +113,17 @@ fn half_height(sim: &Simulation) -> f64 {
         .unwrap_or(0.0)
 }
 
-fn world(sim: &Simulation, registry: &ModuleRegistry) -> Result<Simulator, String> {
+fn world(sim: &Simulation, registry: &ModuleRegistry) -> Result<Simulator, PhysicsCheckError> {
     let opts = BuildOptions {
         robots: 1,
         record: false,
         ..Default::default()
     };
-    Simulator::with_registry(sim, &opts, registry).map_err(|e| e.to_string())
+    Ok(Simulator::with_registry(sim, &opts, registry)?)
 }
 
-fn com(s: &Simulator) -> Result<[f64; 3], String> {
-    s.com(0).map_err(|e| e.to_string())
+fn com(s: &Simulator) -> Result<[f64; 3], PhysicsCheckError> {
+    Ok(s.com(0)?)
 }
 
 /// Steps of `seconds` in `s`.
@@ -128,7 +139,7 @@ fn friction_onset(
     engine: EngineKind,
     mu: f64,
     registry: &ModuleRegistry,
-) -> Result<Check, String> {
+) -> Result<Check, PhysicsCheckError> {
     let expected = mu.atan().to_degrees();
     let mut onset = f64::NAN;
     for k in 0..=16 {
@@ -160,14 +171,13 @@ fn sliding(
     engine: EngineKind,
     mu: f64,
     registry: &ModuleRegistry,
-) -> Result<Check, String> {
+) -> Result<Check, PhysicsCheckError> {
     let v = 0.5;
     let sim = module_scene(base, engine, mu);
     let mut s = world(&sim, registry)?;
     s.run_steps(steps(&s, 0.2));
     let start = com(&s)?;
-    s.set_link_velocity(0, 0, [0.0, v, 0.0])
-        .map_err(|e| e.to_string())?;
+    s.set_link_velocity(0, 0, [0.0, v, 0.0])?;
     s.run_steps(steps(&s, 1.0));
     let end = com(&s)?;
     let expected = v * v / (2.0 * mu * G);
@@ -185,7 +195,7 @@ fn resting(
     base: &Simulation,
     engine: EngineKind,
     registry: &ModuleRegistry,
-) -> Result<Vec<Check>, String> {
+) -> Result<Vec<Check>, PhysicsCheckError> {
     let sim = module_scene(base, engine, 0.5);
     let h = half_height(&sim);
     let mut s = world(&sim, registry)?;
@@ -222,7 +232,7 @@ fn drop(
     base: &Simulation,
     engine: EngineKind,
     registry: &ModuleRegistry,
-) -> Result<Vec<Check>, String> {
+) -> Result<Vec<Check>, PhysicsCheckError> {
     let mut sim = module_scene(base, engine, 0.5);
     sim.environment.robot_pose.translation[2] += 0.1;
     let h = half_height(&sim);
@@ -261,7 +271,7 @@ fn servo_step(
     base: &Simulation,
     engine: EngineKind,
     registry: &ModuleRegistry,
-) -> Result<Check, String> {
+) -> Result<Check, PhysicsCheckError> {
     let mut sim = base.clone().with_engine(Some(engine));
     sim.environment.physics.gravity = [0.0; 3];
     sim.environment.robot_pose.translation[2] += 0.5;
@@ -276,13 +286,12 @@ fn servo_step(
     let dt = s.clock().dt;
     let mut targets = vec![0.0; sim.robot.joints.len()];
     targets[joint] = 30.0;
-    s.set_joint_override(0, Some(targets))
-        .map_err(|e| e.to_string())?;
+    s.set_joint_override(0, Some(targets))?;
     let (mut model, mut worst) = (0.0f64, 0.0f64);
     for _ in 0..steps(&s, 0.3) {
         s.step();
         model += (gain * (30.0 - model)).clamp(-vmax, vmax) * dt;
-        let angle = s.joint_states(0).map_err(|e| e.to_string())?[joint].angle;
+        let angle = s.joint_states(0)?[joint].angle;
         worst = worst.max((angle - model).abs());
     }
     Ok(Check::below(
@@ -301,7 +310,7 @@ fn pendulum(
     base: &Simulation,
     engine: EngineKind,
     registry: &ModuleRegistry,
-) -> Result<Check, String> {
+) -> Result<Check, PhysicsCheckError> {
     use crate::config::body::BodyKind;
     use crate::config::transform::Pose;
     let mut sim = module_scene(base, engine, 0.5);
@@ -334,7 +343,7 @@ fn pendulum(
         .environment
         .bodies
         .first_mut()
-        .ok_or("the base simulation has no floor")?;
+        .ok_or(PhysicsCheckError::Scene("no floor"))?;
     floor.kind = BodyKind::Static;
     floor.pose = Pose::from_translation([0.0, anchor[1] - 0.53, -0.5]);
     if let Some(g) = floor.geoms.first_mut() {
@@ -346,12 +355,17 @@ fn pendulum(
     sim.environment.bodies.truncate(1);
     // The physical pendulum: the hanging link's box about the hinge.
     let l = &base.robot.links[1];
-    let g = l.geoms.first().ok_or("the second link has no geometry")?;
+    let g = l
+        .geoms
+        .first()
+        .ok_or(PhysicsCheckError::Scene("the second link has no geometry"))?;
     let Shape::Box {
         extents: [_, ey, ez],
     } = g.shape
     else {
-        return Err("the second link's geometry is not a box".into());
+        return Err(PhysicsCheckError::Scene(
+            "the second link's geometry is not a box",
+        ));
     };
     let centre = l.pose.mul(&g.pose).translation;
     let d = ((centre[1] - anchor[1]).powi(2) + (centre[2] - anchor[2]).powi(2)).sqrt();
@@ -392,7 +406,7 @@ pub fn run(
     base: &Simulation,
     engine: EngineKind,
     registry: &ModuleRegistry,
-) -> Result<Vec<Check>, String> {
+) -> Result<Vec<Check>, PhysicsCheckError> {
     let mut checks = Vec::new();
     for mu in [0.3, 0.5, 1.0] {
         checks.push(friction_onset(base, engine, mu, registry)?);
