@@ -153,6 +153,10 @@ enum Command {
     /// Re-evaluate a stored candidate on fresh randomized episodes (friction, masses, servo
     /// torque and gain, start pose, sensor noise): how much of its score a gait keeps.
     Robustness(cli::robustness::RobustnessArgs),
+    /// Run a simulation on each engine (closed loop) and measure each run the same way:
+    /// displacement, heading, joint tracking, penetration, links in contact, slip; with the
+    /// spread between engines and a PNG of the paths and joint angles.
+    Compare(cli::compare::CompareArgs),
     /// Evaluate the pending candidates of a shared postgres:// store (runs of `proleg
     /// optimize --store URL` on any host), until stopped or idle.
     Worker(cli::worker::WorkerArgs),
@@ -384,6 +388,10 @@ fn main() -> ExitCode {
                 .and_then(|which| {
                     proleg::optimize::replay::replay_from(&store, run, which, episode, &registry)
                 })
+                .map(|r| match engine {
+                    Some(e) => r.on_engine(e),
+                    None => r,
+                })
                 .and_then(|r| gui(&config, None, Some(r), script.as_deref(), remote.as_deref())),
             _ => gui(&config, engine, None, script.as_deref(), remote.as_deref()),
         },
@@ -448,6 +456,9 @@ fn main() -> ExitCode {
         Command::Plugin { command } => cli::plugin::run(command, &plugins),
         Command::Worker(args) => cli::worker::run(&args, &registry).map(|r| r.to_string()),
         Command::Robustness(args) => cli::robustness::run(&args, &registry).map(|r| r.to_string()),
+        Command::Compare(args) => cli::compare::run(&args, &registry)
+            .map(|r| r.to_string())
+            .map_err(|e| e.to_string()),
         Command::Robot(options) => cli::robot::robot(&options, &registry).map(|r| r.to_string()),
         Command::RobotEmulator(options) => cli::robot::emulator(&options),
         Command::Import { urdf, out } => {

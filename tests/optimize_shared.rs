@@ -12,6 +12,7 @@ use std::time::Duration;
 use common::pg::{Pg, output, server, spawn, text};
 use proleg::config::{FsSource, RecordingSource, load_simulation_with};
 use proleg::control::ModuleRegistry;
+use proleg::optimize::evaluate::CandidateScore;
 use proleg::optimize::settings::StopFlag;
 use proleg::optimize::shared::worker::{WorkerOptions, run_pool};
 use proleg::optimize::store::pg_queue::Pending;
@@ -438,15 +439,18 @@ fn bad_stores_are_one_line_errors_that_never_show_the_password() {
 }
 
 #[test]
-fn a_store_of_version_2_is_brought_to_version_3_by_the_driver() {
+fn a_store_of_version_2_is_brought_to_the_current_version_by_the_driver() {
     let pg = server();
     let url = pg.database("shared_v2");
     let out = output(pg.proleg(&ga_args("2", "0.1", &url)));
     assert!(out.status.success(), "{}", text(&out.stderr));
     // What a version-2 store looks like: no run_episodes.
     let mut c = pg.connect("shared_v2");
-    c.batch_execute("DROP TABLE run_episodes; UPDATE proleg_meta SET schema_version = 2;")
-        .unwrap();
+    c.batch_execute(
+        "DROP TABLE run_episodes; ALTER TABLE evaluations DROP COLUMN engine_scores;
+         UPDATE proleg_meta SET schema_version = 2;",
+    )
+    .unwrap();
     let out = output(pg.proleg(&ga_args("2", "0.1", &url)));
     assert!(out.status.success(), "{}", text(&out.stderr));
     let version: i32 = c

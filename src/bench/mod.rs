@@ -12,6 +12,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
+pub mod compare;
+pub mod compare_plot;
 pub mod convergence;
 pub mod modules;
 pub mod physics_checks;

@@ -7,6 +7,7 @@
 //! |---|---|
 //! | `proleg run` | [`run`] ([`run::RunReport`]) |
 //! | `proleg optimize` | [`optimize`] ([`optimize::OptimizeReport`]) |
+//! | `proleg compare` | [`compare`] ([`compare::CompareReport`]) |
 //! | `proleg results` | [`results`] ([`results::ResultsReport`]) |
 //! | `proleg worker` | [`worker`] ([`worker::WorkerRun`]) |
 //! | `proleg data info / export / plot` | [`data`] ([`data::InfoReport`]; export and plot: what was written) |
@@ -14,6 +15,7 @@
 //! | `proleg import`, `proleg export mjcf` | [`interop`] ([`interop::ImportReport`]) |
 //! | `proleg robot`, `proleg robot-emulator` | [`robot`] ([`robot::RobotReport`]; the emulator: its port) |
 
+pub mod compare;
 pub mod data;
 pub mod interop;
 pub mod optimize;

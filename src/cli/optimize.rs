@@ -103,6 +103,8 @@ pub struct OptimizeReport {
     pub actuation: Option<PathBuf>,
     /// The physics engine the candidates ran on.
     pub engine: crate::config::simulation::EngineKind,
+    /// The best candidate's score on each engine (runs with `<engines>`; else empty).
+    pub best_engines: Vec<(crate::config::simulation::EngineKind, f64)>,
 }
 
 impl OptimizeReport {
@@ -184,6 +186,12 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
         return Err(format!("writing the evaluations table: {e}"));
     }
     let wall = t.elapsed().as_secs_f64();
+    let best_engines = store
+        .runs()?
+        .into_iter()
+        .find(|r| r.id == run)
+        .map(|r| r.best_engines)
+        .unwrap_or_default();
     if let Some(p) = &o.out {
         write_best(p, &sim, &space, &outcome.best)?;
     }
@@ -203,16 +211,23 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
         store: (shown, run),
         actuation: o.out.clone(),
         engine: sim.engine(),
+        best_engines,
     })
 }
 
-/// What identifies the run in the store; a run on another engine than rapier says so in
-/// its algorithm ("genetic algorithm on mujoco"), so `results` tells the runs apart and
-/// `--resume` does not continue a run of the other engine.
+/// What identifies the run in the store; a run on another engine than rapier, or on
+/// several, says so in its algorithm ("genetic algorithm on mujoco", "CMA-ES on
+/// rapier+mujoco (min)"), so `results` tells the runs apart and `--resume` does not
+/// continue a run of other engines.
 fn run_info(sim: &Simulation, space: &SearchSpace, settings: &RunSettings) -> RunInfo {
-    let algorithm = match sim.engine() {
-        crate::config::simulation::EngineKind::Rapier => algorithm_label(sim).to_string(),
-        other => format!("{} on {other}", algorithm_label(sim)),
+    let cross = sim
+        .optimizer
+        .as_ref()
+        .and_then(|m| m.spec.cross_engine.as_ref());
+    let algorithm = match (cross, sim.engine()) {
+        (Some(c), _) => format!("{} on {}", algorithm_label(sim), c.describe()),
+        (None, crate::config::simulation::EngineKind::Rapier) => algorithm_label(sim).to_string(),
+        (None, other) => format!("{} on {other}", algorithm_label(sim)),
     };
     RunInfo {
         config: sim.file.display().to_string(),
@@ -256,11 +271,18 @@ fn algorithm_label(sim: &Simulation) -> &'static str {
 fn header(sim: &Simulation, space: &SearchSpace, settings: &RunSettings) -> String {
     let mut head = String::new();
     let label = algorithm_label(sim);
+    let cross = sim
+        .optimizer
+        .as_ref()
+        .and_then(|m| m.spec.cross_engine.as_ref());
+    let engines = match cross {
+        Some(c) => format!("{}: each candidate scored on every engine", c.describe()),
+        None => sim.engine().to_string(),
+    };
     let _ = writeln!(
         head,
-        "optimizing {} with the {label} on {}",
+        "optimizing {} with the {label} on {engines}",
         sim.file.display(),
-        sim.engine()
     );
     for g in &space.genes {
         let _ = writeln!(
@@ -448,6 +470,11 @@ impl fmt::Display for OptimizeReport {
         )?;
         if o.simulated > 0 {
             let per_hour = self.per_hour();
+            let engines: Vec<&str> = self.best_engines.iter().map(|(k, _)| k.name()).collect();
+            let (on, worlds) = match engines.len() {
+                0 => (self.engine.name().to_string(), 1.0),
+                n => (engines.join("+"), n as f64),
+            };
             writeln!(
                 out,
                 "throughput      {per_hour:.0} evaluations/h of {} on {} ({}); 6000 such evaluations (the thesis's experiment-2 budget, eq. 3.6) take {:.2} h",
@@ -455,12 +482,12 @@ impl fmt::Display for OptimizeReport {
                     1 => format!("{} s", self.duration),
                     k => format!("{k} episodes of {} s", self.duration),
                 },
-                self.engine,
+                on,
                 match self.workers {
                     0 => "all by workers of the shared store".to_string(),
                     w => format!(
                         "{:.1}x real time per local worker",
-                        o.simulated as f64 * f64::from(self.episodes) * self.duration
+                        o.simulated as f64 * f64::from(self.episodes) * self.duration * worlds
                             / self.wall
                             / w as f64
                     ),
@@ -496,6 +523,9 @@ impl fmt::Display for OptimizeReport {
             })
             .unwrap_or_default();
         writeln!(out, "best score  {:.4}{gain}", o.best_score)?;
+        for (engine, score) in &self.best_engines {
+            writeln!(out, "  on {engine:<8} {score:.4}")?;
+        }
         for (label, v) in &self.best_values {
             writeln!(out, "  {label:<40} {v}")?;
         }

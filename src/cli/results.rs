@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::optimize::curve::{CurveGroup, plot_curves};
-use crate::optimize::store::{RunRow, Store, StoreLocation};
+use crate::optimize::store::{RunRow, Store, StoreLocation, engine_scores_text};
 
 /// Which curve a run belongs to: its configuration file's name and its optimizer.
 type GroupKey = (String, String);
@@ -79,7 +79,19 @@ fn describe(out: &mut String, r: &RunRow) {
         }
     );
     if let (Some(s), Some(v)) = (r.best_score, &r.best_values) {
-        let _ = writeln!(out, "         best {s:.4}");
+        let engines: Vec<String> = r
+            .best_engines
+            .iter()
+            .map(|(k, e)| format!("{k} {e:.4}"))
+            .collect();
+        match engines.as_slice() {
+            [] => {
+                let _ = writeln!(out, "         best {s:.4}");
+            }
+            _ => {
+                let _ = writeln!(out, "         best {s:.4} ({})", engines.join(", "));
+            }
+        }
         for (g, val) in r.info.genes.iter().zip(v.split_whitespace()) {
             let _ = writeln!(out, "           {g:<40} {val}");
         }
@@ -114,8 +126,9 @@ pub fn run(o: &ResultsOptions) -> Result<ResultsReport, String> {
         plot_curves(&curves, &fitness, png, (1100, 600))?;
     }
     if let Some(tsv) = &o.export {
-        let mut text =
-            String::from("store\trun\tevaluation\tround\tscore\twall_s\tgenome\tvalues\n");
+        let mut text = String::from(
+            "store\trun\tevaluation\tround\tscore\twall_s\tgenome\tvalues\tengine_scores\n",
+        );
         for (store, runs) in &mut opened {
             let shown = store.describe();
             for r in runs.iter() {
@@ -124,7 +137,7 @@ pub fn run(o: &ResultsOptions) -> Result<ResultsReport, String> {
                     let v: Vec<String> = e.values.iter().map(|k| k.to_string()).collect();
                     let _ = writeln!(
                         text,
-                        "{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}",
+                        "{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}",
                         shown,
                         r.id,
                         e.number,
@@ -132,7 +145,8 @@ pub fn run(o: &ResultsOptions) -> Result<ResultsReport, String> {
                         e.score,
                         e.wall,
                         g.join(" "),
-                        v.join(" ")
+                        v.join(" "),
+                        engine_scores_text(&e.engines)
                     );
                 }
             }

@@ -25,23 +25,50 @@ pub struct RobustnessArgs {
     /// Seed of the episodes (choose one no run used, for fresh episodes).
     #[arg(long, default_value_t = 1000)]
     pub seed: u64,
-    /// The physics engine instead of the run's (rapier, mujoco): how the gait fares on the
-    /// other engine.
-    #[arg(long)]
-    pub engine: Option<crate::config::simulation::EngineKind>,
+    /// The physics engines instead of the run's (rapier, mujoco; comma-separated: each is
+    /// checked in turn): how the gait fares on the other engine.
+    #[arg(long = "engines", visible_alias = "engine", value_delimiter = ',')]
+    pub engines: Vec<crate::config::simulation::EngineKind>,
 }
 
-/// Runs the check the options ask for, with [`Robustness::typical`] ranges.
-pub fn run(a: &RobustnessArgs, registry: &ModuleRegistry) -> Result<RandomizedCheck, String> {
+/// The checks of one candidate, one per engine asked for (the run's engine when none).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RobustnessReport {
+    /// One check per engine, in the order asked for.
+    pub checks: Vec<RandomizedCheck>,
+}
+
+/// Runs the checks the options ask for, with [`Robustness::typical`] ranges.
+pub fn run(a: &RobustnessArgs, registry: &ModuleRegistry) -> Result<RobustnessReport, String> {
     let which = Which::parse(&a.eval)?;
-    randomized_check(
-        &a.store,
-        (a.run, which),
-        &Robustness::typical(),
-        (a.episodes, a.seed),
-        a.engine,
-        registry,
-    )
+    let engines: Vec<Option<_>> = match a.engines.as_slice() {
+        [] => vec![None],
+        list => list.iter().copied().map(Some).collect(),
+    };
+    let mut checks = Vec::with_capacity(engines.len());
+    for engine in engines {
+        checks.push(randomized_check(
+            &a.store,
+            (a.run, which),
+            &Robustness::typical(),
+            (a.episodes, a.seed),
+            engine,
+            registry,
+        )?);
+    }
+    Ok(RobustnessReport { checks })
+}
+
+impl fmt::Display for RobustnessReport {
+    fn fmt(&self, out: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (i, c) in self.checks.iter().enumerate() {
+            if i > 0 {
+                writeln!(out)?;
+            }
+            write!(out, "{c}")?;
+        }
+        Ok(())
+    }
 }
 
 impl fmt::Display for RandomizedCheck {

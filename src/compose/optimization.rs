@@ -4,6 +4,7 @@
 //! or listed values), and the algorithm settings with the thesis's defaults
 //! (tables 6.1 and 6.3), CMA-ES's defaults, a random start and robust fitness.
 
+use crate::config::cross_engine::CrossEngine;
 use crate::config::error::Pos;
 use crate::config::mask::JointMask;
 use crate::config::optimizer::{
@@ -72,6 +73,8 @@ pub struct OptimizationSpec {
     pub random_start: bool,
     /// Robust fitness over randomized episodes, if asked for.
     pub robustness: Option<Robustness>,
+    /// Scores on several engines, combined, if asked for.
+    pub cross_engine: Option<CrossEngine>,
     /// The registered parameters.
     pub params: Vec<Registration>,
     /// How episodes are scored.
@@ -108,6 +111,7 @@ impl OptimizationSpec {
             },
             random_start: false,
             robustness: None,
+            cross_engine: None,
             params: Vec::new(),
             fitness: Fitness::Displacement,
             max_evaluations: None,
@@ -219,6 +223,7 @@ impl OptimizationSpec {
             max_evaluations: self.max_evaluations,
             random_start: self.random_start,
             robustness: self.robustness,
+            cross_engine: self.cross_engine.clone(),
         }
     }
 }

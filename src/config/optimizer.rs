@@ -16,8 +16,10 @@
 //!
 //! Every optimizer file may also have (our extensions) `<randomStart>1</randomStart>` in its
 //! properties (the search starts from a point drawn from the run's seed instead of the
-//! actuation file's values) and a `<robustness>` element ([`crate::config::robustness`]).
+//! actuation file's values), a `<robustness>` element ([`crate::config::robustness`]) and
+//! `<engines>`/`<combine>` in its properties ([`crate::config::cross_engine`]).
 
+use crate::config::cross_engine::{CrossEngine, read_cross_engine, write_cross_engine};
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::fitness::Fitness;
 use crate::config::mask::JointMask;
@@ -161,6 +163,8 @@ pub struct OptimizerFile {
     pub random_start: bool,
     /// Our extension `<robustness>`: K randomized episodes per candidate.
     pub robustness: Option<Robustness>,
+    /// Our extension `<engines>`/`<combine>`: every candidate scored on several engines.
+    pub cross_engine: Option<CrossEngine>,
 }
 
 impl OptimizerFile {
@@ -420,6 +424,7 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
         .at_most_one(root, "robustness")?
         .map(|el| read_robustness(&r, el))
         .transpose()?;
+    let cross_engine = read_cross_engine(&r, props)?;
     Ok(OptimizerFile {
         algorithm,
         parameters,
@@ -428,6 +433,7 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
         max_evaluations,
         random_start,
         robustness,
+        cross_engine,
     })
 }
 
@@ -439,6 +445,8 @@ fn read_algorithm(r: &Reader, root: &Element, props: &Element) -> ConfigResult<A
         "fitness",
         "maxevaluations",
         "randomstart",
+        "engines",
+        "combine",
     ];
     Ok(if root.is("geneticalgorithm") {
         let mut allowed = vec![
@@ -586,6 +594,9 @@ pub fn write_optimizer_file(o: &OptimizerFile) -> String {
     }
     if o.random_start {
         w.flag("randomStart", true);
+    }
+    if let Some(c) = &o.cross_engine {
+        write_cross_engine(&mut w, c);
     }
     w.leaf("numOfParametersToOptimize", &o.parameters.len().to_string());
     w.open("registeredParameters", &[]);

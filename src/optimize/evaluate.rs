@@ -3,13 +3,17 @@
 //! other), and the batches are spread over `workers` threads. A physics blow-up (a
 //! non-finite or far-flung centre of mass) scores the candidate `-inf` and the run goes on.
 //! With robust fitness ([`RobustEpisodes`]) a candidate is scored over its K randomized
-//! episodes, each a world of its own, one candidate per job.
+//! episodes, each a world of its own, one candidate per job. With cross-engine scores
+//! (`<engines>` in the optimizer file) every candidate runs on each engine, and its score
+//! combines theirs ([`CandidateScore`]).
 
 use std::sync::Mutex;
 use std::sync::mpsc::channel;
 use std::time::Instant;
 
 use crate::config::Simulation;
+use crate::config::cross_engine::CrossEngine;
+use crate::config::simulation::EngineKind;
 use crate::control::ModuleRegistry;
 use crate::measure::ground_distance;
 use crate::optimize::fitness::{Episode, Fitness};
@@ -42,6 +46,43 @@ pub struct Evaluator {
     pub workers: usize,
     /// The randomized episodes of robust fitness, if the optimizer file asks for them.
     pub robust: Option<RobustEpisodes>,
+    /// The engines every candidate runs on, if the optimizer file asks for several.
+    pub cross: Option<CrossEngine>,
+}
+
+/// One candidate's score, and with cross-engine scores its score on each engine.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CandidateScore {
+    /// The score the optimizer sees (the engines' scores combined).
+    pub score: f64,
+    /// Each engine's score, in the optimizer file's order (empty on one engine).
+    pub engines: Vec<(EngineKind, f64)>,
+}
+
+impl CandidateScore {
+    /// A score on the simulation's one engine.
+    pub fn single(score: f64) -> CandidateScore {
+        CandidateScore {
+            score,
+            engines: Vec::new(),
+        }
+    }
+}
+
+/// The engines `sim`'s candidates are scored on: the optimizer file's `<engines>`, else the
+/// simulation's own.
+pub fn scoring_engines(sim: &Simulation) -> Vec<EngineKind> {
+    match cross_engine(sim) {
+        Some(c) => c.engines,
+        None => vec![sim.engine()],
+    }
+}
+
+/// The optimizer file's `<engines>`/`<combine>`, if it has them.
+fn cross_engine(sim: &Simulation) -> Option<CrossEngine> {
+    sim.optimizer
+        .as_ref()
+        .and_then(|m| m.spec.cross_engine.clone())
 }
 
 impl Evaluator {
@@ -57,6 +98,7 @@ impl Evaluator {
     ) -> Evaluator {
         Evaluator {
             robust: RobustEpisodes::of(sim, seed),
+            cross: cross_engine(sim),
             sim: sim.clone(),
             registry: registry.clone(),
             space: space.clone(),
@@ -69,19 +111,23 @@ impl Evaluator {
     }
 
     /// Robots per world this evaluator uses (1 with robust fitness: each episode's physics
-    /// is its own).
+    /// is its own; at most what every engine scored on holds).
     pub fn robots_per_world(&self) -> usize {
         if self.robust.is_some() {
-            1
-        } else {
-            self.batch
-                .clamp(1, crate::sim::engine::max_robots(self.sim.engine()))
+            return 1;
         }
+        let most = scoring_engines(&self.sim)
+            .into_iter()
+            .map(crate::sim::engine::max_robots)
+            .min()
+            .unwrap_or(1);
+        self.batch.clamp(1, most.max(1))
     }
 
     /// Scores of `genomes`, in order.
     pub fn evaluate(&self, genomes: &[Genome]) -> Result<Vec<f64>, String> {
         self.evaluate_with(genomes, |_, _, _| {})
+            .map(|v| v.into_iter().map(|c| c.score).collect())
     }
 
     /// Scores of `genomes`, in order; `on_batch(first, scores, wall_seconds)` is called on
@@ -89,8 +135,8 @@ impl Evaluator {
     pub fn evaluate_with(
         &self,
         genomes: &[Genome],
-        mut on_batch: impl FnMut(usize, &[f64], f64),
-    ) -> Result<Vec<f64>, String> {
+        mut on_batch: impl FnMut(usize, &[CandidateScore], f64),
+    ) -> Result<Vec<CandidateScore>, String> {
         let batch = self.robots_per_world();
         let chunks: Vec<(usize, &[Genome])> = genomes
             .chunks(batch)
@@ -98,9 +144,9 @@ impl Evaluator {
             .map(|(i, c)| (i * batch, c))
             .collect();
         let next = Mutex::new(0usize);
-        let mut results = vec![f64::NAN; genomes.len()];
+        let mut results = vec![CandidateScore::single(f64::NAN); genomes.len()];
         let mut error = None;
-        let (tx, rx) = channel::<(usize, Result<Vec<f64>, String>, f64)>();
+        let (tx, rx) = channel::<(usize, Result<Vec<CandidateScore>, String>, f64)>();
         std::thread::scope(|s| {
             for _ in 0..self.workers.clamp(1, chunks.len().max(1)) {
                 let tx = tx.clone();
@@ -117,7 +163,7 @@ impl Evaluator {
                             return;
                         };
                         let t = Instant::now();
-                        let r = self.run_batch(chunk);
+                        let r = self.run_batch_scored(chunk);
                         let failed = r.is_err();
                         if tx.send((*start, r, t.elapsed().as_secs_f64())).is_err() || failed {
                             return;
@@ -129,7 +175,7 @@ impl Evaluator {
             for (start, r, wall) in rx {
                 match r {
                     Ok(scores) => {
-                        results[start..start + scores.len()].copy_from_slice(&scores);
+                        results[start..start + scores.len()].clone_from_slice(&scores);
                         on_batch(start, &scores, wall);
                     }
                     Err(e) => {
@@ -144,19 +190,54 @@ impl Evaluator {
         }
     }
 
-    /// The scores of `genomes`: one world with a robot per genome, or with robust fitness
-    /// each genome's randomized episodes, combined.
+    /// The scores of `genomes` (combined over the engines with cross-engine scores).
     pub fn run_batch(&self, genomes: &[Genome]) -> Result<Vec<f64>, String> {
+        self.run_batch_scored(genomes)
+            .map(|v| v.into_iter().map(|c| c.score).collect())
+    }
+
+    /// The scores of `genomes`, each with its engines' scores when it runs on several.
+    pub fn run_batch_scored(&self, genomes: &[Genome]) -> Result<Vec<CandidateScore>, String> {
+        let Some(cross) = &self.cross else {
+            let scores = self.run_batch_on(None, genomes)?;
+            return Ok(scores.into_iter().map(CandidateScore::single).collect());
+        };
+        let mut per_engine = Vec::with_capacity(cross.engines.len());
+        for &kind in &cross.engines {
+            per_engine.push((kind, self.run_batch_on(Some(kind), genomes)?));
+        }
+        let mut scores = Vec::with_capacity(genomes.len());
+        let mut row = Vec::with_capacity(cross.engines.len());
+        for i in 0..genomes.len() {
+            row.clear();
+            row.extend(per_engine.iter().map(|(_, s)| s[i]));
+            scores.push(CandidateScore {
+                score: cross.combine.apply(&row),
+                engines: per_engine.iter().map(|(k, s)| (*k, s[i])).collect(),
+            });
+        }
+        Ok(scores)
+    }
+
+    /// The scores of `genomes` on `engine` (`None`: the simulation's): one world with a
+    /// robot per genome, or with robust fitness each genome's randomized episodes,
+    /// combined.
+    fn run_batch_on(
+        &self,
+        engine: Option<EngineKind>,
+        genomes: &[Genome],
+    ) -> Result<Vec<f64>, String> {
         let Some(robust) = &self.robust else {
-            return self.run_world(&self.sim, self.seed, SensorNoise::default(), genomes);
+            let world = (self.seed, SensorNoise::default(), engine);
+            return self.run_world(&self.sim, world, genomes);
         };
         let mut scores = Vec::with_capacity(genomes.len());
         let mut episodes = Vec::with_capacity(robust.episodes.len());
         for g in genomes {
             episodes.clear();
             for e in &robust.episodes {
-                let s = self.run_world(&e.sim, e.seed, e.noise, std::slice::from_ref(g))?;
-                episodes.extend(s);
+                let world = (e.seed, e.noise, engine);
+                episodes.extend(self.run_world(&e.sim, world, std::slice::from_ref(g))?);
             }
             scores.push(robust.combine(&episodes));
         }
@@ -164,12 +245,11 @@ impl Evaluator {
     }
 
     /// The scores of `genomes` as robots of one world of `sim`, built with `seed` and
-    /// `noise`.
+    /// `noise` on `engine` (`None`: the simulation's).
     pub fn run_world(
         &self,
         sim: &Simulation,
-        seed: u64,
-        noise: SensorNoise,
+        (seed, noise, engine): (u64, SensorNoise, Option<EngineKind>),
         genomes: &[Genome],
     ) -> Result<Vec<f64>, String> {
         let opts = BuildOptions {
@@ -177,7 +257,7 @@ impl Evaluator {
             seed,
             record: false,
             physics: None,
-            engine: None,
+            engine,
             mujoco: None,
             noise,
         };

@@ -40,6 +40,10 @@ pub struct Replay {
     pub config: String,
     /// The stored configuration (without an episode's randomization).
     pub nominal: Simulation,
+    /// The evaluation's stored score on each engine (a run with `<engines>`).
+    pub stored_engines: Vec<(EngineKind, f64)>,
+    /// The engine the replay runs on.
+    pub engine: EngineKind,
     evaluator: Evaluator,
 }
 
@@ -85,6 +89,22 @@ pub fn load_replay(
             program_version()
         ));
     }
+    let engine = match &evaluator.cross {
+        Some(c) => {
+            let scores: Vec<String> = eval
+                .engines
+                .iter()
+                .map(|(k, s)| format!("{k} {s:.4}"))
+                .collect();
+            label.push_str(&format!(
+                "; scored on {}: {}",
+                c.describe(),
+                scores.join(", ")
+            ));
+            c.engines.first().copied().unwrap_or_else(|| sim.engine())
+        }
+        None => sim.engine(),
+    };
     let (world, seed, noise) = match (&evaluator.robust, episode) {
         (None, Some(k)) => {
             return Err(format!(
@@ -113,6 +133,8 @@ pub fn load_replay(
         label,
         config: spec.info.config.clone(),
         nominal: sim,
+        stored_engines: eval.engines,
+        engine,
         evaluator,
     })
 }
@@ -129,6 +151,17 @@ fn episode_of(r: &RobustEpisodes, k: u32) -> Result<(Simulation, u64, SensorNois
 }
 
 impl Replay {
+    /// The same evaluation replayed on `engine`: its stored score becomes the one stored
+    /// for that engine (a run with `<engines>`), and the label says which engine runs.
+    pub fn on_engine(mut self, engine: EngineKind) -> Replay {
+        if let Some((_, s)) = self.stored_engines.iter().find(|(k, _)| *k == engine) {
+            self.stored_score = *s;
+        }
+        self.engine = engine;
+        self.label.push_str(&format!(", replayed on {engine}"));
+        self
+    }
+
     /// How the replayed world is built (`record`: with trajectories, for the viewer).
     pub fn build_options(&self, record: bool) -> BuildOptions {
         BuildOptions {
@@ -136,6 +169,7 @@ impl Replay {
             seed: self.seed,
             record,
             noise: self.noise,
+            engine: Some(self.engine),
             ..BuildOptions::default()
         }
     }
@@ -158,8 +192,7 @@ impl Replay {
     pub fn score(&self) -> Result<f64, String> {
         let scores = self.evaluator.run_world(
             &self.sim,
-            self.seed,
-            self.noise,
+            (self.seed, self.noise, Some(self.engine)),
             std::slice::from_ref(&self.genome),
         )?;
         scores
@@ -268,16 +301,18 @@ pub fn randomized_check(
     let mut store = Store::open_existing(&location)?;
     let number = which.number(&mut store, run)?;
     let replay = load_replay(&mut store, run, number, None, registry)?;
-    let nominal_sim = &replay.nominal.clone().with_engine(engine);
+    let engine = engine.unwrap_or(replay.engine);
+    let nominal_sim = &replay.nominal.clone().with_engine(Some(engine));
     let e = &replay.evaluator;
     let genome = std::slice::from_ref(&replay.genome);
-    let nominal = e.run_world(nominal_sim, e.seed, SensorNoise::default(), genome)?[0];
+    let world = (e.seed, SensorNoise::default(), None);
+    let nominal = e.run_world(nominal_sim, world, genome)?[0];
     let mut ranges = *ranges;
     ranges.episodes = episodes.max(1);
     let drawn = RobustEpisodes::new(nominal_sim, &ranges, seed);
     let mut scores = Vec::with_capacity(drawn.episodes.len());
     for ep in &drawn.episodes {
-        scores.extend(e.run_world(&ep.sim, ep.seed, ep.noise, genome)?);
+        scores.extend(e.run_world(&ep.sim, (ep.seed, ep.noise, None), genome)?);
     }
     Ok(RandomizedCheck {
         label: format!(

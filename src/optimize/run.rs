@@ -516,7 +516,8 @@ fn simulate_missing(
                         round: r.round,
                         genome: r.candidates[i].clone(),
                         values: space.decode(&r.candidates[i]),
-                        score: *s,
+                        score: s.score,
+                        engines: s.engines.clone(),
                         wall: wall / batch_scores.len().max(1) as f64,
                     }
                 })
@@ -535,7 +536,7 @@ fn simulate_missing(
         let rate = range.len() as f64 / t.elapsed().as_secs_f64().max(1e-9);
         rates.push((batch, rate));
         for (k, score) in got.into_iter().enumerate() {
-            scores[r.missing[offset + k]] = score;
+            scores[r.missing[offset + k]] = score.score;
         }
     }
     batching.learn(&rates);

@@ -11,8 +11,10 @@ use crate::compose::optimization::{Method, OptimizationSpec, Registration, Value
 use crate::compose::robot_builder::{MAX_JOINTS, Orientation, PartSet, RobotSpec};
 use crate::compose::wizard::{Page, RobotChoice, Wizard};
 use crate::config::actuation::ParamValue;
+use crate::config::cross_engine::{Combine, CrossEngine};
 use crate::config::module_types::ModuleDescriptor;
 use crate::config::robustness::Robustness;
+use crate::config::simulation::EngineKind;
 use crate::config::simulation::Mode;
 use crate::gui::setup::state::{SetupState, Status};
 
@@ -508,6 +510,30 @@ fn algorithm_settings(ui: &mut egui::Ui, o: &mut OptimizationSpec) {
         "start from a random point (drawn from the seed)",
     );
     robustness_settings(ui, o);
+    cross_engine_settings(ui, o);
+}
+
+/// Cross-engine scores: every candidate on rapier and MuJoCo, by the lower score or the
+/// mean.
+fn cross_engine_settings(ui: &mut egui::Ui, o: &mut OptimizationSpec) {
+    let mut on = o.cross_engine.is_some();
+    ui.checkbox(&mut on, "score on both engines (rapier and MuJoCo)");
+    match (on, o.cross_engine.as_mut()) {
+        (false, _) => o.cross_engine = None,
+        (true, None) => {
+            o.cross_engine = Some(CrossEngine {
+                engines: EngineKind::ALL.to_vec(),
+                combine: Combine::Min,
+            })
+        }
+        (true, Some(c)) => {
+            ui.horizontal(|ui| {
+                ui.label("combined by");
+                ui.radio_value(&mut c.combine, Combine::Min, "the lower (min)");
+                ui.radio_value(&mut c.combine, Combine::Mean, "the mean");
+            });
+        }
+    }
 }
 
 /// Robust fitness: K randomized episodes per candidate.

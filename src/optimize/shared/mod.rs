@@ -23,7 +23,7 @@ use std::path::Path;
 use crate::config::simulation::EngineKind;
 use crate::config::{MemSource, Simulation, load_simulation_with};
 use crate::control::ModuleRegistry;
-use crate::optimize::evaluate::Evaluator;
+use crate::optimize::evaluate::{Evaluator, scoring_engines};
 use crate::optimize::fitness::Fitness;
 use crate::optimize::run::prepare;
 use crate::optimize::space::SearchSpace;
@@ -51,7 +51,7 @@ pub fn run_evaluator(spec: &RunSpec, registry: &ModuleRegistry) -> Result<Evalua
         ));
     }
     let sim = stored_simulation(spec, registry)?;
-    if sim.engine() == EngineKind::Mujoco
+    if scoring_engines(&sim).contains(&EngineKind::Mujoco)
         && let Err(e) = crate::sim::engine::mujoco::library::library()
     {
         return Err(format!("it runs on MuJoCo, which this host lacks: {e}"));

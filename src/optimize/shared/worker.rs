@@ -8,7 +8,7 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use crate::control::ModuleRegistry;
-use crate::optimize::evaluate::Evaluator;
+use crate::optimize::evaluate::{CandidateScore, Evaluator};
 use crate::optimize::settings::StopFlag;
 use crate::optimize::shared::run_evaluator;
 use crate::optimize::store::pg_queue::{Claim, PENDING};
@@ -76,7 +76,7 @@ pub const OUTAGE: Duration = Duration::from_secs(300);
 /// An evaluated claim whose score is still to be written.
 struct Unsent {
     claim: Claim,
-    score: f64,
+    score: CandidateScore,
     wall: f64,
     claim_seconds: f64,
 }
@@ -269,14 +269,15 @@ impl Pool<'_> {
     /// Runs one claimed episode.
     fn evaluate(&self, evaluator: &Evaluator, claim: Claim, claim_seconds: f64) -> Unsent {
         let t = Instant::now();
-        let score = match evaluator.run_batch(std::slice::from_ref(&claim.genome)) {
-            Ok(scores) => scores.first().copied().unwrap_or(f64::NAN),
+        let failed = CandidateScore::single(f64::NAN);
+        let score = match evaluator.run_batch_scored(std::slice::from_ref(&claim.genome)) {
+            Ok(mut scores) => scores.pop().unwrap_or(failed),
             Err(e) => {
                 (self.on_message)(&format!(
                     "run {} evaluation {}: the episode failed: {e}",
                     claim.run, claim.number
                 ));
-                f64::NAN
+                failed
             }
         };
         Unsent {
@@ -290,7 +291,7 @@ impl Pool<'_> {
     /// Writes an evaluated claim's score, and counts it.
     fn submit(&self, store: &mut PgStore, u: &Unsent) -> Result<(), String> {
         let t = Instant::now();
-        let accepted = store.submit(&self.id, &u.claim, u.score, u.wall)?;
+        let accepted = store.submit(&self.id, &u.claim, &u.score, u.wall)?;
         let submit_seconds = t.elapsed().as_secs_f64();
         if let Ok(mut r) = self.report.lock() {
             r.coordination += u.claim_seconds + submit_seconds;
@@ -298,7 +299,7 @@ impl Pool<'_> {
                 r.discarded += 1;
             } else {
                 r.evaluated += 1;
-                if u.score.is_nan() {
+                if u.score.score.is_nan() {
                     r.failed += 1;
                 }
             }

@@ -9,7 +9,7 @@
 //! | `runs` | what identifies a run ([`RunInfo`]), when it started, whether it finished, the program that started it |
 //! | `run_files` | the run's resolved configuration: every file it read (simulation, robot, parts, actuation, environment, meshes, optimizer) |
 //! | `run_episodes` | robust fitness: each randomized episode's seed and what it drew |
-//! | `evaluations` | one row per candidate: number, round, genome, values, score, seed, wall seconds; and for shared evaluation its `state` (`pending`, `running`, `done`), the claiming `worker`, the claim's `attempt` and `lease_until` |
+//! | `evaluations` | one row per candidate: number, round, genome, values, score, its score on each engine (`engine_scores`, runs with `<engines>`), seed, wall seconds; and for shared evaluation its `state` (`pending`, `running`, `done`), the claiming `worker`, the claim's `attempt` and `lease_until` |
 //!
 //! [`sqlite`] is the embedded store of one machine (evaluations run in the optimizing
 //! process); [`pg`] a PostgreSQL database shared by a driver and `proleg worker`s on many
@@ -20,6 +20,7 @@ pub mod pg;
 pub mod pg_queue;
 pub mod sqlite;
 
+use crate::config::simulation::EngineKind;
 use crate::optimize::space::Genome;
 
 pub use location::{PgTarget, StoreLocation};
@@ -27,8 +28,8 @@ pub use pg::PgStore;
 pub use sqlite::SqliteStore;
 
 /// The layout this program reads and writes (1: before shared evaluation; 2: before
-/// `run_episodes`).
-pub const SCHEMA_VERSION: i64 = 3;
+/// `run_episodes`; 3: before `evaluations.engine_scores`).
+pub const SCHEMA_VERSION: i64 = 4;
 
 /// The program that starts a run, stored with it: a worker of another version refuses the
 /// run (its physics may differ, so its scores would not be the driver's).
@@ -70,6 +71,8 @@ pub struct RunRow {
     pub best_score: Option<f64>,
     /// The best candidate's values, as text.
     pub best_values: Option<String>,
+    /// The best candidate's score on each engine (runs with `<engines>`; else empty).
+    pub best_engines: Vec<(EngineKind, f64)>,
 }
 
 /// Everything a worker needs to evaluate a run's candidates.
@@ -113,6 +116,8 @@ pub struct StoredEval {
     pub values: Vec<f64>,
     /// Its score.
     pub score: f64,
+    /// Its score on each engine, when the run scores on several (`<engines>`).
+    pub engines: Vec<(EngineKind, f64)>,
     /// Wall seconds of its evaluation (a batch's shared by its candidates).
     pub wall: f64,
 }
@@ -252,6 +257,8 @@ pub(crate) const RUNS_WITH_BEST: &str = "SELECT r.id, r.config, r.algorithm, r.s
         (SELECT COUNT(*) FROM evaluations e WHERE e.run = r.id AND e.state = 'done'),
         (SELECT MAX(score) FROM evaluations e WHERE e.run = r.id AND e.state = 'done'),
         (SELECT vals FROM evaluations e WHERE e.run = r.id AND e.state = 'done' AND e.score IS NOT NULL
+         ORDER BY score DESC, number LIMIT 1),
+        (SELECT engine_scores FROM evaluations e WHERE e.run = r.id AND e.state = 'done' AND e.score IS NOT NULL
          ORDER BY score DESC, number LIMIT 1)
      FROM runs r ORDER BY r.id";
 
@@ -264,6 +271,22 @@ pub(crate) fn join<T: ToString>(v: &[T]) -> String {
 pub(crate) fn parse_list<T: std::str::FromStr>(text: &str) -> Vec<T> {
     text.split_whitespace()
         .filter_map(|t| t.parse().ok())
+        .collect()
+}
+
+/// Engine scores as one text column: `rapier=0.51 mujoco=0.41` (empty on one engine).
+pub fn engine_scores_text(scores: &[(EngineKind, f64)]) -> String {
+    let parts: Vec<String> = scores.iter().map(|(k, s)| format!("{k}={s}")).collect();
+    parts.join(" ")
+}
+
+/// The engine scores of an [`engine_scores_text`] column (unreadable parts are skipped).
+pub fn parse_engine_scores(text: &str) -> Vec<(EngineKind, f64)> {
+    text.split_whitespace()
+        .filter_map(|part| {
+            let (name, score) = part.split_once('=')?;
+            Some((EngineKind::parse(name)?, score.parse().ok()?))
+        })
         .collect()
 }
 

@@ -9,8 +9,8 @@ use postgres::{Client, Transaction};
 
 use crate::optimize::store::location::PgTarget;
 use crate::optimize::store::{
-    EpisodeRecord, RUNS_WITH_BEST, RunInfo, RunRow, RunSpec, SCHEMA_VERSION, StoredEval, join,
-    parse_list, score_of,
+    EpisodeRecord, RUNS_WITH_BEST, RunInfo, RunRow, RunSpec, SCHEMA_VERSION, StoredEval,
+    engine_scores_text, join, parse_engine_scores, parse_list, score_of,
 };
 
 /// An open connection to a PostgreSQL store.
@@ -42,7 +42,8 @@ CREATE TABLE run_episodes (
 CREATE TABLE evaluations (
     run BIGINT NOT NULL REFERENCES runs(id), number BIGINT NOT NULL,
     round BIGINT NOT NULL, genome TEXT NOT NULL, vals TEXT NOT NULL,
-    score DOUBLE PRECISION, seed BIGINT NOT NULL, wall DOUBLE PRECISION NOT NULL DEFAULT 0,
+    score DOUBLE PRECISION, engine_scores TEXT NOT NULL DEFAULT '',
+    seed BIGINT NOT NULL, wall DOUBLE PRECISION NOT NULL DEFAULT 0,
     state TEXT NOT NULL DEFAULT 'done' CHECK (state IN ('pending', 'running', 'done')),
     worker TEXT, attempt INTEGER NOT NULL DEFAULT 0, lease_until TIMESTAMPTZ,
     PRIMARY KEY (run, number));
@@ -54,6 +55,11 @@ CREATE TABLE run_episodes (
     run BIGINT NOT NULL REFERENCES runs(id), episode INTEGER NOT NULL, seed BIGINT NOT NULL,
     draws TEXT NOT NULL, PRIMARY KEY (run, episode));
 UPDATE proleg_meta SET schema_version = 3;";
+
+/// Version 3 to 4: each evaluation's scores on several engines.
+const FROM_V3: &str = "
+ALTER TABLE evaluations ADD COLUMN engine_scores TEXT NOT NULL DEFAULT '';
+UPDATE proleg_meta SET schema_version = 4;";
 
 impl PgStore {
     /// Connects; with `create`, makes the tables when the database has none. A database
@@ -76,6 +82,10 @@ impl PgStore {
             Some(v) if v == SCHEMA_VERSION => {}
             Some(2) if create => {
                 tx.batch_execute(FROM_V2).map_err(&fail)?;
+                tx.batch_execute(FROM_V3).map_err(&fail)?;
+            }
+            Some(3) if create => {
+                tx.batch_execute(FROM_V3).map_err(&fail)?;
             }
             Some(v) => {
                 return Err(format!(
@@ -243,10 +253,11 @@ impl PgStore {
         let mut tx = self.client.transaction().map_err(&fail)?;
         let st = tx
             .prepare(
-                "INSERT INTO evaluations (run, number, round, genome, vals, score, seed, wall)
-                 VALUES ($1, $2, $3, $4, $5, $6, $7, $8)
+                "INSERT INTO evaluations (run, number, round, genome, vals, score, seed, wall, engine_scores)
+                 VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9)
                  ON CONFLICT (run, number) DO UPDATE SET round = EXCLUDED.round,
                    genome = EXCLUDED.genome, vals = EXCLUDED.vals, score = EXCLUDED.score,
+                   engine_scores = EXCLUDED.engine_scores,
                    seed = EXCLUDED.seed, wall = EXCLUDED.wall, state = 'done', lease_until = NULL",
             )
             .map_err(&fail)?;
@@ -262,6 +273,7 @@ impl PgStore {
                     &score_of(e.score),
                     &(seed as i64),
                     &e.wall,
+                    &engine_scores_text(&e.engines),
                 ],
             )
             .map_err(&fail)?;
@@ -280,7 +292,7 @@ impl PgStore {
         let rows = self
             .client
             .query(
-                "SELECT number, round, genome, vals, score, wall FROM evaluations
+                "SELECT number, round, genome, vals, score, wall, engine_scores FROM evaluations
                  WHERE run = $1 AND number >= $2 AND state = 'done' ORDER BY number",
                 &[&run, &(first as i64)],
             )
@@ -294,6 +306,7 @@ impl PgStore {
                     values: parse_list(r.try_get(3)?),
                     score: r.try_get::<_, Option<f64>>(4)?.unwrap_or(f64::NAN),
                     wall: r.try_get(5)?,
+                    engines: parse_engine_scores(r.try_get(6)?),
                 })
             })
             .collect::<Result<Vec<_>, postgres::Error>>()
@@ -333,6 +346,9 @@ impl PgStore {
                     evaluations: r.try_get::<_, i64>(9)? as u64,
                     best_score: r.try_get(10)?,
                     best_values: r.try_get(11)?,
+                    best_engines: parse_engine_scores(
+                        &r.try_get::<_, Option<String>>(12)?.unwrap_or_default(),
+                    ),
                 })
             })
             .collect::<Result<Vec<_>, postgres::Error>>()

@@ -13,9 +13,10 @@ use std::time::{Duration, Instant};
 
 use postgres::fallible_iterator::FallibleIterator;
 
+use crate::optimize::evaluate::CandidateScore;
 use crate::optimize::space::Genome;
 use crate::optimize::store::pg::PgStore;
-use crate::optimize::store::{join, parse_list, score_of};
+use crate::optimize::store::{engine_scores_text, join, parse_list, score_of};
 
 /// Channel on which the driver announces pending evaluations.
 pub const PENDING: &str = "proleg_pending";
@@ -172,7 +173,7 @@ impl PgStore {
         &mut self,
         worker: &str,
         claim: &Claim,
-        score: f64,
+        score: &CandidateScore,
         wall: f64,
     ) -> Result<bool, String> {
         let fail = self.failer();
@@ -180,18 +181,20 @@ impl PgStore {
             .client
             .query(
                 "WITH done AS (
-                     UPDATE evaluations SET state = 'done', score = $1, wall = $2, lease_until = NULL
+                     UPDATE evaluations SET state = 'done', score = $1, wall = $2, lease_until = NULL,
+                       engine_scores = $7
                      WHERE run = $3 AND number = $4 AND attempt = $5 AND worker = $6
                        AND state = 'running' AND lease_until >= now()
                      RETURNING run)
                  SELECT pg_notify('proleg_done', run::TEXT) FROM done",
                 &[
-                    &score_of(score),
+                    &score_of(score.score),
                     &wall,
                     &claim.run,
                     &(claim.number as i64),
                     &claim.attempt,
                     &worker,
+                    &engine_scores_text(&score.engines),
                 ],
             )
             .map_err(&fail)?;

@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 use rusqlite::{Connection, OptionalExtension, params};
 
 use crate::optimize::store::{
-    EpisodeRecord, RUNS_WITH_BEST, RunInfo, RunRow, RunSpec, SCHEMA_VERSION, StoredEval, join,
-    parse_list, score_of,
+    EpisodeRecord, RUNS_WITH_BEST, RunInfo, RunRow, RunSpec, SCHEMA_VERSION, StoredEval,
+    engine_scores_text, join, parse_engine_scores, parse_list, score_of,
 };
 
 /// An open SQLite store.
@@ -35,8 +35,8 @@ CREATE TABLE IF NOT EXISTS run_episodes (
 CREATE TABLE IF NOT EXISTS evaluations (
     run INTEGER NOT NULL REFERENCES runs(id), number INTEGER NOT NULL,
     round INTEGER NOT NULL, genome TEXT NOT NULL, vals TEXT NOT NULL,
-    score REAL, seed INTEGER NOT NULL, wall REAL NOT NULL DEFAULT 0,
-    state TEXT NOT NULL DEFAULT 'done', worker TEXT, attempt INTEGER NOT NULL DEFAULT 0,
+    score REAL, engine_scores TEXT NOT NULL DEFAULT '', seed INTEGER NOT NULL,
+    wall REAL NOT NULL DEFAULT 0, state TEXT NOT NULL DEFAULT 'done', worker TEXT, attempt INTEGER NOT NULL DEFAULT 0,
     lease_until REAL,
     PRIMARY KEY (run, number));";
 
@@ -47,6 +47,9 @@ ALTER TABLE evaluations ADD COLUMN state TEXT NOT NULL DEFAULT 'done';
 ALTER TABLE evaluations ADD COLUMN worker TEXT;
 ALTER TABLE evaluations ADD COLUMN attempt INTEGER NOT NULL DEFAULT 0;
 ALTER TABLE evaluations ADD COLUMN lease_until REAL;";
+
+/// Versions 1 to 3 to 4: each evaluation's scores on several engines.
+const TO_V4: &str = "ALTER TABLE evaluations ADD COLUMN engine_scores TEXT NOT NULL DEFAULT '';";
 
 impl SqliteStore {
     /// Opens (creating if needed) the store at `path`.
@@ -98,6 +101,9 @@ impl SqliteStore {
             old => {
                 if old == Some(1) {
                     self.conn.execute_batch(FROM_V1).map_err(|e| self.fail(e))?;
+                }
+                if old.is_some() {
+                    self.conn.execute_batch(TO_V4).map_err(|e| self.fail(e))?;
                 }
                 self.conn.execute_batch(CREATE).map_err(|e| self.fail(e))?;
                 self.conn
@@ -233,8 +239,8 @@ impl SqliteStore {
         {
             let mut st = tx
                 .prepare_cached(
-                    "INSERT OR REPLACE INTO evaluations (run, number, round, genome, vals, score, seed, wall)
-                     VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)",
+                    "INSERT OR REPLACE INTO evaluations (run, number, round, genome, vals, score, seed, wall, engine_scores)
+                     VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)",
                 )
                 .map_err(fail)?;
             for e in evals {
@@ -246,7 +252,8 @@ impl SqliteStore {
                     join(&e.values),
                     score_of(e.score),
                     seed as i64,
-                    e.wall
+                    e.wall,
+                    engine_scores_text(&e.engines)
                 ])
                 .map_err(fail)?;
             }
@@ -276,7 +283,7 @@ impl SqliteStore {
         let mut st = self
             .conn
             .prepare(
-                "SELECT number, round, genome, vals, score, wall FROM evaluations
+                "SELECT number, round, genome, vals, score, wall, engine_scores FROM evaluations
                  WHERE run = ?1 AND number >= ?2 AND state = 'done' ORDER BY number",
             )
             .map_err(|e| self.fail(e))?;
@@ -292,6 +299,7 @@ impl SqliteStore {
                     values: parse_list(&vals),
                     score: score.unwrap_or(f64::NAN),
                     wall: r.get(5)?,
+                    engines: parse_engine_scores(&r.get::<_, String>(6)?),
                 })
             })
             .map_err(|e| self.fail(e))?;
@@ -323,6 +331,9 @@ impl SqliteStore {
                     evaluations: r.get::<_, i64>(9)? as u64,
                     best_score: r.get(10)?,
                     best_values: r.get(11)?,
+                    best_engines: parse_engine_scores(
+                        &r.get::<_, Option<String>>(12)?.unwrap_or_default(),
+                    ),
                 })
             })
             .map_err(|e| self.fail(e))?;
@@ -348,6 +359,7 @@ fn run_info(r: &rusqlite::Row, first: usize) -> rusqlite::Result<RunInfo> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::config::simulation::EngineKind;
 
     #[test]
     fn a_store_of_version_1_is_brought_to_the_current_schema_with_its_runs() {
@@ -375,8 +387,24 @@ mod tests {
         assert_eq!(runs.len(), 1);
         assert_eq!(runs[0].best_score, Some(0.5));
         assert_eq!(store.evaluations(1).unwrap()[0].genome, vec![4]);
-        // Version 3's run_episodes is there (empty for an old run).
+        // Version 3's run_episodes is there (empty for an old run), and version 4's engine
+        // scores (none for an old run; new rows keep theirs).
         assert!(store.run_spec(1).unwrap().episodes.is_empty());
+        assert!(store.evaluations(1).unwrap()[0].engines.is_empty());
+        let mut store = store;
+        let both = vec![(EngineKind::Rapier, 0.75), (EngineKind::Mujoco, 0.25)];
+        let e = StoredEval {
+            number: 1,
+            round: 1,
+            genome: vec![5],
+            values: vec![50.0],
+            score: 0.25,
+            engines: both.clone(),
+            wall: 0.1,
+        };
+        store.record(1, 3, &[e]).unwrap();
+        assert_eq!(store.evaluations_from(1, 1).unwrap()[0].engines, both);
+        assert_eq!(store.runs().unwrap()[0].best_engines, Vec::new());
         drop(store);
         // A store of a newer schema is refused.
         let c = Connection::open(&path).unwrap();

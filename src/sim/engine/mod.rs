@@ -123,6 +123,25 @@ pub struct ContactView {
     pub normal: [f64; 3],
     /// Penetrating (distance <= 0) rather than only predicted.
     pub touching: bool,
+    /// How deep the shapes overlap (m; 0 when they only nearly touch).
+    pub depth: f64,
+    /// The two bodies in contact, where they are ours (a link or an environment body;
+    /// `None` for static scenery such as the floor).
+    pub bodies: [Option<BodyId>; 2],
+    /// Speed (m/s) at which the two surfaces slide over each other at the point: their
+    /// relative velocity without its normal part.
+    pub slip: f64,
+}
+
+/// The part of `v` across `normal` (unit): its length, the tangential speed.
+pub fn tangential_speed(v: [f64; 3], normal: [f64; 3]) -> f64 {
+    let vn = v[0] * normal[0] + v[1] * normal[1] + v[2] * normal[2];
+    let t = [
+        v[0] - vn * normal[0],
+        v[1] - vn * normal[1],
+        v[2] - vn * normal[2],
+    ];
+    (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt()
 }
 
 /// The ids of one robot's parts, in the configuration's order.

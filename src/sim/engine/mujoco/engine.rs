@@ -32,7 +32,7 @@ use crate::config::simulation::EngineKind;
 use crate::config::transform::Pose;
 use crate::sim::engine::{
     BodyId, BodyState, ColliderView, ContactView, JointId, JointReading, LaserId, Layout, PadArea,
-    PadId, PhysicsEngine, RobotLayout, SensorPart, ShapeOutline, sensor_parts,
+    PadId, PhysicsEngine, RobotLayout, SensorPart, ShapeOutline, sensor_parts, tangential_speed,
 };
 use crate::sim::error::SimError;
 
@@ -700,18 +700,71 @@ impl PhysicsEngine for MujocoEngine {
     }
 
     fn contacts(&self) -> Vec<ContactView> {
-        let d = self.d();
+        let (m, d) = (self.m(), self.d());
+        let body_of = |geom: c_int| -> c_int {
+            if geom < 0 || i64::from(geom) >= m.ngeom as i64 {
+                return 0;
+            }
+            // SAFETY: `geom < ngeom`.
+            unsafe { *m.geom_bodyid.add(geom as usize) }
+        };
+        let ours = |body: c_int| {
+            let i = self.bodies.iter().position(|b| *b == body)?;
+            Some(BodyId(i as u32))
+        };
         (0..d.ncon.max(0) as usize)
             .map(|i| {
                 // SAFETY: `i < ncon`.
                 let c = unsafe { &*d.contact.add(i) };
+                let normal = [c.frame[0], c.frame[1], c.frame[2]];
+                let bodies = [body_of(c.geom[0]), body_of(c.geom[1])];
+                let v = [
+                    self.point_velocity(bodies[0], c.pos),
+                    self.point_velocity(bodies[1], c.pos),
+                ];
+                let relative = std::array::from_fn(|k| v[0][k] - v[1][k]);
                 ContactView {
                     point: c.pos,
-                    normal: [c.frame[0], c.frame[1], c.frame[2]],
+                    normal,
                     touching: c.dist <= 0.0,
+                    depth: (-c.dist).max(0.0),
+                    bodies: bodies.map(ours),
+                    slip: tangential_speed(relative, normal),
                 }
             })
             .collect()
+    }
+}
+
+impl MujocoEngine {
+    /// Velocity (world, m/s) of body `body`'s material point at `point` (the world body's
+    /// is zero).
+    fn point_velocity(&self, body: c_int, point: [f64; 3]) -> [f64; 3] {
+        if body <= 0 || i64::from(body) >= self.m().nbody as i64 {
+            return [0.0; 3];
+        }
+        let mut v = [0.0f64; 6];
+        // SAFETY: valid model and data, `body < nbody`, `v` holds 6 numbers.
+        unsafe {
+            self.lib.api.mj_objectVelocity(
+                self.model,
+                self.data,
+                mjtObj_mjOBJ_BODY as c_int,
+                body,
+                v.as_mut_ptr(),
+                0,
+            )
+        };
+        // SAFETY: `body < nbody`; xpos holds 3 numbers per body.
+        let origin: [f64; 3] =
+            std::array::from_fn(|k| unsafe { *self.d().xpos.add(3 * body as usize + k) });
+        let r = std::array::from_fn::<f64, 3, _>(|k| point[k] - origin[k]);
+        let (w, lin) = ([v[0], v[1], v[2]], [v[3], v[4], v[5]]);
+        [
+            lin[0] + w[1] * r[2] - w[2] * r[1],
+            lin[1] + w[2] * r[0] - w[0] * r[2],
+            lin[2] + w[0] * r[1] - w[1] * r[0],
+        ]
     }
 }
 

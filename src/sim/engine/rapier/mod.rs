@@ -19,7 +19,7 @@ use crate::config::simulation::EngineKind;
 use crate::config::transform::Pose;
 use crate::sim::engine::{
     BodyId, BodyState, ColliderView, ContactView, JointId, JointReading, LaserId, LaserSpec,
-    PadArea, PadId, PhysicsEngine, ShapeOutline,
+    PadArea, PadId, PhysicsEngine, ShapeOutline, tangential_speed,
 };
 
 pub use settings::PhysicsSettings;
@@ -343,17 +343,36 @@ impl PhysicsEngine for RapierEngine {
 
     fn contacts(&self) -> Vec<ContactView> {
         let w = &self.world;
+        let ours = |h: Option<rp::RigidBodyHandle>| {
+            let h = h?;
+            let i = self.bodies.iter().position(|b| *b == h)?;
+            Some(BodyId(i as u32))
+        };
         let mut out = Vec::new();
         for pair in w.narrow_phase.contact_pairs() {
-            let Some(c1) = w.colliders.get(pair.collider1) else {
+            let (Some(c1), Some(c2)) = (
+                w.colliders.get(pair.collider1),
+                w.colliders.get(pair.collider2),
+            ) else {
                 continue;
             };
+            let velocity_at = |c: &rp::Collider, p: rp::Vector| {
+                c.parent()
+                    .and_then(|h| w.bodies.get(h))
+                    .map_or(rp::Vector::ZERO, |b| b.velocity_at_point(p))
+            };
             for m in pair.manifolds() {
+                let normal = arr3(m.data.normal);
                 for p in &m.points {
+                    let at = c1.position().transform_point(p.local_p1);
+                    let relative = arr3(velocity_at(c1, at) - velocity_at(c2, at));
                     out.push(ContactView {
-                        point: arr3(c1.position().transform_point(p.local_p1)),
-                        normal: arr3(m.data.normal),
+                        point: arr3(at),
+                        normal,
                         touching: p.dist <= 0.0,
+                        depth: f64::from(-p.dist).max(0.0),
+                        bodies: [ours(c1.parent()), ours(c2.parent())],
+                        slip: tangential_speed(relative, normal),
                     });
                 }
             }
