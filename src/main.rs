@@ -97,7 +97,8 @@ enum Command {
         rungs: usize,
         /// Physics settings to use instead of the robot's production ones, as
         /// key=value,... (substeps, steps_per_step, length_unit, warmstart_joints,
-        /// contact_recycling, coulomb_friction, pgs_iterations, contact_hz, halfspace_floor).
+        /// contact_recycling, coulomb_friction, pgs_iterations, contact_hz, contact_damping,
+        /// halfspace_floor).
         #[arg(long, default_value = "")]
         physics: String,
         /// The physics engine instead of the one the simulation file names (rapier,

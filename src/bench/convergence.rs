@@ -134,6 +134,7 @@ pub fn reference_base(production: PhysicsSettings) -> PhysicsSettings {
         coulomb_friction: true,
         pgs_iterations: production.pgs_iterations.max(1),
         contact_hz: production.contact_hz,
+        contact_damping: production.contact_damping,
         halfspace_floor: production.halfspace_floor,
     }
 }

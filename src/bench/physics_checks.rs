@@ -16,6 +16,7 @@
 
 use std::fmt::Write as _;
 
+use crate::bench::terrain_checks::{Terrain, resting_on_height_field, slope_onset};
 use crate::config::Simulation;
 use crate::config::body::Shape;
 use crate::config::simulation::EngineKind;
@@ -54,7 +55,7 @@ pub struct Check {
 }
 
 impl Check {
-    fn within(
+    pub(crate) fn within(
         name: String,
         measured: f64,
         expected: f64,
@@ -72,7 +73,7 @@ impl Check {
         }
     }
 
-    fn below(name: String, measured: f64, bound: f64, unit: &'static str) -> Check {
+    pub(crate) fn below(name: String, measured: f64, bound: f64, unit: &'static str) -> Check {
         Check {
             name,
             measured,
@@ -102,7 +103,7 @@ pub fn module_scene(base: &Simulation, engine: EngineKind, mu: f64) -> Simulatio
 }
 
 /// Half height of the module's first box (m): its centre of mass rests this high.
-fn half_height(sim: &Simulation) -> f64 {
+pub(crate) fn half_height(sim: &Simulation) -> f64 {
     sim.robot.links[0]
         .geoms
         .iter()
@@ -142,8 +143,7 @@ fn friction_onset(
 ) -> Result<Check, PhysicsCheckError> {
     let expected = mu.atan().to_degrees();
     let mut onset = f64::NAN;
-    for k in 0..=16 {
-        let theta = (expected - 4.0 + 0.5 * k as f64).max(0.0);
+    for theta in friction_probe_angles(expected) {
         let mut sim = module_scene(base, engine, mu);
         let t = theta.to_radians();
         sim.environment.physics.gravity = [0.0, -G * t.sin(), -G * t.cos()];
@@ -163,6 +163,11 @@ fn friction_onset(
         1.0,
         "deg",
     ))
+}
+
+/// The tilts an onset search tries: from `expected` - 4° to + 4° in 0.5° steps.
+pub(crate) fn friction_probe_angles(expected: f64) -> impl Iterator<Item = f64> {
+    (0..=16).map(move |k| (expected - 4.0 + 0.5 * k as f64).max(0.0))
 }
 
 /// The distance a module launched at 0.5 m/s slides on friction `mu`.
@@ -198,7 +203,16 @@ fn resting(
 ) -> Result<Vec<Check>, PhysicsCheckError> {
     let sim = module_scene(base, engine, 0.5);
     let h = half_height(&sim);
-    let mut s = world(&sim, registry)?;
+    rest_figures(world(&sim, registry)?, h, "resting")
+}
+
+/// Penetration (below `h`, the resting height of the centre of mass), drift and jitter of
+/// the module of `s` over 10 s after 0.5 s to settle, named `what: ...`.
+pub(crate) fn rest_figures(
+    mut s: Simulator,
+    h: f64,
+    what: &str,
+) -> Result<Vec<Check>, PhysicsCheckError> {
     s.run_steps(steps(&s, 0.5));
     let start = com(&s)?;
     let (mut deepest, mut highest) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -212,14 +226,14 @@ fn resting(
     let drift = ((end[0] - start[0]).powi(2) + (end[1] - start[1]).powi(2)).sqrt();
     Ok(vec![
         Check::below(
-            "resting: penetration".into(),
+            format!("{what}: penetration"),
             (h - deepest).max(0.0) * 1000.0,
             0.5,
             "mm",
         ),
-        Check::below("resting: drift in 10 s".into(), drift * 1000.0, 1.0, "mm"),
+        Check::below(format!("{what}: drift in 10 s"), drift * 1000.0, 1.0, "mm"),
         Check::below(
-            "resting: jitter (z range)".into(),
+            format!("{what}: jitter (z range)"),
             (highest - deepest) * 1000.0,
             0.1,
             "mm",
@@ -411,8 +425,12 @@ pub fn run(
     for mu in [0.3, 0.5, 1.0] {
         checks.push(friction_onset(base, engine, mu, registry)?);
     }
+    for terrain in [Terrain::HeightField, Terrain::Triangles] {
+        checks.push(slope_onset(base, engine, 0.5, terrain, registry)?);
+    }
     checks.push(sliding(base, engine, 0.5, registry)?);
     checks.extend(resting(base, engine, registry)?);
+    checks.extend(resting_on_height_field(base, engine, registry)?);
     checks.extend(drop(base, engine, registry)?);
     checks.push(servo_step(base, engine, registry)?);
     checks.push(pendulum(base, engine, registry)?);

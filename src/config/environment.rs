@@ -7,6 +7,7 @@
 //! the element wins.
 
 use crate::config::body::MAX_FRICTION;
+use crate::config::contact::{ContactModel, read_contact, write_contact};
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::kinbody::{Include, KinBody};
 use crate::config::transform::{POSE_ELEMENTS, Pose};
@@ -25,6 +26,16 @@ pub struct Physics {
     pub self_collision: bool,
     /// Friction of geometries that name none.
     pub default_friction: Option<f64>,
+    /// The contact model (`<contact>`, our extension), when the file states one; else
+    /// [`ContactModel::default`].
+    pub contact: Option<ContactModel>,
+}
+
+impl Physics {
+    /// The contact model in force: the file's, or the default.
+    pub fn contact_model(&self) -> ContactModel {
+        self.contact.unwrap_or_default()
+    }
 }
 
 impl Default for Physics {
@@ -34,6 +45,7 @@ impl Default for Physics {
             gravity: [0.0, 0.0, -9.81],
             self_collision: false,
             default_friction: None,
+            contact: None,
         }
     }
 }
@@ -69,7 +81,7 @@ fn read_physics(r: &Reader, el: &Element) -> ConfigResult<Physics> {
         ..Physics::default()
     };
     for props in &el.children {
-        r.only_children(props, &["gravity", "selfcollision", "friction"])?;
+        r.only_children(props, &["gravity", "selfcollision", "friction", "contact"])?;
         if let Some(g) = r.at_most_one(props, "gravity")? {
             p.gravity = r.array::<3>(g)?;
         }
@@ -78,6 +90,9 @@ fn read_physics(r: &Reader, el: &Element) -> ConfigResult<Physics> {
         }
         if let Some(f) = r.at_most_one(props, "friction")? {
             p.default_friction = Some(r.f64_in(f, 0.0, MAX_FRICTION)?);
+        }
+        if let Some(c) = r.at_most_one(props, "contact")? {
+            p.contact = Some(read_contact(r, c)?);
         }
     }
     Ok(p)
@@ -166,6 +181,9 @@ pub fn write_environment_file(env: &EnvironmentFile) -> String {
     w.flag("selfcollision", env.physics.self_collision);
     if let Some(f) = env.physics.default_friction {
         w.num("friction", f);
+    }
+    if let Some(c) = &env.physics.contact {
+        write_contact(&mut w, c);
     }
     w.close();
     w.close();

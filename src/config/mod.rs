@@ -18,6 +18,7 @@
 
 pub mod actuation;
 pub mod body;
+pub mod contact;
 pub mod cross_engine;
 pub mod environment;
 pub mod error;

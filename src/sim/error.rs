@@ -49,6 +49,13 @@ pub enum SimError {
     },
     /// The MuJoCo engine: a missing or wrong library, a model it rejects.
     Mujoco(crate::sim::engine::mujoco::MujocoError),
+    /// A setting of the configuration the engine has no counterpart for.
+    Unsupported {
+        /// The engine.
+        engine: crate::config::simulation::EngineKind,
+        /// What it cannot do, and what to use instead.
+        what: String,
+    },
 }
 
 impl From<crate::sim::engine::mujoco::MujocoError> for SimError {
@@ -62,6 +69,9 @@ impl fmt::Display for SimError {
         match self {
             SimError::Config(e) => e.fmt(f),
             SimError::Mujoco(e) => e.fmt(f),
+            SimError::Unsupported { engine, what } => {
+                write!(f, "{engine} cannot simulate this: {what}")
+            }
             SimError::Kernel(e) => e.fmt(f),
             SimError::Mesh { file, message } => {
                 write!(f, "{file}: cannot build the collision mesh: {message}")

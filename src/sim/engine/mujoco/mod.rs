@@ -29,8 +29,6 @@ pub struct MujocoSettings {
     /// MuJoCo steps per simulation step (its timestep is the step width divided by this);
     /// more than 1 only for converged references.
     pub steps_per_step: u32,
-    /// The elliptic friction cone instead of MuJoCo's default pyramidal one.
-    pub elliptic_cone: bool,
     /// Solver iterations (MuJoCo's default 100 when `None`).
     pub iterations: Option<u32>,
 }
@@ -40,7 +38,6 @@ impl Default for MujocoSettings {
     fn default() -> Self {
         MujocoSettings {
             steps_per_step: 1,
-            elliptic_cone: true,
             iterations: None,
         }
     }
@@ -52,7 +49,6 @@ impl MujocoSettings {
     pub fn reference(factor: u32) -> Self {
         MujocoSettings {
             steps_per_step: factor.max(1),
-            elliptic_cone: true,
             iterations: Some(200),
         }
     }
@@ -62,13 +58,8 @@ impl std::fmt::Display for MujocoSettings {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "mujoco {MUJOCO_VERSION}: {} step(s) per step, {} cone, {} solver iterations, implicitfast",
+            "mujoco {MUJOCO_VERSION}: {} step(s) per step, {} solver iterations, implicitfast",
             self.steps_per_step,
-            if self.elliptic_cone {
-                "elliptic"
-            } else {
-                "pyramidal"
-            },
             self.iterations.unwrap_or(100)
         )
     }
@@ -103,6 +94,9 @@ pub enum MujocoError {
         /// The version it reports.
         found: String,
     },
+    /// A setting of the configuration MuJoCo has no counterpart for.
+    #[error("MuJoCo cannot simulate this: {0}")]
+    Unsupported(String),
     /// A model MuJoCo refuses.
     #[error("MuJoCo rejects the model of {file}: {cause}")]
     Rejected {

@@ -6,6 +6,7 @@
 
 use rapier3d::prelude as rp;
 
+use super::contact::{check, combine_rule};
 use super::terrain::{floor_halfspace, heightfield};
 use super::{
     Hinge, Laser, MOTOR_DAMPING, Pad, PhysicsSettings, RapierEngine, arr3, group_bit, pose, vec3,
@@ -27,6 +28,7 @@ impl RapierEngine {
         robots: usize,
         settings: PhysicsSettings,
     ) -> Result<(RapierEngine, Layout), SimError> {
+        check(&sim.environment.physics.contact_model())?;
         let dt = sim.files.simulation.properties.step_width;
         let world = rp::PhysicsWorld {
             gravity: vec3(sim.environment.physics.gravity),
@@ -343,7 +345,7 @@ fn colliders(
                 .position(pose(&g.pose) * at)
                 .mass((mass * geom_volume(g) / volume) as f32)
                 .friction(friction(g) as f32)
-                .friction_combine_rule(rp::CoefficientCombineRule::Min)
+                .friction_combine_rule(combine_rule(&sim.environment.physics.contact_model()))
                 .collision_groups(groups)
                 .build())
         })

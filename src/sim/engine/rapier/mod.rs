@@ -10,6 +10,7 @@
 //! syncing transforms nobody looks at (see docs/DESIGN.md §7).
 
 mod build;
+pub mod contact;
 pub mod settings;
 pub mod terrain;
 

@@ -8,7 +8,9 @@
 use rapier3d::prelude as rp;
 
 use crate::config::Simulation;
+use crate::config::contact::{DEFAULT_CONTACT_DAMPING, DEFAULT_CONTACT_HZ};
 use crate::config::resolve::robot::geom_volume;
+use crate::sim::engine::rapier::contact::softness;
 
 /// How rapier integrates one simulation step.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -30,9 +32,11 @@ pub struct PhysicsSettings {
     pub coulomb_friction: bool,
     /// rapier's `num_internal_pgs_iterations`: solver iterations per substep.
     pub pgs_iterations: usize,
-    /// Natural frequency of contacts between moving bodies (Hz); contacts with fixed bodies
-    /// (the terrain) are twice as stiff, as in rapier's defaults (30 Hz and 60 Hz).
+    /// Natural frequency of every contact's spring (Hz): the environment's contact time
+    /// constant converted ([`super::contact`]).
     pub contact_hz: f64,
+    /// Damping ratio of every contact's spring: the environment's.
+    pub contact_damping: f64,
     /// The floor box as a half-space ([`super::terrain`]); measured slower than the
     /// box, so off in production.
     pub halfspace_floor: bool,
@@ -44,7 +48,7 @@ pub const PRODUCTION_SUBSTEPS: usize = 4;
 /// the reference scenario for 5 % more instructions per step (DESIGN.md §3).
 pub const PRODUCTION_PGS_ITERATIONS: usize = 2;
 /// The keys `--physics key=value,...` knows: the fields' names.
-pub const OVERRIDE_KEYS: [&str; 9] = [
+pub const OVERRIDE_KEYS: [&str; 10] = [
     "substeps",
     "steps_per_step",
     "length_unit",
@@ -53,13 +57,15 @@ pub const OVERRIDE_KEYS: [&str; 9] = [
     "coulomb_friction",
     "pgs_iterations",
     "contact_hz",
+    "contact_damping",
     "halfspace_floor",
 ];
 /// rapier's tolerances are tuned for objects of about this size (m).
 pub const RAPIER_REFERENCE_SIZE: f64 = 1.0;
 
 impl Default for PhysicsSettings {
-    /// rapier's own defaults, one physics step per simulation step.
+    /// rapier's own defaults, one physics step per simulation step, with the default
+    /// contact model's spring ([`crate::config::contact::ContactModel::default`]).
     fn default() -> Self {
         PhysicsSettings {
             substeps: 4,
@@ -69,18 +75,23 @@ impl Default for PhysicsSettings {
             contact_recycling: true,
             coulomb_friction: false,
             pgs_iterations: 1,
-            contact_hz: 30.0,
+            contact_hz: DEFAULT_CONTACT_HZ,
+            contact_damping: DEFAULT_CONTACT_DAMPING,
             halfspace_floor: false,
         }
     }
 }
 
 impl PhysicsSettings {
-    /// The production settings for `sim`'s robot: tolerances scaled to its module size.
+    /// The production settings for `sim`'s robot: tolerances scaled to its module size,
+    /// contacts as its environment states them.
     pub fn for_robot(sim: &Simulation) -> Self {
+        let contact = sim.environment.physics.contact_model();
         PhysicsSettings {
             substeps: PRODUCTION_SUBSTEPS,
             pgs_iterations: PRODUCTION_PGS_ITERATIONS,
+            contact_hz: contact.natural_frequency_hz(),
+            contact_damping: contact.damping_ratio,
             ..PhysicsSettings::default()
         }
         .scaled_to(module_size(sim))
@@ -135,6 +146,7 @@ impl PhysicsSettings {
                 "pgs_iterations" => self.pgs_iterations = count()? as usize,
                 "length_unit" => self.length_unit = real("a positive length in metres")?,
                 "contact_hz" => self.contact_hz = real("a positive frequency in Hz")?,
+                "contact_damping" => self.contact_damping = real("a positive damping ratio")?,
                 "warmstart_joints" => self.warmstart_joints = flag()?,
                 "contact_recycling" => self.contact_recycling = flag()?,
                 "coulomb_friction" => self.coulomb_friction = flag()?,
@@ -165,14 +177,8 @@ impl PhysicsSettings {
             warmstart_joints: self.warmstart_joints,
             contact_recycling: self.contact_recycling,
             num_internal_pgs_iterations: self.pgs_iterations,
-            contact_softness: rp::SpringCoefficients {
-                natural_frequency: self.contact_hz as f32,
-                ..rp::SpringCoefficients::contact_defaults()
-            },
-            static_contact_softness: rp::SpringCoefficients {
-                natural_frequency: 2.0 * self.contact_hz as f32,
-                ..rp::SpringCoefficients::contact_static_defaults()
-            },
+            contact_softness: softness(self.contact_hz, self.contact_damping),
+            static_contact_softness: softness(self.contact_hz, self.contact_damping),
             friction_model: if self.coulomb_friction {
                 rp::FrictionModel::Coulomb
             } else {
@@ -187,7 +193,7 @@ impl std::fmt::Display for PhysicsSettings {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "substeps={},steps_per_step={},length_unit={},warmstart_joints={},contact_recycling={},coulomb_friction={},pgs_iterations={},contact_hz={},halfspace_floor={}",
+            "substeps={},steps_per_step={},length_unit={},warmstart_joints={},contact_recycling={},coulomb_friction={},pgs_iterations={},contact_hz={},contact_damping={},halfspace_floor={}",
             self.substeps,
             self.steps_per_step,
             self.length_unit,
@@ -196,6 +202,7 @@ impl std::fmt::Display for PhysicsSettings {
             self.coulomb_friction,
             self.pgs_iterations,
             self.contact_hz,
+            self.contact_damping,
             self.halfspace_floor
         )
     }

@@ -9,6 +9,7 @@ use crate::config::transform::{Pose, round_to};
 use crate::config::xml::write::XmlWriter;
 use crate::sim::engine::LINK_FRICTION;
 use crate::sim::engine::mujoco::MujocoError;
+use crate::sim::engine::mujoco::mjcf::contact;
 
 /// Which side of a contact a geom is on.
 #[derive(Debug, Clone, Copy)]
@@ -93,9 +94,13 @@ impl Assets {
             if *field {
                 let map = height_map(sim, file)?;
                 let (lo, hi) = min_max(&map.heights);
+                // MuJoCo's first elevation row is the field's +y edge (as an image's top
+                // row), ours the -y edge: rows go in reverse.
                 let mut elevation = String::new();
-                for h in &map.heights {
-                    let _ = write!(elevation, "{} ", round_to(h - lo, 1e9));
+                for row in map.heights.chunks(map.nx.max(1)).rev() {
+                    for h in row {
+                        let _ = write!(elevation, "{} ", round_to(h - lo, 1e9));
+                    }
                 }
                 w.empty(
                     "hfield",
@@ -116,14 +121,7 @@ impl Assets {
                     ],
                 );
             } else {
-                w.empty(
-                    "mesh",
-                    &[
-                        ("name", format!("mesh{k}")),
-                        ("file", absolute(file)),
-                        ("scale", mj(&[*scale; 3])),
-                    ],
-                );
+                w.empty("mesh", &mesh_attrs(sim, k, file, *scale)?);
             }
         }
         w.close();
@@ -158,6 +156,35 @@ pub fn mj(v: &[f64]) -> String {
 }
 
 /// A mesh path MuJoCo finds wherever the model is opened from.
+/// A `<mesh>` asset: the OBJ file it was read from, or for a mesh made in memory (no such
+/// file: the terrain of a physical check) its vertices and faces inline.
+fn mesh_attrs(
+    sim: &Simulation,
+    k: usize,
+    file: &str,
+    scale: f64,
+) -> Result<Vec<(&'static str, String)>, MujocoError> {
+    let mut a = vec![("name", format!("mesh{k}")), ("scale", mj(&[scale; 3]))];
+    if std::path::Path::new(file).is_file() {
+        a.push(("file", absolute(file)));
+        return Ok(a);
+    }
+    let mesh = sim.mesh(file).ok_or_else(|| MujocoError::Mesh {
+        file: file.to_string(),
+        cause: "neither a file nor among the loaded meshes".into(),
+    })?;
+    let vertices: Vec<f64> = mesh.vertices.iter().flatten().copied().collect();
+    let faces: Vec<String> = mesh
+        .triangles
+        .iter()
+        .flatten()
+        .map(u32::to_string)
+        .collect();
+    a.push(("vertex", mj(&vertices)));
+    a.push(("face", faces.join(" ")));
+    Ok(a)
+}
+
 fn absolute(file: &str) -> String {
     std::path::absolute(file)
         .map(|p| p.display().to_string())
@@ -233,11 +260,10 @@ pub fn geom_attrs(
     // Terrain is collision bit 1, robot r of a batch bit 1 << (r + 1): MuJoCo pairs two
     // geoms when one's contype meets the other's conaffinity, so every robot meets the
     // terrain, none meets another robot, and a robot meets itself only with self-collision.
+    let model = sim.environment.physics.contact_model();
     let (friction, priority, contype, conaffinity) = match collision {
-        // The smaller coefficient decides, as in proleg: a terrain geom below the links'
-        // friction outranks them, the links outrank the others.
         Collision::Terrain { friction } => {
-            (friction, if friction < LINK_FRICTION { 2 } else { 0 }, 1, 1)
+            (friction, contact::priority(&model, Some(friction))?, 1, 1)
         }
         Collision::Link {
             robot,
@@ -246,7 +272,7 @@ pub fn geom_attrs(
             let bit = 1u32 << (robot + 1);
             (
                 LINK_FRICTION,
-                1,
+                contact::priority(&model, None)?,
                 bit,
                 if self_collision { 1 | bit } else { 1 },
             )

@@ -11,6 +11,7 @@
 //! | robots of a batch, self-collision off | `contype`/`conaffinity` bits: links meet the terrain (and their own robot with self-collision) |
 //! | boxes, spheres, cylinders, meshes, height fields | `box`, `sphere`, `cylinder` (turned: ours stand along y), `mesh` (MuJoCo collides as its convex hull), `hfield` |
 
+pub mod contact;
 pub mod geoms;
 
 use crate::config::Simulation;
@@ -97,6 +98,7 @@ pub fn mjcf(sim: &Simulation, opts: &MjcfOptions) -> Result<Mjcf, MujocoError> {
         &[("angle", "radian".into()), ("autolimits", "true".into())],
     );
     option(sim, &opts.settings, &mut w);
+    contact_default(sim, &mut w);
     assets.write(&mut w, sim)?;
     w.open("worldbody", &[]);
     let env_bodies = environment(sim, &mut w, &assets)?;
@@ -134,13 +136,22 @@ fn option(sim: &Simulation, s: &MujocoSettings, w: &mut XmlWriter) {
         ("integrator", "implicitfast".into()),
         ("jacobian", "dense".into()),
     ];
-    if s.elliptic_cone {
-        attrs.push(("cone", "elliptic".into()));
-    }
+    attrs.push((
+        "cone",
+        contact::cone(&sim.environment.physics.contact_model()).into(),
+    ));
     if let Some(n) = s.iterations {
         attrs.push(("iterations", n.to_string()));
     }
     w.empty("option", &attrs);
+}
+
+/// `<default>`: every geom's contact spring, from the environment's contact model.
+fn contact_default(sim: &Simulation, w: &mut XmlWriter) {
+    let model = sim.environment.physics.contact_model();
+    w.open("default", &[]);
+    w.empty("geom", &[("solref", mj(&contact::solref(&model)))]);
+    w.close();
 }
 
 /// The environment's bodies: static ones fixed to the world, dynamic ones free.
