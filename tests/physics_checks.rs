@@ -1,7 +1,9 @@
 //! Physics with known answers on both engines at their production settings (issue 32,
-//! part 1, first half): friction onset on a slope at atan μ, sliding to rest after
-//! v² / (2 μ g), resting contact without penetration or drift, a drop that settles without
-//! bouncing, a servo following its model after a 30° step, a pendulum's period.
+//! part 1): friction onset at atan μ on a tilted box floor, a height-field slope and a
+//! trimesh slope, sliding to rest after v² / (2 μ g), resting contact without penetration
+//! or drift on the floor and on a height field, a drop that settles without bouncing, a
+//! servo following its model after a 30° step and stalling at its torque limit, a
+//! pendulum's period.
 //! `proleg check-physics` prints the same table.
 
 mod common;
@@ -15,7 +17,7 @@ fn checks_pass(engine: EngineKind) {
     let checks = run(&base, engine, &ModuleRegistry::standard()).unwrap();
     let table = report(engine, &checks);
     println!("{table}");
-    assert_eq!(checks.len(), 11, "{table}");
+    assert_eq!(checks.len(), 18, "{table}");
     assert!(checks.iter().all(|c| c.measured.is_finite()), "{table}");
     assert!(checks.iter().all(|c| c.pass), "{table}");
 }
@@ -37,7 +39,7 @@ fn the_command_prints_the_table_and_exits_0() {
     let (ok, out, err) = common::proleg(&["check-physics", "--engine", "rapier"]);
     assert!(ok, "{out}{err}");
     assert!(
-        out.contains("friction onset, mu 0.5") && out.contains("11 of 11 checks pass"),
+        out.contains("friction onset, mu 0.5") && out.contains("18 of 18 checks pass"),
         "{out}"
     );
 }

@@ -46,7 +46,7 @@ pub struct Check {
     pub measured: f64,
     /// Expected value (or the bound).
     pub expected: f64,
-    /// Allowed difference (or, for a bound, 0).
+    /// Allowed difference (or, for an upper bound, 0; for a lower bound, -inf).
     pub tolerance: f64,
     /// Unit of the three numbers.
     pub unit: &'static str,
@@ -70,6 +70,17 @@ impl Check {
             tolerance,
             unit,
             pass,
+        }
+    }
+
+    pub(crate) fn above(name: String, measured: f64, bound: f64, unit: &'static str) -> Check {
+        Check {
+            name,
+            measured,
+            expected: bound,
+            tolerance: f64::NEG_INFINITY,
+            unit,
+            pass: measured > bound,
         }
     }
 
@@ -316,28 +327,36 @@ fn servo_step(
     ))
 }
 
-/// A module hanging from an unpowered hinge: its period against the physical pendulum's.
-/// The first two links of `base`'s robot: the first made 1 t and resting on a ledge (a
-/// static box whose edge stops short of the hinge), the second turned about the hinge to
-/// hang 5° off vertical, the servo without torque and the limits wide.
-fn pendulum(
+/// The hanging link of a [`hinge_scene`]: mass (kg), distance of its centre of mass from
+/// the hinge (m), moment of inertia about the hinge (kg m²).
+struct Hanging {
+    mass: f64,
+    distance: f64,
+    inertia: f64,
+}
+
+/// The first two links of `base`'s robot on `engine`: the first made 1 t and resting on a
+/// ledge (a static box whose edge stops `gap` m short of the hinge), the second turned
+/// about the hinge by `phi` degrees (-90: hanging straight down; 0: level, as built) and
+/// made `mass` kg (`None`: its own), the hinge's limits wide.
+fn hinge_scene(
     base: &Simulation,
     engine: EngineKind,
-    registry: &ModuleRegistry,
-) -> Result<Check, PhysicsCheckError> {
+    (phi, mass, gap): (f64, Option<f64>, f64),
+) -> Result<(Simulation, Hanging), PhysicsCheckError> {
     use crate::config::body::BodyKind;
     use crate::config::transform::Pose;
     let mut sim = module_scene(base, engine, 0.5);
+    if base.robot.links.len() < 2 || base.robot.joints.is_empty() {
+        return Err(PhysicsCheckError::Scene("a robot of two links and a hinge"));
+    }
     sim.robot.links = base.robot.links[..2].to_vec();
     sim.robot.joints = base.robot.joints[..1].to_vec();
     let j = &mut sim.robot.joints[0];
-    j.max_torque = 0.0;
     j.limits_deg = [-179.0, 179.0];
     let (anchor, axis) = (j.anchor, j.axis);
     sim.robot.links[0].mass = 1000.0;
-    // Turn the second link about the hinge (axis x in the demo) to hang 5° off vertical.
-    let phi = (-85.0f64).to_radians();
-    let half = phi / 2.0;
+    let half = phi.to_radians() / 2.0;
     let turn = Pose {
         translation: [0.0; 3],
         rotation: [
@@ -352,14 +371,17 @@ fn pendulum(
         .mul(&Pose::from_translation(anchor.map(|c| -c)));
     let link = &mut sim.robot.links[1];
     link.pose = about_anchor.mul(&link.pose);
-    // The ledge: everything below the first link up to 30 mm before the hinge.
+    if let Some(m) = mass {
+        link.mass = m;
+    }
+    // The ledge: everything below the first link up to `gap` before the hinge.
     let floor = sim
         .environment
         .bodies
         .first_mut()
         .ok_or(PhysicsCheckError::Scene("no floor"))?;
     floor.kind = BodyKind::Static;
-    floor.pose = Pose::from_translation([0.0, anchor[1] - 0.53, -0.5]);
+    floor.pose = Pose::from_translation([0.0, anchor[1] - 0.5 - gap, -0.5]);
     if let Some(g) = floor.geoms.first_mut() {
         g.shape = Shape::Box {
             extents: [0.5, 0.5, 0.5],
@@ -383,9 +405,28 @@ fn pendulum(
     };
     let centre = l.pose.mul(&g.pose).translation;
     let d = ((centre[1] - anchor[1]).powi(2) + (centre[2] - anchor[2]).powi(2)).sqrt();
-    let m = l.mass;
+    let m = mass.unwrap_or(l.mass);
     let inertia = m / 3.0 * (ey * ey + ez * ez) + m * d * d;
-    let expected = 2.0 * std::f64::consts::PI * (inertia / (m * G * d)).sqrt();
+    Ok((
+        sim,
+        Hanging {
+            mass: m,
+            distance: d,
+            inertia,
+        },
+    ))
+}
+
+/// A module hanging from an unpowered hinge, 5° off vertical: its period against the
+/// physical pendulum's 2 pi sqrt(I / (m g d)).
+fn pendulum(
+    base: &Simulation,
+    engine: EngineKind,
+    registry: &ModuleRegistry,
+) -> Result<Check, PhysicsCheckError> {
+    let (mut sim, h) = hinge_scene(base, engine, (-85.0, None, 0.03))?;
+    sim.robot.joints[0].max_torque = 0.0;
+    let expected = 2.0 * std::f64::consts::PI * (h.inertia / (h.mass * G * h.distance)).sqrt();
     // Measured: the mean time between upward zero crossings of the angle about its mean.
     let mut s = world(&sim, registry)?;
     let dt = s.clock().dt;
@@ -415,6 +456,56 @@ fn pendulum(
     ))
 }
 
+/// A servo against a load twice its torque limit: a level link made so heavy that
+/// gravity's torque about the hinge is 2 x `maxtorque`, its target level. The servo stalls:
+/// it gives way (the link sinks more than 10° below its target within 0.5 s) while
+/// pushing with exactly its `maxtorque` (the mean while the link sinks through its first
+/// 30°, where the load stays above 1.7 x `maxtorque`; within 2 %).
+fn servo_stall(
+    base: &Simulation,
+    engine: EngineKind,
+    registry: &ModuleRegistry,
+) -> Result<Vec<Check>, PhysicsCheckError> {
+    let limit = base
+        .robot
+        .joints
+        .first()
+        .map(|j| j.max_torque)
+        .ok_or(PhysicsCheckError::Scene("a robot with a hinge"))?;
+    let (_, level) = hinge_scene(base, engine, (0.0, None, 0.03))?;
+    let mass = 2.0 * limit / (G * level.distance);
+    let (sim, _) = hinge_scene(base, engine, (0.0, Some(mass), 0.03))?;
+    let mut s = world(&sim, registry)?;
+    s.set_joint_override(0, Some(vec![0.0]))?;
+    // While the link sinks through its first 30° the load stays above 1.7 x maxtorque.
+    let (mut sunk, mut torque, mut k) = (0.0f64, 0.0, 0u32);
+    for _ in 0..steps(&s, 0.5) {
+        s.step();
+        let j = s.joint_states(0)?[0];
+        if sunk < 30.0 {
+            torque += j.torque.abs();
+            k += 1;
+        }
+        sunk = sunk.max(j.angle.abs());
+    }
+    let torque = torque / f64::from(k.max(1));
+    Ok(vec![
+        Check::above(
+            "servo stall at 2x maxtorque: gives way".into(),
+            sunk,
+            10.0,
+            "deg",
+        ),
+        Check::within(
+            "servo stall at 2x maxtorque: torque".into(),
+            torque,
+            limit,
+            0.02 * limit,
+            "N m",
+        ),
+    ])
+}
+
 /// Every check on `engine`, the module taken from `base` (the demo's snake).
 pub fn run(
     base: &Simulation,
@@ -433,6 +524,7 @@ pub fn run(
     checks.extend(resting_on_height_field(base, engine, registry)?);
     checks.extend(drop(base, engine, registry)?);
     checks.push(servo_step(base, engine, registry)?);
+    checks.extend(servo_stall(base, engine, registry)?);
     checks.push(pendulum(base, engine, registry)?);
     Ok(checks)
 }
@@ -449,6 +541,8 @@ pub fn report(engine: EngineKind, checks: &[Check]) -> String {
     for c in checks {
         let expected = if c.tolerance > 0.0 {
             format!("{:.4} ± {:.4}", c.expected, c.tolerance)
+        } else if c.tolerance < 0.0 {
+            format!("> {:.4}", c.expected)
         } else {
             format!("< {:.4}", c.expected)
         };
