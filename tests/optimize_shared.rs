@@ -553,11 +553,22 @@ fn a_result_after_the_lease_ran_out_is_discarded() {
             .is_empty()
     );
     assert!(
-        !store.submit("a", &a[0], &CandidateScore::single(1.0), 0.1).unwrap(),
+        !store
+            .submit("a", &a[0], &CandidateScore::single(1.0), 0.1)
+            .unwrap(),
         "a's late result is discarded"
     );
-    assert!(store.submit("b", &b[0], &CandidateScore::single(2.0), 0.1).unwrap());
-    assert!(!store.submit("b", &b[0], &CandidateScore::single(3.0), 0.1).unwrap(), "written once");
+    assert!(
+        store
+            .submit("b", &b[0], &CandidateScore::single(2.0), 0.1)
+            .unwrap()
+    );
+    assert!(
+        !store
+            .submit("b", &b[0], &CandidateScore::single(3.0), 0.1)
+            .unwrap(),
+        "written once"
+    );
     let stored = store.evaluations(run).unwrap();
     assert_eq!(stored.len(), 1);
     assert_eq!(stored[0].score, 2.0);
