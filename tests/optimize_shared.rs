@@ -84,7 +84,7 @@ fn worker_role(pg: &Pg, db: &str, role: &str, password: &str) {
          GRANT CONNECT ON DATABASE {db} TO {role};
          GRANT USAGE ON SCHEMA public TO {role};
          GRANT SELECT ON proleg_meta, runs, run_files, run_episodes TO {role};
-         GRANT SELECT, UPDATE (state, worker, attempt, lease_until, score, wall) ON evaluations TO {role};"
+         GRANT SELECT, UPDATE (state, worker, attempt, lease_until, score, wall, engine_scores) ON evaluations TO {role};"
     ))
     .expect("worker role");
 }
