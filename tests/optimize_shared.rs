@@ -54,8 +54,8 @@ fn sqlite_run(name: &str, evals: &str, duration: &str) -> (Vec<String>, String) 
     (lines, path)
 }
 
-/// Every evaluation of a store's runs as (number, round, score, genome), by `proleg results
-/// --export` (store name and wall seconds left out).
+/// Every evaluation of a store's runs as (number, round, score, genome, engine scores), by
+/// `proleg results --export` (store name and wall seconds left out).
 fn evaluations(pg: &Pg, store: &str, name: &str) -> Vec<String> {
     let tsv = common::scratch(name).join("evaluations.tsv");
     let out = output(pg.proleg(&["results", store, "--export", tsv.to_str().unwrap()]));
@@ -66,7 +66,14 @@ fn evaluations(pg: &Pg, store: &str, name: &str) -> Vec<String> {
         .skip(1)
         .map(|l| {
             let f: Vec<&str> = l.split('\t').collect();
-            format!("{} {} {} {}", f[2], f[3], f[4], f[6])
+            format!(
+                "{} {} {} {} {}",
+                f[2],
+                f[3],
+                f[4],
+                f[6],
+                f.get(8).copied().unwrap_or_default()
+            )
         })
         .collect();
     assert!(!rows.is_empty());
@@ -796,6 +803,81 @@ fn a_mujoco_run_scores_the_same_through_workers_as_in_one_process_and_a_host_wit
     assert_eq!(
         evaluations(&pg, &url, "optimize_shared_mujoco_pg"),
         evaluations(&pg, &reference, "optimize_shared_mujoco_sqlite")
+    );
+    for w in workers {
+        let out = w.wait_with_output().expect("worker");
+        assert!(out.status.success(), "{}", text(&out.stderr));
+    }
+}
+
+#[test]
+fn a_cross_engine_run_through_least_privileged_workers_stores_what_one_process_stores() {
+    if !common::mujoco_here("shared cross-engine run") {
+        return;
+    }
+    let both = "configs/gait_from_scratch_engines.simulation.xml";
+    let args = |store: &'static str| -> Vec<String> {
+        [
+            "optimize",
+            both,
+            "--max-evals",
+            "10",
+            "--duration",
+            "1",
+            "--quiet",
+            "--store",
+            store,
+        ]
+        .iter()
+        .map(|a| a.to_string())
+        .collect()
+    };
+    let dir = common::scratch("optimize_shared_cross");
+    let reference = dir.join("reference.sqlite").display().to_string();
+    let mut local = args("");
+    local[8] = reference.clone();
+    let local: Vec<&str> = local.iter().map(String::as_str).collect();
+    let (ok, out, err) = common::proleg(&local);
+    assert!(ok, "{err}");
+    assert!(out.contains("  on mujoco "), "{out}");
+
+    let pg = server();
+    let url = pg.database("shared_cross");
+    let mut shared = args("");
+    shared[8] = url.clone();
+    shared.extend(["--workers".to_string(), "0".to_string()]);
+    let shared: Vec<&str> = shared.iter().map(String::as_str).collect();
+    let mut driver = spawn(pg.proleg(&shared));
+    pg.wait_until("shared_cross", HAS_STORE, &mut driver);
+    worker_role(&pg, "shared_cross", "proleg_worker_cross", "w-cross");
+    let worker_url = url.replace("proleg_admin@", "proleg_worker_cross@");
+    let workers: Vec<Child> = (0..2)
+        .map(|_| {
+            spawn(pg.proleg_as(
+                "w-cross",
+                &[
+                    "worker",
+                    "--store",
+                    &worker_url,
+                    "--threads",
+                    "1",
+                    "--idle-exit",
+                    "1",
+                ],
+            ))
+        })
+        .collect();
+    let out = driver.wait_with_output().expect("driver");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let rows = evaluations(&pg, &url, "optimize_shared_cross_pg");
+    assert!(
+        rows.iter()
+            .all(|r| r.contains("rapier=") && r.contains("mujoco=")),
+        "{rows:?}"
+    );
+    assert_eq!(
+        rows,
+        evaluations(&pg, &reference, "optimize_shared_cross_sqlite")
     );
     for w in workers {
         let out = w.wait_with_output().expect("worker");

@@ -236,6 +236,9 @@ fn run_on(
     })
 }
 
+/// One row's cell of a run, as printed.
+type Cell = dyn Fn(&EngineRun) -> String;
+
 impl fmt::Display for Comparison {
     fn fmt(&self, out: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(out, "{}: {} s on each engine", self.config, self.duration)?;
@@ -243,7 +246,7 @@ impl fmt::Display for Comparison {
             self.runs.iter().map(|r| format!("{:>14}", f(r))).collect()
         };
         writeln!(out, "{:<28}{}", "", col(&|r| r.engine.to_string()))?;
-        let rows: [(&str, &dyn Fn(&EngineRun) -> String); 7] = [
+        let rows: [(&str, &Cell); 7] = [
             ("displacement (m)", &|r| format!("{:.4}", r.displacement)),
             ("heading (deg)", &|r| {
                 format!("{:.1}->{:.1}", r.heading.0, r.heading.1)

@@ -702,7 +702,7 @@ impl PhysicsEngine for MujocoEngine {
     fn contacts(&self) -> Vec<ContactView> {
         let (m, d) = (self.m(), self.d());
         let body_of = |geom: c_int| -> c_int {
-            if geom < 0 || i64::from(geom) >= m.ngeom as i64 {
+            if geom < 0 || i64::from(geom) >= m.ngeom {
                 return 0;
             }
             // SAFETY: `geom < ngeom`.
@@ -740,7 +740,7 @@ impl MujocoEngine {
     /// Velocity (world, m/s) of body `body`'s material point at `point` (the world body's
     /// is zero).
     fn point_velocity(&self, body: c_int, point: [f64; 3]) -> [f64; 3] {
-        if body <= 0 || i64::from(body) >= self.m().nbody as i64 {
+        if body <= 0 || i64::from(body) >= self.m().nbody {
             return [0.0; 3];
         }
         let mut v = [0.0f64; 6];
