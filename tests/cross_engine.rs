@@ -229,3 +229,58 @@ fn a_stiffer_contact_presses_a_resting_robot_less_into_the_floor() {
     }
     assert!(depths[0] > 4.0 * depths[1], "{depths:?}");
 }
+
+/// Every evaluation of a store as its TSV rows without the store's name and wall seconds:
+/// number, round, score, genome, values, engine scores.
+fn exported(store: &str, name: &str) -> Vec<String> {
+    let tsv = common::scratch(name).join("evaluations.tsv");
+    let (ok, _, err) = common::proleg(&["results", store, "--export", tsv.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    std::fs::read_to_string(&tsv)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split('\t').collect();
+            [f[2], f[3], f[4], f[6], f[7], f[8]].join(" ")
+        })
+        .collect()
+}
+
+#[test]
+fn a_killed_cross_engine_run_resumes_with_every_engine_score() {
+    if !common::mujoco_here("cross-engine resume") {
+        return;
+    }
+    let dir = common::scratch("cross_engine_resume");
+    let run = |extra: &[&str], store: &str| {
+        let mut args = vec![
+            "optimize",
+            BOTH,
+            "--max-evals",
+            "20",
+            "--duration",
+            "1",
+            "--quiet",
+            "--store",
+            store,
+        ];
+        args.extend(extra);
+        common::proleg(&args)
+    };
+    let whole = dir.join("whole.sqlite").display().to_string();
+    let (ok, _, err) = run(&[], &whole);
+    assert!(ok, "{err}");
+    let killed = dir.join("killed.sqlite").display().to_string();
+    let (ok, _, _) = run(&["--crash-after", "10"], &killed);
+    assert!(!ok, "the crash aid aborts the process");
+    let (ok, _, err) = run(&["--resume"], &killed);
+    assert!(ok, "{err}");
+    let rows = exported(&killed, "cross_engine_resume_killed");
+    assert_eq!(rows.len(), 20);
+    assert!(
+        rows.iter()
+            .all(|r| r.contains("rapier=") && r.contains("mujoco="))
+    );
+    assert_eq!(rows, exported(&whole, "cross_engine_resume_whole"));
+}
