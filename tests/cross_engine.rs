@@ -65,6 +65,23 @@ fn a_cross_engine_run_stores_both_scores_combines_them_by_min_and_replays_each()
         listed.contains("(rapier ") && listed.contains(", mujoco "),
         "{listed}"
     );
+    // `robustness --engines` checks the best on each engine in turn.
+    let (ok, checked, err) = common::proleg(&[
+        "robustness",
+        &store,
+        "--run",
+        &runs[0].id.to_string(),
+        "--episodes",
+        "2",
+        "--engines",
+        "rapier,mujoco",
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        checked.contains("on rapier\n") && checked.contains("on mujoco\n"),
+        "{checked}"
+    );
+    assert_eq!(checked.matches("kept ").count(), 2, "{checked}");
     // The best replayed on each engine gives that engine's stored score, step for step.
     let registry = ModuleRegistry::standard();
     let best = replay_from(&store, runs[0].id, Which::Best, None, &registry).unwrap();
