@@ -6,64 +6,9 @@
 
 mod common;
 
-use std::io::BufRead;
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 
-use common::window::{get, scratch, state};
-
-/// An Xvfb server on a display of its own, stopped when dropped.
-struct Xvfb(Child, String);
-
-impl Xvfb {
-    /// Starts a server on a free display; returns once it accepts clients (`-displayfd`
-    /// writes the display number then).
-    fn start() -> Xvfb {
-        let mut child = Command::new("Xvfb")
-            .args([
-                "-displayfd",
-                "1",
-                "-screen",
-                "0",
-                "1280x800x24",
-                "-nolisten",
-                "tcp",
-            ])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("Xvfb (Debian's xvfb)");
-        let stdout = child.stdout.take().expect("Xvfb's output");
-        let mut line = String::new();
-        std::io::BufReader::new(stdout)
-            .read_line(&mut line)
-            .expect("Xvfb's display");
-        Xvfb(child, format!(":{}", line.trim()))
-    }
-
-    /// Runs xdotool on this display (at most 5 minutes: a window that never shows fails).
-    fn xdotool(&self, args: &[&str]) -> String {
-        let out = Command::new("timeout")
-            .arg("300")
-            .arg("xdotool")
-            .args(args)
-            .env("DISPLAY", &self.1)
-            .output()
-            .expect("xdotool (Debian's xdotool; scripts/test installs it)");
-        assert!(
-            out.status.success(),
-            "xdotool {args:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8_lossy(&out.stdout).into_owned()
-    }
-}
-
-impl Drop for Xvfb {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
+use common::window::{Xvfb, get, scratch, state};
 
 #[test]
 fn space_and_d_pressed_on_a_real_keyboard_start_the_run_and_the_debug_view() {

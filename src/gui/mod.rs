@@ -3,6 +3,7 @@
 //!
 //! - [`control`]: the control window (thesis 4.5) — 3D viewer, toolbar, live plots,
 //!   control-algorithm properties, data file inspection, optimization view.
+//! - [`pointer`]: who gets the pointer, the panels or the 3D scene behind them
 //! - [`scripting`]: what both windows' scripts share (parsing, waits, screenshots)
 //! - [`setup`]: the configuration window (thesis 4.4) — beginner wizard, expert
 //!   composition, 3D environment editor.
@@ -10,6 +11,7 @@
 
 pub mod control;
 pub mod module_editor;
+pub mod pointer;
 pub mod scripting;
 pub mod setup;
 pub mod video;

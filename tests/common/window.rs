@@ -2,8 +2,9 @@
 //! there is no display, driven by a script; reading the state files and screenshots they
 //! write.
 
+use std::io::BufRead;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// Longest the window may take (llvmpipe renders ~2 frames per second under load).
@@ -93,4 +94,58 @@ pub fn png_colours(path: &Path) -> (u32, u32, usize) {
     colours.sort();
     colours.dedup();
     (info.width, info.height, colours.len())
+}
+
+/// An Xvfb server on a display of its own, stopped when dropped.
+pub struct Xvfb(Child, pub String);
+
+impl Xvfb {
+    /// Starts a server on a free display; returns once it accepts clients (`-displayfd`
+    /// writes the display number then).
+    pub fn start() -> Xvfb {
+        let mut child = Command::new("Xvfb")
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                "1280x800x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("Xvfb (Debian's xvfb)");
+        let stdout = child.stdout.take().expect("Xvfb's output");
+        let mut line = String::new();
+        std::io::BufReader::new(stdout)
+            .read_line(&mut line)
+            .expect("Xvfb's display");
+        Xvfb(child, format!(":{}", line.trim()))
+    }
+
+    /// Runs xdotool on this display (at most 5 minutes: a window that never shows fails).
+    pub fn xdotool(&self, args: &[&str]) -> String {
+        let out = Command::new("timeout")
+            .arg("300")
+            .arg("xdotool")
+            .args(args)
+            .env("DISPLAY", &self.1)
+            .output()
+            .expect("xdotool (Debian's xdotool; scripts/test installs it)");
+        assert!(
+            out.status.success(),
+            "xdotool {args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
 }

@@ -1,12 +1,21 @@
 //! The viewer's camera: orbit (left drag), pan (right or middle drag), zoom (wheel) about a
 //! focus point, and an optional follow mode that keeps the robot's centre of mass in focus.
-//! Mouse input over egui panels is left to egui.
+//! Mouse input over egui panels is left to egui ([`crate::gui::pointer`]).
 
-use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
+use crate::gui::pointer::PointerRouting;
+use bevy::input::mouse::AccumulatedMouseScroll;
 use bevy::prelude::*;
-use bevy_egui::input::EguiWantsInput;
 
 use crate::gui::control::session::SimSession;
+
+/// The viewer camera's orbit as the last frame left it (for scripts' state).
+#[derive(Resource, Debug, Default, Clone, Copy)]
+pub struct CameraReadout {
+    /// Radians about the vertical axis.
+    pub yaw: f32,
+    /// Radians above the ground plane.
+    pub pitch: f32,
+}
 
 /// Orbit state of the viewer camera (Bevy frame, y up).
 #[derive(Component, Debug, Clone)]
@@ -91,23 +100,34 @@ pub fn to_bevy(p: [f64; 3]) -> Vec3 {
     Vec3::new(p[0] as f32, p[2] as f32, -p[1] as f32)
 }
 
-/// Mouse orbit / pan / zoom and follow mode.
+/// Mouse orbit / pan / zoom and follow mode. A drag is the cursor's motion over the window
+/// since the last frame (not the device's raw motion, which synthetic and remote input
+/// lack).
+#[allow(clippy::too_many_arguments)]
 pub fn orbit_camera(
     buttons: Res<ButtonInput<MouseButton>>,
-    motion: Res<AccumulatedMouseMotion>,
+    windows: Query<&Window, With<bevy::window::PrimaryWindow>>,
+    mut last_cursor: Local<Option<Vec2>>,
     scroll: Res<AccumulatedMouseScroll>,
-    egui: Res<EguiWantsInput>,
+    routing: Res<PointerRouting>,
     session: NonSend<SimSession>,
     selection: Res<crate::gui::control::picking::Selection>,
     mut cameras: Query<(&mut OrbitCamera, &mut Transform)>,
+    mut readout: ResMut<CameraReadout>,
 ) {
+    let cursor = windows.iter().next().and_then(Window::cursor_position);
+    let moved = match (*last_cursor, cursor) {
+        (Some(a), Some(b)) => b - a,
+        _ => Vec2::ZERO,
+    };
+    *last_cursor = cursor;
     for (mut orbit, mut t) in &mut cameras {
-        if !egui.wants_any_pointer_input() {
+        if routing.scene_gets_pointer() {
             // A left drag on a body moves the body (see picking), not the camera.
             let drag = if selection.dragging && buttons.pressed(MouseButton::Left) {
                 Vec2::ZERO
             } else {
-                motion.delta
+                moved
             };
             if orbit.steer(&t, &buttons, drag, scroll.delta.y) {
                 orbit.follow = false;
@@ -121,5 +141,9 @@ pub fn orbit_camera(
             orbit.focus = orbit.focus.lerp(target, 0.2);
         }
         *t = orbit.transform();
+        *readout = CameraReadout {
+            yaw: orbit.yaw,
+            pitch: orbit.pitch,
+        };
     }
 }

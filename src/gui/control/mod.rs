@@ -102,6 +102,8 @@ pub struct Views<'w> {
     pub robot: ResMut<'w, RobotView>,
     /// The Record button's recorder.
     pub recorder: ResMut<'w, Recorder>,
+    /// The camera's orbit.
+    pub camera: Res<'w, camera::CameraReadout>,
 }
 
 /// Ordering of the window's per-frame work.
@@ -178,67 +180,71 @@ pub struct ControlWindowPlugin;
 
 impl Plugin for ControlWindowPlugin {
     fn build(&self, app: &mut App) {
-        app.add_plugins(GamepadRemotePlugin)
-            .init_resource::<RemoteView>()
-            .init_resource::<ModuleEditor>()
-            .init_resource::<AssignState>()
-            .init_resource::<RobotView>()
-            .init_resource::<ParamsState>()
-            .init_resource::<InspectState>()
-            .init_resource::<DebugView>()
-            .init_resource::<Selection>()
-            .init_resource::<Recorder>()
-            .add_observer(picking::on_click)
-            .add_observer(picking::on_drag_start)
-            .add_observer(picking::on_drag)
-            .add_observer(picking::on_drag_end)
-            .insert_resource(OptimizerView::new(
-                std::thread::available_parallelism().map_or(1, |n| n.get()),
-            ))
-            .init_resource::<PlotsState>()
-            .init_resource::<SceneBuilt>()
-            .init_resource::<RobotOverlay>()
-            .insert_resource(Panels {
-                params: true,
-                plots: true,
-            })
-            .configure_sets(
-                Update,
-                (
-                    GuiSystems::Script,
-                    GuiSystems::Simulate,
-                    GuiSystems::Present,
-                )
-                    .chain(),
+        app.add_plugins((
+            GamepadRemotePlugin,
+            crate::gui::pointer::PointerRoutingPlugin,
+        ))
+        .init_resource::<RemoteView>()
+        .init_resource::<ModuleEditor>()
+        .init_resource::<AssignState>()
+        .init_resource::<RobotView>()
+        .init_resource::<ParamsState>()
+        .init_resource::<InspectState>()
+        .init_resource::<DebugView>()
+        .init_resource::<Selection>()
+        .init_resource::<camera::CameraReadout>()
+        .init_resource::<Recorder>()
+        .add_observer(picking::on_click)
+        .add_observer(picking::on_drag_start)
+        .add_observer(picking::on_drag)
+        .add_observer(picking::on_drag_end)
+        .insert_resource(OptimizerView::new(
+            std::thread::available_parallelism().map_or(1, |n| n.get()),
+        ))
+        .init_resource::<PlotsState>()
+        .init_resource::<SceneBuilt>()
+        .init_resource::<RobotOverlay>()
+        .insert_resource(Panels {
+            params: true,
+            plots: true,
+        })
+        .configure_sets(
+            Update,
+            (
+                GuiSystems::Script,
+                GuiSystems::Simulate,
+                GuiSystems::Present,
             )
-            .add_systems(Startup, (camera::spawn_camera, scene::spawn_lights))
-            .add_systems(Update, script_run::run_script.in_set(GuiSystems::Script))
-            .add_systems(
-                Update,
-                (
-                    keys::shortcuts,
-                    picking::apply_moves,
-                    remote_view::apply_remote,
-                    robot_view::exchange,
-                    simulate,
-                )
-                    .chain()
-                    .in_set(GuiSystems::Simulate),
+                .chain(),
+        )
+        .add_systems(Startup, (camera::spawn_camera, scene::spawn_lights))
+        .add_systems(Update, script_run::run_script.in_set(GuiSystems::Script))
+        .add_systems(
+            Update,
+            (
+                keys::shortcuts,
+                picking::apply_moves,
+                remote_view::apply_remote,
+                robot_view::exchange,
+                simulate,
             )
-            .add_systems(
-                Update,
-                (
-                    scene::build_scene,
-                    scene::follow_bodies,
-                    scene::colour_pads,
-                    camera::orbit_camera,
-                    debug_view::draw_debug,
-                    recorder::capture,
-                )
-                    .chain()
-                    .in_set(GuiSystems::Present),
+                .chain()
+                .in_set(GuiSystems::Simulate),
+        )
+        .add_systems(
+            Update,
+            (
+                scene::build_scene,
+                scene::follow_bodies,
+                scene::colour_pads,
+                camera::orbit_camera,
+                debug_view::draw_debug,
+                recorder::capture,
             )
-            .add_systems(EguiPrimaryContextPass, draw_ui);
+                .chain()
+                .in_set(GuiSystems::Present),
+        )
+        .add_systems(EguiPrimaryContextPass, draw_ui);
     }
 }
 
@@ -265,6 +271,7 @@ fn draw_ui(
     overlay: Res<RobotOverlay>,
     mut cameras: Query<&mut OrbitCamera>,
     visuals: Query<(&BodyVisual, &Name)>,
+    mut routing: ResMut<crate::gui::pointer::PointerRouting>,
 ) -> Result {
     let Views {
         toolbar,
@@ -281,6 +288,7 @@ fn draw_ui(
         assign,
         robot,
         recorder,
+        camera: _,
     } = &mut views;
     let ctx = contexts.ctx_mut()?.clone();
     let mut root = egui::Ui::new(
@@ -329,6 +337,8 @@ fn draw_ui(
                 params::show(ui, &mut session, params);
             });
     }
+    // What the panels left is the viewer: the pointer there belongs to the scene.
+    routing.set_viewer(root.available_rect_before_wrap());
     let mut follow = cameras.iter().next().is_some_and(|c| c.follow);
     overlay::show(&ctx, &overlay, toolbar, &mut follow, toolbar_bottom);
     picking::show(&ctx, &session, selection, &visuals);

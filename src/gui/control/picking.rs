@@ -1,8 +1,10 @@
 //! Selecting and moving bodies in the viewer (Bevy's mesh picking): a click selects the
-//! body under the pointer, a left drag moves it over the ground plane (a robot link moves
-//! the whole robot), and the "Selected body" window shows and sets its position. Picking
-//! observers only record what the pointer did; a system applies it to the simulator
-//! through [`crate::sim::Simulator::translate_bodies`].
+//! body under the pointer, a left drag moves a robot (any of its links) or a dynamic object
+//! over the ground plane — the static scenery only with Shift held, so that a left drag on
+//! the ground orbits the camera — and the "Selected body" window shows and sets its
+//! position. Nothing here reacts while the pointer belongs to the panels
+//! ([`crate::gui::pointer`]). Picking observers only record what the pointer did; a system
+//! applies it to the simulator through [`crate::sim::Simulator::translate_bodies`].
 
 use bevy::prelude::*;
 use bevy_egui::egui;
@@ -10,6 +12,7 @@ use bevy_egui::egui;
 use crate::gui::control::camera::OrbitCamera;
 use crate::gui::control::scene::BodyVisual;
 use crate::gui::control::session::SimSession;
+use crate::gui::pointer::PointerRouting;
 
 /// The selected body and the drag in progress.
 #[derive(Resource, Debug, Default)]
@@ -18,6 +21,8 @@ pub struct Selection {
     pub body: Option<Entity>,
     /// A left drag on a body is going on (the camera does not orbit then).
     pub dragging: bool,
+    /// The pointer was dragged since its last press: its release is no click.
+    dragged: bool,
     /// Screen pixels dragged since the last frame.
     drag_pixels: Vec2,
     /// A position typed in the window (z up), to move the selection to.
@@ -52,26 +57,40 @@ pub fn on_click(
     mut click: On<Pointer<Click>>,
     parents: Query<&ChildOf>,
     visuals: Query<&BodyVisual>,
+    routing: Res<PointerRouting>,
     mut sel: ResMut<Selection>,
 ) {
     click.propagate(false);
-    if click.button == PointerButton::Primary {
+    if click.button == PointerButton::Primary && routing.scene_gets_pointer() && !sel.dragged {
         sel.body = body_of(click.original_event_target(), &parents, &visuals);
     }
 }
 
-/// Drag start on a body: select it and take the left button from the camera.
+/// A press: what follows is a click unless the pointer is dragged.
+pub fn on_press(mut ev: On<Pointer<Press>>, mut sel: ResMut<Selection>) {
+    ev.propagate(false);
+    sel.dragged = false;
+}
+
+/// Drag start on a movable body (or any body with Shift held): select it and take the
+/// left button from the camera.
 pub fn on_drag_start(
     mut ev: On<Pointer<DragStart>>,
     parents: Query<&ChildOf>,
     visuals: Query<&BodyVisual>,
+    keys: Res<ButtonInput<KeyCode>>,
+    routing: Res<PointerRouting>,
     mut sel: ResMut<Selection>,
 ) {
     ev.propagate(false);
-    if ev.button != PointerButton::Primary {
+    sel.dragged = true;
+    if ev.button != PointerButton::Primary || !routing.scene_gets_pointer() {
         return;
     }
-    if let Some(b) = body_of(ev.original_event_target(), &parents, &visuals) {
+    let shift = keys.any_pressed([KeyCode::ShiftLeft, KeyCode::ShiftRight]);
+    if let Some(b) = body_of(ev.original_event_target(), &parents, &visuals)
+        && (shift || visuals.get(b).is_ok_and(|v| v.movable))
+    {
         sel.body = Some(b);
         sel.dragging = true;
     }

@@ -26,6 +26,9 @@ pub struct BodyVisual {
     pub body: BodyId,
     /// Index of the robot link it shows (None: an environment body).
     pub link: Option<usize>,
+    /// A left drag moves it without a modifier (robot links, dynamic objects); the static
+    /// scenery moves only with Shift held.
+    pub movable: bool,
 }
 
 /// A touch pad's visual.
@@ -75,6 +78,7 @@ pub fn build_scene(
             let visual = BodyVisual {
                 body: obj.body,
                 link: None,
+                movable: body.kind == crate::config::body::BodyKind::Dynamic,
             };
             bodies.push((format!("environment: {}", body.name), visual, &body.geoms));
         }
@@ -84,6 +88,7 @@ pub fn build_scene(
             let visual = BodyVisual {
                 body: l.body,
                 link: Some(l.index),
+                movable: true,
             };
             bodies.push((format!("link {}", model.name), visual, &model.geoms));
         }

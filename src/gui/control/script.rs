@@ -9,6 +9,7 @@
 //! run-until 3.0                  # simulated seconds (starts the simulation)
 //! wait-for running|paused|debug 600   # until the state holds (e.g. after a real key press
 //!                                # from xdotool), at most this many frames
+//! wait-for file PATH 600         # until PATH exists (a test says its input was sent)
 //! step-to 10                     # step, paused, to exactly this simulated second
 //! speed 0                        # real-time factor (0: as fast as possible)
 //! set PatternGenerator_sinusoidal Amplitude 20 [JOINT]   # JOINT as in the robot file: 1 = J1
@@ -67,7 +68,8 @@ pub enum Command {
     Engine(crate::config::simulation::EngineKind),
     /// `run-until S`: runs until simulated second S.
     RunUntil(f64),
-    /// `wait-for STATE FRAMES`: until `running`, `paused` or `debug` holds.
+    /// `wait-for STATE FRAMES`: until `running`, `paused` or `debug` holds, or
+    /// (`file:PATH`) the file exists.
     WaitFor(String, u32),
     /// `step-to S`: step, paused, to exactly this simulated time (seconds, to the step): a replay's
     /// episode ends where the optimization's did.
@@ -213,6 +215,10 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
                 })?,
             ),
             "run-until" => Command::RunUntil(num(words.get(1), "seconds")?),
+            "wait-for" if words.len() == 4 && words[1] == "file" => Command::WaitFor(
+                format!("file:{}", words[2]),
+                num(words.get(3), "frames")?.max(1.0) as u32,
+            ),
             "wait-for"
                 if words.len() == 3 && ["running", "paused", "debug"].contains(&words[1]) =>
             {

@@ -430,6 +430,7 @@ fn output_command(
             let holds = match what.as_str() {
                 "running" => session.running,
                 "paused" => !session.running,
+                w if w.starts_with("file:") => std::path::Path::new(&w[5..]).exists(),
                 _ => views.debug.0,
             };
             script.pacing.polls += 1;
@@ -487,6 +488,10 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
         ("plots_panel", views.panels.plots.to_string()),
         ("debug_view", views.debug.0.to_string()),
         ("selected", views.selection.body.is_some().to_string()),
+        (
+            "camera",
+            format!("{:.4} {:.4}", views.camera.yaw, views.camera.pitch),
+        ),
         ("inspect_graphs", views.inspect.graphs.len().to_string()),
     ];
     optimizer_pairs(&mut pairs, session, views);
@@ -503,6 +508,16 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
     }
     if let Ok(h) = session.simulator.heading(0) {
         pairs.push(("heading", format!("{h:.3}")));
+    }
+    let scenery = session.simulator.environment_bodies();
+    if let Some(p) = scenery
+        .first()
+        .and_then(|b| session.simulator.body_position(b.body))
+    {
+        pairs.push((
+            "environment_0",
+            format!("{:.6} {:.6} {:.6}", p[0], p[1], p[2]),
+        ));
     }
     pairs.push(("remote_open", views.remote.open.to_string()));
     pairs.push((
