@@ -125,7 +125,11 @@ pub(crate) fn half_height(sim: &Simulation) -> f64 {
         .unwrap_or(0.0)
 }
 
-fn world(sim: &Simulation, registry: &ModuleRegistry) -> Result<Simulator, PhysicsCheckError> {
+/// A world of `sim` with one robot, as the checks build it.
+pub(crate) fn world(
+    sim: &Simulation,
+    registry: &ModuleRegistry,
+) -> Result<Simulator, PhysicsCheckError> {
     let opts = BuildOptions {
         robots: 1,
         record: false,

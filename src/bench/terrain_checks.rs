@@ -7,7 +7,7 @@
 use std::sync::Arc;
 
 use crate::bench::physics_checks::{
-    Check, PhysicsCheckError, friction_probe_angles, half_height, module_scene, rest_figures,
+    Check, PhysicsCheckError, friction_probe_angles, half_height, module_scene, rest_figures, world,
 };
 use crate::config::Simulation;
 use crate::config::body::{MeshCollision, Shape};
@@ -15,7 +15,6 @@ use crate::config::mesh::TriMesh;
 use crate::config::simulation::EngineKind;
 use crate::config::transform::Pose;
 use crate::control::ModuleRegistry;
-use crate::sim::{BuildOptions, Simulator};
 
 /// Grid points along each side of the generated terrain.
 const GRID: usize = 11;
@@ -143,15 +142,6 @@ fn slope_scene(
         rotation: turn.rotation,
     };
     Ok(sim)
-}
-
-fn world(sim: &Simulation, registry: &ModuleRegistry) -> Result<Simulator, PhysicsCheckError> {
-    let opts = BuildOptions {
-        robots: 1,
-        record: false,
-        ..Default::default()
-    };
-    Ok(Simulator::with_registry(sim, &opts, registry)?)
 }
 
 /// The slope (degrees) from which the module slides on `terrain` with friction `mu`:

@@ -22,6 +22,17 @@ use crate::optimize::space::{Genome, SearchSpace};
 use crate::sim::randomize::SensorNoise;
 use crate::sim::{BuildOptions, Simulator};
 
+/// Why an episode could not be run or scored.
+#[derive(Debug, thiserror::Error)]
+pub enum EvalError {
+    /// The world does not build, or a robot of it cannot be read.
+    #[error(transparent)]
+    Sim(#[from] crate::sim::SimError),
+    /// The candidate's values do not fit the kernel.
+    #[error(transparent)]
+    Kernel(#[from] crate::control::kernel::KernelError),
+}
+
 /// Farther than this from the start (m) counts as a blow-up.
 const BLOW_UP_DISTANCE: f64 = 1000.0;
 
@@ -146,7 +157,7 @@ impl Evaluator {
         let next = Mutex::new(0usize);
         let mut results = vec![CandidateScore::single(f64::NAN); genomes.len()];
         let mut error = None;
-        let (tx, rx) = channel::<(usize, Result<Vec<CandidateScore>, String>, f64)>();
+        let (tx, rx) = channel::<(usize, Result<Vec<CandidateScore>, EvalError>, f64)>();
         std::thread::scope(|s| {
             for _ in 0..self.workers.clamp(1, chunks.len().max(1)) {
                 let tx = tx.clone();
@@ -185,19 +196,19 @@ impl Evaluator {
             }
         });
         match error {
-            Some(e) => Err(e),
+            Some(e) => Err(e.to_string()),
             None => Ok(results),
         }
     }
 
     /// The scores of `genomes` (combined over the engines with cross-engine scores).
-    pub fn run_batch(&self, genomes: &[Genome]) -> Result<Vec<f64>, String> {
+    pub fn run_batch(&self, genomes: &[Genome]) -> Result<Vec<f64>, EvalError> {
         self.run_batch_scored(genomes)
             .map(|v| v.into_iter().map(|c| c.score).collect())
     }
 
     /// The scores of `genomes`, each with its engines' scores when it runs on several.
-    pub fn run_batch_scored(&self, genomes: &[Genome]) -> Result<Vec<CandidateScore>, String> {
+    pub fn run_batch_scored(&self, genomes: &[Genome]) -> Result<Vec<CandidateScore>, EvalError> {
         let Some(cross) = &self.cross else {
             let scores = self.run_batch_on(None, genomes)?;
             return Ok(scores.into_iter().map(CandidateScore::single).collect());
@@ -226,7 +237,7 @@ impl Evaluator {
         &self,
         engine: Option<EngineKind>,
         genomes: &[Genome],
-    ) -> Result<Vec<f64>, String> {
+    ) -> Result<Vec<f64>, EvalError> {
         let Some(robust) = &self.robust else {
             let world = (self.seed, SensorNoise::default(), engine);
             return self.run_world(&self.sim, world, genomes);
@@ -251,7 +262,7 @@ impl Evaluator {
         sim: &Simulation,
         (seed, noise, engine): (u64, SensorNoise, Option<EngineKind>),
         genomes: &[Genome],
-    ) -> Result<Vec<f64>, String> {
+    ) -> Result<Vec<f64>, EvalError> {
         let opts = BuildOptions {
             robots: genomes.len(),
             seed,
@@ -261,18 +272,14 @@ impl Evaluator {
             mujoco: None,
             noise,
         };
-        let mut s =
-            Simulator::with_registry(sim, &opts, &self.registry).map_err(|e| e.to_string())?;
+        let mut s = Simulator::with_registry(sim, &opts, &self.registry)?;
         for (i, g) in genomes.iter().enumerate() {
-            let kernel = s.kernel_mut(i).map_err(|e| e.to_string())?;
-            self.space.apply(g, kernel).map_err(|e| e.to_string())?;
+            let kernel = s.kernel_mut(i)?;
+            self.space.apply(g, kernel)?;
         }
         let mut start = Vec::with_capacity(genomes.len());
         for i in 0..genomes.len() {
-            start.push((
-                s.com(i).map_err(|e| e.to_string())?,
-                s.heading(i).map_err(|e| e.to_string())?,
-            ));
+            start.push((s.com(i)?, s.heading(i)?));
         }
         let dt = s.clock().dt;
         let steps = (self.duration / dt).round() as u64;
@@ -296,8 +303,8 @@ pub fn robot_score(
     (start_com, start_heading): ([f64; 3], f64),
     time: f64,
     fitness: Fitness,
-) -> Result<f64, String> {
-    let end = s.com(robot).map_err(|e| e.to_string())?;
+) -> Result<f64, EvalError> {
+    let end = s.com(robot)?;
     if !end.iter().all(|v| v.is_finite()) || ground_distance(start_com, end) > BLOW_UP_DISTANCE {
         return Ok(f64::NEG_INFINITY);
     }
@@ -306,8 +313,8 @@ pub fn robot_score(
         end_com: end,
         start_heading,
         time,
-        energy: s.energy(robot).map_err(|e| e.to_string())?.joules,
-        mass: s.mass(robot).map_err(|e| e.to_string())?,
+        energy: s.energy(robot)?.joules,
+        mass: s.mass(robot)?,
         gravity: s.gravity(),
     };
     let score = fitness.score(&e);

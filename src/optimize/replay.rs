@@ -190,11 +190,14 @@ impl Replay {
 
     /// The replayed episode's score, run headless by the optimizers' own evaluator.
     pub fn score(&self) -> Result<f64, String> {
-        let scores = self.evaluator.run_world(
-            &self.sim,
-            (self.seed, self.noise, Some(self.engine)),
-            std::slice::from_ref(&self.genome),
-        )?;
+        let scores = self
+            .evaluator
+            .run_world(
+                &self.sim,
+                (self.seed, self.noise, Some(self.engine)),
+                std::slice::from_ref(&self.genome),
+            )
+            .map_err(|e| e.to_string())?;
         scores
             .first()
             .copied()
@@ -306,13 +309,14 @@ pub fn randomized_check(
     let e = &replay.evaluator;
     let genome = std::slice::from_ref(&replay.genome);
     let world = (e.seed, SensorNoise::default(), None);
-    let nominal = e.run_world(nominal_sim, world, genome)?[0];
+    let episode = |sim, world| e.run_world(sim, world, genome).map_err(|e| e.to_string());
+    let nominal = episode(nominal_sim, world)?[0];
     let mut ranges = *ranges;
     ranges.episodes = episodes.max(1);
     let drawn = RobustEpisodes::new(nominal_sim, &ranges, seed);
     let mut scores = Vec::with_capacity(drawn.episodes.len());
     for ep in &drawn.episodes {
-        scores.extend(e.run_world(&ep.sim, (ep.seed, ep.noise, None), genome)?);
+        scores.extend(episode(&ep.sim, (ep.seed, ep.noise, None))?);
     }
     Ok(RandomizedCheck {
         label: format!(

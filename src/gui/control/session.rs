@@ -115,13 +115,10 @@ impl SimSession {
     /// world was built); at the episode's duration it is the score the run stored.
     pub fn replay_score(&self) -> Option<Result<f64, String>> {
         let r = self.replay.as_ref()?;
-        Some(robot_score(
-            &self.simulator,
-            0,
-            self.start,
-            self.sim_time(),
-            r.fitness(),
-        ))
+        Some(
+            robot_score(&self.simulator, 0, self.start, self.sim_time(), r.fitness())
+                .map_err(|e| e.to_string()),
+        )
     }
 
     /// Loads another configuration; on failure keeps the current one and records the error.
