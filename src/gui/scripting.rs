@@ -20,6 +20,9 @@ pub struct Pacing {
     pub pending_shot: Option<(PathBuf, u32)>,
     /// Frames a `wait-for` has polled its condition.
     pub polls: u32,
+    /// Wall time added to every frame while the script runs (`slow-frames MS`: a test's
+    /// stand-in for a slow renderer).
+    pub frame_delay: std::time::Duration,
 }
 
 impl Pacing {
@@ -137,6 +140,9 @@ pub fn run_commands<C: Clone>(
     let Some(script) = slot.as_mut() else {
         return;
     };
+    if !script.pacing.frame_delay.is_zero() {
+        std::thread::sleep(script.pacing.frame_delay);
+    }
     let outcome = match script.pacing.hold() {
         Ok(true) => return,
         Ok(false) => step_commands(script, &mut carry_out),

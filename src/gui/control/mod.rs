@@ -248,18 +248,17 @@ impl Plugin for ControlWindowPlugin {
     }
 }
 
-/// Runs this frame's simulation steps and updates the speed figures.
+/// Runs this frame's simulation steps and updates the speed figures, both from the wall
+/// time the frame took (`Time<Real>`: the virtual clock caps a frame at 0.25 s).
 fn simulate(
-    time: Res<Time>,
+    time: Res<Time<Real>>,
     mut session: NonSendMut<SimSession>,
     mut toolbar: ResMut<ToolbarState>,
     mut overlay: ResMut<RobotOverlay>,
 ) {
-    let frame_dt = time.delta_secs_f64();
-    let before = session.sim_time();
-    session.advance(frame_dt);
-    let advanced = session.sim_time() - before;
-    toolbar.observe(frame_dt, advanced);
+    session.advance(time.delta_secs_f64());
+    let now = time.elapsed_secs_f64();
+    toolbar.meter.frame(now, session.sim_time());
     overlay.observe(&session);
 }
 

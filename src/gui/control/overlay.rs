@@ -73,7 +73,7 @@ pub fn show(
             if o.pads > 0 {
                 ui.monospace(format!("pads pressed {}/{}", o.pressed, o.pads));
             }
-            ui.monospace(format!("{:.1} fps", toolbar.fps));
+            ui.monospace(format!("{:.1} fps", toolbar.meter.fps()));
             ui.checkbox(follow, "follow robot");
         });
 }

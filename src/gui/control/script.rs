@@ -5,6 +5,8 @@
 //! ```text
 //! wait 5                         # frames
 //! start | pause | restart
+//! continue                       # after a run paused by itself (its duration, a robot
+//!                                # that left the world): the message's Continue
 //! load CONFIG                    # the toolbar's Load (a broken file: its error, the world kept)
 //! run-until 3.0                  # simulated seconds (starts the simulation)
 //! wait-for running|paused|debug 600   # until the state holds (e.g. after a real key press
@@ -12,6 +14,7 @@
 //! wait-for file PATH 600         # until PATH exists (a test says its input was sent)
 //! step-to 10                     # step, paused, to exactly this simulated second
 //! speed 0                        # real-time factor (0: as fast as possible)
+//! slow-frames 350                # every frame takes 350 ms longer (a slow renderer)
 //! set PatternGenerator_sinusoidal Amplitude 20 [JOINT]   # JOINT as in the robot file: 1 = J1
 //! plot Robot_Data/y_pos Sinus_Generator/Angle[2]   # a live plot of these series
 //! panel params|plots|all|none    # which docked views are open
@@ -62,6 +65,8 @@ pub enum Command {
     Pause,
     /// `restart`.
     Restart,
+    /// `continue`: the Continue of a run that paused by itself.
+    Continue,
     /// `load FILE`: the toolbar's Load.
     Load(PathBuf),
     /// `engine rapier|mujoco`: the toolbar's physics choice.
@@ -76,6 +81,8 @@ pub enum Command {
     StepTo(f64),
     /// Real-time factor (0: as fast as possible).
     Speed(f64),
+    /// `slow-frames MS`: every frame takes this much longer.
+    SlowFrames(u32),
     /// `set MODULE PARAM VALUE [JOINT]`: a module parameter (joint from 1).
     Set {
         /// Module type.
@@ -205,6 +212,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             "start" => Command::Start,
             "pause" => Command::Pause,
             "restart" => Command::Restart,
+            "continue" => Command::Continue,
             "load" if words.len() == 2 => Command::Load(PathBuf::from(words[1])),
             "engine" if words.len() == 2 => Command::Engine(
                 crate::config::simulation::EngineKind::parse(words[1]).ok_or_else(|| {
@@ -229,6 +237,9 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             }
             "step-to" => Command::StepTo(num(words.get(1), "seconds")?),
             "speed" => Command::Speed(num(words.get(1), "real-time factor")?.max(0.0)),
+            "slow-frames" => {
+                Command::SlowFrames(num(words.get(1), "milliseconds")?.clamp(0.0, 10_000.0) as u32)
+            }
             "set" => {
                 if words.len() < 4 {
                     return Err(at("set MODULE PARAM VALUE [JOINT]".into()));

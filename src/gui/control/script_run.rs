@@ -49,7 +49,9 @@ fn carry_out(
         | C::Engine(_)
         | C::RunUntil(_)
         | C::StepTo(_)
-        | C::Speed(_) => simulation_command(c, script, session),
+        | C::Speed(_)
+        | C::SlowFrames(_)
+        | C::Continue => simulation_command(c, script, session),
         C::Set { .. } => simulation_command(c, script, session),
         C::Plot(_)
         | C::Panel(_)
@@ -114,6 +116,13 @@ fn simulation_command(
             session.restart();
             Flow::Next
         }
+        Command::Continue => {
+            if session.halt.is_none() {
+                return Err("continue: the run did not pause by itself".into());
+            }
+            session.continue_run();
+            Flow::Next
+        }
         Command::Load(path) => {
             session.load(&path);
             Flow::Next
@@ -137,6 +146,10 @@ fn simulation_command(
         }
         Command::Speed(f) => {
             session.pacing.realtime_factor = f;
+            Flow::Next
+        }
+        Command::SlowFrames(ms) => {
+            script.pacing.frame_delay = std::time::Duration::from_millis(u64::from(ms));
             Flow::Next
         }
         Command::Set {
@@ -482,6 +495,24 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
         ("running", session.running.to_string()),
         ("steps", session.steps().to_string()),
         ("sim_time", format!("{:.6}", session.sim_time())),
+        ("real_time", format!("{:.6}", session.real_time)),
+        ("fps", format!("{:.4}", views.toolbar.meter.fps())),
+        ("factor", format!("{:.4}", views.toolbar.meter.factor())),
+        (
+            "speed_readout",
+            views
+                .toolbar
+                .meter
+                .readout(session.pacing.realtime_factor, session.running),
+        ),
+        (
+            "halt",
+            session
+                .halt
+                .as_ref()
+                .map(|h| h.message())
+                .unwrap_or_default(),
+        ),
         ("engine", session.simulator.engine_kind().to_string()),
         ("plots", views.plots.plots.len().to_string()),
         ("params_panel", views.panels.params.to_string()),

@@ -17,7 +17,44 @@ use crate::sim::{BuildOptions, Pacer, Pacing, Simulator};
 
 /// Longest a frame may spend stepping when the simulation runs as fast as possible, so the
 /// window stays responsive (seconds).
-const MAX_STEP_BUDGET: f64 = 0.12;
+const UNPACED_STEP_BUDGET: f64 = 0.12;
+
+/// Bounds of the stepping time of a paced frame (seconds): a frame may spend on steps as
+/// long as the previous frame took (so a slow renderer does not cap the real-time factor),
+/// within these.
+const PACED_STEP_BUDGET: (f64, f64) = (0.05, 0.25);
+
+/// How far below the lowest static collider a robot's centre of mass has left the world
+/// (m), and how far beyond the scenery's sides.
+const WORLD_MARGIN: (f64, f64) = (1.0, 2.0);
+
+/// Why a run paused by itself; the toolbar shows it with what the user can do next.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Halt {
+    /// The simulation's duration (s) was reached.
+    Duration(f64),
+    /// Robot 0's centre of mass (m) left the world: below its lowest ground or beyond its
+    /// sides.
+    LeftWorld([f64; 3]),
+    /// The physics diverged (robot 0's centre of mass is not a number).
+    Diverged,
+}
+
+impl Halt {
+    /// The message shown.
+    pub fn message(&self) -> String {
+        match self {
+            Halt::Duration(d) => {
+                format!("Paused at the simulation's duration, {d} s: Restart, or Continue past it.")
+            }
+            Halt::LeftWorld(c) => format!(
+                "Paused: robot 0 left the world (centre of mass at x {:.2}, y {:.2}, z {:.2} m).",
+                c[0], c[1], c[2]
+            ),
+            Halt::Diverged => "Paused: the physics diverged (robot 0's position is not a number); Restart, perhaps with a smaller step width.".to_string(),
+        }
+    }
+}
 
 /// The running simulation and its controls (a non-send resource: the simulator owns an App).
 pub struct SimSession {
@@ -51,6 +88,18 @@ pub struct SimSession {
     start: ([f64; 3], f64),
     /// The engine chosen on the command line (`--engine`), kept for every file loaded.
     pub engine: Option<EngineKind>,
+    /// Why the run paused by itself, until it runs again.
+    pub halt: Option<Halt>,
+    /// Simulated second at which the run pauses (the file's duration; `None` after
+    /// "Continue").
+    end_at: Option<f64>,
+    /// Whether a robot leaving the world pauses the run (off after "Continue").
+    watch_world: bool,
+    /// The static scenery's box (see [`Simulator::scenery_bounds`]).
+    scenery: Option<([f64; 3], [f64; 3])>,
+    /// Whether the last frame ran: the first frame after a start takes no wall time
+    /// (the window may have idled for minutes).
+    was_running: bool,
 }
 
 impl SimSession {
@@ -80,6 +129,8 @@ impl SimSession {
         let pacing = Pacing::of(&sim.files.simulation.properties);
         let (simulator, initial_kernel) = build(&sim, step_width, replay.as_ref())?;
         let start = robot_start(&simulator);
+        let scenery = simulator.scenery_bounds();
+        let duration = sim.files.simulation.properties.duration;
         Ok(SimSession {
             path,
             sim,
@@ -95,6 +146,11 @@ impl SimSession {
             replay,
             start,
             engine: None,
+            halt: None,
+            end_at: (duration > 0.0).then_some(duration),
+            watch_world: true,
+            scenery,
+            was_running: false,
         })
     }
 
@@ -162,7 +218,12 @@ impl SimSession {
     /// Shows a newly built world, paused at 0.
     fn install(&mut self, simulator: Simulator, kernel: ControlKernel) {
         self.start = robot_start(&simulator);
+        self.scenery = simulator.scenery_bounds();
         self.simulator = simulator;
+        let duration = self.sim.files.simulation.properties.duration;
+        self.end_at = (duration > 0.0).then_some(duration);
+        self.watch_world = true;
+        self.halt = None;
         self.initial_kernel = kernel;
         self.real_time = 0.0;
         self.pacer.drop_backlog();
@@ -237,17 +298,50 @@ impl SimSession {
         self.simulator.clock().step
     }
 
-    /// Advances the simulation for a frame that took `frame_dt` wall seconds: the steps
+    /// Runs again after a [`Halt`]: past the duration, or with the robot outside the world
+    /// (the check is off until the next restart).
+    pub fn continue_run(&mut self) {
+        match self.halt.take() {
+            Some(Halt::Duration(_)) => self.end_at = None,
+            Some(Halt::LeftWorld(_)) => self.watch_world = false,
+            Some(Halt::Diverged) | None => return,
+        }
+        self.running = true;
+    }
+
+    /// Advances the simulation for a frame that took `frame_wall` wall seconds: the steps
     /// the pacer says are due (several per frame when faster than the frame rate), or as
-    /// many as fit in the frame's budget when unpaced. Returns steps run.
-    pub fn advance(&mut self, frame_dt: f64) -> u64 {
+    /// many as fit in the frame's budget when unpaced; stops at the duration and when the
+    /// robot leaves the world ([`Halt`]). Returns steps run.
+    pub fn advance(&mut self, frame_wall: f64) -> u64 {
         if !self.running {
+            self.was_running = false;
             return 0;
         }
-        self.real_time += frame_dt;
+        self.halt = None;
         let dt = self.simulator.clock().dt;
         self.pacer.retune(self.pacing, dt);
-        let steps = self.pacer.steps_for(frame_dt).unwrap_or(u64::MAX);
+        if !self.was_running {
+            // Started this frame: the wall time before it was idle, not owed.
+            self.was_running = true;
+            self.pacer.drop_backlog();
+            return 0;
+        }
+        self.real_time += frame_wall;
+        let (budget, due) = match self.pacer.steps_for(frame_wall) {
+            Some(n) => (
+                frame_wall.clamp(PACED_STEP_BUDGET.0, PACED_STEP_BUDGET.1),
+                n,
+            ),
+            None => (UNPACED_STEP_BUDGET, u64::MAX),
+        };
+        let steps = match self.end_at {
+            Some(end) => {
+                let last = (end / dt).round().max(0.0) as u64;
+                due.min(last.saturating_sub(self.steps()))
+            }
+            None => due,
+        };
         let started = Instant::now();
         let mut done = 0;
         // Step in small chunks so the budget is checked without reading the clock each step.
@@ -255,13 +349,58 @@ impl SimSession {
             let chunk = (steps - done).min(50);
             self.simulator.run_steps(chunk);
             done += chunk;
-            if started.elapsed().as_secs_f64() > MAX_STEP_BUDGET {
+            if self.check_halt() {
+                break;
+            }
+            if started.elapsed().as_secs_f64() > budget {
                 // Cannot keep up: drop the backlog instead of spiralling.
                 self.pacer.drop_backlog();
                 break;
             }
         }
+        if steps == 0 {
+            self.check_halt();
+        }
         done
+    }
+
+    /// Pauses the run with a [`Halt`] when it reached its duration or robot 0 left the
+    /// world (checked after every chunk of at most 50 steps, so a fast run stops near
+    /// where it happened). True when it paused.
+    fn check_halt(&mut self) -> bool {
+        let at_end = self
+            .end_at
+            .filter(|end| self.steps() as f64 * self.simulator.clock().dt >= end - 1e-9);
+        let halt = match at_end {
+            Some(end) => Some(Halt::Duration(end)),
+            None => self.left_world(),
+        };
+        if halt.is_some() {
+            self.running = false;
+            self.halt = halt;
+        }
+        !self.running
+    }
+
+    /// Robot 0 below the scenery's lowest point or beyond its sides (by [`WORLD_MARGIN`]);
+    /// without scenery, 10 m below where it started.
+    fn left_world(&self) -> Option<Halt> {
+        let c = self.simulator.com(0).ok()?;
+        if c.iter().any(|v| !v.is_finite()) {
+            return Some(Halt::Diverged);
+        }
+        if !self.watch_world {
+            return None;
+        }
+        let out = match self.scenery {
+            Some((lo, hi)) => {
+                c[2] < lo[2] - WORLD_MARGIN.0
+                    || (0..2)
+                        .any(|k| c[k] < lo[k] - WORLD_MARGIN.1 || c[k] > hi[k] + WORLD_MARGIN.1)
+            }
+            None => c[2] < self.start.0[2] - 10.0,
+        };
+        out.then_some(Halt::LeftWorld(c))
     }
 }
 

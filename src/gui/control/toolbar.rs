@@ -7,7 +7,8 @@ use std::path::{Path, PathBuf};
 use bevy::prelude::*;
 use bevy_egui::egui;
 
-use crate::gui::control::session::SimSession;
+use crate::gui::control::session::{Halt, SimSession};
+use crate::gui::meter::SpeedMeter;
 
 /// The toolbar's own state.
 #[derive(Resource, Debug, Clone)]
@@ -16,10 +17,8 @@ pub struct ToolbarState {
     pub path: String,
     /// Simulation files found under `configs/`, for the quick-load list.
     pub known: Vec<PathBuf>,
-    /// Frames per second of the window (smoothed).
-    pub fps: f64,
-    /// Simulated seconds per wall second achieved (smoothed).
-    pub speed: f64,
+    /// Frames per second and real-time factor achieved over the last wall second.
+    pub meter: SpeedMeter,
 }
 
 impl ToolbarState {
@@ -28,17 +27,7 @@ impl ToolbarState {
         ToolbarState {
             path: current.display().to_string(),
             known: simulation_files(Path::new("configs")),
-            fps: 0.0,
-            speed: 0.0,
-        }
-    }
-
-    /// Folds one frame's duration and simulated progress into the smoothed figures.
-    pub fn observe(&mut self, frame_dt: f64, sim_advanced: f64) {
-        if frame_dt > 0.0 {
-            let k = 0.1;
-            self.fps += k * (1.0 / frame_dt - self.fps);
-            self.speed += k * (sim_advanced / frame_dt - self.speed);
+            meter: SpeedMeter::default(),
         }
     }
 }
@@ -121,11 +110,15 @@ pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut ToolbarStat
                 .speed(0.5),
         );
         ui.label("Real-time factor:");
-        ui.add(
-            egui::DragValue::new(&mut session.pacing.realtime_factor)
-                .range(0.0..=1000.0)
-                .speed(0.05),
-        );
+        if session.pacing.realtime_factor > 0.0 {
+            ui.add(
+                egui::DragValue::new(&mut session.pacing.realtime_factor)
+                    .range(0.01..=1000.0)
+                    .speed(0.05),
+            );
+        } else {
+            ui.label("as fast as possible");
+        }
         if ui
             .selectable_label(session.pacing.realtime_factor == 1.0, "sync 1x")
             .clicked()
@@ -163,15 +156,28 @@ pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut ToolbarStat
     ui.horizontal(|ui| {
         let dt = session.simulator.clock().dt;
         ui.monospace(format!(
-            "sim {:>8.3} s   real {:>8.3} s   step {:>8}   δ {:.4} s   speed {:>6.1}x   {:>4.1} fps",
+            "sim {:>8.3} s   real {:>8.3} s   step {:>8}   δ {:.4} s   speed {}   {:>4.1} fps",
             session.sim_time(),
             session.real_time,
             session.steps(),
             dt,
-            state.speed,
-            state.fps,
+            state
+                .meter
+                .readout(session.pacing.realtime_factor, session.running),
+            state.meter.fps(),
         ));
     });
+    if let Some(halt) = session.halt.clone() {
+        ui.horizontal(|ui| {
+            ui.label(egui::RichText::new(halt.message()).strong());
+            if !matches!(halt, Halt::Diverged) && ui.button("Continue").clicked() {
+                session.continue_run();
+            }
+            if ui.button("Restart").clicked() {
+                session.restart();
+            }
+        });
+    }
     // A failed load or restart: the located error on its own rows (the world shown is the
     // previous one), until dismissed.
     if let Some(e) = session.error.clone() {

@@ -8,7 +8,7 @@ use crate::control::ControlKernel;
 use crate::sensing::SensorData;
 use crate::sim::Simulator;
 use crate::sim::energy::Energy;
-use crate::sim::engine::{BodyId, BodyState, PadArea, PhysicsEngine};
+use crate::sim::engine::{BodyId, BodyState, PadArea, PhysicsEngine, ShapeOutline};
 use crate::sim::error::SimError;
 use crate::sim::kernel::{Kernel, SimRobot};
 use crate::sim::physics::SimPhysics;
@@ -199,6 +199,50 @@ impl Simulator {
     pub fn robot_bodies(&self, index: usize) -> Result<Vec<BodyId>, SimError> {
         let robot = self.robot_component::<SimRobot>(index)?;
         Ok(robot.bodies.iter().map(|(b, _)| *b).collect())
+    }
+
+    /// The box (min, max corners, m) holding every static collider of the world (its
+    /// ground and fixed scenery), or `None` when nothing is static. Windows use it to notice a
+    /// robot that left the world.
+    pub fn scenery_bounds(&self) -> Option<([f64; 3], [f64; 3])> {
+        let mut out: Option<([f64; 3], [f64; 3])> = None;
+        for c in self.engine().colliders().iter().filter(|c| !c.dynamic) {
+            let (lo, hi) = match c.shape {
+                ShapeOutline::Box(h) => {
+                    // The rotated box's extent along each world axis.
+                    let mut e = [0.0; 3];
+                    for (axis, half) in h.iter().enumerate() {
+                        let mut local = [0.0; 3];
+                        local[axis] = *half;
+                        let w = c.pose.rotate(local);
+                        for (ek, wk) in e.iter_mut().zip(w) {
+                            *ek += wk.abs();
+                        }
+                    }
+                    let t = c.pose.translation;
+                    (
+                        [t[0] - e[0], t[1] - e[1], t[2] - e[2]],
+                        [t[0] + e[0], t[1] + e[1], t[2] + e[2]],
+                    )
+                }
+                ShapeOutline::Sphere(r) => {
+                    let t = c.pose.translation;
+                    (
+                        [t[0] - r, t[1] - r, t[2] - r],
+                        [t[0] + r, t[1] + r, t[2] + r],
+                    )
+                }
+                ShapeOutline::Bounds(lo, hi) => (lo, hi),
+            };
+            out = Some(match out {
+                None => (lo, hi),
+                Some((a, b)) => (
+                    std::array::from_fn(|k| a[k].min(lo[k])),
+                    std::array::from_fn(|k| b[k].max(hi[k])),
+                ),
+            });
+        }
+        out
     }
 
     /// Position of a body (m, z up).

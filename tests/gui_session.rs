@@ -1,0 +1,190 @@
+//! The control window's runs as a user sees them (issue 33, points 2 and 3): the speed
+//! readouts are what the wall clock says even when frames are slow, and a run ends — at
+//! its duration, or when the robot falls off the world — with a message instead of running
+//! on forever. Under Xvfb with Mesa's software renderer, driven by scripts.
+#![cfg(feature = "gui")]
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::time::SystemTime;
+
+use common::window::{get, scratch, state};
+
+fn num(s: &[(String, String)], key: &str) -> f64 {
+    get(s, key).parse().unwrap_or_else(|e| panic!("{key}: {e}"))
+}
+
+/// When `path` was last written (the kernel's wall clock, not the window's).
+fn written(path: &Path) -> SystemTime {
+    std::fs::metadata(path)
+        .and_then(|m| m.modified())
+        .expect("state file written")
+}
+
+/// A copy of the demo simulation in `dir` with `duration` and, when given, the environment
+/// file `env`; the other files are the repository's.
+fn demo_variant(dir: &Path, duration: f64, env: Option<&Path>) -> PathBuf {
+    let configs = common::root().join("configs");
+    let env = env.map_or_else(
+        || configs.join("environments/flat.env.xml"),
+        Path::to_path_buf,
+    );
+    let text = format!(
+        r#"<?xml version="1.0" encoding="utf-8"?>
+<simulation>
+  <robot>{}</robot>
+  <actuation>{}</actuation>
+  <environment>{}</environment>
+  <simulationProperties>
+    <mode>Single Run Simulation</mode>
+    <accuracy>30</accuracy>
+    <stepWidth>0.001</stepWidth>
+    <duration>{duration}</duration>
+    <seed>1</seed>
+    <realtimeFactor>1</realtimeFactor>
+  </simulationProperties>
+</simulation>
+"#,
+        configs.join("robots/snake5p.robot.xml").display(),
+        configs
+            .join("actuation/snake5p_sine40.actuation.xml")
+            .display(),
+        env.display()
+    );
+    let path = dir.join("variant.simulation.xml");
+    std::fs::write(&path, text).expect("simulation file");
+    path
+}
+
+#[test]
+fn readouts_match_the_wall_clock_when_frames_are_slow() {
+    let dir = scratch("readouts");
+    let (a, b) = (dir.join("a.txt"), dir.join("b.txt"));
+    let script = dir.join("slow.script");
+    // Every frame 350 ms longer than it takes: a window drawing about 1-2 frames a second,
+    // asked to run at real time.
+    std::fs::write(
+        &script,
+        format!(
+            "slow-frames 350\nspeed 1\nstart\nwait 4\nstate {}\nwait 8\nstate {}\nquit\n",
+            a.display(),
+            b.display()
+        ),
+    )
+    .expect("script");
+    let (ok, out) = common::window::run(&["gui", "configs/demo.simulation.xml"], &script);
+    assert!(ok, "the window failed:\n{out}");
+    let (sa, sb) = (state(&a), state(&b));
+    let wall = written(&b)
+        .duration_since(written(&a))
+        .expect("b after a")
+        .as_secs_f64();
+    // Nine frames between the two states (the wait's eight and the one writing b).
+    let fps = 9.0 / wall;
+    let factor = (num(&sb, "sim_time") - num(&sa, "sim_time")) / wall;
+    let real = num(&sb, "real_time") - num(&sa, "real_time");
+    let close = |shown: f64, measured: f64| (shown / measured - 1.0).abs() < 0.1;
+    assert!(
+        close(num(&sb, "fps"), fps),
+        "window says {} fps, the clock {fps:.3}",
+        num(&sb, "fps")
+    );
+    assert!(
+        close(num(&sb, "factor"), factor),
+        "window says {}x, the clock {factor:.3}x",
+        num(&sb, "factor")
+    );
+    assert!(close(real, wall), "real time advanced {real} s in {wall} s");
+    // The machine can keep real time at these frame rates: the slow frames do not slow the
+    // simulation (each frame catches up on the wall time it took).
+    assert!(factor > 0.9, "simulated at {factor}x of 1x requested");
+    assert!(
+        get(&sb, "speed_readout").starts_with(&format!("{:.2}x", num(&sb, "factor"))),
+        "{}",
+        get(&sb, "speed_readout")
+    );
+}
+
+#[test]
+fn a_run_pauses_at_its_duration_and_continues_past_it() {
+    let dir = scratch("duration");
+    let config = demo_variant(&dir, 1.5, None);
+    let (at_end, after) = (dir.join("end.txt"), dir.join("after.txt"));
+    let script = dir.join("duration.script");
+    std::fs::write(
+        &script,
+        format!(
+            "speed 0\nstart\nwait-for paused 3000\nwait 3\nstate {}\ncontinue\nwait-for running 10\nwait 5\npause\nstate {}\nquit\n",
+            at_end.display(),
+            after.display()
+        ),
+    )
+    .expect("script");
+    let config = config.display().to_string();
+    let (ok, out) = common::window::run(&["gui", &config], &script);
+    assert!(ok, "the window failed:\n{out}");
+    let s = state(&at_end);
+    assert_eq!(get(&s, "running"), "false");
+    assert_eq!(
+        num(&s, "sim_time"),
+        1.5,
+        "stopped at the duration, to the step"
+    );
+    assert!(
+        get(&s, "halt").contains("duration, 1.5 s"),
+        "{}",
+        get(&s, "halt")
+    );
+    let s = state(&after);
+    assert!(num(&s, "sim_time") > 1.5, "Continue ran past the duration");
+    assert_eq!(get(&s, "halt"), "");
+}
+
+#[test]
+fn a_robot_that_falls_off_the_world_pauses_the_run() {
+    let dir = scratch("fall");
+    // A floor the size of a coin under the snake's middle: it topples off at once.
+    let env = dir.join("coin.env.xml");
+    std::fs::write(
+        &env,
+        r#"<Environment>
+  <KinBody name="coin">
+    <Body type="static">
+      <Translation>0 0 -0.003</Translation>
+      <Geom type="box"><extents>0.02 0.02 0.003</extents></Geom>
+    </Body>
+  </KinBody>
+</Environment>
+"#,
+    )
+    .expect("environment");
+    let config = demo_variant(&dir, 30.0, Some(&env));
+    let st = dir.join("state.txt");
+    let script = dir.join("fall.script");
+    std::fs::write(
+        &script,
+        format!(
+            "speed 0\nstart\nwait-for paused 3000\nstate {}\nquit\n",
+            st.display()
+        ),
+    )
+    .expect("script");
+    let config = config.display().to_string();
+    let (ok, out) = common::window::run(&["gui", &config], &script);
+    assert!(ok, "the window failed:\n{out}");
+    let s = state(&st);
+    assert!(
+        get(&s, "halt").contains("left the world"),
+        "{}",
+        get(&s, "halt")
+    );
+    let z: f64 = get(&s, "com")
+        .split(' ')
+        .nth(2)
+        .and_then(|v| v.parse().ok())
+        .expect("com z");
+    // Below the coin by the margin, and caught long before the duration.
+    assert!((-3.0..-1.0).contains(&z), "centre of mass at z {z}");
+    assert!(num(&s, "sim_time") < 2.0, "{}", num(&s, "sim_time"));
+}
