@@ -3,6 +3,7 @@
 //!
 //! - [`control`]: the control window (thesis 4.5) — 3D viewer, toolbar, live plots,
 //!   control-algorithm properties, data file inspection, optimization view.
+//! - [`desktop`]: reactive rendering, a clean exit on SIGTERM, child windows reaped
 //! - [`meter`]: frame rate and real-time factor achieved over the last wall second
 //! - [`pointer`]: who gets the pointer, the panels or the 3D scene behind them
 //! - [`scripting`]: what both windows' scripts share (parsing, waits, screenshots)
@@ -11,6 +12,7 @@
 //! - [`video`]: videos of a run rendered off-screen (`proleg run --video`)
 
 pub mod control;
+pub mod desktop;
 pub mod meter;
 pub mod module_editor;
 pub mod pointer;

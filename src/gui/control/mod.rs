@@ -153,15 +153,23 @@ pub fn run(
     robot_view.open =
         session.sim.files.simulation.properties.mode == crate::config::simulation::Mode::RealRobot;
     let mut app = App::new();
-    app.add_plugins(DefaultPlugins.set(WindowPlugin {
-        primary_window: Some(Window {
-            title,
-            resolution: WindowResolution::new(1280, 800),
-            ..default()
-        }),
-        ..default()
-    }))
-    .add_plugins((EguiPlugin::default(), MeshPickingPlugin))
+    app.add_plugins(
+        DefaultPlugins
+            .set(WindowPlugin {
+                primary_window: Some(Window {
+                    title,
+                    resolution: WindowResolution::new(1280, 800),
+                    ..default()
+                }),
+                ..default()
+            })
+            .disable::<bevy::app::TerminalCtrlCHandlerPlugin>(),
+    )
+    .add_plugins((
+        EguiPlugin::default(),
+        MeshPickingPlugin,
+        crate::gui::desktop::DesktopPlugin,
+    ))
     .insert_resource(ClearColor(Color::srgb(0.62, 0.74, 0.86)))
     .insert_resource(ToolbarState::new(&config))
     .insert_resource(runner)
@@ -244,8 +252,34 @@ impl Plugin for ControlWindowPlugin {
                 .chain()
                 .in_set(GuiSystems::Present),
         )
-        .add_systems(EguiPrimaryContextPass, draw_ui);
+        .add_systems(EguiPrimaryContextPass, draw_ui)
+        .add_systems(PostUpdate, busy);
     }
+}
+
+/// Whether the window must keep drawing: a simulation, a script, an optimization, a
+/// recording, a real robot or a gamepad (polled each frame) is at work.
+fn busy(
+    session: NonSend<SimSession>,
+    runner: Res<ScriptRunner>,
+    views: Views,
+    gamepads: Query<(), With<Gamepad>>,
+    busy: Option<ResMut<crate::gui::desktop::Busy>>,
+) {
+    let Some(mut busy) = busy else {
+        return;
+    };
+    let script = runner
+        .0
+        .as_ref()
+        .is_some_and(|s| s.next < s.commands.len());
+    let now = session.running
+        || script
+        || views.optimizer.running()
+        || views.recorder.recording()
+        || views.robot.connected()
+        || !gamepads.is_empty();
+    busy.set_if_neq(crate::gui::desktop::Busy(now));
 }
 
 /// Runs this frame's simulation steps and updates the speed figures, both from the wall

@@ -50,17 +50,6 @@ pub fn simulation_files(dir: &Path) -> Vec<PathBuf> {
     out
 }
 
-/// Opens the configuration window (`proleg wizard --expert CURRENT`) as a new process.
-fn open_setup_window(current: &Path) -> Result<(), String> {
-    let exe = std::env::current_exe().map_err(|e| format!("cannot find proleg: {e}"))?;
-    std::process::Command::new(exe)
-        .arg("wizard")
-        .arg("--expert")
-        .arg(current)
-        .spawn()
-        .map(|_| ())
-        .map_err(|e| format!("cannot open the configuration window: {e}"))
-}
 
 /// Draws the toolbar.
 pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut ToolbarState) {
@@ -88,7 +77,13 @@ pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut ToolbarStat
             .on_hover_text("Opens the configuration window: wizard, expert composition (on this simulation), environment editor")
             .clicked()
         {
-            session.error = open_setup_window(&session.path).err();
+            session.error = crate::gui::desktop::spawn_window(
+                "configuration window",
+                &["wizard", "--expert"],
+                &session.path,
+            )
+            .err()
+            .map(|e| e.to_string());
         }
         ui.separator();
         let label = if session.running {

@@ -81,15 +81,23 @@ pub fn run(opts: &SetupOptions) -> Result<(), String> {
         state.tool = Tool::Expert;
     }
     let mut app = App::new();
-    app.add_plugins(DefaultPlugins.set(WindowPlugin {
-        primary_window: Some(Window {
-            title: "proleg — new / edit configuration".into(),
-            resolution: WindowResolution::new(1280, 800),
-            ..default()
-        }),
-        ..default()
-    }))
-    .add_plugins((EguiPlugin::default(), MeshPickingPlugin))
+    app.add_plugins(
+        DefaultPlugins
+            .set(WindowPlugin {
+                primary_window: Some(Window {
+                    title: "proleg — new / edit configuration".into(),
+                    resolution: WindowResolution::new(1280, 800),
+                    ..default()
+                }),
+                ..default()
+            })
+            .disable::<bevy::app::TerminalCtrlCHandlerPlugin>(),
+    )
+    .add_plugins((
+        EguiPlugin::default(),
+        MeshPickingPlugin,
+        crate::gui::desktop::DesktopPlugin,
+    ))
     .insert_resource(ClearColor(Color::srgb(0.62, 0.74, 0.86)))
     .insert_resource(state)
     .insert_resource(script)
@@ -149,7 +157,20 @@ impl Plugin for SetupWindowPlugin {
                     .chain()
                     .in_set(SetupSystems::Views),
             )
-            .add_systems(EguiPrimaryContextPass, draw_ui);
+            .add_systems(EguiPrimaryContextPass, draw_ui)
+            .add_systems(PostUpdate, busy);
+    }
+}
+
+/// Whether the window must keep drawing: only while a script plays (everything else
+/// happens in answer to input).
+fn busy(script: Res<SetupScript>, busy: Option<ResMut<crate::gui::desktop::Busy>>) {
+    if let Some(mut busy) = busy {
+        let now = script
+            .0
+            .as_ref()
+            .is_some_and(|s| s.next < s.commands.len());
+        busy.set_if_neq(crate::gui::desktop::Busy(now));
     }
 }
 
@@ -158,17 +179,9 @@ fn manual_egui_context(mut settings: ResMut<EguiGlobalSettings>) {
     settings.auto_create_primary_context = false;
 }
 
-/// Opens a simulation in a control window (a new proleg process).
+/// Opens a simulation in a control window (a new proleg process, reaped when it closes).
 pub fn open_control_window(state: &mut SetupState, sim: &Path) {
-    let exe = std::env::current_exe();
-    let r = exe.map_err(|e| e.to_string()).and_then(|exe| {
-        std::process::Command::new(exe)
-            .arg("gui")
-            .arg(sim)
-            .spawn()
-            .map_err(|e| e.to_string())
-    });
-    match r {
+    match crate::gui::desktop::spawn_window("control window", &["gui"], sim) {
         Ok(_) => {
             state.opened.push(sim.to_path_buf());
             state.status = Some(Status::Info(format!(
@@ -176,7 +189,7 @@ pub fn open_control_window(state: &mut SetupState, sim: &Path) {
                 sim.display()
             )));
         }
-        Err(e) => state.status = Some(Status::Error(format!("cannot open a control window: {e}"))),
+        Err(e) => state.status = Some(Status::Error(e.to_string())),
     }
 }
 

@@ -19,6 +19,7 @@
 //! expert-open PATH                     # the expert dialog's Open (a broken file: its error)
 //! expert-edit                          # hand the composition to the wizard
 //! preview                              # run the robot in the scene for 5 s
+//! open-control PATH                    # "Open in control window" on this simulation file
 //! zoom 3                               # height of the top and side views (m)
 //! modules open | module-declare ... | module-compile   # see gui::module_editor::script
 //! screenshot docs/wizard_robot.png
@@ -92,6 +93,8 @@ pub enum Command {
     ExpertEdit,
     /// `expert-open FILE`: the expert dialog's Open.
     ExpertOpen(PathBuf),
+    /// `open-control FILE`: opens a simulation in a control window (a child process).
+    OpenControl(PathBuf),
     /// `preview`: runs the wizard's robot for 5 s.
     Preview,
     /// `zoom H`: height of the top and side views (m).
@@ -190,6 +193,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             "expert-edit" => Command::ExpertEdit,
             "expert-open" => Command::ExpertOpen(PathBuf::from(arg(1, "path")?)),
             "preview" => Command::Preview,
+            "open-control" => Command::OpenControl(PathBuf::from(arg(1, "path")?)),
             "zoom" => Command::Zoom(num(1, "view height (m)")? as f32),
             "screenshot" => Command::Screenshot(PathBuf::from(arg(1, "path")?)),
             "state" => Command::State(PathBuf::from(arg(1, "path")?)),

@@ -95,6 +95,12 @@ fn carry_out(
         | Command::ExpertSave(_)
         | Command::ExpertEdit
         | Command::ExpertOpen(_) => expert_command(c, state)?,
+        Command::OpenControl(p) => {
+            crate::gui::setup::open_control_window(state, &p);
+            if let Some(Status::Error(e)) = &state.status {
+                return Err(e.clone());
+            }
+        }
         Command::Preview => {
             preview(state);
             if let Some(Err(e)) = &state.preview {
