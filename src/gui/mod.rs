@@ -4,6 +4,7 @@
 //! - [`control`]: the control window (thesis 4.5) — 3D viewer, toolbar, live plots,
 //!   control-algorithm properties, data file inspection, optimization view.
 //! - [`desktop`]: reactive rendering, a clean exit on SIGTERM, child windows reaped
+//! - [`keyboard`]: keys reach egui in typed order with the modifiers of their moment
 //! - [`meter`]: frame rate and real-time factor achieved over the last wall second
 //! - [`pointer`]: who gets the pointer, the panels or the 3D scene behind them
 //! - [`scripting`]: what both windows' scripts share (parsing, waits, screenshots)
@@ -13,6 +14,7 @@
 
 pub mod control;
 pub mod desktop;
+pub mod keyboard;
 pub mod meter;
 pub mod module_editor;
 pub mod pointer;

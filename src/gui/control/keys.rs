@@ -25,7 +25,19 @@ pub fn shortcuts(
     mut recorder: ResMut<Recorder>,
     mut cameras: Query<&mut OrbitCamera>,
 ) {
-    if egui.wants_any_keyboard_input() {
+    // A text field has the keyboard, or a modifier makes the key a command of another
+    // kind (Ctrl+R is not R).
+    let modified = [
+        KeyCode::ControlLeft,
+        KeyCode::ControlRight,
+        KeyCode::AltLeft,
+        KeyCode::AltRight,
+        KeyCode::SuperLeft,
+        KeyCode::SuperRight,
+    ]
+    .iter()
+    .any(|k| keys.pressed(*k) || keys.just_released(*k));
+    if egui.wants_any_keyboard_input() || modified {
         return;
     }
     if keys.just_pressed(KeyCode::Space) {

@@ -169,6 +169,7 @@ pub fn run(
         EguiPlugin::default(),
         MeshPickingPlugin,
         crate::gui::desktop::DesktopPlugin,
+        crate::gui::keyboard::OrderedKeysPlugin,
     ))
     .insert_resource(ClearColor(Color::srgb(0.62, 0.74, 0.86)))
     .insert_resource(ToolbarState::new(&config))
@@ -269,10 +270,7 @@ fn busy(
     let Some(mut busy) = busy else {
         return;
     };
-    let script = runner
-        .0
-        .as_ref()
-        .is_some_and(|s| s.next < s.commands.len());
+    let script = runner.0.as_ref().is_some_and(|s| s.next < s.commands.len());
     let now = session.running
         || script
         || views.optimizer.running()

@@ -8,7 +8,7 @@
 //! continue                       # after a run paused by itself (its duration, a robot
 //!                                # that left the world): the message's Continue
 //! load CONFIG                    # the toolbar's Load (a broken file: its error, the world kept)
-//! run-until 3.0                  # simulated seconds (starts the simulation)
+//! run-until 3.0                  # runs (paced) and pauses exactly at this simulated second
 //! wait-for running|paused|debug 600   # until the state holds (e.g. after a real key press
 //!                                # from xdotool), at most this many frames
 //! wait-for file PATH 600         # until PATH exists (a test says its input was sent)

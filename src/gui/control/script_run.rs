@@ -132,10 +132,15 @@ fn simulation_command(
             Flow::Next
         }
         Command::RunUntil(t) if session.sim_time() + 1e-9 < t => {
+            // Paced as the toolbar says, pausing exactly at t.
+            session.pause_at = Some(t);
             session.running = true;
             Flow::Again
         }
-        Command::RunUntil(_) => Flow::Next,
+        Command::RunUntil(_) => {
+            session.pause_at = None;
+            Flow::Next
+        }
         Command::StepTo(t) => {
             session.running = false;
             if session.step_to(t, STEPS_PER_FRAME) {

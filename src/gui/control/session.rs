@@ -95,6 +95,8 @@ pub struct SimSession {
     end_at: Option<f64>,
     /// Whether a robot leaving the world pauses the run (off after "Continue").
     watch_world: bool,
+    /// Simulated second at which the run pauses quietly (a script's `run-until`).
+    pub pause_at: Option<f64>,
     /// The static scenery's box (see [`Simulator::scenery_bounds`]).
     scenery: Option<([f64; 3], [f64; 3])>,
     /// Whether the last frame ran: the first frame after a start takes no wall time
@@ -149,6 +151,7 @@ impl SimSession {
             halt: None,
             end_at: (duration > 0.0).then_some(duration),
             watch_world: true,
+            pause_at: None,
             scenery,
             was_running: false,
         })
@@ -335,9 +338,13 @@ impl SimSession {
             ),
             None => (UNPACED_STEP_BUDGET, u64::MAX),
         };
-        let steps = match self.end_at {
-            Some(end) => {
-                let last = (end / dt).round().max(0.0) as u64;
+        let stop = match (self.end_at, self.pause_at) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        };
+        let steps = match stop {
+            Some(t) => {
+                let last = (t / dt).round().max(0.0) as u64;
                 due.min(last.saturating_sub(self.steps()))
             }
             None => due,
@@ -368,9 +375,13 @@ impl SimSession {
     /// world (checked after every chunk of at most 50 steps, so a fast run stops near
     /// where it happened). True when it paused.
     fn check_halt(&mut self) -> bool {
-        let at_end = self
-            .end_at
-            .filter(|end| self.steps() as f64 * self.simulator.clock().dt >= end - 1e-9);
+        let now = self.steps() as f64 * self.simulator.clock().dt;
+        if self.pause_at.is_some_and(|t| now >= t - 1e-9) {
+            self.pause_at = None;
+            self.running = false;
+            return true;
+        }
+        let at_end = self.end_at.filter(|end| now >= end - 1e-9);
         let halt = match at_end {
             Some(end) => Some(Halt::Duration(end)),
             None => self.left_world(),

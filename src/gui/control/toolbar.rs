@@ -50,13 +50,13 @@ pub fn simulation_files(dir: &Path) -> Vec<PathBuf> {
     out
 }
 
-
 /// Draws the toolbar.
 pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut ToolbarState) {
     ui.horizontal_wrapped(|ui| {
         ui.label("Configuration:");
-        ui.add(egui::TextEdit::singleline(&mut state.path).desired_width(260.0));
-        if ui.button("Load").clicked() {
+        let field = ui.add(egui::TextEdit::singleline(&mut state.path).desired_width(260.0));
+        let entered = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+        if ui.button("Load").clicked() || entered {
             session.load(Path::new(state.path.trim()));
         }
         egui::ComboBox::from_id_salt("known configs")

@@ -97,6 +97,7 @@ pub fn run(opts: &SetupOptions) -> Result<(), String> {
         EguiPlugin::default(),
         MeshPickingPlugin,
         crate::gui::desktop::DesktopPlugin,
+        crate::gui::keyboard::OrderedKeysPlugin,
     ))
     .insert_resource(ClearColor(Color::srgb(0.62, 0.74, 0.86)))
     .insert_resource(state)
@@ -166,10 +167,7 @@ impl Plugin for SetupWindowPlugin {
 /// happens in answer to input).
 fn busy(script: Res<SetupScript>, busy: Option<ResMut<crate::gui::desktop::Busy>>) {
     if let Some(mut busy) = busy {
-        let now = script
-            .0
-            .as_ref()
-            .is_some_and(|s| s.next < s.commands.len());
+        let now = script.0.as_ref().is_some_and(|s| s.next < s.commands.len());
         busy.set_if_neq(crate::gui::desktop::Busy(now));
     }
 }
