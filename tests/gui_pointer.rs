@@ -2,7 +2,8 @@
 //! Xvfb server of the test's own. A press on a panel belongs to the panel even when the
 //! drag leaves it (the Amplitude slider dragged into the viewer changes Amplitude and moves
 //! no floor); a click on Start selects nothing behind the toolbar; a left drag on the
-//! ground orbits the camera instead of moving the floor. Input is sent step by step, each
+//! ground orbits the camera instead of moving the floor; on the wizard's environment page,
+//! a click in the Selection panel keeps the selection and the value typed there takes. Input is sent step by step, each
 //! step acknowledged by the window two frames after the test said it was sent, so a drag
 //! spans several frames at any frame rate and nothing depends on timing.
 #![cfg(feature = "gui")]
@@ -92,4 +93,33 @@ fn start_selects_nothing_and_a_left_drag_on_the_ground_orbits() {
         .parse()
         .unwrap();
     assert!((yaw - (-0.9)).abs() > 0.05, "the camera orbited: yaw {yaw}");
+}
+
+#[test]
+fn a_position_typed_in_the_wizards_selection_panel_keeps_the_selection_and_takes() {
+    let x = Xvfb::start();
+    let out = common::window::scratch("pointer-editor-out");
+    let out = out.display().to_string();
+    let args = ["wizard", "--out", &out];
+    // The wizard's environment page (page 3), a box added and selected.
+    let mut w = Driven::open(
+        &x,
+        "pointer-editor",
+        &args,
+        "slow-frames 400\nnext\nnext\nadd box 1 0\nselect 1\n",
+        4,
+    );
+    // At two frames a second, a click on the Selection panel's x field (a drag value: the
+    // click edits it), then the new value typed over the old one.
+    w.input(&x, ("1055", "76"), &["click", "1"]);
+    w.keys(&x, &["key", "ctrl+a"]);
+    w.keys(&x, &["type", "0.5"]);
+    w.keys(&x, &["key", "Return"]);
+    let s = w.finish();
+    assert_eq!(get(&s, "selected"), "1", "the click kept the selection");
+    assert!(
+        get(&s, "selected_position").starts_with("0.5000 "),
+        "{}",
+        get(&s, "selected_position")
+    );
 }

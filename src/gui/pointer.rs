@@ -1,4 +1,5 @@
-//! Who gets the pointer: the egui panels and windows, or the 3D scene behind them.
+//! Who gets the pointer: the egui panels and windows, or the 3D scene behind them (both
+//! windows: the control window's viewer, the configuration window's 3D views).
 //!
 //! egui's own "wants the pointer" is last frame's answer: at a few frames per second a
 //! pointer that moves onto a panel and clicks within one frame was not over the panel last

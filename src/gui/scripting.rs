@@ -47,6 +47,20 @@ impl Pacing {
         Ok(false)
     }
 
+    /// One frame of a `wait-for`: go on once `holds`, else poll again next frame, for at
+    /// most `frames` frames (then an error naming `what`).
+    pub fn poll(&mut self, holds: bool, frames: u32, what: &str) -> Result<Flow, String> {
+        self.polls += 1;
+        if holds {
+            self.polls = 0;
+            Ok(Flow::Next)
+        } else if self.polls > frames {
+            Err(format!("waited {frames} frames for {what}"))
+        } else {
+            Ok(Flow::Again)
+        }
+    }
+
     /// Asks for a screenshot of the window into `path`; the script waits for the file.
     pub fn screenshot(&mut self, commands: &mut Commands, path: PathBuf) {
         crate::gui::control::widgets::ensure_parent(&path);

@@ -451,15 +451,7 @@ fn output_command(
                 w if w.starts_with("file:") => std::path::Path::new(&w[5..]).exists(),
                 _ => views.debug.0,
             };
-            script.pacing.polls += 1;
-            if holds {
-                script.pacing.polls = 0;
-                Flow::Next
-            } else if script.pacing.polls > frames {
-                return Err(format!("waited {frames} frames for {what}"));
-            } else {
-                Flow::Again
-            }
+            script.pacing.poll(holds, frames, &what)?
         }
         Command::Record(Some(file)) => {
             views.recorder.start(&session.path, file);

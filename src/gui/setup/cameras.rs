@@ -8,7 +8,6 @@ use bevy::camera::{ClearColorConfig, Viewport};
 use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
 use bevy::prelude::*;
 use bevy_egui::PrimaryEguiContext;
-use bevy_egui::input::EguiWantsInput;
 
 use crate::compose::env_edit::Selected;
 use crate::gui::control::camera::{OrbitCamera, to_bevy};
@@ -160,13 +159,13 @@ pub fn orbit_camera(
     buttons: Res<ButtonInput<MouseButton>>,
     motion: Res<AccumulatedMouseMotion>,
     scroll: Res<AccumulatedMouseScroll>,
-    egui: Res<EguiWantsInput>,
+    routing: Res<crate::gui::pointer::PointerRouting>,
     drag: Res<EditorDrag>,
     window: Single<&Window>,
     mut state: ResMut<SetupState>,
     mut cameras: Query<(&Camera, &mut OrbitCamera, &mut Transform)>,
 ) {
-    if egui.wants_any_pointer_input() {
+    if !routing.scene_gets_pointer() {
         return;
     }
     let cursor = window.cursor_position();

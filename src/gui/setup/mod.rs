@@ -116,7 +116,8 @@ pub struct SetupWindowPlugin;
 
 impl Plugin for SetupWindowPlugin {
     fn build(&self, app: &mut App) {
-        app.init_resource::<EditorDrag>()
+        app.add_plugins(crate::gui::pointer::PointerRoutingPlugin)
+            .init_resource::<EditorDrag>()
             .init_resource::<crate::gui::module_editor::ModuleEditor>()
             .init_resource::<SceneCache>()
             .add_observer(picking::on_click)
@@ -198,6 +199,7 @@ fn draw_ui(
     mut state: ResMut<SetupState>,
     mut modules: ResMut<crate::gui::module_editor::ModuleEditor>,
     cache: Res<SceneCache>,
+    mut routing: ResMut<crate::gui::pointer::PointerRouting>,
 ) -> Result {
     let ctx = contexts.ctx_mut()?.clone();
     let state = state.as_mut();
@@ -242,7 +244,10 @@ fn draw_ui(
     }
     match state.tool {
         Tool::Wizard => {
-            egui::Panel::right("wizard")
+            // Its own panel (and remembered width) on the environment page, where the
+            // views need the room: one shared panel changed width a few frames after the
+            // page did, moving the views under the pointer.
+            egui::Panel::right(if editing { "wizard editing" } else { "wizard" })
                 .resizable(true)
                 .default_size(if editing { 330.0 } else { 470.0 })
                 .show(&mut root, |ui| {
@@ -270,6 +275,8 @@ fn draw_ui(
     }
     let central = root.available_rect_before_wrap();
     state.central = Some(central);
+    // What the panels left holds the 3D views: the pointer there belongs to the scene.
+    routing.set_viewer(central);
     if editing {
         editor_view::label_views(&ctx, state);
     } else if state.tool == Tool::Wizard

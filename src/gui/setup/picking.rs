@@ -7,6 +7,7 @@
 use bevy::prelude::*;
 
 use crate::compose::env_edit::Selected;
+use crate::gui::pointer::PointerRouting;
 use crate::gui::setup::cameras::OrthoView;
 use crate::gui::setup::scene::ItemVisual;
 use crate::gui::setup::state::SetupState;
@@ -81,10 +82,15 @@ pub fn on_click(
     mut click: On<Pointer<Click>>,
     parents: Query<&ChildOf>,
     items: Query<&ItemVisual>,
+    routing: Res<PointerRouting>,
     mut state: ResMut<SetupState>,
 ) {
     click.propagate(false);
-    if click.button != PointerButton::Primary || !state.editing_env() {
+    // A click on a panel (the Selection panel's fields) is the panel's, not "empty space".
+    if click.button != PointerButton::Primary
+        || !state.editing_env()
+        || !routing.scene_gets_pointer()
+    {
         return;
     }
     let sel = item_of(click.original_event_target(), &parents, &items);
@@ -97,11 +103,13 @@ pub fn on_drag_start(
     parents: Query<&ChildOf>,
     items: Query<&ItemVisual>,
     cameras: CameraQuery,
+    routing: Res<PointerRouting>,
     mut state: ResMut<SetupState>,
     mut drag: ResMut<EditorDrag>,
 ) {
     ev.propagate(false);
-    if ev.button != PointerButton::Primary || !state.editing_env() {
+    if ev.button != PointerButton::Primary || !state.editing_env() || !routing.scene_gets_pointer()
+    {
         return;
     }
     let Some(sel) = item_of(ev.original_event_target(), &parents, &items) else {

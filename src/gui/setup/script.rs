@@ -4,6 +4,8 @@
 //!
 //! ```text
 //! wait 5                               # frames
+//! wait-for file PATH 600               # until PATH exists (a test says its input was sent)
+//! slow-frames 400                      # every frame takes 400 ms longer (a slow renderer)
 //! tool wizard|expert|editor
 //! set robot.topology pypyp             # any wizard field (see compose::wizard::Wizard::set)
 //! next | back | skip | save            # wizard navigation; save writes the files
@@ -93,6 +95,10 @@ pub enum Command {
     ExpertEdit,
     /// `expert-open FILE`: the expert dialog's Open.
     ExpertOpen(PathBuf),
+    /// `slow-frames MS`: every frame takes this much longer.
+    SlowFrames(u32),
+    /// `wait-for file PATH FRAMES`: until the file exists, at most this many frames.
+    WaitForFile(PathBuf, u32),
     /// `open-control FILE`: opens a simulation in a control window (a child process).
     OpenControl(PathBuf),
     /// `preview`: runs the wizard's robot for 5 s.
@@ -145,6 +151,12 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
         }
         let c = match words[0] {
             "wait" => Command::Wait(num(1, "frames")?.max(0.0) as u32),
+            "slow-frames" => {
+                Command::SlowFrames(num(1, "milliseconds")?.clamp(0.0, 10_000.0) as u32)
+            }
+            "wait-for" if words.len() == 4 && words[1] == "file" => {
+                Command::WaitForFile(PathBuf::from(words[2]), num(3, "frames")?.max(1.0) as u32)
+            }
             "tool" => Command::Tool(arg(1, "wizard, expert or editor")?),
             "set" => Command::Set(arg(1, "field")?, rest(2)),
             "next" => Command::Next,

@@ -57,6 +57,13 @@ fn carry_out(
             script.pacing.waiting = n;
             return Ok(Flow::Yield);
         }
+        Command::SlowFrames(ms) => {
+            script.pacing.frame_delay = std::time::Duration::from_millis(u64::from(ms));
+        }
+        Command::WaitForFile(path, frames) => {
+            let what = path.display().to_string();
+            return script.pacing.poll(path.exists(), frames, &what);
+        }
         Command::Tool(t) => {
             state.tool = match t.as_str() {
                 "wizard" => Tool::Wizard,
