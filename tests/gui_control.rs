@@ -137,16 +137,44 @@ fn scripted_state(name: &str, config: &str, commands: &str) -> Vec<(String, Stri
 
 #[test]
 fn optimization_view_runs_the_ga_and_replays_the_best() {
+    let dir = scratch("optimize_files");
+    let (store, best) = (dir.join("ga.sqlite"), dir.join("best.actuation.xml"));
     let s = scripted_state(
         "optimize",
         "configs/experiment1_ga.simulation.xml",
-        "wait 1\noptimize 5\nreplay-best\nwait 2\n",
+        &format!(
+            "wait 1\noptimize 5 {}\nsave-best {}\nreplay-best\nwait 2\n",
+            store.display(),
+            best.display()
+        ),
     );
     // The GA evaluates whole generations: at least the 5 asked for.
     let n: u64 = get(&s, "optimizer_evaluations").parse().expect("count");
     assert!(n >= 5, "{n} evaluations");
-    let best: f64 = get(&s, "optimizer_best").parse().expect("a best score");
-    assert!(best > 1.0, "best {best} m");
+    let score: f64 = get(&s, "optimizer_best").parse().expect("a best score");
+    assert!(score > 1.0, "best {score} m");
+    // One clean status line: the run's end, its best with the unit, where it is stored.
+    let status = get(&s, "optimizer_status");
+    assert!(
+        status.starts_with(&format!("finished: {n} evaluations in "))
+            && status.contains(&format!("best {score:.4} m; stored as run 1 in "))
+            && status.ends_with("ga.sqlite"),
+        "{status}"
+    );
+    // Docked on the left below the toolbar, not floating over it.
+    let panel: Vec<f64> = get(&s, "optimizer_panel")
+        .split(' ')
+        .map(|v| v.parse().expect("rect"))
+        .collect();
+    assert!(panel[0] <= 1.0 && panel[1] > 60.0, "{panel:?}");
+    // The run is in the store `proleg results` reads, and Save best wrote an actuation
+    // file `proleg check` accepts in the simulation.
+    assert_eq!(get(&s, "stored_runs"), "1");
+    let (ok, out, err) = common::proleg(&["results", store.to_str().unwrap()]);
+    assert!(ok && out.contains("experiment1_ga"), "{out}{err}");
+    let text = std::fs::read_to_string(&best).expect("best actuation written");
+    proleg::config::actuation::parse_actuation_file(&best.display().to_string(), &text)
+        .expect("a valid actuation file");
     // The replay restarted the world and runs it.
     assert_eq!(get(&s, "running"), "true");
     let t: f64 = get(&s, "sim_time").parse().expect("time");

@@ -116,6 +116,27 @@ impl OptimizeReport {
 
 /// Runs the optimization the options ask for; progress goes to stderr unless quiet.
 pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeReport, String> {
+    let t = Instant::now();
+    let mut progress: Option<Progress> = None;
+    let report = run_observed(o, registry, &mut |e: &Evaluation, budget: Option<u64>| {
+        progress
+            .get_or_insert_with(|| Progress::new(budget, o.quiet))
+            .show(e, t.elapsed().as_secs_f64());
+    });
+    if let Some(p) = progress {
+        p.bar.finish_and_clear();
+    }
+    report
+}
+
+/// [`run`], telling `on_eval` of every evaluation (with the run's evaluation budget, if
+/// any) instead of drawing a progress bar: the control window's optimization view runs
+/// its optimizations through here, so they are stored like the command line's.
+pub fn run_observed(
+    o: &OptimizeOptions,
+    registry: &ModuleRegistry,
+    on_eval: &mut dyn FnMut(&Evaluation, Option<u64>),
+) -> Result<OptimizeReport, String> {
     // Every file the configuration reads is kept: the store holds it with the run, so a
     // worker on another host needs nothing but the store.
     let source = RecordingSource::new(&FsSource);
@@ -138,7 +159,7 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
     let (space, _) = prepare(&sim, registry)?;
     let location = match &o.store {
         Some(text) => StoreLocation::parse(text)?,
-        None => StoreLocation::sqlite(default_store(&o.config)),
+        None => StoreLocation::sqlite(default_store_path(&o.config)),
     };
     let shared = matches!(location, StoreLocation::Postgres(_));
     // Bad choices are refused before the store is touched.
@@ -161,7 +182,6 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
     };
     let t = Instant::now();
     let budget = Some(settings.max_evaluations).filter(|m| *m != u64::MAX);
-    let mut progress = Progress::new(budget, o.quiet);
     let mut table_error = None;
     let outcome = optimize(
         &sim,
@@ -174,10 +194,9 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
             {
                 table_error.get_or_insert(err.to_string());
             }
-            progress.show(e, t.elapsed().as_secs_f64());
+            on_eval(e, budget);
         },
     );
-    progress.bar.finish_and_clear();
     let outcome = outcome?;
     if let Some(mut w) = table {
         w.flush().map_err(|e| e.to_string())?;
@@ -365,8 +384,9 @@ fn stored_files(
     files
 }
 
-/// `CONFIG-STEM.results.sqlite` in the working folder.
-fn default_store(config: &Path) -> PathBuf {
+/// The store of `proleg optimize CONFIG` without `--store`: `CONFIG-STEM.results.sqlite`
+/// in the working folder.
+pub fn default_store_path(config: &Path) -> PathBuf {
     let stem = config
         .file_name()
         .and_then(|n| n.to_str())

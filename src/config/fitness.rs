@@ -43,6 +43,20 @@ impl Fitness {
         }
     }
 
+    /// The unit of its scores (cost of transport is a pure number, negated).
+    pub fn unit(self) -> &'static str {
+        match self {
+            Fitness::Displacement | Fitness::Distance => "m",
+            Fitness::MeanSpeed => "m/s",
+            Fitness::CostOfTransport => "1",
+        }
+    }
+
+    /// Its scores' axis label: name and unit ("displacement (m)").
+    pub fn axis_label(self) -> String {
+        format!("{} ({})", self.name(), self.unit())
+    }
+
     /// Whether episodes must accumulate the servos' energy.
     pub fn needs_energy(self) -> bool {
         self == Fitness::CostOfTransport

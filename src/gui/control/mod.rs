@@ -358,6 +358,11 @@ fn draw_ui(
             .default_size(270.0)
             .show(&mut root, |ui| plots::show(ui, &mut session, plots));
     }
+    if optimizer.open && session.sim.optimizer.is_some() {
+        optimizer_view::show(&mut root, &mut session, optimizer);
+    } else {
+        optimizer.poll();
+    }
     if panels.params {
         egui::Panel::right("params")
             .resizable(true)
@@ -375,11 +380,6 @@ fn draw_ui(
     picking::show(&ctx, &session, selection, &visuals);
     if inspect.open {
         inspect::show(&ctx, inspect);
-    }
-    if optimizer.open {
-        optimizer_view::show(&ctx, &mut session, optimizer);
-    } else {
-        optimizer.poll();
     }
     if remote.open {
         remote_view::show(&ctx, remote, gamepad, &session);

@@ -1,8 +1,11 @@
-//! The optimization view: when the simulation's mode is a genetic algorithm or great
-//! deluge, run that optimization on headless workers in the background (the same
-//! [`crate::optimize::run::optimize`] as `proleg optimize`), show its progress, evaluations
-//! per second, a live learning curve and the best candidate's parameter values, and replay
-//! the best candidate in the viewer (its values put into the shown robot's kernel). Or
+//! The optimization view, docked on the window's left: when the simulation's mode is an
+//! optimization, run it on headless workers in the background exactly as `proleg optimize
+//! CONFIG` does ([`crate::cli::optimize::run_observed`]: the configuration file as saved,
+//! every evaluation stored in a SQLite store, by default the command line's
+//! `CONFIG-STEM.results.sqlite`, shown and editable), show its progress, evaluations per
+//! second, a live learning curve with the score's name and unit, the best candidate's
+//! parameter values, replay the best candidate in the viewer (its values put into the shown
+//! robot's kernel) and save it as an actuation file. Or
 //! attach, read-only, to a run going on elsewhere (a shared `postgres://` store's driver and
 //! workers, or any store) and draw its learning curve live
 //! ([`crate::optimize::shared::follow::follow_run`]). Below, a store's runs with their
@@ -15,11 +18,13 @@ use bevy::prelude::*;
 use bevy_egui::egui;
 use egui_plot::{Legend, Line, Plot, PlotPoints, Points};
 
+use crate::cli::optimize::{OptimizeOptions, OptimizeReport, default_store_path};
+use crate::config::actuation::write_actuation_file;
 use crate::gui::control::results_view::{self, StoredResults};
 use crate::gui::control::session::SimSession;
-use crate::optimize::run::{
-    Evaluation, Outcome, RunChoices, RunSettings, StopFlag, optimize, prepare,
-};
+use crate::optimize::fitness::Fitness;
+use crate::optimize::result::actuation_with;
+use crate::optimize::run::{Evaluation, StopFlag, prepare};
 use crate::optimize::shared::follow::{FOLLOW_POLL, Followed, follow_run};
 use crate::optimize::space::{Genome, SearchSpace};
 use crate::optimize::store::StoreLocation;
@@ -27,7 +32,7 @@ use crate::optimize::store::StoreLocation;
 /// A message from the optimization thread.
 enum Report {
     Eval(Evaluation),
-    Done(Result<Outcome, String>),
+    Done(Box<Result<OptimizeReport, String>>),
     Detached(Result<Followed, String>),
 }
 
@@ -46,14 +51,24 @@ pub struct OptimizerView {
     pub best: Option<(Genome, f64)>,
     /// When the run started.
     pub started: Option<Instant>,
-    /// What the run is doing, or why it stopped.
+    /// How the last run ended (empty before one ended).
     pub status: String,
+    /// The SQLite store (path) the next run is recorded in.
+    pub store: String,
+    /// Where "Save best" writes the best candidate's actuation file.
+    pub save_to: String,
+    /// The score the run maximizes (its name and unit label the axis).
+    pub fitness: Option<Fitness>,
     /// The store to attach to (a path or a postgres:// URL; its run: the latest unfinished).
     pub attach_to: String,
     /// Whether the view follows a run elsewhere (read-only) rather than running its own.
     pub attached: bool,
     /// The stored runs listed, with their Replay action.
     pub results: StoredResults,
+    /// What the last "Save best" did.
+    saved: Option<String>,
+    /// Where the docked view was drawn last frame (egui points).
+    pub panel: Option<egui::Rect>,
     stop: StopFlag,
     rx: Option<std::sync::Mutex<Receiver<Report>>>,
     /// The search space of the session's world (by its generation), built once.
@@ -74,37 +89,59 @@ impl OptimizerView {
         self.rx.is_some()
     }
 
-    /// Starts optimizing the session's simulation in a background thread.
+    /// Fills the store and actuation paths from the session's configuration file when
+    /// they are empty (the command line's defaults).
+    pub fn default_paths(&mut self, session: &SimSession) {
+        if self.store.is_empty() {
+            self.store = default_store_path(&session.path).display().to_string();
+        }
+        if self.save_to.is_empty() {
+            let store = default_store_path(&session.path);
+            let stem = store.display().to_string();
+            let stem = stem.trim_end_matches(".results.sqlite");
+            self.save_to = format!("{stem}.best.actuation.xml");
+        }
+        self.fitness = session.sim.optimizer.as_ref().map(|m| m.spec.fitness);
+    }
+
+    /// Starts optimizing the session's configuration file in a background thread, as
+    /// `proleg optimize CONFIG --store STORE` would (on the engine shown).
     pub fn start(&mut self, session: &SimSession) {
         if self.running() {
             return;
         }
-        let sim = session.sim.clone();
-        let choices = RunChoices {
+        self.default_paths(session);
+        let options = OptimizeOptions {
+            config: session.path.clone(),
+            seed: None,
             workers: Some(self.workers.max(1)),
+            batch: crate::optimize::settings::DEFAULT_BATCH,
             max_evaluations: (self.max_evals > 0).then_some(self.max_evals),
-            ..RunChoices::default()
+            duration: None,
+            fitness: None,
+            out: None,
+            evaluations: None,
+            store: Some(self.store.trim().to_string()),
+            resume: false,
+            lease: None,
+            quiet: true,
+            engine: Some(session.simulator.engine_kind()),
+            crash_after: None,
         };
-        let settings = match RunSettings::of(&sim, &choices) {
-            Ok(s) => s,
-            Err(e) => {
-                self.status = e;
-                return;
-            }
-        };
-        self.stop = settings.stop.clone();
+        self.stop = StopFlag::default();
         self.curve.clear();
         self.best = None;
         self.started = Some(Instant::now());
-        self.status = "running".into();
+        self.status.clear();
         let registry = crate::plugin_host::registry();
         let (tx, rx) = channel();
         std::thread::spawn(move || {
             let eval_tx = tx.clone();
-            let result = optimize(&sim, &settings, &registry, None, |e| {
-                let _ = eval_tx.send(Report::Eval(e.clone()));
+            let result = crate::cli::optimize::run_observed(&options, &registry, &mut |e, _| {
+                // The view closing drops the receiver; the run goes on to its end.
+                if eval_tx.send(Report::Eval(e.clone())).is_err() {}
             });
-            let _ = tx.send(Report::Done(result));
+            if tx.send(Report::Done(Box::new(result))).is_err() {}
         });
         self.rx = Some(std::sync::Mutex::new(rx));
     }
@@ -126,7 +163,7 @@ impl OptimizerView {
         self.best = None;
         self.started = Some(Instant::now());
         self.attached = true;
-        self.status = format!("attached to {location} (read-only)");
+        self.status.clear();
         let stop = self.stop.clone();
         let (tx, rx) = channel();
         std::thread::spawn(move || {
@@ -164,11 +201,19 @@ impl OptimizerView {
                         }
                     }
                     Report::Done(r) => {
-                        done = Some(match r {
-                            Ok(o) => format!(
-                                "finished: {} evaluations, best {:.4} ({})",
-                                o.evaluations, o.best_score, o.batching
-                            ),
+                        done = Some(match *r {
+                            Ok(o) => {
+                                self.results.store = self.store.clone();
+                                self.results.list();
+                                format!(
+                                    "finished: {} evaluations in {:.0} s, best {}; stored as run {} in {}",
+                                    o.outcome.evaluations,
+                                    o.wall,
+                                    self.score_text(o.outcome.best_score),
+                                    o.store.1,
+                                    o.store.0
+                                )
+                            }
                             Err(e) => format!("failed: {e}"),
                         })
                     }
@@ -191,6 +236,48 @@ impl OptimizerView {
             self.rx = None;
             self.status = status;
         }
+    }
+
+    /// A score with its unit ("3.4765 m").
+    fn score_text(&self, score: f64) -> String {
+        match self.fitness {
+            Some(f) if f.unit() != "1" => format!("{score:.4} {}", f.unit()),
+            _ => format!("{score:.4}"),
+        }
+    }
+
+    /// The one status line: what the run does now, or how the last one ended.
+    pub fn status_line(&self) -> String {
+        if self.running() {
+            let best = self
+                .best
+                .as_ref()
+                .map_or("none yet".to_string(), |b| self.score_text(b.1));
+            let doing = if self.attached {
+                "following (read-only)"
+            } else {
+                "running"
+            };
+            format!(
+                "{doing}: {} evaluations, best {best}, {:.2} evaluations/s",
+                self.curve.len(),
+                self.rate()
+            )
+        } else if self.status.is_empty() {
+            format!("not started; runs are stored in {}", self.store)
+        } else {
+            self.status.clone()
+        }
+    }
+
+    /// Writes the best candidate as an actuation file at `save_to`.
+    pub fn save_best(&self, session: &SimSession, space: &SearchSpace) -> Result<String, String> {
+        let (genome, _) = self.best.as_ref().ok_or("no candidate evaluated yet")?;
+        let path = std::path::Path::new(self.save_to.trim());
+        let file = actuation_with(&session.sim, space, genome);
+        std::fs::write(path, write_actuation_file(&file))
+            .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+        Ok(format!("saved the best candidate to {}", path.display()))
     }
 
     /// Evaluations per second so far.
@@ -229,27 +316,49 @@ pub fn replay(session: &mut SimSession, genome: &Genome) {
 fn best_candidate(
     ui: &mut egui::Ui,
     session: &mut SimSession,
-    view: &OptimizerView,
+    view: &mut OptimizerView,
     space: &SearchSpace,
+    saved: &mut Option<String>,
 ) {
-    let Some((genome, score)) = view.best.as_ref() else {
+    let Some((genome, score)) = view.best.clone() else {
         return;
     };
-    ui.label(format!("best candidate ({score:.4}):"));
+    let (genome, score) = (&genome, &score);
+    ui.label(format!("best candidate ({}):", view.score_text(*score)));
     for (g, v) in space.genes.iter().zip(space.decode(genome)) {
         ui.monospace(format!("  {} = {v}", g.label()));
     }
     if ui.button("Replay best in the viewer").clicked() {
         replay(session, genome);
     }
+    ui.horizontal(|ui| {
+        if ui
+            .button("Save best")
+            .on_hover_text("writes the best candidate as an actuation file")
+            .clicked()
+        {
+            match view.save_best(session, space) {
+                Ok(m) => *saved = Some(m),
+                Err(e) => *saved = Some(format!("error: {e}")),
+            }
+        }
+        ui.add(egui::TextEdit::singleline(&mut view.save_to).desired_width(f32::INFINITY));
+    });
+    if let Some(m) = saved.as_ref() {
+        ui.label(m);
+    }
 }
 
-/// Draws the optimization window (only for optimization modes).
-pub fn show(ctx: &egui::Context, session: &mut SimSession, view: &mut OptimizerView) {
+/// Draws the optimization view, docked on the left of `root` (only for optimization
+/// modes).
+pub fn show(root: &mut egui::Ui, session: &mut SimSession, view: &mut OptimizerView) {
     let Some(model) = session.sim.optimizer.as_ref() else {
         return;
     };
     view.poll();
+    if view.store.is_empty() || view.fitness.is_none() {
+        view.default_paths(session);
+    }
     let label = model.spec.label();
     let (generation, space) = match view.space.take() {
         Some((g, s)) if g == session.generation => (g, s),
@@ -260,75 +369,98 @@ pub fn show(ctx: &egui::Context, session: &mut SimSession, view: &mut OptimizerV
                 .map(|(s, _)| s),
         ),
     };
-    let mut open = view.open;
-    egui::Window::new("Optimization")
-        .open(&mut open)
-        .default_size([560.0, 420.0])
-        .show(ctx, |ui| {
-            ui.label(format!(
-                "{label}; {} genes, problem size {:.3e}",
-                space.as_ref().map_or(0, |s| s.genes.len()),
-                space.as_ref().map_or(0.0, |s| s.size())
-            ));
-            ui.horizontal(|ui| {
-                ui.label("evaluations (0 = file's limit)");
-                ui.add(egui::DragValue::new(&mut view.max_evals).range(0..=1_000_000));
-                ui.label("workers");
-                ui.add(egui::DragValue::new(&mut view.workers).range(1..=64));
-                if view.running() && !view.attached {
-                    if ui.button("Stop").clicked() {
-                        view.stop();
-                    }
-                } else if ui
-                    .add_enabled(!view.running(), egui::Button::new("Start"))
-                    .clicked()
-                {
-                    view.attached = false;
-                    view.start(session);
-                }
-            });
-            ui.horizontal(|ui| {
-                ui.label("or follow a run elsewhere:");
+    let drawn = egui::Panel::left("optimization")
+        .resizable(true)
+        .default_size(440.0)
+        .show(root, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                ui.heading("Optimization");
+                ui.label(format!(
+                    "{label}; {} genes, problem size {:.3e}",
+                    space.as_ref().map_or(0, |s| s.genes.len()),
+                    space.as_ref().map_or(0.0, |s| s.size())
+                ));
+                controls(ui, session, view);
                 ui.add(
-                    egui::TextEdit::singleline(&mut view.attach_to)
-                        .hint_text("postgres://user@host/db or a .sqlite file")
-                        .desired_width(260.0),
+                    egui::Label::new(egui::RichText::new(view.status_line()).monospace()).wrap(),
                 );
-                if view.running() && view.attached {
-                    if ui.button("Detach").clicked() {
-                        view.stop();
-                    }
-                } else if ui
-                    .add_enabled(!view.running(), egui::Button::new("Attach"))
-                    .clicked()
-                {
-                    view.attach();
+                learning_curve(ui, view);
+                if let Some(space) = space.as_ref() {
+                    let mut saved = view.saved.take();
+                    best_candidate(ui, session, view, space, &mut saved);
+                    view.saved = saved;
                 }
+                results_view::show(ui, session, &mut view.results);
             });
-            let best = view.best.as_ref().map_or(f64::NAN, |b| b.1);
-            ui.monospace(format!(
-                "{}: {} evaluations, best {:.4}, {:.2} evals/s",
-                view.status,
-                view.curve.len(),
-                best,
-                view.rate()
-            ));
-            Plot::new("learning curve")
-                .height(200.0)
-                .legend(Legend::default())
-                .x_axis_label("evaluation")
-                .y_axis_label("score")
-                .show(ui, |p| {
-                    let scores: Vec<[f64; 2]> = view.curve.iter().map(|c| [c[0], c[1]]).collect();
-                    let bests: Vec<[f64; 2]> = view.curve.iter().map(|c| [c[0], c[2]]).collect();
-                    p.points(Points::new("score", PlotPoints::from(scores)).radius(1.5));
-                    p.line(Line::new("best so far", PlotPoints::from(bests)));
-                });
-            if let Some(space) = space.as_ref() {
-                best_candidate(ui, session, view, space);
-            }
-            results_view::show(ui, session, &mut view.results);
         });
-    view.open = open;
+    view.panel = Some(drawn.response.rect);
     view.space = Some((generation, space));
+}
+
+/// Evaluations, workers, the store, Start / Stop, and attaching to a run elsewhere.
+fn controls(ui: &mut egui::Ui, session: &mut SimSession, view: &mut OptimizerView) {
+    ui.horizontal(|ui| {
+        ui.label("evaluations (0 = file's limit)");
+        ui.add(egui::DragValue::new(&mut view.max_evals).range(0..=1_000_000));
+        ui.label("workers");
+        ui.add(egui::DragValue::new(&mut view.workers).range(1..=64));
+    });
+    ui.horizontal(|ui| {
+        ui.label("store");
+        ui.add_enabled(
+            !view.running(),
+            egui::TextEdit::singleline(&mut view.store).desired_width(f32::INFINITY),
+        )
+        .on_hover_text("a SQLite file; `proleg results FILE` lists its runs");
+    });
+    ui.horizontal(|ui| {
+        if view.running() && !view.attached {
+            if ui.button("Stop").clicked() {
+                view.stop();
+            }
+        } else if ui
+            .add_enabled(!view.running(), egui::Button::new("Start"))
+            .on_hover_text("optimizes the configuration file as saved, like proleg optimize")
+            .clicked()
+        {
+            view.attached = false;
+            view.start(session);
+        }
+    });
+    ui.horizontal(|ui| {
+        ui.label("or follow a run elsewhere:");
+        ui.add(
+            egui::TextEdit::singleline(&mut view.attach_to)
+                .hint_text("postgres://user@host/db or a .sqlite file")
+                .desired_width(200.0),
+        );
+        if view.running() && view.attached {
+            if ui.button("Detach").clicked() {
+                view.stop();
+            }
+        } else if ui
+            .add_enabled(!view.running(), egui::Button::new("Attach"))
+            .clicked()
+        {
+            view.attach();
+        }
+    });
+}
+
+/// Scores and the best so far per evaluation, the axis named by the fitness and its unit.
+fn learning_curve(ui: &mut egui::Ui, view: &OptimizerView) {
+    let axis = view.fitness.map_or("score".to_string(), |f| {
+        format!("score: {}", f.axis_label())
+    });
+    Plot::new("learning curve")
+        .height(200.0)
+        .legend(Legend::default())
+        .x_axis_label("evaluation")
+        .y_axis_label(axis)
+        .show(ui, |p| {
+            let scores: Vec<[f64; 2]> = view.curve.iter().map(|c| [c[0], c[1]]).collect();
+            let bests: Vec<[f64; 2]> = view.curve.iter().map(|c| [c[0], c[2]]).collect();
+            p.points(Points::new("score", PlotPoints::from(scores)).radius(1.5));
+            p.line(Line::new("best so far", PlotPoints::from(bests)));
+        });
 }

@@ -23,7 +23,9 @@
 //! select-link 0                  # select a robot link, as a click does
 //! move-by 0.5 0 0                # move the selection (metres, z up), as a drag does
 //! inspect out/demo.data.xml Robot_Data/y_pos   # data file inspection with a graph
-//! optimize 8                    # run the optimization mode for 8 evaluations, wait
+//! optimize 8 [STORE]            # run the optimization mode for 8 evaluations (stored in
+//!                                # STORE, default CONFIG-STEM.results.sqlite), wait
+//! save-best F.actuation.xml      # the view's Save best
 //! attach postgres://u@h/db 30     # follow the store's latest unfinished run read-only,
 //!                                # wait for 30 evaluations (or the run's end)
 //! replay-best                    # show the best candidate in the viewer
@@ -118,7 +120,9 @@ pub enum Command {
     /// Open the data file inspection on a file and add a graph of these series.
     Inspect(PathBuf, Vec<SeriesSelector>),
     /// Run the simulation's optimization for this many evaluations and wait for it.
-    Optimize(u64),
+    Optimize(u64, Option<String>),
+    /// `save-best FILE`: the optimization view's Save best.
+    SaveBest(PathBuf),
     /// `results STORE`: open the optimization window and list the store's runs.
     Results(String),
     /// `replay STORE RUN N|best [EP]`: a stored evaluation: store, run, evaluation (or best), episode of a robust run.
@@ -286,7 +290,11 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             }
             "record" if words.len() == 2 && words[1] == "off" => Command::Record(None),
             "state" if words.len() == 2 => Command::State(PathBuf::from(words[1])),
-            "optimize" => Command::Optimize(num(words.get(1), "evaluations")?.max(1.0) as u64),
+            "optimize" if words.len() <= 3 => Command::Optimize(
+                num(words.get(1), "evaluations")?.max(1.0) as u64,
+                words.get(2).map(|s| s.to_string()),
+            ),
+            "save-best" if words.len() == 2 => Command::SaveBest(PathBuf::from(words[1])),
             "attach" if words.len() == 3 => Command::Attach(
                 words[1].to_string(),
                 num(words.get(2), "evaluations")?.max(0.0) as u64,

@@ -74,7 +74,8 @@ fn carry_out(
         | C::RobotDisconnect => robot_command(c, session, views),
         C::Module(_)
         | C::Assign(..)
-        | C::Optimize(_)
+        | C::Optimize(..)
+        | C::SaveBest(_)
         | C::Attach(..)
         | C::ReplayBest
         | C::Results(_)
@@ -384,7 +385,7 @@ fn tool_command(c: Command, session: &mut SimSession, views: &mut Views) -> Resu
                 Flow::Next
             }
         }
-        Command::Optimize(n) => {
+        Command::Optimize(n, store) => {
             if session.sim.optimizer.is_none() {
                 return Err("this simulation's mode is not an optimization".into());
             }
@@ -392,10 +393,22 @@ fn tool_command(c: Command, session: &mut SimSession, views: &mut Views) -> Resu
             if o.started.is_none() {
                 o.open = true;
                 o.max_evals = n;
+                if let Some(s) = store {
+                    o.store = s;
+                }
                 o.start(session);
             }
             o.poll();
             if o.running() { Flow::Again } else { Flow::Next }
+        }
+        Command::SaveBest(path) => {
+            let space =
+                crate::optimize::run::prepare(&session.sim, &crate::plugin_host::registry())
+                    .map(|(s, _)| s)?;
+            let o = &mut views.optimizer;
+            o.save_to = path.display().to_string();
+            o.save_best(session, &space)?;
+            Flow::Next
         }
         Command::ReplayBest => {
             let (genome, _) = views
@@ -477,6 +490,16 @@ fn optimizer_pairs(pairs: &mut Vec<(&str, String)>, session: &SimSession, views:
             .map_or("none".into(), |b| format!("{:.6}", b.1)),
     ));
     pairs.push(("stored_runs", o.results.runs.len().to_string()));
+    pairs.push(("optimizer_status", o.status_line()));
+    if let Some(r) = o.panel {
+        pairs.push((
+            "optimizer_panel",
+            format!(
+                "{:.0} {:.0} {:.0} {:.0}",
+                r.min.x, r.min.y, r.max.x, r.max.y
+            ),
+        ));
+    }
     if let Some(score) = session.replay_score() {
         pairs.push((
             "replay_score",
