@@ -72,7 +72,13 @@ fn the_control_window_shows_the_located_error_and_keeps_running() {
     let (ok, out) = common::window::run(&["gui", "configs/demo.simulation.xml"], &script);
     assert!(ok, "the window failed:\n{out}");
     let s = state(&st);
-    assert_eq!(get(&s, "error"), expected(&file));
+    assert_eq!(
+        get(&s, "error"),
+        format!(
+            "{}\\n(still showing configs/demo.simulation.xml)",
+            expected(&file)
+        )
+    );
     assert_eq!(get(&s, "config"), "configs/demo.simulation.xml");
     assert_eq!(get(&s, "running"), "true", "the demo runs on");
     let t: f64 = get(&s, "sim_time").parse().unwrap();
@@ -80,6 +86,27 @@ fn the_control_window_shows_the_located_error_and_keeps_running() {
     let (w, h, colours) = png_colours(&shot);
     assert_eq!((w, h), (1280, 800));
     assert!(colours > 50);
+}
+
+#[test]
+fn a_broken_file_on_the_command_line_opens_the_window_with_its_error() {
+    let file = broken("cmdline");
+    let dir = file.parent().unwrap().to_path_buf();
+    let (st, script) = (dir.join("state.txt"), dir.join("open.script"));
+    std::fs::write(&script, format!("wait 2\nstate {}\nquit\n", st.display())).unwrap();
+    let path = file.display().to_string();
+    let (ok, out) = common::window::run(&["gui", &path], &script);
+    assert!(ok, "the window must open:\n{out}");
+    let s = state(&st);
+    assert_eq!(
+        get(&s, "error"),
+        format!(
+            "{}\\n(showing configs/demo.simulation.xml instead)",
+            expected(&file)
+        )
+    );
+    assert_eq!(get(&s, "config"), "configs/demo.simulation.xml");
+    assert_eq!(get(&s, "config_field"), path, "kept to fix and load again");
 }
 
 #[test]

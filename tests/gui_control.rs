@@ -62,6 +62,37 @@ fn window_runs_the_demo_changes_a_parameter_and_plots() {
 }
 
 #[test]
+fn restart_says_it_set_the_files_values_and_keeps_the_tuned_ones_on_request() {
+    let dir = scratch("restart_tuned");
+    let (aside, kept, script) = (
+        dir.join("aside.txt"),
+        dir.join("kept.txt"),
+        dir.join("restart.script"),
+    );
+    std::fs::write(
+        &script,
+        format!(
+            "wait 2\nset PatternGenerator_sinusoidal Amplitude 20\nrestart\nstate {}\nkeep-tuned\nstate {}\nquit\n",
+            aside.display(),
+            kept.display()
+        ),
+    )
+    .expect("script");
+    let (ok, out) = run_window("configs/demo.simulation.xml", &script);
+    assert!(ok, "the window failed:\n{out}");
+    let s = state(&aside);
+    assert_eq!(get(&s, "tuned_aside"), "true", "the restart says so");
+    assert!(
+        get(&s, "parameters").contains("PatternGenerator_sinusoidal:Amplitude=40,40,40,40,40;")
+    );
+    let s = state(&kept);
+    assert_eq!(get(&s, "tuned_aside"), "false");
+    assert!(
+        get(&s, "parameters").contains("PatternGenerator_sinusoidal:Amplitude=20,20,20,20,20;")
+    );
+}
+
+#[test]
 fn a_bad_script_line_is_reported_with_file_and_line() {
     let dir = scratch("bad");
     let script = dir.join("bad.script");

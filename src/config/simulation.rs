@@ -233,18 +233,19 @@ fn file_ref(r: &Reader, el: &Element) -> ConfigResult<FileRef> {
 fn read_properties(r: &Reader, el: &Element) -> ConfigResult<SimulationProperties> {
     r.only_children(
         el,
+        // As files spell them (names match regardless of case).
         &[
-            "showviewer",
-            "parallelcomputing",
-            "storingdata",
+            "showViewer",
+            "parallelComputing",
+            "storingData",
             "mode",
             "accuracy",
-            "stepwidth",
+            "stepWidth",
             "duration",
             "seed",
             "delay",
-            "realtimefactor",
-            "physicsengine",
+            "realtimeFactor",
+            "physicsEngine",
         ],
     )?;
     let mut p = SimulationProperties::default();
@@ -337,9 +338,9 @@ pub fn parse_simulation_file(file: &str, text: &str) -> ConfigResult<SimulationF
             "actuation",
             "environment",
             "optimizer",
-            "geneticalgorithm",
-            "greatdeluge",
-            "simulationproperties",
+            "geneticAlgorithm",
+            "greatDeluge",
+            "simulationProperties",
         ],
     )?;
     r.only_attrs(root, &[])?;

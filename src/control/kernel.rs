@@ -208,6 +208,32 @@ impl ControlKernel {
         &self.actuators
     }
 
+    /// Every actuator's parameter values (a copy), in actuator order.
+    pub fn parameter_values(&self) -> Vec<crate::control::module::Parameters> {
+        self.actuators
+            .iter()
+            .map(|a| a.module.parameters().clone())
+            .collect()
+    }
+
+    /// Puts parameter values taken with [`ControlKernel::parameter_values`] back, for the
+    /// actuators whose module and joints still match (the modules' own state stays);
+    /// returns how many actuators took them.
+    pub fn restore_parameter_values(
+        &mut self,
+        values: &[crate::control::module::Parameters],
+    ) -> usize {
+        let mut restored = 0;
+        for (a, v) in self.actuators.iter_mut().zip(values) {
+            let p = a.module.parameters_mut();
+            if p.same_shape(v) {
+                *p = v.clone();
+                restored += 1;
+            }
+        }
+        restored
+    }
+
     /// Modules that stopped working (a plugin that panicked): type name and cause.
     pub fn failures(&self) -> impl Iterator<Item = (&'static str, &str)> {
         self.actuators.iter().filter_map(|a| {

@@ -180,6 +180,13 @@ impl Parameters {
         &self.values
     }
 
+    /// Whether `other` holds values of the same module's parameters for as many joints.
+    pub fn same_shape(&self, other: &Parameters) -> bool {
+        self.module == other.module
+            && self.joints == other.joints
+            && self.values.len() == other.values.len()
+    }
+
     /// All joints' values of one parameter.
     pub fn row(&self, param: usize) -> &[f64] {
         &self.values[param * self.joints..(param + 1) * self.joints]

@@ -129,9 +129,9 @@ pub fn run(
 ) -> Result<(), String> {
     let session = match replay {
         Some(r) => SimSession::open_replay(r)?,
-        None => SimSession::open(config, engine)?,
+        None => open_or_fall_back(config, engine)?,
     };
-    let config = session.path.clone();
+    let typed = config.to_path_buf();
     let mut remote_view = RemoteView::default();
     if let Some(r) = remote {
         remote_view.load(r)?;
@@ -140,14 +140,7 @@ pub fn run(
         Some(p) => ScriptRunner::new(script::load(p)?),
         None => ScriptRunner::default(),
     };
-    let title = match &session.replay {
-        Some(r) => format!("proleg — replay of {}", r.label),
-        None => format!(
-            "proleg — {} ({})",
-            config.display(),
-            session.simulator.engine_kind()
-        ),
-    };
+    let title = window_title(&session);
     // A real-robot configuration opens with the real-robot tab.
     let mut robot_view = RobotView::default();
     robot_view.open =
@@ -172,7 +165,7 @@ pub fn run(
         crate::gui::keyboard::OrderedKeysPlugin,
     ))
     .insert_resource(ClearColor(Color::srgb(0.62, 0.74, 0.86)))
-    .insert_resource(ToolbarState::new(&config))
+    .insert_resource(ToolbarState::new(&typed))
     .insert_resource(runner)
     .insert_non_send(session)
     .insert_resource(remote_view)
@@ -181,6 +174,30 @@ pub fn run(
     match app.run() {
         AppExit::Success => Ok(()),
         AppExit::Error(code) => Err(format!("the control window closed with status {code}")),
+    }
+}
+
+/// The demo the window shows when the file asked for cannot be loaded.
+const FALLBACK: &str = "configs/demo.simulation.xml";
+
+/// The session of `config`; when it cannot be loaded, the window opens anyway — on the
+/// demo, with the file's located error shown and its name kept in the Configuration field
+/// to fix and load again, as the toolbar's Load does. Only when the demo cannot be loaded
+/// either does the window not open (with `config`'s error).
+fn open_or_fall_back(
+    config: &Path,
+    engine: Option<crate::config::simulation::EngineKind>,
+) -> Result<SimSession, String> {
+    let error = match SimSession::open(config, engine) {
+        Ok(s) => return Ok(s),
+        Err(e) => e,
+    };
+    match SimSession::open(Path::new(FALLBACK), engine) {
+        Ok(mut s) => {
+            s.error = Some(format!("{error}\n(showing {FALLBACK} instead)"));
+            Ok(s)
+        }
+        Err(_) => Err(error),
     }
 }
 
@@ -254,7 +271,29 @@ impl Plugin for ControlWindowPlugin {
                 .in_set(GuiSystems::Present),
         )
         .add_systems(EguiPrimaryContextPass, draw_ui)
-        .add_systems(PostUpdate, busy);
+        .add_systems(PostUpdate, (busy, title));
+    }
+}
+
+/// The window's title names the configuration (or replay) shown, after every load.
+fn title(session: NonSend<SimSession>, mut windows: Query<&mut Window>) {
+    let want = window_title(&session);
+    for mut w in &mut windows {
+        if w.title != want {
+            w.title = want.clone();
+        }
+    }
+}
+
+/// "proleg — FILE (ENGINE)", or "proleg — replay of LABEL".
+fn window_title(session: &SimSession) -> String {
+    match &session.replay {
+        Some(r) => format!("proleg — replay of {}", r.label),
+        None => format!(
+            "proleg — {} ({})",
+            session.path.display(),
+            session.simulator.engine_kind()
+        ),
     }
 }
 

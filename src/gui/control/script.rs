@@ -5,6 +5,7 @@
 //! ```text
 //! wait 5                         # frames
 //! start | pause | restart
+//! keep-tuned                     # after a restart: the tuned parameter values back
 //! continue                       # after a run paused by itself (its duration, a robot
 //!                                # that left the world): the message's Continue
 //! load CONFIG                    # the toolbar's Load (a broken file: its error, the world kept)
@@ -69,6 +70,8 @@ pub enum Command {
     Restart,
     /// `continue`: the Continue of a run that paused by itself.
     Continue,
+    /// `keep-tuned`: the toolbar's "Keep tuned values" after a restart.
+    KeepTuned,
     /// `load FILE`: the toolbar's Load.
     Load(PathBuf),
     /// `engine rapier|mujoco`: the toolbar's physics choice.
@@ -217,6 +220,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             "pause" => Command::Pause,
             "restart" => Command::Restart,
             "continue" => Command::Continue,
+            "keep-tuned" => Command::KeepTuned,
             "load" if words.len() == 2 => Command::Load(PathBuf::from(words[1])),
             "engine" if words.len() == 2 => Command::Engine(
                 crate::config::simulation::EngineKind::parse(words[1]).ok_or_else(|| {

@@ -51,7 +51,8 @@ fn carry_out(
         | C::StepTo(_)
         | C::Speed(_)
         | C::SlowFrames(_)
-        | C::Continue => simulation_command(c, script, session),
+        | C::Continue
+        | C::KeepTuned => simulation_command(c, script, session),
         C::Set { .. } => simulation_command(c, script, session),
         C::Plot(_)
         | C::Panel(_)
@@ -115,6 +116,13 @@ fn simulation_command(
         }
         Command::Restart => {
             session.restart();
+            Flow::Next
+        }
+        Command::KeepTuned => {
+            if session.tuned.is_none() {
+                return Err("keep-tuned: no tuned values were set aside by a restart".into());
+            }
+            session.keep_tuned();
             Flow::Next
         }
         Command::Continue => {
@@ -512,6 +520,8 @@ fn optimizer_pairs(pairs: &mut Vec<(&str, String)>, session: &SimSession, views:
 fn state_lines(session: &SimSession, views: &Views) -> String {
     let mut pairs: Vec<(&str, String)> = vec![
         ("config", session.path.display().to_string()),
+        ("config_field", views.toolbar.path.clone()),
+        ("tuned_aside", session.tuned.is_some().to_string()),
         ("running", session.running.to_string()),
         ("steps", session.steps().to_string()),
         ("sim_time", format!("{:.6}", session.sim_time())),

@@ -90,6 +90,8 @@ pub struct SimSession {
     pub engine: Option<EngineKind>,
     /// Why the run paused by itself, until it runs again.
     pub halt: Option<Halt>,
+    /// Parameter values tuned before the last restart (which set the file's again).
+    pub tuned: Option<Vec<crate::control::module::Parameters>>,
     /// Simulated second at which the run pauses (the file's duration; `None` after
     /// "Continue").
     end_at: Option<f64>,
@@ -149,6 +151,7 @@ impl SimSession {
             start,
             engine: None,
             halt: None,
+            tuned: None,
             end_at: (duration > 0.0).then_some(duration),
             watch_world: true,
             pause_at: None,
@@ -180,7 +183,8 @@ impl SimSession {
         )
     }
 
-    /// Loads another configuration; on failure keeps the current one and records the error.
+    /// Loads another configuration; on failure keeps the current one and records the error
+    /// (saying which one is still shown).
     pub fn load(&mut self, path: &Path) {
         match SimSession::open(path, self.engine) {
             Ok(s) => {
@@ -188,7 +192,7 @@ impl SimSession {
                 *self = s;
                 self.generation = generation;
             }
-            Err(e) => self.error = Some(e),
+            Err(e) => self.error = Some(format!("{e}\n(still showing {})", self.path.display())),
         }
     }
 
@@ -210,11 +214,28 @@ impl SimSession {
         }
     }
 
-    /// Rebuilds the world from the configuration (with the chosen step width), paused.
+    /// Rebuilds the world from the configuration (with the chosen step width), paused. The
+    /// parameter values are the file's again; values tuned since the last build are kept
+    /// in [`SimSession::tuned`], to put back with [`SimSession::keep_tuned`].
     pub fn restart(&mut self) {
+        let tuned = self.simulator.kernel(0).ok().map(|k| k.parameter_values());
+        let was = self.initial_kernel.parameter_values();
         match build(&self.sim, self.step_width, self.replay.as_ref()) {
-            Ok((simulator, kernel)) => self.install(simulator, kernel),
+            Ok((simulator, kernel)) => {
+                self.install(simulator, kernel);
+                self.tuned = tuned.filter(|t| *t != was);
+            }
             Err(e) => self.error = Some(e),
+        }
+    }
+
+    /// Puts the parameter values tuned before the last restart back (the toolbar's "Keep
+    /// tuned values").
+    pub fn keep_tuned(&mut self) {
+        if let Some(values) = self.tuned.take()
+            && let Ok(k) = self.simulator.kernel_mut(0)
+        {
+            k.restore_parameter_values(&values);
         }
     }
 
@@ -227,6 +248,7 @@ impl SimSession {
         self.end_at = (duration > 0.0).then_some(duration);
         self.watch_world = true;
         self.halt = None;
+        self.tuned = None;
         self.initial_kernel = kernel;
         self.real_time = 0.0;
         self.pacer.drop_backlog();

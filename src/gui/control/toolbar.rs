@@ -162,6 +162,19 @@ pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut ToolbarStat
             state.meter.fps(),
         ));
     });
+    if session.tuned.is_some() {
+        ui.horizontal(|ui| {
+            ui.label(
+                "Restarted with the file's parameter values; the values you tuned are kept aside.",
+            );
+            if ui.button("Keep tuned values").clicked() {
+                session.keep_tuned();
+            }
+            if ui.button("Use the file's").clicked() {
+                session.tuned = None;
+            }
+        });
+    }
     if let Some(halt) = session.halt.clone() {
         ui.horizontal(|ui| {
             ui.label(egui::RichText::new(halt.message()).strong());

@@ -179,6 +179,23 @@ pub fn on_drag_end(
     ev.propagate(false);
     if drag.dragging {
         state.env_mut().end_drag();
+        // The status line follows the object (it said where it was placed).
+        let moved = state.env().selected.and_then(|sel| {
+            let at = state.env().pose(sel)?.translation;
+            let name = match sel {
+                Selected::Robot => "robot start pose".to_string(),
+                Selected::Object(i) => {
+                    crate::compose::env_edit::object_name(state.env().objects.get(i)?, i)
+                }
+            };
+            Some(format!(
+                "{name} moved to {:.2} {:.2} {:.3} m",
+                at[0], at[1], at[2]
+            ))
+        });
+        if let Some(m) = moved {
+            state.status = Some(crate::gui::setup::state::Status::Info(m));
+        }
     }
     drag.dragging = false;
     drag.camera = None;
