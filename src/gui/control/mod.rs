@@ -371,7 +371,8 @@ fn draw_ui(
     let toolbar_bottom = egui::Panel::top("toolbar")
         .show(&mut root, |ui| {
             toolbar::show(ui, &mut session, toolbar);
-            ui.horizontal(|ui| {
+            // Wrapped: the recording's path after the Record button is not cut off.
+            ui.horizontal_wrapped(|ui| {
                 ui.toggle_value(&mut panels.params, "Control algorithm properties");
                 ui.toggle_value(&mut panels.plots, "Live plots");
                 ui.toggle_value(&mut inspect.open, "Data file inspection");

@@ -188,7 +188,10 @@ pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut PlotsState)
                                 delete = Some(plot.id);
                             }
                         });
+                        let (lo, hi) = y_span(plot);
                         Plot::new(("live plot", plot.id))
+                            .include_y(lo)
+                            .include_y(hi)
                             .width(420.0)
                             .height(ui.available_height().max(120.0))
                             .legend(Legend::default())
@@ -211,7 +214,8 @@ pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut PlotsState)
 /// The plot toolbar and the distortion frame.
 fn toolbar(ui: &mut egui::Ui, session: &mut SimSession, state: &mut PlotsState) {
     ui.horizontal_wrapped(|ui| {
-        ui.checkbox(&mut state.auto, "auto-plot");
+        ui.checkbox(&mut state.auto, "follow newest")
+            .on_hover_text("the plots scroll with the simulation, showing the last window (s)");
         ui.label("refresh every");
         ui.add(egui::DragValue::new(&mut state.refresh_frames).range(1..=120));
         ui.label("frames, sampling 1 in");
@@ -254,6 +258,26 @@ fn toolbar(ui: &mut egui::Ui, session: &mut SimSession, state: &mut PlotsState) 
     });
 }
 
+/// The y range a plot must show at least: its values' span, widened to ±1 around a
+/// constant (all values equal, e.g. zero at the start, drew an axis labelled only "0").
+fn y_span(plot: &LivePlot) -> (f64, f64) {
+    let (lo, hi) = plot
+        .points
+        .iter()
+        .flat_map(|(_, pts)| pts.iter().map(|p| p[1]))
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+    if !lo.is_finite() {
+        (-1.0, 1.0)
+    } else if hi - lo < 1e-9 {
+        (lo - 1.0, hi + 1.0)
+    } else {
+        (lo, hi)
+    }
+}
+
 /// Handler tabs, series check boxes and "Add plot".
 fn selector(ui: &mut egui::Ui, log: &[crate::data::handler::HandlerSpec], state: &mut PlotsState) {
     if log.is_empty() {
@@ -287,6 +311,9 @@ fn selector(ui: &mut egui::Ui, log: &[crate::data::handler::HandlerSpec], state:
         });
     ui.horizontal(|ui| {
         let any = !state.checked.is_empty();
+        if any {
+            ui.label(format!("{} series ticked:", state.checked.len()));
+        }
         if ui.add_enabled(any, egui::Button::new("Add plot")).clicked() {
             let series = live_series(log, std::mem::take(&mut state.checked));
             state.add(series);

@@ -54,7 +54,9 @@ pub fn simulation_files(dir: &Path) -> Vec<PathBuf> {
 pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut ToolbarState) {
     ui.horizontal_wrapped(|ui| {
         ui.label("Configuration:");
-        let field = ui.add(egui::TextEdit::singleline(&mut state.path).desired_width(260.0));
+        // As wide as the path (within reason), so it is not cut off.
+        let width = (state.path.chars().count() as f32 * 7.5 + 16.0).clamp(260.0, 560.0);
+        let field = ui.add(egui::TextEdit::singleline(&mut state.path).desired_width(width));
         let entered = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
         if ui.button("Load").clicked() || entered {
             session.load(Path::new(state.path.trim()));
