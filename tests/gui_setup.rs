@@ -75,6 +75,8 @@ fn wizard_walks_every_page_and_writes_a_checked_configuration() {
         .parse()
         .expect("a preview distance");
     assert!(moved > 0.05, "the preview robot crawled {moved} m");
+    // Its path is kept to draw: the start and one point per 0.1 s of the 5-s run.
+    assert_eq!(get(&state(&previewed), "preview_track"), "51");
     assert_eq!(get(&s, "page"), "Summary and save");
     assert_eq!(get(&s, "page_number"), "6/6");
     let sim = PathBuf::from(get(&s, "saved"));

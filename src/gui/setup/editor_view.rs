@@ -135,8 +135,9 @@ fn file_buttons(ui: &mut egui::Ui, state: &mut SetupState) {
     }
     if let Some(p) = &state.preview {
         match p {
-            Ok((_, d)) => ui.label(format!(
-                "Preview: the robot crawled {d:.3} m in {PREVIEW_SECONDS} s"
+            Ok(run) => ui.label(format!(
+                "Preview: the robot crawled {:.3} m in {PREVIEW_SECONDS} s (its path is drawn in orange in the views)",
+                run.distance
             )),
             Err(e) => ui.colored_label(egui::Color32::RED, e),
         };
@@ -149,8 +150,9 @@ pub fn preview(state: &mut SetupState) {
     w.env = state.env().clone();
     let r = run_preview(&w, PREVIEW_SECONDS);
     state.status = Some(match &r {
-        Ok((_, d)) => Status::Info(format!(
-            "preview: the robot crawled {d:.3} m in {PREVIEW_SECONDS} s"
+        Ok(run) => Status::Info(format!(
+            "preview: the robot crawled {:.3} m in {PREVIEW_SECONDS} s",
+            run.distance
         )),
         Err(e) => Status::Error(format!("preview: {e}")),
     });

@@ -47,10 +47,24 @@ pub fn robot_file_model(p: &Path) -> Result<RobotModel, String> {
     resolve_robot(&FsSource, p, &file).map_err(|e| e.to_string())
 }
 
+/// Samples of robot 0's path a preview keeps per simulated second.
+const TRACK_RATE: f64 = 10.0;
+
+/// What a preview run showed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PreviewRun {
+    /// The simulation file written for it.
+    pub sim: PathBuf,
+    /// How far robot 0 crawled (eq. 3.7, m).
+    pub distance: f64,
+    /// Robot 0's centre of mass every 0.1 s (m, z up), drawn in the 3D views.
+    pub track: Vec<[f64; 3]>,
+}
+
 /// Writes the configuration into a preview folder (`.preview/` in the output folder) and
-/// runs it headless for `seconds`:
-/// the simulation file and the distance robot 0 crawled (eq. 3.7).
-pub fn run_preview(w: &Wizard, seconds: f64) -> Result<(PathBuf, f64), String> {
+/// runs it headless for `seconds`: the simulation file, the distance robot 0 crawled
+/// (eq. 3.7) and its path.
+pub fn run_preview(w: &Wizard, seconds: f64) -> Result<PreviewRun, String> {
     let mut p = w.clone();
     // Beside the real files, so meshes and parts are found the same way.
     p.out_dir = w.out_dir.join(".preview");
@@ -68,5 +82,17 @@ pub fn run_preview(w: &Wizard, seconds: f64) -> Result<(PathBuf, f64), String> {
         ..Default::default()
     };
     let mut s = Simulator::with_registry(&sim, &opts, &registry).map_err(|e| e.to_string())?;
-    Ok((sim_path, s.run_for(seconds).displacement))
+    let start = s.com(0).map_err(|e| e.to_string())?;
+    let mut track = vec![start];
+    let samples = (seconds * TRACK_RATE).ceil().max(1.0) as usize;
+    for _ in 0..samples {
+        s.run_for(seconds / samples as f64);
+        track.push(s.com(0).map_err(|e| e.to_string())?);
+    }
+    let end = track.last().copied().unwrap_or(start);
+    Ok(PreviewRun {
+        sim: sim_path,
+        distance: crate::measure::ground_distance(start, end),
+        track,
+    })
 }

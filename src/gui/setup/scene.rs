@@ -65,6 +65,14 @@ pub fn sync_scene(
 ) {
     let rk = refresh_models(&state, &mut cache);
     let editing = state.editing_env();
+    // The wizard's pages after the terrain show the robot in it.
+    let wizard_scene = state.tool == Tool::Wizard
+        && matches!(
+            state.wizard.page,
+            crate::compose::wizard::Page::Simulation
+                | crate::compose::wizard::Page::Optimization
+                | crate::compose::wizard::Page::Summary
+        );
     if drag.dragging {
         // Only the dragged item moves: keep its entity (the drag's target) alive.
         let env = state.env();
@@ -76,9 +84,13 @@ pub fn sync_scene(
         return;
     }
     let key = format!(
-        "{editing}|{:?}|{}|{rk}|{:?}",
+        "{editing}|{wizard_scene}|{:?}|{}|{rk}|{:?}",
         state.tool,
-        if editing { state.env().revision } else { 0 },
+        if editing || wizard_scene {
+            state.env().revision
+        } else {
+            0
+        },
         cache.expert_env.as_ref().map(|(p, _)| p),
     );
     if cache.key.as_deref() == Some(key.as_str()) {
@@ -100,7 +112,7 @@ pub fn sync_scene(
         Some(Ok(model)) => Some(model.clone()),
         _ => None,
     };
-    let shown_env: Option<EnvEditor> = if editing {
+    let shown_env: Option<EnvEditor> = if editing || wizard_scene {
         Some(state.env().clone())
     } else {
         cache.expert_env.as_ref().and_then(|(_, e)| e.clone())
@@ -323,6 +335,21 @@ pub fn draw_selection(mut state: ResMut<SetupState>, mut gizmos: Gizmos) {
             );
         }
         return;
+    }
+    // The last preview's path: where the robot crawled, start to end.
+    if let Some(Ok(run)) = &state.preview {
+        let lift = Vec3::Y * 0.02;
+        gizmos.linestrip(
+            run.track.iter().map(|p| to_bevy(*p) + lift),
+            Color::srgb(1.0, 0.45, 0.0),
+        );
+        if let Some(end) = run.track.last() {
+            gizmos.sphere(
+                Isometry3d::from_translation(to_bevy(*end) + lift),
+                0.03,
+                Color::srgb(1.0, 0.45, 0.0),
+            );
+        }
     }
     let robot = state.env().robot_pose;
     let start = to_bevy(robot.translation);

@@ -279,9 +279,16 @@ fn state_lines(state: &mut SetupState, modules: &ModuleEditor) -> String {
                 .map_or(String::new(), |p| p.display().to_string()),
         ),
         (
+            "preview_track",
+            match &state.preview {
+                Some(Ok(run)) => run.track.len().to_string(),
+                _ => String::new(),
+            },
+        ),
+        (
             "preview_displacement",
             match &state.preview {
-                Some(Ok((_, d))) => format!("{d:.4}"),
+                Some(Ok(run)) => format!("{:.4}", run.distance),
                 _ => String::new(),
             },
         ),

@@ -74,8 +74,8 @@ pub struct SetupState {
     pub central: Option<egui::Rect>,
     /// A library item dropped at a window position, waiting for its ray cast.
     pub drop: Option<(LibraryItem, Vec2)>,
-    /// The last preview run: the simulation file and the distance crawled.
-    pub preview: Option<Result<(PathBuf, f64), String>>,
+    /// The last preview run: the simulation file, the distance crawled and the path.
+    pub preview: Option<Result<crate::gui::setup::preview::PreviewRun, String>>,
     /// Simulation files opened in a control window.
     pub opened: Vec<PathBuf>,
     /// The summary page's check, made when the page is entered (it loads every file).
