@@ -368,7 +368,7 @@ fn draw_ui(
             .layer_id(egui::LayerId::background())
             .max_rect(ctx.viewport_rect()),
     );
-    let toolbar_bottom = egui::Panel::top("toolbar")
+    egui::Panel::top("toolbar")
         .show(&mut root, |ui| {
             toolbar::show(ui, &mut session, toolbar);
             // Wrapped: the recording's path after the Record button is not cut off.
@@ -386,10 +386,7 @@ fn draw_ui(
                 ui.separator();
                 recorder::button(ui, recorder, &session.path);
             });
-        })
-        .response
-        .rect
-        .bottom();
+        });
     if panels.plots {
         let now = session.sim_time();
         plots.refresh(session.simulator.data(0).ok(), now);
@@ -414,9 +411,10 @@ fn draw_ui(
             });
     }
     // What the panels left is the viewer: the pointer there belongs to the scene.
-    routing.set_viewer(root.available_rect_before_wrap());
+    let viewer = root.available_rect_before_wrap();
+    routing.set_viewer(viewer);
     let mut follow = cameras.iter().next().is_some_and(|c| c.follow);
-    overlay::show(&ctx, &overlay, toolbar, &mut follow, toolbar_bottom);
+    overlay::show(&ctx, &overlay, toolbar, &mut follow, viewer);
     picking::show(&ctx, &session, selection, &visuals);
     if inspect.open {
         inspect::show(&ctx, inspect);

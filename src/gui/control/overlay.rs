@@ -55,10 +55,11 @@ pub fn show(
     o: &RobotOverlay,
     toolbar: &ToolbarState,
     follow: &mut bool,
-    top: f32,
+    viewer: egui::Rect,
 ) {
+    // In the viewer's top-left corner, clear of the docked panels.
     egui::Window::new("Robot")
-        .anchor(egui::Align2::LEFT_TOP, [8.0, top + 8.0])
+        .anchor(egui::Align2::LEFT_TOP, [viewer.min.x + 8.0, viewer.min.y + 8.0])
         .resizable(false)
         .collapsible(true)
         .show(ctx, |ui| {
