@@ -442,6 +442,27 @@ mod tests {
     }
 
     #[test]
+    fn an_unknown_element_names_the_known_ones_as_files_spell_them() {
+        let text = "<simulation><robot>r.robot.xml</robot><actuation>a.actuation.xml</actuation>\
+             <simulationProperties><stepwidht>0.001</stepwidht></simulationProperties></simulation>";
+        let e = parse_simulation_file("s.simulation.xml", text)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("<stepwidht>") && e.contains("showViewer, ") && e.contains("stepWidth, "),
+            "{e}"
+        );
+        let text = "<simulation><robt/></simulation>";
+        let e = parse_simulation_file("s.simulation.xml", text)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("geneticAlgorithm, greatDeluge, simulationProperties"),
+            "{e}"
+        );
+    }
+
+    #[test]
     fn an_unknown_engine_is_a_located_error_naming_the_known_ones() {
         let e = parse_simulation_file("s.simulation.xml", &with_engine("bullet")).unwrap_err();
         let text = e.to_string();

@@ -368,25 +368,24 @@ fn draw_ui(
             .layer_id(egui::LayerId::background())
             .max_rect(ctx.viewport_rect()),
     );
-    egui::Panel::top("toolbar")
-        .show(&mut root, |ui| {
-            toolbar::show(ui, &mut session, toolbar);
-            // Wrapped: the recording's path after the Record button is not cut off.
-            ui.horizontal_wrapped(|ui| {
-                ui.toggle_value(&mut panels.params, "Control algorithm properties");
-                ui.toggle_value(&mut panels.plots, "Live plots");
-                ui.toggle_value(&mut inspect.open, "Data file inspection");
-                if session.sim.optimizer.is_some() {
-                    ui.toggle_value(&mut optimizer.open, "Optimization");
-                }
-                ui.toggle_value(&mut debug.0, "Physics debug view");
-                ui.toggle_value(&mut remote.open, "Remote control");
-                ui.toggle_value(&mut modules.open, "Module library");
-                ui.toggle_value(&mut robot.open, "Real robot");
-                ui.separator();
-                recorder::button(ui, recorder, &session.path);
-            });
+    egui::Panel::top("toolbar").show(&mut root, |ui| {
+        toolbar::show(ui, &mut session, toolbar);
+        // Wrapped: the recording's path after the Record button is not cut off.
+        ui.horizontal_wrapped(|ui| {
+            ui.toggle_value(&mut panels.params, "Control algorithm properties");
+            ui.toggle_value(&mut panels.plots, "Live plots");
+            ui.toggle_value(&mut inspect.open, "Data file inspection");
+            if session.sim.optimizer.is_some() {
+                ui.toggle_value(&mut optimizer.open, "Optimization");
+            }
+            ui.toggle_value(&mut debug.0, "Physics debug view");
+            ui.toggle_value(&mut remote.open, "Remote control");
+            ui.toggle_value(&mut modules.open, "Module library");
+            ui.toggle_value(&mut robot.open, "Real robot");
+            ui.separator();
+            recorder::button(ui, recorder, &session.path);
         });
+    });
     if panels.plots {
         let now = session.sim_time();
         plots.refresh(session.simulator.data(0).ok(), now);

@@ -59,7 +59,10 @@ pub fn show(
 ) {
     // In the viewer's top-left corner, clear of the docked panels.
     egui::Window::new("Robot")
-        .anchor(egui::Align2::LEFT_TOP, [viewer.min.x + 8.0, viewer.min.y + 8.0])
+        .anchor(
+            egui::Align2::LEFT_TOP,
+            [viewer.min.x + 8.0, viewer.min.y + 8.0],
+        )
         .resizable(false)
         .collapsible(true)
         .show(ctx, |ui| {
