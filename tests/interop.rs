@@ -380,6 +380,75 @@ fn the_start_centre_of_mass_is_the_links_inertial_one_on_both_engines() {
             after[1] - before[1],
             after[2] - before[2],
         ]);
-        assert!(gap < 1e-3, "{engine}: start {before:?}, one step later {after:?}");
+        assert!(
+            gap < 1e-3,
+            "{engine}: start {before:?}, one step later {after:?}"
+        );
     }
+}
+
+#[test]
+fn inertial_data_no_body_can_have_is_refused_naming_the_link() {
+    let dir = common::scratch("urdf-unphysical");
+    let registry = ModuleRegistry::standard();
+    let out = dir.join("out");
+    let with_inertial = |mass: &str, ixx: &str| {
+        format!(
+            "<robot name=\"u\"><link name=\"base\"><inertial><mass value=\"{mass}\"/>\
+             <inertia ixx=\"{ixx}\" ixy=\"0\" ixz=\"0\" iyy=\"0.01\" iyz=\"0\" izz=\"0.01\"/></inertial>\
+             <collision><geometry><box size=\"0.1 0.1 0.1\"/></geometry></collision></link></robot>"
+        )
+    };
+    // A negative mass was a warning and a mass from the geometry.
+    let e = import(
+        &write(&dir, "neg.urdf", &with_inertial("-1", "0.01")),
+        &out,
+        &registry,
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("neg.urdf") && e.contains("link base") && e.contains("mass must be >= 0"),
+        "{e}"
+    );
+    // 0.03 > 0.01 + 0.01: no mass distribution has these moments. Real URDFs break the
+    // rule by a little (xarm6), so the import balances the tensor and says so.
+    let tri = import(
+        &write(&dir, "tri.urdf", &with_inertial("1", "0.03")),
+        &out,
+        &registry,
+    )
+    .expect("balanced, with a warning");
+    assert!(
+        tri.import
+            .warnings
+            .iter()
+            .any(|w| w.contains("link base") && w.contains("triangle inequality")),
+        "{:#?}",
+        tri.import.warnings
+    );
+    let text = std::fs::read_to_string(&tri.import.robot_file).unwrap();
+    proleg::config::robot::parse_robot_file("tri.robot.xml", &text).expect("a physical tensor");
+    // An indefinite tensor (a product of inertia larger than the moments).
+    let indefinite = with_inertial("1", "0.01").replace("ixy=\"0\"", "ixy=\"0.02\"");
+    let e = import(&write(&dir, "indef.urdf", &indefinite), &out, &registry).unwrap_err();
+    assert!(e.contains("not positive definite"), "{e}");
+    // The same rule for robot files: check refuses such an <inertia> where it stands.
+    let good = import(
+        &write(&dir, "good.urdf", &with_inertial("1", "0.01")),
+        &out,
+        &registry,
+    )
+    .expect("a physical robot imports");
+    let text = std::fs::read_to_string(&good.import.robot_file).unwrap();
+    let bad = text.replace("0.01 0 0 0 0.01 0 0 0 0.01", "0.03 0 0 0 0.01 0 0 0 0.01");
+    assert_ne!(bad, text, "the tensor as written: {text}");
+    let e = proleg::config::robot::parse_robot_file("bad.robot.xml", &bad)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("bad.robot.xml:")
+            && e.contains("<inertia>")
+            && e.contains("triangle inequality"),
+        "{e}"
+    );
 }

@@ -371,7 +371,8 @@ impl Mass {
     }
 }
 
-/// An `<inertia>` tensor: 9 numbers, symmetric, with positive diagonal.
+/// An `<inertia>` tensor: 9 numbers, symmetric, with positive diagonal, and physical
+/// ([`inertia_fault`]).
 fn read_inertia(r: &Reader, c: &Element) -> ConfigResult<[f64; 9]> {
     let m = r.array::<9>(c)?;
     let symmetric = (0..3).all(|i| {
@@ -384,7 +385,62 @@ fn read_inertia(r: &Reader, c: &Element) -> ConfigResult<[f64; 9]> {
             "<inertia> must be a symmetric 3x3 tensor (9 numbers, kg m^2) with a positive diagonal",
         ));
     }
+    if let Some(fault) = inertia_fault(&m) {
+        return Err(r.err(
+            c.text_pos,
+            ErrorKind::OutOfRange,
+            format!("<inertia>: {fault}"),
+        ));
+    }
     Ok(m)
+}
+
+/// The principal moments of a symmetric inertia tensor (row-major, kg m^2), ascending.
+pub fn principal_moments(m: &[f64; 9]) -> [f64; 3] {
+    let t = nalgebra::Matrix3::from_row_slice(m);
+    let mut e: [f64; 3] = t.symmetric_eigenvalues().into();
+    e.sort_by(f64::total_cmp);
+    e
+}
+
+/// `m` with its principal moments raised just enough to satisfy the triangle inequality
+/// (the two smaller by half the shortfall each, about the same axes), as MuJoCo's
+/// `balanceinertia` repairs such tensors; `m` itself when it satisfies it.
+pub fn balanced_inertia(m: &[f64; 9]) -> [f64; 9] {
+    let e = nalgebra::Matrix3::from_row_slice(m).symmetric_eigen();
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&i, &j| e.eigenvalues[i].total_cmp(&e.eigenvalues[j]));
+    let [a, b, c] = order.map(|i| e.eigenvalues[i]);
+    let short = c - a - b;
+    if short <= 0.0 {
+        return *m;
+    }
+    let mut l = e.eigenvalues;
+    l[order[0]] += short / 2.0;
+    l[order[1]] += short / 2.0;
+    let t = e.eigenvectors * nalgebra::Matrix3::from_diagonal(&l) * e.eigenvectors.transpose();
+    std::array::from_fn(|k| t[(k / 3, k % 3)])
+}
+
+/// Why a symmetric inertia tensor is one no rigid body can have, if it is: a principal
+/// moment not > 0 (not positive definite), or the largest above the sum of the other two
+/// (the triangle inequality A + B >= C every mass distribution satisfies). The same rule
+/// for both engines (MuJoCo refuses such bodies; rapier would simulate them).
+pub fn inertia_fault(m: &[f64; 9]) -> Option<String> {
+    let [a, b, c] = principal_moments(m);
+    let scale = c.abs().max(1e-300);
+    if !(a.is_finite() && b.is_finite() && c.is_finite()) || a <= 1e-12 * scale {
+        Some(format!(
+            "not positive definite (principal moments {a:.4e}, {b:.4e}, {c:.4e} kg m^2)"
+        ))
+    } else if a + b < c * (1.0 - 1e-6) {
+        Some(format!(
+            "principal moments {a:.4e} + {b:.4e} < {c:.4e} kg m^2: no mass distribution has \
+             them (the triangle inequality A + B >= C)"
+        ))
+    } else {
+        None
+    }
 }
 
 impl Body {
@@ -447,5 +503,29 @@ impl Body {
             m.write(w);
         }
         w.close();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn inertia_faults_and_their_balance() {
+        let box_like = [2.0, 0.0, 0.0, 0.0, 3.0, 0.0, 0.0, 0.0, 4.0];
+        assert_eq!(inertia_fault(&box_like), None);
+        assert_eq!(balanced_inertia(&box_like), box_like);
+        // 1 + 1 < 3: balanced to 1.5 + 1.5 = 3 about the same axes.
+        let broken = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 3.0];
+        assert!(inertia_fault(&broken).is_some_and(|f| f.contains("triangle")));
+        let b = balanced_inertia(&broken);
+        let p = principal_moments(&b);
+        assert!(
+            (p[0] - 1.5).abs() < 1e-12 && (p[1] - 1.5).abs() < 1e-12 && (p[2] - 3.0).abs() < 1e-12
+        );
+        assert_eq!(inertia_fault(&b), None);
+        // A product of inertia larger than the moments: indefinite.
+        let indefinite = [1.0, 2.0, 0.0, 2.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+        assert!(inertia_fault(&indefinite).is_some_and(|f| f.starts_with("not positive definite")));
     }
 }

@@ -4,20 +4,23 @@
 use nalgebra::{Isometry3, Matrix3, UnitQuaternion, Vector3};
 
 use crate::config::body::{Body, BodyKind, Geom, Mass, MeshCollision, Shape};
+use crate::config::body::{balanced_inertia, inertia_fault, principal_moments};
 use crate::config::error::Pos;
 use crate::interop::urdf::meshes::MeshWriter;
 use crate::interop::urdf::tree::{Tree, origin};
 use crate::interop::{InteropError, to_pose};
 
 /// The body headed by link `head`: the collision geometry and the inertials of every link
-/// merged into it. `warn` collects what cannot be represented.
+/// merged into it. `warn` collects what cannot be represented. A mesh that cannot be read
+/// is the outer error; a link whose inertial data no body can have, the inner one (the
+/// caller names the URDF).
 pub fn body(
     robot: &urdf_rs::Robot,
     tree: &Tree,
     head: usize,
     meshes: &mut MeshWriter,
     warn: &mut Vec<String>,
-) -> Result<Body, InteropError> {
+) -> Result<Result<Body, String>, InteropError> {
     let mut geoms = Vec::new();
     for l in tree.members(head) {
         let link = &robot.links[l];
@@ -36,14 +39,18 @@ pub fn body(
             }
         }
     }
-    Ok(Body {
+    let mass = match mass(robot, tree, head, warn) {
+        Ok(m) => m,
+        Err(e) => return Ok(Err(e)),
+    };
+    Ok(Ok(Body {
         name: robot.links[head].name.clone(),
         kind: BodyKind::Dynamic,
         pose: to_pose(&tree.world[head]),
         geoms,
-        mass: mass(robot, tree, head, warn),
+        mass,
         pos: Pos::default(),
-    })
+    }))
 }
 
 /// The colour of a link's first visual with one (inline or a named robot material).
@@ -140,21 +147,72 @@ fn geom(
     }))
 }
 
+/// A link's `<inertial>` as a rigid body could have it: a mass not negative (zero: a
+/// massless link) and, with a mass, a positive definite inertia tensor ([`inertia_fault`]);
+/// a tensor that only breaks the triangle inequality (real URDFs do, by a little: xarm6's
+/// link2 by 0.7 %) is balanced in [`link_inertia`] with a warning.
+fn check_inertial(link: &urdf_rs::Link) -> Result<(), String> {
+    let i = &link.inertial;
+    let name = &link.name;
+    if !(i.mass.value >= 0.0 && i.mass.value.is_finite()) {
+        return Err(format!(
+            "link {name}: <inertial><mass value=\"{}\"/>: a mass must be >= 0 kg",
+            i.mass.value
+        ));
+    }
+    if i.mass.value == 0.0 {
+        return Ok(());
+    }
+    let t = &i.inertia;
+    let m = [
+        t.ixx, t.ixy, t.ixz, t.ixy, t.iyy, t.iyz, t.ixz, t.iyz, t.izz,
+    ];
+    match inertia_fault(&m) {
+        Some(fault) if fault.starts_with("not positive definite") => {
+            Err(format!("link {name}: <inertial><inertia>: {fault}"))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// A link's inertia tensor (its inertial frame), balanced when it breaks the triangle
+/// inequality (with a warning naming the link and by how much).
+fn link_inertia(link: &urdf_rs::Link, warn: &mut Vec<String>) -> Matrix3<f64> {
+    let t = &link.inertial.inertia;
+    let m = [
+        t.ixx, t.ixy, t.ixz, t.ixy, t.iyy, t.iyz, t.ixz, t.iyz, t.izz,
+    ];
+    let balanced = balanced_inertia(&m);
+    if balanced != m {
+        let [a, b, c] = principal_moments(&m);
+        warn.push(format!(
+            "link {}: its inertia's principal moments break the triangle inequality ({a:.4e} + {b:.4e} < {c:.4e} kg m^2, by {:.1} %); the two smaller were raised to balance it, as MuJoCo's balanceinertia does",
+            link.name,
+            (c - a - b) / c * 100.0
+        ));
+    }
+    Matrix3::from_row_slice(&balanced)
+}
+
 /// The merged mass of a body's links: total, centre and inertia about it in the body
-/// frame (parallel-axis theorem). `None` (mass from the geometry) when no link has one.
-fn mass(robot: &urdf_rs::Robot, tree: &Tree, head: usize, warn: &mut Vec<String>) -> Option<Mass> {
+/// frame (parallel-axis theorem). `None` (mass from the geometry) when no link has one;
+/// an error naming the link when one's inertial data is not physical.
+fn mass(
+    robot: &urdf_rs::Robot,
+    tree: &Tree,
+    head: usize,
+    warn: &mut Vec<String>,
+) -> Result<Option<Mass>, String> {
     let mut parts = Vec::new();
     for l in tree.members(head) {
+        check_inertial(&robot.links[l])?;
         let i = &robot.links[l].inertial;
         if i.mass.value <= 0.0 {
             continue;
         }
         let frame = tree.in_body(l) * origin(&i.origin);
         let r = frame.rotation.to_rotation_matrix().into_inner();
-        let t = &i.inertia;
-        let local = Matrix3::new(
-            t.ixx, t.ixy, t.ixz, t.ixy, t.iyy, t.iyz, t.ixz, t.iyz, t.izz,
-        );
+        let local = link_inertia(&robot.links[l], warn);
         parts.push((
             i.mass.value,
             frame.translation.vector,
@@ -166,7 +224,7 @@ fn mass(robot: &urdf_rs::Robot, tree: &Tree, head: usize, warn: &mut Vec<String>
         warn.push(format!(
             "link {name}: no <inertial> mass; its mass comes from its geometry (1000 kg/m^3)"
         ));
-        return None;
+        return Ok(None);
     }
     let total: f64 = parts.iter().map(|p| p.0).sum();
     let com: Vector3<f64> = parts.iter().map(|p| p.1 * p.0).sum::<Vector3<f64>>() / total;
@@ -182,11 +240,11 @@ fn mass(robot: &urdf_rs::Robot, tree: &Tree, head: usize, warn: &mut Vec<String>
             "link {name}: its inertia tensor has a diagonal entry <= 0; the inertia comes from its geometry"
         ));
     }
-    Some(Mass {
+    Ok(Some(Mass {
         total,
         distribution: if valid { "custom" } else { "mimicgeom" }.into(),
         com: Some([com.x, com.y, com.z]),
         inertia: valid.then_some(tensor),
         pos: Pos::default(),
-    })
+    }))
 }

@@ -86,7 +86,10 @@ pub fn import_urdf(urdf: &Path, out_dir: &Path) -> Result<UrdfImport, InteropErr
     let mut bodies = Vec::new();
     for &l in &tree.order {
         if tree.body_of[l] == l {
-            bodies.push(body(&robot, &tree, l, &mut meshes, &mut warnings)?);
+            bodies.push(
+                body(&robot, &tree, l, &mut meshes, &mut warnings)?
+                    .map_err(|cause| InteropError::new(urdf, cause))?,
+            );
         }
     }
     let joints: Vec<Joint> = tree
