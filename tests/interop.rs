@@ -452,3 +452,44 @@ fn inertial_data_no_body_can_have_is_refused_naming_the_link() {
         "{e}"
     );
 }
+
+#[test]
+fn a_joint_starting_outside_its_limits_is_named_and_its_sine_centred_inside() {
+    let dir = common::scratch("urdf-knee");
+    let registry = ModuleRegistry::standard();
+    let out = dir.join("out");
+    // A knee bent 30..120 deg: its zero pose is outside the limits.
+    let text = format!(
+        "<robot name=\"knee\">{}{}<joint name=\"knee\" type=\"revolute\"><parent link=\"thigh\"/>\
+         <child link=\"shin\"/><origin xyz=\"0.2 0 0\"/><axis xyz=\"0 1 0\"/>\
+         <limit lower=\"0.5236\" upper=\"2.0944\" effort=\"10\" velocity=\"5\"/></joint></robot>",
+        link("thigh", "<box size=\"0.2 0.1 0.05\"/>"),
+        link("shin", "<box size=\"0.2 0.1 0.05\"/>")
+    );
+    let report = import(&write(&dir, "knee.urdf", &text), &out, &registry).unwrap();
+    assert!(
+        report
+            .import
+            .warnings
+            .iter()
+            .any(|w| w.contains("joint knee") && w.contains("outside its limits")),
+        "{:#?}",
+        report.import.warnings
+    );
+    let sim =
+        load_simulation_in(report.import.simulation_file.as_ref().unwrap(), &registry).unwrap();
+    let mut s = Simulator::with_registry(&sim, &BuildOptions::default(), &registry).unwrap();
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for _ in 0..40 {
+        s.run_for(0.1);
+        let a = s.joint_states(0).unwrap()[0].angle;
+        if s.clock().time() > 1.0 {
+            (lo, hi) = (lo.min(a), hi.max(a));
+        }
+    }
+    // After a second it swings inside 30..120 deg instead of pressing on 30.
+    assert!(
+        lo > 29.0 && hi < 121.0 && hi - lo > 10.0,
+        "swing {lo:.1}..{hi:.1} deg"
+    );
+}

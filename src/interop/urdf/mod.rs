@@ -6,8 +6,8 @@
 //! |---|---|
 //! | link, `<collision>` box / sphere / cylinder | `<Body>` with `<Geom>` box / sphere / cylinder (turned: ours stand along y) |
 //! | `<collision>` mesh (OBJ, STL), with scale | OBJ in `meshes/`, scaled, `type="convexhull"` |
-//! | `<inertial>` mass, origin, inertia | `<Mass type="custom">` total, `<com>`, `<inertia>` (merged links: parallel-axis theorem) |
-//! | revolute joint | hinge: axis, limits (deg), effort -> `maxtorque`, velocity -> `maxvel` |
+//! | `<inertial>` mass, origin, inertia | `<Mass type="custom">` total, `<com>`, `<inertia>` (merged links: parallel-axis theorem); a negative mass or an indefinite tensor is an error naming the link, a tensor breaking the triangle inequality is balanced (warning) |
+//! | revolute joint | hinge: axis, limits (deg), effort -> `maxtorque`, velocity -> `maxvel`; zero pose outside the limits: warning, the sine centred inside |
 //! | continuous joint | hinge limited to +-180 deg (warning) |
 //! | fixed joint | child link merged into its parent body |
 //! | prismatic / floating / planar / spherical joint, capsule, other mesh formats, visual-only geometry, mimic, damping | warnings, listed in the report |
@@ -30,6 +30,33 @@ use meshes::MeshWriter;
 pub use outputs::SINE_AMPLITUDE_DEG;
 use outputs::{lowest_point, write_run_files};
 use tree::{Tree, is_hinge};
+
+/// The sine's offset (deg) per hinge: 0 when the swing around 0 fits the joint's limits,
+/// else the nearest centre that fits (the middle of a range narrower than the swing). A
+/// joint whose limits exclude 0 — it starts outside them, as go1's knees do — is named in
+/// a warning: a sine around 0 would be clamped at the limit and the joint never move.
+fn gait_offsets(joints: &[Joint], warn: &mut Vec<String>) -> Vec<f64> {
+    joints
+        .iter()
+        .map(|j| {
+            let Some([lo, hi]) = j.limits_deg else {
+                return 0.0;
+            };
+            if !(lo <= 0.0 && 0.0 <= hi) {
+                warn.push(format!(
+                    "joint {}: it starts at 0 deg, outside its limits {lo:.1}..{hi:.1} deg; the sine is centred inside them",
+                    j.name
+                ));
+            }
+            let a = SINE_AMPLITUDE_DEG;
+            if hi - lo <= 2.0 * a {
+                (lo + hi) / 2.0
+            } else {
+                0.0_f64.clamp(lo + a, hi - a)
+            }
+        })
+        .collect()
+}
 
 /// What an import wrote and what it could not represent.
 #[derive(Debug, Clone, PartialEq)]
@@ -120,9 +147,10 @@ pub fn import_urdf(urdf: &Path, out_dir: &Path) -> Result<UrdfImport, InteropErr
     };
     write_text(&robot_file, &write_robot_file(&file))?;
     let hinges = file.kinbody.joints.len();
+    let offsets = gait_offsets(&file.kinbody.joints, &mut warnings);
     let simulation_file = if hinges > 0 {
         let low = lowest_point(&file.kinbody.bodies, &meshes);
-        Some(write_run_files(out_dir, &name, hinges, low)?)
+        Some(write_run_files(out_dir, &name, &offsets, low)?)
     } else {
         warnings.push("no revolute or continuous joint: there is nothing to drive".into());
         None

@@ -53,13 +53,21 @@ pub fn lowest_point(bodies: &[Body], meshes: &MeshWriter) -> f64 {
 }
 
 /// Writes `NAME.env.xml`, `NAME.actuation.xml` and `NAME.simulation.xml` into `dir`
-/// beside `NAME.robot.xml`; returns the simulation file.
+/// beside `NAME.robot.xml`, the sine on every joint centred at `offsets` (deg, one per
+/// joint); returns the simulation file.
 pub fn write_run_files(
     dir: &Path,
     name: &str,
-    joints: usize,
+    offsets: &[f64],
     lowest: f64,
 ) -> Result<std::path::PathBuf, InteropError> {
+    let joints = offsets.len();
+    let offset = if offsets.iter().all(|o| *o == 0.0) {
+        r#"value="0""#.to_string()
+    } else {
+        let v: Vec<String> = offsets.iter().map(|o| format!("{o:.4}")).collect();
+        format!(r#"values="{}""#, v.join(" "))
+    };
     let lift = CLEARANCE - lowest;
     let env = format!(
         r#"<?xml version="1.0" encoding="utf-8"?>
@@ -98,7 +106,7 @@ pub fn write_run_files(
     <parameter name="Amplitude" value="{SINE_AMPLITUDE_DEG}"/>
     <parameter name="Phase_Difference" value="45"/>
     <parameter name="Frequency" value="0.5"/>
-    <parameter name="Offset" value="0"/>
+    <parameter name="Offset" {offset}/>
   </actuationModule>
 </actuation>
 "#,
