@@ -125,6 +125,10 @@ enum Command {
         /// Output folder (default: imported/NAME).
         #[arg(short, long)]
         out: Option<PathBuf>,
+        /// Import a robot without any collision geometry (it falls through the floor) with a
+        /// warning instead of refusing it.
+        #[arg(long)]
+        allow_no_collision: bool,
     },
     /// Write a simulation in another format.
     Export {
@@ -462,9 +466,14 @@ fn main() -> ExitCode {
             .map_err(|e| e.to_string()),
         Command::Robot(options) => cli::robot::robot(&options, &registry).map(|r| r.to_string()),
         Command::RobotEmulator(options) => cli::robot::emulator(&options),
-        Command::Import { urdf, out } => {
+        Command::Import {
+            urdf,
+            out,
+            allow_no_collision,
+        } => {
             let out = out.unwrap_or_else(|| cli::interop::default_import_dir(&urdf));
-            cli::interop::import(&urdf, &out, &registry).map(|r| r.to_string())
+            cli::interop::import_with(&urdf, &out, allow_no_collision, &registry)
+                .map(|r| r.to_string())
         }
         Command::Export {
             command:

@@ -493,3 +493,37 @@ fn a_joint_starting_outside_its_limits_is_named_and_its_sine_centred_inside() {
         "swing {lo:.1}..{hi:.1} deg"
     );
 }
+
+#[test]
+fn a_robot_without_collision_geometry_is_refused_unless_allowed() {
+    let dir = common::scratch("urdf-ghost");
+    let registry = ModuleRegistry::standard();
+    let out = dir.join("out");
+    // Visual geometry only: it would fall through the floor (kinova ended at z = -44 m).
+    let text = "<robot name=\"ghost\"><link name=\"a\"><inertial><mass value=\"1\"/>\
+        <inertia ixx=\"0.01\" ixy=\"0\" ixz=\"0\" iyy=\"0.01\" iyz=\"0\" izz=\"0.01\"/></inertial>\
+        <visual><geometry><box size=\"0.1 0.1 0.1\"/></geometry></visual></link>\
+        <link name=\"b\"><inertial><mass value=\"1\"/>\
+        <inertia ixx=\"0.01\" ixy=\"0\" ixz=\"0\" iyy=\"0.01\" iyz=\"0\" izz=\"0.01\"/></inertial></link>\
+        <joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/>\
+        <axis xyz=\"0 1 0\"/><limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint></robot>";
+    let urdf = write(&dir, "ghost.urdf", text);
+    let e = import(&urdf, &out, &registry).unwrap_err();
+    assert!(
+        e.contains("ghost.urdf")
+            && e.contains("fall through the floor")
+            && e.contains("--allow-no-collision"),
+        "{e}"
+    );
+    let allowed = proleg::cli::interop::import_with(&urdf, &out, true, &registry)
+        .expect("imported when allowed");
+    assert!(
+        allowed
+            .import
+            .warnings
+            .iter()
+            .any(|w| w.contains("fall through the floor")),
+        "{:#?}",
+        allowed.import.warnings
+    );
+}

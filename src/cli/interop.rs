@@ -6,7 +6,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::control::{ModuleRegistry, load_simulation_in};
-use crate::interop::urdf::{UrdfImport, import_urdf};
+use crate::interop::urdf::{UrdfImport, import_urdf_with};
 
 /// An import and the check of what it wrote.
 #[derive(Debug, Clone)]
@@ -29,7 +29,18 @@ impl fmt::Display for ImportReport {
 
 /// Imports `urdf` into `out` and checks the simulation it wrote.
 pub fn import(urdf: &Path, out: &Path, registry: &ModuleRegistry) -> Result<ImportReport, String> {
-    let import = import_urdf(urdf, out).map_err(|e| e.to_string())?;
+    import_with(urdf, out, false, registry)
+}
+
+/// [`import`], with a robot without collision geometry imported (with a warning) when
+/// `allow_no_collision` (`proleg import --allow-no-collision`).
+pub fn import_with(
+    urdf: &Path,
+    out: &Path,
+    allow_no_collision: bool,
+    registry: &ModuleRegistry,
+) -> Result<ImportReport, String> {
+    let import = import_urdf_with(urdf, out, allow_no_collision).map_err(|e| e.to_string())?;
     let check = match &import.simulation_file {
         Some(sim) => Some(
             load_simulation_in(sim, registry)

@@ -100,8 +100,20 @@ impl fmt::Display for UrdfImport {
     }
 }
 
-/// Imports the URDF at `urdf` into `out_dir`.
+/// Imports the URDF at `urdf` into `out_dir`; a robot left without any collision geometry
+/// is refused (see [`import_urdf_with`]).
 pub fn import_urdf(urdf: &Path, out_dir: &Path) -> Result<UrdfImport, InteropError> {
+    import_urdf_with(urdf, out_dir, false)
+}
+
+/// Imports the URDF at `urdf` into `out_dir`. A robot left without any collision geometry
+/// (its links have only `<visual>`, or meshes in formats not read) would fall through the
+/// floor: an error, or with `allow_no_collision` a warning.
+pub fn import_urdf_with(
+    urdf: &Path,
+    out_dir: &Path,
+    allow_no_collision: bool,
+) -> Result<UrdfImport, InteropError> {
     let text = std::fs::read_to_string(urdf)
         .map_err(|e| InteropError::new(urdf, format!("cannot read: {e}")))?;
     let robot = urdf_rs::read_from_string(&text)
@@ -118,6 +130,17 @@ pub fn import_urdf(urdf: &Path, out_dir: &Path) -> Result<UrdfImport, InteropErr
                     .map_err(|cause| InteropError::new(urdf, cause))?,
             );
         }
+    }
+    if bodies.iter().all(|b| b.geoms.is_empty()) {
+        let why = "no link has collision geometry proleg reads (only <visual>, or meshes in \
+                   other formats than OBJ and STL): the robot would fall through the floor";
+        if !allow_no_collision {
+            return Err(InteropError::new(
+                urdf,
+                format!("{why}; import it anyway with --allow-no-collision"),
+            ));
+        }
+        warnings.push(format!("{why} (imported anyway: --allow-no-collision)"));
     }
     let joints: Vec<Joint> = tree
         .order
