@@ -527,3 +527,54 @@ fn a_robot_without_collision_geometry_is_refused_unless_allowed() {
         allowed.import.warnings
     );
 }
+
+#[test]
+fn package_meshes_are_found_through_ros_package_path() {
+    let dir = common::scratch("urdf-rospath");
+    // The URDF in one tree, its package's mesh in another: no folder above holds it.
+    let urdfs = dir.join("robots");
+    let pkg = dir.join("workspace/src/mypkg/meshes");
+    std::fs::create_dir_all(&urdfs).unwrap();
+    std::fs::create_dir_all(&pkg).unwrap();
+    std::fs::write(
+        pkg.join("tet.obj"),
+        "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+    )
+    .unwrap();
+    let text = format!(
+        "<robot name=\"p\">{}{}<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/>\
+         <child link=\"b\"/><axis xyz=\"0 1 0\"/><limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint></robot>",
+        link("a", "<mesh filename=\"package://mypkg/meshes/tet.obj\"/>"),
+        link("b", "<box size=\"0.1 0.1 0.1\"/>")
+    );
+    let urdf = write(&urdfs, "p.urdf", &text);
+    let out = dir.join("out");
+    let run = |ros: Option<&Path>| {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_proleg"));
+        c.args([
+            "import",
+            urdf.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .env_remove("ROS_PACKAGE_PATH");
+        if let Some(p) = ros {
+            c.env("ROS_PACKAGE_PATH", p);
+        }
+        let o = c.output().unwrap();
+        (
+            o.status.success(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let (ok, err) = run(None);
+    assert!(
+        !ok && err.contains("p.urdf")
+            && err.contains("package \"mypkg\"")
+            && err.contains("ROS_PACKAGE_PATH (not set)"),
+        "{err}"
+    );
+    let (ok, err) = run(Some(&dir.join("workspace/src")));
+    assert!(ok, "{err}");
+    assert!(out.join("meshes").read_dir().unwrap().count() == 1);
+}

@@ -16,15 +16,23 @@ pub struct MeshWriter {
     out_dir: PathBuf,
     /// Written meshes by source path and scale: their relative name and vertices.
     written: BTreeMap<String, (String, TriMesh)>,
+    /// The URDF file (named in errors).
+    urdf: PathBuf,
+    /// Where ROS looks for packages (`ROS_PACKAGE_PATH`): folders holding packages, or
+    /// packages themselves.
+    package_path: Vec<PathBuf>,
 }
 
 impl MeshWriter {
-    /// A writer for a URDF in `urdf_dir` imported into `out_dir`.
-    pub fn new(urdf_dir: &Path, out_dir: &Path) -> Self {
+    /// A writer for the URDF `urdf` imported into `out_dir`, finding `package://` meshes
+    /// also in the folders of `package_path` (ROS's `ROS_PACKAGE_PATH`).
+    pub fn new(urdf: &Path, out_dir: &Path, package_path: Vec<PathBuf>) -> Self {
         MeshWriter {
-            urdf_dir: urdf_dir.to_path_buf(),
+            urdf_dir: urdf.parent().unwrap_or(Path::new(".")).to_path_buf(),
             out_dir: out_dir.to_path_buf(),
             written: BTreeMap::new(),
+            urdf: urdf.to_path_buf(),
+            package_path,
         }
     }
 
@@ -83,7 +91,8 @@ impl MeshWriter {
     }
 
     /// The file a URDF mesh name points to: `package://NAME/rest` is looked for as
-    /// `NAME/rest` or `rest` in the URDF's folder and every folder above it.
+    /// `NAME/rest` or `rest` in the URDF's folder and every folder above it, then in the
+    /// package path's folders.
     fn resolve(&self, filename: &str) -> Result<PathBuf, InteropError> {
         if let Some(path) = filename.strip_prefix("file://") {
             return Ok(PathBuf::from(path));
@@ -92,7 +101,8 @@ impl MeshWriter {
             return Ok(self.urdf_dir.join(filename));
         };
         let (package, inner) = rest.split_once('/').unwrap_or((rest, ""));
-        for dir in self.urdf_dir.ancestors() {
+        let above = self.urdf_dir.ancestors().map(Path::to_path_buf);
+        for dir in above.chain(self.package_path.iter().cloned()) {
             let inside = dir.join(package).join(inner);
             if inside.is_file() {
                 return Ok(inside);
@@ -102,8 +112,19 @@ impl MeshWriter {
             }
         }
         Err(InteropError::new(
-            &self.urdf_dir,
-            format!("mesh {filename}: package \"{package}\" not found in this folder or above"),
+            &self.urdf,
+            format!(
+                "mesh {filename}: package \"{package}\" not found in the URDF's folder or above, nor in ROS_PACKAGE_PATH ({})",
+                if self.package_path.is_empty() {
+                    "not set".to_string()
+                } else {
+                    self.package_path
+                        .iter()
+                        .map(|p| p.display().to_string())
+                        .collect::<Vec<_>>()
+                        .join(":")
+                }
+            ),
         ))
     }
 }

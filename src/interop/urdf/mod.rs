@@ -120,8 +120,10 @@ pub fn import_urdf_with(
         .map_err(|e| InteropError::new(urdf, format!("not a valid URDF: {e}")))?;
     let tree = Tree::new(urdf, &robot)?;
     let mut warnings = joint_warnings(&robot);
-    let urdf_dir = urdf.parent().unwrap_or(Path::new("."));
-    let mut meshes = MeshWriter::new(urdf_dir, out_dir);
+    let package_path = std::env::var_os("ROS_PACKAGE_PATH")
+        .map(|p| std::env::split_paths(&p).collect())
+        .unwrap_or_default();
+    let mut meshes = MeshWriter::new(urdf, out_dir, package_path);
     let mut bodies = Vec::new();
     for &l in &tree.order {
         if tree.body_of[l] == l {
