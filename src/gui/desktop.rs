@@ -122,6 +122,31 @@ fn exit_on_signal(flag: Res<Terminate>, mut exit: MessageWriter<AppExit>) {
     }
 }
 
+/// What both windows are built on: Bevy's default plugins with a 1280x800 window titled
+/// `title` (Bevy's own Ctrl+C handler replaced by [`DesktopPlugin`]'s), egui, mesh
+/// picking, reactive rendering and ordered keys, on the windows' sky colour.
+pub fn add_window_plugins(app: &mut App, title: String) {
+    app.add_plugins(
+        DefaultPlugins
+            .set(bevy::window::WindowPlugin {
+                primary_window: Some(Window {
+                    title,
+                    resolution: bevy::window::WindowResolution::new(1280, 800),
+                    ..default()
+                }),
+                ..default()
+            })
+            .disable::<bevy::app::TerminalCtrlCHandlerPlugin>(),
+    )
+    .add_plugins((
+        bevy_egui::EguiPlugin::default(),
+        MeshPickingPlugin,
+        DesktopPlugin,
+        crate::gui::keyboard::OrderedKeysPlugin,
+    ))
+    .insert_resource(ClearColor(Color::srgb(0.62, 0.74, 0.86)));
+}
+
 /// Why another window could not be opened.
 #[derive(Debug, thiserror::Error)]
 pub enum SpawnError {

@@ -38,8 +38,7 @@ use std::path::Path;
 
 use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
-use bevy::window::WindowResolution;
-use bevy_egui::{EguiContexts, EguiPlugin, EguiPrimaryContextPass, egui};
+use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 
 use crate::gui::control::assign_view::AssignState;
 use crate::gui::control::camera::OrbitCamera;
@@ -146,31 +145,13 @@ pub fn run(
     robot_view.open =
         session.sim.files.simulation.properties.mode == crate::config::simulation::Mode::RealRobot;
     let mut app = App::new();
-    app.add_plugins(
-        DefaultPlugins
-            .set(WindowPlugin {
-                primary_window: Some(Window {
-                    title,
-                    resolution: WindowResolution::new(1280, 800),
-                    ..default()
-                }),
-                ..default()
-            })
-            .disable::<bevy::app::TerminalCtrlCHandlerPlugin>(),
-    )
-    .add_plugins((
-        EguiPlugin::default(),
-        MeshPickingPlugin,
-        crate::gui::desktop::DesktopPlugin,
-        crate::gui::keyboard::OrderedKeysPlugin,
-    ))
-    .insert_resource(ClearColor(Color::srgb(0.62, 0.74, 0.86)))
-    .insert_resource(ToolbarState::new(&typed))
-    .insert_resource(runner)
-    .insert_non_send(session)
-    .insert_resource(remote_view)
-    .insert_resource(robot_view)
-    .add_plugins(ControlWindowPlugin);
+    crate::gui::desktop::add_window_plugins(&mut app, title);
+    app.insert_resource(ToolbarState::new(&typed))
+        .insert_resource(runner)
+        .insert_non_send(session)
+        .insert_resource(remote_view)
+        .insert_resource(robot_view)
+        .add_plugins(ControlWindowPlugin);
     match app.run() {
         AppExit::Success => Ok(()),
         AppExit::Error(code) => Err(format!("the control window closed with status {code}")),

@@ -29,6 +29,22 @@ use crate::optimize::shared::follow::{FOLLOW_POLL, Followed, follow_run};
 use crate::optimize::space::{Genome, SearchSpace};
 use crate::optimize::store::StoreLocation;
 
+/// Why "Save best" wrote nothing.
+#[derive(Debug, thiserror::Error)]
+pub enum SaveBestError {
+    /// No evaluation has finished yet.
+    #[error("no candidate evaluated yet")]
+    NoCandidate,
+    /// The file could not be written.
+    #[error("{}: cannot write: {source}", path.display())]
+    Write {
+        /// The actuation file.
+        path: std::path::PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+}
+
 /// A message from the optimization thread.
 enum Report {
     Eval(Evaluation),
@@ -270,14 +286,22 @@ impl OptimizerView {
         }
     }
 
-    /// Writes the best candidate as an actuation file at `save_to`.
-    pub fn save_best(&self, session: &SimSession, space: &SearchSpace) -> Result<String, String> {
-        let (genome, _) = self.best.as_ref().ok_or("no candidate evaluated yet")?;
-        let path = std::path::Path::new(self.save_to.trim());
+    /// Writes the best candidate as an actuation file at `save_to`; returns the file.
+    pub fn save_best(
+        &self,
+        session: &SimSession,
+        space: &SearchSpace,
+    ) -> Result<std::path::PathBuf, SaveBestError> {
+        let (genome, _) = self.best.as_ref().ok_or(SaveBestError::NoCandidate)?;
+        let path = std::path::PathBuf::from(self.save_to.trim());
         let file = actuation_with(&session.sim, space, genome);
-        std::fs::write(path, write_actuation_file(&file))
-            .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
-        Ok(format!("saved the best candidate to {}", path.display()))
+        std::fs::write(&path, write_actuation_file(&file)).map_err(|source| {
+            SaveBestError::Write {
+                path: path.clone(),
+                source,
+            }
+        })?;
+        Ok(path)
     }
 
     /// Evaluations per second so far.
@@ -337,10 +361,10 @@ fn best_candidate(
             .on_hover_text("writes the best candidate as an actuation file")
             .clicked()
         {
-            match view.save_best(session, space) {
-                Ok(m) => *saved = Some(m),
-                Err(e) => *saved = Some(format!("error: {e}")),
-            }
+            *saved = Some(match view.save_best(session, space) {
+                Ok(p) => format!("saved the best candidate to {}", p.display()),
+                Err(e) => format!("error: {e}"),
+            });
         }
         ui.add(egui::TextEdit::singleline(&mut view.save_to).desired_width(f32::INFINITY));
     });

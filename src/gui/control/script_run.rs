@@ -415,7 +415,7 @@ fn tool_command(c: Command, session: &mut SimSession, views: &mut Views) -> Resu
                     .map(|(s, _)| s)?;
             let o = &mut views.optimizer;
             o.save_to = path.display().to_string();
-            o.save_best(session, &space)?;
+            o.save_best(session, &space).map_err(|e| e.to_string())?;
             Flow::Next
         }
         Command::ReplayBest => {

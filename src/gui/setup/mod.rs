@@ -24,8 +24,7 @@ pub mod wizard_view;
 use std::path::{Path, PathBuf};
 
 use bevy::prelude::*;
-use bevy::window::WindowResolution;
-use bevy_egui::{EguiContexts, EguiGlobalSettings, EguiPlugin, EguiPrimaryContextPass, egui};
+use bevy_egui::{EguiContexts, EguiGlobalSettings, EguiPrimaryContextPass, egui};
 
 use crate::compose::wizard::Page;
 use crate::gui::setup::picking::EditorDrag;
@@ -81,28 +80,10 @@ pub fn run(opts: &SetupOptions) -> Result<(), String> {
         state.tool = Tool::Expert;
     }
     let mut app = App::new();
-    app.add_plugins(
-        DefaultPlugins
-            .set(WindowPlugin {
-                primary_window: Some(Window {
-                    title: "proleg — new / edit configuration".into(),
-                    resolution: WindowResolution::new(1280, 800),
-                    ..default()
-                }),
-                ..default()
-            })
-            .disable::<bevy::app::TerminalCtrlCHandlerPlugin>(),
-    )
-    .add_plugins((
-        EguiPlugin::default(),
-        MeshPickingPlugin,
-        crate::gui::desktop::DesktopPlugin,
-        crate::gui::keyboard::OrderedKeysPlugin,
-    ))
-    .insert_resource(ClearColor(Color::srgb(0.62, 0.74, 0.86)))
-    .insert_resource(state)
-    .insert_resource(script)
-    .add_plugins(SetupWindowPlugin);
+    crate::gui::desktop::add_window_plugins(&mut app, "proleg — new / edit configuration".into());
+    app.insert_resource(state)
+        .insert_resource(script)
+        .add_plugins(SetupWindowPlugin);
     match app.run() {
         AppExit::Success => Ok(()),
         AppExit::Error(code) => Err(format!(

@@ -11,16 +11,15 @@ use crate::interop::urdf::tree::{Tree, origin};
 use crate::interop::{InteropError, to_pose};
 
 /// The body headed by link `head`: the collision geometry and the inertials of every link
-/// merged into it. `warn` collects what cannot be represented. A mesh that cannot be read
-/// is the outer error; a link whose inertial data no body can have, the inner one (the
-/// caller names the URDF).
+/// merged into it. `warn` collects what cannot be represented. A mesh that cannot be read,
+/// or a link whose inertial data no body can have, is an error naming the URDF.
 pub fn body(
     robot: &urdf_rs::Robot,
     tree: &Tree,
     head: usize,
     meshes: &mut MeshWriter,
     warn: &mut Vec<String>,
-) -> Result<Result<Body, String>, InteropError> {
+) -> Result<Body, InteropError> {
     let mut geoms = Vec::new();
     for l in tree.members(head) {
         let link = &robot.links[l];
@@ -39,18 +38,15 @@ pub fn body(
             }
         }
     }
-    let mass = match mass(robot, tree, head, warn) {
-        Ok(m) => m,
-        Err(e) => return Ok(Err(e)),
-    };
-    Ok(Ok(Body {
+    let mass = mass(robot, tree, head, warn).map_err(|e| InteropError::new(meshes.urdf(), e))?;
+    Ok(Body {
         name: robot.links[head].name.clone(),
         kind: BodyKind::Dynamic,
         pose: to_pose(&tree.world[head]),
         geoms,
         mass,
         pos: Pos::default(),
-    }))
+    })
 }
 
 /// The colour of a link's first visual with one (inline or a named robot material).

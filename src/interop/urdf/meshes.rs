@@ -36,6 +36,11 @@ impl MeshWriter {
         }
     }
 
+    /// The URDF file being imported (named in errors).
+    pub fn urdf(&self) -> &Path {
+        &self.urdf
+    }
+
     /// How many mesh files were written.
     pub fn count(&self) -> usize {
         self.written.len()

@@ -127,10 +127,7 @@ pub fn import_urdf_with(
     let mut bodies = Vec::new();
     for &l in &tree.order {
         if tree.body_of[l] == l {
-            bodies.push(
-                body(&robot, &tree, l, &mut meshes, &mut warnings)?
-                    .map_err(|cause| InteropError::new(urdf, cause))?,
-            );
+            bodies.push(body(&robot, &tree, l, &mut meshes, &mut warnings)?);
         }
     }
     if bodies.iter().all(|b| b.geoms.is_empty()) {
