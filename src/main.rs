@@ -117,6 +117,22 @@ enum Command {
         #[arg(long)]
         engine: Option<proleg::config::simulation::EngineKind>,
     },
+    /// Whether the robot comes to rest on the floor with its joints held: its lowest point
+    /// within 1 cm of the floor after the time given; exit 1 when it sinks or hangs.
+    Settle {
+        /// The simulation file (an import's NAME.simulation.xml).
+        config: PathBuf,
+        /// Simulated seconds.
+        #[arg(long, default_value_t = 2.0)]
+        seconds: f64,
+        /// The physics engine instead of the one the simulation file names (rapier, mujoco).
+        #[arg(long)]
+        engine: Option<proleg::config::simulation::EngineKind>,
+        /// rapier settings instead of the production ones (key=value,...; as `proleg bench
+        /// --physics`).
+        #[arg(long, default_value = "")]
+        physics: String,
+    },
     /// Import a URDF robot: a robot file with its meshes, plus a floor, a sine on every
     /// joint and a simulation file, checked; what cannot be represented is listed.
     Import {
@@ -129,6 +145,10 @@ enum Command {
         /// warning instead of refusing it.
         #[arg(long)]
         allow_no_collision: bool,
+        /// Where package NAME of `package://NAME/...` mesh paths is (repeatable); looked up
+        /// before the URDF's folders and `ROS_PACKAGE_PATH`.
+        #[arg(long = "package-path", value_name = "NAME=DIR", value_parser = proleg::interop::urdf::package_arg)]
+        package_path: Vec<(String, PathBuf)>,
     },
     /// Write a simulation in another format.
     Export {
@@ -470,11 +490,26 @@ fn main() -> ExitCode {
             urdf,
             out,
             allow_no_collision,
+            package_path,
         } => {
             let out = out.unwrap_or_else(|| cli::interop::default_import_dir(&urdf));
-            cli::interop::import_with(&urdf, &out, allow_no_collision, &registry)
-                .map(|r| r.to_string())
+            let opts = proleg::interop::urdf::ImportOptions {
+                allow_no_collision,
+                packages: package_path,
+                ..proleg::interop::urdf::ImportOptions::from_env()
+            };
+            cli::interop::import_with(&urdf, &out, &opts, &registry).map(|r| r.to_string())
         }
+        Command::Settle {
+            config,
+            seconds,
+            engine,
+            physics,
+        } => match cli::interop::settle(&config, seconds, engine, &physics, &registry) {
+            Err(e) => Err(e.to_string()),
+            Ok(r) if r.settled() => Ok(format!("{r}\n")),
+            Ok(r) => Err(r.to_string()),
+        },
         Command::Export {
             command:
                 ExportCommand::Mjcf {

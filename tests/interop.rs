@@ -250,14 +250,14 @@ fn what_cannot_be_represented_is_listed_never_dropped_silently() {
     <axis xyz="0 0 1"/><limit lower="0" upper="0.1" effort="2" velocity="3"/></joint>
 </robot>"#,
         link("base", "<box size=\"0.2 0.2 0.1\"/>"),
-        link("arm", "<mesh filename=\"arm.dae\"/>"),
+        link("arm", "<mesh filename=\"arm.ply\"/>"),
         link("hand", "<capsule radius=\"0.02\" length=\"0.1\"/>"),
     );
     let report = import(&write(&dir, "w.urdf", &text), &dir.join("out"), &registry).unwrap();
     let w = report.import.warnings.join("\n");
     for expected in [
         "slide: a Prismatic joint",
-        "arm.dae is not OBJ or STL",
+        "arm.ply is not OBJ, STL or DAE",
         "hand: a capsule",
     ] {
         assert!(w.contains(expected), "missing {expected:?} in\n{w}");
@@ -431,7 +431,10 @@ fn inertial_data_no_body_can_have_is_refused_naming_the_link() {
     // An indefinite tensor (a product of inertia larger than the moments).
     let indefinite = with_inertial("1", "0.01").replace("ixy=\"0\"", "ixy=\"0.02\"");
     let e = import(&write(&dir, "indef.urdf", &indefinite), &out, &registry).unwrap_err();
-    assert!(e.contains("not positive definite"), "{e}");
+    assert!(
+        e.contains("line 1: link base") && e.contains("not positive semi-definite"),
+        "{e}"
+    );
     // The same rule for robot files: check refuses such an <inertia> where it stands.
     let good = import(
         &write(&dir, "good.urdf", &with_inertial("1", "0.01")),
@@ -442,11 +445,12 @@ fn inertial_data_no_body_can_have_is_refused_naming_the_link() {
     let text = std::fs::read_to_string(&good.import.robot_file).unwrap();
     let bad = text.replace("0.01 0 0 0 0.01 0 0 0 0.01", "0.03 0 0 0 0.01 0 0 0 0.01");
     assert_ne!(bad, text, "the tensor as written: {text}");
-    let e = proleg::config::robot::parse_robot_file("bad.robot.xml", &bad)
+    std::fs::write(&good.import.robot_file, &bad).unwrap();
+    let e = load_simulation_in(good.import.simulation_file.unwrap(), &registry)
         .unwrap_err()
         .to_string();
     assert!(
-        e.starts_with("bad.robot.xml:")
+        e.contains("good.robot.xml:8:")
             && e.contains("<inertia>")
             && e.contains("triangle inequality"),
         "{e}"
@@ -515,7 +519,11 @@ fn a_robot_without_collision_geometry_is_refused_unless_allowed() {
             && e.contains("--allow-no-collision"),
         "{e}"
     );
-    let allowed = proleg::cli::interop::import_with(&urdf, &out, true, &registry)
+    let opts = proleg::interop::urdf::ImportOptions {
+        allow_no_collision: true,
+        ..Default::default()
+    };
+    let allowed = proleg::cli::interop::import_with(&urdf, &out, &opts, &registry)
         .expect("imported when allowed");
     assert!(
         allowed
@@ -549,7 +557,7 @@ fn package_meshes_are_found_through_ros_package_path() {
     );
     let urdf = write(&urdfs, "p.urdf", &text);
     let out = dir.join("out");
-    let run = |ros: Option<&Path>| {
+    let run = |ros: Option<&Path>, extra: &[&str]| {
         let mut c = Command::new(env!("CARGO_BIN_EXE_proleg"));
         c.args([
             "import",
@@ -557,6 +565,7 @@ fn package_meshes_are_found_through_ros_package_path() {
             "-o",
             out.to_str().unwrap(),
         ])
+        .args(extra)
         .env_remove("ROS_PACKAGE_PATH");
         if let Some(p) = ros {
             c.env("ROS_PACKAGE_PATH", p);
@@ -567,14 +576,30 @@ fn package_meshes_are_found_through_ros_package_path() {
             String::from_utf8_lossy(&o.stderr).into_owned(),
         )
     };
-    let (ok, err) = run(None);
+    let (ok, err) = run(None, &[]);
     assert!(
         !ok && err.contains("p.urdf")
             && err.contains("package \"mypkg\"")
-            && err.contains("ROS_PACKAGE_PATH (not set)"),
+            && err.contains("ROS_PACKAGE_PATH (not set)")
+            && err.contains("--package-path NAME=DIR"),
         "{err}"
     );
-    let (ok, err) = run(Some(&dir.join("workspace/src")));
+    let (ok, err) = run(Some(&dir.join("workspace/src")), &[]);
     assert!(ok, "{err}");
     assert!(out.join("meshes").read_dir().unwrap().count() == 1);
+    // The package named on the command line, no ROS_PACKAGE_PATH.
+    std::fs::remove_dir_all(&out).unwrap();
+    let given = format!("mypkg={}", dir.join("workspace/src/mypkg").display());
+    let (ok, err) = run(None, &["--package-path", &given]);
+    assert!(ok, "{err}");
+    assert!(out.join("meshes").read_dir().unwrap().count() == 1);
+    // A package given where its mesh is not: the error names the path tried.
+    let wrong = format!("mypkg={}", dir.display());
+    let (ok, err) = run(None, &["--package-path", &wrong]);
+    assert!(
+        !ok && err.contains("meshes/tet.obj does not exist"),
+        "{err}"
+    );
+    let (ok, err) = run(None, &["--package-path", "mypkg"]);
+    assert!(!ok && err.contains("NAME=DIR"), "{err}");
 }

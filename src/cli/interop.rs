@@ -6,7 +6,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::control::{ModuleRegistry, load_simulation_in};
-use crate::interop::urdf::{UrdfImport, import_urdf_with};
+use crate::interop::urdf::{ImportOptions, UrdfImport, import_urdf_with};
 
 /// An import and the check of what it wrote.
 #[derive(Debug, Clone)]
@@ -29,24 +29,30 @@ impl fmt::Display for ImportReport {
 
 /// Imports `urdf` into `out` and checks the simulation it wrote.
 pub fn import(urdf: &Path, out: &Path, registry: &ModuleRegistry) -> Result<ImportReport, String> {
-    import_with(urdf, out, false, registry)
+    import_with(urdf, out, &ImportOptions::from_env(), registry)
 }
 
-/// [`import`], with a robot without collision geometry imported (with a warning) when
-/// `allow_no_collision` (`proleg import --allow-no-collision`).
+/// [`import`] with `opts` (`proleg import --allow-no-collision --package-path NAME=DIR`).
 pub fn import_with(
     urdf: &Path,
     out: &Path,
-    allow_no_collision: bool,
+    opts: &ImportOptions,
     registry: &ModuleRegistry,
 ) -> Result<ImportReport, String> {
-    let import = import_urdf_with(urdf, out, allow_no_collision).map_err(|e| e.to_string())?;
+    let mut import = import_urdf_with(urdf, out, opts).map_err(|e| e.to_string())?;
     let check = match &import.simulation_file {
-        Some(sim) => Some(
-            load_simulation_in(sim, registry)
-                .map(|s| crate::config::summary::summary(&s))
-                .map_err(|e| format!("the imported files do not load: {e}"))?,
-        ),
+        Some(sim) => match load_simulation_in(sim, registry) {
+            Ok(s) => Some(crate::config::summary::summary(&s)),
+            // Asked for: the robot without collision geometry is written, and `proleg
+            // check` refuses it as it would any robot that falls through every floor.
+            Err(e) if opts.allow_no_collision => {
+                import
+                    .warnings
+                    .push(format!("proleg check refuses the files written: {e}"));
+                None
+            }
+            Err(e) => return Err(format!("the imported files do not load: {e}")),
+        },
         None => None,
     };
     Ok(ImportReport { import, check })
@@ -96,6 +102,14 @@ impl fmt::Display for ExportReport {
             e.joints,
             e.assets
         )?;
+        if e.loaded_by_mujoco {
+            writeln!(f, "MuJoCo loads it")?;
+        } else {
+            writeln!(
+                f,
+                "not loaded in MuJoCo (its library is not installed: bash scripts/install-mujoco)"
+            )?;
+        }
         for n in &e.notes {
             writeln!(f, "note: {n}")?;
         }
@@ -187,4 +201,52 @@ fn record_gait(
         steps,
         displacement: crate::measure::ground_distance(start, end),
     })
+}
+
+/// Why `proleg settle` could not measure.
+#[derive(Debug, thiserror::Error)]
+pub enum SettleError {
+    /// Not a duration.
+    #[error("--seconds {0}: give seconds > 0")]
+    Seconds(f64),
+    /// The configuration does not load.
+    #[error(transparent)]
+    Config(#[from] crate::config::error::ConfigError),
+    /// A `--physics` setting that is not one.
+    #[error("--physics: {0}")]
+    Physics(String),
+    /// The world could not be built or run.
+    #[error(transparent)]
+    Sim(#[from] crate::sim::error::SimError),
+}
+
+/// `proleg settle`: runs `config` for `seconds` with the joints held and reports where the
+/// robot came to rest ([`crate::sim::settle`]).
+pub fn settle(
+    config: &Path,
+    seconds: f64,
+    engine: Option<crate::config::simulation::EngineKind>,
+    physics: &str,
+    registry: &ModuleRegistry,
+) -> Result<crate::sim::settle::SettleReport, SettleError> {
+    if !(seconds > 0.0 && seconds.is_finite()) {
+        return Err(SettleError::Seconds(seconds));
+    }
+    let sim = load_simulation_in(config, registry)?;
+    let physics = if physics.is_empty() {
+        None
+    } else {
+        Some(
+            crate::sim::engine::rapier::PhysicsSettings::for_robot_with(&sim, physics)
+                .map_err(SettleError::Physics)?,
+        )
+    };
+    let opts = crate::sim::BuildOptions {
+        robots: 1,
+        record: false,
+        engine,
+        physics,
+        ..Default::default()
+    };
+    Ok(crate::sim::settle::settle(&sim, seconds, &opts, registry)?)
 }

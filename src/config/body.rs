@@ -5,6 +5,7 @@
 //! cylinders stand along their local y axis (OpenRAVE's convention).
 
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
+use crate::config::mesh::TriMesh;
 use crate::config::transform::{POSE_ELEMENTS, Pose, round_to};
 use crate::config::xml::dom::Element;
 use crate::config::xml::read::Reader;
@@ -371,8 +372,8 @@ impl Mass {
     }
 }
 
-/// An `<inertia>` tensor: 9 numbers, symmetric, with positive diagonal, and physical
-/// ([`inertia_fault`]).
+/// An `<inertia>` tensor: 9 numbers, symmetric, with positive diagonal (whether it is
+/// physical, [`inertia_fault`], is checked with the robot's other physical rules).
 fn read_inertia(r: &Reader, c: &Element) -> ConfigResult<[f64; 9]> {
     let m = r.array::<9>(c)?;
     let symmetric = (0..3).all(|i| {
@@ -385,14 +386,51 @@ fn read_inertia(r: &Reader, c: &Element) -> ConfigResult<[f64; 9]> {
             "<inertia> must be a symmetric 3x3 tensor (9 numbers, kg m^2) with a positive diagonal",
         ));
     }
-    if let Some(fault) = inertia_fault(&m) {
-        return Err(r.err(
-            c.text_pos,
-            ErrorKind::OutOfRange,
-            format!("<inertia>: {fault}"),
-        ));
-    }
     Ok(m)
+}
+
+/// The lowest z (m) of geometry `g` placed at `at` (its body's pose times its own), `mesh`
+/// holding a trimesh's vertices (unscaled; `None`: the mesh is unknown, +infinity).
+/// Exact for every shape: a box's lowest corner, a cylinder's (standing along its y) lowest
+/// rim point, a mesh's lowest vertex.
+pub fn lowest_z(at: &Pose, g: &Geom, mesh: Option<&TriMesh>) -> f64 {
+    let z = |p: [f64; 3]| at.transform_point(p)[2];
+    match &g.shape {
+        Shape::Box { extents } => {
+            let reach: f64 = (0..3)
+                .map(|k| {
+                    let mut v = [0.0; 3];
+                    v[k] = extents[k];
+                    at.rotate(v)[2].abs()
+                })
+                .sum();
+            at.translation[2] - reach
+        }
+        Shape::Sphere { radius } => at.translation[2] - radius,
+        Shape::Cylinder { radius, height } => {
+            let axis_z = at.rotate([0.0, 1.0, 0.0])[2].clamp(-1.0, 1.0);
+            at.translation[2]
+                - height / 2.0 * axis_z.abs()
+                - radius * (1.0 - axis_z * axis_z).sqrt()
+        }
+        Shape::Trimesh { scale, .. } => mesh
+            .map(|m| {
+                m.vertices
+                    .iter()
+                    .map(|v| z(v.map(|c| c * scale)))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .unwrap_or(f64::INFINITY),
+    }
+}
+
+/// The highest z (m) of geometry `g` placed at `at`: [`lowest_z`] of it turned upside down.
+pub fn highest_z(at: &Pose, g: &Geom, mesh: Option<&TriMesh>) -> f64 {
+    let upside_down = Pose {
+        translation: [0.0; 3],
+        rotation: [0.0, 1.0, 0.0, 0.0],
+    };
+    -lowest_z(&upside_down.mul(at), g, mesh)
 }
 
 /// The principal moments of a symmetric inertia tensor (row-major, kg m^2), ascending.

@@ -72,6 +72,8 @@ pub struct ConfigError {
     pub message: String,
     /// Where the failing file was included from, innermost first.
     pub included_from: Vec<(PathBuf, Pos)>,
+    /// Further faults found in the same pass (a file's physical checks report them all).
+    pub more: Vec<ConfigError>,
 }
 
 impl ConfigError {
@@ -88,6 +90,7 @@ impl ConfigError {
             kind,
             message: message.into(),
             included_from: Vec::new(),
+            more: Vec::new(),
         }
     }
 
@@ -96,6 +99,16 @@ impl ConfigError {
         self.included_from.push((file.as_ref().to_path_buf(), pos));
         self
     }
+
+    /// The first of `faults` carrying the others, or `None` when there are none.
+    pub fn all(mut faults: Vec<ConfigError>) -> Option<ConfigError> {
+        if faults.is_empty() {
+            return None;
+        }
+        let mut first = faults.remove(0);
+        first.more = faults;
+        Some(first)
+    }
 }
 
 impl fmt::Display for ConfigError {
@@ -103,6 +116,9 @@ impl fmt::Display for ConfigError {
         write!(f, "{}:{}: {}", self.file.display(), self.pos, self.message)?;
         for (file, pos) in &self.included_from {
             write!(f, "\n  included from {}:{}", file.display(), pos)?;
+        }
+        for other in &self.more {
+            write!(f, "\n{other}")?;
         }
         Ok(())
     }

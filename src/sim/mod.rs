@@ -29,6 +29,7 @@ pub mod record;
 pub mod runner;
 pub mod schedule;
 pub mod servo;
+pub mod settle;
 pub mod spawn;
 pub mod tactile;
 

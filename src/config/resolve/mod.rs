@@ -6,6 +6,7 @@ pub mod actuation;
 pub mod environment;
 pub mod flatten;
 pub mod optimizer;
+pub mod physical;
 pub mod robot;
 
 use std::path::{Path, PathBuf};
@@ -156,7 +157,11 @@ pub fn load_simulation_with(
             sim.properties.mode
         ));
     }
-    for l in robot.links.iter().filter(|l| l.mass_from_geometry) {
+    for l in robot
+        .links
+        .iter()
+        .filter(|l| l.mass_from_geometry && !l.fixed)
+    {
         warnings.push(format!(
             "link {} gives no mass; {:.3} kg from its geometry at 1000 kg/m³",
             l.name, l.mass

@@ -4,12 +4,13 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use crate::config::body::{Geom, Shape};
+use crate::config::body::{BodyKind, Geom, Shape};
 use crate::config::error::{ConfigError, ConfigResult, ErrorKind, Pos};
 use crate::config::mesh::Meshes;
 use crate::config::resolve::flatten::{
     Flat, Flattener, PlacedBody, PlacedJoint, PlacedSensor, find_file, read_file,
 };
+use crate::config::resolve::physical;
 use crate::config::robot::RobotFile;
 use crate::config::sensor::{Sensor, SensorSource, parse_sensor_file};
 use crate::config::source::FileSource;
@@ -70,6 +71,9 @@ pub struct Link {
     pub mass: f64,
     /// True when the file gave no mass and it was computed from the geometry.
     pub mass_from_geometry: bool,
+    /// Fixed to the world (`<Body type="static">`: a fixed base such as an arm's, the
+    /// root of the robot's tree only).
+    pub fixed: bool,
     /// Centre of mass and inertia tensor when the file gives them (else the mass is
     /// spread over the geometry).
     pub inertia: Option<LinkInertia>,
@@ -353,6 +357,9 @@ pub fn resolve_robot(
             "the robot has no <Body>",
         ));
     }
+    if let Some(e) = ConfigError::all(physical::robot_faults(path, file, &bodies, &placed_joints)) {
+        return Err(e);
+    }
     let links: Vec<Link> = bodies.iter().map(link_of).collect();
     let names = BodyNames(links.iter().map(|l| l.name.as_str()).collect());
     let joints = resolve_joints(&placed_joints, &links, &names)?;
@@ -399,6 +406,7 @@ fn link_of(pb: &PlacedBody) -> Link {
         geoms: pb.body.geoms.clone(),
         mass,
         mass_from_geometry: from_geom,
+        fixed: pb.body.kind == BodyKind::Static,
         inertia,
     }
 }

@@ -8,8 +8,8 @@ use std::path::Path;
 
 use crate::config::Simulation;
 use crate::interop::{InteropError, write_text};
-use crate::sim::engine::mujoco::MujocoSettings;
 use crate::sim::engine::mujoco::mjcf::{MjcfOptions, Servos, mjcf};
+use crate::sim::engine::mujoco::{MujocoSettings, check_mjcf_file};
 
 /// What an export wrote.
 #[derive(Debug, Clone, PartialEq)]
@@ -22,9 +22,12 @@ pub struct MjcfExport {
     pub assets: usize,
     /// Where MuJoCo will differ by construction, one line each.
     pub notes: Vec<String>,
+    /// MuJoCo loaded the file written (false: its library is not installed, not checked).
+    pub loaded_by_mujoco: bool,
 }
 
-/// Writes `sim` as MJCF to `out`.
+/// Writes `sim` as MJCF to `out` and, where MuJoCo's library is installed, loads it there:
+/// a file MuJoCo refuses is an error with MuJoCo's message.
 pub fn export_mjcf(sim: &Simulation, out: &Path) -> Result<MjcfExport, InteropError> {
     let opts = MjcfOptions {
         robots: 1,
@@ -33,10 +36,15 @@ pub fn export_mjcf(sim: &Simulation, out: &Path) -> Result<MjcfExport, InteropEr
     };
     let doc = mjcf(sim, &opts).map_err(|e| InteropError::new(&sim.file, e.to_string()))?;
     write_text(out, &doc.xml)?;
+    let loaded_by_mujoco = crate::sim::engine::mujoco::library::available();
+    if loaded_by_mujoco {
+        check_mjcf_file(out).map_err(|e| InteropError::new(out, e.to_string()))?;
+    }
     Ok(MjcfExport {
         bodies: doc.bodies,
         joints: doc.joints,
         assets: doc.assets,
         notes: doc.notes,
+        loaded_by_mujoco,
     })
 }

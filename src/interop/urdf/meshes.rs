@@ -1,11 +1,13 @@
-//! Mesh files named by a URDF (`package://`, `file://` or relative paths; OBJ or STL),
+//! Mesh files named by a URDF (`package://`, `file://` or relative paths; OBJ, STL or
+//! COLLADA),
 //! scaled and written once each as OBJ next to the imported robot.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::config::mesh::{TriMesh, parse_obj};
+use crate::config::mesh::TriMesh;
+use crate::interop::urdf::ImportOptions;
 use crate::interop::{InteropError, write_text};
 
 /// Converts and writes the meshes of one import; each (file, scale) once.
@@ -21,18 +23,21 @@ pub struct MeshWriter {
     /// Where ROS looks for packages (`ROS_PACKAGE_PATH`): folders holding packages, or
     /// packages themselves.
     package_path: Vec<PathBuf>,
+    /// Packages given by name, looked up first.
+    packages: Vec<(String, PathBuf)>,
 }
 
 impl MeshWriter {
     /// A writer for the URDF `urdf` imported into `out_dir`, finding `package://` meshes
-    /// also in the folders of `package_path` (ROS's `ROS_PACKAGE_PATH`).
-    pub fn new(urdf: &Path, out_dir: &Path, package_path: Vec<PathBuf>) -> Self {
+    /// also where `opts` says (named packages, ROS's `ROS_PACKAGE_PATH`).
+    pub fn new(urdf: &Path, out_dir: &Path, opts: &ImportOptions) -> Self {
         MeshWriter {
             urdf_dir: urdf.parent().unwrap_or(Path::new(".")).to_path_buf(),
             out_dir: out_dir.to_path_buf(),
             written: BTreeMap::new(),
             urdf: urdf.to_path_buf(),
-            package_path,
+            package_path: opts.package_path.clone(),
+            packages: opts.packages.clone(),
         }
     }
 
@@ -55,7 +60,7 @@ impl MeshWriter {
     }
 
     /// The OBJ (relative to the output folder) holding `filename` scaled by `scale`;
-    /// `None` for a format other than OBJ or STL.
+    /// `None` for a format other than OBJ, STL or COLLADA (DAE).
     pub fn convert(
         &mut self,
         filename: &str,
@@ -66,14 +71,8 @@ impl MeshWriter {
         if let Some((file, _)) = self.written.get(&key) {
             return Ok(Some(file.clone()));
         }
-        let ext = source
-            .extension()
-            .map(|e| e.to_string_lossy().to_ascii_lowercase())
-            .unwrap_or_default();
-        let mut mesh = match ext.as_str() {
-            "obj" => read_obj(&source)?,
-            "stl" => read_stl(&source)?,
-            _ => return Ok(None),
+        let Some(mut mesh) = read_mesh(&source)? else {
+            return Ok(None);
         };
         for v in &mut mesh.vertices {
             for k in 0..3 {
@@ -106,6 +105,21 @@ impl MeshWriter {
             return Ok(self.urdf_dir.join(filename));
         };
         let (package, inner) = rest.split_once('/').unwrap_or((rest, ""));
+        if let Some((_, dir)) = self.packages.iter().find(|(n, _)| n == package) {
+            let inside = dir.join(inner);
+            return if inside.is_file() {
+                Ok(inside)
+            } else {
+                Err(InteropError::new(
+                    &self.urdf,
+                    format!(
+                        "mesh {filename}: {} does not exist (package \"{package}\" given as {})",
+                        inside.display(),
+                        dir.display()
+                    ),
+                ))
+            };
+        }
         let above = self.urdf_dir.ancestors().map(Path::to_path_buf);
         for dir in above.chain(self.package_path.iter().cloned()) {
             let inside = dir.join(package).join(inner);
@@ -119,7 +133,7 @@ impl MeshWriter {
         Err(InteropError::new(
             &self.urdf,
             format!(
-                "mesh {filename}: package \"{package}\" not found in the URDF's folder or above, nor in ROS_PACKAGE_PATH ({})",
+                "mesh {filename}: package \"{package}\" not found in the URDF's folder or above, nor in ROS_PACKAGE_PATH ({}); name it with --package-path NAME=DIR",
                 if self.package_path.is_empty() {
                     "not set".to_string()
                 } else {
@@ -134,10 +148,52 @@ impl MeshWriter {
     }
 }
 
-fn read_obj(path: &Path) -> Result<TriMesh, InteropError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| InteropError::new(path, format!("cannot read the mesh: {e}")))?;
-    parse_obj(path, &text).map_err(|e| InteropError::new(path, e.to_string()))
+/// The triangles of a mesh file in any format URDFs use: OBJ and COLLADA read by the
+/// `mesh-loader` crate (every mesh of the file in one, COLLADA's unit and node transforms
+/// applied), STL by `stl_io` (mesh-loader takes a binary STL whose header starts with
+/// "solid" for ASCII, as bolt's and solo12's feet are). `None` for another format.
+fn read_mesh(path: &Path) -> Result<Option<TriMesh>, InteropError> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    let loader = mesh_loader::Loader::default();
+    let scene = match ext.as_str() {
+        "stl" => return read_stl(path).map(Some),
+        "obj" => loader.load_obj(path),
+        "dae" => loader.load_collada(path),
+        _ => return Ok(None),
+    }
+    .map_err(|e| InteropError::new(path, format!("not a readable {ext} mesh: {e}")))?;
+    let mut vertices = Vec::new();
+    let mut triangles = Vec::new();
+    for m in &scene.meshes {
+        let base = vertices.len() as u32;
+        vertices.extend(m.vertices.iter().map(|v| v.map(f64::from)));
+        triangles.extend(m.faces.iter().map(|f| f.map(|i| base + i)));
+    }
+    checked(path, vertices, triangles).map(Some)
+}
+
+/// A mesh with faces and finite vertices (random_urdfs/168's OBJ holds `v nan nan nan`).
+fn checked(
+    path: &Path,
+    vertices: Vec<[f64; 3]>,
+    triangles: Vec<[u32; 3]>,
+) -> Result<TriMesh, InteropError> {
+    if triangles.is_empty() {
+        return Err(InteropError::new(path, "the mesh has no faces"));
+    }
+    if let Some(k) = vertices
+        .iter()
+        .position(|v| !v.iter().all(|c| c.is_finite()))
+    {
+        return Err(InteropError::new(
+            path,
+            format!("vertex {} is not finite: {:?}", k + 1, vertices[k]),
+        ));
+    }
+    Ok(TriMesh::new(vertices, triangles))
 }
 
 fn read_stl(path: &Path) -> Result<TriMesh, InteropError> {
@@ -155,10 +211,7 @@ fn read_stl(path: &Path) -> Result<TriMesh, InteropError> {
         .iter()
         .map(|f| f.vertices.map(|i| i as u32))
         .collect::<Vec<_>>();
-    if triangles.is_empty() {
-        return Err(InteropError::new(path, "the mesh has no faces"));
-    }
-    Ok(TriMesh::new(vertices, triangles))
+    checked(path, vertices, triangles)
 }
 
 /// OBJ text of a mesh, vertices to 1 µm.

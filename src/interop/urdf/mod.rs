@@ -5,7 +5,7 @@
 //! | URDF | proleg |
 //! |---|---|
 //! | link, `<collision>` box / sphere / cylinder | `<Body>` with `<Geom>` box / sphere / cylinder (turned: ours stand along y) |
-//! | `<collision>` mesh (OBJ, STL), with scale | OBJ in `meshes/`, scaled, `type="convexhull"` |
+//! | `<collision>` mesh (OBJ, STL, DAE), with scale | OBJ in `meshes/`, scaled, `type="convexhull"` |
 //! | `<inertial>` mass, origin, inertia | `<Mass type="custom">` total, `<com>`, `<inertia>` (merged links: parallel-axis theorem); a negative mass or an indefinite tensor is an error naming the link, a tensor breaking the triangle inequality is balanced (warning) |
 //! | revolute joint | hinge: axis, limits (deg), effort -> `maxtorque`, velocity -> `maxvel`; zero pose outside the limits: warning, the sine centred inside |
 //! | continuous joint | hinge limited to +-180 deg (warning) |
@@ -16,6 +16,7 @@ mod links;
 mod meshes;
 mod outputs;
 mod tree;
+mod validate;
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -25,7 +26,7 @@ use crate::config::kinbody::{Joint, KinBody};
 use crate::config::robot::{RobotFile, write_robot_file};
 use crate::config::transform::Pose;
 use crate::interop::{InteropError, write_text};
-use links::body;
+use links::{Context, StandIn, body};
 use meshes::MeshWriter;
 pub use outputs::SINE_AMPLITUDE_DEG;
 use outputs::{lowest_point, write_run_files};
@@ -100,10 +101,50 @@ impl fmt::Display for UrdfImport {
     }
 }
 
-/// Imports the URDF at `urdf` into `out_dir`; a robot left without any collision geometry
-/// is refused (see [`import_urdf_with`]).
+/// How to import a URDF.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ImportOptions {
+    /// Import a robot left without any collision geometry (with a warning) rather than
+    /// refuse it.
+    pub allow_no_collision: bool,
+    /// Where `package://` meshes are looked for after the URDF's folder and those above
+    /// it: folders holding packages (`ROS_PACKAGE_PATH`) or packages themselves.
+    pub package_path: Vec<PathBuf>,
+    /// Packages given by name (`--package-path NAME=DIR`): looked up first.
+    pub packages: Vec<(String, PathBuf)>,
+}
+
+impl ImportOptions {
+    /// The defaults with `ROS_PACKAGE_PATH`'s folders as the package path.
+    pub fn from_env() -> Self {
+        ImportOptions {
+            allow_no_collision: false,
+            package_path: std::env::var_os("ROS_PACKAGE_PATH")
+                .map(|p| std::env::split_paths(&p).collect())
+                .unwrap_or_default(),
+            packages: Vec::new(),
+        }
+    }
+}
+
+/// A `--package-path` argument that is not `NAME=DIR`.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("\"{0}\": give a package as NAME=DIR (the NAME of package://NAME/... and its folder)")]
+pub struct PackageArgError(pub String);
+
+/// A package named on the command line: `NAME=DIR`.
+pub fn package_arg(arg: &str) -> Result<(String, PathBuf), PackageArgError> {
+    match arg.split_once('=') {
+        Some((name, dir)) if !name.is_empty() && !dir.is_empty() && !name.contains('/') => {
+            Ok((name.to_string(), PathBuf::from(dir)))
+        }
+        _ => Err(PackageArgError(arg.to_string())),
+    }
+}
+
+/// Imports the URDF at `urdf` into `out_dir` with [`ImportOptions::from_env`].
 pub fn import_urdf(urdf: &Path, out_dir: &Path) -> Result<UrdfImport, InteropError> {
-    import_urdf_with(urdf, out_dir, false)
+    import_urdf_with(urdf, out_dir, &ImportOptions::from_env())
 }
 
 /// Imports the URDF at `urdf` into `out_dir`. A robot left without any collision geometry
@@ -112,28 +153,35 @@ pub fn import_urdf(urdf: &Path, out_dir: &Path) -> Result<UrdfImport, InteropErr
 pub fn import_urdf_with(
     urdf: &Path,
     out_dir: &Path,
-    allow_no_collision: bool,
+    opts: &ImportOptions,
 ) -> Result<UrdfImport, InteropError> {
     let text = std::fs::read_to_string(urdf)
         .map_err(|e| InteropError::new(urdf, format!("cannot read: {e}")))?;
-    let robot = urdf_rs::read_from_string(&text)
-        .map_err(|e| InteropError::new(urdf, format!("not a valid URDF: {e}")))?;
+    let mut warnings = Vec::new();
+    let cleaned = validate::cleaned(urdf, &text, &mut warnings)?;
+    let robot = urdf_rs::read_from_string(&cleaned.text).map_err(|e| {
+        InteropError::new(
+            urdf,
+            format!("not a valid URDF (urdf-rs, no line known): {e}"),
+        )
+    })?;
     let tree = Tree::new(urdf, &robot)?;
-    let mut warnings = joint_warnings(&robot);
-    let package_path = std::env::var_os("ROS_PACKAGE_PATH")
-        .map(|p| std::env::split_paths(&p).collect())
-        .unwrap_or_default();
-    let mut meshes = MeshWriter::new(urdf, out_dir, package_path);
+    warnings.extend(joint_warnings(&robot));
+    let mut meshes = MeshWriter::new(urdf, out_dir, opts);
+    let ctx = Context {
+        stand_in: StandIn::of(&robot),
+        lines: cleaned.lines,
+    };
     let mut bodies = Vec::new();
     for &l in &tree.order {
         if tree.body_of[l] == l {
-            bodies.push(body(&robot, &tree, l, &mut meshes, &mut warnings)?);
+            bodies.push(body(&robot, &tree, l, &mut meshes, &ctx, &mut warnings)?);
         }
     }
     if bodies.iter().all(|b| b.geoms.is_empty()) {
         let why = "no link has collision geometry proleg reads (only <visual>, or meshes in \
-                   other formats than OBJ and STL): the robot would fall through the floor";
-        if !allow_no_collision {
+                   other formats than OBJ, STL and DAE): the robot would fall through the floor";
+        if !opts.allow_no_collision {
             return Err(InteropError::new(
                 urdf,
                 format!("{why}; import it anyway with --allow-no-collision"),
@@ -170,13 +218,11 @@ pub fn import_urdf_with(
     write_text(&robot_file, &write_robot_file(&file))?;
     let hinges = file.kinbody.joints.len();
     let offsets = gait_offsets(&file.kinbody.joints, &mut warnings);
-    let simulation_file = if hinges > 0 {
-        let low = lowest_point(&file.kinbody.bodies, &meshes);
-        Some(write_run_files(out_dir, &name, &offsets, low)?)
-    } else {
+    if hinges == 0 {
         warnings.push("no revolute or continuous joint: there is nothing to drive".into());
-        None
-    };
+    }
+    let low = lowest_point(&file.kinbody.bodies, &meshes);
+    let simulation_file = Some(write_run_files(out_dir, &name, &offsets, low)?);
     Ok(UrdfImport {
         name,
         robot_file,

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use crate::config::body::{Body, Shape};
+use crate::config::body::{Body, Shape, lowest_z};
 use crate::interop::urdf::meshes::MeshWriter;
 use crate::interop::{InteropError, write_text};
 
@@ -15,40 +15,17 @@ const CLEARANCE: f64 = 0.005;
 
 /// The lowest z (robot frame) of any geometry of `bodies`; 0 without geometry.
 pub fn lowest_point(bodies: &[Body], meshes: &MeshWriter) -> f64 {
-    let mut low = f64::INFINITY;
-    for b in bodies {
-        for g in &b.geoms {
-            let at = b.pose.mul(&g.pose);
-            let z = |p: [f64; 3]| {
-                at.mul(&crate::config::transform::Pose::from_translation(p))
-                    .translation[2]
+    let low = bodies
+        .iter()
+        .flat_map(|b| b.geoms.iter().map(move |g| (b, g)))
+        .map(|(b, g)| {
+            let mesh = match &g.shape {
+                Shape::Trimesh { file, .. } => meshes.mesh(file),
+                _ => None,
             };
-            let corners = |e: [f64; 3]| {
-                (0..8).map(move |k| {
-                    let s = |bit: usize| if k >> bit & 1 == 1 { 1.0 } else { -1.0 };
-                    [s(0) * e[0], s(1) * e[1], s(2) * e[2]]
-                })
-            };
-            let g_low = match &g.shape {
-                Shape::Box { extents } => corners(*extents).map(z).fold(f64::INFINITY, f64::min),
-                Shape::Sphere { radius } => z([0.0; 3]) - radius,
-                // Bounded by the box around it (r, h/2, r).
-                Shape::Cylinder { radius, height } => corners([*radius, height / 2.0, *radius])
-                    .map(z)
-                    .fold(f64::INFINITY, f64::min),
-                Shape::Trimesh { file, .. } => meshes
-                    .mesh(file)
-                    .map(|m| {
-                        m.vertices
-                            .iter()
-                            .map(|v| z(*v))
-                            .fold(f64::INFINITY, f64::min)
-                    })
-                    .unwrap_or(f64::INFINITY),
-            };
-            low = low.min(g_low);
-        }
-    }
+            lowest_z(&b.pose.mul(&g.pose), g, mesh)
+        })
+        .fold(f64::INFINITY, f64::min);
     if low.is_finite() { low } else { 0.0 }
 }
 
@@ -101,16 +78,23 @@ pub fn write_run_files(
 <!-- A gentle travelling sine on every joint of the imported robot {name}. -->
 <actuation>
   <validRobot robotName="{name}.robot.xml"/>
-  <actuationModule name="PatternGenerator_sinusoidal">
+{module}</actuation>
+"#,
+        module = if joints == 0 {
+            "  <!-- no hinge to drive -->\n".to_string()
+        } else {
+            format!(
+                r#"  <actuationModule name="PatternGenerator_sinusoidal">
     <jointConfiguration joints="{mask}"/>
     <parameter name="Amplitude" value="{SINE_AMPLITUDE_DEG}"/>
     <parameter name="Phase_Difference" value="45"/>
     <parameter name="Frequency" value="0.5"/>
     <parameter name="Offset" {offset}/>
   </actuationModule>
-</actuation>
 "#,
-        mask = "1".repeat(joints)
+                mask = "1".repeat(joints)
+            )
+        }
     );
     let simulation = format!(
         r#"<?xml version="1.0" encoding="utf-8"?>

@@ -25,7 +25,9 @@ use super::ffi::{
     mjtObj_mjOBJ_JOINT,
 };
 use super::library::{Library, library, take_error};
-use super::mjcf::{MjcfOptions, Servos, env_body_name, mjcf, robot_prefix, servo_name};
+use super::mjcf::{
+    MjcfOptions, Servos, env_body_name, link_body_name, mjcf, robot_prefix, servo_name,
+};
 use super::{MujocoError, MujocoSettings};
 use crate::config::Simulation;
 use crate::config::simulation::EngineKind;
@@ -206,8 +208,8 @@ impl MujocoEngine {
     /// Our ids of the environment and of each robot's parts, by name.
     fn layout(&mut self, sim: &Simulation, robots: usize) -> Result<Layout, SimError> {
         let mut layout = Layout::default();
-        for b in &sim.environment.bodies {
-            let id = self.id(mjtObj_mjOBJ_BODY, &env_body_name(&b.name), sim)?;
+        for i in 0..sim.environment.bodies.len() {
+            let id = self.id(mjtObj_mjOBJ_BODY, &env_body_name(sim, i), sim)?;
             let body = self.add_body(id);
             layout.environment.push(body);
         }
@@ -216,7 +218,7 @@ impl MujocoEngine {
             let prefix = robot_prefix(robots, r);
             let mut robot = RobotLayout::default();
             for l in &sim.robot.links {
-                let id = self.id(mjtObj_mjOBJ_BODY, &format!("{prefix}{}", l.name), sim)?;
+                let id = self.id(mjtObj_mjOBJ_BODY, &link_body_name(&prefix, &l.name), sim)?;
                 let body = self.add_body(id);
                 robot.links.push((body, l.mass));
             }
@@ -449,6 +451,44 @@ fn load_model(lib: &Library, xml: &str, sim: &Simulation) -> Result<*mut mjModel
         return Err(rejected(sim, cause.trim().to_string()).into());
     }
     Ok(model)
+}
+
+/// Loads the MJCF file `path` in MuJoCo as MuJoCo's own tools would (its meshes relative
+/// to it) and frees the model: `Ok` when MuJoCo accepts it, else MuJoCo's message.
+pub fn check_mjcf_file(path: &std::path::Path) -> Result<(), MujocoError> {
+    let lib = super::library::library()?;
+    let refused = |cause: String| MujocoError::Rejected {
+        file: path.display().to_string(),
+        cause: cause.split_whitespace().collect::<Vec<_>>().join(" "),
+    };
+    let name = CString::new(path.as_os_str().as_encoded_bytes())
+        .map_err(|_| refused("the path holds a NUL byte".into()))?;
+    let mut error = [0 as c_char; 1000];
+    // SAFETY: `name` is NUL-terminated, no VFS is used, `error` holds `error.len()` bytes;
+    // the model is freed at once.
+    let model = unsafe {
+        let model = lib.api.mj_loadXML(
+            name.as_ptr(),
+            std::ptr::null(),
+            error.as_mut_ptr(),
+            error.len() as c_int,
+        );
+        if !model.is_null() {
+            lib.api.mj_deleteModel(model);
+        }
+        model
+    };
+    if model.is_null() {
+        // SAFETY: MuJoCo writes a NUL-terminated message into `error`.
+        let text = unsafe { std::ffi::CStr::from_ptr(error.as_ptr()) }
+            .to_string_lossy()
+            .into_owned();
+        return Err(refused(match take_error() {
+            Some(e) => format!("{text} {e}"),
+            None => text,
+        }));
+    }
+    Ok(())
 }
 
 /// MuJoCo refused `sim`'s model; its message (which may span lines) on one line.

@@ -18,7 +18,7 @@ pub mod ffi;
 pub mod library;
 pub mod mjcf;
 
-pub use engine::MujocoEngine;
+pub use engine::{MujocoEngine, check_mjcf_file};
 
 /// The MuJoCo version the bindings were generated for.
 pub const MUJOCO_VERSION: &str = "4.0.0";

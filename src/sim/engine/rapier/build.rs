@@ -181,9 +181,12 @@ impl RapierEngine {
         let mut out = Vec::with_capacity(sim.robot.links.len());
         for l in &sim.robot.links {
             let p = start.mul(&l.pose);
-            let mut body = rp::RigidBodyBuilder::dynamic()
-                .pose(pose(&p))
-                .can_sleep(false);
+            let builder = if l.fixed {
+                rp::RigidBodyBuilder::fixed()
+            } else {
+                rp::RigidBodyBuilder::dynamic()
+            };
+            let mut body = builder.pose(pose(&p)).can_sleep(false);
             // A link with its inertia given carries it on the body; its colliders add none.
             let collider_mass = match &l.inertia {
                 Some(i) => {

@@ -79,9 +79,26 @@ pub fn servo_name(joint: &str) -> String {
     format!("{joint}_servo")
 }
 
-/// The name of environment body `name`.
-pub fn env_body_name(name: &str) -> String {
-    format!("env_{name}")
+/// The name of environment body `i` of `sim`: `env_NAME`, with `_i` appended when an
+/// earlier environment body has the same name (MJCF names must be unique).
+pub fn env_body_name(sim: &Simulation, i: usize) -> String {
+    let bodies = &sim.environment.bodies;
+    let name = &bodies[i].name;
+    if bodies[..i].iter().any(|b| b.name == *name) {
+        format!("env_{name}_{i}")
+    } else {
+        format!("env_{name}")
+    }
+}
+
+/// The name of link `name` of the robot with `prefix`: its own, but MuJoCo's world body is
+/// called `world` (the URDF convention for a fixed base), so a link of that name is renamed.
+pub fn link_body_name(prefix: &str, name: &str) -> String {
+    if prefix.is_empty() && name == "world" {
+        "robot_world".into()
+    } else {
+        format!("{prefix}{name}")
+    }
 }
 
 /// `sim` as one MJCF document.
@@ -93,9 +110,16 @@ pub fn mjcf(sim: &Simulation, opts: &MjcfOptions) -> Result<Mjcf, MujocoError> {
         "Made by proleg from {}; the servo model and the contact friction rule are explained in proleg's docs/DESIGN.md.",
         sim.file.display()
     ));
+    // balanceinertia: proleg's own check (config::body::inertia_fault) accepts tensors
+    // within 1e-6 of the triangle inequality; MuJoCo's is exact, so the last rounding of
+    // a balanced tensor is repaired by MuJoCo the way proleg balanced it.
     w.empty(
         "compiler",
-        &[("angle", "radian".into()), ("autolimits", "true".into())],
+        &[
+            ("angle", "radian".into()),
+            ("autolimits", "true".into()),
+            ("balanceinertia", "true".into()),
+        ],
     );
     option(sim, &opts.settings, &mut w);
     contact_default(sim, &mut w);
@@ -158,8 +182,8 @@ fn contact_default(sim: &Simulation, w: &mut XmlWriter) {
 fn environment(sim: &Simulation, w: &mut XmlWriter, assets: &Assets) -> Result<usize, MujocoError> {
     let env = &sim.environment;
     let default_friction = env.physics.default_friction.unwrap_or(DEFAULT_FRICTION);
-    for b in &env.bodies {
-        let mut attrs = vec![("name", env_body_name(&b.name))];
+    for (i, b) in env.bodies.iter().enumerate() {
+        let mut attrs = vec![("name", env_body_name(sim, i))];
         attrs.extend(pose_attrs(&b.pose));
         w.open("body", &attrs);
         let fixed = b.kind == BodyKind::Static;
@@ -244,14 +268,14 @@ impl Tree<'_> {
     ) -> Result<usize, MujocoError> {
         let robot = &self.sim.robot;
         let link = &robot.links[l];
-        let mut attrs = vec![("name", format!("{}{}", self.prefix, link.name))];
+        let name = link_body_name(&self.prefix, &link.name);
+        let mut attrs = vec![("name", name.clone())];
         attrs.extend(pose_attrs(at));
         w.open("body", &attrs);
         match joint {
-            None => w.empty(
-                "freejoint",
-                &[("name", format!("{}{}_free", self.prefix, link.name))],
-            ),
+            // A fixed link (a robot's fixed base) hangs on the world without a joint.
+            None if link.fixed => {}
+            None => w.empty("freejoint", &[("name", format!("{name}_free"))]),
             Some(k) => self.hinge(k, w),
         }
         if let Some(i) = &link.inertia {
