@@ -172,10 +172,12 @@ fn a_model_mujoco_rejects_is_an_error_naming_the_file() {
         return;
     }
     let mut sim = demo();
-    // An inertia no body can have (A + B < C): proleg's loader takes it, MuJoCo does not.
+    // A negative principal moment, past proleg's loader (which refuses it in a file): no
+    // body has it, and MuJoCo's balanceinertia (which repairs rounding of the triangle
+    // inequality) does not make it one.
     sim.robot.links[0].inertia = Some(proleg::config::resolve::robot::LinkInertia {
         com: [0.0; 3],
-        tensor: [1e-6, 0.0, 0.0, 0.0, 1e-6, 0.0, 0.0, 0.0, 1e-3],
+        tensor: [-1e-3, 0.0, 0.0, 0.0, 1e-3, 0.0, 0.0, 0.0, 1e-3],
     });
     let Err(e) = Simulator::new(&sim, &BuildOptions::default()) else {
         panic!("MuJoCo took an impossible inertia");

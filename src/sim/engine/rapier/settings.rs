@@ -216,13 +216,31 @@ pub fn module_size(sim: &Simulation) -> f64 {
     }
     let volume: f64 = links
         .iter()
-        .map(|l| l.geoms.iter().map(geom_volume).sum::<f64>())
+        .map(|l| l.geoms.iter().map(|g| size_volume(sim, g)).sum::<f64>())
         .sum::<f64>()
         / links.len() as f64;
     if volume > 0.0 {
         volume.cbrt()
     } else {
         RAPIER_REFERENCE_SIZE
+    }
+}
+
+/// The volume (m³) a geometry counts with for the module size: a mesh's bounding box
+/// (its mass-giving volume, [`geom_volume`], is a nominal 1 cm³, which made every imported
+/// mesh robot a 1 cm module: a 3 cm object rolled slowly through the floor, a kuka arm sank
+/// 6 cm), any other shape's own.
+fn size_volume(sim: &Simulation, g: &crate::config::body::Geom) -> f64 {
+    match &g.shape {
+        crate::config::body::Shape::Trimesh { file, scale, .. } => sim
+            .mesh(file)
+            .map(|m| {
+                let (lo, hi) = m.bounds();
+                (0..3).map(|k| (hi[k] - lo[k]) * scale).product::<f64>()
+            })
+            .filter(|v| *v > 0.0)
+            .unwrap_or_else(|| geom_volume(g)),
+        _ => geom_volume(g),
     }
 }
 
