@@ -120,7 +120,7 @@ pub fn body(
     let world = root && robot.links[head].name == "world";
     // PyBullet's convention: a root without mass is a fixed base (kuka_iiwa's link_0); a
     // mass from its geometry would be a gram under a 30 kg arm.
-    let massless_root = root && !world && mass.is_none() && tree.order.len() > 1;
+    let massless_root = root && !world && mass.is_none();
     if massless_root {
         warn.push(format!(
             "link {}: the root has no <inertial> mass, PyBullet's mark of a fixed base: it is fixed to the world",
