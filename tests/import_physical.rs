@@ -94,6 +94,13 @@ fn a_massless_link_between_two_hinges_is_no_anchor_and_the_robot_settles() {
             report.import.warnings
         );
         assert!(settled.settled(), "{engine}: {settled}");
+        // The import itself said so.
+        let own = report.settle.as_ref().expect("settled at import");
+        assert!(own.settled(), "{own}");
+        assert!(
+            report.to_string().contains("proleg settle: settled"),
+            "{report}"
+        );
     }
     // Its mass and inertia are in the robot file, where `proleg check` sees them.
     let robot = std::fs::read_to_string(dir.join("chain-out/chain.robot.xml")).unwrap();

@@ -15,6 +15,10 @@ pub struct ImportReport {
     pub import: UrdfImport,
     /// The check summary of the written simulation, when one was written.
     pub check: Option<String>,
+    /// Whether the robot comes to rest on the floor with its joints held (`proleg settle`
+    /// for [`crate::sim::settle::IMPORT_SETTLE_SECONDS`], on the simulation's engine), when
+    /// the files load.
+    pub settle: Option<crate::sim::settle::SettleReport>,
 }
 
 impl fmt::Display for ImportReport {
@@ -22,6 +26,14 @@ impl fmt::Display for ImportReport {
         write!(f, "{}", self.import)?;
         if let Some(c) = &self.check {
             write!(f, "proleg check: ok\n{c}")?;
+        }
+        match &self.settle {
+            Some(r) if r.settled() => writeln!(f, "proleg settle: {r}")?,
+            Some(r) => writeln!(
+                f,
+                "warning: proleg settle: {r}; the robot does not stand as imported"
+            )?,
+            None => {}
         }
         Ok(())
     }
@@ -40,9 +52,22 @@ pub fn import_with(
     registry: &ModuleRegistry,
 ) -> Result<ImportReport, String> {
     let mut import = import_urdf_with(urdf, out, opts).map_err(|e| e.to_string())?;
+    let mut settled = None;
     let check = match &import.simulation_file {
         Some(sim) => match load_simulation_in(sim, registry) {
-            Ok(s) => Some(crate::config::summary::summary(&s)),
+            Ok(s) => {
+                let opts = crate::sim::BuildOptions {
+                    robots: 1,
+                    record: false,
+                    ..Default::default()
+                };
+                let seconds = crate::sim::settle::IMPORT_SETTLE_SECONDS;
+                settled = Some(
+                    crate::sim::settle::settle(&s, seconds, &opts, registry)
+                        .map_err(|e| format!("the imported robot does not run: {e}"))?,
+                );
+                Some(crate::config::summary::summary(&s))
+            }
             // Asked for: the robot without collision geometry is written, and `proleg
             // check` refuses it as it would any robot that falls through every floor.
             Err(e) if opts.allow_no_collision => {
@@ -55,7 +80,11 @@ pub fn import_with(
         },
         None => None,
     };
-    Ok(ImportReport { import, check })
+    Ok(ImportReport {
+        import,
+        check,
+        settle: settled,
+    })
 }
 
 /// The default output folder of an import: `imported/NAME` beside the working directory.

@@ -14,6 +14,9 @@ use crate::control::ModuleRegistry;
 use crate::sim::error::SimError;
 use crate::sim::{BuildOptions, Simulator};
 
+/// How long (s) `proleg import` lets what it imported settle.
+pub const IMPORT_SETTLE_SECONDS: f64 = 2.0;
+
 /// How far (m) the robot's lowest point may be from the floor once settled.
 pub const SETTLE_TOLERANCE: f64 = 0.01;
 
