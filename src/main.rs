@@ -98,7 +98,7 @@ enum Command {
         /// Physics settings to use instead of the robot's production ones, as
         /// key=value,... (substeps, steps_per_step, length_unit, warmstart_joints,
         /// contact_recycling, coulomb_friction, pgs_iterations, contact_hz, contact_damping,
-        /// halfspace_floor).
+        /// halfspace_floor, multibody_joints).
         #[arg(long, default_value = "")]
         physics: String,
         /// The physics engine instead of the one the simulation file names (rapier,

@@ -410,3 +410,43 @@ fn check_reports_every_physical_fault_of_a_robot_file_with_its_line() {
         "{e}"
     );
 }
+
+#[test]
+fn multibody_joints_an_experiment_lever_drive_the_servos_as_impulse_joints_do() {
+    // `--physics multibody_joints=true` (off in production): the hinges as rapier's
+    // reduced-coordinate joints, which settle allegro's 15 N m fingers where impulse joints
+    // shake. The servos must read and drive them the same way: the demo crawls forward
+    // and its joints follow their targets on both joint kinds.
+    let registry = ModuleRegistry::standard();
+    let sim = load_simulation_in(
+        common::root().join("configs/demo.simulation.xml"),
+        &registry,
+    )
+    .unwrap();
+    for multibody in [false, true] {
+        let physics = proleg::sim::engine::rapier::PhysicsSettings {
+            multibody_joints: multibody,
+            ..proleg::sim::engine::rapier::PhysicsSettings::for_robot(&sim)
+        };
+        let opts = proleg::sim::BuildOptions {
+            physics: Some(physics),
+            ..Default::default()
+        };
+        let mut s = proleg::sim::Simulator::with_registry(&sim, &opts, &registry).unwrap();
+        let start = s.com(0).unwrap();
+        // The mean tracking error over the last of three seconds (the start is a transient).
+        let mut late = 0.0_f64;
+        for k in 0..3000 {
+            s.step();
+            if k >= 2000 {
+                late += s.tracking_error(0).unwrap() / 1000.0;
+            }
+        }
+        let moved = proleg::measure::ground_distance(start, s.com(0).unwrap());
+        assert!(
+            moved > 0.1 && late < 12.0,
+            "multibody {multibody}: moved {moved} m, mean tracking error {late} deg"
+        );
+        eprintln!("multibody {multibody}: moved {moved:.3} m, tracking error {late:.2} deg");
+    }
+}

@@ -136,6 +136,7 @@ pub fn reference_base(production: PhysicsSettings) -> PhysicsSettings {
         contact_hz: production.contact_hz,
         contact_damping: production.contact_damping,
         halfspace_floor: production.halfspace_floor,
+        multibody_joints: production.multibody_joints,
     }
 }
 

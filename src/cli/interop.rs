@@ -31,7 +31,7 @@ impl fmt::Display for ImportReport {
             Some(r) if r.settled() => writeln!(f, "proleg settle: {r}")?,
             Some(r) => writeln!(
                 f,
-                "warning: proleg settle: {r}; the robot does not stand as imported"
+                "warning: proleg settle: {r}; the robot does not stand as imported (strong servos on light links: try `proleg settle --engine mujoco` or `--physics multibody_joints=true`)"
             )?,
             None => {}
         }

@@ -9,7 +9,8 @@ use rapier3d::prelude as rp;
 use super::contact::{check, combine_rule};
 use super::terrain::{floor_halfspace, heightfield};
 use super::{
-    Hinge, Laser, MOTOR_DAMPING, Pad, PhysicsSettings, RapierEngine, arr3, group_bit, pose, vec3,
+    Hinge, JointHandle, Laser, MOTOR_DAMPING, Pad, PhysicsSettings, RapierEngine, arr3, group_bit,
+    pose, vec3,
 };
 use crate::config::Simulation;
 use crate::config::body::{BodyKind, Geom, MeshCollision, Shape};
@@ -239,7 +240,15 @@ impl RapierEngine {
                 .motor_max_force(rp::JointAxis::AngX, j.max_torque as f32)
                 .contacts_enabled(false)
                 .build();
-            let handle = w.impulse_joints.insert(ph, ch, data, true);
+            let handle = if self.settings.multibody_joints {
+                // A loop cannot be a multibody: that joint stays an impulse joint.
+                match w.multibody_joints.insert(ph, ch, data, true) {
+                    Some(h) => JointHandle::Multibody(h),
+                    None => JointHandle::Impulse(w.impulse_joints.insert(ph, ch, data, true)),
+                }
+            } else {
+                JointHandle::Impulse(w.impulse_joints.insert(ph, ch, data, true))
+            };
             self.hinges.push(Hinge {
                 handle,
                 parent: ph,

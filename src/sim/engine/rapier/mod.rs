@@ -34,10 +34,18 @@ pub const LIMIT_MARGIN_DEG: f64 = 15.0;
 /// ... or closer than it would move in this time at its current speed (s).
 pub const LIMIT_LOOKAHEAD_S: f64 = 0.05;
 
+/// A hinge's rapier joint: an impulse joint (production) or a multibody joint
+/// ([`PhysicsSettings::multibody_joints`]).
+#[derive(Debug, Clone, Copy)]
+enum JointHandle {
+    Impulse(rp::ImpulseJointHandle),
+    Multibody(rp::MultibodyJointHandle),
+}
+
 /// A hinge: its rapier joint, the bodies it joins and its frame.
 #[derive(Debug, Clone)]
 struct Hinge {
-    handle: rp::ImpulseJointHandle,
+    handle: JointHandle,
     parent: rp::RigidBodyHandle,
     child: rp::RigidBodyHandle,
     /// Unit hinge axis in the parent body's frame.
@@ -174,12 +182,20 @@ impl PhysicsEngine for RapierEngine {
         // The motor's impulse in the last solver substep (the joint limit's impulse is not the
         // servo's); rapier splits a step into `num_solver_iterations` substeps.
         let axis = rp::JointAxis::AngX as usize;
-        let torque = self
-            .world
-            .impulse_joints
-            .get(h.handle)
-            .map_or(0.0, |ij| ij.data.motors[axis].impulse as f64)
-            / self.substep_duration();
+        let impulse = match h.handle {
+            JointHandle::Impulse(handle) => self
+                .world
+                .impulse_joints
+                .get(handle)
+                .map(|ij| ij.data.motors[axis].impulse),
+            JointHandle::Multibody(handle) => self
+                .world
+                .multibody_joints
+                .get(handle)
+                .and_then(|(mb, link)| mb.link(link))
+                .map(|l| l.joint.data.motors[axis].impulse),
+        };
+        let torque = impulse.map_or(0.0, f64::from) / self.substep_duration();
         JointReading {
             angle,
             velocity,
@@ -191,10 +207,23 @@ impl PhysicsEngine for RapierEngine {
         let Some(h) = self.hinges.get(j.0 as usize) else {
             return;
         };
-        let Some(ij) = self.world.impulse_joints.get_mut(h.handle, false) else {
+        let data = match h.handle {
+            JointHandle::Impulse(handle) => self
+                .world
+                .impulse_joints
+                .get_mut(handle, false)
+                .map(|ij| &mut ij.data),
+            JointHandle::Multibody(handle) => self
+                .world
+                .multibody_joints
+                .get_mut(handle)
+                .and_then(|(mb, link)| mb.link_mut(link))
+                .map(|l| &mut l.joint.data),
+        };
+        let Some(data) = data else {
             return;
         };
-        ij.data.set_motor_velocity(
+        data.set_motor_velocity(
             rp::JointAxis::AngX,
             velocity.to_radians() as f32,
             MOTOR_DAMPING as f32,
@@ -204,9 +233,9 @@ impl PhysicsEngine for RapierEngine {
         let [lo, hi] = h.limits_deg;
         let margin = LIMIT_MARGIN_DEG.max(now.velocity.abs() * LIMIT_LOOKAHEAD_S);
         if now.angle < lo + margin || now.angle > hi - margin {
-            ij.data.limit_axes |= rp::JointAxesMask::ANG_X;
+            data.limit_axes |= rp::JointAxesMask::ANG_X;
         } else {
-            ij.data.limit_axes &= !rp::JointAxesMask::ANG_X;
+            data.limit_axes &= !rp::JointAxesMask::ANG_X;
         }
     }
 

@@ -40,6 +40,10 @@ pub struct PhysicsSettings {
     /// The floor box as a half-space ([`super::terrain`]); measured slower than the
     /// box, so off in production.
     pub halfspace_floor: bool,
+    /// The robot's hinges as rapier multibody (reduced-coordinate) joints instead of
+    /// impulse joints: an experiment for robots with light links under strong servos
+    /// (issue 34), off in production.
+    pub multibody_joints: bool,
 }
 
 /// Production substeps: measured against the converged reference (DESIGN.md §3).
@@ -48,7 +52,7 @@ pub const PRODUCTION_SUBSTEPS: usize = 4;
 /// the reference scenario for 5 % more instructions per step (DESIGN.md §3).
 pub const PRODUCTION_PGS_ITERATIONS: usize = 2;
 /// The keys `--physics key=value,...` knows: the fields' names.
-pub const OVERRIDE_KEYS: [&str; 10] = [
+pub const OVERRIDE_KEYS: [&str; 11] = [
     "substeps",
     "steps_per_step",
     "length_unit",
@@ -59,6 +63,7 @@ pub const OVERRIDE_KEYS: [&str; 10] = [
     "contact_hz",
     "contact_damping",
     "halfspace_floor",
+    "multibody_joints",
 ];
 /// rapier's tolerances are tuned for objects of about this size (m).
 pub const RAPIER_REFERENCE_SIZE: f64 = 1.0;
@@ -78,6 +83,7 @@ impl Default for PhysicsSettings {
             contact_hz: DEFAULT_CONTACT_HZ,
             contact_damping: DEFAULT_CONTACT_DAMPING,
             halfspace_floor: false,
+            multibody_joints: false,
         }
     }
 }
@@ -151,6 +157,7 @@ impl PhysicsSettings {
                 "contact_recycling" => self.contact_recycling = flag()?,
                 "coulomb_friction" => self.coulomb_friction = flag()?,
                 "halfspace_floor" => self.halfspace_floor = flag()?,
+                "multibody_joints" => self.multibody_joints = flag()?,
                 _ => {
                     return Err(format!(
                         "unknown physics setting `{key}` (known: {})",
@@ -193,7 +200,7 @@ impl std::fmt::Display for PhysicsSettings {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "substeps={},steps_per_step={},length_unit={},warmstart_joints={},contact_recycling={},coulomb_friction={},pgs_iterations={},contact_hz={},contact_damping={},halfspace_floor={}",
+            "substeps={},steps_per_step={},length_unit={},warmstart_joints={},contact_recycling={},coulomb_friction={},pgs_iterations={},contact_hz={},contact_damping={},halfspace_floor={},multibody_joints={}",
             self.substeps,
             self.steps_per_step,
             self.length_unit,
@@ -203,7 +210,8 @@ impl std::fmt::Display for PhysicsSettings {
             self.pgs_iterations,
             self.contact_hz,
             self.contact_damping,
-            self.halfspace_floor
+            self.halfspace_floor,
+            self.multibody_joints
         )
     }
 }
