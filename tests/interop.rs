@@ -516,6 +516,7 @@ fn a_robot_without_collision_geometry_is_refused_unless_allowed() {
     assert!(
         e.contains("ghost.urdf")
             && e.contains("fall through the floor")
+            && e.contains("<visual> only: line 1: link a")
             && e.contains("--allow-no-collision"),
         "{e}"
     );

@@ -67,7 +67,7 @@ pub struct Context {
 
 impl Context {
     /// `"line N: "` for link `name`, or nothing when its line is unknown.
-    fn at(&self, name: &str) -> String {
+    pub fn at(&self, name: &str) -> String {
         self.lines
             .get(name)
             .map(|l| format!("line {l}: "))

@@ -179,8 +179,23 @@ pub fn import_urdf_with(
         }
     }
     if bodies.iter().all(|b| b.geoms.is_empty()) {
-        let why = "no link has collision geometry proleg reads (only <visual>, or meshes in \
-                   other formats than OBJ, STL and DAE): the robot would fall through the floor";
+        // Where the geometry would have been: the links drawn but not colliding.
+        let drawn: Vec<String> = robot
+            .links
+            .iter()
+            .filter(|l| !l.visual.is_empty())
+            .take(4)
+            .map(|l| format!("{}link {}", ctx.at(&l.name), l.name))
+            .collect();
+        let why = format!(
+            "no link has collision geometry proleg reads (only <visual>, or meshes in other \
+             formats than OBJ, STL and DAE{}): the robot would fall through the floor",
+            if drawn.is_empty() {
+                String::new()
+            } else {
+                format!("; <visual> only: {}", drawn.join(", "))
+            }
+        );
         if !opts.allow_no_collision {
             return Err(InteropError::new(
                 urdf,
