@@ -191,7 +191,10 @@ pub fn import_urdf_with(
             "no link has collision geometry proleg reads (only <visual>, or meshes in other \
              formats than OBJ, STL and DAE{}): the robot would fall through the floor",
             if drawn.is_empty() {
-                String::new()
+                format!(
+                    "; none of its {} links has <collision> or <visual>: a kinematic model",
+                    robot.links.len()
+                )
             } else {
                 format!("; <visual> only: {}", drawn.join(", "))
             }
