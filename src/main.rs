@@ -498,7 +498,9 @@ fn main() -> ExitCode {
                 packages: package_path,
                 ..proleg::interop::urdf::ImportOptions::from_env()
             };
-            cli::interop::import_with(&urdf, &out, &opts, &registry).map(|r| r.to_string())
+            cli::interop::import_with(&urdf, &out, &opts, &registry)
+                .map(|r| r.to_string())
+                .map_err(|e| e.to_string())
         }
         Command::Settle {
             config,

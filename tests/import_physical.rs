@@ -358,7 +358,8 @@ fn irrelevant_visual_details_never_refuse_a_robot_and_faults_name_their_line() {
         &dir.join("b"),
         &registry,
     )
-    .unwrap_err();
+    .unwrap_err()
+    .to_string();
     assert!(
         e.contains("broken.urdf")
             && e.contains("line 3: <link> has no name")

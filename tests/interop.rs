@@ -210,12 +210,14 @@ fn bad_urdfs_get_errors_naming_the_file_and_cause() {
     let registry = ModuleRegistry::standard();
     let out = dir.join("out");
     let broken = write(&dir, "broken.urdf", "<robot name=\"x\"><link name=\"a\">");
-    let e = import(&broken, &out, &registry).unwrap_err();
+    let e = import(&broken, &out, &registry).unwrap_err().to_string();
     assert!(
         e.contains("broken.urdf") && e.contains("not a valid URDF"),
         "{e}"
     );
-    let missing = import(&dir.join("nothing.urdf"), &out, &registry).unwrap_err();
+    let missing = import(&dir.join("nothing.urdf"), &out, &registry)
+        .unwrap_err()
+        .to_string();
     assert!(
         missing.contains("nothing.urdf") && missing.contains("cannot read"),
         "{missing}"
@@ -225,7 +227,9 @@ fn bad_urdfs_get_errors_naming_the_file_and_cause() {
         link("a", "<box size=\"0.1 0.1 0.1\"/>"),
         link("b", "<box size=\"0.1 0.1 0.1\"/>")
     );
-    let e = import(&write(&dir, "two.urdf", &two_roots), &out, &registry).unwrap_err();
+    let e = import(&write(&dir, "two.urdf", &two_roots), &out, &registry)
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("exactly one root link") && e.contains("a, b"),
         "{e}"
@@ -234,7 +238,9 @@ fn bad_urdfs_get_errors_naming_the_file_and_cause() {
         "<robot name=\"m\">{}</robot>",
         link("a", "<mesh filename=\"package://nowhere/m.stl\"/>")
     );
-    let e = import(&write(&dir, "nomesh.urdf", &no_mesh), &out, &registry).unwrap_err();
+    let e = import(&write(&dir, "nomesh.urdf", &no_mesh), &out, &registry)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("package \"nowhere\" not found"), "{e}");
 }
 
@@ -405,7 +411,8 @@ fn inertial_data_no_body_can_have_is_refused_naming_the_link() {
         &out,
         &registry,
     )
-    .unwrap_err();
+    .unwrap_err()
+    .to_string();
     assert!(
         e.contains("neg.urdf") && e.contains("link base") && e.contains("mass must be >= 0"),
         "{e}"
@@ -430,7 +437,9 @@ fn inertial_data_no_body_can_have_is_refused_naming_the_link() {
     proleg::config::robot::parse_robot_file("tri.robot.xml", &text).expect("a physical tensor");
     // An indefinite tensor (a product of inertia larger than the moments).
     let indefinite = with_inertial("1", "0.01").replace("ixy=\"0\"", "ixy=\"0.02\"");
-    let e = import(&write(&dir, "indef.urdf", &indefinite), &out, &registry).unwrap_err();
+    let e = import(&write(&dir, "indef.urdf", &indefinite), &out, &registry)
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("line 1: link base") && e.contains("not positive semi-definite"),
         "{e}"
@@ -512,7 +521,7 @@ fn a_robot_without_collision_geometry_is_refused_unless_allowed() {
         <joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/>\
         <axis xyz=\"0 1 0\"/><limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint></robot>";
     let urdf = write(&dir, "ghost.urdf", text);
-    let e = import(&urdf, &out, &registry).unwrap_err();
+    let e = import(&urdf, &out, &registry).unwrap_err().to_string();
     assert!(
         e.contains("ghost.urdf")
             && e.contains("fall through the floor")

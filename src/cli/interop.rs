@@ -39,8 +39,26 @@ impl fmt::Display for ImportReport {
     }
 }
 
+/// Why an import failed: the conversion, or the files it wrote.
+#[derive(Debug, thiserror::Error)]
+pub enum ImportError {
+    /// The URDF (or a mesh it names) could not be converted.
+    #[error(transparent)]
+    Convert(#[from] crate::interop::InteropError),
+    /// The files written do not load as `proleg check` would load them.
+    #[error("the imported files do not load: {0}")]
+    Load(crate::config::error::ConfigError),
+    /// The imported robot could not be built or run to let it settle.
+    #[error("the imported robot does not run: {0}")]
+    Run(crate::sim::error::SimError),
+}
+
 /// Imports `urdf` into `out` and checks the simulation it wrote.
-pub fn import(urdf: &Path, out: &Path, registry: &ModuleRegistry) -> Result<ImportReport, String> {
+pub fn import(
+    urdf: &Path,
+    out: &Path,
+    registry: &ModuleRegistry,
+) -> Result<ImportReport, ImportError> {
     import_with(urdf, out, &ImportOptions::from_env(), registry)
 }
 
@@ -50,8 +68,8 @@ pub fn import_with(
     out: &Path,
     opts: &ImportOptions,
     registry: &ModuleRegistry,
-) -> Result<ImportReport, String> {
-    let mut import = import_urdf_with(urdf, out, opts).map_err(|e| e.to_string())?;
+) -> Result<ImportReport, ImportError> {
+    let mut import = import_urdf_with(urdf, out, opts)?;
     let mut settled = None;
     let check = match &import.simulation_file {
         Some(sim) => match load_simulation_in(sim, registry) {
@@ -64,7 +82,7 @@ pub fn import_with(
                 let seconds = crate::sim::settle::IMPORT_SETTLE_SECONDS;
                 settled = Some(
                     crate::sim::settle::settle(&s, seconds, &opts, registry)
-                        .map_err(|e| format!("the imported robot does not run: {e}"))?,
+                        .map_err(ImportError::Run)?,
                 );
                 Some(crate::config::summary::summary(&s))
             }
@@ -76,7 +94,7 @@ pub fn import_with(
                     .push(format!("proleg check refuses the files written: {e}"));
                 None
             }
-            Err(e) => return Err(format!("the imported files do not load: {e}")),
+            Err(e) => return Err(ImportError::Load(e)),
         },
         None => None,
     };

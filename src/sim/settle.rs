@@ -9,7 +9,8 @@
 use std::fmt;
 
 use crate::config::Simulation;
-use crate::config::body::{BodyKind, Shape, highest_z, lowest_z};
+use crate::config::body::{BodyKind, Geom, Shape, highest_z, lowest_z};
+use crate::config::mesh::TriMesh;
 use crate::control::ModuleRegistry;
 use crate::sim::error::SimError;
 use crate::sim::{BuildOptions, Simulator};
@@ -99,11 +100,7 @@ pub fn settle(
             fastest_link.clone_from(&link.name);
         }
         for g in &link.geoms {
-            let mesh = match &g.shape {
-                Shape::Trimesh { file, .. } => sim.mesh(file).map(|m| &**m),
-                _ => None,
-            };
-            let z = lowest_z(&state.pose.mul(&g.pose), g, mesh);
+            let z = lowest_z(&state.pose.mul(&g.pose), g, mesh_of(sim, g));
             if z < lowest {
                 lowest = z;
                 lowest_link.clone_from(&link.name);
@@ -129,13 +126,15 @@ pub fn floor_height(sim: &Simulation) -> f64 {
         .iter()
         .filter(|b| b.kind == BodyKind::Static)
         .flat_map(|b| b.geoms.iter().map(move |g| (b, g)))
-        .map(|(b, g)| {
-            let mesh = match &g.shape {
-                Shape::Trimesh { file, .. } => sim.mesh(file).map(|m| &**m),
-                _ => None,
-            };
-            highest_z(&b.pose.mul(&g.pose), g, mesh)
-        })
+        .map(|(b, g)| highest_z(&b.pose.mul(&g.pose), g, mesh_of(sim, g)))
         .fold(f64::NEG_INFINITY, f64::max);
     if top.is_finite() { top } else { 0.0 }
+}
+
+/// The loaded mesh of a trimesh geometry of `sim`.
+fn mesh_of<'a>(sim: &'a Simulation, g: &Geom) -> Option<&'a TriMesh> {
+    match &g.shape {
+        Shape::Trimesh { file, .. } => sim.mesh(file).map(|m| &**m),
+        _ => None,
+    }
 }

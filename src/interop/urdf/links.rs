@@ -1,6 +1,8 @@
 //! URDF links as proleg bodies: collision geometry as geoms, inertials merged into one
 //! mass with its centre and inertia tensor.
 
+use std::path::Path;
+
 use nalgebra::{Isometry3, Matrix3, UnitQuaternion, Vector3};
 
 use crate::config::body::{Body, BodyKind, Geom, Mass, MeshCollision, Shape};
@@ -114,8 +116,15 @@ pub fn body(
             }
         }
     }
-    let mut mass = mass(robot, tree, head, !geoms.is_empty(), ctx, warn)
-        .map_err(|e| InteropError::new(meshes.urdf(), e))?;
+    let mut mass = mass(
+        robot,
+        tree,
+        head,
+        !geoms.is_empty(),
+        ctx,
+        meshes.urdf(),
+        warn,
+    )?;
     let root = head == tree.order[0];
     let world = root && robot.links[head].name == "world";
     // PyBullet's convention: a root without mass is a fixed base (kuka_iiwa's link_0); a
@@ -263,13 +272,16 @@ fn geom(
 /// is accepted and made turnable when its body's tensor is formed ([`turnable`]); a tensor
 /// that only breaks the triangle inequality (real URDFs do, by a little: xarm6's link2 by
 /// 0.7 %) is balanced in [`link_inertia`] with a warning.
-fn check_inertial(link: &urdf_rs::Link, at: &str) -> Result<(), String> {
+fn check_inertial(link: &urdf_rs::Link, at: &str, urdf: &Path) -> Result<(), InteropError> {
     let i = &link.inertial;
     let name = &link.name;
     if !(i.mass.value >= 0.0 && i.mass.value.is_finite()) {
-        return Err(format!(
-            "{at}link {name}: <inertial><mass value=\"{}\"/>: a mass must be >= 0 kg",
-            i.mass.value
+        return Err(InteropError::new(
+            urdf,
+            format!(
+                "{at}link {name}: <inertial><mass value=\"{}\"/>: a mass must be >= 0 kg",
+                i.mass.value
+            ),
         ));
     }
     if i.mass.value == 0.0 {
@@ -277,8 +289,11 @@ fn check_inertial(link: &urdf_rs::Link, at: &str) -> Result<(), String> {
     }
     let [a, b, c] = principal_moments(&tensor_of(link));
     if !(a.is_finite() && b.is_finite() && c.is_finite()) || a < -1e-6 * c.abs().max(1e-12) {
-        return Err(format!(
-            "{at}link {name}: <inertial><inertia>: not positive semi-definite (principal moments {a:.4e}, {b:.4e}, {c:.4e} kg m^2): no body has it"
+        return Err(InteropError::new(
+            urdf,
+            format!(
+                "{at}link {name}: <inertial><inertia>: not positive semi-definite (principal moments {a:.4e}, {b:.4e}, {c:.4e} kg m^2): no body has it"
+            ),
         ));
     }
     Ok(())
@@ -336,12 +351,13 @@ fn mass(
     head: usize,
     has_geometry: bool,
     ctx: &Context,
+    urdf: &Path,
     warn: &mut Vec<String>,
-) -> Result<Option<Mass>, String> {
+) -> Result<Option<Mass>, InteropError> {
     let mut parts = Vec::new();
     for l in tree.members(head) {
         let link = &robot.links[l];
-        check_inertial(link, &ctx.at(&link.name))?;
+        check_inertial(link, &ctx.at(&link.name), urdf)?;
         let i = &robot.links[l].inertial;
         if i.mass.value <= 0.0 {
             continue;

@@ -65,10 +65,7 @@ const STRUCTURE: &[(&str, &[&str])] = &[
     ("inertial", &["origin", "mass", "inertia"]),
     ("visual", &["origin", "geometry", "material"]),
     ("collision", &["origin", "geometry"]),
-    (
-        "geometry",
-        &["box", "cylinder", "sphere", "capsule", "mesh"],
-    ),
+    ("geometry", &SHAPES),
     ("material", &["color"]),
     (
         "joint",
@@ -85,6 +82,9 @@ const STRUCTURE: &[(&str, &[&str])] = &[
         ],
     ),
 ];
+
+/// The shapes a URDF `<geometry>` may hold.
+const SHAPES: [&str; 5] = ["box", "cylinder", "sphere", "capsule", "mesh"];
 
 /// Elements a URDF element holds at most once (`urdf-rs` refuses a second one).
 const SINGLE: &[&str] = &[
@@ -272,7 +272,6 @@ fn check_element(el: &Element, faults: &mut Vec<String>) {
             )));
         }
     }
-    const SHAPES: [&str; 5] = ["box", "cylinder", "sphere", "capsule", "mesh"];
     let not_shape = el.children.iter().any(|c| !SHAPES.iter().any(|s| c.is(s)));
     if el.is("geometry") && (el.children.len() != 1 || not_shape) {
         let held: Vec<String> = el
