@@ -622,3 +622,22 @@ fn a_heightfield_mesh_must_be_a_height_map() {
         ],
     );
 }
+
+#[test]
+fn an_unknown_articulation_names_its_line_and_the_two_kinds() {
+    let physics = "<Environment>\n  <physicsengine type=\"ode\"><odeproperties>\n    \
+                   <articulation>floppy</articulation>\n  </odeproperties></physicsengine>";
+    expect(
+        load_with("e.env.xml", "<Environment>", physics),
+        ErrorKind::InvalidValue,
+        "e.env.xml",
+        3,
+        &["<articulation> is maximal or reduced, not `floppy`"],
+    );
+    let reduced = physics.replace("floppy", "Reduced");
+    let sim = load_with("e.env.xml", "<Environment>", &reduced).unwrap();
+    assert_eq!(
+        sim.environment.physics.articulation,
+        proleg::config::environment::Articulation::Reduced
+    );
+}

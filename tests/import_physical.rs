@@ -8,6 +8,7 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use proleg::cli::interop::{export_mjcf, import, settle};
+use proleg::config::environment::Articulation;
 use proleg::config::simulation::EngineKind;
 use proleg::control::{ModuleRegistry, load_simulation_in};
 use proleg::sim::settle::SettleReport;
@@ -412,27 +413,99 @@ fn check_reports_every_physical_fault_of_a_robot_file_with_its_line() {
     );
 }
 
+/// allegro's build: a 0.4 kg palm whose centre of mass lies 9.5 cm from its box (among the
+/// fingers), four fingers of four 12-35 g links, 15 N m servos.
+fn light_hand() -> String {
+    let link = |name: &str, mass: f64, size: [f64; 3], com: f64| {
+        let i = |a: f64, b: f64| mass * (a * a + b * b) / 12.0;
+        let [x, y, z] = size;
+        let (ixx, iyy, izz) = if name == "palm" {
+            (1e-4, 1e-4, 1e-4)
+        } else {
+            (i(y, z), i(x, z), i(x, y))
+        };
+        let geom = if name == "palm" { -0.0475 } else { com };
+        format!(
+            "<link name=\"{name}\"><inertial><origin xyz=\"0 0 {com}\"/><mass value=\"{mass}\"/>\
+             <inertia ixx=\"{ixx}\" ixy=\"0\" ixz=\"0\" iyy=\"{iyy}\" iyz=\"0\" izz=\"{izz}\"/>\
+             </inertial><collision><origin xyz=\"0 0 {geom}\"/><geometry>\
+             <box size=\"{x} {y} {z}\"/></geometry></collision></link>"
+        )
+    };
+    let mut urdf = format!(
+        "<robot name=\"hand\">{}",
+        link("palm", 0.4, [0.04, 0.11, 0.095], 0.0475)
+    );
+    for (f, y) in [-0.045, -0.015, 0.015, 0.045].into_iter().enumerate() {
+        let (mut parent, mut z) = ("palm".to_string(), 0.0);
+        for (k, (mass, h)) in [
+            (0.012, 0.016),
+            (0.035, 0.054),
+            (0.035, 0.038),
+            (0.026, 0.027),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let name = format!("f{f}l{k}");
+            let (at, axis) = if k == 0 { (y, "0 0 1") } else { (0.0, "0 1 0") };
+            urdf += &link(&name, mass, [0.0196, 0.0275, h], h / 2.0);
+            urdf += &format!(
+                "<joint name=\"f{f}j{k}\" type=\"revolute\"><parent link=\"{parent}\"/>\
+                 <child link=\"{name}\"/><origin xyz=\"0 {at} {z}\"/><axis xyz=\"{axis}\"/>\
+                 <limit lower=\"-0.5\" upper=\"1.6\" effort=\"15\" velocity=\"7\"/></joint>"
+            );
+            (parent, z) = (name, h);
+        }
+    }
+    urdf + "</robot>"
+}
+
 #[test]
-fn multibody_joints_an_experiment_lever_drive_the_servos_as_impulse_joints_do() {
-    // `--physics multibody_joints=true` (off in production): the hinges as rapier's
-    // reduced-coordinate joints, which settle allegro's 15 N m fingers where impulse joints
-    // shake. The servos must read and drive them the same way: the demo crawls forward
-    // and its joints follow their targets on both joint kinds.
+fn a_hand_that_shakes_apart_as_maximal_joints_is_imported_with_reduced_ones_and_rests() {
+    // allegro's hands and pybullet's quadruped: light links under strong servos. As rapier
+    // impulse joints (maximal coordinates) they shook at 6-14 m/s with the joints held, and
+    // the import called the hand settled when a finger touched the floor by chance.
+    let dir = common::scratch("urdf-light-hand");
     let registry = ModuleRegistry::standard();
-    let sim = load_simulation_in(
+    let (report, _) = import_and_settle(&dir, "hand", &light_hand(), EngineKind::Rapier, 2.0);
+    assert_eq!(report.articulation, Some(Articulation::Reduced), "{report}");
+    let sim_file = report.import.simulation_file.clone().expect("simulation");
+    let env = std::fs::read_to_string(dir.join("hand-out/hand.env.xml")).unwrap();
+    assert!(
+        env.contains("<articulation>reduced</articulation>"),
+        "{env}"
+    );
+    // What the import chose is what every run of the files gets, on both engines.
+    for engine in engines("the light hand on MuJoCo") {
+        let r = settle(&sim_file, 2.0, Some(engine), "", &registry).unwrap();
+        assert!(r.at_rest(), "{engine}: {r}");
+    }
+    // Why: the same robot with maximal-coordinate joints does not come to rest.
+    let mut sim = load_simulation_in(&sim_file, &registry).unwrap();
+    sim.environment.physics.articulation = Articulation::Maximal;
+    let opts = proleg::sim::BuildOptions {
+        record: false,
+        ..Default::default()
+    };
+    let maximal = proleg::sim::settle::settle(&sim, 2.0, &opts, &registry).unwrap();
+    assert!(!maximal.at_rest(), "{maximal}");
+}
+
+#[test]
+fn reduced_articulation_drives_the_servos_as_maximal_does() {
+    // `<articulation>reduced</articulation>`: the hinges as rapier's multibody joints. The
+    // servos must read and drive them the same way: the demo crawls forward and its joints
+    // follow their targets with either articulation.
+    let registry = ModuleRegistry::standard();
+    let mut sim = load_simulation_in(
         common::root().join("configs/demo.simulation.xml"),
         &registry,
     )
     .unwrap();
-    for multibody in [false, true] {
-        let physics = proleg::sim::engine::rapier::PhysicsSettings {
-            multibody_joints: multibody,
-            ..proleg::sim::engine::rapier::PhysicsSettings::for_robot(&sim)
-        };
-        let opts = proleg::sim::BuildOptions {
-            physics: Some(physics),
-            ..Default::default()
-        };
+    for articulation in [Articulation::Maximal, Articulation::Reduced] {
+        sim.environment.physics.articulation = articulation;
+        let opts = proleg::sim::BuildOptions::default();
         let mut s = proleg::sim::Simulator::with_registry(&sim, &opts, &registry).unwrap();
         let start = s.com(0).unwrap();
         // The mean tracking error over the last of three seconds (the start is a transient).
@@ -446,8 +519,72 @@ fn multibody_joints_an_experiment_lever_drive_the_servos_as_impulse_joints_do() 
         let moved = proleg::measure::ground_distance(start, s.com(0).unwrap());
         assert!(
             moved > 0.1 && late < 12.0,
-            "multibody {multibody}: moved {moved} m, mean tracking error {late} deg"
+            "{articulation:?}: moved {moved} m, mean tracking error {late} deg"
         );
-        eprintln!("multibody {multibody}: moved {moved:.3} m, tracking error {late:.2} deg");
+        eprintln!("{articulation:?}: moved {moved:.3} m, tracking error {late:.2} deg");
+    }
+}
+
+/// kinova's build: an arm on a base box whose links' frames turn about their joints' axes,
+/// two joints starting outside their limits (46..178 deg, 29..178 deg), slow strong servos.
+const TWISTED_ARM: &str = r#"<robot name="arm">
+<link name="base"><inertial><mass value="0.5"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.0004"/></inertial>
+<collision><origin xyz="0 0 0.05"/><geometry><box size="0.12 0.12 0.1"/></geometry></collision></link>
+<link name="l1"><inertial><origin xyz="0 0 0.1"/><mass value="0.8"/><inertia ixx="0.003" ixy="0" ixz="0" iyy="0.003" iyz="0" izz="0.0006"/></inertial>
+<collision><origin xyz="0 0 0.1"/><geometry><cylinder radius="0.04" length="0.2"/></geometry></collision></link>
+<link name="l2"><inertial><origin xyz="0 0 0.15"/><mass value="0.7"/><inertia ixx="0.005" ixy="0" ixz="0" iyy="0.005" iyz="0" izz="0.0004"/></inertial>
+<collision><origin xyz="0 0 0.15"/><geometry><cylinder radius="0.035" length="0.3"/></geometry></collision></link>
+<link name="l3"><inertial><origin xyz="0 0 0.1"/><mass value="0.5"/><inertia ixx="0.002" ixy="0" ixz="0" iyy="0.002" iyz="0" izz="0.0002"/></inertial>
+<collision><origin xyz="0 0 0.1"/><geometry><cylinder radius="0.03" length="0.2"/></geometry></collision></link>
+<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><origin xyz="0 0 0.1" rpy="0 0 1.2"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="40" velocity="0.6"/></joint>
+<joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0 0 0.2" rpy="1.5708 0.4 0"/><axis xyz="0 0 1"/><limit lower="0.8" upper="3.1" effort="80" velocity="0.6"/></joint>
+<joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/><origin xyz="0 0.3 0" rpy="-1.5708 0 0.7"/><axis xyz="0 0 1"/><limit lower="0.5" upper="3.1" effort="40" velocity="0.6"/></joint>
+</robot>"#;
+
+#[test]
+fn joints_outside_their_limits_are_brought_in_by_their_servos_on_every_articulation() {
+    // kinova's arm: rapier completed each body's joint frame from the axis alone, so links
+    // turned about the axis started at a nonzero rapier angle: its limits sat off the
+    // joint's own, and as multibody joints the arm flew apart at 250 m/s in the first step
+    // and rapier then panicked on a NaN joint coordinate. A joint starting outside its
+    // limits was snapped in by the limit within a step.
+    let dir = common::scratch("urdf-twisted-arm");
+    let registry = ModuleRegistry::standard();
+    let out = dir.join("arm-out");
+    import(&write(&dir, "arm.urdf", TWISTED_ARM), &out, &registry).unwrap();
+    let mut sim = load_simulation_in(out.join("arm.simulation.xml"), &registry).unwrap();
+    let hold: Vec<f64> = sim
+        .robot
+        .joints
+        .iter()
+        .map(|j| 0.0_f64.clamp(j.limits_deg[0], j.limits_deg[1]))
+        .collect();
+    let mut runs = vec![
+        (EngineKind::Rapier, Articulation::Maximal),
+        (EngineKind::Rapier, Articulation::Reduced),
+    ];
+    if common::mujoco_here("the twisted arm on MuJoCo") {
+        runs.push((EngineKind::Mujoco, Articulation::Reduced));
+    }
+    for (engine, articulation) in runs {
+        sim.environment.physics.articulation = articulation;
+        let opts = proleg::sim::BuildOptions {
+            engine: Some(engine),
+            record: false,
+            ..Default::default()
+        };
+        let mut s = proleg::sim::Simulator::with_registry(&sim, &opts, &registry).unwrap();
+        s.set_joint_override(0, Some(hold.clone())).unwrap();
+        // 46 deg at 0.6 rad/s take 1.3 s; the arm then topples and comes to rest.
+        s.run_steps(5000);
+        let angles: Vec<f64> = s.joint_states(0).unwrap().iter().map(|j| j.angle).collect();
+        for (a, h) in angles.iter().zip(&hold) {
+            assert!(
+                (a - h).abs() < 2.0,
+                "{engine} {articulation:?}: angles {angles:?}, held at {hold:?}"
+            );
+        }
+        let r = proleg::sim::settle::settle(&sim, 5.0, &opts, &registry).unwrap();
+        assert!(r.at_rest(), "{engine} {articulation:?}: {r}");
     }
 }

@@ -5,8 +5,11 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+use crate::config::environment::Articulation;
+use crate::config::simulation::EngineKind;
 use crate::control::{ModuleRegistry, load_simulation_in};
-use crate::interop::urdf::{ImportOptions, UrdfImport, import_urdf_with};
+use crate::interop::urdf::{ImportOptions, UrdfImport, import_urdf_with, set_articulation};
+use crate::sim::settle::SettleReport;
 
 /// An import and the check of what it wrote.
 #[derive(Debug, Clone)]
@@ -18,7 +21,10 @@ pub struct ImportReport {
     /// Whether the robot comes to rest on the floor with its joints held (`proleg settle`
     /// for [`crate::sim::settle::IMPORT_SETTLE_SECONDS`], on the simulation's engine), when
     /// the files load.
-    pub settle: Option<crate::sim::settle::SettleReport>,
+    pub settle: Option<SettleReport>,
+    /// The articulation the import chose instead of the default, when it did: reduced
+    /// coordinates for a robot that shook apart with maximal ones on rapier.
+    pub articulation: Option<Articulation>,
 }
 
 impl fmt::Display for ImportReport {
@@ -27,11 +33,18 @@ impl fmt::Display for ImportReport {
         if let Some(c) = &self.check {
             write!(f, "proleg check: ok\n{c}")?;
         }
+        if let Some(a) = self.articulation {
+            writeln!(
+                f,
+                "articulation: {} (the environment's <articulation>): with maximal-coordinate joints rapier shook the robot apart",
+                a.name()
+            )?;
+        }
         match &self.settle {
             Some(r) if r.settled() => writeln!(f, "proleg settle: {r}")?,
             Some(r) => writeln!(
                 f,
-                "warning: proleg settle: {r}; the robot does not stand as imported (strong servos on light links: try `proleg settle --engine mujoco` or `--physics multibody_joints=true`)"
+                "warning: proleg settle: {r}; the robot does not stand as imported on rapier with either articulation (try `proleg settle --engine mujoco`)"
             )?,
             None => {}
         }
@@ -71,19 +84,13 @@ pub fn import_with(
 ) -> Result<ImportReport, ImportError> {
     let mut import = import_urdf_with(urdf, out, opts)?;
     let mut settled = None;
+    let mut articulation = None;
     let check = match &import.simulation_file {
         Some(sim) => match load_simulation_in(sim, registry) {
-            Ok(s) => {
-                let opts = crate::sim::BuildOptions {
-                    robots: 1,
-                    record: false,
-                    ..Default::default()
-                };
-                let seconds = crate::sim::settle::IMPORT_SETTLE_SECONDS;
-                settled = Some(
-                    crate::sim::settle::settle(&s, seconds, &opts, registry)
-                        .map_err(ImportError::Run)?,
-                );
+            Ok(mut s) => {
+                let (report, chosen) = settle_articulation(&mut s, &import, registry)?;
+                settled = Some(report);
+                articulation = chosen;
                 Some(crate::config::summary::summary(&s))
             }
             // Asked for: the robot without collision geometry is written, and `proleg
@@ -102,7 +109,44 @@ pub fn import_with(
         import,
         check,
         settle: settled,
+        articulation,
     })
+}
+
+/// Lets the imported robot settle; on rapier, a robot that does not come to rest with
+/// maximal-coordinate joints is tried with reduced ones ([`Articulation`]), and the
+/// environment file asks for them when it then comes to rest (or settles where it did not). Returns the settle report of the
+/// articulation written, and that articulation when it was changed.
+fn settle_articulation(
+    sim: &mut crate::config::Simulation,
+    import: &UrdfImport,
+    registry: &ModuleRegistry,
+) -> Result<(SettleReport, Option<Articulation>), ImportError> {
+    let opts = crate::sim::BuildOptions {
+        robots: 1,
+        record: false,
+        ..Default::default()
+    };
+    let seconds = crate::sim::settle::IMPORT_SETTLE_SECONDS;
+    let run = |s: &crate::config::Simulation| {
+        crate::sim::settle::settle(s, seconds, &opts, registry).map_err(ImportError::Run)
+    };
+    let first = run(sim)?;
+    if first.at_rest()
+        || opts.engine_for(sim) != EngineKind::Rapier
+        || sim.environment.physics.articulation == Articulation::Reduced
+    {
+        return Ok((first, None));
+    }
+    sim.environment.physics.articulation = Articulation::Reduced;
+    let reduced = run(sim)?;
+    if !(reduced.at_rest() || reduced.settled() && !first.settled()) {
+        sim.environment.physics.articulation = Articulation::Maximal;
+        return Ok((first, None));
+    }
+    let dir = import.robot_file.parent().unwrap_or_else(|| Path::new("."));
+    set_articulation(dir, &import.name, Articulation::Reduced)?;
+    Ok((reduced, Some(Articulation::Reduced)))
 }
 
 /// The default output folder of an import: `imported/NAME` beside the working directory.

@@ -29,6 +29,34 @@ pub struct Physics {
     /// The contact model (`<contact>`, our extension), when the file states one; else
     /// [`ContactModel::default`].
     pub contact: Option<ContactModel>,
+    /// How the robot's joints are represented (`<articulation>`, our extension).
+    pub articulation: Articulation,
+}
+
+/// How an engine represents the robot's joints (`<articulation>maximal|reduced</articulation>`
+/// in `<odeproperties>`, our extension).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Articulation {
+    /// Every link a rigid body of its own, the hinges constraints between them (rapier's
+    /// impulse joints): the default, the one rapier's production settings were measured with
+    /// (docs/DESIGN.md §3). MuJoCo has no such joints: it simulates every robot as
+    /// `reduced`.
+    #[default]
+    Maximal,
+    /// The joint angles as coordinates (rapier's multibody joints, MuJoCo's only kind): what
+    /// `proleg import` chooses for a robot whose light links under strong servos shake
+    /// apart as maximal-coordinate joints.
+    Reduced,
+}
+
+impl Articulation {
+    /// The name files use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Articulation::Maximal => "maximal",
+            Articulation::Reduced => "reduced",
+        }
+    }
 }
 
 impl Physics {
@@ -46,6 +74,7 @@ impl Default for Physics {
             self_collision: false,
             default_friction: None,
             contact: None,
+            articulation: Articulation::default(),
         }
     }
 }
@@ -81,7 +110,16 @@ fn read_physics(r: &Reader, el: &Element) -> ConfigResult<Physics> {
         ..Physics::default()
     };
     for props in &el.children {
-        r.only_children(props, &["gravity", "selfcollision", "friction", "contact"])?;
+        r.only_children(
+            props,
+            &[
+                "gravity",
+                "selfcollision",
+                "friction",
+                "contact",
+                "articulation",
+            ],
+        )?;
         if let Some(g) = r.at_most_one(props, "gravity")? {
             p.gravity = r.array::<3>(g)?;
         }
@@ -93,6 +131,20 @@ fn read_physics(r: &Reader, el: &Element) -> ConfigResult<Physics> {
         }
         if let Some(c) = r.at_most_one(props, "contact")? {
             p.contact = Some(read_contact(r, c)?);
+        }
+        if let Some(a) = r.at_most_one(props, "articulation")? {
+            let t = r.text(a)?.trim();
+            p.articulation = match t.to_ascii_lowercase().as_str() {
+                "maximal" => Articulation::Maximal,
+                "reduced" => Articulation::Reduced,
+                _ => {
+                    return Err(r.err(
+                        a.pos,
+                        ErrorKind::InvalidValue,
+                        format!("<articulation> is maximal or reduced, not `{t}`"),
+                    ));
+                }
+            };
         }
     }
     Ok(p)
@@ -184,6 +236,9 @@ pub fn write_environment_file(env: &EnvironmentFile) -> String {
     }
     if let Some(c) = &env.physics.contact {
         write_contact(&mut w, c);
+    }
+    if env.physics.articulation != Articulation::default() {
+        w.leaf("articulation", env.physics.articulation.name());
     }
     w.close();
     w.close();

@@ -142,13 +142,14 @@ fn environment_part(s: &mut String, sim: &Simulation) {
     }
     let _ = writeln!(
         s,
-        "  gravity {}, self-collision {}, {} objects",
+        "  gravity {}, self-collision {}, {} articulation, {} objects",
         nums(&e.physics.gravity),
         if e.physics.self_collision {
             "on"
         } else {
             "off"
         },
+        e.physics.articulation.name(),
         e.bodies.len()
     );
     for b in &e.bodies {

@@ -21,6 +21,9 @@ pub const IMPORT_SETTLE_SECONDS: f64 = 2.0;
 /// How far (m) the robot's lowest point may be from the floor once settled.
 pub const SETTLE_TOLERANCE: f64 = 0.01;
 
+/// The largest link speed (m/s) of a robot at rest.
+pub const REST_SPEED: f64 = 0.05;
+
 /// What a settle run found.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SettleReport {
@@ -43,13 +46,21 @@ impl SettleReport {
     pub fn settled(&self) -> bool {
         (self.lowest - self.floor).abs() <= SETTLE_TOLERANCE
     }
+
+    /// Settled, and no link faster than [`REST_SPEED`]: the robot came to rest rather than
+    /// touching the floor by chance while it shakes or tumbles.
+    pub fn at_rest(&self) -> bool {
+        self.settled() && self.max_speed <= REST_SPEED
+    }
 }
 
 impl fmt::Display for SettleReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let gap = self.lowest - self.floor;
-        let verdict = if self.settled() {
+        let verdict = if self.at_rest() {
             "settled"
+        } else if self.settled() {
+            "settled (still moving)"
         } else if !gap.is_finite() {
             "NOT settled: the simulation diverged"
         } else if gap < 0.0 {
@@ -107,10 +118,11 @@ pub fn settle(
             }
         }
     }
+    let sound = lowest.is_finite() && !s.diverged();
     Ok(SettleReport {
         seconds: steps as f64 * dt,
         floor,
-        lowest: if lowest.is_finite() { lowest } else { f64::NAN },
+        lowest: if sound { lowest } else { f64::NAN },
         lowest_link,
         max_speed,
         fastest_link,

@@ -28,7 +28,7 @@ use crate::config::transform::Pose;
 use crate::interop::{InteropError, write_text};
 use links::{Context, StandIn, body};
 use meshes::MeshWriter;
-pub use outputs::SINE_AMPLITUDE_DEG;
+pub use outputs::{SINE_AMPLITUDE_DEG, set_articulation};
 use outputs::{lowest_point, write_run_files};
 use tree::{Tree, is_hinge};
 

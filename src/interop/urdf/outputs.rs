@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use crate::config::body::{Body, Shape, lowest_z};
+use crate::config::environment::{Articulation, parse_environment_file, write_environment_file};
 use crate::interop::urdf::meshes::MeshWriter;
 use crate::interop::{InteropError, write_text};
 
@@ -119,4 +120,20 @@ pub fn write_run_files(
     let sim = dir.join(format!("{name}.simulation.xml"));
     write_text(&sim, &simulation)?;
     Ok(sim)
+}
+
+/// Rewrites the environment file of an import (`NAME.env.xml` in `dir`, written by
+/// [`write_run_files`]) to ask for `articulation`.
+pub fn set_articulation(
+    dir: &Path,
+    name: &str,
+    articulation: Articulation,
+) -> Result<(), InteropError> {
+    let path = dir.join(format!("{name}.env.xml"));
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| InteropError::new(&path, format!("cannot read: {e}")))?;
+    let mut env = parse_environment_file(&path.display().to_string(), &text)
+        .map_err(|e| InteropError::new(&path, e.to_string()))?;
+    env.physics.articulation = articulation;
+    write_text(&path, &write_environment_file(&env))
 }

@@ -179,6 +179,9 @@ pub struct EngineBuild {
     pub mujoco: Option<mujoco::MujocoSettings>,
 }
 
+/// The speed (m/s) above which a simulated body has blown up: no robot link moves at 1 km/s.
+pub const MAX_BODY_SPEED: f64 = 1000.0;
+
 /// A physics engine's world, as every stage of the step and every view reaches it. The
 /// ids are those of the [`Layout`] the engine was built with; an unknown id reads as
 /// zero / nothing.
@@ -192,6 +195,11 @@ pub trait PhysicsEngine: Send + Sync + 'static {
     /// Advances the world by one simulation step (several engine steps when the settings
     /// refine it).
     fn step(&mut self);
+    /// Whether the world blew up and is no longer stepped (rapier's multibody joints, whose
+    /// solver panics on a non-finite state, stop before it: [`MAX_BODY_SPEED`]).
+    fn diverged(&self) -> bool {
+        false
+    }
     /// Joint `j`'s angle, speed and last motor torque.
     fn joint(&self, j: JointId) -> JointReading;
     /// Drives joint `j`'s velocity motor at `velocity` (degrees/s) for the next step;

@@ -254,4 +254,9 @@ impl Simulator {
     pub fn body_state(&self, body: BodyId) -> Option<BodyState> {
         self.engine().body(body)
     }
+
+    /// Whether the physics blew up and the world stopped ([`PhysicsEngine::diverged`]).
+    pub fn diverged(&self) -> bool {
+        self.engine().diverged()
+    }
 }

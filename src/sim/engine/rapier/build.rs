@@ -43,6 +43,7 @@ impl RapierEngine {
             hinges: Vec::new(),
             pads: Vec::new(),
             lasers: Vec::new(),
+            diverged: false,
         };
         let environment = engine.environment(sim, robots)?;
         let parts = sensor_parts(sim);
@@ -223,18 +224,22 @@ impl RapierEngine {
             let anchor = start.mul(&Pose::from_translation(j.anchor)).translation;
             let (a, n) = (vec3(anchor), vec3(start.rotate(j.axis)).normalize());
             let local_axis1 = pp.rotation.inverse() * n;
-            let data = rp::GenericJointBuilder::new(rp::JointAxesMask::LOCKED_REVOLUTE_AXES)
-                .local_anchor1(pp.inverse_transform_point(a))
-                .local_anchor2(cp.inverse_transform_point(a))
-                .local_axis1(local_axis1)
-                .local_axis2(cp.rotation.inverse() * n)
-                .limits(
-                    rp::JointAxis::AngX,
-                    [
-                        j.limits_deg[0].to_radians() as f32,
-                        j.limits_deg[1].to_radians() as f32,
-                    ],
+            // One world frame of the joint (x along the axis) seen from both bodies: the
+            // joint's angle is 0 in the start pose whatever the links' orientations (frames
+            // completed from each body's axis alone differ by the links' relative twist about
+            // the axis, which offset rapier's limits and a multibody's coordinate).
+            let frame = rp::Rotation::from_rotation_arc(rp::Vector::X, n);
+            let enforced = [j.limits_deg[0].min(0.0), j.limits_deg[1].max(0.0)];
+            let local_frame = |body: &rp::Pose| {
+                rp::Pose::from_parts(
+                    body.inverse_transform_point(a),
+                    (body.rotation.inverse() * frame).normalize(),
                 )
+            };
+            let data = rp::GenericJointBuilder::new(rp::JointAxesMask::LOCKED_REVOLUTE_AXES)
+                .local_frame1(local_frame(&pp))
+                .local_frame2(local_frame(&cp))
+                .limits(rp::JointAxis::AngX, enforced.map(|d| d.to_radians() as f32))
                 .motor_model(rp::JointAxis::AngX, rp::MotorModel::ForceBased)
                 .motor_velocity(rp::JointAxis::AngX, 0.0, MOTOR_DAMPING as f32)
                 .motor_max_force(rp::JointAxis::AngX, j.max_torque as f32)
@@ -256,6 +261,7 @@ impl RapierEngine {
                 axis_parent: local_axis1.normalize(),
                 rest_inv: (pp.rotation.inverse() * cp.rotation).inverse(),
                 limits_deg: j.limits_deg,
+                enforced_deg: enforced,
             });
             ids.push(JointId(self.hinges.len() as u32 - 1));
         }

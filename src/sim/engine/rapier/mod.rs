@@ -20,7 +20,7 @@ use crate::config::simulation::EngineKind;
 use crate::config::transform::Pose;
 use crate::sim::engine::{
     BodyId, BodyState, ColliderView, ContactView, JointId, JointReading, LaserId, LaserSpec,
-    PadArea, PadId, PhysicsEngine, ShapeOutline, tangential_speed,
+    MAX_BODY_SPEED, PadArea, PadId, PhysicsEngine, ShapeOutline, tangential_speed,
 };
 
 pub use settings::PhysicsSettings;
@@ -53,6 +53,22 @@ struct Hinge {
     /// Inverse of the child's rotation relative to the parent at angle zero.
     rest_inv: rp::Rotation,
     limits_deg: [f64; 2],
+    /// The limits rapier enforces (degrees): the joint's, widened to its start angle when
+    /// it starts outside them (an imported robot's start pose can), so the limit never
+    /// snaps it in; as the servo brings it inside, the limit closes behind it and never
+    /// opens again.
+    enforced_deg: [f64; 2],
+}
+
+impl Hinge {
+    /// The limits to enforce on a joint at `angle` (degrees) that enforced `before`:
+    /// `limits_deg`, or nearer to the angle while it has not come inside them yet.
+    fn enforced(limits_deg: [f64; 2], before: [f64; 2], angle: f64) -> [f64; 2] {
+        [
+            limits_deg[0].min(before[0].max(angle)),
+            limits_deg[1].max(before[1].min(angle)),
+        ]
+    }
 }
 
 /// A pad: its link and the link's colliders, each with the map from its frame to the pad's.
@@ -80,11 +96,25 @@ pub struct RapierEngine {
     hinges: Vec<Hinge>,
     pads: Vec<Pad>,
     lasers: Vec<Laser>,
+    /// A multibody link became non-finite or faster than [`MAX_BODY_SPEED`]: the world is
+    /// no longer stepped (rapier's multibody solver panics on a NaN joint coordinate).
+    diverged: bool,
 }
 
 impl RapierEngine {
     fn handle(&self, b: BodyId) -> Option<rp::RigidBodyHandle> {
         self.bodies.get(b.0 as usize).copied()
+    }
+
+    /// Whether every multibody link's pose is finite and its speed below
+    /// [`MAX_BODY_SPEED`].
+    fn multibody_links_sound(&self) -> bool {
+        let max = MAX_BODY_SPEED as f32;
+        self.hinges
+            .iter()
+            .filter(|h| matches!(h.handle, JointHandle::Multibody(_)))
+            .filter_map(|h| self.world.bodies.get(h.child))
+            .all(|b| b.translation().is_finite() && b.linvel().length() < max)
     }
 
     /// Duration of the last solver substep (s): the servos' torque is its motor impulse
@@ -170,8 +200,18 @@ impl PhysicsEngine for RapierEngine {
 
     fn step(&mut self) {
         for _ in 0..self.settings.steps_per_step {
+            if self.diverged {
+                return;
+            }
             self.world.step();
+            if self.settings.multibody_joints {
+                self.diverged = !self.multibody_links_sound();
+            }
         }
+    }
+
+    fn diverged(&self) -> bool {
+        self.diverged
     }
 
     fn joint(&self, j: JointId) -> JointReading {
@@ -204,7 +244,7 @@ impl PhysicsEngine for RapierEngine {
     }
 
     fn drive_joint(&mut self, j: JointId, velocity: f64, now: &JointReading) {
-        let Some(h) = self.hinges.get(j.0 as usize) else {
+        let Some(h) = self.hinges.get_mut(j.0 as usize) else {
             return;
         };
         let data = match h.handle {
@@ -231,6 +271,11 @@ impl PhysicsEngine for RapierEngine {
         // The limit constraint costs a solver row every substep; it is only switched on
         // while the joint is close enough to a limit to reach it within a few steps.
         let [lo, hi] = h.limits_deg;
+        let enforced = Hinge::enforced(h.limits_deg, h.enforced_deg, now.angle);
+        if enforced != h.enforced_deg && now.angle.is_finite() {
+            h.enforced_deg = enforced;
+            data.set_limits(rp::JointAxis::AngX, enforced.map(|d| d.to_radians() as f32));
+        }
         let margin = LIMIT_MARGIN_DEG.max(now.velocity.abs() * LIMIT_LOOKAHEAD_S);
         if now.angle < lo + margin || now.angle > hi - margin {
             data.limit_axes |= rp::JointAxesMask::ANG_X;

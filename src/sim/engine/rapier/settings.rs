@@ -9,6 +9,7 @@ use rapier3d::prelude as rp;
 
 use crate::config::Simulation;
 use crate::config::contact::{DEFAULT_CONTACT_DAMPING, DEFAULT_CONTACT_HZ};
+use crate::config::environment::Articulation;
 use crate::config::resolve::robot::geom_volume;
 use crate::sim::engine::rapier::contact::softness;
 
@@ -41,8 +42,9 @@ pub struct PhysicsSettings {
     /// box, so off in production.
     pub halfspace_floor: bool,
     /// The robot's hinges as rapier multibody (reduced-coordinate) joints instead of
-    /// impulse joints: an experiment for robots with light links under strong servos
-    /// (issue 34), off in production.
+    /// impulse joints: the environment's `<articulation>reduced</articulation>`
+    /// ([`Articulation`]), which `proleg import` chooses for robots whose light links under
+    /// strong servos shake apart as impulse joints; off by default.
     pub multibody_joints: bool,
 }
 
@@ -90,14 +92,16 @@ impl Default for PhysicsSettings {
 
 impl PhysicsSettings {
     /// The production settings for `sim`'s robot: tolerances scaled to its module size,
-    /// contacts as its environment states them.
+    /// contacts and joints as its environment states them.
     pub fn for_robot(sim: &Simulation) -> Self {
-        let contact = sim.environment.physics.contact_model();
+        let physics = &sim.environment.physics;
+        let contact = physics.contact_model();
         PhysicsSettings {
             substeps: PRODUCTION_SUBSTEPS,
             pgs_iterations: PRODUCTION_PGS_ITERATIONS,
             contact_hz: contact.natural_frequency_hz(),
             contact_damping: contact.damping_ratio,
+            multibody_joints: physics.articulation == Articulation::Reduced,
             ..PhysicsSettings::default()
         }
         .scaled_to(module_size(sim))
