@@ -236,3 +236,33 @@ fn plot_writes_a_png_of_the_asked_size() {
     assert!(proleg::data::plot::plot(&file, XAxis::SimTime, &w, &bad, (640, 360)).is_err());
     assert!(!bad.exists());
 }
+
+#[test]
+fn a_stamp_that_is_not_a_number_is_a_warning_with_its_line_and_the_frame_is_kept() {
+    // A malformed `index` or `realtime` was read as 0 without a word.
+    let dir = common::scratch("bad-stamp");
+    let text = std::fs::read_to_string(common::thesis().join("data/B.8.data.xml")).unwrap();
+    let bad = text.replacen(
+        "<Frame index=\"1\" realtime=\"1361368880632\"",
+        "<Frame index=\"one\" realtime=\"1361368880632\"",
+        1,
+    );
+    assert_ne!(bad, text);
+    let file = dir.join("bad.data.xml");
+    std::fs::write(&file, &bad).unwrap();
+    let mut indices = Vec::new();
+    let i = read_file(&file, |e| {
+        if let DataEvent::Frame(f) = e
+            && f.handler == 0
+        {
+            indices.push(f.meta.index);
+        }
+    })
+    .unwrap();
+    assert_eq!(i.frames, vec![2, 2, 0, 2], "every frame kept");
+    assert_eq!(indices, vec![0, 0]);
+    assert_eq!(
+        i.warnings,
+        ["line 26: <Frame> index=\"one\" is not a number; read as 0"]
+    );
+}

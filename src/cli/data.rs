@@ -52,6 +52,9 @@ impl fmt::Display for InfoReport {
         } else {
             writeln!(out, "status    complete")?;
         }
+        for w in &i.warnings {
+            writeln!(out, "warning   {w}")?;
+        }
         for (h, frames) in i.handlers.iter().zip(&i.frames) {
             writeln!(out, "handler   {} ({frames} frames)", h.name)?;
             for (s, p) in h.series.iter().zip(&h.parts) {
@@ -89,6 +92,9 @@ pub fn export_table(file: &Path, x: &str, series: &str, output: &Path) -> Result
     );
     if stats.info.cut {
         out.push_str("note: the data file is cut; rows end at its last complete round\n");
+    }
+    for w in &stats.info.warnings {
+        out.push_str(&format!("warning: {}: {w}\n", file.display()));
     }
     Ok(out)
 }

@@ -52,7 +52,13 @@ pub struct DataInfo {
     pub last_simtime_ms: Option<f64>,
     /// The file ends before `</dataRoot>`: data after the last complete round is lost.
     pub cut: bool,
+    /// Stamps that are not numbers, each with its line (`line 12: <Frame> index="x" is not
+    /// a number; read as 0`); the frame is kept. At most [`MAX_WARNINGS`], then a count.
+    pub warnings: Vec<String>,
 }
+
+/// Warnings a read keeps word for word; the rest are counted in the last one.
+pub const MAX_WARNINGS: usize = 20;
 
 /// One frame handed to the callback.
 pub struct FrameRef<'a> {
@@ -150,6 +156,25 @@ pub fn read_stream<R: BufRead>(
             _ => Ok(()),
         };
         step.map_err(|m| err(&reader, m))?;
+        if !st.bad_stamps.is_empty() {
+            let line = line_of(path, reader.buffer_position() as usize);
+            for m in st.bad_stamps.drain(..) {
+                let w = &mut st.info.warnings;
+                if w.len() < MAX_WARNINGS {
+                    w.push(match line {
+                        Some(l) => format!("line {l}: {m}"),
+                        None => m,
+                    });
+                }
+                st.bad_stamp_count += 1;
+            }
+        }
+    }
+    if st.bad_stamp_count > MAX_WARNINGS {
+        let more = st.bad_stamp_count - MAX_WARNINGS;
+        st.info
+            .warnings
+            .push(format!("... and {more} more stamps that are not numbers"));
     }
     if !st.header_done {
         return Err(DataError {
@@ -181,6 +206,10 @@ struct Stream {
     closed: bool,
     in_root: bool,
     header_done: bool,
+    /// Stamps of the element just read that are not numbers (the caller adds the line).
+    bad_stamps: Vec<String>,
+    /// All of them so far.
+    bad_stamp_count: usize,
 }
 
 impl Stream {
@@ -249,19 +278,36 @@ impl Stream {
     fn frame(&mut self, e: &BytesStart<'_>) {
         let h = self.handler.unwrap_or(0);
         self.meta = FrameMeta {
-            index: attr(e, "index").and_then(|v| v.parse().ok()).unwrap_or(0),
-            realtime_ms: attr(e, "realtime")
-                .and_then(|v| v.parse().ok())
-                .unwrap_or(0),
-            simtime_ms: attr(e, "simtime")
-                .and_then(|v| v.parse().ok())
-                .unwrap_or(f64::NAN),
-            step: attr(e, "step").and_then(|v| v.parse().ok()).unwrap_or(0),
+            index: self.stamp(e, "index", 0, "0"),
+            realtime_ms: self.stamp(e, "realtime", 0, "0"),
+            simtime_ms: self.stamp(e, "simtime", f64::NAN, "unknown"),
+            step: self.stamp(e, "step", 0, "0"),
         };
         let series = self.info.handlers[h].series.len();
         self.frame_series.resize_with(series, Vec::new);
         self.frame_series.iter_mut().for_each(Vec::clear);
         self.at = At::Frame;
+    }
+
+    /// Stamp `key` of `e`: `absent` when the file has none (older files lack some), and
+    /// `absent` with a warning ([`DataInfo::warnings`]) when it is not a number.
+    fn stamp<T: std::str::FromStr>(
+        &mut self,
+        e: &BytesStart<'_>,
+        key: &str,
+        absent: T,
+        shown: &str,
+    ) -> T {
+        let Some(v) = attr(e, key) else {
+            return absent;
+        };
+        v.trim().parse().unwrap_or_else(|_| {
+            self.bad_stamps.push(format!(
+                "<{}> {key}=\"{v}\" is not a number; read as {shown}",
+                tag(e)
+            ));
+            absent
+        })
     }
 
     /// An empty element: in a round, it must be a declared handler.

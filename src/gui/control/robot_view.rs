@@ -83,8 +83,12 @@ impl Default for RobotView {
 impl Drop for RobotView {
     /// The window closes: torque off.
     fn drop(&mut self) {
-        if let Some(r) = self.robot.as_mut() {
-            let _ = r.enable_servos(false);
+        if let Some(r) = self.robot.as_mut()
+            && let Err(e) = r.enable_servos(false)
+        {
+            bevy::log::error!(
+                "closing the robot view: torque off failed ({e}); the servos may still hold"
+            );
         }
     }
 }
@@ -117,9 +121,17 @@ impl RobotView {
         Ok(())
     }
 
+    /// Torque off and closes the port; a failed torque-off is added to [`RobotView::error`]
+    /// (the servos may still hold).
     fn disconnect_robot(&mut self) {
         if let Some(mut r) = self.robot.take() {
-            let _ = r.enable_servos(false);
+            if let Err(e) = r.enable_servos(false) {
+                let note = format!("torque off failed ({e}); the servos may still hold");
+                self.error = Some(match self.error.take() {
+                    Some(before) => format!("{before}; {note}"),
+                    None => note,
+                });
+            }
             r.disconnect();
         }
         self.torque = false;
@@ -129,7 +141,9 @@ impl RobotView {
     /// Torque off, closes the port, and the viewer's robot follows the kernel again.
     pub fn disconnect(&mut self, session: &mut SimSession) {
         self.disconnect_robot();
-        let _ = session.simulator.set_joint_override(0, None);
+        if let Err(e) = session.simulator.set_joint_override(0, None) {
+            self.error = Some(e.to_string());
+        }
     }
 
     /// Torque on or off for every servo.
@@ -205,18 +219,22 @@ impl RobotView {
             return;
         }
         let goals = if self.drive && self.torque {
-            session
-                .simulator
-                .kernel(0)
-                .ok()
-                .map(|k| k.desired().to_vec())
+            match session.simulator.kernel(0) {
+                Ok(k) => Some(k.desired().to_vec()),
+                Err(e) => {
+                    self.error = Some(e.to_string());
+                    None
+                }
+            }
         } else {
             None
         };
         match self.exchange_once(goals.as_deref()) {
             Ok(()) => {
                 let twin = self.twin.then(|| self.readings.positions.clone());
-                let _ = session.simulator.set_joint_override(0, twin);
+                if let Err(e) = session.simulator.set_joint_override(0, twin) {
+                    self.error = Some(e.to_string());
+                }
             }
             Err(e) => {
                 self.error = Some(format!("{e}; torque switched off, disconnected"));
