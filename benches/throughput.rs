@@ -13,8 +13,11 @@ fn main() {
             std::process::exit(1);
         }
     }
-    let _ = proleg::plugin_host::scan_default();
-    let registry = proleg::plugin_host::registry();
+    let (host, scan) = proleg::plugin_host::PluginHost::scan_default();
+    for message in scan.messages() {
+        eprintln!("warning: {message}");
+    }
+    let registry = host.registry();
     if registry.get("Plugin_sine").is_none() {
         println!(
             "(build the example plugins with `proleg plugin build` to compare a plugin module)"

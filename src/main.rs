@@ -285,20 +285,24 @@ fn gui(
     replay: Option<proleg::optimize::replay::Replay>,
     script: Option<&std::path::Path>,
     remote: Option<&std::path::Path>,
+    plugins: proleg::plugin_host::PluginHost,
 ) -> Result<String, String> {
     #[cfg(feature = "gui")]
     {
-        proleg::gui::run(config, engine, replay, script, remote).map(|()| String::new())
+        proleg::gui::run(config, engine, replay, script, remote, plugins).map(|()| String::new())
     }
     #[cfg(not(feature = "gui"))]
     {
-        let _ = (config, engine, replay, script, remote);
+        let _ = (config, engine, replay, script, remote, plugins);
         Err(NO_WINDOWS.into())
     }
 }
 
 /// `proleg run --video`: the run rendered off-screen.
-fn video(req: &cli::run::RunRequest) -> Result<String, String> {
+fn video(
+    req: &cli::run::RunRequest,
+    registry: &proleg::control::ModuleRegistry,
+) -> Result<String, String> {
     if req.seed.is_some() || req.data.is_some() || !req.physics.is_empty() || req.realtime != 0.0 {
         return Err("--video renders the file's own run: leave out --seed, --data, --physics and --realtime".into());
     }
@@ -313,10 +317,11 @@ fn video(req: &cli::run::RunRequest) -> Result<String, String> {
             seconds: req.duration,
             engine: req.engine,
         };
-        proleg::gui::video::record_video(&request).map(|r| r.to_string())
+        proleg::gui::video::record_video(&request, registry).map(|r| r.to_string())
     }
     #[cfg(not(feature = "gui"))]
     {
+        let _ = registry;
         Err(NO_WINDOWS.replace("it has no windows", "it renders no videos"))
     }
 }
@@ -348,21 +353,24 @@ fn check_physics(
 }
 
 /// Opens the configuration window.
-fn wizard(opts: WizardOptions) -> Result<String, String> {
+fn wizard(opts: WizardOptions, plugins: proleg::plugin_host::PluginHost) -> Result<String, String> {
     #[cfg(feature = "gui")]
     {
-        proleg::gui::setup::run(&proleg::gui::setup::SetupOptions {
-            configs: opts.configs,
-            out: opts.out,
-            env: opts.env,
-            expert: opts.expert,
-            script: opts.script,
-        })
+        proleg::gui::setup::run(
+            &proleg::gui::setup::SetupOptions {
+                configs: opts.configs,
+                out: opts.out,
+                env: opts.env,
+                expert: opts.expert,
+                script: opts.script,
+            },
+            plugins,
+        )
         .map(|()| String::new())
     }
     #[cfg(not(feature = "gui"))]
     {
-        let _ = opts;
+        let _ = (opts, plugins);
         Err(NO_WINDOWS.into())
     }
 }
@@ -380,7 +388,7 @@ struct WizardOptions {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     // The user module library: every command sees the plugin modules.
-    let plugins = proleg::plugin_host::scan_default();
+    let (mut host, plugins) = proleg::plugin_host::PluginHost::scan_default();
     let listing = matches!(cli.command, Some(Command::Plugin { .. }));
     if !listing {
         for message in plugins.messages() {
@@ -388,7 +396,7 @@ fn main() -> ExitCode {
         }
     }
     // The module types every command may use: the standard library and the plugins.
-    let registry = proleg::plugin_host::registry();
+    let registry = host.registry();
     let Some(command) = cli.command else {
         return finish(gui(
             std::path::Path::new(DEMO_CONFIG),
@@ -396,6 +404,7 @@ fn main() -> ExitCode {
             None,
             None,
             None,
+            host,
         ));
     };
     finish(match command {
@@ -417,8 +426,24 @@ fn main() -> ExitCode {
                     Some(e) => r.on_engine(e),
                     None => r,
                 })
-                .and_then(|r| gui(&config, None, Some(r), script.as_deref(), remote.as_deref())),
-            _ => gui(&config, engine, None, script.as_deref(), remote.as_deref()),
+                .and_then(|r| {
+                    gui(
+                        &config,
+                        None,
+                        Some(r),
+                        script.as_deref(),
+                        remote.as_deref(),
+                        host,
+                    )
+                }),
+            _ => gui(
+                &config,
+                engine,
+                None,
+                script.as_deref(),
+                remote.as_deref(),
+                host,
+            ),
         },
         Command::Wizard {
             configs,
@@ -426,13 +451,16 @@ fn main() -> ExitCode {
             env,
             expert,
             script,
-        } => wizard(WizardOptions {
-            configs,
-            out,
-            env,
-            expert,
-            script,
-        }),
+        } => wizard(
+            WizardOptions {
+                configs,
+                out,
+                env,
+                expert,
+                script,
+            },
+            host,
+        ),
         Command::Bench {
             config,
             seconds,
@@ -452,7 +480,7 @@ fn main() -> ExitCode {
             ),
             (None, None) => proleg::bench::report(&config, seconds, &batches, &physics, engine),
         },
-        Command::Run(request) if request.video.is_some() => video(&request),
+        Command::Run(request) if request.video.is_some() => video(&request, &registry),
         Command::Run(request) => cli::run::run(&request, &registry).map(|r| r.to_string()),
         Command::Optimize(options) => {
             cli::optimize::run(&options, &registry).map(|r| r.to_string())
@@ -478,7 +506,7 @@ fn main() -> ExitCode {
                 cli::data::plot_png(&pick.file, &pick.x, &pick.series, &pick.output, size)
             }
         },
-        Command::Plugin { command } => cli::plugin::run(command, &plugins),
+        Command::Plugin { command } => cli::plugin::run(command, &mut host, &plugins),
         Command::Worker(args) => cli::worker::run(&args, &registry).map(|r| r.to_string()),
         Command::Robustness(args) => cli::robustness::run(&args, &registry).map(|r| r.to_string()),
         Command::Compare(args) => cli::compare::run(&args, &registry)

@@ -43,7 +43,7 @@ fn broken(name: &str) -> PathBuf {
 
 /// What `proleg check` says of it (the windows load with the same registry), one line.
 fn expected(file: &Path) -> String {
-    let e = proleg::control::load_simulation_in(file, &proleg::plugin_host::registry())
+    let e = proleg::control::load_simulation_in(file, &proleg::control::ModuleRegistry::standard())
         .unwrap_err()
         .to_string();
     assert!(e.contains("broken.actuation.xml:7:"), "{e}");

@@ -10,8 +10,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 
-use proleg::control::load_simulation_in;
-use proleg::plugin_host;
+use proleg::control::{ModuleRegistry, load_simulation_in};
+use proleg::plugin_host::{self, PluginHost};
 use proleg::sim::{BuildOptions, Simulator};
 
 /// Runs `proleg` in the repository root with `PROLEG_PLUGINS` set to `plugins`.
@@ -30,7 +30,7 @@ fn proleg_with(plugins: &str, args: &[&str]) -> (bool, String, String) {
 }
 
 /// The example plugins, built once per test binary into a fresh library folder with
-/// `proleg plugin build`, and loaded into this process.
+/// `proleg plugin build`.
 fn example_library() -> &'static Path {
     static LIB: OnceLock<PathBuf> = OnceLock::new();
     LIB.get_or_init(|| {
@@ -40,10 +40,17 @@ fn example_library() -> &'static Path {
         for module in ["Square_wave", "Rectilinear", "Plugin_sine"] {
             assert!(out.contains(&format!("module {module}")), "{out}");
         }
-        let report = plugin_host::scan(std::slice::from_ref(&lib));
-        assert!(report.skipped.is_empty(), "{:?}", report.messages());
         lib
     })
+}
+
+/// A host that loaded the example plugins, and its registry.
+fn example_host() -> (PluginHost, ModuleRegistry) {
+    let mut host = PluginHost::default();
+    let report = host.scan(&[example_library().to_path_buf()]);
+    assert!(report.skipped.is_empty(), "{:?}", report.messages());
+    let registry = host.registry();
+    (host, registry)
 }
 
 /// The broken test plugins (tests/plugins), built with cargo.
@@ -80,10 +87,9 @@ fn broken_library() -> PathBuf {
     lib
 }
 
-fn simulator(config: &Path, robots: usize) -> Simulator {
-    // The plugins loaded in this process make their modules: the registry is passed.
-    let registry = plugin_host::registry();
-    let sim = load_simulation_in(config, &registry).unwrap_or_else(|e| panic!("{e}"));
+fn simulator(config: &Path, robots: usize, registry: &ModuleRegistry) -> Simulator {
+    // The host's plugins make their modules: the registry is passed.
+    let sim = load_simulation_in(config, registry).unwrap_or_else(|e| panic!("{e}"));
     Simulator::with_registry(
         &sim,
         &BuildOptions {
@@ -93,19 +99,20 @@ fn simulator(config: &Path, robots: usize) -> Simulator {
             physics: None,
             ..Default::default()
         },
-        &registry,
+        registry,
     )
     .unwrap()
 }
 
 #[test]
 fn the_plugin_sine_drives_the_demo_exactly_like_the_built_in_sine() {
-    example_library();
+    let (_host, registry) = example_host();
     let root = common::root();
-    let mut builtin = simulator(&root.join("configs/demo.simulation.xml"), 1);
+    let mut builtin = simulator(&root.join("configs/demo.simulation.xml"), 1, &registry);
     let mut plugin = simulator(
         &root.join("plugins/configs/snake5p_plugin_sine.simulation.xml"),
         1,
+        &registry,
     );
     assert_eq!(
         plugin.kernel(0).unwrap().actuators()[0]
@@ -136,9 +143,9 @@ fn the_plugin_sine_drives_the_demo_exactly_like_the_built_in_sine() {
 
 #[test]
 fn the_rectilinear_plugin_crawls_the_long_snake_forward() {
-    example_library();
+    let (_host, registry) = example_host();
     let config = common::root().join("plugins/configs/snake16py_rectilinear.simulation.xml");
-    let mut sim = simulator(&config, 1);
+    let mut sim = simulator(&config, 1, &registry);
     let start = sim.com(0).unwrap();
     sim.run_for(10.0);
     let end = sim.com(0).unwrap();
@@ -201,7 +208,8 @@ fn the_cli_builds_lists_and_runs_the_example_plugins() {
 #[test]
 fn a_panicking_plugin_is_disabled_and_bad_libraries_are_skipped() {
     let lib = broken_library();
-    let report = plugin_host::scan(std::slice::from_ref(&lib));
+    let mut host = PluginHost::default();
+    let report = host.scan(std::slice::from_ref(&lib));
     let loaded: Vec<&str> = report
         .loaded
         .iter()
@@ -239,7 +247,7 @@ fn a_panicking_plugin_is_disabled_and_bad_libraries_are_skipped() {
         );
     let config = dir.join("panicky.simulation.xml");
     std::fs::write(&config, demo).unwrap();
-    let mut sim = simulator(&config, 1);
+    let mut sim = simulator(&config, 1, &host.registry());
     sim.run_for(0.4);
     assert!(sim.kernel(0).unwrap().failures().next().is_none());
     assert!(
@@ -332,4 +340,33 @@ fn plugin_new_makes_a_crate_that_builds_and_loads() {
             && out.contains("series: phase"),
         "{out}"
     );
+}
+
+#[test]
+fn two_hosts_side_by_side_know_only_their_own_plugins() {
+    // The loaded plugins were a process-wide list: every registry made anywhere offered
+    // every module any part of the process had loaded.
+    let (examples, with_examples) = example_host();
+    let empty = PluginHost::default();
+    assert!(with_examples.get("Square_wave").is_some());
+    assert!(empty.registry().get("Square_wave").is_none());
+    assert_eq!(
+        empty.registry().names(),
+        ModuleRegistry::standard().names(),
+        "a host with nothing loaded offers the standard library"
+    );
+    let names: Vec<&str> = examples
+        .loaded()
+        .iter()
+        .map(|p| p.descriptor.type_name)
+        .collect();
+    assert!(names.contains(&"Rectilinear"), "{names:?}");
+    // A second host loads the same libraries on its own, and dropping it leaves the
+    // first host's modules working.
+    let (second, _) = example_host();
+    drop(second);
+    let config = common::root().join("plugins/configs/snake5p_plugin_sine.simulation.xml");
+    let mut sim = simulator(&config, 1, &examples.registry());
+    sim.run_for(0.5);
+    assert!(sim.kernel(0).unwrap().failures().next().is_none());
 }

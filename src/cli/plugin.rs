@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use crate::plugin_host::build::{BuildOptions, build};
 use crate::plugin_host::template::{Declaration, ParamDecl};
-use crate::plugin_host::{self, ScanReport};
+use crate::plugin_host::{self, PluginHost, ScanReport};
 use clap::Subcommand;
 
 /// The `proleg plugin` subcommands.
@@ -50,7 +50,11 @@ pub enum PluginCommand {
 }
 
 /// Runs a plugin command; `startup` is the scan made when proleg started.
-pub fn run(command: PluginCommand, startup: &ScanReport) -> Result<String, String> {
+pub fn run(
+    command: PluginCommand,
+    host: &mut PluginHost,
+    startup: &ScanReport,
+) -> Result<String, String> {
     match command {
         PluginCommand::New {
             name,
@@ -96,7 +100,7 @@ pub fn run(command: PluginCommand, startup: &ScanReport) -> Result<String, Strin
             }
             let mut out = String::new();
             for l in &outcome.libraries {
-                match plugin_host::load_file(l) {
+                match host.load_file(l) {
                     Ok(Some(info)) => {
                         let _ = writeln!(
                             out,
@@ -124,7 +128,7 @@ pub fn run(command: PluginCommand, startup: &ScanReport) -> Result<String, Strin
             }
             Ok(out)
         }
-        PluginCommand::List => Ok(list(startup)),
+        PluginCommand::List => Ok(list(host, startup)),
     }
 }
 
@@ -135,14 +139,14 @@ fn same_dir(a: &std::path::Path, b: &std::path::Path) -> bool {
     }
 }
 
-fn list(startup: &ScanReport) -> String {
+fn list(host: &PluginHost, startup: &ScanReport) -> String {
     let mut out = String::new();
     let dirs: Vec<String> = plugin_host::library_dirs()
         .iter()
         .map(|d| d.display().to_string())
         .collect();
     let _ = writeln!(out, "library folders: {}", dirs.join(", "));
-    let loaded = plugin_host::loaded();
+    let loaded = host.loaded();
     if loaded.is_empty() {
         let _ = writeln!(
             out,

@@ -1,6 +1,6 @@
 //! Loading a configuration against the standard module library: the common case of tests,
 //! benchmarks and tools that use no plugins. With plugins, load through
-//! [`crate::config::load_simulation_with`] and the registry `crate::plugin_host::registry`
+//! [`crate::config::load_simulation_with`] and the registry `crate::plugin_host::PluginHost::registry`
 //! builds.
 
 use std::path::Path;

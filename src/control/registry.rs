@@ -2,7 +2,7 @@
 //! that create module instances. A registry is a value passed to whoever builds modules
 //! (the loader checks files against it, the simulator and the optimizers create modules
 //! from it): [`ModuleRegistry::standard`] holds the standard library, and the plugin host
-//! builds one that adds the loaded plugins (`crate::plugin_host::registry`).
+//! builds one that adds the loaded plugins (`crate::plugin_host::PluginHost::registry`).
 
 use std::fmt;
 use std::sync::Arc;
@@ -82,7 +82,7 @@ impl std::error::Error for CreateError {}
 
 impl Default for ModuleRegistry {
     /// The standard module library (plugins are added by whoever loaded them:
-    /// `crate::plugin_host::registry`).
+    /// `crate::plugin_host::PluginHost::registry`).
     fn default() -> Self {
         ModuleRegistry::standard()
     }

@@ -50,7 +50,7 @@ pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut AssignState
             .selected_text(shown)
             .show_ui(ui, |ui| {
                 // Built when opened, so modules compiled meanwhile are offered.
-                let registry = crate::plugin_host::registry();
+                let registry = session.registry.clone();
                 for name in registry.names() {
                     let summary = registry.get(name).map_or("", |d| d.summary);
                     ui.selectable_value(&mut state.module, name.to_string(), name)

@@ -70,8 +70,12 @@ mod tests {
     /// The shortcut system alone on the demo's session, as Bevy's how_to_test_systems.
     fn app() -> App {
         let mut app = App::new();
-        let session =
-            SimSession::open(std::path::Path::new("configs/demo.simulation.xml"), None).unwrap();
+        let session = SimSession::open(
+            std::path::Path::new("configs/demo.simulation.xml"),
+            None,
+            &crate::control::ModuleRegistry::standard(),
+        )
+        .unwrap();
         app.insert_non_send(session)
             .init_resource::<ButtonInput<KeyCode>>()
             .init_resource::<EguiWantsInput>()

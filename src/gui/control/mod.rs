@@ -125,10 +125,12 @@ pub fn run(
     replay: Option<Replay>,
     script: Option<&Path>,
     remote: Option<&Path>,
+    plugins: crate::plugin_host::PluginHost,
 ) -> Result<(), String> {
+    let registry = plugins.registry();
     let session = match replay {
-        Some(r) => SimSession::open_replay(r)?,
-        None => open_or_fall_back(config, engine)?,
+        Some(r) => SimSession::open_replay(r, &registry)?,
+        None => open_or_fall_back(config, engine, &registry)?,
     };
     let typed = config.to_path_buf();
     let mut remote_view = RemoteView::default();
@@ -151,10 +153,24 @@ pub fn run(
         .insert_non_send(session)
         .insert_resource(remote_view)
         .insert_resource(robot_view)
+        .insert_resource(ModuleEditor::new(plugins))
         .add_plugins(ControlWindowPlugin);
     match app.run() {
         AppExit::Success => Ok(()),
         AppExit::Error(code) => Err(format!("the control window closed with status {code}")),
+    }
+}
+
+/// Offers the session the modules its plugin host loaded since the last call (the module
+/// editor's build or rescan).
+fn sync_modules(
+    modules: Res<ModuleEditor>,
+    mut session: NonSendMut<SimSession>,
+    mut seen: Local<Option<u64>>,
+) {
+    if *seen != Some(modules.revision) {
+        *seen = Some(modules.revision);
+        session.sync_modules(modules.host.registry());
     }
 }
 
@@ -168,12 +184,13 @@ const FALLBACK: &str = "configs/demo.simulation.xml";
 fn open_or_fall_back(
     config: &Path,
     engine: Option<crate::config::simulation::EngineKind>,
+    registry: &crate::control::ModuleRegistry,
 ) -> Result<SimSession, String> {
-    let error = match SimSession::open(config, engine) {
+    let error = match SimSession::open(config, engine, registry) {
         Ok(s) => return Ok(s),
         Err(e) => e,
     };
-    match SimSession::open(Path::new(FALLBACK), engine) {
+    match SimSession::open(Path::new(FALLBACK), engine, registry) {
         Ok(mut s) => {
             s.error = Some(format!("{error}\n(showing {FALLBACK} instead)"));
             Ok(s)
@@ -225,7 +242,12 @@ impl Plugin for ControlWindowPlugin {
                 .chain(),
         )
         .add_systems(Startup, (camera::spawn_camera, scene::spawn_lights))
-        .add_systems(Update, script_run::run_script.in_set(GuiSystems::Script))
+        .add_systems(
+            Update,
+            (sync_modules, script_run::run_script)
+                .chain()
+                .in_set(GuiSystems::Script),
+        )
         .add_systems(
             Update,
             (

@@ -149,7 +149,7 @@ impl OptimizerView {
         self.best = None;
         self.started = Some(Instant::now());
         self.status.clear();
-        let registry = crate::plugin_host::registry();
+        let registry = session.registry.clone();
         let (tx, rx) = channel();
         std::thread::spawn(move || {
             let eval_tx = tx.clone();
@@ -317,7 +317,7 @@ impl OptimizerView {
 
 /// Puts `genome`'s values into the session's kernel after a restart, and starts it.
 pub fn replay(session: &mut SimSession, genome: &Genome) {
-    let space = match prepare(&session.sim, &crate::plugin_host::registry()) {
+    let space = match prepare(&session.sim, &session.registry) {
         Ok((space, _)) => space,
         Err(e) => {
             session.error = Some(e);
@@ -388,7 +388,7 @@ pub fn show(root: &mut egui::Ui, session: &mut SimSession, view: &mut OptimizerV
         Some((g, s)) if g == session.generation => (g, s),
         _ => (
             session.generation,
-            prepare(&session.sim, &crate::plugin_host::registry())
+            prepare(&session.sim, &session.registry)
                 .ok()
                 .map(|(s, _)| s),
         ),

@@ -183,7 +183,12 @@ mod tests {
 
     fn demo() -> SimSession {
         let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-        SimSession::open(&root.join("configs/demo.simulation.xml"), None).expect("demo loads")
+        SimSession::open(
+            &root.join("configs/demo.simulation.xml"),
+            None,
+            &crate::control::ModuleRegistry::standard(),
+        )
+        .expect("demo loads")
     }
 
     fn amplitudes(s: &SimSession) -> Vec<f64> {

@@ -48,8 +48,7 @@ pub fn replay_stored(
     which: Which,
     episode: Option<u32>,
 ) -> Result<(), String> {
-    let registry = crate::plugin_host::registry();
-    let replay = replay_from(store, run, which, episode, &registry)?;
+    let replay = replay_from(store, run, which, episode, &session.registry)?;
     session.load_replay(replay);
     match session.error.take() {
         Some(e) => Err(e),

@@ -411,8 +411,7 @@ fn tool_command(c: Command, session: &mut SimSession, views: &mut Views) -> Resu
         }
         Command::SaveBest(path) => {
             let space =
-                crate::optimize::run::prepare(&session.sim, &crate::plugin_host::registry())
-                    .map(|(s, _)| s)?;
+                crate::optimize::run::prepare(&session.sim, &session.registry).map(|(s, _)| s)?;
             let o = &mut views.optimizer;
             o.save_to = path.display().to_string();
             o.save_best(session, &space).map_err(|e| e.to_string())?;

@@ -9,7 +9,7 @@ use std::time::Instant;
 use crate::config::Simulation;
 use crate::config::simulation::EngineKind;
 use crate::control::ControlKernel;
-use crate::control::load_simulation_in;
+use crate::control::{ModuleRegistry, load_simulation_in};
 use crate::optimize::evaluate::robot_score;
 use crate::optimize::replay::Replay;
 use crate::sim::datalog::DataSettings;
@@ -104,34 +104,51 @@ pub struct SimSession {
     /// Whether the last frame ran: the first frame after a start takes no wall time
     /// (the window may have idled for minutes).
     was_running: bool,
+    /// The module types the window offers: the standard library and its plugin host's
+    /// modules ([`SimSession::sync_modules`] when the host loads more).
+    pub registry: ModuleRegistry,
 }
 
 impl SimSession {
     /// Loads `path` and builds its world, paused, on `engine` instead of the file's when
     /// given.
-    pub fn open(path: &Path, engine: Option<EngineKind>) -> Result<SimSession, String> {
-        let registry = crate::plugin_host::registry();
-        let sim = load_simulation_in(path, &registry)
+    pub fn open(
+        path: &Path,
+        engine: Option<EngineKind>,
+        registry: &ModuleRegistry,
+    ) -> Result<SimSession, String> {
+        let sim = load_simulation_in(path, registry)
             .map_err(|e| e.to_string())?
             .with_engine(engine);
-        let mut session = SimSession::with(path.to_path_buf(), sim, None)?;
+        let mut session = SimSession::with(path.to_path_buf(), sim, None, registry)?;
         session.engine = engine;
         Ok(session)
     }
 
     /// A stored evaluation's world (its configuration, genome, seed and noise), paused.
-    pub fn open_replay(replay: Replay) -> Result<SimSession, String> {
+    pub fn open_replay(replay: Replay, registry: &ModuleRegistry) -> Result<SimSession, String> {
         SimSession::with(
             PathBuf::from(&replay.config),
             replay.sim.clone(),
             Some(replay),
+            registry,
         )
     }
 
-    fn with(path: PathBuf, sim: Simulation, replay: Option<Replay>) -> Result<SimSession, String> {
+    /// Offers the modules `registry` has (the window's plugin host loaded more).
+    pub fn sync_modules(&mut self, registry: ModuleRegistry) {
+        self.registry = registry;
+    }
+
+    fn with(
+        path: PathBuf,
+        sim: Simulation,
+        replay: Option<Replay>,
+        registry: &ModuleRegistry,
+    ) -> Result<SimSession, String> {
         let step_width = sim.files.simulation.properties.step_width;
         let pacing = Pacing::of(&sim.files.simulation.properties);
-        let (simulator, initial_kernel) = build(&sim, step_width, replay.as_ref())?;
+        let (simulator, initial_kernel) = build(&sim, step_width, replay.as_ref(), registry)?;
         let start = robot_start(&simulator);
         let scenery = simulator.scenery_bounds();
         let duration = sim.files.simulation.properties.duration;
@@ -157,13 +174,14 @@ impl SimSession {
             pause_at: None,
             scenery,
             was_running: false,
+            registry: registry.clone(),
         })
     }
 
     /// Shows stored evaluation `replay` instead (see [`SimSession::open_replay`]); on
     /// failure keeps the current world and records the error.
     pub fn load_replay(&mut self, replay: Replay) {
-        match SimSession::open_replay(replay) {
+        match SimSession::open_replay(replay, &self.registry.clone()) {
             Ok(s) => {
                 let generation = self.generation + 1;
                 *self = s;
@@ -186,7 +204,7 @@ impl SimSession {
     /// Loads another configuration; on failure keeps the current one and records the error
     /// (saying which one is still shown).
     pub fn load(&mut self, path: &Path) {
-        match SimSession::open(path, self.engine) {
+        match SimSession::open(path, self.engine, &self.registry.clone()) {
             Ok(s) => {
                 let generation = self.generation + 1;
                 *self = s;
@@ -204,7 +222,7 @@ impl SimSession {
             return;
         }
         let sim = self.sim.clone().with_engine(Some(engine));
-        match build(&sim, self.step_width, self.replay.as_ref()) {
+        match build(&sim, self.step_width, self.replay.as_ref(), &self.registry) {
             Ok((simulator, kernel)) => {
                 self.sim = sim;
                 self.engine = Some(engine);
@@ -220,7 +238,12 @@ impl SimSession {
     pub fn restart(&mut self) {
         let tuned = self.simulator.kernel(0).ok().map(|k| k.parameter_values());
         let was = self.initial_kernel.parameter_values();
-        match build(&self.sim, self.step_width, self.replay.as_ref()) {
+        match build(
+            &self.sim,
+            self.step_width,
+            self.replay.as_ref(),
+            &self.registry,
+        ) {
             Ok((simulator, kernel)) => {
                 self.install(simulator, kernel);
                 self.tuned = tuned.filter(|t| *t != was);
@@ -261,7 +284,7 @@ impl SimSession {
     /// whose mask character is `1` to the configuration shown, and rebuilds the world
     /// (paused at 0). The configuration files are not changed.
     pub fn add_module(&mut self, name: &str, mask: &str) -> Result<(), String> {
-        let registry = crate::plugin_host::registry();
+        let registry = &self.registry;
         let descriptor = registry
             .get(name)
             .ok_or_else(|| {
@@ -298,7 +321,8 @@ impl SimSession {
                 joints: crate::config::mask::JointMask(bits),
                 params: Vec::new(),
             });
-        let (simulator, kernel) = build(&sim, self.step_width, self.replay.as_ref())?;
+        let (simulator, kernel) =
+            build(&sim, self.step_width, self.replay.as_ref(), &self.registry)?;
         self.sim = sim;
         self.install(simulator, kernel);
         Ok(())
@@ -452,6 +476,7 @@ fn build(
     sim: &Simulation,
     dt: f64,
     replay: Option<&Replay>,
+    registry: &ModuleRegistry,
 ) -> Result<(Simulator, ControlKernel), String> {
     if !(dt.is_finite() && dt > 0.0) {
         return Err(format!("step width {dt} s: give a positive number"));
@@ -467,9 +492,8 @@ fn build(
             ..Default::default()
         },
     };
-    let registry = crate::plugin_host::registry();
     let mut simulator =
-        Simulator::with_registry(&sim, &opts, &registry).map_err(|e| e.to_string())?;
+        Simulator::with_registry(&sim, &opts, registry).map_err(|e| e.to_string())?;
     if let Some(r) = replay {
         r.apply(&mut simulator).map_err(|e| e.to_string())?;
     }

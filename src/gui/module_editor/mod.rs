@@ -21,7 +21,7 @@ use bevy::prelude::*;
 
 use crate::plugin_host::build::{BuildOptions, BuildOutcome, build, plugin_crates};
 use crate::plugin_host::template::{Declaration, ParamDecl};
-use crate::plugin_host::{self, DEFAULT_LIBRARY};
+use crate::plugin_host::{self, DEFAULT_LIBRARY, PluginHost};
 
 /// One parameter row of the declaration form.
 #[derive(Debug, Clone, PartialEq)]
@@ -152,6 +152,19 @@ pub struct ModuleEditor {
     pub awaited_build: Option<u64>,
     /// Libraries the last rescan skipped, with the cause.
     pub scan_messages: Vec<String>,
+    /// The window's plugin libraries: the program's start-up scan, and what the editor
+    /// builds and rescans.
+    pub host: PluginHost,
+}
+
+impl ModuleEditor {
+    /// The editor of a window whose plugins `host` loaded.
+    pub fn new(host: PluginHost) -> Self {
+        ModuleEditor {
+            host,
+            ..ModuleEditor::default()
+        }
+    }
 }
 
 impl Default for ModuleEditor {
@@ -173,6 +186,7 @@ impl Default for ModuleEditor {
             builds: 0,
             awaited_build: None,
             scan_messages: Vec::new(),
+            host: PluginHost::default(),
         }
     }
 }
@@ -241,7 +255,7 @@ impl ModuleEditor {
 
     /// Loads new or changed libraries from the library folders.
     pub fn rescan(&mut self) {
-        let report = plugin_host::scan_default();
+        let report = self.host.scan(&plugin_host::library_dirs());
         self.scan_messages = report.messages();
         if !report.loaded.is_empty() {
             self.revision += 1;
@@ -315,7 +329,7 @@ impl ModuleEditor {
                 self.last_loaded.clear();
                 let mut problems = Vec::new();
                 for lib in &outcome.libraries {
-                    match plugin_host::load_file(lib) {
+                    match self.host.load_file(lib) {
                         Ok(Some(info)) => self.last_loaded.push(info.descriptor.type_name.into()),
                         Ok(None) => {}
                         Err(e) => problems.push(e.to_string()),

@@ -205,7 +205,7 @@ fn loaded(ui: &mut egui::Ui, editor: &mut ModuleEditor) {
     for m in &editor.scan_messages {
         ui.colored_label(egui::Color32::LIGHT_RED, m);
     }
-    let modules = plugin_host::loaded();
+    let modules = editor.host.loaded();
     if modules.is_empty() {
         ui.label("none");
     }

@@ -59,7 +59,7 @@ pub enum SetupSystems {
 }
 
 /// Opens the configuration window.
-pub fn run(opts: &SetupOptions) -> Result<(), String> {
+pub fn run(opts: &SetupOptions, plugins: crate::plugin_host::PluginHost) -> Result<(), String> {
     let script = match &opts.script {
         Some(p) => SetupScript(Some(script::load(p)?)),
         None => SetupScript::default(),
@@ -68,6 +68,7 @@ pub fn run(opts: &SetupOptions) -> Result<(), String> {
         &opts.configs,
         &opts.out,
         &crate::compose::paths::timestamp_now(),
+        plugins.registry(),
     );
     if let Some(env) = &opts.env {
         state.editor = crate::compose::env_edit::EnvEditor::load(env)?;
@@ -83,6 +84,7 @@ pub fn run(opts: &SetupOptions) -> Result<(), String> {
     crate::gui::desktop::add_window_plugins(&mut app, "proleg — new / edit configuration".into());
     app.insert_resource(state)
         .insert_resource(script)
+        .insert_resource(crate::gui::module_editor::ModuleEditor::new(plugins))
         .add_plugins(SetupWindowPlugin);
     match app.run() {
         AppExit::Success => Ok(()),
@@ -185,7 +187,7 @@ fn draw_ui(
     let ctx = contexts.ctx_mut()?.clone();
     let state = state.as_mut();
     crate::gui::module_editor::view::show(&ctx, &mut modules);
-    state.sync_modules(modules.revision);
+    state.sync_modules(&modules);
     let mut root = egui::Ui::new(
         ctx.clone(),
         "configuration window".into(),

@@ -72,8 +72,7 @@ pub fn run_preview(w: &Wizard, seconds: f64) -> Result<PreviewRun, String> {
     // Preview in the single-run mode whatever the wizard's mode.
     p.props.mode = crate::config::simulation::Mode::SingleRun;
     let sim_path = p.save()?;
-    let registry = crate::plugin_host::registry();
-    let sim = load_simulation_in(&sim_path, &registry).map_err(|e| e.to_string())?;
+    let sim = load_simulation_in(&sim_path, &w.registry).map_err(|e| e.to_string())?;
     let opts = BuildOptions {
         robots: 1,
         seed: sim.files.simulation.properties.seed,
@@ -81,7 +80,7 @@ pub fn run_preview(w: &Wizard, seconds: f64) -> Result<PreviewRun, String> {
         physics: None,
         ..Default::default()
     };
-    let mut s = Simulator::with_registry(&sim, &opts, &registry).map_err(|e| e.to_string())?;
+    let mut s = Simulator::with_registry(&sim, &opts, &w.registry).map_err(|e| e.to_string())?;
     let start = s.com(0).map_err(|e| e.to_string())?;
     let mut track = vec![start];
     let samples = (seconds * TRACK_RATE).ceil().max(1.0) as usize;

@@ -128,7 +128,7 @@ fn carry_out(
             if !crate::gui::module_editor::script::run(modules, m)? {
                 return Ok(Flow::Again);
             }
-            state.sync_modules(modules.revision);
+            state.sync_modules(modules);
         }
         Command::Quit => return Ok(Flow::Quit),
     }

@@ -85,18 +85,23 @@ pub struct SetupState {
 impl SetupState {
     /// Offers the modules compiled in the module library since the last call (the
     /// library's `revision` counts its loads).
-    pub fn sync_modules(&mut self, revision: u64) {
-        if revision != self.module_revision {
-            self.module_revision = revision;
-            self.wizard.registry = crate::plugin_host::registry();
+    pub fn sync_modules(&mut self, modules: &crate::gui::module_editor::ModuleEditor) {
+        if modules.revision != self.module_revision {
+            self.module_revision = modules.revision;
+            self.wizard.registry = modules.host.registry();
         }
     }
 
     /// The window's state: the wizard on its first page (offering the standard modules and
     /// the loaded plugins), an empty scene, the expert composition of the demo.
-    pub fn new(configs: &Path, out: &Path, stamp: &str) -> Self {
+    pub fn new(
+        configs: &Path,
+        out: &Path,
+        stamp: &str,
+        registry: crate::control::ModuleRegistry,
+    ) -> Self {
         let mut wizard = Wizard::new(configs, out, stamp);
-        wizard.registry = crate::plugin_host::registry();
+        wizard.registry = registry;
         let editor_file = out.join(format!("scene_{stamp}.env.xml"));
         let assets = configs.parent().unwrap_or(Path::new(".")).join("assets");
         let expert_path = out.join(format!("composed_{stamp}.simulation.xml"));

@@ -101,9 +101,12 @@ struct Captured {
 struct VideoCamera;
 
 /// Renders `req`'s run into its output.
-pub fn record_video(req: &VideoRequest) -> Result<VideoReport, String> {
+pub fn record_video(
+    req: &VideoRequest,
+    registry: &crate::control::ModuleRegistry,
+) -> Result<VideoReport, String> {
     check(req)?;
-    let session = SimSession::open(&req.config, req.engine)?;
+    let session = SimSession::open(&req.config, req.engine, registry)?;
     let seconds = req
         .seconds
         .unwrap_or(session.sim.files.simulation.properties.duration);
