@@ -16,7 +16,7 @@ const RUNGS: usize = 4;
 
 fn gate(config: &str) -> Convergence {
     let sim = load_simulation(common::root().join("configs").join(config)).unwrap();
-    let production = EngineSettings::Rapier(PhysicsSettings::for_robot(&sim));
+    let production = EngineSettings::Rapier(PhysicsSettings::production_for(&sim));
     gate_with(config, production)
 }
 
@@ -65,7 +65,7 @@ fn d_experiment2_is_within_the_gate() {
 #[test]
 fn the_reference_ladder_refines_the_production_settings() {
     let sim = load_simulation(common::root().join("configs/demo.simulation.xml")).unwrap();
-    let production = PhysicsSettings::for_robot(&sim);
+    let production = PhysicsSettings::production_for(&sim);
     let base = proleg::bench::convergence::reference_base(production);
     assert!(base.steps_per_step > production.steps_per_step);
     assert!(base.substeps >= production.substeps);

@@ -270,9 +270,9 @@ pub fn run(
         .map_err(|e| e.to_string())?
         .with_engine(engine);
     let production = match sim.engine() {
-        EngineKind::Rapier => {
-            EngineSettings::Rapier(PhysicsSettings::for_robot_with(&sim, overrides)?)
-        }
+        EngineKind::Rapier => EngineSettings::Rapier(
+            PhysicsSettings::production_with(&sim, overrides).map_err(|e| e.to_string())?,
+        ),
         EngineKind::Mujoco if overrides.is_empty() => {
             EngineSettings::Mujoco(MujocoSettings::default())
         }

@@ -217,7 +217,7 @@ pub fn report(
             sim.engine()
         ));
     }
-    let physics = PhysicsSettings::for_robot_with(&sim, overrides)?;
+    let physics = PhysicsSettings::production_with(&sim, overrides).map_err(|e| e.to_string())?;
     let raw = physics_only(&sim, physics, seconds)?;
     let (rec, size) = recording(&sim, physics, seconds)?;
     let mut figs = vec![pipeline(&sim, physics, 1, seconds)?, rec.clone()];

@@ -305,7 +305,7 @@ pub enum SettleError {
     Config(#[from] crate::config::error::ConfigError),
     /// A `--physics` setting that is not one.
     #[error("--physics: {0}")]
-    Physics(String),
+    Physics(crate::sim::engine::rapier::SettingsError),
     /// The world could not be built or run.
     #[error(transparent)]
     Sim(#[from] crate::sim::error::SimError),
@@ -328,7 +328,7 @@ pub fn settle(
         None
     } else {
         Some(
-            crate::sim::engine::rapier::PhysicsSettings::for_robot_with(&sim, physics)
+            crate::sim::engine::rapier::PhysicsSettings::production_with(&sim, physics)
                 .map_err(SettleError::Physics)?,
         )
     };

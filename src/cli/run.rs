@@ -108,7 +108,8 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Str
             sim.engine()
         ));
     }
-    let physics = PhysicsSettings::for_robot_with(&sim, &req.physics)?;
+    let physics =
+        PhysicsSettings::production_with(&sim, &req.physics).map_err(|e| e.to_string())?;
     let opts = BuildOptions {
         robots: 1,
         seed,

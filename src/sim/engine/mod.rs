@@ -265,7 +265,7 @@ pub fn build(
         EngineKind::Rapier => {
             let settings = opts
                 .rapier
-                .unwrap_or_else(|| rapier::PhysicsSettings::for_robot(sim));
+                .unwrap_or_else(|| rapier::PhysicsSettings::production_for(sim));
             let (engine, layout) = rapier::RapierEngine::build(sim, opts.robots, settings)?;
             Ok((Box::new(engine), layout))
         }

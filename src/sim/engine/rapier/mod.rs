@@ -23,7 +23,7 @@ use crate::sim::engine::{
     MAX_BODY_SPEED, PadArea, PadId, PhysicsEngine, ShapeOutline, tangential_speed,
 };
 
-pub use settings::PhysicsSettings;
+pub use settings::{PhysicsSettings, SettingsError};
 
 /// Damping of the servo's velocity motor (N·m·s/rad): stiff enough that the torque limit,
 /// not the motor model, bounds the servo.

@@ -1,7 +1,7 @@
 //! The physics engine's settings for a robot: how finely rapier integrates (substeps, physics
 //! steps per simulation step) and its length-dependent tolerances, scaled to the robot's
 //! module size rather than rapier's human-sized defaults. Production runs derive them from
-//! the robot ([`PhysicsSettings::for_robot`]); the convergence check (`proleg bench
+//! the robot ([`PhysicsSettings::production_for`]); the convergence check (`proleg bench
 //! --convergence`) and the lever measurements override them ([`PhysicsSettings::parse_overrides`]).
 //! Each setting's measured effect on speed and accuracy is in docs/DESIGN.md §3.
 
@@ -53,6 +53,33 @@ pub const PRODUCTION_SUBSTEPS: usize = 4;
 /// Production solver iterations per substep: the second halves the displacement error of
 /// the reference scenario for 5 % more instructions per step (DESIGN.md §3).
 pub const PRODUCTION_PGS_ITERATIONS: usize = 2;
+/// A `--physics key=value,...` override that cannot be applied.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SettingsError {
+    /// An item without `=`.
+    #[error("physics setting `{item}`: expected key=value")]
+    NotKeyValue {
+        /// The item as written.
+        item: String,
+    },
+    /// A key that is not a setting.
+    #[error("unknown physics setting `{key}` (known: {})", OVERRIDE_KEYS.join(", "))]
+    UnknownKey {
+        /// The key as written.
+        key: String,
+    },
+    /// A value of the wrong kind.
+    #[error("physics setting `{key}`: `{value}` is not {expected}")]
+    BadValue {
+        /// The setting.
+        key: String,
+        /// The value as written.
+        value: String,
+        /// What it must be.
+        expected: &'static str,
+    },
+}
+
 /// The keys `--physics key=value,...` knows: the fields' names.
 pub const OVERRIDE_KEYS: [&str; 11] = [
     "substeps",
@@ -70,10 +97,11 @@ pub const OVERRIDE_KEYS: [&str; 11] = [
 /// rapier's tolerances are tuned for objects of about this size (m).
 pub const RAPIER_REFERENCE_SIZE: f64 = 1.0;
 
-impl Default for PhysicsSettings {
+impl PhysicsSettings {
     /// rapier's own defaults, one physics step per simulation step, with the default
-    /// contact model's spring ([`crate::config::contact::ContactModel::default`]).
-    fn default() -> Self {
+    /// contact model's spring ([`crate::config::contact::ContactModel::default`]); not
+    /// what a run uses ([`PhysicsSettings::production_for`]).
+    pub fn rapier_defaults() -> Self {
         PhysicsSettings {
             substeps: 4,
             steps_per_step: 1,
@@ -88,12 +116,10 @@ impl Default for PhysicsSettings {
             multibody_joints: false,
         }
     }
-}
 
-impl PhysicsSettings {
     /// The production settings for `sim`'s robot: tolerances scaled to its module size,
     /// contacts and joints as its environment states them.
-    pub fn for_robot(sim: &Simulation) -> Self {
+    pub fn production_for(sim: &Simulation) -> Self {
         let physics = &sim.environment.physics;
         let contact = physics.contact_model();
         PhysicsSettings {
@@ -102,7 +128,7 @@ impl PhysicsSettings {
             contact_hz: contact.natural_frequency_hz(),
             contact_damping: contact.damping_ratio,
             multibody_joints: physics.articulation == Articulation::Reduced,
-            ..PhysicsSettings::default()
+            ..PhysicsSettings::rapier_defaults()
         }
         .scaled_to(module_size(sim))
     }
@@ -127,18 +153,24 @@ impl PhysicsSettings {
 
     /// Applies `key=value` overrides separated by commas (`substeps=2,length_unit=0.05`);
     /// keys are the field names ([`OVERRIDE_KEYS`]), booleans `true`/`false`/`1`/`0`.
-    pub fn parse_overrides(mut self, text: &str) -> Result<Self, String> {
+    pub fn parse_overrides(mut self, text: &str) -> Result<Self, SettingsError> {
         for item in text.split(',').map(str::trim).filter(|s| !s.is_empty()) {
             let (key, value) = item
                 .split_once('=')
-                .ok_or_else(|| format!("physics setting `{item}`: expected key=value"))?;
+                .ok_or_else(|| SettingsError::NotKeyValue {
+                    item: item.to_string(),
+                })?;
             let (key, value) = (key.trim(), value.trim());
-            let bad = |what: &str| format!("physics setting `{key}`: `{value}` is not {what}");
+            let bad = |expected: &'static str| SettingsError::BadValue {
+                key: key.to_string(),
+                value: value.to_string(),
+                expected,
+            };
             let count = || {
                 (value.parse::<u32>().ok().filter(|n| *n > 0))
                     .ok_or_else(|| bad("a positive integer"))
             };
-            let real = |what: &str| {
+            let real = |what: &'static str| {
                 (value
                     .parse::<f64>()
                     .ok()
@@ -163,10 +195,9 @@ impl PhysicsSettings {
                 "halfspace_floor" => self.halfspace_floor = flag()?,
                 "multibody_joints" => self.multibody_joints = flag()?,
                 _ => {
-                    return Err(format!(
-                        "unknown physics setting `{key}` (known: {})",
-                        OVERRIDE_KEYS.join(", ")
-                    ));
+                    return Err(SettingsError::UnknownKey {
+                        key: key.to_string(),
+                    });
                 }
             }
         }
@@ -175,8 +206,8 @@ impl PhysicsSettings {
 
     /// The production settings of `sim`'s robot with `overrides` applied (see
     /// [`PhysicsSettings::parse_overrides`]).
-    pub fn for_robot_with(sim: &Simulation, overrides: &str) -> Result<Self, String> {
-        PhysicsSettings::for_robot(sim).parse_overrides(overrides)
+    pub fn production_with(sim: &Simulation, overrides: &str) -> Result<Self, SettingsError> {
+        PhysicsSettings::production_for(sim).parse_overrides(overrides)
     }
 
     /// rapier's integration parameters for a simulation step of `dt` seconds.
@@ -262,41 +293,59 @@ mod tests {
 
     #[test]
     fn overrides_parse_and_name_the_bad_one() {
-        let s = PhysicsSettings::default()
+        let s = PhysicsSettings::rapier_defaults()
             .parse_overrides("substeps=2, length_unit=0.05,warmstart_joints=true")
             .unwrap();
         assert_eq!(
             (s.substeps, s.length_unit, s.warmstart_joints),
             (2, 0.05, true)
         );
-        let e = PhysicsSettings::default()
+        let e = PhysicsSettings::rapier_defaults()
             .parse_overrides("substep=2")
             .unwrap_err();
-        assert!(e.contains("unknown physics setting `substep`"), "{e}");
-        let e = PhysicsSettings::default()
+        assert_eq!(
+            e,
+            SettingsError::UnknownKey {
+                key: "substep".into()
+            }
+        );
+        let e = PhysicsSettings::rapier_defaults()
             .parse_overrides("length_unit=NaN")
             .unwrap_err();
-        assert!(e.contains("positive length"), "{e}");
-        let e = PhysicsSettings::default()
+        assert!(
+            matches!(&e, SettingsError::BadValue { key, expected, .. }
+                if key == "length_unit" && expected.contains("positive length")),
+            "{e}"
+        );
+        let e = PhysicsSettings::rapier_defaults()
             .parse_overrides("substeps=0")
             .unwrap_err();
-        assert!(e.contains("positive integer"), "{e}");
+        assert!(
+            matches!(
+                &e,
+                SettingsError::BadValue {
+                    expected: "a positive integer",
+                    ..
+                }
+            ),
+            "{e}"
+        );
     }
 
     #[test]
     fn display_round_trips() {
-        let s = PhysicsSettings::default()
+        let s = PhysicsSettings::rapier_defaults()
             .parse_overrides("substeps=3,coulomb_friction=1,contact_recycling=0")
             .unwrap();
         assert_eq!(
-            PhysicsSettings::default().parse_overrides(&s.to_string()),
+            PhysicsSettings::rapier_defaults().parse_overrides(&s.to_string()),
             Ok(s)
         );
     }
 
     #[test]
     fn refinement_multiplies_physics_steps() {
-        let s = PhysicsSettings::default().refined(2).refined(4);
+        let s = PhysicsSettings::rapier_defaults().refined(2).refined(4);
         assert_eq!(s.steps_per_step, 8);
         let p = s.integration_parameters(0.001);
         assert!((p.dt - 0.000125).abs() < 1e-9);
