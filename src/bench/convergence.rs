@@ -30,7 +30,7 @@ pub const REFERENCE_SUBSTEPS: usize = 8;
 
 /// What one run of a scenario did.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Outcome {
+pub struct RungOutcome {
     /// The engine and settings it ran with.
     pub settings: EngineSettings,
     /// Ground-plane distance of robot 0's centre of mass, start to end (m).
@@ -45,19 +45,19 @@ pub struct Outcome {
     pub seconds: f64,
 }
 
-impl Outcome {
+impl RungOutcome {
     /// Simulated seconds per wall second.
     pub fn realtime_factor(&self) -> f64 {
         self.seconds / self.wall.max(1e-9)
     }
 
     /// Relative displacement difference from `reference`.
-    pub fn displacement_error(&self, reference: &Outcome) -> f64 {
+    pub fn displacement_error(&self, reference: &RungOutcome) -> f64 {
         (self.displacement - reference.displacement).abs() / reference.displacement.abs().max(1e-9)
     }
 
     /// Heading difference from `reference` (degrees, -180 ..= 180).
-    pub fn heading_difference(&self, reference: &Outcome) -> f64 {
+    pub fn heading_difference(&self, reference: &RungOutcome) -> f64 {
         let d = (self.heading - reference.heading).rem_euclid(360.0);
         if d > 180.0 { d - 360.0 } else { d }
     }
@@ -69,7 +69,7 @@ pub fn episode(
     settings: EngineSettings,
     seconds: f64,
     registry: &ModuleRegistry,
-) -> Result<Outcome, String> {
+) -> Result<RungOutcome, String> {
     let mut opts = BuildOptions {
         robots: 1,
         seed: sim.files.simulation.properties.seed,
@@ -98,7 +98,7 @@ pub fn episode(
             "the run with {settings} blew up (non-finite positions)"
         ));
     }
-    Ok(Outcome {
+    Ok(RungOutcome {
         settings,
         displacement: ground_distance(start, end),
         heading,
@@ -146,16 +146,16 @@ pub struct Convergence {
     /// The scenario (for printing).
     pub name: String,
     /// The run at the settings under test.
-    pub production: Outcome,
+    pub production: RungOutcome,
     /// The refinements, coarsest first; the last is the reference.
-    pub ladder: Vec<Outcome>,
+    pub ladder: Vec<RungOutcome>,
     /// Whether the last refinement changed the displacement by less than [`CONVERGED`].
     pub converged: bool,
 }
 
 impl Convergence {
     /// The converged reference (the finest rung).
-    pub fn reference(&self) -> &Outcome {
+    pub fn reference(&self) -> &RungOutcome {
         self.ladder.last().unwrap_or(&self.production)
     }
 
@@ -181,7 +181,7 @@ pub fn check(
     registry: &ModuleRegistry,
 ) -> Result<Convergence, String> {
     let production_run = episode(sim, production, seconds, registry)?;
-    let mut ladder: Vec<Outcome> = Vec::new();
+    let mut ladder: Vec<RungOutcome> = Vec::new();
     let mut settings = reference_of(production);
     let mut converged = false;
     while ladder.len() < max_rungs.max(2) {

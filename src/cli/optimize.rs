@@ -17,7 +17,7 @@ use crate::optimize::fitness::Fitness;
 use crate::optimize::result::actuation_with;
 use crate::optimize::robust::episode_records;
 use crate::optimize::run::{
-    Evaluation, Outcome, Recording, RunChoices, RunSettings, check_workers, optimize, prepare,
+    Evaluation, Recording, RunChoices, RunOutcome, RunSettings, check_workers, optimize, prepare,
 };
 use crate::optimize::space::SearchSpace;
 use crate::optimize::store::{EpisodeRecord, RunInfo, Store, StoreLocation, StoredEval};
@@ -84,7 +84,7 @@ pub struct OptimizeOptions {
 #[derive(Debug, Clone, PartialEq)]
 pub struct OptimizeReport {
     /// The optimizer's outcome (best candidate, scores, evaluations, batching).
-    pub outcome: Outcome,
+    pub outcome: RunOutcome,
     /// Wall seconds of the run.
     pub wall: f64,
     /// Simulated seconds per episode.

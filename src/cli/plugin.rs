@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use crate::plugin_host::build::{BuildOptions, build};
+use crate::plugin_host::build::{PluginBuildOptions, build};
 use crate::plugin_host::template::{Declaration, ParamDecl};
 use crate::plugin_host::{self, PluginHost, ScanReport};
 use clap::Subcommand;
@@ -89,7 +89,7 @@ pub fn run(
             lib,
             target_dir,
         } => {
-            let outcome = build(&BuildOptions {
+            let outcome = build(&PluginBuildOptions {
                 workspace,
                 package: name,
                 target_dir,

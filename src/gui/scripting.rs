@@ -13,7 +13,7 @@ pub const SHOT_FRAMES: u32 = 600;
 
 /// A script's pauses.
 #[derive(Debug, Clone, Default)]
-pub struct Pacing {
+pub struct ScriptPauses {
     /// Frames left of a `wait`.
     pub waiting: u32,
     /// A screenshot being written: path and frames waited for it.
@@ -25,7 +25,7 @@ pub struct Pacing {
     pub frame_delay: std::time::Duration,
 }
 
-impl Pacing {
+impl ScriptPauses {
     /// Whether the script waits this frame; an error when a screenshot never appeared.
     pub fn hold(&mut self) -> Result<bool, String> {
         if self.waiting > 0 {
@@ -81,7 +81,7 @@ pub struct Script<C> {
     /// The next command to carry out.
     pub next: usize,
     /// Waits and screenshots in progress.
-    pub pacing: Pacing,
+    pub pacing: ScriptPauses,
     /// The script file, named in errors.
     pub file: PathBuf,
 }
@@ -91,7 +91,7 @@ impl<C> Default for Script<C> {
         Script {
             commands: Vec::new(),
             next: 0,
-            pacing: Pacing::default(),
+            pacing: ScriptPauses::default(),
             file: PathBuf::new(),
         }
     }

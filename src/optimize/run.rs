@@ -41,7 +41,7 @@ pub struct Evaluation {
 
 /// What a run found.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Outcome {
+pub struct RunOutcome {
     /// The best candidate found.
     pub best: Genome,
     /// Its score.
@@ -122,7 +122,7 @@ pub fn optimize(
     registry: &ModuleRegistry,
     mut recording: Option<Recording<'_>>,
     mut on_eval: impl FnMut(&Evaluation),
-) -> Result<Outcome, String> {
+) -> Result<RunOutcome, String> {
     let (space, configured) = prepare(sim, registry)?;
     let Some(model) = sim.optimizer.as_ref() else {
         return Err("no optimizer".into());
@@ -189,7 +189,7 @@ pub fn optimize(
         .best()
         .map(|(g, s)| (g.clone(), s))
         .ok_or_else(|| "the optimizer evaluated nothing".to_string())?;
-    Ok(Outcome {
+    Ok(RunOutcome {
         best: g,
         best_score: s,
         start,

@@ -8,7 +8,7 @@ use std::process::Command;
 
 /// What to build and where to put it.
 #[derive(Debug, Clone, PartialEq)]
-pub struct BuildOptions {
+pub struct PluginBuildOptions {
     /// The plugin workspace (holds `Cargo.toml`, `api/` and the plugin crates).
     pub workspace: PathBuf,
     /// One plugin crate (package or folder name); `None` builds every plugin crate.
@@ -19,9 +19,9 @@ pub struct BuildOptions {
     pub lib_dir: PathBuf,
 }
 
-impl Default for BuildOptions {
+impl Default for PluginBuildOptions {
     fn default() -> Self {
-        BuildOptions {
+        PluginBuildOptions {
             workspace: PathBuf::from("plugins"),
             package: None,
             target_dir: PathBuf::from("target/plugins"),
@@ -104,7 +104,7 @@ fn cargo() -> PathBuf {
 
 /// Builds the plugin crate(s) in release mode and installs the libraries; `Err` when the
 /// build could not start (no workspace, unknown crate, no cargo).
-pub fn build(opts: &BuildOptions) -> Result<BuildOutcome, String> {
+pub fn build(opts: &PluginBuildOptions) -> Result<BuildOutcome, String> {
     let all = plugin_crates(&opts.workspace)?;
     let chosen: Vec<PluginCrate> = match &opts.package {
         Some(name) => {
@@ -194,10 +194,10 @@ mod tests {
             assert!(names.contains(&example), "{names:?}");
         }
         assert!(!names.contains(&"proleg-plugin-api"));
-        let e = build(&BuildOptions {
+        let e = build(&PluginBuildOptions {
             workspace: ws,
             package: Some("nope".into()),
-            ..BuildOptions::default()
+            ..PluginBuildOptions::default()
         })
         .unwrap_err();
         assert!(

@@ -22,7 +22,7 @@ use crate::sim::physics::SimPhysics;
 use crate::sim::randomize::{NoisySensors, SensorNoise};
 use crate::sim::record::{RecordSettings, Track};
 use crate::sim::servo::{DEFAULT_SERVO_GAIN, JointState, Servo, SimJoint};
-use crate::sim::tactile::{RobotSensors, TactileSensor};
+use crate::sim::tactile::{RobotSensors, SimPad};
 
 pub use crate::sim::engine::mujoco::MujocoSettings;
 pub use crate::sim::engine::rapier::PhysicsSettings;
@@ -267,7 +267,7 @@ fn spawn_sensors(
                 let Some((index, id)) = pads.next() else {
                     continue;
                 };
-                let sensor = TactileSensor {
+                let sensor = SimPad {
                     robot,
                     index,
                     pad: *id,

@@ -16,7 +16,7 @@ use crate::sim::physics::SimPhysics;
 
 /// A tactile pad of a robot: its engine pad and debounce state.
 #[derive(Component, Debug, Clone)]
-pub struct TactileSensor {
+pub struct SimPad {
     /// The robot it belongs to.
     pub robot: Entity,
     /// Index among the robot's pads (the order of `SensorData::tactile`).
@@ -43,7 +43,7 @@ pub struct RobotSensors(pub SensorData);
 /// `Sense` set).
 pub fn sense_tactile(
     physics: Res<SimPhysics>,
-    mut pads: Query<&mut TactileSensor>,
+    mut pads: Query<&mut SimPad>,
     mut robots: Query<&mut RobotSensors>,
 ) {
     for mut pad in &mut pads {

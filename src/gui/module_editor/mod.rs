@@ -19,7 +19,7 @@ use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
 use bevy::prelude::*;
 
-use crate::plugin_host::build::{BuildOptions, BuildOutcome, build, plugin_crates};
+use crate::plugin_host::build::{BuildOutcome, PluginBuildOptions, build, plugin_crates};
 use crate::plugin_host::template::{Declaration, ParamDecl};
 use crate::plugin_host::{self, DEFAULT_LIBRARY, PluginHost};
 
@@ -280,7 +280,7 @@ impl ModuleEditor {
             return Err("a build is running".into());
         }
         self.save()?;
-        let opts = BuildOptions {
+        let opts = PluginBuildOptions {
             workspace: self.workspace.clone(),
             package: self.crate_name.clone(),
             target_dir: self.target_dir.clone(),

@@ -15,7 +15,7 @@ use crate::sim::physics::SimPhysics;
 use crate::sim::record::{Track, centre_of_mass, heading};
 use crate::sim::servo::{JointState, Servo};
 use crate::sim::spawn::{SimEnvObject, SimLink};
-use crate::sim::tactile::{RobotSensors, TactileSensor};
+use crate::sim::tactile::{RobotSensors, SimPad};
 
 /// A body of the scene: an environment object or a robot link, with its engine body.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -137,7 +137,7 @@ impl Simulator {
     /// Every tactile pad of robot `index`, in pad order, raw and debounced.
     pub fn tactile_pads(&self, index: usize) -> Result<Vec<PadReading>, SimError> {
         let robot = self.robot(index)?;
-        Ok(self.collect_sorted(|p: &TactileSensor| {
+        Ok(self.collect_sorted(|p: &SimPad| {
             (p.robot == robot).then_some(PadReading {
                 index: p.index,
                 link: p.link,
