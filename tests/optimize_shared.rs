@@ -16,7 +16,7 @@ use proleg::optimize::evaluate::CandidateScore;
 use proleg::optimize::settings::StopFlag;
 use proleg::optimize::shared::worker::{WorkerOptions, run_pool};
 use proleg::optimize::store::pg_queue::Pending;
-use proleg::optimize::store::{PgStore, RunInfo, SCHEMA_VERSION, StoreLocation, program_version};
+use proleg::optimize::store::{ExperimentStore, RunInfo, SCHEMA_VERSION, program_version};
 
 const GA: &str = "configs/experiment1_ga.simulation.xml";
 
@@ -503,21 +503,6 @@ fn tls_is_used_when_the_url_requires_it() {
     }
 }
 
-/// The library's view of the test database `db`, with the password in the URL (kept in this
-/// process; never printed).
-fn open_store(pg: &Pg, db: &str) -> PgStore {
-    let url = pg
-        .url_of(db)
-        .replace("proleg_admin@", &format!("proleg_admin:{}@", pg.password));
-    let Ok(StoreLocation::Postgres(target)) = StoreLocation::parse(&url) else {
-        panic!("a postgres URL");
-    };
-    match PgStore::open(&target, true) {
-        Ok(s) => s,
-        Err(e) => panic!("{e}"),
-    }
-}
-
 fn info(config: &str) -> RunInfo {
     RunInfo {
         config: config.into(),
@@ -542,7 +527,7 @@ fn pending(number: u64) -> Pending {
 fn a_result_after_the_lease_ran_out_is_discarded() {
     let pg = server();
     pg.database("shared_late");
-    let mut store = open_store(&pg, "shared_late");
+    let mut store = pg.open_store("shared_late");
     let run = store.start_run(&info(GA), "proleg test", &[], &[]).unwrap();
     store.enqueue(run, 1, &[pending(0)]).unwrap();
     // Worker a's lease runs out at once; b claims the evaluation again.
@@ -585,7 +570,7 @@ fn a_result_after_the_lease_ran_out_is_discarded() {
 fn a_worker_refuses_runs_it_cannot_evaluate_and_leaves_them_pending() {
     let pg = server();
     pg.database("shared_refuse");
-    let mut store = open_store(&pg, "shared_refuse");
+    let mut store = pg.open_store("shared_refuse");
     // A run of another program version, and one whose module this host lacks.
     let other = store
         .start_run(&info(GA), "proleg 0.0.0", &[], &[])

@@ -531,7 +531,7 @@ fn simulate_missing(
             }
         })?;
         if let Some(e) = store_error {
-            return Err(e);
+            return Err(e.into());
         }
         let rate = range.len() as f64 / t.elapsed().as_secs_f64().max(1e-9);
         rates.push((batch, rate));

@@ -36,6 +36,22 @@ impl Pg {
             .expect("the test server answers")
     }
 
+    /// The library's view of database `db` as a store (created when empty), with the
+    /// password in the URL (kept in this process; never printed).
+    pub fn open_store(&self, db: &str) -> proleg::optimize::store::PgStore {
+        use proleg::optimize::store::{PgStore, StoreLocation};
+        let url = self
+            .url_of(db)
+            .replace("proleg_admin@", &format!("proleg_admin:{}@", self.password));
+        let Ok(StoreLocation::Postgres(target)) = StoreLocation::parse(&url) else {
+            panic!("a postgres URL");
+        };
+        match PgStore::open(&target, true) {
+            Ok(s) => s,
+            Err(e) => panic!("{e}"),
+        }
+    }
+
     /// The URL (no password) of database `db` on the server.
     pub fn url_of(&self, db: &str) -> String {
         let base = self

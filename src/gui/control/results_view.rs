@@ -28,8 +28,7 @@ impl StoredResults {
     /// Lists the runs of `self.store`.
     pub fn list(&mut self) {
         let listed = StoreLocation::parse(self.store.trim())
-            .and_then(|l| Store::open_existing(&l))
-            .and_then(|mut s| s.runs());
+            .and_then(|l| Ok(Store::open_existing(&l)?.runs()?));
         match listed {
             Ok(runs) => {
                 self.status = format!("{} runs", runs.len());

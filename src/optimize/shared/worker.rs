@@ -12,7 +12,7 @@ use crate::optimize::evaluate::{CandidateScore, Evaluator};
 use crate::optimize::settings::StopFlag;
 use crate::optimize::shared::run_evaluator;
 use crate::optimize::store::pg_queue::{Claim, PENDING};
-use crate::optimize::store::{PgStore, PgTarget};
+use crate::optimize::store::{ExperimentStore, PgStore, PgTarget};
 
 /// Longest wait between two looks for work when no notification comes (an expired lease
 /// announces itself to no one).
@@ -178,13 +178,13 @@ fn heartbeat(
         }
         if let Err(e) = store.renew(id, lease) {
             if !store.is_closed() {
-                return Err(e);
+                return Err(e.into());
             }
             let threads_ended = || matches!(beats.try_recv(), Err(TryRecvError::Disconnected));
             if let Err(e) = store.reconnect(OUTAGE, &threads_ended)
                 && !threads_ended()
             {
-                return Err(e);
+                return Err(e.into());
             }
         }
     }

@@ -15,6 +15,7 @@
 //! process); [`pg`] a PostgreSQL database shared by a driver and `proleg worker`s on many
 //! hosts, with the queue of shared evaluations in [`pg_queue`].
 
+pub mod error;
 pub mod location;
 pub mod pg;
 pub mod pg_queue;
@@ -23,6 +24,7 @@ pub mod sqlite;
 use crate::config::simulation::EngineKind;
 use crate::optimize::space::Genome;
 
+pub use error::StoreError;
 pub use location::{PgTarget, StoreLocation};
 pub use pg::PgStore;
 pub use sqlite::SqliteStore;
@@ -122,133 +124,187 @@ pub struct StoredEval {
     pub wall: f64,
 }
 
-/// An open store.
-pub enum Store {
-    /// The embedded SQLite store.
-    Sqlite(SqliteStore),
-    /// A shared PostgreSQL store.
-    Postgres(Box<PgStore>),
+/// What both stores do, with the same semantics (`tests/store_conformance.rs` runs one
+/// suite against each). A run's identity is [`RunInfo`]; evaluations are stored once, by number.
+pub trait ExperimentStore {
+    /// Where the store is, as it may be shown (a URL without its password).
+    fn describe(&self) -> String;
+
+    /// Registers a new run started by `program`, with the files of its configuration and
+    /// its randomized episodes; returns its id.
+    fn start_run(
+        &mut self,
+        info: &RunInfo,
+        program: &str,
+        files: &[(String, String)],
+        episodes: &[EpisodeRecord],
+    ) -> Result<i64, StoreError>;
+
+    /// Everything needed to evaluate `run`'s candidates again: the run, the program that
+    /// started it, its configuration files and its episodes.
+    fn run_spec(&mut self, run: i64) -> Result<RunSpec, StoreError>;
+
+    /// The latest unfinished run matching `info`.
+    fn find_unfinished(&mut self, info: &RunInfo) -> Result<Option<i64>, StoreError>;
+
+    /// Stores finished evaluations (one transaction).
+    fn record(&mut self, run: i64, seed: u64, evals: &[StoredEval]) -> Result<(), StoreError>;
+
+    /// The finished evaluations of `run` numbered `first` or more, by number.
+    fn evaluations_from(&mut self, run: i64, first: u64) -> Result<Vec<StoredEval>, StoreError>;
+
+    /// Every finished evaluation of `run`, by number.
+    fn evaluations(&mut self, run: i64) -> Result<Vec<StoredEval>, StoreError> {
+        self.evaluations_from(run, 0)
+    }
+
+    /// Whether `run` has finished.
+    fn run_finished(&mut self, run: i64) -> Result<bool, StoreError>;
+
+    /// Marks `run` finished.
+    fn finish_run(&mut self, run: i64) -> Result<(), StoreError>;
+
+    /// Every run with its best evaluation.
+    fn runs(&mut self) -> Result<Vec<RunRow>, StoreError>;
+
+    /// The shared store, when this is one (its queue of shared evaluations).
+    fn shared(&mut self) -> Option<&mut PgStore> {
+        None
+    }
 }
+
+/// An open store of either kind: reached through [`ExperimentStore`]'s methods.
+pub struct Store(Box<dyn ExperimentStore>);
 
 impl Store {
     /// Opens the store at `location`, creating its tables when there are none.
-    pub fn open(location: &StoreLocation) -> Result<Store, String> {
-        match location {
-            StoreLocation::Sqlite(p) => SqliteStore::open(p).map(Store::Sqlite),
-            StoreLocation::Postgres(t) => {
-                PgStore::open(t, true).map(|s| Store::Postgres(Box::new(s)))
-            }
-        }
+    pub fn open(location: &StoreLocation) -> Result<Store, StoreError> {
+        Ok(Store(match location {
+            StoreLocation::Sqlite(p) => Box::new(SqliteStore::open(p)?),
+            StoreLocation::Postgres(t) => Box::new(PgStore::open(t, true)?),
+        }))
     }
 
     /// Opens a store that must exist already (reading results, workers).
-    pub fn open_existing(location: &StoreLocation) -> Result<Store, String> {
+    pub fn open_existing(location: &StoreLocation) -> Result<Store, StoreError> {
         match location {
             StoreLocation::Sqlite(p) if !p.is_file() => {
-                Err(format!("{}: no such store", p.display()))
+                Err(StoreError::Missing { path: p.clone() })
             }
-            StoreLocation::Sqlite(p) => SqliteStore::open(p).map(Store::Sqlite),
-            StoreLocation::Postgres(t) => {
-                PgStore::open(t, false).map(|s| Store::Postgres(Box::new(s)))
-            }
+            StoreLocation::Sqlite(p) => Ok(Store(Box::new(SqliteStore::open(p)?))),
+            StoreLocation::Postgres(t) => Ok(Store(Box::new(PgStore::open(t, false)?))),
         }
     }
 
-    /// Where the store is, as it may be shown (a URL without its password).
-    pub fn describe(&self) -> String {
-        match self {
-            Store::Sqlite(s) => s.path().display().to_string(),
-            Store::Postgres(p) => p.target().to_string(),
-        }
-    }
-
-    /// The shared store, when this is one.
-    pub fn shared(&mut self) -> Option<&mut PgStore> {
-        match self {
-            Store::Sqlite(_) => None,
-            Store::Postgres(p) => Some(p.as_mut()),
-        }
-    }
-
-    /// Registers a new run, with the files of its configuration and its randomized
-    /// episodes; returns its id.
+    /// Registers a new run started by this program ([`program_version`]); returns its id.
     pub fn start_run(
         &mut self,
         info: &RunInfo,
         files: &[(String, String)],
         episodes: &[EpisodeRecord],
-    ) -> Result<i64, String> {
-        let program = program_version();
-        match self {
-            Store::Sqlite(s) => s.start_run(info, &program, files, episodes),
-            Store::Postgres(p) => p.start_run(info, &program, files, episodes),
+    ) -> Result<i64, StoreError> {
+        self.0.start_run(info, &program_version(), files, episodes)
+    }
+}
+
+impl std::ops::Deref for Store {
+    type Target = dyn ExperimentStore;
+    fn deref(&self) -> &Self::Target {
+        self.0.as_ref()
+    }
+}
+
+impl std::ops::DerefMut for Store {
+    fn deref_mut(&mut self) -> &mut Self::Target {
+        self.0.as_mut()
+    }
+}
+
+/// One row of `evaluations` as both drivers read it (number, round, genome, vals, score,
+/// wall, engine_scores), before its text columns are parsed by [`EvalRow::parse`].
+pub(crate) struct EvalRow {
+    pub number: i64,
+    pub round: i64,
+    pub genome: String,
+    pub vals: String,
+    pub score: Option<f64>,
+    pub wall: f64,
+    pub engines: String,
+}
+
+/// The columns both drivers select for an [`EvalRow`], in its order.
+pub(crate) const EVAL_COLUMNS: &str = "number, round, genome, vals, score, wall, engine_scores";
+
+impl EvalRow {
+    /// The stored evaluation, each text column parsed; a column that does not parse is a
+    /// [`StoreError::Corrupt`] naming the store, run and evaluation (never skipped).
+    pub(crate) fn parse(self, store: &str, run: i64) -> Result<StoredEval, StoreError> {
+        let number = self.number as u64;
+        let place = Place {
+            store,
+            run,
+            evaluation: format!("evaluation {number}"),
+        };
+        Ok(StoredEval {
+            number,
+            round: self.round as u64,
+            genome: place.list("genome", &self.genome)?,
+            values: place.list("vals", &self.vals)?,
+            score: self.score.unwrap_or(f64::NAN),
+            engines: place.engines(&self.engines)?,
+            wall: self.wall,
+        })
+    }
+}
+
+/// Where a text column was read: its store, run and evaluation, for a
+/// [`StoreError::Corrupt`].
+pub(crate) struct Place<'a> {
+    pub store: &'a str,
+    pub run: i64,
+    pub evaluation: String,
+}
+
+impl Place<'_> {
+    fn corrupt(&self, column: &'static str, text: &str, expected: &'static str) -> StoreError {
+        StoreError::Corrupt {
+            store: self.store.to_string(),
+            run: self.run,
+            evaluation: self.evaluation.clone(),
+            column,
+            text: text.to_string(),
+            expected,
         }
     }
 
-    /// Everything needed to evaluate `run`'s candidates again: the run, the program that
-    /// started it, its configuration files and its episodes.
-    pub fn run_spec(&mut self, run: i64) -> Result<RunSpec, String> {
-        match self {
-            Store::Sqlite(s) => s.run_spec(run),
-            Store::Postgres(p) => p.run_spec(run),
-        }
+    /// A [`join`]ed column of numbers.
+    pub(crate) fn list<T: std::str::FromStr>(
+        &self,
+        column: &'static str,
+        text: &str,
+    ) -> Result<Vec<T>, StoreError> {
+        parse_list(text).ok_or_else(|| self.corrupt(column, text, "a list of numbers"))
     }
 
-    /// The latest unfinished run matching `info`.
-    pub fn find_unfinished(&mut self, info: &RunInfo) -> Result<Option<i64>, String> {
-        match self {
-            Store::Sqlite(s) => s.find_unfinished(info),
-            Store::Postgres(p) => p.find_unfinished(info),
-        }
+    /// An [`engine_scores_text`] column.
+    pub(crate) fn engines(&self, text: &str) -> Result<Vec<(EngineKind, f64)>, StoreError> {
+        parse_engine_scores(text)
+            .ok_or_else(|| self.corrupt("engine_scores", text, "engine=score pairs"))
     }
+}
 
-    /// Stores finished evaluations (one transaction).
-    pub fn record(&mut self, run: i64, seed: u64, evals: &[StoredEval]) -> Result<(), String> {
-        match self {
-            Store::Sqlite(s) => s.record(run, seed, evals),
-            Store::Postgres(p) => p.record(run, seed, evals),
-        }
-    }
-
-    /// Every finished evaluation of `run`, by number.
-    pub fn evaluations(&mut self, run: i64) -> Result<Vec<StoredEval>, String> {
-        match self {
-            Store::Sqlite(s) => s.evaluations(run),
-            Store::Postgres(p) => p.evaluations(run),
-        }
-    }
-
-    /// The finished evaluations of `run` numbered `first` or more, by number.
-    pub fn evaluations_from(&mut self, run: i64, first: u64) -> Result<Vec<StoredEval>, String> {
-        match self {
-            Store::Sqlite(s) => s.evaluations_from(run, first),
-            Store::Postgres(p) => p.evaluations_from(run, first),
-        }
-    }
-
-    /// Whether `run` has finished.
-    pub fn run_finished(&mut self, run: i64) -> Result<bool, String> {
-        match self {
-            Store::Sqlite(s) => s.run_finished(run),
-            Store::Postgres(p) => p.run_finished(run),
-        }
-    }
-
-    /// Marks `run` finished.
-    pub fn finish_run(&mut self, run: i64) -> Result<(), String> {
-        match self {
-            Store::Sqlite(s) => s.finish_run(run),
-            Store::Postgres(p) => p.finish_run(run),
-        }
-    }
-
-    /// Every run with its best evaluation.
-    pub fn runs(&mut self) -> Result<Vec<RunRow>, String> {
-        match self {
-            Store::Sqlite(s) => s.runs(),
-            Store::Postgres(p) => p.runs(),
-        }
-    }
+/// The best evaluation's engine scores of run `run` (NULL when it has none).
+pub(crate) fn best_engines(
+    store: &str,
+    run: i64,
+    text: Option<String>,
+) -> Result<Vec<(EngineKind, f64)>, StoreError> {
+    let place = Place {
+        store,
+        run,
+        evaluation: "its best evaluation".into(),
+    };
+    place.engines(text.as_deref().unwrap_or_default())
 }
 
 /// Every run with its count of finished evaluations, best score and best values, by id:
@@ -267,11 +323,9 @@ pub(crate) fn join<T: ToString>(v: &[T]) -> String {
     v.iter().map(T::to_string).collect::<Vec<_>>().join(" ")
 }
 
-/// The numbers of a [`join`]ed column.
-pub(crate) fn parse_list<T: std::str::FromStr>(text: &str) -> Vec<T> {
-    text.split_whitespace()
-        .filter_map(|t| t.parse().ok())
-        .collect()
+/// The numbers of a [`join`]ed column; `None` when one is not a number.
+pub(crate) fn parse_list<T: std::str::FromStr>(text: &str) -> Option<Vec<T>> {
+    text.split_whitespace().map(|t| t.parse().ok()).collect()
 }
 
 /// Engine scores as one text column: `rapier=0.51 mujoco=0.41` (empty on one engine).
@@ -280,10 +334,11 @@ pub fn engine_scores_text(scores: &[(EngineKind, f64)]) -> String {
     parts.join(" ")
 }
 
-/// The engine scores of an [`engine_scores_text`] column (unreadable parts are skipped).
-pub fn parse_engine_scores(text: &str) -> Vec<(EngineKind, f64)> {
+/// The engine scores of an [`engine_scores_text`] column; `None` when a part is not
+/// `engine=score`.
+pub fn parse_engine_scores(text: &str) -> Option<Vec<(EngineKind, f64)>> {
     text.split_whitespace()
-        .filter_map(|part| {
+        .map(|part| {
             let (name, score) = part.split_once('=')?;
             Some((EngineKind::parse(name)?, score.parse().ok()?))
         })

@@ -9,8 +9,9 @@ use postgres::{Client, Transaction};
 
 use crate::optimize::store::location::PgTarget;
 use crate::optimize::store::{
-    EpisodeRecord, RUNS_WITH_BEST, RunInfo, RunRow, RunSpec, SCHEMA_VERSION, StoredEval,
-    engine_scores_text, join, parse_engine_scores, parse_list, score_of,
+    EVAL_COLUMNS, EpisodeRecord, EvalRow, ExperimentStore, RUNS_WITH_BEST, RunInfo, RunRow,
+    RunSpec, SCHEMA_VERSION, StoreError, StoredEval, best_engines, engine_scores_text, join,
+    score_of,
 };
 
 /// An open connection to a PostgreSQL store.
@@ -65,7 +66,7 @@ impl PgStore {
     /// Connects; with `create`, makes the tables when the database has none. A database
     /// holding another schema version (or foreign tables of the same names) is refused
     /// before anything is written.
-    pub fn open(target: &PgTarget, create: bool) -> Result<PgStore, String> {
+    pub fn open(target: &PgTarget, create: bool) -> Result<PgStore, StoreError> {
         let client = connect(target)?;
         let mut store = PgStore {
             client,
@@ -88,14 +89,15 @@ impl PgStore {
                 tx.batch_execute(FROM_V3).map_err(&fail)?;
             }
             Some(v) => {
-                return Err(format!(
-                    "{target}: the store has schema version {v}; this proleg reads version {SCHEMA_VERSION}"
-                ));
+                return Err(StoreError::Schema {
+                    store: target.to_string(),
+                    found: v,
+                });
             }
             None if !create => {
-                return Err(format!(
-                    "{target}: no proleg store in this database (no table proleg_meta); `proleg optimize --store URL` creates it"
-                ));
+                return Err(StoreError::NotAStore {
+                    store: target.to_string(),
+                });
             }
             None => {
                 let foreign: bool = tx
@@ -106,9 +108,9 @@ impl PgStore {
                     .and_then(|r| r.try_get(0))
                     .map_err(&fail)?;
                 if foreign {
-                    return Err(format!(
-                        "{target}: the database has tables named runs or evaluations that are not a proleg store; use another database"
-                    ));
+                    return Err(StoreError::Foreign {
+                        store: target.to_string(),
+                    });
                 }
                 tx.batch_execute(CREATE).map_err(&fail)?;
                 tx.execute(
@@ -134,7 +136,7 @@ impl PgStore {
         &mut self,
         give_up: Duration,
         stopped: &dyn Fn() -> bool,
-    ) -> Result<(), String> {
+    ) -> Result<(), StoreError> {
         let started = Instant::now();
         let mut pause = Duration::from_millis(500);
         loop {
@@ -146,10 +148,10 @@ impl PgStore {
             match attempt {
                 Ok(()) => return Ok(()),
                 Err(e) if stopped() || started.elapsed() >= give_up => {
-                    return Err(format!(
-                        "the store has been unreachable for {:.0} s: {e}",
-                        started.elapsed().as_secs_f64()
-                    ));
+                    return Err(StoreError::Unreachable {
+                        seconds: started.elapsed().as_secs_f64(),
+                        last: Box::new(e),
+                    });
                 }
                 Err(_) => {
                     std::thread::sleep(pause);
@@ -160,7 +162,7 @@ impl PgStore {
     }
 
     /// Whether this connection is encrypted (TLS).
-    pub fn encrypted(&mut self) -> Result<bool, String> {
+    pub fn encrypted(&mut self) -> Result<bool, StoreError> {
         let fail = self.failer();
         self.client
             .query_one(
@@ -177,19 +179,29 @@ impl PgStore {
     }
 
     /// Maps a driver error to a message naming the store.
-    pub(super) fn failer(&self) -> impl Fn(postgres::Error) -> String + use<> {
+    pub(super) fn failer(&self) -> impl Fn(postgres::Error) -> StoreError + use<> {
         let shown = self.target.to_string();
         move |e| describe_error(&shown, &e)
     }
+}
+
+impl ExperimentStore for PgStore {
+    fn describe(&self) -> String {
+        self.target.to_string()
+    }
+
+    fn shared(&mut self) -> Option<&mut PgStore> {
+        Some(self)
+    }
 
     /// Registers a new run with its configuration files; returns its id.
-    pub fn start_run(
+    fn start_run(
         &mut self,
         info: &RunInfo,
         program: &str,
         files: &[(String, String)],
         episodes: &[EpisodeRecord],
-    ) -> Result<i64, String> {
+    ) -> Result<i64, StoreError> {
         let fail = self.failer();
         let mut tx = self.client.transaction().map_err(&fail)?;
         let id: i64 = tx
@@ -227,7 +239,7 @@ impl PgStore {
     }
 
     /// The latest unfinished run matching `info`.
-    pub fn find_unfinished(&mut self, info: &RunInfo) -> Result<Option<i64>, String> {
+    fn find_unfinished(&mut self, info: &RunInfo) -> Result<Option<i64>, StoreError> {
         let fail = self.failer();
         let row = self
             .client
@@ -248,7 +260,7 @@ impl PgStore {
     }
 
     /// Stores finished evaluations (one transaction), replacing what their numbers held.
-    pub fn record(&mut self, run: i64, seed: u64, evals: &[StoredEval]) -> Result<(), String> {
+    fn record(&mut self, run: i64, seed: u64, evals: &[StoredEval]) -> Result<(), StoreError> {
         let fail = self.failer();
         let mut tx = self.client.transaction().map_err(&fail)?;
         let st = tx
@@ -281,40 +293,39 @@ impl PgStore {
         tx.commit().map_err(&fail)
     }
 
-    /// Every finished evaluation of `run`, by number.
-    pub fn evaluations(&mut self, run: i64) -> Result<Vec<StoredEval>, String> {
-        self.evaluations_from(run, 0)
-    }
-
     /// The finished evaluations of `run` numbered `first` or more, by number.
-    pub fn evaluations_from(&mut self, run: i64, first: u64) -> Result<Vec<StoredEval>, String> {
+    fn evaluations_from(&mut self, run: i64, first: u64) -> Result<Vec<StoredEval>, StoreError> {
         let fail = self.failer();
         let rows = self
             .client
             .query(
-                "SELECT number, round, genome, vals, score, wall, engine_scores FROM evaluations
-                 WHERE run = $1 AND number >= $2 AND state = 'done' ORDER BY number",
+                &format!(
+                    "SELECT {EVAL_COLUMNS} FROM evaluations
+                     WHERE run = $1 AND number >= $2 AND state = 'done' ORDER BY number"
+                ),
                 &[&run, &(first as i64)],
             )
             .map_err(&fail)?;
+        let store = self.target.to_string();
         rows.iter()
             .map(|r| {
-                Ok(StoredEval {
-                    number: r.try_get::<_, i64>(0)? as u64,
-                    round: r.try_get::<_, i64>(1)? as u64,
-                    genome: parse_list(r.try_get(2)?),
-                    values: parse_list(r.try_get(3)?),
-                    score: r.try_get::<_, Option<f64>>(4)?.unwrap_or(f64::NAN),
+                let row = EvalRow {
+                    number: r.try_get(0)?,
+                    round: r.try_get(1)?,
+                    genome: r.try_get(2)?,
+                    vals: r.try_get(3)?,
+                    score: r.try_get(4)?,
                     wall: r.try_get(5)?,
-                    engines: parse_engine_scores(r.try_get(6)?),
-                })
+                    engines: r.try_get(6)?,
+                };
+                Ok::<_, postgres::Error>(row)
             })
-            .collect::<Result<Vec<_>, postgres::Error>>()
-            .map_err(&fail)
+            .map(|row| row.map_err(&fail)?.parse(&store, run))
+            .collect()
     }
 
     /// Whether `run` has finished.
-    pub fn run_finished(&mut self, run: i64) -> Result<bool, String> {
+    fn run_finished(&mut self, run: i64) -> Result<bool, StoreError> {
         let fail = self.failer();
         let row = self
             .client
@@ -324,7 +335,7 @@ impl PgStore {
     }
 
     /// Marks `run` finished.
-    pub fn finish_run(&mut self, run: i64) -> Result<(), String> {
+    fn finish_run(&mut self, run: i64) -> Result<(), StoreError> {
         let fail = self.failer();
         self.client
             .execute("UPDATE runs SET finished = 1 WHERE id = $1", &[&run])
@@ -333,12 +344,13 @@ impl PgStore {
     }
 
     /// Every run with its best evaluation.
-    pub fn runs(&mut self) -> Result<Vec<RunRow>, String> {
+    fn runs(&mut self) -> Result<Vec<RunRow>, StoreError> {
         let fail = self.failer();
         let rows = self.client.query(RUNS_WITH_BEST, &[]).map_err(&fail)?;
+        let store = self.target.to_string();
         rows.iter()
             .map(|r| {
-                Ok(RunRow {
+                let row = RunRow {
                     id: r.try_get(0)?,
                     info: run_info(r)?,
                     started: r.try_get(7)?,
@@ -346,18 +358,21 @@ impl PgStore {
                     evaluations: r.try_get::<_, i64>(9)? as u64,
                     best_score: r.try_get(10)?,
                     best_values: r.try_get(11)?,
-                    best_engines: parse_engine_scores(
-                        &r.try_get::<_, Option<String>>(12)?.unwrap_or_default(),
-                    ),
-                })
+                    best_engines: Vec::new(),
+                };
+                Ok::<_, postgres::Error>((row, r.try_get::<_, Option<String>>(12)?))
             })
-            .collect::<Result<Vec<_>, postgres::Error>>()
-            .map_err(&fail)
+            .map(|row| {
+                let (mut row, engines) = row.map_err(&fail)?;
+                row.best_engines = best_engines(&store, row.id, engines)?;
+                Ok(row)
+            })
+            .collect()
     }
 
     /// What a worker needs to evaluate `run`'s candidates: the run, the program that
     /// started it and its configuration files.
-    pub fn run_spec(&mut self, run: i64) -> Result<RunSpec, String> {
+    fn run_spec(&mut self, run: i64) -> Result<RunSpec, StoreError> {
         let fail = self.failer();
         let row = self
             .client
@@ -367,7 +382,10 @@ impl PgStore {
                 &[&run],
             )
             .map_err(&fail)?
-            .ok_or_else(|| format!("{}: no run {run}", self.target))?;
+            .ok_or_else(|| StoreError::NoRun {
+                store: self.target.to_string(),
+                run,
+            })?;
         let files = self
             .client
             .query(
@@ -437,22 +455,26 @@ fn schema_version(tx: &mut Transaction<'_>) -> Result<Option<i64>, postgres::Err
 
 /// A connection to `target`: TLS when the URL's `sslmode` asks for it (`require`
 /// encrypts without checking the server's certificate, as libpq does).
-pub fn connect(target: &PgTarget) -> Result<Client, String> {
+pub fn connect(target: &PgTarget) -> Result<Client, StoreError> {
     let tls = native_tls::TlsConnector::builder()
         .danger_accept_invalid_certs(true)
         .danger_accept_invalid_hostnames(true)
         .build()
-        .map_err(|e| format!("{target}: cannot set up TLS: {e}"))?;
+        .map_err(|e| StoreError::Tls {
+            store: target.to_string(),
+            message: e.to_string(),
+        })?;
     target
         .config
         .connect(postgres_native_tls::MakeTlsConnector::new(tls))
         .map_err(|e| describe_error(&target.to_string(), &e))
 }
 
-/// One line naming the store and the cause (the server's message when it sent one).
-pub fn describe_error(shown: &str, e: &postgres::Error) -> String {
-    match e.as_db_error() {
-        Some(db) => format!("{shown}: {}", db.message()),
+/// The store and the cause (the server's message when it sent one, else the driver's
+/// chain of causes).
+pub fn describe_error(shown: &str, e: &postgres::Error) -> StoreError {
+    let message = match e.as_db_error() {
+        Some(db) => db.message().to_string(),
         None => {
             let mut text = e.to_string();
             let mut source = std::error::Error::source(e);
@@ -463,7 +485,11 @@ pub fn describe_error(shown: &str, e: &postgres::Error) -> String {
                 }
                 source = s.source();
             }
-            format!("{shown}: {text}")
+            text
         }
+    };
+    StoreError::Postgres {
+        store: shown.to_string(),
+        message,
     }
 }

@@ -16,7 +16,7 @@ use postgres::fallible_iterator::FallibleIterator;
 use crate::optimize::evaluate::CandidateScore;
 use crate::optimize::space::Genome;
 use crate::optimize::store::pg::PgStore;
-use crate::optimize::store::{engine_scores_text, join, parse_list, score_of};
+use crate::optimize::store::{Place, StoreError, engine_scores_text, join, score_of};
 
 /// Channel on which the driver announces pending evaluations.
 pub const PENDING: &str = "proleg_pending";
@@ -51,7 +51,7 @@ pub struct Pending {
 
 impl PgStore {
     /// Subscribes this connection to `channel` ([`PENDING`] or [`DONE`]).
-    pub fn listen(&mut self, channel: &str) -> Result<(), String> {
+    pub fn listen(&mut self, channel: &str) -> Result<(), StoreError> {
         let fail = self.failer();
         let (name, statement) = match channel {
             PENDING => (PENDING, "LISTEN proleg_pending"),
@@ -65,7 +65,7 @@ impl PgStore {
     }
 
     /// Waits up to `timeout` for a notification on a channel this connection listens to.
-    pub fn wait_notification(&mut self, timeout: Duration) -> Result<bool, String> {
+    pub fn wait_notification(&mut self, timeout: Duration) -> Result<bool, StoreError> {
         let fail = self.failer();
         let mut n = self.client.notifications();
         let got = n.timeout_iter(timeout).next().map_err(&fail)?;
@@ -76,7 +76,7 @@ impl PgStore {
 
     /// Writes candidates of `run` as pending (a row already holding the same candidate,
     /// e.g. left by a killed driver, is kept as it is) and wakes the workers.
-    pub fn enqueue(&mut self, run: i64, seed: u64, items: &[Pending]) -> Result<(), String> {
+    pub fn enqueue(&mut self, run: i64, seed: u64, items: &[Pending]) -> Result<(), StoreError> {
         let fail = self.failer();
         let mut tx = self.client.transaction().map_err(&fail)?;
         let st = tx
@@ -108,7 +108,7 @@ impl PgStore {
     }
 
     /// Wakes every waiting worker (to look for work, or for its stop flag).
-    pub fn wake_workers(&mut self) -> Result<(), String> {
+    pub fn wake_workers(&mut self) -> Result<(), StoreError> {
         let fail = self.failer();
         self.client
             .batch_execute("NOTIFY proleg_pending")
@@ -124,7 +124,7 @@ impl PgStore {
         only_run: Option<i64>,
         refused: &[i64],
         n: i64,
-    ) -> Result<Vec<Claim>, String> {
+    ) -> Result<Vec<Claim>, StoreError> {
         let fail = self.failer();
         let rows = self
             .client
@@ -142,21 +142,28 @@ impl PgStore {
                 &[&worker, &lease.as_secs_f64(), &only_run, &refused, &n],
             )
             .map_err(&fail)?;
+        let store = self.target().to_string();
         rows.iter()
             .map(|r| {
+                let run: i64 = r.try_get(0).map_err(&fail)?;
+                let number = r.try_get::<_, i64>(1).map_err(&fail)? as u64;
+                let place = Place {
+                    store: &store,
+                    run,
+                    evaluation: format!("evaluation {number}"),
+                };
                 Ok(Claim {
-                    run: r.try_get(0)?,
-                    number: r.try_get::<_, i64>(1)? as u64,
-                    attempt: r.try_get(2)?,
-                    genome: parse_list(r.try_get(3)?),
+                    run,
+                    number,
+                    attempt: r.try_get(2).map_err(&fail)?,
+                    genome: place.list("genome", r.try_get(3).map_err(&fail)?)?,
                 })
             })
-            .collect::<Result<Vec<_>, postgres::Error>>()
-            .map_err(&fail)
+            .collect()
     }
 
     /// Extends the leases of every evaluation `worker` is running; returns how many.
-    pub fn renew(&mut self, worker: &str, lease: Duration) -> Result<u64, String> {
+    pub fn renew(&mut self, worker: &str, lease: Duration) -> Result<u64, StoreError> {
         let fail = self.failer();
         self.client
             .execute(
@@ -175,7 +182,7 @@ impl PgStore {
         claim: &Claim,
         score: &CandidateScore,
         wall: f64,
-    ) -> Result<bool, String> {
+    ) -> Result<bool, StoreError> {
         let fail = self.failer();
         let rows = self
             .client
@@ -202,7 +209,7 @@ impl PgStore {
     }
 
     /// Gives a claim back untouched (a worker that cannot evaluate its run).
-    pub fn release(&mut self, worker: &str, claim: &Claim) -> Result<(), String> {
+    pub fn release(&mut self, worker: &str, claim: &Claim) -> Result<(), StoreError> {
         let fail = self.failer();
         self.client
             .execute(
@@ -217,12 +224,12 @@ impl PgStore {
     /// The scores of `numbers` of `run` once all are done, waiting for results (this
     /// connection must listen to [`DONE`]); `on_wait(seconds)` is called while nothing
     /// arrives, every few seconds, and may stop the wait with an error.
-    pub fn wait_scores(
+    pub fn wait_scores<E: From<StoreError>>(
         &mut self,
         run: i64,
         numbers: &[u64],
-        mut on_wait: impl FnMut(f64) -> Result<(), String>,
-    ) -> Result<Vec<f64>, String> {
+        mut on_wait: impl FnMut(f64) -> Result<(), E>,
+    ) -> Result<Vec<f64>, E> {
         let (Some(first), Some(last)) = (numbers.iter().min(), numbers.iter().max()) else {
             return Ok(Vec::new());
         };
@@ -253,7 +260,7 @@ impl PgStore {
     }
 
     /// Counts of `run`'s evaluations by state: (pending, running, done).
-    pub fn queue_counts(&mut self, run: i64) -> Result<(u64, u64, u64), String> {
+    pub fn queue_counts(&mut self, run: i64) -> Result<(u64, u64, u64), StoreError> {
         let fail = self.failer();
         let row = self
             .client

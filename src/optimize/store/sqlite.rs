@@ -7,8 +7,9 @@ use std::path::{Path, PathBuf};
 use rusqlite::{Connection, OptionalExtension, params};
 
 use crate::optimize::store::{
-    EpisodeRecord, RUNS_WITH_BEST, RunInfo, RunRow, RunSpec, SCHEMA_VERSION, StoredEval,
-    engine_scores_text, join, parse_engine_scores, parse_list, score_of,
+    EVAL_COLUMNS, EpisodeRecord, EvalRow, ExperimentStore, RUNS_WITH_BEST, RunInfo, RunRow,
+    RunSpec, SCHEMA_VERSION, StoreError, StoredEval, best_engines, engine_scores_text, join,
+    score_of,
 };
 
 /// An open SQLite store.
@@ -53,8 +54,11 @@ const TO_V4: &str = "ALTER TABLE evaluations ADD COLUMN engine_scores TEXT NOT N
 
 impl SqliteStore {
     /// Opens (creating if needed) the store at `path`.
-    pub fn open(path: &Path) -> Result<SqliteStore, String> {
-        let fail = |e: rusqlite::Error| format!("{}: {e}", path.display());
+    pub fn open(path: &Path) -> Result<SqliteStore, StoreError> {
+        let fail = |source| StoreError::Sqlite {
+            path: path.to_path_buf(),
+            source,
+        };
         let conn = Connection::open(path).map_err(fail)?;
         conn.pragma_update(None, "journal_mode", "WAL")
             .map_err(fail)?;
@@ -70,8 +74,8 @@ impl SqliteStore {
 
     /// Creates the tables, or brings an older store to [`SCHEMA_VERSION`]; a newer store is
     /// refused.
-    fn upgrade(&self) -> Result<(), String> {
-        let has = |table: &str| -> Result<bool, String> {
+    fn upgrade(&self) -> Result<(), StoreError> {
+        let has = |table: &str| -> Result<bool, StoreError> {
             self.conn
                 .query_row(
                     "SELECT COUNT(*) FROM sqlite_master WHERE type = 'table' AND name = ?1",
@@ -94,10 +98,10 @@ impl SqliteStore {
         };
         match version {
             Some(v) if v == SCHEMA_VERSION => Ok(()),
-            Some(v) if v > SCHEMA_VERSION => Err(format!(
-                "{}: the store has schema version {v}; this proleg reads version {SCHEMA_VERSION} (a newer proleg wrote it)",
-                self.path.display()
-            )),
+            Some(v) if v > SCHEMA_VERSION => Err(StoreError::Schema {
+                store: self.path.display().to_string(),
+                found: v,
+            }),
             old => {
                 if old == Some(1) {
                     self.conn.execute_batch(FROM_V1).map_err(|e| self.fail(e))?;
@@ -125,20 +129,32 @@ impl SqliteStore {
         &self.path
     }
 
-    fn fail(&self, e: rusqlite::Error) -> String {
-        format!("{}: {e}", self.path.display())
+    fn fail(&self, source: rusqlite::Error) -> StoreError {
+        StoreError::Sqlite {
+            path: self.path.clone(),
+            source,
+        }
+    }
+}
+
+impl ExperimentStore for SqliteStore {
+    fn describe(&self) -> String {
+        self.path.display().to_string()
     }
 
     /// Registers a new run with its configuration files; returns its id.
-    pub fn start_run(
+    fn start_run(
         &mut self,
         info: &RunInfo,
         program: &str,
         files: &[(String, String)],
         episodes: &[EpisodeRecord],
-    ) -> Result<i64, String> {
+    ) -> Result<i64, StoreError> {
         let path = self.path.clone();
-        let fail = |e: rusqlite::Error| format!("{}: {e}", path.display());
+        let fail = |source| StoreError::Sqlite {
+            path: path.clone(),
+            source,
+        };
         let tx = self.conn.transaction().map_err(fail)?;
         tx.execute(
             "INSERT INTO runs (config, algorithm, seed, fitness, duration, genes, program) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)",
@@ -165,7 +181,7 @@ impl SqliteStore {
     }
 
     /// The run, its program, configuration files and episodes.
-    pub fn run_spec(&self, run: i64) -> Result<RunSpec, String> {
+    fn run_spec(&mut self, run: i64) -> Result<RunSpec, StoreError> {
         let fail = |e: rusqlite::Error| self.fail(e);
         let (info, program, finished) = self
             .conn
@@ -183,7 +199,10 @@ impl SqliteStore {
             )
             .optional()
             .map_err(fail)?
-            .ok_or_else(|| format!("{}: no run {run}", self.path.display()))?;
+            .ok_or_else(|| StoreError::NoRun {
+                store: self.path.display().to_string(),
+                run,
+            })?;
         let mut q = self
             .conn
             .prepare("SELECT path, content FROM run_files WHERE run = ?1 ORDER BY path")
@@ -219,7 +238,7 @@ impl SqliteStore {
     }
 
     /// The latest unfinished run matching `info`.
-    pub fn find_unfinished(&self, info: &RunInfo) -> Result<Option<i64>, String> {
+    fn find_unfinished(&mut self, info: &RunInfo) -> Result<Option<i64>, StoreError> {
         self.conn
             .query_row(
                 "SELECT id FROM runs WHERE config = ?1 AND algorithm = ?2 AND seed = ?3 AND fitness = ?4
@@ -232,9 +251,12 @@ impl SqliteStore {
     }
 
     /// Stores evaluations (one transaction).
-    pub fn record(&mut self, run: i64, seed: u64, evals: &[StoredEval]) -> Result<(), String> {
+    fn record(&mut self, run: i64, seed: u64, evals: &[StoredEval]) -> Result<(), StoreError> {
         let path = self.path.clone();
-        let fail = |e: rusqlite::Error| format!("{}: {e}", path.display());
+        let fail = |source| StoreError::Sqlite {
+            path: path.clone(),
+            source,
+        };
         let tx = self.conn.transaction().map_err(fail)?;
         {
             let mut st = tx
@@ -261,13 +283,8 @@ impl SqliteStore {
         tx.commit().map_err(fail)
     }
 
-    /// Every finished evaluation of `run`, by number.
-    pub fn evaluations(&self, run: i64) -> Result<Vec<StoredEval>, String> {
-        self.evaluations_from(run, 0)
-    }
-
     /// Whether `run` has finished.
-    pub fn run_finished(&self, run: i64) -> Result<bool, String> {
+    fn run_finished(&mut self, run: i64) -> Result<bool, StoreError> {
         self.conn
             .query_row(
                 "SELECT finished FROM runs WHERE id = ?1",
@@ -279,36 +296,34 @@ impl SqliteStore {
     }
 
     /// The finished evaluations of `run` numbered `first` or more, by number.
-    pub fn evaluations_from(&self, run: i64, first: u64) -> Result<Vec<StoredEval>, String> {
+    fn evaluations_from(&mut self, run: i64, first: u64) -> Result<Vec<StoredEval>, StoreError> {
         let mut st = self
             .conn
-            .prepare(
-                "SELECT number, round, genome, vals, score, wall, engine_scores FROM evaluations
-                 WHERE run = ?1 AND number >= ?2 AND state = 'done' ORDER BY number",
-            )
+            .prepare(&format!(
+                "SELECT {EVAL_COLUMNS} FROM evaluations
+                 WHERE run = ?1 AND number >= ?2 AND state = 'done' ORDER BY number"
+            ))
             .map_err(|e| self.fail(e))?;
         let rows = st
             .query_map(params![run, first as i64], |r| {
-                let genome: String = r.get(2)?;
-                let vals: String = r.get(3)?;
-                let score: Option<f64> = r.get(4)?;
-                Ok(StoredEval {
-                    number: r.get::<_, i64>(0)? as u64,
-                    round: r.get::<_, i64>(1)? as u64,
-                    genome: parse_list(&genome),
-                    values: parse_list(&vals),
-                    score: score.unwrap_or(f64::NAN),
+                Ok(EvalRow {
+                    number: r.get(0)?,
+                    round: r.get(1)?,
+                    genome: r.get(2)?,
+                    vals: r.get(3)?,
+                    score: r.get(4)?,
                     wall: r.get(5)?,
-                    engines: parse_engine_scores(&r.get::<_, String>(6)?),
+                    engines: r.get(6)?,
                 })
             })
             .map_err(|e| self.fail(e))?;
-        rows.collect::<Result<Vec<_>, _>>()
-            .map_err(|e| self.fail(e))
+        let store = self.describe();
+        rows.map(|row| row.map_err(|e| self.fail(e))?.parse(&store, run))
+            .collect()
     }
 
     /// Marks `run` finished.
-    pub fn finish_run(&self, run: i64) -> Result<(), String> {
+    fn finish_run(&mut self, run: i64) -> Result<(), StoreError> {
         self.conn
             .execute("UPDATE runs SET finished = 1 WHERE id = ?1", params![run])
             .map(|_| ())
@@ -316,14 +331,14 @@ impl SqliteStore {
     }
 
     /// Every run with its best evaluation.
-    pub fn runs(&self) -> Result<Vec<RunRow>, String> {
+    fn runs(&mut self) -> Result<Vec<RunRow>, StoreError> {
         let mut st = self
             .conn
             .prepare(RUNS_WITH_BEST)
             .map_err(|e| self.fail(e))?;
         let rows = st
             .query_map([], |r| {
-                Ok(RunRow {
+                let row = RunRow {
                     id: r.get(0)?,
                     info: run_info(r, 1)?,
                     started: r.get(7)?,
@@ -331,14 +346,18 @@ impl SqliteStore {
                     evaluations: r.get::<_, i64>(9)? as u64,
                     best_score: r.get(10)?,
                     best_values: r.get(11)?,
-                    best_engines: parse_engine_scores(
-                        &r.get::<_, Option<String>>(12)?.unwrap_or_default(),
-                    ),
-                })
+                    best_engines: Vec::new(),
+                };
+                Ok((row, r.get::<_, Option<String>>(12)?))
             })
             .map_err(|e| self.fail(e))?;
-        rows.collect::<Result<Vec<_>, _>>()
-            .map_err(|e| self.fail(e))
+        let store = self.describe();
+        rows.map(|row| {
+            let (mut row, engines) = row.map_err(|e| self.fail(e))?;
+            row.best_engines = best_engines(&store, row.id, engines)?;
+            Ok(row)
+        })
+        .collect()
     }
 }
 
@@ -382,7 +401,7 @@ mod tests {
             )
             .unwrap();
         }
-        let store = SqliteStore::open(&path).unwrap();
+        let mut store = SqliteStore::open(&path).unwrap();
         let runs = store.runs().unwrap();
         assert_eq!(runs.len(), 1);
         assert_eq!(runs[0].best_score, Some(0.5));
@@ -410,13 +429,14 @@ mod tests {
         let c = Connection::open(&path).unwrap();
         c.execute("UPDATE proleg_meta SET schema_version = 9", [])
             .unwrap();
-        let err = SqliteStore::open(&path).err().unwrap_or_default();
-        assert!(
-            err.contains(&format!(
-                "schema version 9; this proleg reads version {SCHEMA_VERSION}"
-            )),
-            "{err}"
-        );
+        match SqliteStore::open(&path) {
+            Err(e @ StoreError::Schema { found: 9, .. }) => assert!(
+                e.to_string()
+                    .ends_with("this proleg reads version 4 (a newer proleg wrote it)"),
+                "{e}"
+            ),
+            other => panic!("expected a schema error, got {:?}", other.err()),
+        }
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
