@@ -19,7 +19,7 @@ use crate::data::write::HandlerFrames;
 use crate::rng::SimRng;
 use crate::robot_io::{Readings, RobotControl, RobotError};
 use crate::sensing::SensorData;
-use crate::sim::datalog::{ROBOT_SCALARS, handlers_for};
+use crate::sim::datalog::{ROBOT_SCALARS, RobotFrame, handlers_for};
 use crate::sim::pacing::{Pacer, Pacing};
 
 /// How the loop runs.
@@ -94,13 +94,14 @@ impl Recorder {
                 }
             } else {
                 // Robot_Data: no ground-truth body series on a real robot.
-                frames
-                    .values
-                    .extend(std::iter::repeat_n(0.0, ROBOT_SCALARS.len()));
-                frames.values.extend_from_slice(kernel.desired());
-                frames.values.extend_from_slice(&r.positions);
-                frames.values.extend_from_slice(&r.currents);
-                frames.values.extend_from_slice(&r.speeds);
+                RobotFrame {
+                    scalars: [0.0; ROBOT_SCALARS.len()],
+                    desired: kernel.desired().iter().copied(),
+                    angles: r.positions.iter().copied(),
+                    currents: r.currents.iter().copied(),
+                    speeds: r.speeds.iter().copied(),
+                }
+                .append_to(&mut frames.values);
             }
         }
         self.samples += 1;

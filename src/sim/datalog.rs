@@ -45,6 +45,40 @@ pub const ROBOT_JOINT_SERIES: [&str; 4] = [
 /// The name of the robot handler (B.8).
 pub const ROBOT_HANDLER: &str = "Robot_Data";
 
+/// One `Robot_Data` frame: [`ROBOT_SCALARS`], then each of [`ROBOT_JOINT_SERIES`] over the
+/// joints. The one place its layout is written, for simulated and real robots alike; each
+/// per-joint part is any iterator of numbers, so writing a frame allocates nothing.
+pub struct RobotFrame<D, A, C, S> {
+    /// The scalar series, in [`ROBOT_SCALARS`]'s order (zeros where a real robot has no
+    /// ground truth).
+    pub scalars: [f64; ROBOT_SCALARS.len()],
+    /// The kernel's desired joint angles.
+    pub desired: D,
+    /// The measured joint angles.
+    pub angles: A,
+    /// Servo currents (a real robot) or torques (the simulation).
+    pub currents: C,
+    /// Servo speeds.
+    pub speeds: S,
+}
+
+impl<D, A, C, S> RobotFrame<D, A, C, S>
+where
+    D: IntoIterator<Item = f64>,
+    A: IntoIterator<Item = f64>,
+    C: IntoIterator<Item = f64>,
+    S: IntoIterator<Item = f64>,
+{
+    /// Appends the frame to `out`.
+    pub fn append_to(self, out: &mut Vec<f64>) {
+        out.extend_from_slice(&self.scalars);
+        out.extend(self.desired);
+        out.extend(self.angles);
+        out.extend(self.currents);
+        out.extend(self.speeds);
+    }
+}
+
 /// How data is sampled and kept.
 #[derive(Resource, Debug, Clone, Copy, PartialEq)]
 pub struct DataSettings {
@@ -322,26 +356,29 @@ fn fill_robot_frame(
     } else {
         0.0
     };
+    let joint = |e: &Entity| states.get(*e).copied().unwrap_or_default();
     let f = &mut log.frame[h];
     f.clear();
-    f.extend_from_slice(&[
-        speed,
-        com[0],
-        com[1],
-        com[2],
-        head[0],
-        head[1],
-        head[2],
-        potential,
-        avg,
-        energy.power,
-        energy.joules,
-    ]);
-    f.extend_from_slice(kernel.desired());
-    let joint = |e: &Entity| states.get(*e).copied().unwrap_or_default();
-    f.extend(robot.joints.iter().map(|e| joint(e).angle));
-    f.extend(robot.joints.iter().map(|e| joint(e).torque));
-    f.extend(robot.joints.iter().map(|e| joint(e).velocity));
+    RobotFrame {
+        scalars: [
+            speed,
+            com[0],
+            com[1],
+            com[2],
+            head[0],
+            head[1],
+            head[2],
+            potential,
+            avg,
+            energy.power,
+            energy.joules,
+        ],
+        desired: kernel.desired().iter().copied(),
+        angles: robot.joints.iter().map(|e| joint(e).angle),
+        currents: robot.joints.iter().map(|e| joint(e).torque),
+        speeds: robot.joints.iter().map(|e| joint(e).velocity),
+    }
+    .append_to(f);
 }
 
 fn send(sink: &mut DataSink, round: Vec<HandlerFrames>) {
