@@ -112,8 +112,21 @@ fn an_optimize_report_counts_evaluations_and_keeps_the_best() {
         r.outcome.simulated, r.outcome.evaluations,
         "a new store: all simulated"
     );
-    assert_eq!(r.store, (store.display().to_string(), r.store.1));
-    assert!(store.is_file());
+    // The report names the store and the run it wrote: the store's one run, holding every
+    // evaluation the run made.
+    assert_eq!(r.store.0, store.display().to_string());
+    let mut opened = proleg::optimize::store::Store::open_existing(
+        &proleg::optimize::store::StoreLocation::Sqlite(store.clone()),
+    )
+    .unwrap();
+    let runs = opened.runs().unwrap();
+    assert_eq!(
+        runs.iter()
+            .map(|run| (run.id, run.evaluations))
+            .collect::<Vec<_>>(),
+        [(r.store.1, r.outcome.evaluations)],
+        "{runs:?}"
+    );
     let start = r.outcome.start_score.unwrap();
     assert!(r.outcome.best_score >= start, "{r:?}");
     assert_eq!(r.best_values.len(), r.outcome.best.len());

@@ -39,13 +39,54 @@ fn run_refuses_bad_input_with_a_message() {
 
 #[test]
 fn run_drives_sensing_modules() {
+    // Experiment 2's adaptive module reads the 12 touch pads: the recording must show pads
+    // pressed and released, and the module's desired angles moving.
+    let dir = common::scratch("cli_sensing");
+    let data = dir.join("e2.data.xml");
+    let csv = dir.join("e2.csv");
     let (ok, out, err) = proleg(&[
         "run",
         "configs/experiment2_adaptive.simulation.xml",
         "--duration",
-        "1",
+        "3",
+        "--data",
+        data.to_str().unwrap(),
+        "--every",
+        "10",
     ]);
-    assert!(ok && out.contains("steps           1000"), "{err}{out}");
+    assert!(ok && out.contains("steps           3000"), "{err}{out}");
+    let (ok, out, err) = proleg(&[
+        "data",
+        "export",
+        data.to_str().unwrap(),
+        "--x",
+        "stepcount",
+        "--series",
+        "tactile/pressed,Global_Adaptive_Touch/desired_angle",
+        "-o",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(
+        ok && out.contains("wrote 300 rows x 18 columns"),
+        "{err}{out}"
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let pads = |r: &Vec<f64>| r[1..13].iter().filter(|p| **p > 0.0).count();
+    let pressed: Vec<usize> = rows.iter().map(pads).collect();
+    assert!(
+        pressed.iter().any(|n| *n > 0) && pressed.iter().any(|n| *n < 12),
+        "pads never change: {pressed:?}"
+    );
+    let first = &rows[0][13..18];
+    assert!(
+        rows.iter().any(|r| &r[13..18] != first),
+        "the adaptive module's desired angles never moved"
+    );
 }
 
 #[test]
