@@ -19,33 +19,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Open the control window (3D viewer, toolbar, live plots, parameters) on a simulation.
-    Gui {
-        /// A `*.simulation.xml` file.
-        #[arg(default_value = DEMO_CONFIG)]
-        config: PathBuf,
-        /// Replay a stored evaluation instead: the store (a results .sqlite file or a
-        /// postgres:// URL) holding the run.
-        #[arg(long, requires = "run")]
-        replay: Option<String>,
-        /// With --replay: the run's id (`proleg results STORE` lists them).
-        #[arg(long, requires = "replay")]
-        run: Option<i64>,
-        /// With --replay: the evaluation's number, or "best".
-        #[arg(long, default_value = "best", requires = "replay")]
-        eval: String,
-        /// With --replay of a run with robust fitness: the randomized episode (default 0).
-        #[arg(long, requires = "replay")]
-        episode: Option<u32>,
-        /// Drive the window from a script (tests, screenshots; see proleg::gui::control::script).
-        #[arg(long)]
-        script: Option<PathBuf>,
-        /// Gamepad bindings (`*.remote.xml`; default: configs/remote/default.remote.xml).
-        #[arg(long)]
-        remote: Option<PathBuf>,
-        /// The physics engine instead of the one the simulation file names (rapier, mujoco).
-        #[arg(long)]
-        engine: Option<proleg::config::simulation::EngineKind>,
-    },
+    Gui(GuiArgs),
     /// Open the configuration window: beginner wizard, expert composition, environment editor.
     Wizard {
         /// The configuration folder (module parts, robots, environments, ...).
@@ -70,42 +44,7 @@ enum Command {
         config: PathBuf,
     },
     /// Throughput figures of the reference scenario (robot-steps per second, real-time factors).
-    Bench {
-        /// The reference simulation.
-        #[arg(long, default_value = "configs/demo.simulation.xml")]
-        config: PathBuf,
-        /// Simulated seconds per figure.
-        #[arg(long, default_value_t = 30.0)]
-        seconds: f64,
-        /// Batch sizes (robots sharing one world) to measure besides 1.
-        #[arg(long, value_delimiter = ',', default_values_t = vec![8, 31])]
-        batches: Vec<usize>,
-        /// Instead: compare this module (e.g. the plugin Plugin_sine) with the scenario's
-        /// --reference module it replaces, pipeline and control kernel alone.
-        #[arg(long)]
-        module: Option<String>,
-        /// The scenario's module that --module replaces.
-        #[arg(long, default_value = "PatternGenerator_sinusoidal")]
-        reference: String,
-        /// Instead: the accuracy gate on this simulation: its displacement, final heading
-        /// and joint tracking error at the production physics settings against a converged
-        /// reference (finer steps, more substeps), for --seconds.
-        #[arg(long, value_name = "CONFIG")]
-        convergence: Option<PathBuf>,
-        /// Most refinements the reference ladder may take.
-        #[arg(long, default_value_t = 5)]
-        rungs: usize,
-        /// Physics settings to use instead of the robot's production ones, as
-        /// key=value,... (substeps, steps_per_step, length_unit, warmstart_joints,
-        /// contact_recycling, coulomb_friction, pgs_iterations, contact_hz, contact_damping,
-        /// halfspace_floor, multibody_joints).
-        #[arg(long, default_value = "")]
-        physics: String,
-        /// The physics engine instead of the one the simulation file names (rapier,
-        /// mujoco); on MuJoCo the figures end with MuJoCo's own rollout of the scenario.
-        #[arg(long)]
-        engine: Option<proleg::config::simulation::EngineKind>,
-    },
+    Bench(BenchArgs),
     /// Physical checks with known answers (friction onset on a slope, sliding to rest,
     /// resting contact, a drop, a servo step, a pendulum) on each engine at its production settings; exit 1 when one
     /// fails.
@@ -119,37 +58,10 @@ enum Command {
     },
     /// Whether the robot comes to rest on the floor with its joints held: its lowest point
     /// within 1 cm of the floor after the time given; exit 1 when it sinks or hangs.
-    Settle {
-        /// The simulation file (an import's NAME.simulation.xml).
-        config: PathBuf,
-        /// Simulated seconds.
-        #[arg(long, default_value_t = 2.0)]
-        seconds: f64,
-        /// The physics engine instead of the one the simulation file names (rapier, mujoco).
-        #[arg(long)]
-        engine: Option<proleg::config::simulation::EngineKind>,
-        /// rapier settings instead of the production ones (key=value,...; as `proleg bench
-        /// --physics`).
-        #[arg(long, default_value = "")]
-        physics: String,
-    },
+    Settle(SettleArgs),
     /// Import a URDF robot: a robot file with its meshes, plus a floor, a sine on every
     /// joint and a simulation file, checked; what cannot be represented is listed.
-    Import {
-        /// The `.urdf` file.
-        urdf: PathBuf,
-        /// Output folder (default: imported/NAME).
-        #[arg(short, long)]
-        out: Option<PathBuf>,
-        /// Import a robot without any collision geometry (it falls through the floor) with a
-        /// warning instead of refusing it.
-        #[arg(long)]
-        allow_no_collision: bool,
-        /// Where package NAME of `package://NAME/...` mesh paths is (repeatable); looked up
-        /// before the URDF's folders and `ROS_PACKAGE_PATH`.
-        #[arg(long = "package-path", value_name = "NAME=DIR", value_parser = proleg::interop::urdf::package_arg)]
-        package_path: Vec<(String, PathBuf)>,
-    },
+    Import(ImportArgs),
     /// Write a simulation in another format.
     Export {
         #[command(subcommand)]
@@ -385,6 +297,114 @@ struct WizardOptions {
     script: Option<PathBuf>,
 }
 
+/// `proleg gui`: the control window on a simulation, or replaying a stored evaluation.
+#[derive(clap::Args, Debug)]
+struct GuiArgs {
+    /// A `*.simulation.xml` file.
+    #[arg(default_value = DEMO_CONFIG)]
+    config: PathBuf,
+    /// Replay a stored evaluation instead: the store (a results .sqlite file or a
+    /// postgres:// URL) holding the run.
+    #[arg(long, requires = "run")]
+    replay: Option<String>,
+    /// With --replay: the run's id (`proleg results STORE` lists them).
+    #[arg(long, requires = "replay")]
+    run: Option<i64>,
+    /// With --replay: the evaluation's number, or "best".
+    #[arg(long, default_value = "best", requires = "replay")]
+    eval: String,
+    /// With --replay of a run with robust fitness: the randomized episode (default 0).
+    #[arg(long, requires = "replay")]
+    episode: Option<u32>,
+    /// Drive the window from a script (tests, screenshots; see proleg::gui::control::script).
+    #[arg(long)]
+    script: Option<PathBuf>,
+    /// Gamepad bindings (`*.remote.xml`; default: configs/remote/default.remote.xml).
+    #[arg(long)]
+    remote: Option<PathBuf>,
+    /// The physics engine instead of the one the simulation file names (rapier, mujoco).
+    #[arg(long)]
+    engine: Option<proleg::config::simulation::EngineKind>,
+}
+
+/// `proleg bench`: throughput figures, a module comparison or the accuracy gate.
+#[derive(clap::Args, Debug)]
+struct BenchArgs {
+    /// The reference simulation.
+    #[arg(long, default_value = "configs/demo.simulation.xml")]
+    config: PathBuf,
+    /// Simulated seconds per figure.
+    #[arg(long, default_value_t = 30.0)]
+    seconds: f64,
+    /// Batch sizes (robots sharing one world) to measure besides 1.
+    #[arg(long, value_delimiter = ',', default_values_t = vec![8, 31])]
+    batches: Vec<usize>,
+    /// Instead: compare this module (e.g. the plugin Plugin_sine) with the scenario's
+    /// --reference module it replaces, pipeline and control kernel alone.
+    #[arg(long)]
+    module: Option<String>,
+    /// The scenario's module that --module replaces.
+    #[arg(long, default_value = "PatternGenerator_sinusoidal")]
+    reference: String,
+    /// Instead: the accuracy gate on this simulation: its displacement, final heading
+    /// and joint tracking error at the production physics settings against a converged
+    /// reference (finer steps, more substeps), for --seconds.
+    #[arg(long, value_name = "CONFIG")]
+    convergence: Option<PathBuf>,
+    /// Instead: each stage's share of the step (Sense, Actuate, Kernel, Servo, Physics,
+    /// Record, Clock) on rapier and, where its library is, MuJoCo, for --seconds.
+    #[arg(long, conflicts_with_all = ["module", "convergence"])]
+    stages: bool,
+    /// Most refinements the reference ladder may take.
+    #[arg(long, default_value_t = 5)]
+    rungs: usize,
+    /// Physics settings to use instead of the robot's production ones, as
+    /// key=value,... (substeps, steps_per_step, length_unit, warmstart_joints,
+    /// contact_recycling, coulomb_friction, pgs_iterations, contact_hz, contact_damping,
+    /// halfspace_floor, multibody_joints).
+    #[arg(long, default_value = "")]
+    physics: String,
+    /// The physics engine instead of the one the simulation file names (rapier,
+    /// mujoco); on MuJoCo the figures end with MuJoCo's own rollout of the scenario.
+    #[arg(long)]
+    engine: Option<proleg::config::simulation::EngineKind>,
+}
+
+/// `proleg import`: a URDF robot into configuration files.
+#[derive(clap::Args, Debug)]
+struct ImportArgs {
+    /// The `.urdf` file.
+    urdf: PathBuf,
+    /// Output folder (default: imported/NAME).
+    #[arg(short, long)]
+    out: Option<PathBuf>,
+    /// Import a robot without any collision geometry (it falls through the floor) with a
+    /// warning instead of refusing it.
+    #[arg(long)]
+    allow_no_collision: bool,
+    /// Where package NAME of `package://NAME/...` mesh paths is (repeatable); looked up
+    /// before the URDF's folders and `ROS_PACKAGE_PATH`.
+    #[arg(long = "package-path", value_name = "NAME=DIR", value_parser = proleg::interop::urdf::package_arg)]
+    package_path: Vec<(String, PathBuf)>,
+}
+
+/// `proleg settle`: whether a robot comes to rest with its joints held.
+#[derive(clap::Args, Debug)]
+struct SettleArgs {
+    /// The simulation file (an import's NAME.simulation.xml).
+    config: PathBuf,
+    /// Simulated seconds.
+    #[arg(long, default_value_t = 2.0)]
+    seconds: f64,
+    /// The physics engine instead of the one the simulation file names (rapier, mujoco).
+    #[arg(long)]
+    engine: Option<proleg::config::simulation::EngineKind>,
+    /// rapier settings instead of the production ones (key=value,...; as `proleg bench
+    /// --physics`).
+    #[arg(long, default_value = "")]
+    physics: String,
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     // The user module library: every command sees the plugin modules.
@@ -408,43 +428,7 @@ fn main() -> ExitCode {
         ));
     };
     finish(match command {
-        Command::Gui {
-            config,
-            replay,
-            run,
-            eval,
-            episode,
-            script,
-            remote,
-            engine,
-        } => match (replay, run) {
-            (Some(store), Some(run)) => proleg::optimize::replay::Which::parse(&eval)
-                .and_then(|which| {
-                    proleg::optimize::replay::replay_from(&store, run, which, episode, &registry)
-                })
-                .map(|r| match engine {
-                    Some(e) => r.on_engine(e),
-                    None => r,
-                })
-                .and_then(|r| {
-                    gui(
-                        &config,
-                        None,
-                        Some(r),
-                        script.as_deref(),
-                        remote.as_deref(),
-                        host,
-                    )
-                }),
-            _ => gui(
-                &config,
-                engine,
-                None,
-                script.as_deref(),
-                remote.as_deref(),
-                host,
-            ),
-        },
+        Command::Gui(args) => gui_command(args, host, &registry),
         Command::Wizard {
             configs,
             out,
@@ -461,25 +445,7 @@ fn main() -> ExitCode {
             },
             host,
         ),
-        Command::Bench {
-            config,
-            seconds,
-            batches,
-            module,
-            reference,
-            convergence,
-            rungs,
-            physics,
-            engine,
-        } => match (module, convergence) {
-            (Some(module), _) => {
-                proleg::bench::modules::report(&config, seconds, &reference, &module, &registry)
-            }
-            (None, Some(config)) => proleg::bench::convergence::run(
-                &config, seconds, rungs, &physics, engine, &registry,
-            ),
-            (None, None) => proleg::bench::report(&config, seconds, &batches, &physics, engine),
-        },
+        Command::Bench(args) => bench_command(&args, &registry),
         Command::Run(request) if request.video.is_some() => video(&request, &registry),
         Command::Run(request) => cli::run::run(&request, &registry).map(|r| r.to_string()),
         Command::Optimize(options) => {
@@ -514,32 +480,8 @@ fn main() -> ExitCode {
             .map_err(|e| e.to_string()),
         Command::Robot(options) => cli::robot::robot(&options, &registry).map(|r| r.to_string()),
         Command::RobotEmulator(options) => cli::robot::emulator(&options),
-        Command::Import {
-            urdf,
-            out,
-            allow_no_collision,
-            package_path,
-        } => {
-            let out = out.unwrap_or_else(|| cli::interop::default_import_dir(&urdf));
-            let opts = proleg::interop::urdf::ImportOptions {
-                allow_no_collision,
-                packages: package_path,
-                ..proleg::interop::urdf::ImportOptions::from_env()
-            };
-            cli::interop::import_with(&urdf, &out, &opts, &registry)
-                .map(|r| r.to_string())
-                .map_err(|e| e.to_string())
-        }
-        Command::Settle {
-            config,
-            seconds,
-            engine,
-            physics,
-        } => match cli::interop::settle(&config, seconds, engine, &physics, &registry) {
-            Err(e) => Err(e.to_string()),
-            Ok(r) if r.settled() => Ok(format!("{r}\n")),
-            Ok(r) => Err(r.to_string()),
-        },
+        Command::Import(args) => import_command(args, &registry),
+        Command::Settle(args) => settle_command(&args, &registry),
         Command::Export {
             command:
                 ExportCommand::Mjcf {
@@ -556,4 +498,105 @@ fn main() -> ExitCode {
             .map(|sim| format!("{}ok\n", proleg::config::summary::summary(&sim)))
             .map_err(|e| e.to_string()),
     })
+}
+
+/// The control window on `args.config`, or replaying the stored evaluation `--replay`
+/// names.
+fn gui_command(
+    args: GuiArgs,
+    host: proleg::plugin_host::PluginHost,
+    registry: &proleg::control::ModuleRegistry,
+) -> Result<String, String> {
+    let GuiArgs {
+        config,
+        replay,
+        run,
+        eval,
+        episode,
+        script,
+        remote,
+        engine,
+    } = args;
+    match (replay, run) {
+        (Some(store), Some(run)) => proleg::optimize::replay::Which::parse(&eval)
+            .and_then(|which| {
+                proleg::optimize::replay::replay_from(&store, run, which, episode, registry)
+            })
+            .map(|r| match engine {
+                Some(e) => r.on_engine(e),
+                None => r,
+            })
+            .and_then(|r| {
+                gui(
+                    &config,
+                    None,
+                    Some(r),
+                    script.as_deref(),
+                    remote.as_deref(),
+                    host,
+                )
+            }),
+        _ => gui(
+            &config,
+            engine,
+            None,
+            script.as_deref(),
+            remote.as_deref(),
+            host,
+        ),
+    }
+}
+
+/// `proleg bench`: a module against the one it replaces, the accuracy gate, or the
+/// throughput figures.
+fn bench_command(
+    a: &BenchArgs,
+    registry: &proleg::control::ModuleRegistry,
+) -> Result<String, String> {
+    if a.stages {
+        return proleg::bench::stages::report(&a.config, a.seconds, registry)
+            .map(|r| r.to_string())
+            .map_err(|e| e.to_string());
+    }
+    match (&a.module, &a.convergence) {
+        (Some(module), _) => {
+            proleg::bench::modules::report(&a.config, a.seconds, &a.reference, module, registry)
+        }
+        (None, Some(config)) => proleg::bench::convergence::run(
+            config, a.seconds, a.rungs, &a.physics, a.engine, registry,
+        ),
+        (None, None) => {
+            proleg::bench::report(&a.config, a.seconds, &a.batches, &a.physics, a.engine)
+        }
+    }
+}
+
+/// `proleg import`: the URDF's robot, floor, gait and simulation files in `--out`.
+fn import_command(
+    a: ImportArgs,
+    registry: &proleg::control::ModuleRegistry,
+) -> Result<String, String> {
+    let out = a
+        .out
+        .unwrap_or_else(|| cli::interop::default_import_dir(&a.urdf));
+    let opts = proleg::interop::urdf::ImportOptions {
+        allow_no_collision: a.allow_no_collision,
+        packages: a.package_path,
+        ..proleg::interop::urdf::ImportOptions::from_env()
+    };
+    cli::interop::import_with(&a.urdf, &out, &opts, registry)
+        .map(|r| r.to_string())
+        .map_err(|e| e.to_string())
+}
+
+/// `proleg settle`: the report, an error (exit 1) when the robot did not settle.
+fn settle_command(
+    a: &SettleArgs,
+    registry: &proleg::control::ModuleRegistry,
+) -> Result<String, String> {
+    match cli::interop::settle(&a.config, a.seconds, a.engine, &a.physics, registry) {
+        Err(e) => Err(e.to_string()),
+        Ok(r) if r.settled() => Ok(format!("{r}\n")),
+        Ok(r) => Err(r.to_string()),
+    }
 }

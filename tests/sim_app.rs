@@ -10,12 +10,12 @@ use proleg::sim::clock::SimClock;
 use proleg::sim::kernel::SimRobot;
 use proleg::sim::servo::{JointState, SimJoint};
 use proleg::sim::spawn::{SimEnvObject, SimLink, build_world};
-use proleg::sim::{BuildOptions, SimDriverPlugin, SimPlugin, StepsPerUpdate};
+use proleg::sim::{BuildOptions, SimDriverPlugin, SimPlugins, StepsPerUpdate};
 
 fn app() -> (App, Entity) {
     let sim = load_simulation(common::root().join("configs/demo.simulation.xml")).unwrap();
     let mut app = App::new();
-    app.add_plugins((MinimalPlugins, SimPlugin, SimDriverPlugin));
+    app.add_plugins((MinimalPlugins, SimPlugins, SimDriverPlugin));
     let robots = build_world(
         app.world_mut(),
         &sim,

@@ -18,6 +18,7 @@ pub mod convergence;
 pub mod modules;
 pub mod physics_checks;
 pub mod rollout;
+pub mod stages;
 pub mod terrain_checks;
 
 use crate::config::Simulation;

@@ -3,6 +3,8 @@
 //! by a fixed-step pipeline of ordered system sets, plus a headless runner.
 //!
 //! - [`schedule`]: the [`SimStep`] schedule and its [`SimSystems`] sets
+//! - [`stages`]: one plugin per stage in the [`SimPlugins`] group (replaceable), and the
+//!   stage timer of `proleg bench --stages`
 //! - [`spawn`]: building the world from a loaded simulation
 //! - [`physics`], [`servo`], [`tactile`], [`laser`], [`kernel`], [`record`], [`clock`]: the stages of a step
 //! - [`engine`]: the one door to physics ([`engine::PhysicsEngine`]) and the engines behind
@@ -31,9 +33,8 @@ pub mod schedule;
 pub mod servo;
 pub mod settle;
 pub mod spawn;
+pub mod stages;
 pub mod tactile;
-
-use bevy::prelude::*;
 
 pub use driver::{SimDriverPlugin, StepsPerUpdate};
 pub use error::SimError;
@@ -41,13 +42,4 @@ pub use pacing::{Pacer, Pacing};
 pub use runner::{RunSummary, Simulator};
 pub use schedule::{SimStep, SimSystems};
 pub use spawn::BuildOptions;
-
-/// The simulation core: the step schedule and its systems. The world itself is built by
-/// [`spawn::build_world`] (the runner does it).
-pub struct SimPlugin;
-
-impl Plugin for SimPlugin {
-    fn build(&self, app: &mut App) {
-        schedule::plugin(app);
-    }
-}
+pub use stages::{SimPlugins, StageTimerPlugin, StageTimes};

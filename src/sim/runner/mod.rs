@@ -21,7 +21,7 @@ use bevy::prelude::*;
 use crate::config::Simulation;
 use crate::control::ModuleRegistry;
 use crate::measure::ground_distance;
-use crate::sim::SimPlugin;
+use crate::sim::SimPlugins;
 use crate::sim::clock::SimClock;
 use crate::sim::error::SimError;
 use crate::sim::pacing::{Pacer, Pacing};
@@ -103,14 +103,31 @@ impl Simulator {
         opts: &BuildOptions,
         registry: &ModuleRegistry,
     ) -> Result<Self, SimError> {
+        Simulator::with_stages(sim, opts, registry, SimPlugins)
+    }
+
+    /// Builds the world of `sim` with the step's stages from `stages`: [`SimPlugins`] with
+    /// a stage replaced (another servo model) or added ([`crate::sim::StageTimerPlugin`]).
+    pub fn with_stages(
+        sim: &Simulation,
+        opts: &BuildOptions,
+        registry: &ModuleRegistry,
+        stages: impl PluginGroup,
+    ) -> Result<Self, SimError> {
         let mut app = App::new();
-        app.add_plugins(SimPlugin);
+        app.add_plugins(stages);
         let robots = build_world(app.world_mut(), sim, opts, registry)?;
         Ok(Simulator {
             app,
             robots,
             pacing: Pacing::UNPACED,
         })
+    }
+
+    /// The wall time of each stage, when the world was built with
+    /// [`crate::sim::StageTimerPlugin`].
+    pub fn stage_times(&self) -> Option<&crate::sim::StageTimes> {
+        self.app.world().get_resource()
     }
 
     /// The ECS world, for the crate's own systems and tests of the schedule.
