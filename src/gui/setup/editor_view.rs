@@ -8,7 +8,9 @@ use std::path::PathBuf;
 
 use bevy_egui::egui;
 
-use crate::compose::env_edit::{EDITOR_MAX_FRICTION, EnvEditor, Props, Selected, object_name};
+use crate::compose::env_edit::{
+    EDITOR_MAX_FRICTION, EditError, EnvEditor, Props, Selected, object_name,
+};
 use crate::gui::setup::preview::run_preview;
 use crate::gui::setup::state::{SetupState, Status, Tool};
 
@@ -175,7 +177,7 @@ pub fn show_selection(ui: &mut egui::Ui, state: &mut SetupState) {
     let Some(props) = env.props(sel) else {
         return;
     };
-    let mut result: Result<(), String> = Ok(());
+    let mut result: Result<(), EditError> = Ok(());
     ui.strong(&props.name);
     let mut pos = props.position;
     ui.horizontal(|ui| {
@@ -216,7 +218,7 @@ pub fn show_selection(ui: &mut egui::Ui, state: &mut SetupState) {
         ui.label("An included kinbody file: move and turn it here, edit it in its file.");
     }
     if let Err(e) = result {
-        state.status = Some(Status::Error(e));
+        state.status = Some(Status::Error(e.to_string()));
     }
 }
 
@@ -226,7 +228,7 @@ fn editable_properties(
     ui: &mut egui::Ui,
     env: &mut EnvEditor,
     props: &Props,
-) -> Result<(), String> {
+) -> Result<(), EditError> {
     let mut result = Ok(());
     ui.label(format!(
         "size {:.3} x {:.3} x {:.3} m",

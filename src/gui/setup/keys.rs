@@ -19,7 +19,7 @@ pub fn shortcuts(
     let shift = keys.any_pressed([KeyCode::ShiftLeft, KeyCode::ShiftRight]);
     if keys.just_pressed(KeyCode::Delete) {
         if let Err(e) = state.env_mut().delete() {
-            state.status = Some(Status::Error(e));
+            state.status = Some(Status::Error(e.to_string()));
         }
     } else if ctrl
         && (keys.just_pressed(KeyCode::KeyY) || (shift && keys.just_pressed(KeyCode::KeyZ)))

@@ -166,7 +166,7 @@ pub fn on_drag(
         _ => env.drag_to(p[0] + o[0], p[1] + o[1]),
     };
     if let Err(e) = r {
-        state.status = Some(crate::gui::setup::state::Status::Error(e));
+        state.status = Some(crate::gui::setup::state::Status::Error(e.to_string()));
     }
 }
 

@@ -12,7 +12,6 @@ use crate::compose::env_edit::{EnvEditor, Selected};
 use crate::config::body::{Geom, Shape};
 use crate::config::environment::EnvObject;
 use crate::config::kinbody::parse_kinbody_file;
-use crate::config::mesh::Meshes;
 use crate::config::resolve::robot::RobotModel;
 use crate::config::source::{FsSource, resolve_include};
 use crate::config::transform::Pose;
@@ -42,9 +41,15 @@ pub struct SceneCache {
     /// Objects of the edited environment the robot would start inside (warnings).
     pub overlaps: Vec<String>,
     meshes: HashMap<String, Handle<Mesh>>,
-    /// Mesh files read for `trimesh` geometries (a file that fails to load is not drawn; the
-    /// environment editor reports why).
-    trimeshes: Meshes,
+}
+
+/// Where a body's mesh files were parsed: the robot model's, or the edited scene's (whose
+/// editor reports a file that does not load); the views parse none of their own.
+#[derive(Clone, Copy)]
+enum MeshFrom<'a> {
+    Robot(&'a RobotModel),
+    Scene(&'a EnvEditor),
+    Nowhere,
 }
 
 fn shape_key(s: &Shape) -> String {
@@ -118,7 +123,7 @@ pub fn sync_scene(
         cache.expert_env.as_ref().and_then(|(_, e)| e.clone())
     };
     cache.overlaps = match (&shown_env, &robot) {
-        (Some(env), Some(r)) if editing => env.clone().robot_overlaps(r),
+        (Some(env), Some(r)) if editing => env.robot_overlaps(r),
         _ => Vec::new(),
     };
     let cache = &mut *cache;
@@ -127,7 +132,6 @@ pub fn sync_scene(
         meshes: &mut meshes,
         materials: &mut materials,
         cache: &mut cache.meshes,
-        trimeshes: &mut cache.trimeshes,
     };
     let robot_pose = shown_env.as_ref().map_or(Pose::IDENTITY, |e| e.robot_pose);
     let robot_entity = spawner.robot(robot.as_ref(), &robot_pose);
@@ -187,7 +191,6 @@ struct Spawner<'a, 'w, 's> {
     meshes: &'a mut Assets<Mesh>,
     materials: &'a mut Assets<StandardMaterial>,
     cache: &'a mut HashMap<String, Handle<Mesh>>,
-    trimeshes: &'a mut Meshes,
 }
 
 impl Spawner<'_, '_, '_> {
@@ -197,7 +200,8 @@ impl Spawner<'_, '_, '_> {
         match robot {
             Some(model) => {
                 for link in &model.links {
-                    self.body(robot_entity, &link.name, &link.pose, &link.geoms, None);
+                    let from = MeshFrom::Robot(model);
+                    self.body(robot_entity, &link.name, &link.pose, &link.geoms, from);
                 }
             }
             None => {
@@ -208,7 +212,7 @@ impl Spawner<'_, '_, '_> {
                     "robot placeholder",
                     &Pose::IDENTITY,
                     &[g],
-                    None,
+                    MeshFrom::Nowhere,
                 );
             }
         }
@@ -244,7 +248,7 @@ impl Spawner<'_, '_, '_> {
             );
             if let Some(kb) = kb {
                 for b in &kb.bodies {
-                    self.body(e, &b.name, &b.pose, &b.geoms, Some(env));
+                    self.body(e, &b.name, &b.pose, &b.geoms, MeshFrom::Scene(env));
                 }
             }
             self.commands.entity(root).add_child(e);
@@ -263,14 +267,7 @@ impl Spawner<'_, '_, '_> {
     }
 
     /// A body under `parent` with a mesh per geometry; mesh files resolve from `env`'s file.
-    fn body(
-        &mut self,
-        parent: Entity,
-        name: &str,
-        pose: &Pose,
-        geoms: &[Geom],
-        env: Option<&EnvEditor>,
-    ) {
+    fn body(&mut self, parent: Entity, name: &str, pose: &Pose, geoms: &[Geom], from: MeshFrom) {
         let body = self
             .commands
             .spawn((
@@ -282,7 +279,7 @@ impl Spawner<'_, '_, '_> {
         self.commands.entity(parent).add_child(body);
         for (i, g) in geoms.iter().enumerate().filter(|(_, g)| g.visible) {
             let mut shape = g.shape.clone();
-            if let (Shape::Trimesh { file, .. }, Some(env)) = (&mut shape, env)
+            if let (Shape::Trimesh { file, .. }, MeshFrom::Scene(env)) = (&mut shape, from)
                 && let Some(p) = resolve_include(&FsSource, &env.file, file)
             {
                 *file = p.display().to_string();
@@ -291,10 +288,11 @@ impl Spawner<'_, '_, '_> {
             let mesh = match self.cache.get(&key) {
                 Some(h) => h.clone(),
                 None => {
-                    let tri = match &shape {
-                        Shape::Trimesh { file, .. } => {
-                            self.trimeshes.load(std::path::Path::new(file)).ok()
+                    let tri = match (&g.shape, from) {
+                        (Shape::Trimesh { file, .. }, MeshFrom::Robot(m)) => {
+                            m.meshes.get(file).cloned()
                         }
+                        (Shape::Trimesh { file, .. }, MeshFrom::Scene(env)) => env.mesh(file),
                         _ => None,
                     };
                     let Some(m) = geom_mesh(&shape, tri.as_deref()) else {
@@ -320,7 +318,7 @@ impl Spawner<'_, '_, '_> {
 }
 
 /// Outlines the selection's bounding box and marks the robot's heading.
-pub fn draw_selection(mut state: ResMut<SetupState>, mut gizmos: Gizmos) {
+pub fn draw_selection(state: Res<SetupState>, mut gizmos: Gizmos) {
     if !state.editing_env() {
         if state.tool == Tool::Wizard {
             // A 10 cm grid on the ground under the robot preview.
@@ -369,7 +367,7 @@ pub fn draw_selection(mut state: ResMut<SetupState>, mut gizmos: Gizmos) {
         return;
     };
     let bounds = match sel {
-        Selected::Object(i) => state.env_mut().bounds(i),
+        Selected::Object(i) => state.env().bounds(i),
         Selected::Robot => {
             let t = robot.translation;
             crate::compose::env_edit::Aabb {

@@ -161,14 +161,18 @@ impl SetupState {
     }
 
     /// Records the outcome of an action for the status line.
-    pub fn report<T>(&mut self, r: Result<T, String>, ok: impl FnOnce(&T) -> String) -> Option<T> {
+    pub fn report<T, E: Into<String>>(
+        &mut self,
+        r: Result<T, E>,
+        ok: impl FnOnce(&T) -> String,
+    ) -> Option<T> {
         match r {
             Ok(v) => {
                 self.status = Some(Status::Info(ok(&v)));
                 Some(v)
             }
             Err(e) => {
-                self.status = Some(Status::Error(e));
+                self.status = Some(Status::Error(e.into()));
                 None
             }
         }

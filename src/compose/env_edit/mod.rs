@@ -9,9 +9,16 @@
 //!
 //! [`library`]: crate::compose::library
 
-use std::collections::BTreeMap;
+mod bounds;
+mod error;
+mod history;
+
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+
+pub use bounds::{Aabb, OVERLAP_TOLERANCE, SceneMeshes};
+use bounds::{add_geom, overlap, shape_aabb};
+pub use error::EditError;
+use history::{History, Snapshot};
 
 use crate::compose::library::LibraryItem;
 use crate::config::body::{BodyKind, Geom, MAX_FRICTION, Mass, MeshCollision, Shape};
@@ -19,7 +26,6 @@ use crate::config::environment::{
     EnvObject, EnvironmentFile, Physics, parse_environment_file, write_environment_file,
 };
 use crate::config::kinbody::KinBody;
-use crate::config::mesh::{Meshes, TriMesh};
 use crate::config::resolve::environment::resolve_environment;
 use crate::config::resolve::robot::RobotModel;
 use crate::config::source::{FsSource, resolve_include};
@@ -27,8 +33,6 @@ use crate::config::transform::{Pose, quat_mul};
 
 /// Largest friction the editor offers (Coulomb coefficient, as the thesis's dialog).
 pub const EDITOR_MAX_FRICTION: f64 = 1.0;
-/// Most undo steps kept.
-const UNDO_LIMIT: usize = 200;
 
 /// What is selected.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -37,117 +41,6 @@ pub enum Selected {
     Robot,
     /// Object `i` of the scene.
     Object(usize),
-}
-
-/// An axis-aligned box in world coordinates.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Aabb {
-    /// Lowest corner (m).
-    pub min: [f64; 3],
-    /// Highest corner (m).
-    pub max: [f64; 3],
-}
-
-impl Aabb {
-    const EMPTY: Aabb = Aabb {
-        min: [f64::INFINITY; 3],
-        max: [f64::NEG_INFINITY; 3],
-    };
-
-    fn add(&mut self, p: [f64; 3]) {
-        for ((lo, hi), v) in self.min.iter_mut().zip(&mut self.max).zip(p) {
-            *lo = lo.min(v);
-            *hi = hi.max(v);
-        }
-    }
-
-    fn is_empty(&self) -> bool {
-        self.min[0] > self.max[0]
-    }
-
-    /// Whether (x, y) lies inside the box's footprint.
-    pub fn covers(&self, x: f64, y: f64) -> bool {
-        !self.is_empty()
-            && x >= self.min[0]
-            && x <= self.max[0]
-            && y >= self.min[1]
-            && y <= self.max[1]
-    }
-
-    /// Extent along each axis (m).
-    pub fn size(&self) -> [f64; 3] {
-        if self.is_empty() {
-            return [0.0; 3];
-        }
-        [0, 1, 2].map(|i| self.max[i] - self.min[i])
-    }
-}
-
-/// How deep (m) an object's bounds may reach into the robot's before the editor warns
-/// (a robot resting on the floor touches it).
-pub const OVERLAP_TOLERANCE: f64 = 0.002;
-
-/// Bounds of a box, sphere or cylinder in its own frame (meshes: see the callers).
-fn shape_aabb(shape: &Shape) -> Option<Aabb> {
-    match shape {
-        Shape::Box { extents } => Some(Aabb {
-            min: extents.map(|e| -e),
-            max: *extents,
-        }),
-        Shape::Sphere { radius } => Some(Aabb {
-            min: [-radius; 3],
-            max: [*radius; 3],
-        }),
-        Shape::Cylinder { radius, height } => Some(Aabb {
-            min: [-radius, -height / 2.0, -radius],
-            max: [*radius, height / 2.0, *radius],
-        }),
-        Shape::Trimesh { .. } => None,
-    }
-}
-
-/// How deep two boxes overlap: the smallest overlap along the three axes (<= 0: apart).
-fn overlap(a: &Aabb, b: &Aabb) -> f64 {
-    if a.is_empty() || b.is_empty() {
-        return 0.0;
-    }
-    [0, 1, 2]
-        .map(|k| a.max[k].min(b.max[k]) - a.min[k].max(b.min[k]))
-        .into_iter()
-        .fold(f64::INFINITY, f64::min)
-}
-
-/// Grows `out` by geometry `g` of a body at `body` whose own-frame bounds are `local`.
-fn add_geom(out: &mut Aabb, g: &Geom, body: &Pose, local: Option<Aabb>) {
-    let Some(local) = local else {
-        return;
-    };
-    let gp = body.mul(&g.pose);
-    if let Shape::Sphere { radius } = &g.shape {
-        // Turning a sphere changes nothing.
-        let t = gp.translation;
-        out.add(t.map(|v| v - radius));
-        out.add(t.map(|v| v + radius));
-        return;
-    }
-    for k in 0..8 {
-        let c = [0, 1, 2].map(|i| {
-            if k >> i & 1 == 0 {
-                local.min[i]
-            } else {
-                local.max[i]
-            }
-        });
-        let r = gp.rotate(c);
-        out.add([0, 1, 2].map(|i| r[i] + gp.translation[i]));
-    }
-}
-
-/// The editable part of the scene (what undo restores).
-#[derive(Debug, Clone, PartialEq)]
-struct Snapshot {
-    objects: Vec<EnvObject>,
-    robot_pose: Pose,
 }
 
 /// The properties the side panel shows for the selection.
@@ -186,14 +79,11 @@ pub struct EnvEditor {
     pub selected: Option<Selected>,
     /// Where the file is (or will be) saved: includes and meshes resolve from here.
     pub file: PathBuf,
-    undo: Vec<Snapshot>,
-    redo: Vec<Snapshot>,
+    history: History,
     /// Merges a drag's many moves into one undo step.
     dragging: bool,
     /// Mesh files read for bounds, parsed once.
-    meshes: Meshes,
-    /// Mesh files that could not be read, by name as written, with the reason.
-    mesh_errors: BTreeMap<String, String>,
+    meshes: SceneMeshes,
     /// Bumped on every change (the 3D view rebuilds when it changes).
     pub revision: u64,
 }
@@ -253,11 +143,9 @@ impl EnvEditor {
             robot_pose: Pose::IDENTITY,
             selected: None,
             file: file.into(),
-            undo: Vec::new(),
-            redo: Vec::new(),
+            history: History::default(),
             dragging: false,
-            meshes: Meshes::default(),
-            mesh_errors: BTreeMap::new(),
+            meshes: SceneMeshes::default(),
             revision: 0,
         }
     }
@@ -270,10 +158,12 @@ impl EnvEditor {
     }
 
     /// Opens an environment file.
-    pub fn load(path: &Path) -> Result<Self, String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let file = parse_environment_file(&path.display().to_string(), &text)
-            .map_err(|e| e.to_string())?;
+    pub fn load(path: &Path) -> Result<Self, EditError> {
+        let text = std::fs::read_to_string(path).map_err(|source| EditError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let file = parse_environment_file(&path.display().to_string(), &text)?;
         let mut e = EnvEditor::empty(path);
         e.physics = file.physics;
         e.objects = file.objects;
@@ -292,15 +182,18 @@ impl EnvEditor {
 
     /// Checks the scene the way a simulation would load it (meshes and included files
     /// found, values valid) and writes it to `path`; the editor then belongs to `path`.
-    pub fn save(&mut self, path: &Path) -> Result<(), String> {
+    pub fn save(&mut self, path: &Path) -> Result<(), EditError> {
         let text = write_environment_file(&self.to_file());
-        let reread = parse_environment_file(&path.display().to_string(), &text)
-            .map_err(|e| format!("the scene does not make a valid file: {e}"))?;
-        resolve_environment(&FsSource, path, &reread).map_err(|e| e.to_string())?;
+        let reread = parse_environment_file(&path.display().to_string(), &text)?;
+        resolve_environment(&FsSource, path, &reread)?;
+        let io = |path: &Path| {
+            let path = path.to_path_buf();
+            move |source| EditError::Io { path, source }
+        };
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+            std::fs::create_dir_all(dir).map_err(io(dir))?;
         }
-        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        std::fs::write(path, text).map_err(io(path))?;
         self.file = path.to_path_buf();
         Ok(())
     }
@@ -314,11 +207,7 @@ impl EnvEditor {
 
     /// Records the state before a change.
     fn checkpoint(&mut self) {
-        self.undo.push(self.snapshot());
-        if self.undo.len() > UNDO_LIMIT {
-            self.undo.remove(0);
-        }
-        self.redo.clear();
+        self.history.record(self.snapshot());
         self.revision += 1;
     }
 
@@ -335,61 +224,46 @@ impl EnvEditor {
 
     /// Whether there is an edit to undo.
     pub fn can_undo(&self) -> bool {
-        !self.undo.is_empty()
+        self.history.can_undo()
     }
 
     /// Whether there is an undone edit to redo.
     pub fn can_redo(&self) -> bool {
-        !self.redo.is_empty()
+        self.history.can_redo()
     }
 
     /// Undoes the last edit; false when there was none.
     pub fn undo(&mut self) -> bool {
-        let Some(s) = self.undo.pop() else {
+        let Some(s) = self.history.undo(self.snapshot()) else {
             return false;
         };
-        self.redo.push(self.snapshot());
         self.restore(s);
         true
     }
 
     /// Redoes the last undone edit; false when there was none.
     pub fn redo(&mut self) -> bool {
-        let Some(s) = self.redo.pop() else {
+        let Some(s) = self.history.redo(self.snapshot()) else {
             return false;
         };
-        self.undo.push(self.snapshot());
         self.restore(s);
         true
     }
 
-    /// A mesh file as named in the scene, read once; a file that cannot be found or parsed
-    /// is none, and its error is kept ([`EnvEditor::mesh_errors`]).
-    fn mesh(&mut self, file: &str) -> Option<Arc<TriMesh>> {
-        let loaded = match resolve_include(&FsSource, &self.file, file) {
-            Some(path) => self.meshes.load(&path).map_err(|e| e.to_string()),
-            None => Err(format!(
-                "{file}: mesh file not found next to {}",
-                self.file.display()
-            )),
-        };
-        loaded
-            .map_err(|e| self.mesh_errors.insert(file.to_string(), e))
-            .ok()
+    /// A mesh file as named in the scene, parsed once (the 3D views draw this one); none
+    /// when it cannot be read, its error kept ([`EnvEditor::mesh_errors`]).
+    pub fn mesh(&self, file: &str) -> Option<std::sync::Arc<crate::config::mesh::TriMesh>> {
+        self.meshes.mesh(&self.file, file)
     }
 
     /// Bounds of a mesh file as named in the scene (none when it cannot be read).
-    fn mesh_aabb(&mut self, file: &str, scale: f64) -> Option<Aabb> {
-        let (min, max) = self.mesh(file)?.bounds();
-        Some(Aabb {
-            min: min.map(|v| v * scale),
-            max: max.map(|v| v * scale),
-        })
+    fn mesh_aabb(&self, file: &str, scale: f64) -> Option<Aabb> {
+        self.meshes.aabb(&self.file, file, scale)
     }
 
     /// Makes every mesh geometry of `kb` whose mesh is a height map collide as a height
     /// field (cheaper terrain contacts than its triangles).
-    fn height_fields_where_possible(&mut self, kb: &mut KinBody) {
+    fn height_fields_where_possible(&self, kb: &mut KinBody) {
         for g in kb.bodies.iter_mut().flat_map(|b| &mut b.geoms) {
             if let Shape::Trimesh {
                 file, collision, ..
@@ -402,12 +276,12 @@ impl EnvEditor {
     }
 
     /// Mesh files the scene names that could not be read, with the reason (file: line).
-    pub fn mesh_errors(&self) -> impl Iterator<Item = &str> {
-        self.mesh_errors.values().map(String::as_str)
+    pub fn mesh_errors(&self) -> Vec<String> {
+        self.meshes.errors()
     }
 
     /// World bounds of a kinbody placed at `pose`.
-    fn kinbody_aabb(&mut self, kb: &KinBody, pose: &Pose) -> Aabb {
+    fn kinbody_aabb(&self, kb: &KinBody, pose: &Pose) -> Aabb {
         let mut out = Aabb::EMPTY;
         for body in &kb.bodies {
             let bp = pose.mul(&body.pose);
@@ -425,7 +299,7 @@ impl EnvEditor {
     /// Objects with a geometry whose bounds overlap a robot link's at the start pose by
     /// more than [`OVERLAP_TOLERANCE`] along every axis (the robot would start inside
     /// them), each as a warning naming the object.
-    pub fn robot_overlaps(&mut self, robot: &RobotModel) -> Vec<String> {
+    pub fn robot_overlaps(&self, robot: &RobotModel) -> Vec<String> {
         let mut links = Vec::new();
         for l in &robot.links {
             let lp = self.robot_pose.mul(&l.pose);
@@ -464,7 +338,7 @@ impl EnvEditor {
     }
 
     /// World bounds of each geometry of object `i`.
-    fn geom_bounds(&mut self, i: usize) -> Vec<Aabb> {
+    fn geom_bounds(&self, i: usize) -> Vec<Aabb> {
         let Some(kb) = self.placed_kinbody(i) else {
             return Vec::new();
         };
@@ -502,7 +376,7 @@ impl EnvEditor {
     }
 
     /// World bounds of object `i` (empty for an included file that cannot be read).
-    pub fn bounds(&mut self, i: usize) -> Aabb {
+    pub fn bounds(&self, i: usize) -> Aabb {
         match self.placed_kinbody(i) {
             Some((kb, pose)) => self.kinbody_aabb(&kb, &pose),
             None => Aabb::EMPTY,
@@ -511,7 +385,7 @@ impl EnvEditor {
 
     /// The height objects dropped at (x, y) land on: the highest top among the objects
     /// covering that point, or the ground (0).
-    pub fn surface_at(&mut self, x: f64, y: f64, skip: Option<usize>) -> f64 {
+    pub fn surface_at(&self, x: f64, y: f64, skip: Option<usize>) -> f64 {
         let mut top: f64 = 0.0;
         for i in 0..self.objects.len() {
             if Some(i) == skip {
@@ -556,22 +430,21 @@ impl EnvEditor {
     }
 
     /// Selects an object or the robot (None clears the selection).
-    pub fn select(&mut self, s: Option<Selected>) -> Result<(), String> {
+    pub fn select(&mut self, s: Option<Selected>) -> Result<(), EditError> {
         if let Some(Selected::Object(i)) = s
             && i >= self.objects.len()
         {
-            return Err(format!(
-                "no object {i}; the scene has {}",
-                self.objects.len()
-            ));
+            return Err(EditError::NoObject {
+                index: i,
+                count: self.objects.len(),
+            });
         }
         self.selected = s;
         Ok(())
     }
 
-    fn need_selection(&self) -> Result<Selected, String> {
-        self.selected
-            .ok_or_else(|| "select an object or the robot first".to_string())
+    fn need_selection(&self) -> Result<Selected, EditError> {
+        self.selected.ok_or(EditError::NoSelection)
     }
 
     /// The selected object's pose (the robot's start pose for the robot).
@@ -590,10 +463,13 @@ impl EnvEditor {
     }
 
     /// Moves the selection to a position (metres, z up).
-    pub fn move_to(&mut self, p: [f64; 3]) -> Result<(), String> {
+    pub fn move_to(&mut self, p: [f64; 3]) -> Result<(), EditError> {
         let s = self.need_selection()?;
         if p.iter().any(|v| !v.is_finite()) {
-            return Err(format!("position {p:?} is not finite"));
+            return Err(EditError::NotFinite {
+                what: "position",
+                value: format!("{p:?}"),
+            });
         }
         if !self.dragging {
             self.checkpoint();
@@ -607,7 +483,7 @@ impl EnvEditor {
     }
 
     /// Moves the selection by an offset.
-    pub fn move_by(&mut self, d: [f64; 3]) -> Result<(), String> {
+    pub fn move_by(&mut self, d: [f64; 3]) -> Result<(), EditError> {
         let s = self.need_selection()?;
         let t = self.pose(s).map_or([0.0; 3], |p| p.translation);
         self.move_to([t[0] + d[0], t[1] + d[1], t[2] + d[2]])
@@ -627,7 +503,7 @@ impl EnvEditor {
     }
 
     /// Drags the selection over the ground plane to (x, y): it rests on what is there.
-    pub fn drag_to(&mut self, x: f64, y: f64) -> Result<(), String> {
+    pub fn drag_to(&mut self, x: f64, y: f64) -> Result<(), EditError> {
         let s = self.need_selection()?;
         let z = match s {
             Selected::Robot => self.robot_pose.translation[2],
@@ -642,10 +518,13 @@ impl EnvEditor {
     }
 
     /// Turns the selection about the vertical axis by `deg` degrees.
-    pub fn rotate_by(&mut self, deg: f64) -> Result<(), String> {
+    pub fn rotate_by(&mut self, deg: f64) -> Result<(), EditError> {
         let s = self.need_selection()?;
         if !deg.is_finite() {
-            return Err(format!("angle {deg} is not finite"));
+            return Err(EditError::NotFinite {
+                what: "angle",
+                value: deg.to_string(),
+            });
         }
         self.checkpoint();
         if let Some(pose) = self.pose_mut(s) {
@@ -655,37 +534,41 @@ impl EnvEditor {
     }
 
     /// Sets the selection's heading (degrees about z; tilts are kept).
-    pub fn set_yaw(&mut self, deg: f64) -> Result<(), String> {
+    pub fn set_yaw(&mut self, deg: f64) -> Result<(), EditError> {
         let s = self.need_selection()?;
         let now = self.pose(s).map_or(0.0, |p| yaw_of(p.rotation));
         self.rotate_by(deg - now)
     }
 
     /// The selected inline object, or why it cannot be edited.
-    fn editable(&mut self) -> Result<&mut KinBody, String> {
+    fn editable(&mut self) -> Result<&mut KinBody, EditError> {
         match self.need_selection()? {
-            Selected::Robot => Err("the robot placeholder only moves and turns; its size and material come from the robot file".into()),
-            Selected::Object(i) => match self.objects.get_mut(i) {
-                Some(EnvObject::Inline(kb)) => Ok(kb),
-                Some(EnvObject::Include(inc)) => Err(format!(
-                    "{} is an included file: it moves and turns here, edit its contents in that file",
-                    inc.file
-                )),
-                None => Err(format!("no object {i}")),
-            },
+            Selected::Robot => Err(EditError::Robot(
+                "the robot placeholder only moves and turns; its size and material come from the robot file",
+            )),
+            Selected::Object(i) => {
+                let count = self.objects.len();
+                match self.objects.get_mut(i) {
+                    Some(EnvObject::Inline(kb)) => Ok(kb),
+                    Some(EnvObject::Include(inc)) => Err(EditError::Included {
+                        file: inc.file.clone(),
+                    }),
+                    None => Err(EditError::NoObject { index: i, count }),
+                }
+            }
         }
     }
 
     /// Scales the selection along x, y, z (each geometry along its own axes; spheres and
     /// meshes by the mean factor), keeping its bottom where it was.
-    pub fn scale(&mut self, f: [f64; 3]) -> Result<(), String> {
+    pub fn scale(&mut self, f: [f64; 3]) -> Result<(), EditError> {
         if f.iter().any(|v| !v.is_finite() || *v <= 0.0 || *v > 1000.0) {
-            return Err(format!("scale factors {f:?} must lie in 0..1000"));
+            return Err(EditError::Scale(f));
         }
         let i = match self.need_selection()? {
             Selected::Object(i) => i,
             Selected::Robot => {
-                return Err("the robot cannot be scaled".into());
+                return Err(EditError::Robot("the robot cannot be scaled"));
             }
         };
         self.editable()?;
@@ -725,7 +608,7 @@ impl EnvEditor {
     }
 
     /// Changes every geometry of the editable selection, undoably.
-    fn edit_geoms(&mut self, change: impl FnMut(&mut Geom)) -> Result<(), String> {
+    fn edit_geoms(&mut self, change: impl FnMut(&mut Geom)) -> Result<(), EditError> {
         self.editable()?;
         self.checkpoint();
         let kb = self.editable()?;
@@ -737,17 +620,15 @@ impl EnvEditor {
     }
 
     /// Sets the Coulomb friction of every geometry of the selection (0..1).
-    pub fn set_friction(&mut self, mu: f64) -> Result<(), String> {
+    pub fn set_friction(&mut self, mu: f64) -> Result<(), EditError> {
         if !(0.0..=EDITOR_MAX_FRICTION.min(MAX_FRICTION)).contains(&mu) {
-            return Err(format!(
-                "friction {mu} is outside 0..{EDITOR_MAX_FRICTION} (Coulomb coefficient)"
-            ));
+            return Err(EditError::Friction(mu));
         }
         self.edit_geoms(|g| g.friction = Some(mu))
     }
 
     /// Makes the selection static (fixed) or dynamic (pushed around).
-    pub fn set_dynamic(&mut self, dynamic: bool) -> Result<(), String> {
+    pub fn set_dynamic(&mut self, dynamic: bool) -> Result<(), EditError> {
         self.editable()?;
         self.checkpoint();
         let kb = self.editable()?;
@@ -762,9 +643,9 @@ impl EnvEditor {
     }
 
     /// Sets the selection's total mass (kg), shared equally by its bodies.
-    pub fn set_mass(&mut self, kg: f64) -> Result<(), String> {
+    pub fn set_mass(&mut self, kg: f64) -> Result<(), EditError> {
         if !kg.is_finite() || kg <= 0.0 || kg > 1e6 {
-            return Err(format!("mass {kg} kg must be positive (at most 1e6)"));
+            return Err(EditError::Mass(kg));
         }
         self.editable()?;
         self.checkpoint();
@@ -783,16 +664,16 @@ impl EnvEditor {
     }
 
     /// Sets the colour (RGB, 0..1) of every geometry of the selection.
-    pub fn set_colour(&mut self, rgb: [f64; 3]) -> Result<(), String> {
+    pub fn set_colour(&mut self, rgb: [f64; 3]) -> Result<(), EditError> {
         if rgb.iter().any(|c| !(0.0..=1.0).contains(c)) {
-            return Err(format!("colour {rgb:?}: each part lies in 0..1"));
+            return Err(EditError::Colour(rgb));
         }
         self.edit_geoms(|g| g.diffuse_color = Some(rgb))
     }
 
     /// Renames the selected object.
-    pub fn rename(&mut self, name: &str) -> Result<(), String> {
-        crate::compose::robot_builder::check_name(name, "object name")?;
+    pub fn rename(&mut self, name: &str) -> Result<(), EditError> {
+        crate::compose::robot_builder::check_name(name, "object name").map_err(EditError::Name)?;
         self.editable()?;
         self.checkpoint();
         self.editable()?.name = Some(name.to_string());
@@ -800,11 +681,11 @@ impl EnvEditor {
     }
 
     /// Deletes the selected object (the robot placeholder stays).
-    pub fn delete(&mut self) -> Result<(), String> {
+    pub fn delete(&mut self) -> Result<(), EditError> {
         match self.need_selection()? {
-            Selected::Robot => {
-                Err("the robot placeholder is obligatory: it sets the start pose".into())
-            }
+            Selected::Robot => Err(EditError::Robot(
+                "the robot placeholder is obligatory: it sets the start pose",
+            )),
             Selected::Object(i) => {
                 self.checkpoint();
                 self.objects.remove(i);
@@ -815,7 +696,7 @@ impl EnvEditor {
     }
 
     /// What the side panel shows for the selection.
-    pub fn props(&mut self, s: Selected) -> Option<Props> {
+    pub fn props(&self, s: Selected) -> Option<Props> {
         let pose = self.pose(s)?;
         let mut p = Props {
             name: "robot (start pose)".into(),
@@ -901,7 +782,7 @@ mod tests {
         ] {
             let sim = crate::control::load_simulation(config).unwrap();
             let env = sim.environment.file.clone().unwrap();
-            let mut e = EnvEditor::load(&env).unwrap();
+            let e = EnvEditor::load(&env).unwrap();
             let w = e.robot_overlaps(&sim.robot);
             assert!(w.is_empty(), "{config}: {w:?}");
         }
@@ -945,7 +826,7 @@ mod tests {
         let mut e = EnvEditor::new(dir.join("scene.env.xml"));
         e.add(&LibraryItem::Mesh("broken.obj".into()), 0.0, 1.0);
         e.add(&LibraryItem::Mesh("missing.obj".into()), 1.0, 1.0);
-        let errors: Vec<&str> = e.mesh_errors().collect();
+        let errors = e.mesh_errors();
         assert_eq!(errors.len(), 2, "{errors:?}");
         assert!(
             errors
@@ -963,15 +844,25 @@ mod tests {
     #[test]
     fn bad_edits_are_refused_with_reasons() {
         let mut e = editor();
-        assert!(e.move_by([1.0, 0.0, 0.0]).unwrap_err().contains("select"));
+        assert!(matches!(
+            e.move_by([1.0, 0.0, 0.0]),
+            Err(EditError::NoSelection)
+        ));
         e.select(Some(Selected::Robot)).unwrap();
-        assert!(e.scale([2.0; 3]).unwrap_err().contains("robot"));
-        assert!(e.delete().unwrap_err().contains("obligatory"));
+        assert!(matches!(e.scale([2.0; 3]), Err(EditError::Robot(_))));
+        let obligatory = e.delete().unwrap_err();
+        assert!(matches!(obligatory, EditError::Robot(_)));
+        assert!(obligatory.to_string().contains("obligatory"));
         e.select(Some(Selected::Object(0))).unwrap();
-        assert!(e.set_friction(1.5).unwrap_err().contains("0..1"));
-        assert!(e.set_friction(f64::NAN).is_err());
-        assert!(e.set_mass(-1.0).is_err());
-        assert!(e.scale([0.0, 1.0, 1.0]).is_err());
+        let friction = e.set_friction(1.5).unwrap_err();
+        assert!(matches!(friction, EditError::Friction(f) if f == 1.5));
+        assert!(friction.to_string().contains("outside 0..1"));
+        assert!(matches!(
+            e.set_friction(f64::NAN),
+            Err(EditError::Friction(_))
+        ));
+        assert!(matches!(e.set_mass(-1.0), Err(EditError::Mass(_))));
+        assert!(matches!(e.scale([0.0, 1.0, 1.0]), Err(EditError::Scale(_))));
         assert!(e.select(Some(Selected::Object(9))).is_err());
         assert!(!e.can_undo(), "refused edits leave no undo step");
     }

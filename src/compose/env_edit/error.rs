@@ -1,0 +1,72 @@
+//! Why an edit of the environment editor was refused, or its file not read or written.
+
+use std::path::PathBuf;
+
+use crate::config::ConfigError;
+
+/// An edit refused, with its reason; or a scene file that cannot be read or written.
+#[derive(Debug, thiserror::Error)]
+pub enum EditError {
+    /// An edit that needs a selection, without one.
+    #[error("select an object or the robot first")]
+    NoSelection,
+    /// An object index beyond the scene's objects.
+    #[error("no object {index}; the scene has {count}")]
+    NoObject {
+        /// The index given.
+        index: usize,
+        /// Objects in the scene.
+        count: usize,
+    },
+    /// A position or angle that is not a finite number.
+    #[error("{what} {value} is not finite")]
+    NotFinite {
+        /// "position" or "angle".
+        what: &'static str,
+        /// The value as given.
+        value: String,
+    },
+    /// What the robot placeholder cannot do (it only moves and turns).
+    #[error("{0}")]
+    Robot(&'static str),
+    /// An included kinbody file, whose contents are edited in that file.
+    #[error("{file} is an included file: it moves and turns here, edit its contents in that file")]
+    Included {
+        /// The file as the scene names it.
+        file: String,
+    },
+    /// Scale factors outside 0..1000.
+    #[error("scale factors {0:?} must lie in 0..1000")]
+    Scale([f64; 3]),
+    /// A friction outside the editor's range.
+    #[error("friction {0} is outside 0..{max} (Coulomb coefficient)", max = super::EDITOR_MAX_FRICTION)]
+    Friction(f64),
+    /// A mass that is not positive (or beyond 1e6 kg).
+    #[error("mass {0} kg must be positive (at most 1e6)")]
+    Mass(f64),
+    /// A colour part outside 0..1.
+    #[error("colour {0:?}: each part lies in 0..1")]
+    Colour([f64; 3]),
+    /// A name the files cannot hold.
+    #[error("{0}")]
+    Name(String),
+    /// A scene file that cannot be read or written.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file or folder.
+        path: PathBuf,
+        /// The system's error.
+        source: std::io::Error,
+    },
+    /// A scene file that does not parse, or a scene that does not make a valid file (its
+    /// meshes or included files not found, values out of range).
+    #[error("{0}")]
+    Invalid(#[from] ConfigError),
+}
+
+/// The windows' scripts and panels speak text: an edit's refusal as its message.
+impl From<EditError> for String {
+    fn from(e: EditError) -> String {
+        e.to_string()
+    }
+}
