@@ -12,28 +12,79 @@ use std::thread::JoinHandle;
 use crate::data::handler::HandlerSpec;
 use crate::data::write::{FOOTER, HandlerFrames, header, round};
 
+/// Why a data file could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum DataStoreError {
+    /// The file could not be created.
+    #[error("{}: cannot create: {source}", path.display())]
+    Create {
+        /// The data file.
+        path: PathBuf,
+        /// The system's error.
+        source: std::io::Error,
+    },
+    /// Writing or flushing the file failed (a full disk, a lost mount).
+    #[error("{}: cannot write: {source}", path.display())]
+    Write {
+        /// The data file.
+        path: PathBuf,
+        /// The system's error.
+        source: std::io::Error,
+    },
+    /// The writer thread could not be started.
+    #[error("cannot start the data writer: {0}")]
+    Spawn(std::io::Error),
+    /// The writer thread stopped (after a write error, which [`DataStore::finish`] returns).
+    #[error("{}: the data writer stopped", path.display())]
+    Stopped {
+        /// The data file.
+        path: PathBuf,
+    },
+    /// A round sent after the file was closed.
+    #[error("the data file is closed")]
+    Closed,
+    /// The writer thread panicked.
+    #[error("{}: the data writer panicked", path.display())]
+    Panicked {
+        /// The data file.
+        path: PathBuf,
+    },
+}
+
+/// Layers that still speak text take a data file's error as its message.
+impl From<DataStoreError> for String {
+    fn from(e: DataStoreError) -> String {
+        e.to_string()
+    }
+}
+
 /// A data file being written.
 pub struct DataStore {
     path: PathBuf,
     sender: Option<Sender<Vec<HandlerFrames>>>,
-    thread: Option<JoinHandle<Result<u64, String>>>,
+    thread: Option<JoinHandle<Result<u64, DataStoreError>>>,
 }
 
 impl DataStore {
     /// Creates `path` and writes the header; rounds follow with [`DataStore::send`].
-    pub fn create(path: &Path, handlers: Vec<HandlerSpec>) -> Result<DataStore, String> {
-        let file =
-            File::create(path).map_err(|e| format!("{}: cannot create: {e}", path.display()))?;
+    pub fn create(path: &Path, handlers: Vec<HandlerSpec>) -> Result<DataStore, DataStoreError> {
+        let file = File::create(path).map_err(|source| DataStoreError::Create {
+            path: path.to_path_buf(),
+            source,
+        })?;
         let mut out = BufWriter::with_capacity(1 << 20, file);
         out.write_all(header(&handlers).as_bytes())
             .and_then(|_| out.flush())
-            .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+            .map_err(|source| DataStoreError::Write {
+                path: path.to_path_buf(),
+                source,
+            })?;
         let (sender, receiver) = channel();
-        let name = path.display().to_string();
+        let name = path.to_path_buf();
         let thread = std::thread::Builder::new()
             .name("proleg-data-writer".into())
-            .spawn(move || write_rounds(out, &handlers, receiver, &name))
-            .map_err(|e| format!("cannot start the data writer: {e}"))?;
+            .spawn(move || write_rounds(out, &handlers, receiver, name))
+            .map_err(DataStoreError::Spawn)?;
         Ok(DataStore {
             path: path.to_path_buf(),
             sender: Some(sender),
@@ -47,26 +98,26 @@ impl DataStore {
     }
 
     /// Queues one round (one `HandlerFrames` per handler, header order). Never blocks.
-    pub fn send(&self, frames: Vec<HandlerFrames>) -> Result<(), String> {
+    pub fn send(&self, frames: Vec<HandlerFrames>) -> Result<(), DataStoreError> {
         match &self.sender {
-            Some(s) => s
-                .send(frames)
-                .map_err(|_| format!("{}: the data writer stopped", self.path.display())),
-            None => Err("the data file is closed".into()),
+            Some(s) => s.send(frames).map_err(|_| DataStoreError::Stopped {
+                path: self.path.clone(),
+            }),
+            None => Err(DataStoreError::Closed),
         }
     }
 
     /// Writes what is queued, closes the document and the file; returns the rounds written.
-    pub fn finish(mut self) -> Result<u64, String> {
+    pub fn finish(mut self) -> Result<u64, DataStoreError> {
         self.close()
     }
 
-    fn close(&mut self) -> Result<u64, String> {
+    fn close(&mut self) -> Result<u64, DataStoreError> {
         drop(self.sender.take());
         match self.thread.take() {
-            Some(t) => t
-                .join()
-                .map_err(|_| format!("{}: the data writer panicked", self.path.display()))?,
+            Some(t) => t.join().map_err(|_| DataStoreError::Panicked {
+                path: self.path.clone(),
+            })?,
             None => Ok(0),
         }
     }
@@ -84,11 +135,14 @@ fn write_rounds(
     mut out: BufWriter<File>,
     handlers: &[HandlerSpec],
     rounds: Receiver<Vec<HandlerFrames>>,
-    name: &str,
-) -> Result<u64, String> {
+    path: PathBuf,
+) -> Result<u64, DataStoreError> {
     let mut text = String::new();
     let mut n = 0;
-    let fail = |e: std::io::Error| format!("{name}: cannot write: {e}");
+    let fail = |source| DataStoreError::Write {
+        path: path.clone(),
+        source,
+    };
     for frames in rounds {
         text.clear();
         round(&mut text, n, handlers, &frames);

@@ -111,7 +111,7 @@ impl Recorder {
         Ok(())
     }
 
-    fn flush(&mut self) -> Result<(), String> {
+    fn flush(&mut self) -> Result<(), crate::data::store::DataStoreError> {
         if self.round.iter().all(HandlerFrames::is_empty) {
             return Ok(());
         }

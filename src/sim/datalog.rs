@@ -108,7 +108,7 @@ pub struct DataSink {
     /// Rounds handed to the writer so far.
     pub rounds_sent: u64,
     /// The first error of the writer, if any (later rounds are dropped).
-    pub error: Option<String>,
+    pub error: Option<crate::data::store::DataStoreError>,
 }
 
 /// A robot's data handlers and their buffers.

@@ -62,7 +62,7 @@ impl Simulator {
 
     /// Sends the last frames to the data file and closes it well-formed; returns the
     /// rounds written (0 without a file).
-    pub fn finish_data(&mut self) -> Result<u64, String> {
+    pub fn finish_data(&mut self) -> Result<u64, crate::data::store::DataStoreError> {
         let world = self.world_mut();
         flush_round(world);
         match world.remove_resource::<DataSink>() {
