@@ -518,24 +518,25 @@ fn gui_command(
         engine,
     } = args;
     match (replay, run) {
-        (Some(store), Some(run)) => proleg::optimize::replay::Which::parse(&eval)
-            .and_then(|which| {
-                proleg::optimize::replay::replay_from(&store, run, which, episode, registry)
-            })
-            .map(|r| match engine {
-                Some(e) => r.on_engine(e),
-                None => r,
-            })
-            .and_then(|r| {
-                gui(
-                    &config,
-                    None,
-                    Some(r),
-                    script.as_deref(),
-                    remote.as_deref(),
-                    host,
-                )
-            }),
+        (Some(store), Some(run)) => {
+            let replay = proleg::optimize::replay::Which::parse(&eval)
+                .and_then(|which| {
+                    proleg::optimize::replay::replay_from(&store, run, which, episode, registry)
+                })
+                .map_err(|e| e.to_string())?;
+            let replay = match engine {
+                Some(e) => replay.on_engine(e),
+                None => replay,
+            };
+            gui(
+                &config,
+                None,
+                Some(replay),
+                script.as_deref(),
+                remote.as_deref(),
+                host,
+            )
+        }
         _ => gui(
             &config,
             engine,

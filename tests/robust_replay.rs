@@ -7,8 +7,9 @@ mod common;
 
 use proleg::cli::optimize::{OptimizeOptions, OptimizeReport, run};
 use proleg::control::ModuleRegistry;
-use proleg::optimize::replay::{Which, load_replay, randomized_check, replay_from};
+use proleg::optimize::replay::{ReplayError, Which, load_replay, randomized_check, replay_from};
 use proleg::optimize::robust::combine;
+use proleg::optimize::store::StoreError;
 use proleg::optimize::store::{Store, StoreLocation};
 use proleg::sim::randomize::episode_seeds;
 
@@ -65,14 +66,30 @@ fn a_replayed_evaluation_scores_what_the_optimization_stored() {
     // "best" is the highest stored score.
     let best = replay_from(&store, report.store.1, Which::Best, None, &registry).expect("best");
     assert_eq!(best.stored_score, report.outcome.best_score);
-    // Bad requests say what is wrong.
-    let err = |r: Result<_, String>| r.err().unwrap_or_default();
+    // Bad requests say what is wrong, each with its own variant.
+    let err = |r: Result<_, ReplayError>| r.expect_err("an error");
     let e = err(replay_from(&store, 99, Which::Best, None, &registry).map(|_| ()));
-    assert!(e.contains("no run 99") || e.contains("run 99"), "{e}");
+    assert!(
+        matches!(e, ReplayError::NoEvaluation { run: 99, .. }),
+        "{e}"
+    );
     let e = err(replay_from(&store, 1, Which::Number(500), None, &registry).map(|_| ()));
-    assert!(e.contains("no finished evaluation 500"), "{e}");
+    assert!(
+        matches!(
+            e,
+            ReplayError::NoEvaluation {
+                number: Some(500),
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert!(e.to_string().contains("no finished evaluation 500"), "{e}");
     let e = err(replay_from(&store, 1, Which::Number(3), Some(2), &registry).map(|_| ()));
-    assert!(e.contains("no randomized episodes"), "{e}");
+    assert!(
+        matches!(e, ReplayError::NoEpisodes { episode: 2, .. }),
+        "{e}"
+    );
     let e = err(replay_from(
         &dir.join("none.sqlite").display().to_string(),
         1,
@@ -81,7 +98,11 @@ fn a_replayed_evaluation_scores_what_the_optimization_stored() {
         &registry,
     )
     .map(|_| ()));
-    assert!(e.contains("no such store"), "{e}");
+    assert!(
+        matches!(e, ReplayError::Store(StoreError::Missing { .. })),
+        "{e}"
+    );
+    assert!(e.to_string().contains("no such store"), "{e}");
 }
 
 #[test]
@@ -135,9 +156,19 @@ fn robust_fitness_is_the_mean_of_its_stored_randomized_episodes() {
         assert!(spread > 1e-3, "the episodes differ: {scores:?}");
     }
     let e = replay_from(&store, run, Which::Best, Some(8), &registry)
-        .err()
-        .unwrap_or_default();
-    assert!(e.contains("episodes 0 to 7"), "{e}");
+        .map(|_| ())
+        .expect_err("an error");
+    assert!(
+        matches!(
+            e,
+            ReplayError::Episode {
+                episode: 8,
+                count: 8
+            }
+        ),
+        "{e}"
+    );
+    assert!(e.to_string().contains("episodes 0 to 7"), "{e}");
 }
 
 #[test]

@@ -7,15 +7,81 @@ use crate::config::Simulation;
 use crate::config::robustness::Robustness;
 use crate::config::simulation::EngineKind;
 use crate::control::ModuleRegistry;
-use crate::optimize::evaluate::Evaluator;
+use crate::optimize::evaluate::{EvalError, Evaluator};
 use crate::optimize::fitness::Fitness;
 use crate::optimize::robust::{RobustEpisodes, combine};
 use crate::optimize::run::prepare;
 use crate::optimize::shared::{stored_evaluator, stored_simulation};
 use crate::optimize::space::{Genome, SearchSpace};
-use crate::optimize::store::{Store, program_version};
+use crate::optimize::store::{Store, StoreError, program_version};
 use crate::sim::randomize::SensorNoise;
 use crate::sim::{BuildOptions, SimError, Simulator};
+
+/// Why a stored evaluation cannot be replayed or checked.
+#[derive(Debug, thiserror::Error)]
+pub enum ReplayError {
+    /// The store: unreachable, refused, or without the run.
+    #[error(transparent)]
+    Store(#[from] StoreError),
+    /// A store location that is neither a file nor a `postgres://` URL.
+    #[error("{0}")]
+    Location(String),
+    /// The run's stored configuration does not load or set up here.
+    #[error("{0}")]
+    Setup(String),
+    /// The run has no such finished evaluation (or none at all).
+    #[error("{store}: run {run} has no {}", match number { Some(n) => format!("finished evaluation {n}"), None => "evaluation".into() })]
+    NoEvaluation {
+        /// The store, as it may be shown.
+        store: String,
+        /// The run.
+        run: i64,
+        /// The evaluation asked for (none: the best).
+        number: Option<u64>,
+    },
+    /// A stored genome of another length than its configuration's search space.
+    #[error("evaluation {number} has {stored} genes, its configuration {configured}")]
+    Genes {
+        /// The evaluation.
+        number: u64,
+        /// Genes stored.
+        stored: usize,
+        /// Genes the configuration has.
+        configured: usize,
+    },
+    /// An episode asked of a run without randomized episodes.
+    #[error("run {run} has no randomized episodes (no <robustness>), so no episode {episode}")]
+    NoEpisodes {
+        /// The run.
+        run: i64,
+        /// The episode asked for.
+        episode: u32,
+    },
+    /// An episode beyond the run's.
+    #[error("episode {episode}: the run has episodes 0 to {}", count.saturating_sub(1))]
+    Episode {
+        /// The episode asked for.
+        episode: u32,
+        /// The run's episodes.
+        count: usize,
+    },
+    /// An evaluation that is neither a number nor `best`.
+    #[error("evaluation {0:?}: give a number or \"best\"")]
+    Which(String),
+    /// The replayed episode could not be run or scored.
+    #[error(transparent)]
+    Run(#[from] EvalError),
+    /// The replay scored nothing.
+    #[error("the replay scored nothing")]
+    NothingScored,
+}
+
+/// Front ends that speak text take a replay's error as its message.
+impl From<ReplayError> for String {
+    fn from(e: ReplayError) -> String {
+        e.to_string()
+    }
+}
 
 /// A stored evaluation, ready to run again.
 #[derive(Clone)]
@@ -55,28 +121,27 @@ pub fn load_replay(
     number: u64,
     episode: Option<u32>,
     registry: &ModuleRegistry,
-) -> Result<Replay, String> {
+) -> Result<Replay, ReplayError> {
     let spec = store.run_spec(run)?;
     let eval = store
         .evaluations_from(run, number)?
         .into_iter()
         .find(|e| e.number == number)
-        .ok_or_else(|| {
-            format!(
-                "{}: run {run} has no finished evaluation {number}",
-                store.describe()
-            )
+        .ok_or_else(|| ReplayError::NoEvaluation {
+            store: store.describe(),
+            run,
+            number: Some(number),
         })?;
-    let sim = stored_simulation(&spec, registry)?;
-    let (space, _) = prepare(&sim, registry)?;
+    let sim = stored_simulation(&spec, registry).map_err(ReplayError::Setup)?;
+    let (space, _) = prepare(&sim, registry).map_err(ReplayError::Setup)?;
     if eval.genome.len() != space.genes.len() {
-        return Err(format!(
-            "evaluation {number} has {} genes, its configuration {}",
-            eval.genome.len(),
-            space.genes.len()
-        ));
+        return Err(ReplayError::Genes {
+            number,
+            stored: eval.genome.len(),
+            configured: space.genes.len(),
+        });
     }
-    let evaluator = stored_evaluator(&spec, &sim, &space, registry)?;
+    let evaluator = stored_evaluator(&spec, &sim, &space, registry).map_err(ReplayError::Setup)?;
     let mut label = format!(
         "{} run {run}, evaluation {number} (stored score {:.4})",
         store.describe(),
@@ -107,9 +172,7 @@ pub fn load_replay(
     };
     let (world, seed, noise) = match (&evaluator.robust, episode) {
         (None, Some(k)) => {
-            return Err(format!(
-                "run {run} has no randomized episodes (no <robustness>), so no episode {k}"
-            ));
+            return Err(ReplayError::NoEpisodes { run, episode: k });
         }
         (None, None) => (sim.clone(), spec.info.seed, SensorNoise::default()),
         (Some(r), k) => {
@@ -140,12 +203,10 @@ pub fn load_replay(
 }
 
 /// Episode `k`'s world, seed and noise.
-fn episode_of(r: &RobustEpisodes, k: u32) -> Result<(Simulation, u64, SensorNoise), String> {
-    let e = r.episodes.get(k as usize).ok_or_else(|| {
-        format!(
-            "episode {k}: the run has episodes 0 to {}",
-            r.episodes.len().saturating_sub(1)
-        )
+fn episode_of(r: &RobustEpisodes, k: u32) -> Result<(Simulation, u64, SensorNoise), ReplayError> {
+    let e = r.episodes.get(k as usize).ok_or(ReplayError::Episode {
+        episode: k,
+        count: r.episodes.len(),
     })?;
     Ok((e.sim.clone(), e.seed, e.noise))
 }
@@ -189,19 +250,13 @@ impl Replay {
     }
 
     /// The replayed episode's score, run headless by the optimizers' own evaluator.
-    pub fn score(&self) -> Result<f64, String> {
-        let scores = self
-            .evaluator
-            .run_world(
-                &self.sim,
-                (self.seed, self.noise, Some(self.engine)),
-                std::slice::from_ref(&self.genome),
-            )
-            .map_err(|e| e.to_string())?;
-        scores
-            .first()
-            .copied()
-            .ok_or_else(|| "the replay scored nothing".to_string())
+    pub fn score(&self) -> Result<f64, ReplayError> {
+        let scores = self.evaluator.run_world(
+            &self.sim,
+            (self.seed, self.noise, Some(self.engine)),
+            std::slice::from_ref(&self.genome),
+        )?;
+        scores.first().copied().ok_or(ReplayError::NothingScored)
     }
 }
 
@@ -216,18 +271,18 @@ pub enum Which {
 
 impl Which {
     /// `best` or a number.
-    pub fn parse(text: &str) -> Result<Which, String> {
+    pub fn parse(text: &str) -> Result<Which, ReplayError> {
         match text.trim() {
             "best" => Ok(Which::Best),
             t => t
                 .parse()
                 .map(Which::Number)
-                .map_err(|_| format!("evaluation {t:?}: give a number or \"best\"")),
+                .map_err(|_| ReplayError::Which(t.to_string())),
         }
     }
 
     /// The evaluation's number in `run`.
-    pub fn number(self, store: &mut Store, run: i64) -> Result<u64, String> {
+    pub fn number(self, store: &mut Store, run: i64) -> Result<u64, ReplayError> {
         match self {
             Which::Number(n) => Ok(n),
             Which::Best => store
@@ -239,7 +294,11 @@ impl Which {
                     _ => Some((e.number, e.score)),
                 })
                 .map(|(n, _)| n)
-                .ok_or_else(|| format!("{}: run {run} has no evaluation", store.describe())),
+                .ok_or_else(|| ReplayError::NoEvaluation {
+                    store: store.describe(),
+                    run,
+                    number: None,
+                }),
         }
     }
 }
@@ -252,8 +311,9 @@ pub fn replay_from(
     which: Which,
     episode: Option<u32>,
     registry: &ModuleRegistry,
-) -> Result<Replay, String> {
-    let location = crate::optimize::store::StoreLocation::parse(location)?;
+) -> Result<Replay, ReplayError> {
+    let location =
+        crate::optimize::store::StoreLocation::parse(location).map_err(ReplayError::Location)?;
     let mut store = Store::open_existing(&location)?;
     let number = which.number(&mut store, run)?;
     load_replay(&mut store, run, number, episode, registry)
@@ -299,8 +359,9 @@ pub fn randomized_check(
     (episodes, seed): (u32, u64),
     engine: Option<EngineKind>,
     registry: &ModuleRegistry,
-) -> Result<RandomizedCheck, String> {
-    let location = crate::optimize::store::StoreLocation::parse(location)?;
+) -> Result<RandomizedCheck, ReplayError> {
+    let location =
+        crate::optimize::store::StoreLocation::parse(location).map_err(ReplayError::Location)?;
     let mut store = Store::open_existing(&location)?;
     let number = which.number(&mut store, run)?;
     let replay = load_replay(&mut store, run, number, None, registry)?;
@@ -309,7 +370,7 @@ pub fn randomized_check(
     let e = &replay.evaluator;
     let genome = std::slice::from_ref(&replay.genome);
     let world = (e.seed, SensorNoise::default(), None);
-    let episode = |sim, world| e.run_world(sim, world, genome).map_err(|e| e.to_string());
+    let episode = |sim, world| e.run_world(sim, world, genome);
     let nominal = episode(nominal_sim, world)?[0];
     let mut ranges = *ranges;
     ranges.episodes = episodes.max(1);

@@ -308,7 +308,8 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
             "replay" if (4..=5).contains(&words.len()) => Command::Replay {
                 store: words[1].to_string(),
                 run: num(words.get(2), "run")? as i64,
-                which: crate::optimize::replay::Which::parse(words[3]).map_err(&at)?,
+                which: crate::optimize::replay::Which::parse(words[3])
+                    .map_err(|e| at(e.to_string()))?,
                 episode: match words.get(4) {
                     Some(_) => Some(num(words.get(4), "episode")?.max(0.0) as u32),
                     None => None,
