@@ -6,7 +6,7 @@
 //! contact normal is. Runs in the `Sense` set and fills each robot's [`RobotSensors`].
 //!
 //! Reading the link's own contacts instead of giving each pad a collider saves the
-//! narrow phase and the solver a pad's contacts (docs/DESIGN.md §3 has the figures).
+//! narrow phase and the solver a pad's contacts (docs/MEASUREMENTS.md has the figures).
 
 use bevy::prelude::*;
 

@@ -3,7 +3,7 @@
 //! module size rather than rapier's human-sized defaults. Production runs derive them from
 //! the robot ([`PhysicsSettings::production_for`]); the convergence check (`proleg bench
 //! --convergence`) and the lever measurements override them ([`PhysicsSettings::parse_overrides`]).
-//! Each setting's measured effect on speed and accuracy is in docs/DESIGN.md §3.
+//! Each setting's measured effect on speed and accuracy is in docs/MEASUREMENTS.md.
 
 use rapier3d::prelude as rp;
 
@@ -48,10 +48,10 @@ pub struct PhysicsSettings {
     pub multibody_joints: bool,
 }
 
-/// Production substeps: measured against the converged reference (DESIGN.md §3).
+/// Production substeps: measured against the converged reference (docs/MEASUREMENTS.md).
 pub const PRODUCTION_SUBSTEPS: usize = 4;
 /// Production solver iterations per substep: the second halves the displacement error of
-/// the reference scenario for 5 % more instructions per step (DESIGN.md §3).
+/// the reference scenario for 5 % more instructions per step (docs/MEASUREMENTS.md).
 pub const PRODUCTION_PGS_ITERATIONS: usize = 2;
 /// A `--physics key=value,...` override that cannot be applied.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

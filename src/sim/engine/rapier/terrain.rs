@@ -6,7 +6,7 @@
 //! becomes a half-space at its top face (the robot never reaches the edge of a floor this
 //! wide; the viewer still draws the box). Measured: 2.4 % more instructions per step than
 //! the box on the reference scenario (parry's box-box contact is specialised,
-//! box-half-space is not), so production keeps the box (DESIGN.md §3).
+//! box-half-space is not), so production keeps the box (docs/MEASUREMENTS.md).
 
 use rapier3d::parry::utils::Array2;
 use rapier3d::prelude as rp;
