@@ -69,19 +69,9 @@ impl Plugin for StepSchedulePlugin {
         schedule.set_executor(SingleThreadedExecutor::new());
         app.add_schedule(schedule);
         app.init_resource::<datalog::DataSettings>();
-        app.configure_sets(
-            SimStep,
-            (
-                SimSystems::Sense,
-                SimSystems::Actuate,
-                SimSystems::Kernel,
-                SimSystems::Servo,
-                SimSystems::Physics,
-                SimSystems::Record,
-                SimSystems::Clock,
-            )
-                .chain(),
-        );
+        for pair in SimSystems::ALL.windows(2) {
+            app.configure_sets(SimStep, pair[0].before(pair[1]));
+        }
     }
 }
 

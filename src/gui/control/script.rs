@@ -214,117 +214,148 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
         if let Some(m) = crate::gui::module_editor::script::parse(words) {
             return Ok(Command::Module(m));
         }
-        let c = match words[0] {
-            "wait" => Command::Wait(num(words.get(1), "frames")?.max(0.0) as u32),
-            "start" => Command::Start,
-            "pause" => Command::Pause,
-            "restart" => Command::Restart,
-            "continue" => Command::Continue,
-            "keep-tuned" => Command::KeepTuned,
-            "load" if words.len() == 2 => Command::Load(PathBuf::from(words[1])),
-            "engine" if words.len() == 2 => Command::Engine(
-                crate::config::simulation::EngineKind::parse(words[1]).ok_or_else(|| {
-                    at(format!(
-                        "unknown physics engine `{}` (rapier, mujoco)",
-                        words[1]
-                    ))
-                })?,
-            ),
-            "run-until" => Command::RunUntil(num(words.get(1), "seconds")?),
-            "wait-for" if words.len() == 4 && words[1] == "file" => Command::WaitFor(
-                format!("file:{}", words[2]),
-                num(words.get(3), "frames")?.max(1.0) as u32,
-            ),
-            "wait-for"
-                if words.len() == 3 && ["running", "paused", "debug"].contains(&words[1]) =>
-            {
-                Command::WaitFor(
-                    words[1].to_string(),
-                    num(words.get(2), "frames")?.max(1.0) as u32,
-                )
-            }
-            "step-to" => Command::StepTo(num(words.get(1), "seconds")?),
-            "speed" => Command::Speed(num(words.get(1), "real-time factor")?.max(0.0)),
-            "slow-frames" => {
-                Command::SlowFrames(num(words.get(1), "milliseconds")?.clamp(0.0, 10_000.0) as u32)
-            }
-            "set" => {
-                if words.len() < 4 {
-                    return Err(at("set MODULE PARAM VALUE [JOINT]".into()));
-                }
-                Command::Set {
-                    module: words[1].to_string(),
-                    param: words[2].to_string(),
-                    value: num(words.get(3), "value")?,
-                    joint: match words.get(4) {
-                        Some(_) => Some(num(words.get(4), "joint")? as usize),
-                        None => None,
-                    },
-                }
-            }
-            "plot" if words.len() > 1 => Command::Plot(
-                words[1..]
-                    .iter()
-                    .map(|w| SeriesSelector::parse(w).map_err(&at))
-                    .collect::<Result<_, _>>()?,
-            ),
-            "panel" if words.len() == 2 => Command::Panel(words[1].to_string()),
-            "debug" if words.len() == 2 => Command::Debug(words[1] == "on"),
-            "per-joint" if words.len() == 4 => Command::PerJoint {
-                actuator: num(words.get(1), "module tab")?.max(0.0) as usize,
-                param: words[2].to_string(),
-                on: words[3] == "on",
-            },
-            "select-link" => Command::SelectLink(num(words.get(1), "link")?.max(0.0) as usize),
-            "move-by" => Command::MoveBy([
-                num(words.get(1), "dx")?,
-                num(words.get(2), "dy")?,
-                num(words.get(3), "dz")?,
-            ]),
-            "inspect" if words.len() > 2 => Command::Inspect(
-                PathBuf::from(words[1]),
-                words[2..]
-                    .iter()
-                    .map(|w| SeriesSelector::parse(w).map_err(&at))
-                    .collect::<Result<_, _>>()?,
-            ),
-            "screenshot" if words.len() == 2 => Command::Screenshot(PathBuf::from(words[1])),
-            "record" if words.get(1) == Some(&"on") && words.len() <= 3 => {
-                Command::Record(Some(words.get(2).map(PathBuf::from)))
-            }
-            "record" if words.len() == 2 && words[1] == "off" => Command::Record(None),
-            "state" if words.len() == 2 => Command::State(PathBuf::from(words[1])),
-            "optimize" if words.len() <= 3 => Command::Optimize(
-                num(words.get(1), "evaluations")?.max(1.0) as u64,
-                words.get(2).map(|s| s.to_string()),
-            ),
-            "save-best" if words.len() == 2 => Command::SaveBest(PathBuf::from(words[1])),
-            "attach" if words.len() == 3 => Command::Attach(
+        match run_command(words, &num, at)? {
+            Some(c) => Ok(c),
+            None => view_command(words, &num, at),
+        }
+    })
+}
+
+/// Whether `w` is `yes` (true) or `no` (false); any other word is an error naming it
+/// (`debug of` is not `debug off`).
+fn switch(w: &str, (yes, no): (&str, &str), at: &dyn Fn(String) -> String) -> Result<bool, String> {
+    match w {
+        _ if w == yes => Ok(true),
+        _ if w == no => Ok(false),
+        other => Err(at(format!("{other:?}: expected {yes} or {no}"))),
+    }
+}
+
+/// `on` or `off`.
+fn on_off(w: &str, at: &dyn Fn(String) -> String) -> Result<bool, String> {
+    switch(w, ("on", "off"), at)
+}
+
+/// The commands that run, pace and tune the simulation (none: not one of them).
+fn run_command(
+    words: &[&str],
+    num: &NumberOf<'_>,
+    at: &dyn Fn(String) -> String,
+) -> Result<Option<Command>, String> {
+    Ok(Some(match words[0] {
+        "wait" => Command::Wait(num(words.get(1), "frames")?.max(0.0) as u32),
+        "start" => Command::Start,
+        "pause" => Command::Pause,
+        "restart" => Command::Restart,
+        "continue" => Command::Continue,
+        "keep-tuned" => Command::KeepTuned,
+        "load" if words.len() == 2 => Command::Load(PathBuf::from(words[1])),
+        "engine" if words.len() == 2 => Command::Engine(
+            crate::config::simulation::EngineKind::parse(words[1]).ok_or_else(|| {
+                at(format!(
+                    "unknown physics engine `{}` (rapier, mujoco)",
+                    words[1]
+                ))
+            })?,
+        ),
+        "run-until" => Command::RunUntil(num(words.get(1), "seconds")?),
+        "wait-for" if words.len() == 4 && words[1] == "file" => Command::WaitFor(
+            format!("file:{}", words[2]),
+            num(words.get(3), "frames")?.max(1.0) as u32,
+        ),
+        "wait-for" if words.len() == 3 && ["running", "paused", "debug"].contains(&words[1]) => {
+            Command::WaitFor(
                 words[1].to_string(),
-                num(words.get(2), "evaluations")?.max(0.0) as u64,
-            ),
-            "replay-best" => Command::ReplayBest,
-            "results" if words.len() == 2 => Command::Results(words[1].to_string()),
-            "replay" if (4..=5).contains(&words.len()) => Command::Replay {
-                store: words[1].to_string(),
-                run: num(words.get(2), "run")? as i64,
-                which: crate::optimize::replay::Which::parse(words[3])
-                    .map_err(|e| at(e.to_string()))?,
-                episode: match words.get(4) {
-                    Some(_) => Some(num(words.get(4), "episode")?.max(0.0) as u32),
+                num(words.get(2), "frames")?.max(1.0) as u32,
+            )
+        }
+        "step-to" => Command::StepTo(num(words.get(1), "seconds")?),
+        "speed" => Command::Speed(num(words.get(1), "real-time factor")?.max(0.0)),
+        "slow-frames" => {
+            Command::SlowFrames(num(words.get(1), "milliseconds")?.clamp(0.0, 10_000.0) as u32)
+        }
+        "set" => {
+            if words.len() < 4 {
+                return Err(at("set MODULE PARAM VALUE [JOINT]".into()));
+            }
+            Command::Set {
+                module: words[1].to_string(),
+                param: words[2].to_string(),
+                value: num(words.get(3), "value")?,
+                joint: match words.get(4) {
+                    Some(_) => Some(num(words.get(4), "joint")? as usize),
                     None => None,
                 },
+            }
+        }
+        _ => return Ok(None),
+    }))
+}
+
+/// The commands of the views, the optimization view, the devices and quitting.
+fn view_command(
+    words: &[&str],
+    num: &NumberOf<'_>,
+    at: &dyn Fn(String) -> String,
+) -> Result<Command, String> {
+    Ok(match words[0] {
+        "plot" if words.len() > 1 => Command::Plot(
+            words[1..]
+                .iter()
+                .map(|w| SeriesSelector::parse(w).map_err(&at))
+                .collect::<Result<_, _>>()?,
+        ),
+        "panel" if words.len() == 2 => Command::Panel(words[1].to_string()),
+        "debug" if words.len() == 2 => Command::Debug(on_off(words[1], at)?),
+        "per-joint" if words.len() == 4 => Command::PerJoint {
+            actuator: num(words.get(1), "module tab")?.max(0.0) as usize,
+            param: words[2].to_string(),
+            on: on_off(words[3], at)?,
+        },
+        "select-link" => Command::SelectLink(num(words.get(1), "link")?.max(0.0) as usize),
+        "move-by" => Command::MoveBy([
+            num(words.get(1), "dx")?,
+            num(words.get(2), "dy")?,
+            num(words.get(3), "dz")?,
+        ]),
+        "inspect" if words.len() > 2 => Command::Inspect(
+            PathBuf::from(words[1]),
+            words[2..]
+                .iter()
+                .map(|w| SeriesSelector::parse(w).map_err(&at))
+                .collect::<Result<_, _>>()?,
+        ),
+        "screenshot" if words.len() == 2 => Command::Screenshot(PathBuf::from(words[1])),
+        "record" if words.get(1) == Some(&"on") && words.len() <= 3 => {
+            Command::Record(Some(words.get(2).map(PathBuf::from)))
+        }
+        "record" if words.len() == 2 && words[1] == "off" => Command::Record(None),
+        "state" if words.len() == 2 => Command::State(PathBuf::from(words[1])),
+        "optimize" if words.len() <= 3 => Command::Optimize(
+            num(words.get(1), "evaluations")?.max(1.0) as u64,
+            words.get(2).map(|s| s.to_string()),
+        ),
+        "save-best" if words.len() == 2 => Command::SaveBest(PathBuf::from(words[1])),
+        "attach" if words.len() == 3 => Command::Attach(
+            words[1].to_string(),
+            num(words.get(2), "evaluations")?.max(0.0) as u64,
+        ),
+        "replay-best" => Command::ReplayBest,
+        "results" if words.len() == 2 => Command::Results(words[1].to_string()),
+        "replay" if (4..=5).contains(&words.len()) => Command::Replay {
+            store: words[1].to_string(),
+            run: num(words.get(2), "run")? as i64,
+            which: crate::optimize::replay::Which::parse(words[3])
+                .map_err(|e| at(e.to_string()))?,
+            episode: match words.get(4) {
+                Some(_) => Some(num(words.get(4), "episode")?.max(0.0) as u32),
+                None => None,
             },
-            w if w.starts_with("remote") || w.starts_with("robot") => {
-                device_command(words, &num, at)?
-            }
-            "assign" if words.len() == 3 => {
-                Command::Assign(words[1].to_string(), words[2].to_string())
-            }
-            "quit" => Command::Quit,
-            other => return Err(at(format!("unknown or incomplete command {other:?}"))),
-        };
-        Ok(c)
+        },
+        w if w.starts_with("remote") || w.starts_with("robot") => device_command(words, &num, at)?,
+        "assign" if words.len() == 3 => Command::Assign(words[1].to_string(), words[2].to_string()),
+        "quit" => Command::Quit,
+        other => return Err(at(format!("unknown or incomplete command {other:?}"))),
     })
 }
 
@@ -338,7 +369,7 @@ fn device_command(
     at: &dyn Fn(String) -> String,
 ) -> Result<Command, String> {
     Ok(match words[0] {
-        "remote" if words.len() == 2 => Command::Remote(words[1] == "open"),
+        "remote" if words.len() == 2 => Command::Remote(switch(words[1], ("open", "close"), at)?),
         "remote-set" if words.len() == 3 => {
             Command::RemoteSet(words[1].to_string(), num(words.get(2), "value")?)
         }
@@ -363,11 +394,11 @@ fn device_command(
         "remote-remove" => Command::RemoteRemove(num(words.get(1), "binding")?.max(0.0) as usize),
         "remote-load" if words.len() == 2 => Command::RemoteLoad(PathBuf::from(words[1])),
         "remote-save" if words.len() == 2 => Command::RemoteSave(PathBuf::from(words[1])),
-        "robot" if words.len() == 2 => Command::RobotOpen(words[1] == "open"),
+        "robot" if words.len() == 2 => Command::RobotOpen(switch(words[1], ("open", "close"), at)?),
         "robot-connect" if words.len() == 2 => Command::RobotConnect(words[1].to_string()),
-        "robot-torque" if words.len() == 2 => Command::RobotTorque(words[1] == "on"),
-        "robot-drive" if words.len() == 2 => Command::RobotDrive(words[1] == "on"),
-        "robot-twin" if words.len() == 2 => Command::RobotTwin(words[1] == "on"),
+        "robot-torque" if words.len() == 2 => Command::RobotTorque(on_off(words[1], at)?),
+        "robot-drive" if words.len() == 2 => Command::RobotDrive(on_off(words[1], at)?),
+        "robot-twin" if words.len() == 2 => Command::RobotTwin(on_off(words[1], at)?),
         "robot-disconnect" => Command::RobotDisconnect,
         other => return Err(at(format!("unknown or incomplete command {other:?}"))),
     })
@@ -422,6 +453,14 @@ mod tests {
         assert!(e.contains("t.script:1:") && e.contains("soon"), "{e}");
         let e = parse(Path::new("t.script"), "set A B NaN\n").unwrap_err();
         assert!(e.contains("NaN"), "{e}");
+        // A toggle's word is checked: `debug of` is no `debug off`.
+        let e = parse(Path::new("t.script"), "start\ndebug of\n").unwrap_err();
+        assert!(
+            e.contains("t.script:2:") && e.contains("expected on or off"),
+            "{e}"
+        );
+        let e = parse(Path::new("t.script"), "remote opne\n").unwrap_err();
+        assert!(e.contains("expected open or close"), "{e}");
     }
 
     #[test]
