@@ -80,6 +80,21 @@ pub struct OptimizeOptions {
     pub crash_after: Option<u64>,
 }
 
+impl OptimizeOptions {
+    /// The run's choices these options make, with `fitness` parsed from them.
+    fn choices(&self, fitness: Option<Fitness>) -> RunChoices {
+        RunChoices {
+            seed: self.seed,
+            workers: self.workers,
+            batch: self.batch,
+            max_evaluations: self.max_evaluations,
+            duration: self.duration,
+            fitness,
+            lease: self.lease,
+        }
+    }
+}
+
 /// What an optimization run found and how fast it went.
 #[derive(Debug, Clone, PartialEq)]
 pub struct OptimizeReport {
@@ -144,18 +159,7 @@ pub fn run_observed(
         .map_err(|e| e.to_string())?
         .with_engine(o.engine);
     let fitness = o.fitness.as_deref().map(Fitness::parse).transpose()?;
-    let settings = RunSettings::of(
-        &sim,
-        &RunChoices {
-            seed: o.seed,
-            workers: o.workers,
-            batch: o.batch,
-            max_evaluations: o.max_evaluations,
-            duration: o.duration,
-            fitness,
-            lease: o.lease,
-        },
-    )?;
+    let settings = RunSettings::of(&sim, &o.choices(fitness))?;
     let (space, _) = prepare(&sim, registry)?;
     let location = match &o.store {
         Some(text) => StoreLocation::parse(text)?,

@@ -569,6 +569,14 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
     if let Ok(h) = session.simulator.heading(0) {
         pairs.push(("heading", format!("{h:.3}")));
     }
+    world_pairs(&mut pairs, session);
+    device_pairs(&mut pairs, session, views);
+    pairs.push(("parameters", parameters_line(session)));
+    state_report(&pairs)
+}
+
+/// Where the first scenery body is.
+fn world_pairs(pairs: &mut Vec<(&str, String)>, session: &SimSession) {
     let scenery = session.simulator.environment_bodies();
     if let Some(p) = scenery
         .first()
@@ -579,6 +587,10 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
             format!("{:.6} {:.6} {:.6}", p[0], p[1], p[2]),
         ));
     }
+}
+
+/// The remote dialog, the module library, module failures and the real robot.
+fn device_pairs(pairs: &mut Vec<(&str, String)>, session: &SimSession, views: &Views) {
     pairs.push(("remote_open", views.remote.open.to_string()));
     pairs.push((
         "remote_bindings",
@@ -613,6 +625,10 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
         "remote_error",
         views.remote.error.clone().unwrap_or_default(),
     ));
+}
+
+/// Every module parameter of robot 0's kernel: `i:Type:name=v,v,...;` each.
+fn parameters_line(session: &SimSession) -> String {
     let mut params = String::new();
     if let Ok(k) = session.simulator.kernel(0) {
         for (i, a) in k.actuators().iter().enumerate() {
@@ -629,6 +645,5 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
             }
         }
     }
-    pairs.push(("parameters", params));
-    state_report(&pairs)
+    params
 }

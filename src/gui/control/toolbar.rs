@@ -53,117 +53,140 @@ pub fn simulation_files(dir: &Path) -> Vec<PathBuf> {
 /// Draws the toolbar.
 pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut ToolbarState) {
     ui.horizontal_wrapped(|ui| {
-        ui.label("Configuration:");
-        // As wide as the path (within reason), so it is not cut off.
-        let width = (state.path.chars().count() as f32 * 7.5 + 16.0).clamp(260.0, 560.0);
-        let field = ui.add(egui::TextEdit::singleline(&mut state.path).desired_width(width));
-        let entered = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
-        if ui.button("Load").clicked() || entered {
-            session.load(Path::new(state.path.trim()));
-        }
-        egui::ComboBox::from_id_salt("known configs")
-            .selected_text("configs/ …")
-            .show_ui(ui, |ui| {
-                for p in state.known.clone() {
-                    if ui
-                        .selectable_label(false, p.display().to_string())
-                        .clicked()
-                    {
-                        state.path = p.display().to_string();
-                        session.load(&p);
-                    }
+        configuration(ui, session, state);
+        ui.separator();
+        run_buttons(ui, session);
+        ui.separator();
+        pacing(ui, session);
+    });
+    ui.horizontal(|ui| readout(ui, session, state));
+    notices(ui, session);
+}
+
+/// The configuration field, Load, the known configurations and the configuration window.
+fn configuration(ui: &mut egui::Ui, session: &mut SimSession, state: &mut ToolbarState) {
+    ui.label("Configuration:");
+    // As wide as the path (within reason), so it is not cut off.
+    let width = (state.path.chars().count() as f32 * 7.5 + 16.0).clamp(260.0, 560.0);
+    let field = ui.add(egui::TextEdit::singleline(&mut state.path).desired_width(width));
+    let entered = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+    if ui.button("Load").clicked() || entered {
+        session.load(Path::new(state.path.trim()));
+    }
+    egui::ComboBox::from_id_salt("known configs")
+        .selected_text("configs/ …")
+        .show_ui(ui, |ui| {
+            for p in state.known.clone() {
+                if ui
+                    .selectable_label(false, p.display().to_string())
+                    .clicked()
+                {
+                    state.path = p.display().to_string();
+                    session.load(&p);
                 }
-            });
-        if ui
-            .button("New / edit configuration…")
-            .on_hover_text("Opens the configuration window: wizard, expert composition (on this simulation), environment editor")
-            .clicked()
-        {
-            session.error = crate::gui::desktop::spawn_window(
-                "configuration window",
-                &["wizard", "--expert"],
-                &session.path,
-            )
-            .err()
-            .map(|e| e.to_string());
-        }
-        ui.separator();
-        let label = if session.running {
-            "⏸ Pause"
-        } else {
-            "▶ Start"
-        };
-        if ui.button(label).clicked() {
-            session.running = !session.running;
-        }
-        if ui.button("⟲ Restart").clicked() {
-            session.restart();
-        }
-        ui.separator();
-        ui.label("Delay (ms/step):");
-        ui.add(
-            egui::DragValue::new(&mut session.pacing.delay_ms)
-                .range(0.0..=1000.0)
-                .speed(0.5),
-        );
-        ui.label("Real-time factor:");
-        if session.pacing.realtime_factor > 0.0 {
-            ui.add(
-                egui::DragValue::new(&mut session.pacing.realtime_factor)
-                    .range(0.01..=1000.0)
-                    .speed(0.05),
-            );
-        } else {
-            ui.label("as fast as possible");
-        }
-        if ui
-            .selectable_label(session.pacing.realtime_factor == 1.0, "sync 1x")
-            .clicked()
-        {
-            session.pacing.realtime_factor = 1.0;
-        }
-        if ui
-            .selectable_label(session.pacing.realtime_factor == 0.0, "max")
-            .clicked()
-        {
-            session.pacing.realtime_factor = 0.0;
-        }
-        ui.label("Step width δ (s):");
-        ui.add(
-            egui::DragValue::new(&mut session.step_width)
-                .range(0.0001..=0.05)
-                .speed(0.0001)
-                .max_decimals(4),
+            }
+        });
+    if ui
+        .button("New / edit configuration…")
+        .on_hover_text("Opens the configuration window: wizard, expert composition (on this simulation), environment editor")
+        .clicked()
+    {
+        session.error = crate::gui::desktop::spawn_window(
+            "configuration window",
+            &["wizard", "--expert"],
+            &session.path,
         )
-        .on_hover_text("used from the next restart");
-        ui.label("Physics:");
-        let now = session.simulator.engine_kind();
-        egui::ComboBox::from_id_salt("physics engine")
-            .selected_text(now.name())
-            .show_ui(ui, |ui| {
-                for kind in crate::config::simulation::EngineKind::ALL {
-                    if ui.selectable_label(kind == now, kind.name()).clicked() {
-                        session.set_engine(kind);
-                    }
+        .err()
+        .map(|e| e.to_string());
+    }
+}
+
+/// Start/Pause and Restart.
+fn run_buttons(ui: &mut egui::Ui, session: &mut SimSession) {
+    let label = if session.running {
+        "⏸ Pause"
+    } else {
+        "▶ Start"
+    };
+    if ui.button(label).clicked() {
+        session.running = !session.running;
+    }
+    if ui.button("⟲ Restart").clicked() {
+        session.restart();
+    }
+}
+
+/// Delay, real-time factor, step width and the physics engine.
+fn pacing(ui: &mut egui::Ui, session: &mut SimSession) {
+    ui.label("Delay (ms/step):");
+    ui.add(
+        egui::DragValue::new(&mut session.pacing.delay_ms)
+            .range(0.0..=1000.0)
+            .speed(0.5),
+    );
+    ui.label("Real-time factor:");
+    if session.pacing.realtime_factor > 0.0 {
+        ui.add(
+            egui::DragValue::new(&mut session.pacing.realtime_factor)
+                .range(0.01..=1000.0)
+                .speed(0.05),
+        );
+    } else {
+        ui.label("as fast as possible");
+    }
+    if ui
+        .selectable_label(session.pacing.realtime_factor == 1.0, "sync 1x")
+        .clicked()
+    {
+        session.pacing.realtime_factor = 1.0;
+    }
+    if ui
+        .selectable_label(session.pacing.realtime_factor == 0.0, "max")
+        .clicked()
+    {
+        session.pacing.realtime_factor = 0.0;
+    }
+    ui.label("Step width δ (s):");
+    ui.add(
+        egui::DragValue::new(&mut session.step_width)
+            .range(0.0001..=0.05)
+            .speed(0.0001)
+            .max_decimals(4),
+    )
+    .on_hover_text("used from the next restart");
+    ui.label("Physics:");
+    let now = session.simulator.engine_kind();
+    egui::ComboBox::from_id_salt("physics engine")
+        .selected_text(now.name())
+        .show_ui(ui, |ui| {
+            for kind in crate::config::simulation::EngineKind::ALL {
+                if ui.selectable_label(kind == now, kind.name()).clicked() {
+                    session.set_engine(kind);
                 }
-            })
-            .response
-            .on_hover_text("the physics engine: switching rebuilds the world, paused at 0");
-    });
-    ui.horizontal(|ui| {
-        let dt = session.simulator.clock().dt;
-        ui.monospace(format!(
-            "sim {:>8.3} s   real {:>8.3} s   step {:>8}   δ {:.4} s   speed {}   {:>4.1} fps",
-            session.sim_time(),
-            session.real_time,
-            session.steps(),
-            dt,
-            state
-                .meter
-                .readout(session.pacing.realtime_factor, session.running),
-            state.meter.fps(),
-        ));
-    });
+            }
+        })
+        .response
+        .on_hover_text("the physics engine: switching rebuilds the world, paused at 0");
+}
+
+/// Simulated and real time, steps, step width, speed and frame rate.
+fn readout(ui: &mut egui::Ui, session: &SimSession, state: &ToolbarState) {
+    let dt = session.simulator.clock().dt;
+    ui.monospace(format!(
+        "sim {:>8.3} s   real {:>8.3} s   step {:>8}   δ {:.4} s   speed {}   {:>4.1} fps",
+        session.sim_time(),
+        session.real_time,
+        session.steps(),
+        dt,
+        state
+            .meter
+            .readout(session.pacing.realtime_factor, session.running),
+        state.meter.fps(),
+    ));
+}
+
+/// The rows under the toolbar: kept tuned values, a halted run, a failed load.
+fn notices(ui: &mut egui::Ui, session: &mut SimSession) {
     if session.tuned.is_some() {
         ui.horizontal(|ui| {
             ui.label(

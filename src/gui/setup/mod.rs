@@ -225,37 +225,7 @@ fn draw_ui(
                 editor_view::show_library(ui, state, &cache.overlaps)
             });
     }
-    match state.tool {
-        Tool::Wizard => {
-            // Its own panel (and remembered width) on the environment page, where the
-            // views need the room: one shared panel changed width a few frames after the
-            // page did, moving the views under the pointer.
-            egui::Panel::right(if editing { "wizard editing" } else { "wizard" })
-                .resizable(true)
-                .default_size(if editing { 330.0 } else { 470.0 })
-                .show(&mut root, |ui| {
-                    if editing {
-                        egui::Panel::bottom("wizard nav")
-                            .show(ui, |ui| wizard_view::show(ui, state));
-                        editor_view::show_selection(ui, state);
-                    } else {
-                        wizard_view::show(ui, state);
-                    }
-                });
-        }
-        Tool::Expert => {
-            egui::Panel::right("expert")
-                .resizable(true)
-                .default_size(620.0)
-                .show(&mut root, |ui| expert_view::show(ui, state));
-        }
-        Tool::Editor => {
-            egui::Panel::right("selection")
-                .resizable(true)
-                .default_size(330.0)
-                .show(&mut root, |ui| editor_view::show_selection(ui, state));
-        }
-    }
+    right_panel(&mut root, state, editing);
     let central = root.available_rect_before_wrap();
     state.central = Some(central);
     // What the panels left holds the 3D views: the pointer there belongs to the scene.
@@ -277,6 +247,42 @@ fn draw_ui(
         library_drop(&ctx, state, central);
     }
     Ok(())
+}
+
+/// The tool's panel on the right: the wizard's pages (with the selection on the
+/// environment page), the expert composition, or the editor's selection.
+fn right_panel(root: &mut egui::Ui, state: &mut SetupState, editing: bool) {
+    match state.tool {
+        Tool::Wizard => {
+            // Its own panel (and remembered width) on the environment page, where the
+            // views need the room: one shared panel changed width a few frames after the
+            // page did, moving the views under the pointer.
+            egui::Panel::right(if editing { "wizard editing" } else { "wizard" })
+                .resizable(true)
+                .default_size(if editing { 330.0 } else { 470.0 })
+                .show(root, |ui| {
+                    if editing {
+                        egui::Panel::bottom("wizard nav")
+                            .show(ui, |ui| wizard_view::show(ui, state));
+                        editor_view::show_selection(ui, state);
+                    } else {
+                        wizard_view::show(ui, state);
+                    }
+                });
+        }
+        Tool::Expert => {
+            egui::Panel::right("expert")
+                .resizable(true)
+                .default_size(620.0)
+                .show(root, |ui| expert_view::show(ui, state));
+        }
+        Tool::Editor => {
+            egui::Panel::right("selection")
+                .resizable(true)
+                .default_size(330.0)
+                .show(root, |ui| editor_view::show_selection(ui, state));
+        }
+    }
 }
 
 /// The environment editor's keys: Ctrl+Z undo, Ctrl+Y / Ctrl+Shift+Z redo, Delete removes

@@ -179,26 +179,7 @@ pub fn import_urdf_with(
         }
     }
     if bodies.iter().all(|b| b.geoms.is_empty()) {
-        // Where the geometry would have been: the links drawn but not colliding.
-        let drawn: Vec<String> = robot
-            .links
-            .iter()
-            .filter(|l| !l.visual.is_empty())
-            .take(4)
-            .map(|l| format!("{}link {}", ctx.at(&l.name), l.name))
-            .collect();
-        let why = format!(
-            "no link has collision geometry proleg reads (only <visual>, or meshes in other \
-             formats than OBJ, STL and DAE{}): the robot would fall through the floor",
-            if drawn.is_empty() {
-                format!(
-                    "; none of its {} links has <collision> or <visual>: a kinematic model",
-                    robot.links.len()
-                )
-            } else {
-                format!("; <visual> only: {}", drawn.join(", "))
-            }
-        );
+        let why = no_collision_reason(&robot, &ctx);
         if !opts.allow_no_collision {
             return Err(InteropError::new(
                 urdf,
@@ -252,6 +233,30 @@ pub fn import_urdf_with(
         meshes: meshes.count(),
         warnings,
     })
+}
+
+/// Why a robot without collision geometry is refused, naming the links drawn but not
+/// colliding (where the geometry would have been) with their lines.
+fn no_collision_reason(robot: &urdf_rs::Robot, ctx: &Context) -> String {
+    let drawn: Vec<String> = robot
+        .links
+        .iter()
+        .filter(|l| !l.visual.is_empty())
+        .take(4)
+        .map(|l| format!("{}link {}", ctx.at(&l.name), l.name))
+        .collect();
+    format!(
+        "no link has collision geometry proleg reads (only <visual>, or meshes in other \
+         formats than OBJ, STL and DAE{}): the robot would fall through the floor",
+        if drawn.is_empty() {
+            format!(
+                "; none of its {} links has <collision> or <visual>: a kinematic model",
+                robot.links.len()
+            )
+        } else {
+            format!("; <visual> only: {}", drawn.join(", "))
+        }
+    )
 }
 
 /// Warnings for joints proleg does not drive as the URDF says.
