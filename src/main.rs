@@ -559,7 +559,7 @@ fn bench_command(
             .map(|r| r.to_string())
             .map_err(|e| e.to_string());
     }
-    match (&a.module, &a.convergence) {
+    let figures = match (&a.module, &a.convergence) {
         (Some(module), _) => {
             proleg::bench::modules::report(&a.config, a.seconds, &a.reference, module, registry)
         }
@@ -569,7 +569,8 @@ fn bench_command(
         (None, None) => {
             proleg::bench::report(&a.config, a.seconds, &a.batches, &a.physics, a.engine)
         }
-    }
+    };
+    figures.map_err(|e| e.to_string())
 }
 
 /// `proleg import`: the URDF's robot, floor, gait and simulation files in `--out`.

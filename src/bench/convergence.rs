@@ -12,6 +12,7 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
+use crate::bench::BenchError;
 use crate::config::Simulation;
 use crate::config::simulation::EngineKind;
 use crate::control::ModuleRegistry;
@@ -69,7 +70,7 @@ pub fn episode(
     settings: EngineSettings,
     seconds: f64,
     registry: &ModuleRegistry,
-) -> Result<RungOutcome, String> {
+) -> Result<RungOutcome, BenchError> {
     let mut opts = BuildOptions {
         robots: 1,
         seed: sim.files.simulation.properties.seed,
@@ -81,22 +82,22 @@ pub fn episode(
         EngineSettings::Rapier(s) => opts.physics = Some(s),
         EngineSettings::Mujoco(s) => opts.mujoco = Some(s),
     }
-    let mut s = Simulator::with_registry(sim, &opts, registry).map_err(|e| e.to_string())?;
+    let mut s = Simulator::with_registry(sim, &opts, registry)?;
     let steps = (seconds / s.clock().dt).round().max(1.0) as u64;
-    let start = s.com(0).map_err(|e| e.to_string())?;
+    let start = s.com(0)?;
     let mut tracking = 0.0;
     let t = Instant::now();
     for _ in 0..steps {
         s.step();
-        tracking += s.tracking_error(0).map_err(|e| e.to_string())?;
+        tracking += s.tracking_error(0)?;
     }
     let wall = t.elapsed().as_secs_f64();
-    let end = s.com(0).map_err(|e| e.to_string())?;
-    let heading = s.heading(0).map_err(|e| e.to_string())?;
+    let end = s.com(0)?;
+    let heading = s.heading(0)?;
     if !(end.iter().all(|v| v.is_finite()) && heading.is_finite()) {
-        return Err(format!(
-            "the run with {settings} blew up (non-finite positions)"
-        ));
+        return Err(BenchError::BlewUp {
+            settings: settings.to_string(),
+        });
     }
     Ok(RungOutcome {
         settings,
@@ -179,7 +180,7 @@ pub fn check(
     seconds: f64,
     max_rungs: usize,
     registry: &ModuleRegistry,
-) -> Result<Convergence, String> {
+) -> Result<Convergence, BenchError> {
     let production_run = episode(sim, production, seconds, registry)?;
     let mut ladder: Vec<RungOutcome> = Vec::new();
     let mut settings = reference_of(production);
@@ -265,19 +266,20 @@ pub fn run(
     overrides: &str,
     engine: Option<EngineKind>,
     registry: &ModuleRegistry,
-) -> Result<String, String> {
-    let sim = crate::control::load_simulation_in(config, registry)
-        .map_err(|e| e.to_string())?
-        .with_engine(engine);
+) -> Result<String, BenchError> {
+    let sim = crate::control::load_simulation_in(config, registry)?.with_engine(engine);
     let production = match sim.engine() {
-        EngineKind::Rapier => EngineSettings::Rapier(
-            PhysicsSettings::production_with(&sim, overrides).map_err(|e| e.to_string())?,
-        ),
+        EngineKind::Rapier => {
+            EngineSettings::Rapier(PhysicsSettings::production_with(&sim, overrides)?)
+        }
         EngineKind::Mujoco if overrides.is_empty() => {
             EngineSettings::Mujoco(MujocoSettings::default())
         }
         EngineKind::Mujoco => {
-            return Err("--physics sets rapier's settings; this check is on mujoco".into());
+            return Err(BenchError::PhysicsOnOtherEngine {
+                what: "check",
+                engine: EngineKind::Mujoco,
+            });
         }
     };
     let c = check(
@@ -289,5 +291,9 @@ pub fn run(
         registry,
     )?;
     let text = report(&c);
-    if c.passes() { Ok(text) } else { Err(text) }
+    if c.passes() {
+        Ok(text)
+    } else {
+        Err(BenchError::GateFailed(text))
+    }
 }

@@ -15,6 +15,7 @@ use std::time::Instant;
 pub mod compare;
 pub mod compare_plot;
 pub mod convergence;
+pub mod error;
 pub mod modules;
 pub mod physics_checks;
 pub mod rollout;
@@ -28,7 +29,9 @@ use crate::data::store::DataStore;
 use crate::sim::datalog::DataSettings;
 use crate::sim::engine::rapier::PhysicsSettings;
 use crate::sim::physics::SimPhysics;
-use crate::sim::{BuildOptions, SimError, Simulator};
+use crate::sim::{BuildOptions, Simulator};
+
+pub use error::BenchError;
 
 /// Repetitions of each figure; the fastest counts.
 pub const REPEATS: usize = 3;
@@ -67,8 +70,8 @@ pub(crate) fn world_of(
     robots: usize,
     registry: &ModuleRegistry,
     physics: Option<PhysicsSettings>,
-) -> Result<Simulator, String> {
-    Simulator::with_registry(
+) -> Result<Simulator, BenchError> {
+    Ok(Simulator::with_registry(
         sim,
         &BuildOptions {
             robots,
@@ -78,8 +81,7 @@ pub(crate) fn world_of(
             ..Default::default()
         },
         registry,
-    )
-    .map_err(|e: SimError| e.to_string())
+    )?)
 }
 
 /// Best of [`REPEATS`]: each repetition builds a fresh world of `sim` with `physics`, warms
@@ -92,7 +94,7 @@ fn best(
     seconds: f64,
     label: &str,
     measure: impl Fn(&mut Simulator, u64) -> f64,
-) -> Result<Figure, String> {
+) -> Result<Figure, BenchError> {
     let mut fastest: Option<Figure> = None;
     for _ in 0..REPEATS {
         let mut s = world_of(sim, robots, &ModuleRegistry::standard(), Some(physics))?;
@@ -110,7 +112,7 @@ fn best(
             });
         }
     }
-    fastest.ok_or_else(|| "no repetition ran".to_string())
+    fastest.ok_or(BenchError::NoRepetition)
 }
 
 /// The full pipeline with `robots` robots in one world.
@@ -119,7 +121,7 @@ pub fn pipeline(
     physics: PhysicsSettings,
     robots: usize,
     seconds: f64,
-) -> Result<Figure, String> {
+) -> Result<Figure, BenchError> {
     best(
         sim,
         physics,
@@ -141,7 +143,7 @@ pub fn physics_only(
     sim: &Simulation,
     physics: PhysicsSettings,
     seconds: f64,
-) -> Result<Figure, String> {
+) -> Result<Figure, BenchError> {
     best(
         sim,
         physics,
@@ -166,7 +168,7 @@ pub fn recording(
     sim: &Simulation,
     physics: PhysicsSettings,
     seconds: f64,
-) -> Result<(Figure, u64), String> {
+) -> Result<(Figure, u64), BenchError> {
     let file = std::env::temp_dir().join(format!("proleg-bench-{}.data.xml", std::process::id()));
     let size = std::cell::Cell::new(0);
     let fig = best(
@@ -195,7 +197,7 @@ pub fn recording(
     )?;
     let _ = std::fs::remove_file(&file);
     if !fig.wall.is_finite() {
-        return Err(format!("recording to {} failed", file.display()));
+        return Err(BenchError::Recording { file });
     }
     Ok((fig, size.get()))
 }
@@ -208,17 +210,15 @@ pub fn report(
     batches: &[usize],
     overrides: &str,
     engine: Option<EngineKind>,
-) -> Result<String, String> {
-    let sim = load_simulation(config)
-        .map_err(|e| e.to_string())?
-        .with_engine(engine);
+) -> Result<String, BenchError> {
+    let sim = load_simulation(config)?.with_engine(engine);
     if sim.engine() != EngineKind::Rapier && !overrides.is_empty() {
-        return Err(format!(
-            "--physics sets rapier's settings; this bench is on {}",
-            sim.engine()
-        ));
+        return Err(BenchError::PhysicsOnOtherEngine {
+            what: "bench",
+            engine: sim.engine(),
+        });
     }
-    let physics = PhysicsSettings::production_with(&sim, overrides).map_err(|e| e.to_string())?;
+    let physics = PhysicsSettings::production_with(&sim, overrides)?;
     let raw = physics_only(&sim, physics, seconds)?;
     let (rec, size) = recording(&sim, physics, seconds)?;
     let mut figs = vec![pipeline(&sim, physics, 1, seconds)?, rec.clone()];

@@ -13,7 +13,8 @@ use crate::control::load_simulation;
 use crate::control::{ControlKernel, ModuleRegistry};
 use crate::rng::SimRng;
 
-use super::world_of;
+use super::{BenchError, world_of};
+use crate::sim::SimError;
 
 /// Rounds of the comparison; each round measures both modules, one after the other, so
 /// a slow spell of the (shared) machine hits both; the fastest round of each counts.
@@ -25,14 +26,14 @@ pub fn swap_module(
     from: &str,
     to: &str,
     registry: &ModuleRegistry,
-) -> Result<Simulation, String> {
+) -> Result<Simulation, BenchError> {
     let target = registry
         .get(to)
         .ok_or_else(|| {
-            format!(
+            BenchError::ModuleSwap(format!(
                 "no module {to} is registered (build the plugins: proleg plugin build); known: {}",
                 registry.names().join(", ")
-            )
+            ))
         })?
         .clone();
     let mut out = sim.clone();
@@ -44,31 +45,33 @@ pub fn swap_module(
         for p in m.params.iter_mut() {
             p.name = target
                 .parameter(p.name)
-                .ok_or_else(|| format!("{to} has no parameter {} of {from}", p.name))?
+                .ok_or_else(|| {
+                    BenchError::ModuleSwap(format!("{to} has no parameter {} of {from}", p.name))
+                })?
                 .name;
         }
         m.descriptor = target.clone();
         swapped += 1;
     }
     if swapped == 0 {
-        return Err(format!(
+        return Err(BenchError::ModuleSwap(format!(
             "the reference scenario has no {from} module to replace"
-        ));
+        )));
     }
     Ok(out)
 }
 
 /// A kernel of the scenario's actuation, reset, ready to step.
-fn kernel(sim: &Simulation, registry: &ModuleRegistry) -> Result<ControlKernel, String> {
+fn kernel(sim: &Simulation, registry: &ModuleRegistry) -> Result<ControlKernel, BenchError> {
     let limits: Vec<[f64; 2]> = sim.robot.joints.iter().map(|j| j.limits_deg).collect();
     let mut k = ControlKernel::from_actuation(&sim.actuation, registry, limits)
-        .map_err(|e| e.to_string())?;
+        .map_err(SimError::Kernel)?;
     k.reset(&mut SimRng::new(1));
     Ok(k)
 }
 
 /// Wall seconds of `steps` steps of the kernel alone, joint angles held at 0.
-fn kernel_once(template: &ControlKernel, dt: f64, steps: u64) -> Result<f64, String> {
+fn kernel_once(template: &ControlKernel, dt: f64, steps: u64) -> Result<f64, BenchError> {
     let mut k = template.clone();
     let measured = vec![0.0; k.joints()];
     let mut checksum = 0.0;
@@ -78,7 +81,7 @@ fn kernel_once(template: &ControlKernel, dt: f64, steps: u64) -> Result<f64, Str
     }
     let wall = t.elapsed().as_secs_f64();
     if !checksum.is_finite() {
-        return Err("the kernel produced non-finite angles".into());
+        return Err(BenchError::NonFiniteAngles);
     }
     Ok(wall)
 }
@@ -88,7 +91,7 @@ fn pipeline_once(
     sim: &Simulation,
     seconds: f64,
     registry: &ModuleRegistry,
-) -> Result<(f64, u64), String> {
+) -> Result<(f64, u64), BenchError> {
     let mut s = world_of(sim, 1, registry, None)?;
     let dt = s.clock().dt;
     s.run_steps((1.0 / dt).round() as u64);
@@ -105,8 +108,8 @@ pub fn report(
     reference: &str,
     module: &str,
     registry: &ModuleRegistry,
-) -> Result<String, String> {
-    let base = load_simulation(config).map_err(|e| e.to_string())?;
+) -> Result<String, BenchError> {
+    let base = load_simulation(config)?;
     let swapped = swap_module(&base, reference, module, registry)?;
     let dt = base.files.simulation.properties.step_width;
     let (ka_template, kb_template) = (kernel(&base, registry)?, kernel(&swapped, registry)?);
@@ -174,7 +177,10 @@ mod tests {
             &ModuleRegistry::standard(),
         )
         .unwrap_err();
-        assert!(e.contains("no module Nope"), "{e}");
+        assert!(
+            matches!(&e, BenchError::ModuleSwap(m) if m.contains("no module Nope")),
+            "{e}"
+        );
         let e = swap_module(
             &sim,
             "Global_Adaptive_Touch",
@@ -182,7 +188,10 @@ mod tests {
             &ModuleRegistry::standard(),
         )
         .unwrap_err();
-        assert!(e.contains("no Global_Adaptive_Touch module"), "{e}");
+        assert!(
+            matches!(&e, BenchError::ModuleSwap(m) if m.contains("no Global_Adaptive_Touch module")),
+            "{e}"
+        );
         let e = swap_module(
             &sim,
             "PatternGenerator_sinusoidal",
@@ -191,7 +200,7 @@ mod tests {
         )
         .unwrap_err();
         assert!(
-            e.contains("DirectJointAccess has no parameter Amplitude"),
+            matches!(&e, BenchError::ModuleSwap(m) if m.contains("DirectJointAccess has no parameter Amplitude")),
             "{e}"
         );
     }

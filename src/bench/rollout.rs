@@ -54,8 +54,8 @@ const SCRIPT: &str = include_str!("../../scripts/mujoco_rollout.py");
 /// What a run of `sim` commanded every step: the servo targets (rad) and the servo
 /// stage's speed commands (rad/s), as TSV rows.
 fn commands(sim: &Simulation, seconds: f64) -> Result<(String, String), RolloutError> {
-    let mut s =
-        world_of(sim, 1, &ModuleRegistry::standard(), None).map_err(RolloutError::Scenario)?;
+    let mut s = world_of(sim, 1, &ModuleRegistry::standard(), None)
+        .map_err(|e| RolloutError::Scenario(e.to_string()))?;
     let steps = (seconds / s.clock().dt).round() as u64;
     let (mut targets, mut speeds) = (String::new(), String::new());
     let row = |out: &mut String, values: &mut dyn Iterator<Item = f64>| {
@@ -152,8 +152,8 @@ pub fn rollout_rates(sim: &Simulation, seconds: f64) -> Result<(f64, f64), Rollo
 fn pipeline_from_start(sim: &Simulation, seconds: f64) -> Result<f64, RolloutError> {
     let mut best: f64 = 0.0;
     for _ in 0..super::REPEATS {
-        let mut s =
-            world_of(sim, 1, &ModuleRegistry::standard(), None).map_err(RolloutError::Scenario)?;
+        let mut s = world_of(sim, 1, &ModuleRegistry::standard(), None)
+            .map_err(|e| RolloutError::Scenario(e.to_string()))?;
         let steps = (seconds / s.clock().dt).round() as u64;
         let t = std::time::Instant::now();
         s.run_steps(steps);
