@@ -7,7 +7,7 @@ use bevy::prelude::*;
 use proleg::control::ModuleRegistry;
 use proleg::control::load_simulation;
 use proleg::sim::clock::SimClock;
-use proleg::sim::kernel::SimRobot;
+use proleg::sim::robot::SimRobot;
 use proleg::sim::servo::{JointState, SimJoint};
 use proleg::sim::spawn::{SimEnvObject, SimLink, build_world};
 use proleg::sim::{BuildOptions, SimDriverPlugin, SimPlugins, StepsPerUpdate};

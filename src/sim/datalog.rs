@@ -15,9 +15,10 @@ use crate::measure::{ground_distance, norm, potential_energy};
 use crate::sensing::SensorData;
 use crate::sim::clock::SimClock;
 use crate::sim::energy::Energy;
-use crate::sim::kernel::{Kernel, SimRobot};
+use crate::sim::kernel::Kernel;
 use crate::sim::physics::SimPhysics;
 use crate::sim::record::centre_of_mass;
+use crate::sim::robot::SimRobot;
 use crate::sim::servo::JointState;
 use crate::sim::tactile::RobotSensors;
 

@@ -5,7 +5,7 @@
 use bevy::prelude::*;
 
 use crate::sim::clock::SimClock;
-use crate::sim::kernel::SimRobot;
+use crate::sim::robot::SimRobot;
 use crate::sim::servo::JointState;
 
 /// A robot's mechanical power and energy so far.

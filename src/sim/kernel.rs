@@ -7,23 +7,9 @@ use bevy::prelude::*;
 use crate::control::ControlKernel;
 use crate::sim::clock::SimClock;
 use crate::sim::randomize::NoisySensors;
+use crate::sim::robot::SimRobot;
 use crate::sim::servo::{JointState, Servo};
 use crate::sim::tactile::RobotSensors;
-
-/// A simulated robot: its joint and link entities in robot order.
-#[derive(Component, Debug, Clone)]
-pub struct SimRobot {
-    /// Position in the batch (0 for a single robot).
-    pub index: usize,
-    /// Joint entities, in joint order.
-    pub joints: Vec<Entity>,
-    /// Link entities, in link order.
-    pub links: Vec<Entity>,
-    /// Link bodies and masses, for the centre of mass.
-    pub bodies: Vec<(crate::sim::engine::BodyId, f64)>,
-    /// Measured joint angles (degrees), gathered each step.
-    pub(crate) measured: Vec<f64>,
-}
 
 /// The robot's control kernel.
 #[derive(Component, Debug, Clone)]

@@ -5,7 +5,8 @@
 //! - [`schedule`]: the [`SimStep`] schedule and its [`SimSystems`] sets
 //! - [`stages`]: one plugin per stage in the [`SimPlugins`] group (replaceable), and the
 //!   stage timer of `proleg bench --stages`
-//! - [`spawn`]: building the world from a loaded simulation
+//! - [`spawn`]: building the world from a loaded simulation; [`robot`]: the robot
+//!   entity's [`robot::SimRobot`]
 //! - [`physics`], [`servo`], [`tactile`], [`laser`], [`kernel`], [`record`], [`clock`]: the stages of a step
 //! - [`engine`]: the one door to physics ([`engine::PhysicsEngine`]) and the engines behind
 //!   it (rapier, MuJoCo)
@@ -28,6 +29,7 @@ pub mod physics;
 pub mod position;
 pub mod randomize;
 pub mod record;
+pub mod robot;
 pub mod runner;
 pub mod schedule;
 pub mod servo;

@@ -3,9 +3,9 @@
 
 use bevy::prelude::*;
 
-use crate::sim::kernel::SimRobot;
 use crate::sim::physics::SimPhysics;
 use crate::sim::record::centre_of_mass;
+use crate::sim::robot::SimRobot;
 use crate::sim::tactile::RobotSensors;
 
 /// Updates each robot's sensed position (part of the `Sense` set).

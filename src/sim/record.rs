@@ -6,8 +6,9 @@ use bevy::prelude::*;
 
 use crate::sim::clock::SimClock;
 use crate::sim::engine::PhysicsEngine;
-use crate::sim::kernel::{Kernel, SimRobot};
+use crate::sim::kernel::Kernel;
 use crate::sim::physics::SimPhysics;
+use crate::sim::robot::SimRobot;
 use crate::sim::servo::JointState;
 
 /// Whether and how often to record.

@@ -16,11 +16,12 @@ use crate::sim::clock::SimClock;
 use crate::sim::energy::Energy;
 use crate::sim::engine::{self, BodyId, EngineBuild, RobotLayout};
 use crate::sim::error::SimError;
-use crate::sim::kernel::{Kernel, SimRobot};
+use crate::sim::kernel::Kernel;
 use crate::sim::laser::Laser2dSensor;
 use crate::sim::physics::SimPhysics;
 use crate::sim::randomize::{NoisySensors, SensorNoise};
 use crate::sim::record::{RecordSettings, Track};
+use crate::sim::robot::SimRobot;
 use crate::sim::servo::{DEFAULT_SERVO_GAIN, JointState, Servo, SimJoint};
 use crate::sim::tactile::{RobotSensors, SimPad};
 

@@ -6,8 +6,9 @@ use crate::control::ControlKernel;
 use crate::sim::Simulator;
 use crate::sim::engine::{BodyId, PhysicsEngine};
 use crate::sim::error::SimError;
-use crate::sim::kernel::{JointOverride, Kernel, SimRobot};
+use crate::sim::kernel::{JointOverride, Kernel};
 use crate::sim::physics::SimPhysics;
+use crate::sim::robot::SimRobot;
 
 impl Simulator {
     /// Changes a module parameter of robot `robot` between steps (see

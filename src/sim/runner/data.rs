@@ -10,7 +10,8 @@ use crate::data::store::DataStore;
 use crate::sim::Simulator;
 use crate::sim::datalog::{DataLog, DataSettings, DataSink, flush_round, handlers_for};
 use crate::sim::error::SimError;
-use crate::sim::kernel::{Kernel, SimRobot};
+use crate::sim::kernel::Kernel;
+use crate::sim::robot::SimRobot;
 use crate::sim::tactile::RobotSensors;
 
 impl Simulator {
