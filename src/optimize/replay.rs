@@ -11,7 +11,7 @@ use crate::optimize::evaluate::{EvalError, Evaluator};
 use crate::optimize::fitness::Fitness;
 use crate::optimize::robust::{RobustEpisodes, combine};
 use crate::optimize::run::prepare;
-use crate::optimize::shared::{stored_evaluator, stored_simulation};
+use crate::optimize::shared::{UnevaluableRun, stored_evaluator, stored_simulation};
 use crate::optimize::space::{Genome, SearchSpace};
 use crate::optimize::store::{Store, StoreError, program_version};
 use crate::sim::randomize::SensorNoise;
@@ -27,6 +27,9 @@ pub enum ReplayError {
     #[error("{0}")]
     Location(String),
     /// The run's stored configuration does not load or set up here.
+    #[error(transparent)]
+    Unevaluable(#[from] UnevaluableRun),
+    /// Its search space cannot be set up.
     #[error("{0}")]
     Setup(String),
     /// The run has no such finished evaluation (or none at all).
@@ -132,7 +135,7 @@ pub fn load_replay(
             run,
             number: Some(number),
         })?;
-    let sim = stored_simulation(&spec, registry).map_err(ReplayError::Setup)?;
+    let sim = stored_simulation(&spec, registry)?;
     let (space, _) = prepare(&sim, registry).map_err(ReplayError::Setup)?;
     if eval.genome.len() != space.genes.len() {
         return Err(ReplayError::Genes {
@@ -141,7 +144,7 @@ pub fn load_replay(
             configured: space.genes.len(),
         });
     }
-    let evaluator = stored_evaluator(&spec, &sim, &space, registry).map_err(ReplayError::Setup)?;
+    let evaluator = stored_evaluator(&spec, &sim, &space, registry)?;
     let mut label = format!(
         "{} run {run}, evaluation {number} (stored score {:.4})",
         store.describe(),

@@ -29,41 +29,88 @@ use crate::optimize::run::prepare;
 use crate::optimize::space::SearchSpace;
 use crate::optimize::store::{RunSpec, program_version};
 
+/// Why this host cannot evaluate a stored run.
+#[derive(Debug, thiserror::Error)]
+pub enum UnevaluableRun {
+    /// Its stored configuration does not load with this host's module types.
+    #[error("its configuration does not load on this host: {0}")]
+    Config(#[from] crate::config::ConfigError),
+    /// Another program version started it (its scores could differ).
+    #[error(
+        "started by {started}, this host runs {here}: its scores could differ, so it is left to workers of the same version"
+    )]
+    Version {
+        /// The program that started the run.
+        started: String,
+        /// This program.
+        here: String,
+    },
+    /// It scores on MuJoCo, whose library this host lacks.
+    #[error("it runs on MuJoCo, which this host lacks: {0}")]
+    NoMujoco(String),
+    /// This host reads other genes from the configuration than the run stored.
+    #[error("this host reads other genes from its configuration ({here} instead of {stored})")]
+    Genes {
+        /// The genes read here.
+        here: String,
+        /// The run's genes.
+        stored: String,
+    },
+    /// Its search space or fitness cannot be set up (the optimizer file, the fitness name).
+    #[error("{0}")]
+    Setup(String),
+}
+
+/// Layers that still speak text take the refusal as its message.
+impl From<UnevaluableRun> for String {
+    fn from(e: UnevaluableRun) -> String {
+        e.to_string()
+    }
+}
+
 /// A stored run's simulation, loaded from its stored files with this host's module types.
-pub fn stored_simulation(spec: &RunSpec, registry: &ModuleRegistry) -> Result<Simulation, String> {
+pub fn stored_simulation(
+    spec: &RunSpec,
+    registry: &ModuleRegistry,
+) -> Result<Simulation, UnevaluableRun> {
     let mut src = MemSource::new();
     for (path, text) in &spec.files {
         src.insert(path, text.as_str());
     }
-    load_simulation_with(&src, Path::new(&spec.info.config), registry)
-        .map_err(|e| format!("its configuration does not load on this host: {e}"))
+    Ok(load_simulation_with(
+        &src,
+        Path::new(&spec.info.config),
+        registry,
+    )?)
 }
 
 /// The evaluator of a stored run, built from its stored files with this host's module
 /// types; an error says why this host cannot evaluate it (another program version, a
 /// module type it lacks, a configuration that does not load).
-pub fn run_evaluator(spec: &RunSpec, registry: &ModuleRegistry) -> Result<Evaluator, String> {
+pub fn run_evaluator(
+    spec: &RunSpec,
+    registry: &ModuleRegistry,
+) -> Result<Evaluator, UnevaluableRun> {
     let here = program_version();
     if spec.program != here {
-        return Err(format!(
-            "started by {}, this host runs {here}: its scores could differ, so it is left to workers of the same version",
-            spec.program
-        ));
+        return Err(UnevaluableRun::Version {
+            started: spec.program.clone(),
+            here,
+        });
     }
     let sim = stored_simulation(spec, registry)?;
     if scoring_engines(&sim).contains(&EngineKind::Mujoco)
         && let Err(e) = crate::sim::engine::mujoco::library::library()
     {
-        return Err(format!("it runs on MuJoCo, which this host lacks: {e}"));
+        return Err(UnevaluableRun::NoMujoco(e.to_string()));
     }
-    let (space, _) = prepare(&sim, registry)?;
+    let (space, _) = prepare(&sim, registry).map_err(UnevaluableRun::Setup)?;
     let genes: Vec<String> = space.genes.iter().map(|g| g.label()).collect();
     if genes != spec.info.genes {
-        return Err(format!(
-            "this host reads other genes from its configuration ({} instead of {})",
-            genes.join(", "),
-            spec.info.genes.join(", ")
-        ));
+        return Err(UnevaluableRun::Genes {
+            here: genes.join(", "),
+            stored: spec.info.genes.join(", "),
+        });
     }
     stored_evaluator(spec, &sim, &space, registry)
 }
@@ -76,8 +123,8 @@ pub fn stored_evaluator(
     sim: &Simulation,
     space: &SearchSpace,
     registry: &ModuleRegistry,
-) -> Result<Evaluator, String> {
-    let fitness = Fitness::parse(&spec.info.fitness)?;
+) -> Result<Evaluator, UnevaluableRun> {
+    let fitness = Fitness::parse(&spec.info.fitness).map_err(UnevaluableRun::Setup)?;
     Ok(Evaluator::new(
         sim,
         registry,
