@@ -243,7 +243,7 @@ impl EvalRow {
         let place = Place {
             store,
             run,
-            evaluation: format!("evaluation {number}"),
+            evaluation: Some(number),
         };
         Ok(StoredEval {
             number,
@@ -262,7 +262,8 @@ impl EvalRow {
 pub(crate) struct Place<'a> {
     pub store: &'a str,
     pub run: i64,
-    pub evaluation: String,
+    /// The evaluation read (none: the run's best); its name is written only on error.
+    pub evaluation: Option<u64>,
 }
 
 impl Place<'_> {
@@ -270,7 +271,10 @@ impl Place<'_> {
         StoreError::Corrupt {
             store: self.store.to_string(),
             run: self.run,
-            evaluation: self.evaluation.clone(),
+            evaluation: match self.evaluation {
+                Some(n) => format!("evaluation {n}"),
+                None => "its best evaluation".into(),
+            },
             column,
             text: text.to_string(),
             expected,
@@ -302,7 +306,7 @@ pub(crate) fn best_engines(
     let place = Place {
         store,
         run,
-        evaluation: "its best evaluation".into(),
+        evaluation: None,
     };
     place.engines(text.as_deref().unwrap_or_default())
 }

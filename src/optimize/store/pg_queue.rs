@@ -150,7 +150,7 @@ impl PgStore {
                 let place = Place {
                     store: &store,
                     run,
-                    evaluation: format!("evaluation {number}"),
+                    evaluation: Some(number),
                 };
                 Ok(Claim {
                     run,
