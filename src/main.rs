@@ -166,8 +166,17 @@ struct Selection {
     output: PathBuf,
 }
 
+/// A command's text to print, or its error (each layer's typed error, turned into text
+/// here, where it is printed).
+type Printed = Result<String, Box<dyn std::error::Error>>;
+
+/// A command's report as text, or its error.
+fn printed<T: std::fmt::Display, E: std::error::Error + 'static>(r: Result<T, E>) -> Printed {
+    r.map(|t| t.to_string()).map_err(|e| Box::new(e) as _)
+}
+
 /// Prints a command's output, or its error, and gives the exit code.
-fn finish(result: Result<String, String>) -> ExitCode {
+fn finish(result: Printed) -> ExitCode {
     match result {
         Ok(text) => {
             print!("{text}");
@@ -198,25 +207,26 @@ fn gui(
     script: Option<&std::path::Path>,
     remote: Option<&std::path::Path>,
     plugins: proleg::plugin_host::PluginHost,
-) -> Result<String, String> {
+) -> Printed {
     #[cfg(feature = "gui")]
     {
-        proleg::gui::run(config, engine, replay, script, remote, plugins).map(|()| String::new())
+        proleg::gui::run(config, engine, replay, script, remote, plugins)
+            .map(|()| String::new())
+            .map_err(Into::into)
     }
     #[cfg(not(feature = "gui"))]
     {
         let _ = (config, engine, replay, script, remote, plugins);
-        Err(NO_WINDOWS.into())
+        Err(Box::new(cli::error::CliError::Options(NO_WINDOWS)))
     }
 }
 
 /// `proleg run --video`: the run rendered off-screen.
-fn video(
-    req: &cli::run::RunRequest,
-    registry: &proleg::control::ModuleRegistry,
-) -> Result<String, String> {
+fn video(req: &cli::run::RunRequest, registry: &proleg::control::ModuleRegistry) -> Printed {
     if req.seed.is_some() || req.data.is_some() || !req.physics.is_empty() || req.realtime != 0.0 {
-        return Err("--video renders the file's own run: leave out --seed, --data, --physics and --realtime".into());
+        return Err(Box::new(cli::error::CliError::Options(
+            "--video renders the file's own run: leave out --seed, --data, --physics and --realtime",
+        )));
     }
     #[cfg(feature = "gui")]
     {
@@ -229,12 +239,14 @@ fn video(
             seconds: req.duration,
             engine: req.engine,
         };
-        proleg::gui::video::record_video(&request, registry).map(|r| r.to_string())
+        proleg::gui::video::record_video(&request, registry)
+            .map(|r| r.to_string())
+            .map_err(Into::into)
     }
     #[cfg(not(feature = "gui"))]
     {
         let _ = registry;
-        Err(NO_WINDOWS.replace("it has no windows", "it renders no videos"))
+        Err(Box::new(cli::error::CliError::Options(NO_WINDOWS)))
     }
 }
 
@@ -243,10 +255,10 @@ fn check_physics(
     config: &std::path::Path,
     engine: Option<proleg::config::simulation::EngineKind>,
     registry: &proleg::control::ModuleRegistry,
-) -> Result<String, String> {
+) -> Printed {
     use proleg::bench::physics_checks;
     use proleg::config::simulation::EngineKind;
-    let base = proleg::control::load_simulation_in(config, registry).map_err(|e| e.to_string())?;
+    let base = proleg::control::load_simulation_in(config, registry)?;
     let engines = match engine {
         Some(e) => vec![e],
         None if proleg::sim::engine::mujoco::library::available() => {
@@ -257,15 +269,19 @@ fn check_physics(
     let mut text = String::new();
     let mut all_pass = true;
     for e in engines {
-        let checks = physics_checks::run(&base, e, registry).map_err(|e| e.to_string())?;
+        let checks = physics_checks::run(&base, e, registry)?;
         all_pass &= checks.iter().all(|c| c.pass);
         text.push_str(&physics_checks::report(e, &checks));
     }
-    if all_pass { Ok(text) } else { Err(text) }
+    if all_pass {
+        Ok(text)
+    } else {
+        Err(Box::new(cli::error::CliError::Failed(text)))
+    }
 }
 
 /// Opens the configuration window.
-fn wizard(opts: WizardOptions, plugins: proleg::plugin_host::PluginHost) -> Result<String, String> {
+fn wizard(opts: WizardOptions, plugins: proleg::plugin_host::PluginHost) -> Printed {
     #[cfg(feature = "gui")]
     {
         proleg::gui::setup::run(
@@ -283,7 +299,7 @@ fn wizard(opts: WizardOptions, plugins: proleg::plugin_host::PluginHost) -> Resu
     #[cfg(not(feature = "gui"))]
     {
         let _ = (opts, plugins);
-        Err(NO_WINDOWS.into())
+        Err(Box::new(cli::error::CliError::Options(NO_WINDOWS)))
     }
 }
 
@@ -447,39 +463,41 @@ fn main() -> ExitCode {
         ),
         Command::Bench(args) => bench_command(&args, &registry),
         Command::Run(request) if request.video.is_some() => video(&request, &registry),
-        Command::Run(request) => cli::run::run(&request, &registry).map(|r| r.to_string()),
-        Command::Optimize(options) => {
-            cli::optimize::run(&options, &registry).map(|r| r.to_string())
-        }
+        Command::Run(request) => printed(cli::run::run(&request, &registry)),
+        Command::Optimize(options) => printed(cli::optimize::run(&options, &registry)),
         Command::Results {
             stores,
             runs,
             curve,
             export,
-        } => cli::results::run(&cli::results::ResultsOptions {
+        } => printed(cli::results::run(&cli::results::ResultsOptions {
             stores,
             runs,
             curve,
             export,
-        })
-        .map(|r| r.to_string()),
+        })),
         Command::Data { command } => match command {
-            DataCommand::Info { file } => cli::data::show_info(&file).map(|r| r.to_string()),
-            DataCommand::Export { pick } => {
-                cli::data::export_table(&pick.file, &pick.x, &pick.series, &pick.output)
-            }
-            DataCommand::Plot { pick, size } => {
-                cli::data::plot_png(&pick.file, &pick.x, &pick.series, &pick.output, size)
-            }
+            DataCommand::Info { file } => printed(cli::data::show_info(&file)),
+            DataCommand::Export { pick } => printed(cli::data::export_table(
+                &pick.file,
+                &pick.x,
+                &pick.series,
+                &pick.output,
+            )),
+            DataCommand::Plot { pick, size } => printed(cli::data::plot_png(
+                &pick.file,
+                &pick.x,
+                &pick.series,
+                &pick.output,
+                size,
+            )),
         },
-        Command::Plugin { command } => cli::plugin::run(command, &mut host, &plugins),
-        Command::Worker(args) => cli::worker::run(&args, &registry).map(|r| r.to_string()),
-        Command::Robustness(args) => cli::robustness::run(&args, &registry).map(|r| r.to_string()),
-        Command::Compare(args) => cli::compare::run(&args, &registry)
-            .map(|r| r.to_string())
-            .map_err(|e| e.to_string()),
-        Command::Robot(options) => cli::robot::robot(&options, &registry).map(|r| r.to_string()),
-        Command::RobotEmulator(options) => cli::robot::emulator(&options),
+        Command::Plugin { command } => printed(cli::plugin::run(command, &mut host, &plugins)),
+        Command::Worker(args) => printed(cli::worker::run(&args, &registry)),
+        Command::Robustness(args) => printed(cli::robustness::run(&args, &registry)),
+        Command::Compare(args) => printed(cli::compare::run(&args, &registry)),
+        Command::Robot(options) => printed(cli::robot::robot(&options, &registry)),
+        Command::RobotEmulator(options) => printed(cli::robot::emulator(&options)),
         Command::Import(args) => import_command(args, &registry),
         Command::Settle(args) => settle_command(&args, &registry),
         Command::Export {
@@ -490,13 +508,14 @@ fn main() -> ExitCode {
                     gait,
                     engine,
                 },
-        } => {
-            cli::interop::export_mjcf(&config, &out, gait, engine, &registry).map(|r| r.to_string())
-        }
+        } => printed(cli::interop::export_mjcf(
+            &config, &out, gait, engine, &registry,
+        )),
         Command::CheckPhysics { config, engine } => check_physics(&config, engine, &registry),
-        Command::Check { config } => proleg::control::load_simulation_in(&config, &registry)
-            .map(|sim| format!("{}ok\n", proleg::config::summary::summary(&sim)))
-            .map_err(|e| e.to_string()),
+        Command::Check { config } => printed(
+            proleg::control::load_simulation_in(&config, &registry)
+                .map(|sim| format!("{}ok\n", proleg::config::summary::summary(&sim))),
+        ),
     })
 }
 
@@ -506,7 +525,7 @@ fn gui_command(
     args: GuiArgs,
     host: proleg::plugin_host::PluginHost,
     registry: &proleg::control::ModuleRegistry,
-) -> Result<String, String> {
+) -> Printed {
     let GuiArgs {
         config,
         replay,
@@ -519,11 +538,9 @@ fn gui_command(
     } = args;
     match (replay, run) {
         (Some(store), Some(run)) => {
-            let replay = proleg::optimize::replay::Which::parse(&eval)
-                .and_then(|which| {
-                    proleg::optimize::replay::replay_from(&store, run, which, episode, registry)
-                })
-                .map_err(|e| e.to_string())?;
+            let replay = proleg::optimize::replay::Which::parse(&eval).and_then(|which| {
+                proleg::optimize::replay::replay_from(&store, run, which, episode, registry)
+            })?;
             let replay = match engine {
                 Some(e) => replay.on_engine(e),
                 None => replay,
@@ -550,14 +567,11 @@ fn gui_command(
 
 /// `proleg bench`: a module against the one it replaces, the accuracy gate, or the
 /// throughput figures.
-fn bench_command(
-    a: &BenchArgs,
-    registry: &proleg::control::ModuleRegistry,
-) -> Result<String, String> {
+fn bench_command(a: &BenchArgs, registry: &proleg::control::ModuleRegistry) -> Printed {
     if a.stages {
-        return proleg::bench::stages::report(&a.config, a.seconds, registry)
-            .map(|r| r.to_string())
-            .map_err(|e| e.to_string());
+        return printed(proleg::bench::stages::report(
+            &a.config, a.seconds, registry,
+        ));
     }
     let figures = match (&a.module, &a.convergence) {
         (Some(module), _) => {
@@ -570,14 +584,11 @@ fn bench_command(
             proleg::bench::report(&a.config, a.seconds, &a.batches, &a.physics, a.engine)
         }
     };
-    figures.map_err(|e| e.to_string())
+    figures.map_err(Into::into)
 }
 
 /// `proleg import`: the URDF's robot, floor, gait and simulation files in `--out`.
-fn import_command(
-    a: ImportArgs,
-    registry: &proleg::control::ModuleRegistry,
-) -> Result<String, String> {
+fn import_command(a: ImportArgs, registry: &proleg::control::ModuleRegistry) -> Printed {
     let out = a
         .out
         .unwrap_or_else(|| cli::interop::default_import_dir(&a.urdf));
@@ -586,19 +597,14 @@ fn import_command(
         packages: a.package_path,
         ..proleg::interop::urdf::ImportOptions::from_env()
     };
-    cli::interop::import_with(&a.urdf, &out, &opts, registry)
-        .map(|r| r.to_string())
-        .map_err(|e| e.to_string())
+    printed(cli::interop::import_with(&a.urdf, &out, &opts, registry))
 }
 
 /// `proleg settle`: the report, an error (exit 1) when the robot did not settle.
-fn settle_command(
-    a: &SettleArgs,
-    registry: &proleg::control::ModuleRegistry,
-) -> Result<String, String> {
+fn settle_command(a: &SettleArgs, registry: &proleg::control::ModuleRegistry) -> Printed {
     match cli::interop::settle(&a.config, a.seconds, a.engine, &a.physics, registry) {
-        Err(e) => Err(e.to_string()),
+        Err(e) => Err(Box::new(e)),
         Ok(r) if r.settled() => Ok(format!("{r}\n")),
-        Ok(r) => Err(r.to_string()),
+        Ok(r) => Err(Box::new(cli::error::CliError::Failed(r.to_string()))),
     }
 }

@@ -3,6 +3,7 @@
 
 mod common;
 
+use proleg::cli::error::CliError;
 use proleg::cli::optimize::{OptimizeOptions, run as optimize};
 use proleg::cli::run::{RunRequest, run};
 use proleg::control::ModuleRegistry;
@@ -49,8 +50,12 @@ fn a_run_report_holds_the_motion_and_the_data_file() {
 #[test]
 fn a_bad_request_is_an_error_naming_the_argument() {
     let registry = ModuleRegistry::standard();
+    let option = |e: CliError| match e {
+        CliError::Option { option, value, .. } => (option, value),
+        other => panic!("not an option error: {other}"),
+    };
     let e = run(&request(-1.0), &registry).unwrap_err();
-    assert!(e.contains("--duration -1"), "{e}");
+    assert_eq!(option(e), ("--duration", "-1".to_string()));
     let e = run(
         &RunRequest {
             realtime: f64::NAN,
@@ -59,7 +64,7 @@ fn a_bad_request_is_an_error_naming_the_argument() {
         &registry,
     )
     .unwrap_err();
-    assert!(e.contains("--realtime NaN"), "{e}");
+    assert_eq!(option(e), ("--realtime", "NaN".to_string()));
     let e = run(
         &RunRequest {
             every: Some(0),
@@ -69,7 +74,7 @@ fn a_bad_request_is_an_error_naming_the_argument() {
         &registry,
     )
     .unwrap_err();
-    assert!(e.contains("--every 0"), "{e}");
+    assert_eq!(option(e), ("--every", "0".to_string()));
     let e = run(
         &RunRequest {
             physics: "substeps=many".into(),
@@ -78,7 +83,10 @@ fn a_bad_request_is_an_error_naming_the_argument() {
         &registry,
     )
     .unwrap_err();
-    assert!(e.contains("physics setting `substeps`"), "{e}");
+    assert!(
+        matches!(&e, CliError::Physics(_)) && e.to_string().contains("physics setting `substeps`"),
+        "{e}"
+    );
 }
 
 #[test]

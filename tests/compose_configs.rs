@@ -9,6 +9,7 @@ use std::process::Command;
 
 use proleg::compose::env_edit::{EnvEditor, Selected};
 use proleg::compose::library::LibraryItem;
+use proleg::compose::robot_builder::PartSet;
 use proleg::compose::wizard::{Page, Wizard};
 use proleg::config::body::Shape;
 use proleg::config::environment::parse_environment_file;
@@ -42,26 +43,19 @@ fn wizard_made_simulation_checks_and_crawls() {
     let out = temp_dir("wizard");
     let root = common::root();
     let mut w = Wizard::new(&root.join("configs"), &out, "20261122_150000");
-    for (k, v) in [
-        ("robot.name", "wizsnake"),
-        ("robot.topology", "ppppp"),
-        ("robot.parts", "touch"),
-    ] {
-        w.set(k, v).unwrap();
-    }
+    w.set_robot_name("wizsnake").unwrap();
+    w.set_topology("ppppp").unwrap();
+    w.set_parts(PartSet::Touch);
     w.next_page().unwrap();
-    w.set("behaviour.simple", "PatternGenerator_sinusoidal")
+    w.set_simple_behaviour("PatternGenerator_sinusoidal")
         .unwrap();
-    w.set(
-        "behaviour.param",
-        "1 PatternGenerator_sinusoidal Amplitude 40",
-    )
-    .unwrap();
+    w.set_group_param(1, "PatternGenerator_sinusoidal", "Amplitude", &[40.0])
+        .unwrap();
     w.next_page().unwrap();
     // Environment: a box ahead of the robot, dropped onto the default floor.
     w.env.add(&LibraryItem::Box, 0.0, 1.5);
     w.next_page().unwrap();
-    w.set("sim.duration", "4").unwrap();
+    w.props.duration = 4.0;
     w.next_page().unwrap();
     assert_eq!(w.page, Page::Summary);
     let sim = w.save().unwrap();

@@ -6,6 +6,7 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::cli::error::CliError;
 use crate::data::export::{SeriesSelector, XAxis, export};
 use crate::data::plot::plot;
 use crate::data::read::{DataInfo, info};
@@ -21,12 +22,21 @@ pub struct InfoReport {
     pub info: DataInfo,
 }
 
+/// `--series` that names no series.
+fn no_series(series: &str) -> CliError {
+    CliError::Option {
+        option: "--series",
+        value: series.to_string(),
+        want: "name at least one series, e.g. Robot_Data/y_pos",
+    }
+}
+
 /// `proleg data info FILE`.
-pub fn show_info(file: &Path) -> Result<InfoReport, String> {
+pub fn show_info(file: &Path) -> Result<InfoReport, CliError> {
     Ok(InfoReport {
         file: file.to_path_buf(),
         size: std::fs::metadata(file).ok().map(|m| m.len()),
-        info: info(file).map_err(|e| e.to_string())?,
+        info: info(file)?,
     })
 }
 
@@ -66,23 +76,21 @@ impl fmt::Display for InfoReport {
 }
 
 /// `proleg data export FILE --x X --series LIST -o OUT`.
-pub fn export_table(file: &Path, x: &str, series: &str, output: &Path) -> Result<String, String> {
+pub fn export_table(file: &Path, x: &str, series: &str, output: &Path) -> Result<String, CliError> {
     let x = XAxis::parse(x)?;
     let wanted = SeriesSelector::parse_list(series)?;
     if wanted.is_empty() {
-        return Err("--series: name at least one series, e.g. Robot_Data/y_pos".into());
+        return Err(no_series(series));
     }
     let sep = match output.extension().and_then(|e| e.to_str()) {
         Some("csv") => ',',
         _ => '\t',
     };
-    let f =
-        File::create(output).map_err(|e| format!("{}: cannot create: {e}", output.display()))?;
+    let f = File::create(output).map_err(CliError::write(output))?;
     let mut w = BufWriter::new(f);
     let t = Instant::now();
-    let stats = export(file, x, &wanted, sep, &mut w).map_err(|e| e.to_string())?;
-    w.flush()
-        .map_err(|e| format!("{}: cannot write: {e}", output.display()))?;
+    let stats = export(file, x, &wanted, sep, &mut w)?;
+    w.flush().map_err(CliError::write(output))?;
     let mut out = format!(
         "wrote {} rows x {} columns to {} in {:.2} s\n",
         stats.rows,
@@ -106,20 +114,21 @@ pub fn plot_png(
     series: &str,
     output: &Path,
     size: (u32, u32),
-) -> Result<String, String> {
+) -> Result<String, CliError> {
     let x = XAxis::parse(x)?;
     let wanted = SeriesSelector::parse_list(series)?;
     if wanted.is_empty() {
-        return Err("--series: name at least one series, e.g. Robot_Data/y_pos".into());
+        return Err(no_series(series));
     }
     if size.0 < 200 || size.1 < 150 || size.0 > 10_000 || size.1 > 10_000 {
-        return Err(format!(
-            "--size {}x{}: give a width of 200..10000 and a height of 150..10000 pixels",
-            size.0, size.1
-        ));
+        return Err(CliError::Option {
+            option: "--size",
+            value: format!("{}x{}", size.0, size.1),
+            want: "give a width of 200..10000 and a height of 150..10000 pixels",
+        });
     }
     let t = Instant::now();
-    let stats = plot(file, x, &wanted, output, size).map_err(|e| e.to_string())?;
+    let stats = plot(file, x, &wanted, output, size)?;
     Ok(format!(
         "plotted {} series of {} rows ({} points drawn) to {} ({}x{}) in {:.2} s\n",
         stats.series,

@@ -5,6 +5,7 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+use crate::cli::error::CliError;
 use crate::config::environment::Articulation;
 use crate::config::simulation::EngineKind;
 use crate::control::{ModuleRegistry, load_simulation_in};
@@ -232,16 +233,20 @@ pub fn export_mjcf(
     gait: Option<f64>,
     engine: Option<crate::config::simulation::EngineKind>,
     registry: &ModuleRegistry,
-) -> Result<ExportReport, String> {
-    let sim = load_simulation_in(config, registry)
-        .map_err(|e| e.to_string())?
-        .with_engine(engine);
-    let export = crate::interop::mjcf::export_mjcf(&sim, out).map_err(|e| e.to_string())?;
+) -> Result<ExportReport, CliError> {
+    let sim = load_simulation_in(config, registry)?.with_engine(engine);
+    let export = crate::interop::mjcf::export_mjcf(&sim, out)?;
     let gait = match gait {
         Some(seconds) if seconds > 0.0 && seconds.is_finite() => {
             Some(record_gait(&sim, out, seconds, registry)?)
         }
-        Some(seconds) => return Err(format!("--gait {seconds}: give seconds > 0")),
+        Some(seconds) => {
+            return Err(CliError::Option {
+                option: "--gait",
+                value: seconds.to_string(),
+                want: "give seconds > 0",
+            });
+        }
         None => None,
     };
     Ok(ExportReport {
@@ -257,15 +262,14 @@ fn record_gait(
     out: &Path,
     seconds: f64,
     registry: &ModuleRegistry,
-) -> Result<GaitRecord, String> {
+) -> Result<GaitRecord, CliError> {
     use std::fmt::Write as _;
     let opts = crate::sim::BuildOptions {
         robots: 1,
         record: false,
         ..Default::default()
     };
-    let mut s =
-        crate::sim::Simulator::with_registry(sim, &opts, registry).map_err(|e| e.to_string())?;
+    let mut s = crate::sim::Simulator::with_registry(sim, &opts, registry)?;
     let dt = sim.files.simulation.properties.step_width;
     let steps = (seconds / dt).round() as u64;
     let mut tsv = String::from("time");
@@ -274,18 +278,18 @@ fn record_gait(
         tsv.push_str(&j.name);
     }
     tsv.push('\n');
-    let start = s.com(0).map_err(|e| e.to_string())?;
+    let start = s.com(0)?;
     for k in 1..=steps {
         s.step();
         let _ = write!(tsv, "{:.6}", k as f64 * dt);
-        for t in s.servo_targets(0).map_err(|e| e.to_string())? {
+        for t in s.servo_targets(0)? {
             let _ = write!(tsv, "\t{t:.6}");
         }
         tsv.push('\n');
     }
-    let end = s.com(0).map_err(|e| e.to_string())?;
+    let end = s.com(0)?;
     let file = out.with_extension("gait.tsv");
-    crate::interop::write_text(&file, &tsv).map_err(|e| e.to_string())?;
+    crate::interop::write_text(&file, &tsv)?;
     Ok(GaitRecord {
         file,
         seconds: steps as f64 * dt,

@@ -17,6 +17,7 @@
 
 pub mod compare;
 pub mod data;
+pub mod error;
 pub mod interop;
 pub mod optimize;
 pub mod plugin;
@@ -28,14 +29,19 @@ pub mod worker;
 
 /// `WIDTHxHEIGHT` in pixels (image and video sizes of `proleg data plot`, `proleg run
 /// --video`).
-pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+pub fn parse_size(s: &str) -> Result<(u32, u32), error::CliError> {
+    let bad = |want| error::CliError::Option {
+        option: "--size",
+        value: s.to_string(),
+        want,
+    };
     let (w, h) = s
         .split_once(['x', 'X'])
-        .ok_or_else(|| format!("{s:?}: expected WIDTHxHEIGHT, e.g. 1280x720"))?;
+        .ok_or_else(|| bad("expected WIDTHxHEIGHT, e.g. 1280x720"))?;
     let n = |t: &str| {
         t.trim()
             .parse::<u32>()
-            .map_err(|_| format!("{s:?}: {t:?} is not a pixel count"))
+            .map_err(|_| bad("WIDTH and HEIGHT are pixel counts"))
     };
     Ok((n(w)?, n(h)?))
 }

@@ -10,6 +10,7 @@ use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
+use crate::cli::error::CliError;
 use crate::config::actuation::write_actuation_file;
 use crate::config::{FsSource, RecordingSource, Simulation, load_simulation_with};
 use crate::control::ModuleRegistry;
@@ -130,7 +131,7 @@ impl OptimizeReport {
 }
 
 /// Runs the optimization the options ask for; progress goes to stderr unless quiet.
-pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeReport, String> {
+pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeReport, CliError> {
     let t = Instant::now();
     let mut progress: Option<Progress> = None;
     let report = run_observed(o, registry, &mut |e: &Evaluation, budget: Option<u64>| {
@@ -151,13 +152,11 @@ pub fn run_observed(
     o: &OptimizeOptions,
     registry: &ModuleRegistry,
     on_eval: &mut dyn FnMut(&Evaluation, Option<u64>),
-) -> Result<OptimizeReport, String> {
+) -> Result<OptimizeReport, CliError> {
     // Every file the configuration reads is kept: the store holds it with the run, so a
     // worker on another host needs nothing but the store.
     let source = RecordingSource::new(&FsSource);
-    let sim = load_simulation_with(&source, &o.config, registry)
-        .map_err(|e| e.to_string())?
-        .with_engine(o.engine);
+    let sim = load_simulation_with(&source, &o.config, registry)?.with_engine(o.engine);
     let fitness = o.fitness.as_deref().map(Fitness::parse).transpose()?;
     let settings = RunSettings::of(&sim, &o.choices(fitness))?;
     let (space, _) = prepare(&sim, registry)?;
@@ -196,17 +195,20 @@ pub fn run_observed(
             if let Some(w) = table.as_mut()
                 && let Err(err) = write_row(w, &space, e)
             {
-                table_error.get_or_insert(err.to_string());
+                table_error.get_or_insert(err);
             }
             on_eval(e, budget);
         },
     );
     let outcome = outcome?;
-    if let Some(mut w) = table {
-        w.flush().map_err(|e| e.to_string())?;
+    let table_path = o.evaluations.as_deref().unwrap_or(Path::new(""));
+    if let Some(mut w) = table
+        && let Err(e) = w.flush()
+    {
+        table_error.get_or_insert(e);
     }
     if let Some(e) = table_error {
-        return Err(format!("writing the evaluations table: {e}"));
+        return Err(CliError::write(table_path)(e));
     }
     let wall = t.elapsed().as_secs_f64();
     let best_engines = store
@@ -276,10 +278,9 @@ fn write_best(
     sim: &Simulation,
     space: &SearchSpace,
     best: &[u32],
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     let file = actuation_with(sim, space, best);
-    std::fs::write(path, write_actuation_file(&file))
-        .map_err(|e| format!("{}: cannot write: {e}", path.display()))
+    std::fs::write(path, write_actuation_file(&file)).map_err(CliError::write(path))
 }
 
 /// The optimizer's name as its file gives it.
@@ -337,15 +338,18 @@ fn header(sim: &Simulation, space: &SearchSpace, settings: &RunSettings) -> Stri
 }
 
 /// The evaluations table (TSV) with its header line, if asked for.
-fn open_table(path: Option<&Path>, space: &SearchSpace) -> Result<Option<BufWriter<File>>, String> {
+fn open_table(
+    path: Option<&Path>,
+    space: &SearchSpace,
+) -> Result<Option<BufWriter<File>>, CliError> {
     let Some(p) = path else {
         return Ok(None);
     };
-    let f = File::create(p).map_err(|e| format!("{}: cannot create: {e}", p.display()))?;
+    let f = File::create(p).map_err(CliError::write(p))?;
     let mut w = BufWriter::new(f);
     let genes: Vec<String> = space.genes.iter().map(|g| g.label()).collect();
     writeln!(w, "evaluation\tround\tscore\tbest\t{}", genes.join("\t"))
-        .map_err(|e| format!("{}: {e}", p.display()))?;
+        .map_err(CliError::write(p))?;
     Ok(Some(w))
 }
 
@@ -408,19 +412,18 @@ fn open_run(
     (files, episodes): &(Vec<(String, String)>, Vec<EpisodeRecord>),
     resume: bool,
     quiet: bool,
-) -> Result<(i64, Vec<StoredEval>), String> {
+) -> Result<(i64, Vec<StoredEval>), CliError> {
     if !resume {
         return Ok((store.start_run(info, files, episodes)?, Vec::new()));
     }
     let Some(id) = store.find_unfinished(info)? else {
-        return Err(format!(
-            "--resume: {} holds no unfinished run of {} with seed {}, fitness {} and {} s episodes",
-            store.describe(),
-            info.config,
-            info.seed,
-            info.fitness,
-            info.duration
-        ));
+        return Err(CliError::NothingToResume {
+            store: store.describe(),
+            config: info.config.clone(),
+            seed: info.seed,
+            fitness: info.fitness.clone(),
+            duration: info.duration,
+        });
     };
     let known = store.evaluations(id)?;
     if !quiet {

@@ -4,6 +4,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use crate::plugin_host::build::{PluginBuildOptions, build};
+use crate::plugin_host::error::PluginError;
 use crate::plugin_host::template::{Declaration, ParamDecl};
 use crate::plugin_host::{self, PluginHost, ScanReport};
 use clap::Subcommand;
@@ -54,7 +55,7 @@ pub fn run(
     command: PluginCommand,
     host: &mut PluginHost,
     startup: &ScanReport,
-) -> Result<String, String> {
+) -> Result<String, PluginError> {
     match command {
         PluginCommand::New {
             name,
@@ -96,7 +97,7 @@ pub fn run(
                 lib_dir: lib.clone(),
             })?;
             if !outcome.success {
-                return Err(format!("the build failed:\n{}", outcome.log));
+                return Err(PluginError::BuildFailed(outcome.log));
             }
             let mut out = String::new();
             for l in &outcome.libraries {
@@ -112,7 +113,7 @@ pub fn run(
                     Ok(None) => {
                         let _ = writeln!(out, "built {} (unchanged)", l.display());
                     }
-                    Err(e) => return Err(format!("built, but it does not load: {e}")),
+                    Err(e) => return Err(PluginError::DoesNotLoad(e)),
                 }
             }
             if !plugin_host::library_dirs()

@@ -5,6 +5,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use crate::cli::error::CliError;
 use crate::optimize::curve::{CurveGroup, plot_curves};
 use crate::optimize::store::{RunRow, Store, StoreLocation, engine_scores_text};
 
@@ -99,7 +100,7 @@ fn describe(out: &mut String, r: &RunRow) {
 }
 
 /// Lists the runs and best candidates of the stores; draws and exports as asked.
-pub fn run(o: &ResultsOptions) -> Result<ResultsReport, String> {
+pub fn run(o: &ResultsOptions) -> Result<ResultsReport, CliError> {
     let mut opened: Vec<(Store, Vec<RunRow>)> = Vec::new();
     for text in &o.stores {
         let mut store = Store::open_existing(&StoreLocation::parse(text)?)?;
@@ -114,7 +115,7 @@ pub fn run(o: &ResultsOptions) -> Result<ResultsReport, String> {
             .iter()
             .any(|(_, runs)| runs.iter().any(|r| r.id == **id))
     }) {
-        return Err(format!("no run {missing} in the given store(s)"));
+        return Err(CliError::NoRun(*missing));
     }
     if let Some(png) = &o.curve {
         let curves = curve_groups(&mut opened)?;
@@ -151,7 +152,7 @@ pub fn run(o: &ResultsOptions) -> Result<ResultsReport, String> {
                 }
             }
         }
-        std::fs::write(tsv, text).map_err(|e| format!("{}: cannot write: {e}", tsv.display()))?;
+        std::fs::write(tsv, text).map_err(CliError::write(tsv))?;
     }
     Ok(ResultsReport {
         stores: opened
@@ -165,7 +166,9 @@ pub fn run(o: &ResultsOptions) -> Result<ResultsReport, String> {
 
 /// The runs' learning curves: runs of one optimizer on one configuration (seeds) make one
 /// group, drawn as a band.
-fn curve_groups(opened: &mut [(Store, Vec<RunRow>)]) -> Result<Vec<CurveGroup>, String> {
+fn curve_groups(
+    opened: &mut [(Store, Vec<RunRow>)],
+) -> Result<Vec<CurveGroup>, crate::optimize::store::StoreError> {
     let mut groups: Vec<(GroupKey, Vec<RunScores>)> = Vec::new();
     for (store, runs) in opened.iter_mut() {
         for r in runs.iter() {

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use crate::cli::error::CliError;
 use crate::control::{ModuleRegistry, load_simulation_in};
 use crate::robot_io::dynamixel::DynamixelChain;
 use crate::robot_io::emulator::EmulatedBus;
@@ -48,13 +49,17 @@ fn stop_flag() -> Arc<AtomicBool> {
 }
 
 /// Runs the real-robot mode and summarizes it.
-pub fn robot(o: &RobotOptions, registry: &ModuleRegistry) -> Result<RobotReport, String> {
+pub fn robot(o: &RobotOptions, registry: &ModuleRegistry) -> Result<RobotReport, CliError> {
     if let Some(d) = o.duration
         && !(d.is_finite() && d >= 0.0)
     {
-        return Err(format!("--duration {d}: give a number of seconds >= 0"));
+        return Err(CliError::Option {
+            option: "--duration",
+            value: d.to_string(),
+            want: "give a number of seconds >= 0",
+        });
     }
-    let sim = load_simulation_in(&o.config, registry).map_err(|e| e.to_string())?;
+    let sim = load_simulation_in(&o.config, registry)?;
     let mut chain = DynamixelChain::new(
         &o.port,
         o.baud,
@@ -76,7 +81,10 @@ pub fn robot(o: &RobotOptions, registry: &ModuleRegistry) -> Result<RobotReport,
         summary,
     };
     match &report.summary.error {
-        Some(e) => Err(format!("{report}the run stopped: {e}")),
+        Some(e) => Err(CliError::RobotStopped {
+            cause: e.clone(),
+            report: report.to_string(),
+        }),
         None => Ok(report),
     }
 }
@@ -147,9 +155,13 @@ pub struct EmulatorOptions {
 }
 
 /// Runs an emulated bus until Ctrl-C.
-pub fn emulator(o: &EmulatorOptions) -> Result<String, String> {
+pub fn emulator(o: &EmulatorOptions) -> Result<String, CliError> {
     if o.servos == 0 || o.servos > 252 {
-        return Err(format!("--servos {}: give 1..252", o.servos));
+        return Err(CliError::Option {
+            option: "--servos",
+            value: o.servos.to_string(),
+            want: "give 1..252",
+        });
     }
     let ids: Vec<u8> = (1..=o.servos).collect();
     let bus = EmulatedBus::start(&ids, o.speed)?;

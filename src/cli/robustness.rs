@@ -39,7 +39,10 @@ pub struct RobustnessReport {
 }
 
 /// Runs the checks the options ask for, with [`Robustness::typical`] ranges.
-pub fn run(a: &RobustnessArgs, registry: &ModuleRegistry) -> Result<RobustnessReport, String> {
+pub fn run(
+    a: &RobustnessArgs,
+    registry: &ModuleRegistry,
+) -> Result<RobustnessReport, crate::optimize::replay::ReplayError> {
     let which = Which::parse(&a.eval)?;
     let engines: Vec<Option<_>> = match a.engines.as_slice() {
         [] => vec![None],

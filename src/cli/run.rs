@@ -8,6 +8,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
+use crate::cli::error::CliError;
 use crate::config::simulation::EngineKind;
 use crate::config::simulation::Mode;
 use crate::control::{ModuleRegistry, load_simulation_in};
@@ -84,32 +85,33 @@ pub struct RunReport {
 const CHUNK_SECONDS: f64 = 0.5;
 
 /// Loads, runs and summarizes; the error is the message to print.
-pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, String> {
-    let sim = load_simulation_in(&req.config, registry)
-        .map_err(|e| e.to_string())?
-        .with_engine(req.engine);
+pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, CliError> {
+    let sim = load_simulation_in(&req.config, registry)?.with_engine(req.engine);
     let props = &sim.files.simulation.properties;
     let duration = req.duration.unwrap_or(props.duration);
     if !duration.is_finite() || duration < 0.0 {
-        return Err(format!(
-            "--duration {duration}: give a number of seconds >= 0"
-        ));
+        return Err(CliError::Option {
+            option: "--duration",
+            value: duration.to_string(),
+            want: "give a number of seconds >= 0",
+        });
     }
     if !req.realtime.is_finite() || req.realtime < 0.0 {
-        return Err(format!(
-            "--realtime {}: give a factor >= 0 (0 = as fast as possible)",
-            req.realtime
-        ));
+        return Err(CliError::Option {
+            option: "--realtime",
+            value: req.realtime.to_string(),
+            want: "give a factor >= 0 (0 = as fast as possible)",
+        });
     }
     let seed = req.seed.unwrap_or(props.seed);
     if sim.engine() != EngineKind::Rapier && !req.physics.is_empty() {
-        return Err(format!(
-            "--physics sets rapier's settings; this run is on {}",
-            sim.engine()
-        ));
+        return Err(CliError::Option {
+            option: "--physics",
+            value: req.physics.clone(),
+            want: "sets rapier's settings; this run is on MuJoCo",
+        });
     }
-    let physics =
-        PhysicsSettings::production_with(&sim, &req.physics).map_err(|e| e.to_string())?;
+    let physics = PhysicsSettings::production_with(&sim, &req.physics)?;
     let opts = BuildOptions {
         robots: 1,
         seed,
@@ -117,8 +119,7 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Str
         physics: Some(physics),
         ..Default::default()
     };
-    let mut simulator =
-        Simulator::with_registry(&sim, &opts, registry).map_err(|e| e.to_string())?;
+    let mut simulator = Simulator::with_registry(&sim, &opts, registry)?;
     simulator.set_pacing(Pacing {
         realtime_factor: req.realtime,
         delay_ms: 0.0,
@@ -126,7 +127,11 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Str
     if let Some(file) = &req.data {
         let every = req.every.unwrap_or(props.accuracy.max(1));
         if every == 0 {
-            return Err("--every 0: give a sampling period of at least 1 step".into());
+            return Err(CliError::Option {
+                option: "--every",
+                value: "0".into(),
+                want: "give a sampling period of at least 1 step",
+            });
         }
         let settings = DataSettings {
             every,
@@ -134,8 +139,8 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Str
         };
         simulator.record_to(file, settings)?;
     }
-    let heading0 = simulator.heading(0).map_err(|e| e.to_string())?;
-    let start_com = simulator.com(0).map_err(|e| e.to_string())?;
+    let heading0 = simulator.heading(0)?;
+    let start_com = simulator.com(0)?;
     let wall = Instant::now();
     let interrupted = run_in_chunks(&mut simulator, duration);
     let rounds = simulator.finish_data()?;
@@ -144,7 +149,7 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Str
         simulator.clock().dt,
         wall.elapsed().as_secs_f64(),
         start_com,
-        simulator.com(0).map_err(|e| e.to_string())?,
+        simulator.com(0)?,
     );
     Ok(RunReport {
         simulation: sim.file.clone(),
@@ -153,7 +158,7 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Str
         seed,
         real_robot_mode: props.mode == Mode::RealRobot,
         summary,
-        heading: (heading0, simulator.heading(0).map_err(|e| e.to_string())?),
+        heading: (heading0, simulator.heading(0)?),
         data: req.data.clone().map(|f| (f, rounds)),
         failures: simulator
             .kernel(0)

@@ -4,6 +4,7 @@
 use std::fmt;
 use std::time::Duration;
 
+use crate::cli::error::CliError;
 use crate::control::ModuleRegistry;
 use crate::optimize::settings::StopFlag;
 use crate::optimize::shared::worker::{WorkerOptions, WorkerReport, run_pool};
@@ -43,18 +44,23 @@ pub struct WorkerRun {
 }
 
 /// Runs the worker the options ask for.
-pub fn run(a: &WorkerArgs, registry: &ModuleRegistry) -> Result<WorkerRun, String> {
+pub fn run(a: &WorkerArgs, registry: &ModuleRegistry) -> Result<WorkerRun, CliError> {
     let StoreLocation::Postgres(target) = StoreLocation::parse(&a.store)? else {
-        return Err(format!(
-            "--store {}: proleg worker needs a postgres:// store (a SQLite store is evaluated by the optimizing process itself)",
-            a.store
-        ));
+        return Err(CliError::Option {
+            option: "--store",
+            value: a.store.clone(),
+            want: "proleg worker needs a postgres:// store (a SQLite store is evaluated by the optimizing process itself)",
+        });
     };
-    let seconds = |flag: &str, v: f64| {
+    let seconds = |option: &'static str, v: f64| {
         if v.is_finite() && v > 0.0 {
             Ok(Duration::from_secs_f64(v))
         } else {
-            Err(format!("--{flag} {v}: give a number of seconds > 0"))
+            Err(CliError::Option {
+                option,
+                value: v.to_string(),
+                want: "give a number of seconds > 0",
+            })
         }
     };
     let threads = a.threads.unwrap_or_else(|| {
@@ -63,12 +69,16 @@ pub fn run(a: &WorkerArgs, registry: &ModuleRegistry) -> Result<WorkerRun, Strin
             .unwrap_or(1)
     });
     if threads == 0 {
-        return Err("--threads 0: give at least 1".into());
+        return Err(CliError::Option {
+            option: "--threads",
+            value: "0".into(),
+            want: "give at least 1",
+        });
     }
     let options = WorkerOptions {
         threads,
-        lease: seconds("lease", a.lease)?,
-        idle_exit: a.idle_exit.map(|v| seconds("idle-exit", v)).transpose()?,
+        lease: seconds("--lease", a.lease)?,
+        idle_exit: a.idle_exit.map(|v| seconds("--idle-exit", v)).transpose()?,
         only_run: None,
     };
     let stop = StopFlag::default();

@@ -3,6 +3,7 @@
 //! number of groups (they may overlap: the kernel sums their outputs), each with one or
 //! more modules and their parameter values. The result is an ordinary actuation file.
 
+use crate::compose::error::{ComposeError, GroupProblem};
 use crate::config::actuation::{ActuationFile, ModuleAssignment, ParamSetting, ParamValue};
 use crate::config::error::Pos;
 use crate::config::mask::JointMask;
@@ -83,51 +84,53 @@ impl BehaviourSpec {
     }
 
     /// Why this behaviour cannot drive a robot of `joints` joints, if it cannot.
-    pub fn validate(&self, registry: &ModuleRegistry, joints: usize) -> Result<(), String> {
+    pub fn validate(&self, registry: &ModuleRegistry, joints: usize) -> Result<(), ComposeError> {
         if self.groups.is_empty() {
-            return Err("assign at least one module to a group of joints".into());
+            return Err(ComposeError::NoGroups);
         }
         for (gi, g) in self.groups.iter().enumerate() {
-            let group = format!("group {}", gi + 1);
+            let fail = |problem| ComposeError::Group {
+                group: gi + 1,
+                problem,
+            };
             if g.joints.len() != joints {
-                return Err(format!(
-                    "{group}: {} joints selected of a robot with {joints}",
-                    g.joints.len()
-                ));
+                return Err(fail(GroupProblem::Joints {
+                    selected: g.joints.len(),
+                    joints,
+                }));
             }
             if !g.joints.iter().any(|b| *b) {
-                return Err(format!("{group}: select at least one joint"));
+                return Err(fail(GroupProblem::NoJoint));
             }
             if g.modules.is_empty() {
-                return Err(format!("{group}: assign at least one module"));
+                return Err(fail(GroupProblem::NoModule));
             }
             for m in &g.modules {
                 let d = registry.get(&m.name).ok_or_else(|| {
-                    format!(
-                        "{group}: unknown module \"{}\"; known: {}",
-                        m.name,
-                        registry.names().join(", ")
-                    )
+                    fail(GroupProblem::UnknownModule {
+                        name: m.name.clone(),
+                        known: registry.names().join(", "),
+                    })
                 })?;
                 let driven = g.joints.iter().filter(|b| **b).count();
                 for (name, value) in &m.params {
                     let p = d.parameter(name).ok_or_else(|| {
-                        format!(
-                            "{group}, {}: no parameter \"{name}\"; its parameters: {}",
-                            d.type_name,
-                            d.parameter_names().join(", ")
-                        )
+                        fail(GroupProblem::UnknownParameter {
+                            module: d.type_name.to_string(),
+                            parameter: name.clone(),
+                            known: d.parameter_names().join(", "),
+                        })
                     })?;
                     let values: &[f64] = match value {
                         ParamValue::Uniform(v) => std::slice::from_ref(v),
                         ParamValue::PerJoint(v) => {
                             if v.len() != driven {
-                                return Err(format!(
-                                    "{group}, {}: {} has {} values for {driven} joints",
-                                    d.type_name,
-                                    p.name,
-                                    v.len()
-                                ));
+                                return Err(fail(GroupProblem::ValueCount {
+                                    module: d.type_name.to_string(),
+                                    parameter: p.name.to_string(),
+                                    values: v.len(),
+                                    driven,
+                                }));
                             }
                             v
                         }
@@ -136,10 +139,14 @@ impl BehaviourSpec {
                         .iter()
                         .find(|v| !v.is_finite() || **v < p.min || **v > p.max)
                     {
-                        return Err(format!(
-                            "{group}, {}: {} = {v} {} is outside {}..{}",
-                            d.type_name, p.name, p.unit, p.min, p.max
-                        ));
+                        return Err(fail(GroupProblem::OutOfRange {
+                            module: d.type_name.to_string(),
+                            parameter: p.name.to_string(),
+                            value: *v,
+                            unit: p.unit.to_string(),
+                            min: p.min,
+                            max: p.max,
+                        }));
                     }
                 }
             }
@@ -275,28 +282,38 @@ mod tests {
         let reg = ModuleRegistry::default();
         let mut b = BehaviourSpec::simple(5, sine(&reg));
         b.validate(&reg, 5).unwrap();
-        assert!(b.validate(&reg, 6).unwrap_err().contains("group 1"));
+        let problem = |b: &BehaviourSpec, joints| match b.validate(&reg, joints) {
+            Err(ComposeError::Group { group: 1, problem }) => problem,
+            other => panic!("not a problem of group 1: {other:?}"),
+        };
+        assert_eq!(
+            problem(&b, 6),
+            GroupProblem::Joints {
+                selected: 5,
+                joints: 6
+            }
+        );
         b.groups[0].modules[0].set("Amplitude", f64::NAN);
-        let e = b.validate(&reg, 5).unwrap_err();
-        assert!(e.contains("Amplitude") && e.contains("NaN"), "{e}");
+        assert!(matches!(
+            problem(&b, 5),
+            GroupProblem::OutOfRange { parameter, value, .. } if parameter == "Amplitude" && value.is_nan()
+        ));
         b.groups[0].modules[0].set_value("Amplitude", ParamValue::PerJoint(vec![10.0; 4]));
-        assert!(
-            b.validate(&reg, 5)
-                .unwrap_err()
-                .contains("4 values for 5 joints")
-        );
+        assert!(matches!(
+            problem(&b, 5),
+            GroupProblem::ValueCount {
+                values: 4,
+                driven: 5,
+                ..
+            }
+        ));
         b.groups[0].modules[0].name = "Wobble".into();
-        assert!(
-            b.validate(&reg, 5)
-                .unwrap_err()
-                .contains("unknown module \"Wobble\"")
-        );
+        assert!(matches!(
+            problem(&b, 5),
+            GroupProblem::UnknownModule { name, .. } if name == "Wobble"
+        ));
         b.groups[0].joints = vec![false; 5];
-        assert!(
-            b.validate(&reg, 5)
-                .unwrap_err()
-                .contains("at least one joint")
-        );
+        assert_eq!(problem(&b, 5), GroupProblem::NoJoint);
     }
 
     #[test]

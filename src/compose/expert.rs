@@ -4,6 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::compose::error::ComposeError;
 use crate::compose::paths::{OverlaySource, relative_path};
 use crate::config::error::Pos;
 use crate::config::resolve::load_simulation_with;
@@ -100,14 +101,16 @@ pub struct Composition {
 impl Composition {
     /// The composition an existing simulation file makes (its included files found as a
     /// simulation load finds them).
-    pub fn open(path: &Path) -> Result<Composition, String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let sim =
-            parse_simulation_file(&path.display().to_string(), &text).map_err(|e| e.to_string())?;
+    pub fn open(path: &Path) -> Result<Composition, ComposeError> {
+        let text = std::fs::read_to_string(path).map_err(ComposeError::io(path))?;
+        let sim = parse_simulation_file(&path.display().to_string(), &text)?;
         let src = OverlaySource::default();
         let find = |r: &FileRef| {
-            resolve_include(&src, path, &r.path)
-                .ok_or_else(|| format!("{}:{}: cannot find {}", path.display(), r.pos.line, r.path))
+            resolve_include(&src, path, &r.path).ok_or_else(|| ComposeError::Include {
+                file: path.to_path_buf(),
+                line: r.pos.line,
+                include: r.path.clone(),
+            })
         };
         Ok(Composition {
             robot: find(&sim.robot)?,
@@ -122,8 +125,11 @@ impl Composition {
     /// [`Composition::open`] after loading the simulation with everything it includes, as
     /// the control window and `proleg check` do: a broken file gives the same located
     /// error (`file:line:col: cause`).
-    pub fn open_checked(path: &Path, registry: &ModuleRegistry) -> Result<Composition, String> {
-        crate::control::load_simulation_in(path, registry).map_err(|e| e.to_string())?;
+    pub fn open_checked(
+        path: &Path,
+        registry: &ModuleRegistry,
+    ) -> Result<Composition, ComposeError> {
+        crate::control::load_simulation_in(path, registry)?;
         Composition::open(path)
     }
 
@@ -147,12 +153,12 @@ impl Composition {
 
     /// Checks the composition as `proleg check` would, as if saved at `path`, against the
     /// module types of `registry`.
-    pub fn check(&self, path: &Path, registry: &ModuleRegistry) -> Result<String, String> {
+    pub fn check(&self, path: &Path, registry: &ModuleRegistry) -> Result<String, ComposeError> {
         let mut src = OverlaySource::default();
         let path = normalize(path);
         src.unsaved
             .insert(&path, write_simulation_file(&self.to_file(&path)));
-        let sim = load_simulation_with(&src, &path, registry).map_err(|e| e.to_string())?;
+        let sim = load_simulation_with(&src, &path, registry)?;
         Ok(format!(
             "{}: {} joints, {} modules, {} environment bodies{}",
             sim.robot.name,
@@ -167,13 +173,13 @@ impl Composition {
     }
 
     /// Checks (against `registry`'s module types) and writes the simulation file.
-    pub fn save(&self, path: &Path, registry: &ModuleRegistry) -> Result<(), String> {
+    pub fn save(&self, path: &Path, registry: &ModuleRegistry) -> Result<(), ComposeError> {
         self.check(path, registry)?;
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+            std::fs::create_dir_all(dir).map_err(ComposeError::io(dir))?;
         }
         std::fs::write(path, write_simulation_file(&self.to_file(path)))
-            .map_err(|e| format!("{}: {e}", path.display()))
+            .map_err(ComposeError::io(path))
     }
 }
 
@@ -219,7 +225,15 @@ mod tests {
         // A wrong pairing is refused with the file that does not fit.
         c.actuation = PathBuf::from("configs/actuation/snake8py_sine.actuation.xml");
         let e = c.check(&path, &ModuleRegistry::standard()).unwrap_err();
-        assert!(e.contains("snake8py_sine.actuation.xml"), "{e}");
+        let ComposeError::Config(e) = e else {
+            panic!("not a configuration error: {e}");
+        };
+        assert!(
+            e.file
+                .to_string_lossy()
+                .contains("snake8py_sine.actuation.xml"),
+            "{e}"
+        );
         std::fs::remove_dir_all(dir).ok();
     }
 }

@@ -14,6 +14,7 @@
 
 pub mod behaviour;
 pub mod env_edit;
+pub mod error;
 pub mod expert;
 pub mod library;
 pub mod optimization;

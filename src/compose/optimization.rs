@@ -4,6 +4,7 @@
 //! or listed values), and the algorithm settings with the thesis's defaults
 //! (tables 6.1 and 6.3), CMA-ES's defaults, a random start and robust fitness.
 
+use crate::compose::error::ComposeError;
 use crate::config::cross_engine::CrossEngine;
 use crate::config::error::Pos;
 use crate::config::mask::JointMask;
@@ -120,12 +121,17 @@ impl OptimizationSpec {
 
     /// Why the settings cannot be written, if they cannot (the joints are checked
     /// against the robot when the whole simulation is checked).
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), ComposeError> {
         if self.params.is_empty() {
-            return Err("register at least one parameter to optimize".into());
+            return Err(ComposeError::NothingRegistered);
         }
         for (i, p) in self.params.iter().enumerate() {
-            let what = format!("parameter {} ({} {})", i + 1, p.module, p.parameter);
+            let what = |problem| ComposeError::Registration {
+                index: i + 1,
+                module: p.module.clone(),
+                parameter: p.parameter.clone(),
+                problem,
+            };
             match &p.values {
                 ValueSet::Range {
                     lower,
@@ -133,29 +139,27 @@ impl OptimizationSpec {
                     increment,
                 } => {
                     if ![lower, upper, increment].iter().all(|v| v.is_finite()) {
-                        return Err(format!("{what}: range values must be numbers"));
+                        return Err(what("range values must be numbers"));
                     }
                     if lower > upper {
-                        return Err(format!(
-                            "{what}: lower bound {lower} is above upper bound {upper}"
-                        ));
+                        return Err(what("the lower bound is above the upper bound"));
                     }
                     if *increment < 0.0 {
-                        return Err(format!("{what}: increment {increment} is negative"));
+                        return Err(what("the increment is negative"));
                     }
                 }
                 ValueSet::List(v) => {
                     if v.is_empty() || v.iter().any(|x| !x.is_finite()) {
-                        return Err(format!("{what}: list at least one value, all numbers"));
+                        return Err(what("list at least one value, all numbers"));
                     }
                 }
             }
             if !p.all_joints && !p.joints.iter().any(|b| *b) {
-                return Err(format!("{what}: select at least one joint"));
+                return Err(what("select at least one joint"));
             }
         }
         if self.method == Method::Genetic && self.ga.popsize < 2 {
-            return Err("population size must be at least 2".into());
+            return Err(ComposeError::Popsize);
         }
         Ok(())
     }
@@ -268,6 +272,13 @@ mod tests {
             upper: 1.0,
             increment: 0.1,
         };
-        assert!(s.validate().unwrap_err().contains("above upper"));
+        assert!(matches!(
+            s.validate(),
+            Err(ComposeError::Registration {
+                index: 1,
+                problem: "the lower bound is above the upper bound",
+                ..
+            })
+        ));
     }
 }

@@ -3,6 +3,7 @@
 //! pads, cube modules). The result is an ordinary robot file that includes the module
 //! parts of `configs/parts/`.
 
+use crate::compose::error::ComposeError;
 use crate::config::error::Pos;
 use crate::config::kinbody::{Include, Joint, KinBody};
 use crate::config::robot::RobotFile;
@@ -107,17 +108,17 @@ impl Default for RobotSpec {
 }
 
 /// Parses a topology such as `ppyp` (or `PYPY`, spaces ignored).
-pub fn parse_topology(s: &str) -> Result<Vec<Orientation>, String> {
+pub fn parse_topology(s: &str) -> Result<Vec<Orientation>, ComposeError> {
     s.chars()
         .filter(|c| !c.is_whitespace())
         .enumerate()
         .map(|(i, c)| match c.to_ascii_lowercase() {
             'p' => Ok(Orientation::Pitch),
             'y' => Ok(Orientation::Yaw),
-            other => Err(format!(
-                "topology: joint {} is '{other}'; write p (pitch) or y (yaw) per joint",
-                i + 1
-            )),
+            other => Err(ComposeError::Topology {
+                joint: i + 1,
+                letter: other,
+            }),
         })
         .collect()
 }
@@ -128,30 +129,29 @@ pub fn topology_string(joints: &[Orientation]) -> String {
 }
 
 /// Whether `name` may name a robot and its files.
-pub fn check_name(name: &str, what: &str) -> Result<(), String> {
+pub fn check_name(name: &str, what: &'static str) -> Result<(), ComposeError> {
     if name.is_empty() {
-        return Err(format!("{what}: give a name"));
+        return Err(ComposeError::NoName { what });
     }
     if let Some(c) = name
         .chars()
         .find(|c| !(c.is_ascii_alphanumeric() || *c == '_' || *c == '-'))
     {
-        return Err(format!(
-            "{what} \"{name}\": '{c}' is not allowed; use letters, digits, _ and -"
-        ));
+        return Err(ComposeError::BadName {
+            what,
+            name: name.to_string(),
+            bad: c,
+        });
     }
     Ok(())
 }
 
 impl RobotSpec {
     /// Why this robot cannot be built, if it cannot.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), ComposeError> {
         check_name(&self.name, "robot name")?;
         if self.joints.is_empty() || self.joints.len() > MAX_JOINTS {
-            return Err(format!(
-                "a robot needs 1 to {MAX_JOINTS} joints; this one has {}",
-                self.joints.len()
-            ));
+            return Err(ComposeError::JointCount(self.joints.len()));
         }
         Ok(())
     }
@@ -250,8 +250,13 @@ mod tests {
             vec![Orientation::Pitch, Orientation::Yaw, Orientation::Pitch]
         );
         assert_eq!(topology_string(&t), "pyp");
-        let e = parse_topology("ppx").unwrap_err();
-        assert!(e.contains("joint 3") && e.contains('x'), "{e}");
+        assert!(matches!(
+            parse_topology("ppx"),
+            Err(ComposeError::Topology {
+                joint: 3,
+                letter: 'x'
+            })
+        ));
     }
 
     #[test]
@@ -310,9 +315,12 @@ mod tests {
         let mut s = RobotSpec::default();
         assert!(s.validate().is_ok());
         s.name = "my snake".into();
-        assert!(s.validate().unwrap_err().contains("' '"));
+        assert!(matches!(
+            s.validate(),
+            Err(ComposeError::BadName { bad: ' ', .. })
+        ));
         s.name = "ok".into();
         s.joints.clear();
-        assert!(s.validate().unwrap_err().contains("1 to"));
+        assert!(matches!(s.validate(), Err(ComposeError::JointCount(0))));
     }
 }

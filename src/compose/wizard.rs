@@ -4,13 +4,14 @@
 //! configuration files with time-stamped names into the user folder, and checks them the
 //! way `proleg check` does before anything reaches the disk.
 //!
-//! [`Wizard::set`] changes any field from a `KEY VALUE` line; the GUI's script and the
-//! tests drive the wizard through it.
+//! Fields with rules have typed setters ([`Wizard::set_topology`], [`Wizard::add_group`],
+//! [`Wizard::register`], ...); the GUI's pages, its script and the tests call them.
 
 use std::path::{Path, PathBuf};
 
 use crate::compose::behaviour::{BehaviourSpec, Group, ModuleChoice};
 use crate::compose::env_edit::EnvEditor;
+use crate::compose::error::{ComposeError, GroupProblem};
 use crate::compose::optimization::{Method, OptimizationSpec, Registration, ValueSet};
 use crate::compose::paths::{OverlaySource, relative_path};
 use crate::compose::robot_builder::{PartSet, RobotSpec, check_name, parse_topology};
@@ -26,7 +27,6 @@ use crate::config::simulation::{
 };
 use crate::config::source::FsSource;
 use crate::control::registry::ModuleRegistry;
-use crate::optimize::fitness::Fitness;
 
 /// A wizard page.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -119,31 +119,43 @@ pub struct Wizard {
     pub saved: Option<PathBuf>,
 }
 
-fn parse_num(s: &str, what: &str) -> Result<f64, String> {
-    s.trim()
-        .parse::<f64>()
-        .ok()
-        .filter(|v| v.is_finite())
-        .ok_or_else(|| format!("{what}: \"{s}\" is not a number"))
-}
-
-fn parse_mask(s: &str, joints: usize) -> Result<Vec<bool>, String> {
+/// A joint mask (`10101`) of a robot of `joints` joints.
+fn parse_mask(s: &str, joints: usize) -> Result<Vec<bool>, ComposeError> {
+    let bad = |why: String| ComposeError::Mask {
+        mask: s.to_string(),
+        why,
+    };
     let m: Vec<bool> = s
         .trim()
         .chars()
         .map(|c| match c {
             '1' => Ok(true),
             '0' => Ok(false),
-            other => Err(format!("joint mask \"{s}\": '{other}' is not 0 or 1")),
+            other => Err(bad(format!("'{other}' is not 0 or 1"))),
         })
         .collect::<Result<_, _>>()?;
     if m.len() != joints {
-        return Err(format!(
-            "joint mask \"{s}\" has {} characters; the robot has {joints} joints",
+        return Err(bad(format!(
+            "{} characters; the robot has {joints} joints",
             m.len()
-        ));
+        )));
     }
     Ok(m)
+}
+
+/// A parameter registered for optimization as the Optimization page enters it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RegisterSpec {
+    /// The module type.
+    pub module: String,
+    /// The parameter.
+    pub parameter: String,
+    /// The joints as a mask (`10101`), or `None` for all of the module's joints.
+    pub joints: Option<String>,
+    /// One value for every joint (true) or one per joint.
+    pub uniform: bool,
+    /// The values searched.
+    pub values: ValueSet,
 }
 
 impl Wizard {
@@ -220,15 +232,13 @@ impl Wizard {
     }
 
     /// Number of joints of the chosen robot.
-    pub fn joint_count(&self) -> Result<usize, String> {
+    pub fn joint_count(&self) -> Result<usize, ComposeError> {
         match &self.robot {
             RobotChoice::Build(s) => Ok(s.joints.len()),
             RobotChoice::Existing(p) => {
-                let text =
-                    std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
-                let file =
-                    parse_robot_file(&p.display().to_string(), &text).map_err(|e| e.to_string())?;
-                let model = resolve_robot(&FsSource, p, &file).map_err(|e| e.to_string())?;
+                let text = std::fs::read_to_string(p).map_err(ComposeError::io(p))?;
+                let file = parse_robot_file(&p.display().to_string(), &text)?;
+                let model = resolve_robot(&FsSource, p, &file)?;
                 Ok(model.joints.len())
             }
         }
@@ -275,7 +285,7 @@ impl Wizard {
     }
 
     /// Why the page cannot be left with "Next", if it cannot.
-    pub fn validate(&self, page: Page) -> Result<(), String> {
+    pub fn validate(&self, page: Page) -> Result<(), ComposeError> {
         match page {
             Page::Robot => match &self.robot {
                 RobotChoice::Build(s) => s.validate(),
@@ -286,20 +296,16 @@ impl Wizard {
             Page::Simulation => {
                 let p = &self.props;
                 if !(1e-6..=crate::config::simulation::MAX_STEP_WIDTH).contains(&p.step_width) {
-                    return Err(format!(
-                        "step width {} s is outside 0.000001..{} s",
-                        p.step_width,
-                        crate::config::simulation::MAX_STEP_WIDTH
-                    ));
+                    return Err(ComposeError::StepWidth(p.step_width));
                 }
                 if p.accuracy == 0 {
-                    return Err("accuracy is a sampling period in steps: at least 1".into());
+                    return Err(ComposeError::Accuracy);
                 }
                 if !(p.duration > 0.0 && p.duration.is_finite()) {
-                    return Err(format!("duration {} s must be positive", p.duration));
+                    return Err(ComposeError::Duration(p.duration));
                 }
                 if p.mode == Mode::RealRobot {
-                    return Err("real robot control is configured on the robot; choose a simulation or optimization mode".into());
+                    return Err(ComposeError::RealRobotMode);
                 }
                 Ok(())
             }
@@ -309,16 +315,16 @@ impl Wizard {
     }
 
     /// Goes to the next page after validating this one ("Next").
-    pub fn next_page(&mut self) -> Result<(), String> {
+    pub fn next_page(&mut self) -> Result<(), ComposeError> {
         self.validate(self.page)?;
         self.advance();
         Ok(())
     }
 
     /// Leaves an optional page at its defaults.
-    pub fn skip(&mut self) -> Result<(), String> {
+    pub fn skip(&mut self) -> Result<(), ComposeError> {
         if !self.page.optional() {
-            return Err(format!("the {} page cannot be skipped", self.page.title()));
+            return Err(ComposeError::NotSkippable(self.page.title()));
         }
         self.advance();
         Ok(())
@@ -348,10 +354,12 @@ impl Wizard {
     }
 
     /// Every file's text, checked as one simulation (nothing written).
-    pub fn compose(&self) -> Result<Vec<(PathBuf, String)>, String> {
+    pub fn compose(&self) -> Result<Vec<(PathBuf, String)>, ComposeError> {
         for p in self.pages().into_iter().filter(|p| *p != Page::Summary) {
-            self.validate(p)
-                .map_err(|e| format!("{} page: {e}", p.title()))?;
+            self.validate(p).map_err(|e| ComposeError::Page {
+                page: p.title(),
+                source: Box::new(e),
+            })?;
         }
         let files = self.files();
         let mut out = Vec::new();
@@ -410,255 +418,158 @@ impl Wizard {
     }
 
     /// Loads the composed files as a simulation, the way `proleg check` does.
-    fn check(&self, files: &[(PathBuf, String)], sim: &Path) -> Result<Simulation, String> {
+    fn check(&self, files: &[(PathBuf, String)], sim: &Path) -> Result<Simulation, ComposeError> {
         let mut src = OverlaySource::default();
         for (p, t) in files {
             src.unsaved.insert(p, t.clone());
         }
-        load_simulation_with(&src, sim, &self.registry).map_err(|e| e.to_string())
+        Ok(load_simulation_with(&src, sim, &self.registry)?)
     }
 
     /// Writes every file; returns the simulation file.
-    pub fn save(&mut self) -> Result<PathBuf, String> {
+    pub fn save(&mut self) -> Result<PathBuf, ComposeError> {
         let files = self.compose()?;
-        std::fs::create_dir_all(&self.out_dir)
-            .map_err(|e| format!("{}: {e}", self.out_dir.display()))?;
+        std::fs::create_dir_all(&self.out_dir).map_err(ComposeError::io(&self.out_dir))?;
         for (p, t) in &files {
-            std::fs::write(p, t).map_err(|e| format!("{}: {e}", p.display()))?;
+            std::fs::write(p, t).map_err(ComposeError::io(p))?;
         }
         let sim = self.files().simulation;
         self.saved = Some(sim.clone());
         Ok(sim)
     }
 
-    /// Changes a field from a `KEY VALUE` line (the script and tests use it):
-    ///
-    /// ```text
-    /// robot.name NAME | robot.topology pypy | robot.parts plain|touch|cube
-    /// robot.existing robots/snake5p.robot.xml | robot.build
-    /// behaviour.simple MODULE
-    /// behaviour.group MASK MODULE[,MODULE...]
-    /// behaviour.param GROUP MODULE PARAM VALUE|v1,v2,...   (GROUP from 1)
-    /// sim.mode single|ga|gd | sim.step S | sim.accuracy N | sim.duration S
-    /// sim.seed N | sim.storing 0|1 | sim.viewer 0|1 | sim.description TEXT
-    /// opt.register MODULE PARAM all|MASK uniform|individual LO HI INC
-    /// opt.register MODULE PARAM all|MASK uniform|individual list v1,v2,...
-    /// opt.popsize N | opt.max-evals N | opt.fitness NAME | opt.clear
-    /// ```
-    pub fn set(&mut self, key: &str, value: &str) -> Result<(), String> {
-        let words: Vec<&str> = value.split_whitespace().collect();
-        match key.split('.').next() {
-            Some("robot") => self.set_robot(key, value),
-            Some("behaviour") => self.set_behaviour(key, &words),
-            Some("sim") => self.set_sim(key, value),
-            Some("opt") => self.set_optimization(key, value, &words),
-            _ => Err(format!("unknown wizard field \"{key}\"")),
-        }
-    }
-
-    /// The `robot.*` fields of [`Wizard::set`].
-    fn set_robot(&mut self, key: &str, value: &str) -> Result<(), String> {
-        match key {
-            "robot.name" => {
-                check_name(value.trim(), "robot name")?;
-                self.spec.name = value.trim().to_string();
-                self.robot = RobotChoice::Build(self.spec.clone());
-            }
-            "robot.topology" => {
-                self.spec.joints = parse_topology(value)?;
-                self.robot = RobotChoice::Build(self.spec.clone());
-            }
-            "robot.parts" => {
-                self.spec.parts = PartSet::parse(value).ok_or_else(|| {
-                    format!("part set \"{value}\": expected plain, touch or cube")
-                })?;
-                self.robot = RobotChoice::Build(self.spec.clone());
-            }
-            "robot.build" => self.robot = RobotChoice::Build(self.spec.clone()),
-            "robot.existing" => {
-                let p = self.configs_dir.join(value.trim());
-                if !p.is_file() {
-                    return Err(format!("no robot file {}", p.display()));
-                }
-                self.robot = RobotChoice::Existing(p);
-                self.joint_count()?;
-            }
-            other => return Err(format!("unknown wizard field \"{other}\"")),
-        }
+    /// Names the robot to build (letters, digits, `_` and `-`).
+    pub fn set_robot_name(&mut self, name: &str) -> Result<(), ComposeError> {
+        check_name(name.trim(), "robot name")?;
+        self.spec.name = name.trim().to_string();
+        self.build_robot();
         Ok(())
     }
 
-    /// The `behaviour.*` fields of [`Wizard::set`].
-    fn set_behaviour(&mut self, key: &str, words: &[&str]) -> Result<(), String> {
-        let want = |n: usize, usage: &str| want(key, words, n, usage);
-        let registry = &self.registry;
-        let module = |name: &str| module_choice(registry, name);
-        match key {
-            "behaviour.simple" => {
-                want(1, "MODULE")?;
-                let n = self.joint_count()?;
-                self.behaviour = BehaviourSpec::simple(n, module(words[0])?);
-            }
-            "behaviour.clear" => self.behaviour.groups.clear(),
-            "behaviour.group" => {
-                want(2, "MASK MODULE[,MODULE...]")?;
-                let joints = parse_mask(words[0], self.joint_count()?)?;
-                let modules = words[1]
-                    .split(',')
-                    .map(module)
-                    .collect::<Result<Vec<_>, _>>()?;
-                self.behaviour.groups.push(Group { joints, modules });
-            }
-            "behaviour.param" => {
-                want(4, "GROUP MODULE PARAM VALUE")?;
-                let gi = parse_num(words[0], "group")? as usize;
-                let g = self
-                    .behaviour
-                    .groups
-                    .get_mut(gi.wrapping_sub(1))
-                    .ok_or_else(|| format!("no group {gi}"))?;
-                let m = g
-                    .modules
-                    .iter_mut()
-                    .find(|m| crate::config::xml::read::same_name(&m.name, words[1]))
-                    .ok_or_else(|| format!("group {gi} has no module {}", words[1]))?;
-                let v: Vec<f64> = words[3]
-                    .split(',')
-                    .map(|w| parse_num(w, words[2]))
-                    .collect::<Result<_, _>>()?;
-                let value = if v.len() == 1 {
-                    ParamValue::Uniform(v[0])
-                } else {
-                    ParamValue::PerJoint(v)
-                };
-                m.set_value(words[2], value);
-            }
-            other => return Err(format!("unknown wizard field \"{other}\"")),
-        }
+    /// The joints of the robot to build, as letters (`pypyp`: p pitch, y yaw).
+    pub fn set_topology(&mut self, letters: &str) -> Result<(), ComposeError> {
+        self.spec.joints = parse_topology(letters)?;
+        self.build_robot();
         Ok(())
     }
 
-    /// The `sim.*` fields of [`Wizard::set`].
-    fn set_sim(&mut self, key: &str, value: &str) -> Result<(), String> {
-        match key {
-            "sim.mode" => {
-                self.props.mode = match value.trim().to_ascii_lowercase().as_str() {
-                    "single" => Mode::SingleRun,
-                    "ga" => {
-                        self.optimization.method = Method::Genetic;
-                        Mode::GeneticAlgorithm
-                    }
-                    "gd" => {
-                        self.optimization.method = Method::GreatDeluge;
-                        Mode::GreatDeluge
-                    }
-                    "cmaes" => {
-                        self.optimization.method = Method::CmaEs;
-                        Mode::CmaEs
-                    }
-                    other => Mode::parse(other).ok_or_else(|| {
-                        format!("mode \"{other}\": expected single, ga, gd or cmaes")
-                    })?,
-                }
-            }
-            "sim.step" => self.props.step_width = parse_num(value, key)?,
-            "sim.accuracy" => self.props.accuracy = parse_num(value, key)?.max(0.0) as u32,
-            "sim.duration" => self.props.duration = parse_num(value, key)?,
-            "sim.seed" => self.props.seed = parse_num(value, key)?.max(0.0) as u64,
-            "sim.storing" => self.props.storing_data = value.trim() == "1",
-            "sim.viewer" => self.props.show_viewer = value.trim() == "1",
-            "sim.description" => self.description = value.to_string(),
-            other => return Err(format!("unknown wizard field \"{other}\"")),
+    /// The module parts of the robot to build.
+    pub fn set_parts(&mut self, parts: PartSet) {
+        self.spec.parts = parts;
+        self.build_robot();
+    }
+
+    /// Builds the robot of [`Wizard::spec`] (instead of an existing robot file).
+    pub fn build_robot(&mut self) {
+        self.robot = RobotChoice::Build(self.spec.clone());
+    }
+
+    /// Uses an existing robot file (relative to the configuration folder).
+    pub fn use_existing_robot(&mut self, file: &Path) -> Result<(), ComposeError> {
+        let p = self.configs_dir.join(file);
+        if !p.is_file() {
+            return Err(ComposeError::NoRobotFile(p));
         }
+        self.robot = RobotChoice::Existing(p);
+        self.joint_count()?;
         Ok(())
     }
 
-    /// The `opt.*` fields of [`Wizard::set`].
-    fn set_optimization(&mut self, key: &str, value: &str, words: &[&str]) -> Result<(), String> {
-        match key {
-            "opt.register" => self.register(words)?,
-            "opt.clear" => self.optimization.params.clear(),
-            "opt.popsize" => self.optimization.ga.popsize = parse_num(value, key)?.max(0.0) as u32,
-            "opt.max-evals" => {
-                self.optimization.max_evaluations = Some(parse_num(value, key)?.max(1.0) as u64)
-            }
-            "opt.fitness" => self.optimization.fitness = Fitness::parse(value)?,
-            other => return Err(format!("unknown wizard field \"{other}\"")),
-        }
+    /// One group of every joint, driven by `module` with its defaults.
+    pub fn set_simple_behaviour(&mut self, module: &str) -> Result<(), ComposeError> {
+        let n = self.joint_count()?;
+        self.behaviour = BehaviourSpec::simple(n, module_choice(&self.registry, module)?);
         Ok(())
     }
 
-    /// `opt.register MODULE PARAM all|MASK uniform|individual (LO HI INC | list v1,...)`.
-    fn register(&mut self, words: &[&str]) -> Result<(), String> {
-        let want = |n: usize, usage: &str| want("opt.register", words, n, usage);
-        want(5, "MODULE PARAM all|MASK uniform|individual LO HI INC")?;
+    /// Adds a group: the joints of `mask` (`10101`) driven by `modules`.
+    pub fn add_group(&mut self, mask: &str, modules: &[String]) -> Result<(), ComposeError> {
+        let joints = parse_mask(mask, self.joint_count()?)?;
+        let modules = modules
+            .iter()
+            .map(|m| module_choice(&self.registry, m))
+            .collect::<Result<Vec<_>, _>>()?;
+        self.behaviour.groups.push(Group { joints, modules });
+        Ok(())
+    }
+
+    /// Sets a parameter of a module of group `group` (from 1): one value for all its
+    /// joints, or one per joint.
+    pub fn set_group_param(
+        &mut self,
+        group: usize,
+        module: &str,
+        parameter: &str,
+        values: &[f64],
+    ) -> Result<(), ComposeError> {
+        let fail = |problem| ComposeError::Group { group, problem };
+        let g = self
+            .behaviour
+            .groups
+            .get_mut(group.wrapping_sub(1))
+            .ok_or(fail(GroupProblem::Missing))?;
+        let m = g
+            .modules
+            .iter_mut()
+            .find(|m| crate::config::xml::read::same_name(&m.name, module))
+            .ok_or_else(|| fail(GroupProblem::NoSuchModule(module.to_string())))?;
+        let value = match values {
+            [v] => ParamValue::Uniform(*v),
+            v => ParamValue::PerJoint(v.to_vec()),
+        };
+        m.set_value(parameter, value);
+        Ok(())
+    }
+
+    /// The simulation's mode; an optimization mode also chooses the optimizer's method.
+    pub fn set_mode(&mut self, mode: Mode) {
+        match mode {
+            Mode::GeneticAlgorithm => self.optimization.method = Method::Genetic,
+            Mode::GreatDeluge => self.optimization.method = Method::GreatDeluge,
+            Mode::CmaEs => self.optimization.method = Method::CmaEs,
+            _ => {}
+        }
+        self.props.mode = mode;
+    }
+
+    /// Registers a module parameter for optimization.
+    pub fn register(&mut self, spec: RegisterSpec) -> Result<(), ComposeError> {
         let d = self
             .registry
-            .get(words[0])
-            .ok_or_else(|| format!("unknown module \"{}\"", words[0]))?;
-        let p = d.parameter(words[1]).ok_or_else(|| {
-            format!(
-                "module {} has no parameter \"{}\"; its parameters: {}",
-                d.type_name,
-                words[1],
-                d.parameter_names().join(", ")
-            )
-        })?;
-        let (all_joints, joints) = if words[2] == "all" {
-            (true, Vec::new())
-        } else {
-            (false, parse_mask(words[2], self.joint_count()?)?)
-        };
-        let uniform = match words[3] {
-            "uniform" => true,
-            "individual" => false,
-            other => return Err(format!("\"{other}\": expected uniform or individual")),
-        };
-        let values = if words[4] == "list" {
-            want(6, "... list v1,v2,...")?;
-            ValueSet::List(
-                words[5]
-                    .split(',')
-                    .map(|w| parse_num(w, "value"))
-                    .collect::<Result<_, _>>()?,
-            )
-        } else {
-            want(7, "... LO HI INC")?;
-            ValueSet::Range {
-                lower: parse_num(words[4], "lower bound")?,
-                upper: parse_num(words[5], "upper bound")?,
-                increment: parse_num(words[6], "increment")?,
-            }
+            .get(&spec.module)
+            .ok_or_else(|| ComposeError::UnknownModule {
+                name: spec.module.clone(),
+                known: self.registry.names().join(", "),
+            })?;
+        let p = d
+            .parameter(&spec.parameter)
+            .ok_or_else(|| ComposeError::UnknownParameter {
+                module: d.type_name.to_string(),
+                parameter: spec.parameter.clone(),
+                known: d.parameter_names().join(", "),
+            })?;
+        let (all_joints, joints) = match &spec.joints {
+            None => (true, Vec::new()),
+            Some(mask) => (false, parse_mask(mask, self.joint_count()?)?),
         };
         self.optimization.params.push(Registration {
             module: d.type_name.to_string(),
             parameter: p.name.to_string(),
             all_joints,
             joints,
-            uniform,
-            values,
+            uniform: spec.uniform,
+            values: spec.values,
         });
         Ok(())
     }
 }
 
 /// A module of type `name` with its default parameters; the error lists the types.
-fn module_choice(registry: &ModuleRegistry, name: &str) -> Result<ModuleChoice, String> {
-    ModuleChoice::with_defaults(registry, name).ok_or_else(|| {
-        format!(
-            "unknown module \"{name}\"; known: {}",
-            registry.names().join(", ")
-        )
+fn module_choice(registry: &ModuleRegistry, name: &str) -> Result<ModuleChoice, ComposeError> {
+    ModuleChoice::with_defaults(registry, name).ok_or_else(|| ComposeError::UnknownModule {
+        name: name.to_string(),
+        known: registry.names().join(", "),
     })
-}
-
-/// Fails unless `words` holds at least `n` words (`usage` says what `key` expects).
-fn want(key: &str, words: &[&str], n: usize, usage: &str) -> Result<(), String> {
-    if words.len() < n {
-        Err(format!("{key}: expected {usage}"))
-    } else {
-        Ok(())
-    }
 }
 
 #[cfg(test)]
@@ -675,57 +586,77 @@ mod tests {
     fn pages_validate_before_next_and_optimization_shows_only_when_optimizing() {
         let (mut w, _) = wizard("pages");
         assert_eq!(w.pages().len(), 5);
-        w.set("robot.topology", "").unwrap();
-        assert!(w.next_page().unwrap_err().contains("1 to"));
-        w.set("robot.topology", "pyp").unwrap();
+        w.set_topology("").unwrap();
+        assert!(matches!(w.next_page(), Err(ComposeError::JointCount(0))));
+        w.set_topology("pyp").unwrap();
         w.next_page().unwrap();
         assert_eq!(w.page, Page::Behaviour);
         // The simple actuation followed the robot to 3 joints.
         assert_eq!(w.behaviour.groups[0].joints.len(), 3);
-        assert!(w.skip().unwrap_err().contains("cannot be skipped"));
+        assert!(matches!(w.skip(), Err(ComposeError::NotSkippable(_))));
         w.next_page().unwrap();
         w.skip().unwrap();
         assert_eq!(w.page, Page::Simulation);
-        w.set("sim.mode", "gd").unwrap();
+        w.set_mode(Mode::GreatDeluge);
         assert_eq!(w.pages().len(), 6);
         w.next_page().unwrap();
         assert_eq!(w.page, Page::Optimization);
-        assert!(w.next_page().unwrap_err().contains("register"));
+        assert!(matches!(
+            w.next_page(),
+            Err(ComposeError::NothingRegistered)
+        ));
         w.back();
         assert_eq!(w.page, Page::Simulation);
-        assert!(w.set("robot.parts", "gold").is_err());
-        assert!(w.set("behaviour.group", "10 Sine").is_err());
-        assert!(
-            w.set("opt.register PatternGenerator_sinusoidal", "x")
-                .is_err()
-        );
+        assert!(matches!(
+            w.add_group("10", &["PatternGenerator_sinusoidal".into()]),
+            Err(ComposeError::Mask { .. })
+        ));
+        assert!(matches!(
+            w.add_group("101", &["Sine".into()]),
+            Err(ComposeError::UnknownModule { .. })
+        ));
+        let unknown = RegisterSpec {
+            module: "PatternGenerator_sinusoidal".into(),
+            parameter: "x".into(),
+            joints: None,
+            uniform: true,
+            values: ValueSet::List(vec![1.0]),
+        };
+        assert!(matches!(
+            w.register(unknown),
+            Err(ComposeError::UnknownParameter { .. })
+        ));
     }
 
     #[test]
     fn grouped_robot_with_optimization_is_written_and_loads() {
         let (mut w, out) = wizard("files");
-        w.set("robot.name", "wiz").unwrap();
-        w.set("robot.topology", "pypyp").unwrap();
-        w.set("robot.parts", "plain").unwrap();
+        w.set_robot_name("wiz").unwrap();
+        w.set_topology("pypyp").unwrap();
+        w.set_parts(PartSet::Plain);
         w.next_page().unwrap();
-        w.set("behaviour.clear", "").unwrap();
-        w.set("behaviour.group", "10101 PatternGenerator_sinusoidal")
+        w.behaviour.groups.clear();
+        w.add_group("10101", &["PatternGenerator_sinusoidal".into()])
             .unwrap();
-        w.set("behaviour.group", "01010 DirectJointAccess").unwrap();
-        w.set(
-            "behaviour.param",
-            "1 PatternGenerator_sinusoidal Amplitude 30",
-        )
-        .unwrap();
+        w.add_group("01010", &["DirectJointAccess".into()]).unwrap();
+        w.set_group_param(1, "PatternGenerator_sinusoidal", "Amplitude", &[30.0])
+            .unwrap();
         w.next_page().unwrap();
         w.next_page().unwrap();
-        w.set("sim.mode", "ga").unwrap();
-        w.set("sim.duration", "5").unwrap();
+        w.set_mode(Mode::GeneticAlgorithm);
+        w.props.duration = 5.0;
         w.next_page().unwrap();
-        w.set(
-            "opt.register",
-            "PatternGenerator_sinusoidal Amplitude all individual 0 40 0.25",
-        )
+        w.register(RegisterSpec {
+            module: "PatternGenerator_sinusoidal".into(),
+            parameter: "Amplitude".into(),
+            joints: None,
+            uniform: false,
+            values: ValueSet::Range {
+                lower: 0.0,
+                upper: 40.0,
+                increment: 0.25,
+            },
+        })
         .unwrap();
         w.next_page().unwrap();
         assert_eq!(w.page, Page::Summary);

@@ -128,3 +128,26 @@ impl std::error::Error for ConfigError {}
 
 /// Shorthand for results of configuration functions.
 pub type ConfigResult<T> = Result<T, ConfigError>;
+
+/// A name that is none of the accepted ones (a fitness, an x axis, a mode).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown {what} {name:?}; expected one of {}", expected.join(", "))]
+pub struct UnknownName {
+    /// What the name should have named.
+    pub what: &'static str,
+    /// The name given.
+    pub name: String,
+    /// The accepted names.
+    pub expected: &'static [&'static str],
+}
+
+impl UnknownName {
+    /// `name` is no `what`; `expected` lists the accepted names.
+    pub fn new(what: &'static str, name: &str, expected: &'static [&'static str]) -> Self {
+        UnknownName {
+            what,
+            name: name.to_string(),
+            expected,
+        }
+    }
+}

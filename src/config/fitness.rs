@@ -20,15 +20,16 @@ impl Fitness {
     pub const NAMES: [&'static str; 4] = ["displacement", "distance", "speed", "cost-of-transport"];
 
     /// Reads a name (case, `_` and `-` ignored; `mean-speed` and `cot` too).
-    pub fn parse(s: &str) -> Result<Fitness, String> {
+    pub fn parse(s: &str) -> Result<Fitness, crate::config::error::UnknownName> {
         match s.trim().to_ascii_lowercase().replace('_', "-").as_str() {
             "displacement" => Ok(Fitness::Displacement),
             "distance" => Ok(Fitness::Distance),
             "speed" | "mean-speed" => Ok(Fitness::MeanSpeed),
             "cost-of-transport" | "cot" => Ok(Fitness::CostOfTransport),
-            _ => Err(format!(
-                "unknown fitness {s:?}; expected one of {}",
-                Fitness::NAMES.join(", ")
+            _ => Err(crate::config::error::UnknownName::new(
+                "fitness",
+                s,
+                &Fitness::NAMES,
             )),
         }
     }

@@ -61,7 +61,7 @@ pub struct TriMesh {
     pub triangles: Vec<[u32; 3]>,
     /// [`TriMesh::height_map`], worked out on first use (the load check) and shared by
     /// every world built from the mesh.
-    height_map: OnceLock<Result<HeightMap, String>>,
+    height_map: OnceLock<Result<HeightMap, NotAHeightMap>>,
 }
 
 impl TriMesh {
@@ -111,6 +111,42 @@ impl HeightMap {
     }
 }
 
+/// Why a mesh is not a height map.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum NotAHeightMap {
+    /// All vertices on one row or column.
+    #[error("its vertices do not span an x-y grid (one row or column)")]
+    OneRow,
+    /// Fewer vertices than grid nodes.
+    #[error(
+        "{vertices} vertices cannot fill its {nx} x {ny} x-y grid: some grid nodes have no vertex"
+    )]
+    TooFewVertices {
+        /// Vertices of the mesh.
+        vertices: usize,
+        /// Grid nodes along x.
+        nx: usize,
+        /// Grid nodes along y.
+        ny: usize,
+    },
+    /// A vertex between grid nodes.
+    #[error("vertex ({}, {}) is off the evenly spaced x-y grid ({nx} x {ny} nodes)", at[0], at[1])]
+    OffGrid {
+        /// The vertex's x and y.
+        at: [f64; 2],
+        /// Grid nodes along x.
+        nx: usize,
+        /// Grid nodes along y.
+        ny: usize,
+    },
+    /// A grid node without a vertex.
+    #[error("grid node ({}, {}) has no vertex", at[0], at[1])]
+    EmptyNode {
+        /// The node's x and y.
+        at: [f64; 2],
+    },
+}
+
 /// The sorted distinct values of `values`, merged within `eps`.
 fn distinct(mut values: Vec<f64>, eps: f64) -> Vec<f64> {
     values.sort_by(f64::total_cmp);
@@ -130,47 +166,44 @@ impl TriMesh {
     /// evenly spaced along each axis, every node holding a vertex), and the height of a
     /// node is its highest vertex, so walls and a base below the surface are allowed. An
     /// error says why it is not one. Worked out once per mesh.
-    pub fn height_map(&self) -> Result<&HeightMap, &str> {
-        self.height_map
-            .get_or_init(|| self.grid_heights())
-            .as_ref()
-            .map_err(String::as_str)
+    pub fn height_map(&self) -> Result<&HeightMap, &NotAHeightMap> {
+        self.height_map.get_or_init(|| self.grid_heights()).as_ref()
     }
 
     /// [`TriMesh::height_map`], worked out.
-    fn grid_heights(&self) -> Result<HeightMap, String> {
+    fn grid_heights(&self) -> Result<HeightMap, NotAHeightMap> {
         let ([x0, y0, _], [x1, y1, _]) = self.bounds();
         let eps = 1e-5 * (x1 - x0).max(y1 - y0).max(1e-9);
         let xs = distinct(self.vertices.iter().map(|v| v[0]).collect(), eps);
         let ys = distinct(self.vertices.iter().map(|v| v[1]).collect(), eps);
         let (nx, ny) = (xs.len(), ys.len());
         if nx < 2 || ny < 2 {
-            return Err("its vertices do not span an x-y grid (one row or column)".into());
+            return Err(NotAHeightMap::OneRow);
         }
         if nx.saturating_mul(ny) > self.vertices.len() {
-            return Err(format!(
-                "{} vertices cannot fill its {nx} x {ny} x-y grid: some grid nodes have no vertex",
-                self.vertices.len()
-            ));
+            return Err(NotAHeightMap::TooFewVertices {
+                vertices: self.vertices.len(),
+                nx,
+                ny,
+            });
         }
         let (dx, dy) = ((x1 - x0) / (nx - 1) as f64, (y1 - y0) / (ny - 1) as f64);
         let mut heights = vec![f64::NEG_INFINITY; nx * ny];
         for v in &self.vertices {
             let (Some(i), Some(j)) = (node(&xs, dx, v[0], eps), node(&ys, dy, v[1], eps)) else {
-                return Err(format!(
-                    "vertex ({}, {}) is off the evenly spaced x-y grid ({nx} x {ny} nodes)",
-                    v[0], v[1]
-                ));
+                return Err(NotAHeightMap::OffGrid {
+                    at: [v[0], v[1]],
+                    nx,
+                    ny,
+                });
             };
             let h = &mut heights[j * nx + i];
             *h = h.max(v[2]);
         }
         if let Some(k) = heights.iter().position(|h| h.is_infinite()) {
-            return Err(format!(
-                "grid node ({}, {}) has no vertex",
-                xs[k % nx],
-                ys[k / nx]
-            ));
+            return Err(NotAHeightMap::EmptyNode {
+                at: [xs[k % nx], ys[k / nx]],
+            });
         }
         Ok(HeightMap {
             x: [x0, x1],
@@ -289,10 +322,10 @@ mod tests {
             }
         }
         let e = uneven.height_map().unwrap_err();
-        assert!(e.contains("off the evenly spaced x-y grid"), "{e}");
+        assert!(matches!(e, NotAHeightMap::OffGrid { .. }), "{e}");
         let mut holed = grid_with_walls();
         holed.vertices.retain(|v| !(v[0] == 1.0 && v[1] == 3.0));
         let e = holed.height_map().unwrap_err();
-        assert!(e.contains("grid node (1, 3) has no vertex"), "{e}");
+        assert_eq!(e, &NotAHeightMap::EmptyNode { at: [1.0, 3.0] });
     }
 }

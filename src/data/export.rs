@@ -28,15 +28,16 @@ impl XAxis {
     pub const NAMES: [&'static str; 4] = ["simtime", "realtime", "stepcount", "index"];
 
     /// Reads an x-axis name (see [`XAxis::NAMES`]).
-    pub fn parse(s: &str) -> Result<XAxis, String> {
+    pub fn parse(s: &str) -> Result<XAxis, crate::config::error::UnknownName> {
         match s {
             "simtime" => Ok(XAxis::SimTime),
             "realtime" => Ok(XAxis::RealTime),
             "stepcount" | "step" => Ok(XAxis::StepCount),
             "index" | "count" => Ok(XAxis::Index),
-            _ => Err(format!(
-                "unknown x series {s:?}; expected one of {}",
-                XAxis::NAMES.join(", ")
+            _ => Err(crate::config::error::UnknownName::new(
+                "x series",
+                s,
+                &XAxis::NAMES,
             )),
         }
     }
@@ -74,34 +75,38 @@ pub struct SeriesSelector {
 
 impl SeriesSelector {
     /// Parses `Handler/series`, `Handler/series[k]` or `Handler/series[a..b]`.
-    pub fn parse(s: &str) -> Result<SeriesSelector, String> {
+    pub fn parse(s: &str) -> Result<SeriesSelector, SelectError> {
         let s = s.trim();
         let (handler, rest) = s
             .split_once('/')
-            .ok_or_else(|| format!("{s:?}: expected Handler/series, e.g. Robot_Data/x_pos"))?;
+            .ok_or_else(|| SelectError::Shape(s.to_string()))?;
         let (series, parts) = match rest.split_once('[') {
             None => (rest, None),
             Some((name, range)) => {
                 let range = range
                     .strip_suffix(']')
-                    .ok_or_else(|| format!("{s:?}: missing ']'"))?;
+                    .ok_or_else(|| SelectError::Bracket(s.to_string()))?;
                 let num = |t: &str| {
-                    t.trim()
-                        .parse::<usize>()
-                        .map_err(|_| format!("{s:?}: {t:?} is not a part number"))
+                    t.trim().parse::<usize>().map_err(|_| SelectError::Part {
+                        text: s.to_string(),
+                        part: t.to_string(),
+                    })
                 };
                 let (a, b) = match range.split_once("..") {
                     Some((a, b)) => (num(a)?, num(b)?),
                     None => (num(range)?, num(range)?),
                 };
                 if a > b {
-                    return Err(format!("{s:?}: empty part range {a}..{b}"));
+                    return Err(SelectError::EmptyRange {
+                        text: s.to_string(),
+                        range: [a, b],
+                    });
                 }
                 (name, Some((a, b)))
             }
         };
         if handler.is_empty() || series.is_empty() {
-            return Err(format!("{s:?}: expected Handler/series"));
+            return Err(SelectError::Shape(s.to_string()));
         }
         Ok(SeriesSelector {
             handler: handler.to_string(),
@@ -111,12 +116,69 @@ impl SeriesSelector {
     }
 
     /// Parses a comma-separated list.
-    pub fn parse_list(s: &str) -> Result<Vec<SeriesSelector>, String> {
+    pub fn parse_list(s: &str) -> Result<Vec<SeriesSelector>, SelectError> {
         s.split(',')
             .filter(|t| !t.trim().is_empty())
             .map(SeriesSelector::parse)
             .collect()
     }
+}
+
+/// A series selection that is malformed or not in a file.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum SelectError {
+    /// Not `Handler/series[...]`.
+    #[error("{0:?}: expected Handler/series, e.g. Robot_Data/x_pos")]
+    Shape(String),
+    /// A `[` without its `]`.
+    #[error("{0:?}: missing ']'")]
+    Bracket(String),
+    /// A part that is not a number.
+    #[error("{text:?}: {part:?} is not a part number")]
+    Part {
+        /// The selector.
+        text: String,
+        /// The part given.
+        part: String,
+    },
+    /// `[a..b]` with a > b.
+    #[error("{text:?}: empty part range {}..{}", range[0], range[1])]
+    EmptyRange {
+        /// The selector.
+        text: String,
+        /// The range given.
+        range: [usize; 2],
+    },
+    /// A handler the file does not have.
+    #[error("no handler {handler:?}; the file has {}", known.join(", "))]
+    NoHandler {
+        /// The handler asked for.
+        handler: String,
+        /// The file's handlers.
+        known: Vec<String>,
+    },
+    /// A series the handler does not have.
+    #[error("{handler} has no series {series:?}; it has {}", known.join(", "))]
+    NoSeries {
+        /// The handler.
+        handler: String,
+        /// The series asked for.
+        series: String,
+        /// The handler's series.
+        known: Vec<String>,
+    },
+    /// A part beyond the series' parts.
+    #[error("{handler}/{series} has {parts} parts (0..{}); asked for part {asked}", parts.saturating_sub(1))]
+    NoPart {
+        /// The handler.
+        handler: String,
+        /// The series.
+        series: String,
+        /// Its parts.
+        parts: usize,
+        /// The part asked for.
+        asked: usize,
+    },
 }
 
 /// One output column: handler index and value index within its frames.
@@ -131,38 +193,34 @@ pub struct Column {
 }
 
 /// Resolves selectors against a header.
-pub fn resolve(handlers: &[HandlerSpec], wanted: &[SeriesSelector]) -> Result<Vec<Column>, String> {
+pub fn resolve(
+    handlers: &[HandlerSpec],
+    wanted: &[SeriesSelector],
+) -> Result<Vec<Column>, SelectError> {
     let mut cols = Vec::new();
     for w in wanted {
         let h = handlers
             .iter()
             .position(|h| h.name == w.handler)
-            .ok_or_else(|| {
-                let names: Vec<&str> = handlers.iter().map(|h| h.name.as_str()).collect();
-                format!(
-                    "no handler {:?}; the file has {}",
-                    w.handler,
-                    names.join(", ")
-                )
+            .ok_or_else(|| SelectError::NoHandler {
+                handler: w.handler.clone(),
+                known: handlers.iter().map(|h| h.name.clone()).collect(),
             })?;
         let spec = &handlers[h];
-        let s = spec.find(&w.series).ok_or_else(|| {
-            format!(
-                "{} has no series {:?}; it has {}",
-                spec.name,
-                w.series,
-                spec.series.join(", ")
-            )
+        let s = spec.find(&w.series).ok_or_else(|| SelectError::NoSeries {
+            handler: spec.name.clone(),
+            series: w.series.clone(),
+            known: spec.series.clone(),
         })?;
         let n = spec.parts[s];
         let (a, b) = w.parts.unwrap_or((0, n.saturating_sub(1)));
         if b >= n {
-            return Err(format!(
-                "{}/{} has {n} parts (0..{}); asked for part {b}",
-                spec.name,
-                spec.series[s],
-                n.saturating_sub(1)
-            ));
+            return Err(SelectError::NoPart {
+                handler: spec.name.clone(),
+                series: spec.series[s].clone(),
+                parts: n,
+                asked: b,
+            });
         }
         for k in a..=b {
             cols.push(Column {
@@ -205,7 +263,7 @@ pub fn for_each_row(
         message,
     };
     let mut cols: Vec<Column> = Vec::new();
-    let mut problem: Option<String> = None;
+    let mut problem: Option<SelectError> = None;
     let mut io_error: Option<std::io::Error> = None;
     // Rows of the current round: stamps and one value per column.
     let mut rows: Vec<(FrameMeta, Vec<f64>)> = Vec::new();
@@ -267,7 +325,7 @@ pub fn for_each_row(
         }
     })?;
     if let Some(p) = problem {
-        return Err(fail(p));
+        return Err(fail(p.to_string()));
     }
     if io_error.is_none()
         && let Err(e) = flush(&mut rows, &mut used, &cols, first_realtime.unwrap_or(0))

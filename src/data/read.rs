@@ -155,7 +155,7 @@ pub fn read_stream<R: BufRead>(
             Event::Eof => break,
             _ => Ok(()),
         };
-        step.map_err(|m| err(&reader, m))?;
+        step.map_err(|m| err(&reader, m.to_string()))?;
         if !st.bad_stamps.is_empty() {
             let line = line_of(path, reader.buffer_position() as usize);
             for m in st.bad_stamps.drain(..) {
@@ -187,6 +187,37 @@ pub fn read_stream<R: BufRead>(
     Ok(st.info)
 }
 
+/// What is wrong at a place of a data file (the reader adds the file and line).
+#[derive(Debug, thiserror::Error)]
+enum Fault {
+    /// The root element is not `<dataRoot>`.
+    #[error("expected <dataRoot>, found <{0}>")]
+    Root(String),
+    /// A `<round>` before `<Header>`.
+    #[error("a round before the header")]
+    RoundBeforeHeader,
+    /// A handler the header does not declare.
+    #[error("data of <{0}>, which the header does not declare")]
+    Undeclared(String),
+    /// A series its handler does not have.
+    #[error("<{series}> is not a series of {handler}")]
+    NoSeries {
+        /// The element's name.
+        series: String,
+        /// The handler.
+        handler: String,
+    },
+    /// An element out of place.
+    #[error("unexpected <{0}>")]
+    Unexpected(String),
+    /// `typeParts` that are not counts.
+    #[error("typeParts: {0}")]
+    Parts(std::num::ParseIntError),
+    /// A value that is not a number.
+    #[error("{0:?} is not a number")]
+    NotANumber(String),
+}
+
 /// The reader's state between events.
 #[derive(Default)]
 struct Stream {
@@ -214,17 +245,17 @@ struct Stream {
 
 impl Stream {
     /// The root element.
-    fn root(&mut self, e: &BytesStart<'_>) -> Result<(), String> {
+    fn root(&mut self, e: &BytesStart<'_>) -> Result<(), Fault> {
         let name = tag(e);
         if name != "dataRoot" {
-            return Err(format!("expected <dataRoot>, found <{name}>"));
+            return Err(Fault::Root(name));
         }
         self.in_root = true;
         Ok(())
     }
 
     /// An opening tag inside the root.
-    fn start(&mut self, e: &BytesStart<'_>) -> Result<(), String> {
+    fn start(&mut self, e: &BytesStart<'_>) -> Result<(), Fault> {
         let name = tag(e);
         match self.at {
             At::Top if name == "Header" && !self.header_done => self.at = At::Header,
@@ -232,7 +263,7 @@ impl Stream {
             At::HeaderHandler => self.at = At::HeaderList(name == "typeParts"),
             At::Top if name == "round" => {
                 if !self.header_done {
-                    return Err("a round before the header".into());
+                    return Err(Fault::RoundBeforeHeader);
                 }
                 self.round = attr(e, "number")
                     .and_then(|n| n.parse().ok())
@@ -242,21 +273,20 @@ impl Stream {
             At::Round => {
                 self.handler = self.info.handlers.iter().position(|h| h.name == name);
                 if self.handler.is_none() {
-                    return Err(format!(
-                        "data of <{name}>, which the header does not declare"
-                    ));
+                    return Err(Fault::Undeclared(name));
                 }
                 self.at = At::Handler;
             }
             At::Handler if name == "Frame" => self.frame(e),
             At::Frame => {
                 let h = &self.info.handlers[self.handler.unwrap_or(0)];
-                self.series = h
-                    .find(&name)
-                    .ok_or_else(|| format!("<{name}> is not a series of {}", h.name))?;
+                self.series = h.find(&name).ok_or_else(|| Fault::NoSeries {
+                    series: name.clone(),
+                    handler: h.name.clone(),
+                })?;
                 self.at = At::Series;
             }
-            _ => return Err(format!("unexpected <{name}>")),
+            _ => return Err(Fault::Unexpected(name)),
         }
         Ok(())
     }
@@ -311,18 +341,16 @@ impl Stream {
     }
 
     /// An empty element: in a round, it must be a declared handler.
-    fn empty(&mut self, e: &BytesStart<'_>) -> Result<(), String> {
+    fn empty(&mut self, e: &BytesStart<'_>) -> Result<(), Fault> {
         let name = tag(e);
         if self.at == At::Round && !self.info.handlers.iter().any(|h| h.name == name) {
-            return Err(format!(
-                "data of <{name}>, which the header does not declare"
-            ));
+            return Err(Fault::Undeclared(name));
         }
         Ok(())
     }
 
     /// Text: the header's series names or part counts, or a series' values.
-    fn text(&mut self, text: &str) -> Result<(), String> {
+    fn text(&mut self, text: &str) -> Result<(), Fault> {
         match self.at {
             At::HeaderList(is_parts) => {
                 let Some(h) = self.info.handlers.last_mut() else {
@@ -331,7 +359,7 @@ impl Stream {
                 if is_parts {
                     let parts: Result<Vec<usize>, _> =
                         text.split_whitespace().map(str::parse).collect();
-                    h.parts = parts.map_err(|e| format!("typeParts: {e}"))?;
+                    h.parts = parts.map_err(Fault::Parts)?;
                     if let Some(k) = self.parts_known.last_mut() {
                         *k = true;
                     }
@@ -347,7 +375,7 @@ impl Stream {
                 for word in text.split_whitespace() {
                     let v: f64 = word
                         .parse()
-                        .map_err(|_| format!("{word:?} is not a number"))?;
+                        .map_err(|_| Fault::NotANumber(word.to_string()))?;
                     self.frame_series[self.series].push(v);
                 }
             }

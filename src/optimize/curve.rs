@@ -6,6 +6,8 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
+use crate::optimize::error::OptimizeError;
+
 /// Best score so far after each evaluation (failed evaluations keep the previous best).
 pub fn best_so_far(scores: &[f64]) -> Vec<f64> {
     let mut best = f64::NEG_INFINITY;
@@ -77,8 +79,11 @@ pub fn plot_curves(
     y_label: &str,
     output: &Path,
     size: (u32, u32),
-) -> Result<(), String> {
-    let draw = |e: &dyn std::fmt::Display| format!("{}: cannot draw: {e}", output.display());
+) -> Result<(), OptimizeError> {
+    let draw = |e: &dyn std::fmt::Display| OptimizeError::Plot {
+        file: output.to_path_buf(),
+        message: e.to_string(),
+    };
     let curves: Vec<Drawn> = groups.iter().map(drawn).collect();
     let all = curves
         .iter()
@@ -90,7 +95,7 @@ pub fn plot_curves(
         y1 = y1.max(*y);
     }
     if !y0.is_finite() {
-        return Err("no finite scores to plot".into());
+        return Err(draw(&"no finite scores to plot"));
     }
     let pad = if y1 > y0 { (y1 - y0) * 0.05 } else { 0.5 };
     let root = BitMapBackend::new(output, size).into_drawing_area();

@@ -136,7 +136,7 @@ impl Evaluator {
     }
 
     /// Scores of `genomes`, in order.
-    pub fn evaluate(&self, genomes: &[Genome]) -> Result<Vec<f64>, String> {
+    pub fn evaluate(&self, genomes: &[Genome]) -> Result<Vec<f64>, EvalError> {
         self.evaluate_with(genomes, |_, _, _| {})
             .map(|v| v.into_iter().map(|c| c.score).collect())
     }
@@ -147,7 +147,7 @@ impl Evaluator {
         &self,
         genomes: &[Genome],
         mut on_batch: impl FnMut(usize, &[CandidateScore], f64),
-    ) -> Result<Vec<CandidateScore>, String> {
+    ) -> Result<Vec<CandidateScore>, EvalError> {
         let batch = self.robots_per_world();
         let chunks: Vec<(usize, &[Genome])> = genomes
             .chunks(batch)
@@ -196,7 +196,7 @@ impl Evaluator {
             }
         });
         match error {
-            Some(e) => Err(e.to_string()),
+            Some(e) => Err(e),
             None => Ok(results),
         }
     }

@@ -9,6 +9,7 @@
 pub mod cmaes;
 pub mod curve;
 pub mod deluge;
+pub mod error;
 pub mod evaluate;
 pub mod fitness;
 pub mod ga;

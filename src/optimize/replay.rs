@@ -24,14 +24,14 @@ pub enum ReplayError {
     #[error(transparent)]
     Store(#[from] StoreError),
     /// A store location that is neither a file nor a `postgres://` URL.
-    #[error("{0}")]
-    Location(String),
+    #[error(transparent)]
+    Location(#[from] crate::optimize::error::BadChoice),
     /// The run's stored configuration does not load or set up here.
     #[error(transparent)]
     Unevaluable(#[from] UnevaluableRun),
     /// Its search space cannot be set up.
-    #[error("{0}")]
-    Setup(String),
+    #[error(transparent)]
+    Setup(Box<crate::optimize::error::OptimizeError>),
     /// The run has no such finished evaluation (or none at all).
     #[error("{store}: run {run} has no {}", match number { Some(n) => format!("finished evaluation {n}"), None => "evaluation".into() })]
     NoEvaluation {
@@ -136,7 +136,7 @@ pub fn load_replay(
             number: Some(number),
         })?;
     let sim = stored_simulation(&spec, registry)?;
-    let (space, _) = prepare(&sim, registry).map_err(ReplayError::Setup)?;
+    let (space, _) = prepare(&sim, registry).map_err(|e| ReplayError::Setup(Box::new(e)))?;
     if eval.genome.len() != space.genes.len() {
         return Err(ReplayError::Genes {
             number,

@@ -10,6 +10,7 @@ use crate::control::{ControlKernel, ModuleRegistry};
 use crate::optimize::Optimizer;
 use crate::optimize::cmaes::CmaOptimizer;
 use crate::optimize::deluge::GreatDeluge;
+use crate::optimize::error::{BadChoice, OptimizeError};
 use crate::optimize::evaluate::Evaluator;
 use crate::optimize::ga::GeneticAlgorithm;
 use crate::optimize::shared::driver::{LocalWorkers, evaluate_round};
@@ -68,24 +69,22 @@ pub struct RunOutcome {
 pub fn prepare(
     sim: &Simulation,
     registry: &ModuleRegistry,
-) -> Result<(SearchSpace, Genome), String> {
-    let model = sim.optimizer.as_ref().ok_or_else(|| {
-        format!(
-            "{}: mode {:?} has no optimizer file; optimization needs mode \"Genetic Algorithm\" or \"Great Deluge\" with an <optimizer>",
-            sim.file.display(),
-            sim.files.simulation.properties.mode.name()
-        )
-    })?;
+) -> Result<(SearchSpace, Genome), OptimizeError> {
+    let model = sim
+        .optimizer
+        .as_ref()
+        .ok_or_else(|| OptimizeError::NoOptimizer {
+            file: sim.file.clone(),
+            mode: sim.files.simulation.properties.mode.name().to_string(),
+        })?;
     let space = SearchSpace::from_model(model);
     if space.genes.is_empty() {
-        return Err(format!(
-            "{}: no parameter is registered for optimization",
-            model.file.display()
-        ));
+        return Err(OptimizeError::NothingRegistered {
+            file: model.file.clone(),
+        });
     }
     let limits = sim.robot.joints.iter().map(|j| j.limits_deg).collect();
-    let kernel = ControlKernel::from_actuation(&sim.actuation, registry, limits)
-        .map_err(|e| e.to_string())?;
+    let kernel = ControlKernel::from_actuation(&sim.actuation, registry, limits)?;
     let start = space.encode_kernel(&kernel);
     Ok((space, start))
 }
@@ -122,10 +121,13 @@ pub fn optimize(
     registry: &ModuleRegistry,
     mut recording: Option<Recording<'_>>,
     mut on_eval: impl FnMut(&Evaluation),
-) -> Result<RunOutcome, String> {
+) -> Result<RunOutcome, OptimizeError> {
     let (space, configured) = prepare(sim, registry)?;
     let Some(model) = sim.optimizer.as_ref() else {
-        return Err("no optimizer".into());
+        return Err(OptimizeError::NoOptimizer {
+            file: sim.file.clone(),
+            mode: sim.files.simulation.properties.mode.name().to_string(),
+        });
     };
     let start = start_candidate(model.spec.random_start, &space, configured, settings.seed);
     let mut optimizer = build_optimizer(&model.spec.algorithm, &space, &start, settings);
@@ -188,7 +190,7 @@ pub fn optimize(
     let (g, s) = optimizer
         .best()
         .map(|(g, s)| (g.clone(), s))
-        .ok_or_else(|| "the optimizer evaluated nothing".to_string())?;
+        .ok_or(OptimizeError::NothingEvaluated)?;
     Ok(RunOutcome {
         best: g,
         best_score: s,
@@ -222,7 +224,7 @@ impl Scoring {
         (first, round): (u64, u64),
         candidates: &[Genome],
         seed: u64,
-    ) -> Result<Vec<f64>, String> {
+    ) -> Result<Vec<f64>, OptimizeError> {
         let (mut scores, missing) = reuse_stored(recording.as_ref(), first, candidates);
         self.simulated += missing.len() as u64;
         let round_of = RoundRef {
@@ -235,7 +237,7 @@ impl Scoring {
             (Some(local), Some(rec)) => {
                 let run = rec.run;
                 let Some(pg) = rec.store.shared() else {
-                    return Err("the shared store went away".into());
+                    return Err(OptimizeError::StoreGone);
                 };
                 let space = &self.evaluator.space;
                 queue_missing(pg, run, seed, space, &round_of, &mut scores, local)?;
@@ -257,7 +259,7 @@ impl Scoring {
         self,
         recording: &mut Option<Recording<'_>>,
         workers: usize,
-    ) -> Result<(String, u64), String> {
+    ) -> Result<(String, u64), OptimizeError> {
         let mut description = self.batching.description;
         if let (Some(local), Some(pg)) = (
             self.local,
@@ -278,7 +280,7 @@ fn start_local_workers(
     registry: &ModuleRegistry,
     evaluator: Evaluator,
     settings: &RunSettings,
-) -> Result<Option<LocalWorkers>, String> {
+) -> Result<Option<LocalWorkers>, OptimizeError> {
     let run = r.run;
     let Some(pg) = r.store.shared() else {
         return Ok(None);
@@ -295,15 +297,12 @@ fn start_local_workers(
 
 /// Local worker threads: at least one, unless a shared store's workers evaluate; one robot
 /// per world with a shared store (scores must not depend on who claims what).
-pub fn check_workers(settings: &RunSettings, shared: bool) -> Result<(), String> {
+pub fn check_workers(settings: &RunSettings, shared: bool) -> Result<(), BadChoice> {
     if settings.workers == 0 && !shared {
-        return Err("--workers 0: give at least 1 (0 only with a shared postgres:// store, whose workers evaluate)".into());
+        return Err(BadChoice::NoWorkers);
     }
     if shared && settings.batch != 1 {
-        return Err(format!(
-            "--batch {}: a shared store evaluates one robot per world, so that a score does not depend on which worker claimed what",
-            settings.batch
-        ));
+        return Err(BadChoice::SharedBatch(settings.batch));
     }
     Ok(())
 }
@@ -318,7 +317,7 @@ fn queue_missing(
     r: &RoundRef<'_>,
     scores: &mut [f64],
     local: &mut LocalWorkers,
-) -> Result<(), String> {
+) -> Result<(), OptimizeError> {
     if r.missing.is_empty() {
         return Ok(());
     }
@@ -490,7 +489,7 @@ fn simulate_missing(
     scores: &mut [f64],
     recording: &mut Option<Recording<'_>>,
     (seed, stored): (u64, &mut u64),
-) -> Result<(), String> {
+) -> Result<(), OptimizeError> {
     if r.missing.is_empty() {
         return Ok(());
     }

@@ -7,6 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use crate::config::Simulation;
+use crate::optimize::error::BadChoice;
 use crate::optimize::fitness::Fitness;
 
 /// Neighbours the great deluge hands out per round (fixed, so its candidates do not depend
@@ -106,18 +107,16 @@ impl Default for RunChoices {
 impl RunSettings {
     /// The settings of a run of `sim` with the user's `choices`; the error names the bad
     /// choice.
-    pub fn of(sim: &Simulation, choices: &RunChoices) -> Result<RunSettings, String> {
+    pub fn of(sim: &Simulation, choices: &RunChoices) -> Result<RunSettings, BadChoice> {
         let props = &sim.files.simulation.properties;
         let spec = sim.optimizer.as_ref().map(|m| &m.spec);
         let duration = choices.duration.unwrap_or(props.duration);
         if !duration.is_finite() || duration <= 0.0 {
-            return Err(format!(
-                "--duration {duration}: give a number of seconds > 0"
-            ));
+            return Err(BadChoice::Duration(duration));
         }
         let lease = choices.lease.unwrap_or(DEFAULT_LEASE_S);
         if !lease.is_finite() || lease <= 0.0 {
-            return Err(format!("--lease {lease}: give a number of seconds > 0"));
+            return Err(BadChoice::Lease(lease));
         }
         let workers = choices.workers.unwrap_or_else(|| {
             std::thread::available_parallelism()

@@ -6,6 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use crate::plugin_host::error::PluginError;
+
 /// What to build and where to put it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PluginBuildOptions {
@@ -75,9 +77,9 @@ fn package_name(manifest: &str) -> Option<String> {
 }
 
 /// The `cdylib` crates of the workspace, by folder name.
-pub fn plugin_crates(workspace: &Path) -> Result<Vec<PluginCrate>, String> {
-    let entries = std::fs::read_dir(workspace)
-        .map_err(|e| format!("plugin workspace {}: {e}", workspace.display()))?;
+pub fn plugin_crates(workspace: &Path) -> Result<Vec<PluginCrate>, PluginError> {
+    let entries =
+        std::fs::read_dir(workspace).map_err(PluginError::io("plugin workspace", workspace))?;
     let mut crates = Vec::new();
     for entry in entries.flatten() {
         let folder = entry.path();
@@ -104,7 +106,7 @@ fn cargo() -> PathBuf {
 
 /// Builds the plugin crate(s) in release mode and installs the libraries; `Err` when the
 /// build could not start (no workspace, unknown crate, no cargo).
-pub fn build(opts: &PluginBuildOptions) -> Result<BuildOutcome, String> {
+pub fn build(opts: &PluginBuildOptions) -> Result<BuildOutcome, PluginError> {
     let all = plugin_crates(&opts.workspace)?;
     let chosen: Vec<PluginCrate> = match &opts.package {
         Some(name) => {
@@ -114,22 +116,18 @@ pub fn build(opts: &PluginBuildOptions) -> Result<BuildOutcome, String> {
             match found {
                 Some(c) => vec![c.clone()],
                 None => {
-                    let known: Vec<&str> = all.iter().map(|c| c.package.as_str()).collect();
-                    return Err(format!(
-                        "no plugin crate {name} in {}; plugin crates: {}",
-                        opts.workspace.display(),
-                        known.join(", ")
-                    ));
+                    return Err(PluginError::NoCrate {
+                        name: name.clone(),
+                        workspace: opts.workspace.clone(),
+                        known: all.iter().map(|c| c.package.clone()).collect(),
+                    });
                 }
             }
         }
         None => all,
     };
     if chosen.is_empty() {
-        return Err(format!(
-            "no plugin crates in {} (make one with proleg plugin new NAME)",
-            opts.workspace.display()
-        ));
+        return Err(PluginError::NoCrates(opts.workspace.clone()));
     }
     let mut cmd = Command::new(cargo());
     cmd.arg("build")
@@ -143,9 +141,10 @@ pub fn build(opts: &PluginBuildOptions) -> Result<BuildOutcome, String> {
     for c in &chosen {
         cmd.arg("-p").arg(&c.package);
     }
-    let output = cmd
-        .output()
-        .map_err(|e| format!("could not run {}: {e}", cargo().display()))?;
+    let output = cmd.output().map_err(|source| PluginError::Cargo {
+        cargo: cargo(),
+        source,
+    })?;
     let mut log = String::from_utf8_lossy(&output.stderr).into_owned();
     log.push_str(&String::from_utf8_lossy(&output.stdout));
     if !output.status.success() {
@@ -156,7 +155,7 @@ pub fn build(opts: &PluginBuildOptions) -> Result<BuildOutcome, String> {
         });
     }
     std::fs::create_dir_all(&opts.lib_dir)
-        .map_err(|e| format!("library folder {}: {e}", opts.lib_dir.display()))?;
+        .map_err(PluginError::io("library folder", &opts.lib_dir))?;
     let mut libraries = Vec::new();
     for c in &chosen {
         let name = c.library_name();
@@ -175,10 +174,10 @@ pub fn build(opts: &PluginBuildOptions) -> Result<BuildOutcome, String> {
 
 /// Copies `from` to `to` through a temporary file and a rename (a new file, never an
 /// overwrite of a library some process has mapped).
-fn install(from: &Path, to: &Path) -> Result<(), String> {
+fn install(from: &Path, to: &Path) -> Result<(), PluginError> {
     let tmp = to.with_extension("tmp");
-    std::fs::copy(from, &tmp).map_err(|e| format!("copying {}: {e}", from.display()))?;
-    std::fs::rename(&tmp, to).map_err(|e| format!("installing {}: {e}", to.display()))
+    std::fs::copy(from, &tmp).map_err(PluginError::io("copying", from))?;
+    std::fs::rename(&tmp, to).map_err(PluginError::io("installing", to))
 }
 
 #[cfg(test)]
@@ -200,9 +199,10 @@ mod tests {
             ..PluginBuildOptions::default()
         })
         .unwrap_err();
-        assert!(
-            e.contains("no plugin crate nope") && e.contains("example_sine"),
-            "{e}"
-        );
+        let PluginError::NoCrate { name, known, .. } = e else {
+            panic!("not a missing crate: {e}");
+        };
+        assert_eq!(name, "nope");
+        assert!(known.iter().any(|k| k == "example_sine"), "{known:?}");
     }
 }

@@ -111,7 +111,7 @@ pub fn open(file: &Path, load_from: &Path) -> Result<(PluginLibrary, ModuleDescr
     }
     // SAFETY: the descriptor is static in the library, which stays loaded.
     let raw = unsafe { &*table.descriptor };
-    let descriptor = descriptor(raw).map_err(err)?;
+    let descriptor = descriptor(raw).map_err(|e| err(e.to_string()))?;
     Ok((
         PluginLibrary {
             file: file.to_path_buf(),
@@ -127,9 +127,9 @@ const MAX_ITEMS: usize = 256;
 
 /// A string of the descriptor, copied out and leaked: module descriptors are `'static`
 /// and loaded libraries are never unloaded, so this is a few bytes per library.
-fn text(s: &RawStr, what: &str) -> Result<&'static str, String> {
+fn text(s: &RawStr, what: &'static str) -> Result<&'static str, BadTable> {
     if s.len > 4096 || (s.ptr.is_null() && s.len > 0) {
-        return Err(format!("{what}: not a valid string"));
+        return Err(BadTable::String(what, "not a valid string"));
     }
     let bytes = if s.len == 0 {
         &[][..]
@@ -137,7 +137,7 @@ fn text(s: &RawStr, what: &str) -> Result<&'static str, String> {
         // SAFETY: the API builds every `RawStr` from a `&'static str` of the library.
         unsafe { std::slice::from_raw_parts(s.ptr, s.len) }
     };
-    let text = std::str::from_utf8(bytes).map_err(|_| format!("{what}: not UTF-8"))?;
+    let text = std::str::from_utf8(bytes).map_err(|_| BadTable::String(what, "not UTF-8"))?;
     Ok(Box::leak(text.to_owned().into_boxed_str()))
 }
 
@@ -147,15 +147,42 @@ pub fn valid_module_name(name: &str) -> bool {
         && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
 }
 
-fn descriptor(raw: &RawDescriptor) -> Result<ModuleDescriptor, String> {
+/// A plugin's table that does not describe a module.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+enum BadTable {
+    /// A string of the descriptor.
+    #[error("{0}: {1}")]
+    String(&'static str, &'static str),
+    /// A name that actuation files cannot hold.
+    #[error("module name {0:?}: use letters, digits and _ (starting with a letter)")]
+    Name(String),
+    /// Counts beyond [`MAX_ITEMS`].
+    #[error("module {0}: too many parameters or series")]
+    TooMany(String),
+    /// A parameter without a name.
+    #[error("module {0}: a parameter without a name")]
+    Unnamed(String),
+    /// A parameter whose initial value lies outside its range.
+    #[error("module {module}, parameter {parameter}: initial value {initial} outside its range {}..{}", range[0], range[1])]
+    Initial {
+        /// The module.
+        module: String,
+        /// The parameter.
+        parameter: String,
+        /// Its initial value.
+        initial: f64,
+        /// Its range.
+        range: [f64; 2],
+    },
+}
+
+fn descriptor(raw: &RawDescriptor) -> Result<ModuleDescriptor, BadTable> {
     let name = text(&raw.name, "module name")?;
     if !valid_module_name(name) {
-        return Err(format!(
-            "module name {name:?}: use letters, digits and _ (starting with a letter)"
-        ));
+        return Err(BadTable::Name(name.to_string()));
     }
     if raw.param_count > MAX_ITEMS || raw.series_count > MAX_ITEMS {
-        return Err(format!("module {name}: too many parameters or series"));
+        return Err(BadTable::TooMany(name.to_string()));
     }
     let raw_params = if raw.param_count == 0 {
         &[][..]
@@ -167,14 +194,16 @@ fn descriptor(raw: &RawDescriptor) -> Result<ModuleDescriptor, String> {
     for p in raw_params {
         let pname = text(&p.name, "parameter name")?;
         if pname.is_empty() {
-            return Err(format!("module {name}: a parameter without a name"));
+            return Err(BadTable::Unnamed(name.to_string()));
         }
         let fine = p.min.is_finite() && p.max.is_finite() && p.default.is_finite();
         if !fine || p.min > p.max || p.default < p.min || p.default > p.max {
-            return Err(format!(
-                "module {name}, parameter {pname}: initial value {} outside its range {}..{}",
-                p.default, p.min, p.max
-            ));
+            return Err(BadTable::Initial {
+                module: name.to_string(),
+                parameter: pname.to_string(),
+                initial: p.default,
+                range: [p.min, p.max],
+            });
         }
         parameters.push(ParamDescriptor {
             name: pname,

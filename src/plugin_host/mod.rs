@@ -19,6 +19,7 @@
 //! [`build`] compiles plugin crates with cargo, [`template`] writes new ones.
 
 pub mod build;
+pub mod error;
 pub mod library;
 pub mod module;
 pub mod template;
@@ -29,6 +30,7 @@ use std::time::SystemTime;
 
 use crate::config::module_types::ModuleDescriptor;
 use crate::control::registry::{ModuleFactory, ModuleRegistry};
+use crate::plugin_host::error::PluginError;
 pub use library::{LoadError, PluginLibrary};
 pub use module::PluginModule;
 
@@ -106,20 +108,20 @@ pub struct PluginHost {
 }
 
 /// A new folder `PREFIX-PID-K` in `parent`, the first `K` not taken.
-fn own_dir(parent: &Path, prefix: &str) -> Result<PathBuf, String> {
-    std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
+fn own_dir(parent: &Path, prefix: &str) -> Result<PathBuf, PluginError> {
+    std::fs::create_dir_all(parent).map_err(PluginError::io("creating", parent))?;
     for k in 0..10_000 {
         let d = parent.join(format!("{prefix}-{}-{k}", std::process::id()));
         match std::fs::create_dir(&d) {
             Ok(()) => return Ok(d),
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
-            Err(e) => return Err(format!("{}: {e}", d.display())),
+            Err(e) => return Err(PluginError::io("creating", d)(e)),
         }
     }
-    Err(format!(
-        "{}: no free folder name for plugin copies",
-        parent.display()
-    ))
+    Err(PluginError::NoFreshFolder {
+        parent: parent.to_path_buf(),
+        prefix: prefix.to_string(),
+    })
 }
 
 impl std::fmt::Debug for PluginHost {
@@ -190,7 +192,7 @@ impl PluginHost {
         // The dynamic loader hands out the already loaded library for a path it has seen,
         // so a changed library is loaded from a fresh copy.
         let copy = match previous {
-            Some(_) => Some(self.fresh_copy(&file).map_err(err)?),
+            Some(_) => Some(self.fresh_copy(&file).map_err(|e| err(e.to_string()))?),
             None => None,
         };
         let (library, descriptor) = library::open(&file, copy.as_deref().unwrap_or(&file))?;
@@ -242,7 +244,7 @@ impl PluginHost {
     /// A copy of `file` under a name the loader has not seen, in the host's own folder of
     /// the temp folder (made on the first reload: the first free
     /// `proleg-plugins-PID-K`, so hosts of one process never share one).
-    fn fresh_copy(&mut self, file: &Path) -> Result<PathBuf, String> {
+    fn fresh_copy(&mut self, file: &Path) -> Result<PathBuf, PluginError> {
         let dir = match &self.copy_dir {
             Some(d) => d.clone(),
             None => {
@@ -258,7 +260,7 @@ impl PluginHost {
             .map(|f| f.to_string_lossy().into_owned())
             .unwrap_or_default();
         let copy = dir.join(format!("{n}-{name}"));
-        std::fs::copy(file, &copy).map_err(|e| format!("copying to {}: {e}", copy.display()))?;
+        std::fs::copy(file, &copy).map_err(PluginError::io("copying to", &copy))?;
         Ok(copy)
     }
 

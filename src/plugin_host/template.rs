@@ -5,6 +5,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use crate::plugin_host::error::{DeclProblem, PluginError};
 use crate::plugin_host::library::valid_module_name;
 
 /// One declared parameter.
@@ -22,22 +23,26 @@ pub struct ParamDecl {
 
 impl ParamDecl {
     /// `name=value` (range −10|v|..10|v|, at least −100..100) or `name=value:min..max`.
-    pub fn parse(spec: &str) -> Result<ParamDecl, String> {
-        let (name, rest) = spec.split_once('=').ok_or_else(|| {
-            format!("--param {spec:?}: expected NAME=VALUE or NAME=VALUE:MIN..MAX")
-        })?;
+    pub fn parse(spec: &str) -> Result<ParamDecl, PluginError> {
+        let bad = |why: String| PluginError::Param {
+            spec: spec.to_string(),
+            why,
+        };
+        let (name, rest) = spec
+            .split_once('=')
+            .ok_or_else(|| bad("expected NAME=VALUE or NAME=VALUE:MIN..MAX".into()))?;
         let number = |t: &str| {
             t.trim()
                 .parse::<f64>()
                 .ok()
                 .filter(|v| v.is_finite())
-                .ok_or_else(|| format!("--param {spec:?}: {t:?} is not a finite number"))
+                .ok_or_else(|| bad(format!("{t:?} is not a finite number")))
         };
         let (initial, range) = match rest.split_once(':') {
             Some((v, range)) => {
                 let (lo, hi) = range
                     .split_once("..")
-                    .ok_or_else(|| format!("--param {spec:?}: the range is MIN..MAX"))?;
+                    .ok_or_else(|| bad("the range is MIN..MAX".into()))?;
                 (number(v)?, Some((number(lo)?, number(hi)?)))
             }
             None => (number(rest)?, None),
@@ -120,49 +125,48 @@ impl Declaration {
     }
 
     /// Every problem of the declaration, or `Ok`.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), PluginError> {
         let mut problems = Vec::new();
         if !valid_module_name(&self.name) {
-            problems.push(format!(
-                "module name {:?}: use letters, digits and _ (starting with a letter)",
-                self.name
-            ));
+            problems.push(DeclProblem::ModuleName(self.name.clone()));
         }
         let mut seen = Vec::new();
         for p in &self.params {
             if !identifier(&snake_case(&p.name)) || p.name.contains('"') {
-                problems.push(format!("parameter name {:?} is not usable", p.name));
+                problems.push(DeclProblem::ParamName(p.name.clone()));
             }
             if !(p.min <= p.initial && p.initial <= p.max) {
-                problems.push(format!(
-                    "parameter {}: initial value {} outside {}..{}",
-                    p.name, p.initial, p.min, p.max
-                ));
+                problems.push(DeclProblem::Initial {
+                    name: p.name.clone(),
+                    initial: p.initial,
+                    min: p.min,
+                    max: p.max,
+                });
             }
             seen.push(constant(&p.name));
         }
         for s in &self.series {
             if !identifier(&snake_case(s)) || s.contains('"') {
-                problems.push(format!("data series name {s:?} is not usable"));
+                problems.push(DeclProblem::SeriesName(s.clone()));
             }
             seen.push(format!("SERIES_{}", constant(s)));
         }
         for h in &self.helpers {
             if !identifier(h) {
-                problems.push(format!("helper name {h:?} is not a Rust function name"));
+                problems.push(DeclProblem::HelperName(h.clone()));
             }
             seen.push(h.clone());
         }
         seen.sort();
         for w in seen.windows(2) {
             if w[0] == w[1] {
-                problems.push(format!("{} is declared twice", w[0]));
+                problems.push(DeclProblem::Twice(w[0].clone()));
             }
         }
         if problems.is_empty() {
             Ok(())
         } else {
-            Err(problems.join("; "))
+            Err(PluginError::Declaration(problems))
         }
     }
 
@@ -283,31 +287,28 @@ impl Declaration {
     }
 
     /// Writes the crate into the plugin workspace; refuses to overwrite a crate.
-    pub fn create(&self, workspace: &Path) -> Result<PathBuf, String> {
+    pub fn create(&self, workspace: &Path) -> Result<PathBuf, PluginError> {
         self.validate()?;
         if !workspace.join("api").join("Cargo.toml").is_file() {
-            return Err(format!(
-                "{} is not the plugin workspace (no api/Cargo.toml)",
-                workspace.display()
-            ));
+            return Err(PluginError::NotAWorkspace(workspace.to_path_buf()));
         }
         let folder = workspace.join(self.crate_name());
         if folder.exists() {
-            return Err(format!("{} exists already", folder.display()));
+            return Err(PluginError::Exists(folder));
         }
         self.write(&folder)?;
         Ok(folder)
     }
 
     /// Writes (or overwrites) the crate's manifest and source in `folder`.
-    pub fn write(&self, folder: &Path) -> Result<(), String> {
+    pub fn write(&self, folder: &Path) -> Result<(), PluginError> {
         let src = folder.join("src");
-        std::fs::create_dir_all(&src).map_err(|e| format!("{}: {e}", src.display()))?;
+        std::fs::create_dir_all(&src).map_err(PluginError::io("creating", &src))?;
         let manifest = folder.join("Cargo.toml");
         std::fs::write(&manifest, self.cargo_toml())
-            .map_err(|e| format!("{}: {e}", manifest.display()))?;
+            .map_err(PluginError::io("writing", &manifest))?;
         let lib = src.join("lib.rs");
-        std::fs::write(&lib, self.lib_rs()).map_err(|e| format!("{}: {e}", lib.display()))
+        std::fs::write(&lib, self.lib_rs()).map_err(PluginError::io("writing", &lib))
     }
 }
 
@@ -364,14 +365,22 @@ mod tests {
             helpers: vec!["fn".into()],
             ..Declaration::default()
         };
-        let e = bad.validate().unwrap_err();
-        for needle in [
-            "module name",
-            "outside 0..1",
-            "helper name \"fn\"",
-            "A is declared twice",
-        ] {
-            assert!(e.contains(needle), "{needle} missing in {e}");
-        }
+        let Err(PluginError::Declaration(problems)) = bad.validate() else {
+            panic!("the declaration was accepted");
+        };
+        assert_eq!(
+            problems,
+            vec![
+                DeclProblem::ModuleName("1bad".into()),
+                DeclProblem::Initial {
+                    name: "a".into(),
+                    initial: 5.0,
+                    min: 0.0,
+                    max: 1.0
+                },
+                DeclProblem::HelperName("fn".into()),
+                DeclProblem::Twice("A".into()),
+            ]
+        );
     }
 }

@@ -61,7 +61,7 @@ pub trait Remote {
     /// A name for the user ("Xbox Wireless Controller").
     fn name(&self) -> String;
     /// Opens the device.
-    fn connect(&mut self) -> Result<(), String>;
+    fn connect(&mut self) -> Result<(), RemoteError>;
     /// Closes the device.
     fn disconnect(&mut self);
     /// Whether the device is open.
@@ -73,7 +73,33 @@ pub trait Remote {
     /// The current value of every element.
     fn read_all(&mut self) -> RemoteData;
     /// A command for the device (e.g. `rumble 0.5`); unknown ones are an error.
-    fn receive_command(&mut self, command: &str) -> Result<(), String>;
+    fn receive_command(&mut self, command: &str) -> Result<(), RemoteError>;
+}
+
+/// Why a remote device refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RemoteError {
+    /// No device of this kind is there.
+    #[error("no {0} is connected")]
+    NoDevice(&'static str),
+    /// A command the device does not understand.
+    #[error("{device}: unknown command \"{command}\"; it understands: {understands}")]
+    UnknownCommand {
+        /// The device.
+        device: String,
+        /// The command.
+        command: String,
+        /// What it understands.
+        understands: String,
+    },
+    /// A command's value out of its range.
+    #[error("{command}: {why}")]
+    BadValue {
+        /// The command.
+        command: String,
+        /// The range it must lie in.
+        why: &'static str,
+    },
 }
 
 /// A remote whose values are set by code.
@@ -106,7 +132,7 @@ impl Remote for VirtualRemote {
         self.label.clone()
     }
 
-    fn connect(&mut self) -> Result<(), String> {
+    fn connect(&mut self) -> Result<(), RemoteError> {
         self.connected = true;
         Ok(())
     }
@@ -132,14 +158,14 @@ impl Remote for VirtualRemote {
         self.data.clone()
     }
 
-    fn receive_command(&mut self, command: &str) -> Result<(), String> {
+    fn receive_command(&mut self, command: &str) -> Result<(), RemoteError> {
         let verb = command.split_whitespace().next().unwrap_or("");
         if !self.available_commands().iter().any(|c| c == verb) {
-            return Err(format!(
-                "{}: unknown command \"{command}\"; it understands: {}",
-                self.label,
-                self.available_commands().join(", ")
-            ));
+            return Err(RemoteError::UnknownCommand {
+                device: self.label.clone(),
+                command: command.to_string(),
+                understands: self.available_commands().join(", "),
+            });
         }
         self.received.push(command.to_string());
         Ok(())
@@ -209,7 +235,10 @@ mod tests {
         assert_eq!(d.get("Nothing"), 0.0);
         assert!(r.available_elements().iter().any(|e| e.name == "DPadUp"));
         r.receive_command("rumble 0.3").unwrap();
-        assert!(r.receive_command("explode").unwrap_err().contains("rumble"));
+        assert!(matches!(
+            r.receive_command("explode"),
+            Err(RemoteError::UnknownCommand { understands, .. }) if understands.contains("rumble")
+        ));
         r.disconnect();
         assert!(!r.is_connected() && r.read_all().get("LeftStickX") == 0.0);
     }

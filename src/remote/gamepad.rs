@@ -10,7 +10,7 @@ use bevy::input::gamepad::{
 };
 use bevy::prelude::*;
 
-use crate::remote::device::{ElementInfo, Remote, RemoteData, gamepad_elements};
+use crate::remote::device::{ElementInfo, Remote, RemoteData, RemoteError, gamepad_elements};
 
 /// Axes by the names bindings use.
 pub const AXES: [(&str, GamepadAxis); 6] = [
@@ -78,9 +78,9 @@ impl Remote for GamepadRemote {
             .map_or_else(|| "no gamepad".into(), |(_, n)| n.clone())
     }
 
-    fn connect(&mut self) -> Result<(), String> {
+    fn connect(&mut self) -> Result<(), RemoteError> {
         if self.pads.is_empty() {
-            return Err("no gamepad is connected".into());
+            return Err(RemoteError::NoDevice("gamepad"));
         }
         self.enabled = true;
         Ok(())
@@ -111,20 +111,25 @@ impl Remote for GamepadRemote {
         }
     }
 
-    fn receive_command(&mut self, command: &str) -> Result<(), String> {
+    fn receive_command(&mut self, command: &str) -> Result<(), RemoteError> {
         let mut words = command.split_whitespace();
         match words.next() {
             Some("rumble") => {
                 let strength: f32 = words.next().and_then(|w| w.parse().ok()).unwrap_or(1.0);
                 if !(0.0..=1.0).contains(&strength) {
-                    return Err(format!("rumble {strength}: the strength lies in 0..1"));
+                    return Err(RemoteError::BadValue {
+                        command: format!("rumble {strength}"),
+                        why: "the strength lies in 0..1",
+                    });
                 }
                 self.pending.push(command.to_string());
                 Ok(())
             }
-            _ => Err(format!(
-                "gamepad: unknown command \"{command}\"; it understands: rumble STRENGTH [SECONDS]"
-            )),
+            _ => Err(RemoteError::UnknownCommand {
+                device: "gamepad".into(),
+                command: command.to_string(),
+                understands: "rumble STRENGTH [SECONDS]".into(),
+            }),
         }
     }
 }

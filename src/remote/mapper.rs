@@ -56,6 +56,52 @@ pub fn dead_zone(v: f64, dz: f64) -> f64 {
     }
 }
 
+/// A binding of a remote file that does not fit the robot, located at its line.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{file}:{line}: {element} -> {module}: {fault}")]
+pub struct BindingError {
+    /// The remote file.
+    pub file: String,
+    /// The binding target's line.
+    pub line: u32,
+    /// The bound element.
+    pub element: String,
+    /// The target module.
+    pub module: String,
+    /// What does not fit.
+    pub fault: BindingFault,
+}
+
+/// What of a binding does not fit the robot.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BindingFault {
+    /// A joint mask of another length than the robot's joints.
+    #[error("joints=\"{mask}\" has {} characters; the robot has {joints} joints", mask.len())]
+    MaskLength {
+        /// The mask.
+        mask: String,
+        /// The robot's joints.
+        joints: usize,
+    },
+    /// A parameter the module does not have.
+    #[error("the module has no parameter \"{parameter}\"; its parameters: {known}")]
+    NoParameter {
+        /// The parameter named.
+        parameter: String,
+        /// The module's parameters.
+        known: String,
+    },
+    /// A module the actuation does not have.
+    #[error("the robot's actuation has no such module")]
+    NoModule,
+    /// The module drives none of the selected joints.
+    #[error("it drives none of the joints \"{joints}\"")]
+    DrivesNone {
+        /// The selection.
+        joints: String,
+    },
+}
+
 impl RemoteMapper {
     /// Resolves `file`'s bindings against `kernel`; `orientations` are the robot's joints'
     /// (for `pitch` / `yaw` selections). Errors name the file line of the binding.
@@ -64,21 +110,27 @@ impl RemoteMapper {
         file_name: &str,
         kernel: &ControlKernel,
         orientations: &[JointOrientation],
-    ) -> Result<Self, String> {
+    ) -> Result<Self, Box<BindingError>> {
         let mut bound = Vec::new();
         for b in &file.bindings {
             let mut targets = Vec::new();
             for t in &b.targets {
-                let at = format!("{file_name}:{}: {} -> {}", t.pos.line, b.element, t.module);
+                let at = |fault| {
+                    Box::new(BindingError {
+                        file: file_name.to_string(),
+                        line: t.pos.line,
+                        element: b.element.clone(),
+                        module: t.module.clone(),
+                        fault,
+                    })
+                };
                 if let JointSelection::Mask(m) = &t.joints
                     && m.len() != kernel.joints()
                 {
-                    return Err(format!(
-                        "{at}: joints=\"{}\" has {} characters; the robot has {} joints",
-                        t.joints.to_text(),
-                        m.len(),
-                        kernel.joints()
-                    ));
+                    return Err(at(BindingFault::MaskLength {
+                        mask: t.joints.to_text(),
+                        joints: kernel.joints(),
+                    }));
                 }
                 let mut found_module = false;
                 for (ai, a) in kernel.actuators().iter().enumerate() {
@@ -88,12 +140,10 @@ impl RemoteMapper {
                     }
                     found_module = true;
                     let p = d.parameter(&t.parameter).ok_or_else(|| {
-                        format!(
-                            "{at}: module {} has no parameter \"{}\"; its parameters: {}",
-                            d.type_name,
-                            t.parameter,
-                            d.parameter_names().join(", ")
-                        )
+                        at(BindingFault::NoParameter {
+                            parameter: t.parameter.clone(),
+                            known: d.parameter_names().join(", "),
+                        })
                     })?;
                     let joints: Vec<usize> = a
                         .joints
@@ -125,10 +175,7 @@ impl RemoteMapper {
                     });
                 }
                 if !found_module {
-                    return Err(format!(
-                        "{at}: the robot's actuation has no module {}",
-                        t.module
-                    ));
+                    return Err(at(BindingFault::NoModule));
                 }
                 if !targets.iter().any(|x| {
                     crate::config::xml::read::same_name(
@@ -136,11 +183,9 @@ impl RemoteMapper {
                         &t.module,
                     )
                 }) {
-                    return Err(format!(
-                        "{at}: {} drives none of the joints \"{}\"",
-                        t.module,
-                        t.joints.to_text()
-                    ));
+                    return Err(at(BindingFault::DrivesNone {
+                        joints: t.joints.to_text(),
+                    }));
                 }
             }
             bound.push(Bound {
@@ -218,7 +263,7 @@ impl RemoteMapper {
         data: &RemoteData,
         dt: f64,
         kernel: &mut ControlKernel,
-    ) -> Result<Vec<RemoteAction>, String> {
+    ) -> Result<Vec<RemoteAction>, crate::control::kernel::KernelError> {
         let dt = if dt.is_finite() {
             dt.clamp(0.0, 0.5)
         } else {
@@ -251,9 +296,7 @@ impl RemoteMapper {
                     t.toggled = !t.toggled;
                 }
                 for (k, j) in t.joints.iter().enumerate() {
-                    let now = kernel
-                        .parameter(t.actuator, t.param, Some(*j))
-                        .map_err(|e| e.to_string())?;
+                    let now = kernel.parameter(t.actuator, t.param, Some(*j))?;
                     let base = t.base.get(k).copied().unwrap_or(now);
                     let want = match b.mode {
                         BindMode::Rate => now + v * t.scale * dt,
@@ -265,9 +308,7 @@ impl RemoteMapper {
                     };
                     let value = want.clamp(t.min, t.max);
                     if value != now {
-                        kernel
-                            .set_parameter(t.actuator, t.param, Some(*j), value)
-                            .map_err(|e| e.to_string())?;
+                        kernel.set_parameter(t.actuator, t.param, Some(*j), value)?;
                     }
                 }
             }
@@ -396,15 +437,28 @@ mod tests {
         let e = bad(
             "<remote>\n<binding element=\"A\">\n<target module=\"Wobble\" parameter=\"P\" scale=\"1\"/>\n</binding>\n</remote>",
         );
-        assert!(e.contains("b.remote.xml:3:") && e.contains("Wobble"), "{e}");
+        assert_eq!(
+            (e.file.as_str(), e.line, e.module.as_str()),
+            ("b.remote.xml", 3, "Wobble")
+        );
+        assert_eq!(e.fault, BindingFault::NoModule);
         let e = bad(
             "<remote>\n<binding element=\"A\">\n<target module=\"PatternGenerator_sinusoidal\" parameter=\"Speed\" scale=\"1\"/>\n</binding>\n</remote>",
         );
-        assert!(e.contains("Speed") && e.contains("Amplitude"), "{e}");
+        assert!(
+            matches!(
+                &e.fault,
+                BindingFault::NoParameter { parameter, known } if parameter == "Speed" && known.contains("Amplitude")
+            ),
+            "{e}"
+        );
         let e = bad(
             "<remote>\n<binding element=\"A\">\n<target module=\"PatternGenerator_sinusoidal\" parameter=\"Offset\" joints=\"101\" scale=\"1\"/>\n</binding>\n</remote>",
         );
-        assert!(e.contains("7 joints"), "{e}");
+        assert!(
+            matches!(e.fault, BindingFault::MaskLength { joints: 7, .. }),
+            "{e}"
+        );
     }
 
     #[test]

@@ -82,7 +82,7 @@ impl Recorder {
         r: &Readings,
         step: u64,
         dt: f64,
-    ) -> Result<(), String> {
+    ) -> Result<(), RealModeError> {
         let meta = FrameMeta::after_step(self.samples, step, dt);
         let actuators = kernel.actuators();
         for (h, frames) in self.round.iter_mut().enumerate() {
@@ -127,15 +127,36 @@ impl Recorder {
     }
 }
 
+/// Why a run on the real robot could not start or stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum RealModeError {
+    /// The actuation's kernel cannot be built.
+    #[error(transparent)]
+    Kernel(#[from] crate::control::kernel::KernelError),
+    /// The robot has another number of servos than the configuration joints.
+    #[error("the robot has {servos} servos, the configuration {joints} joints")]
+    Joints {
+        /// Servos on the bus.
+        servos: usize,
+        /// Joints of the configuration.
+        joints: usize,
+    },
+    /// The bus or a servo failed.
+    #[error(transparent)]
+    Robot(#[from] RobotError),
+    /// The data file could not be written.
+    #[error(transparent)]
+    Data(#[from] crate::data::store::DataStoreError),
+}
+
 /// The kernel of `sim` for the real robot, its modules made by `registry`, reset.
 pub fn kernel_for(
     sim: &Simulation,
     seed: u64,
     registry: &ModuleRegistry,
-) -> Result<ControlKernel, String> {
+) -> Result<ControlKernel, crate::control::kernel::KernelError> {
     let limits: Vec<[f64; 2]> = sim.robot.joints.iter().map(|j| j.limits_deg).collect();
-    let mut k = ControlKernel::from_actuation(&sim.actuation, registry, limits)
-        .map_err(|e| e.to_string())?;
+    let mut k = ControlKernel::from_actuation(&sim.actuation, registry, limits)?;
     k.reset(&mut SimRng::new(seed));
     Ok(k)
 }
@@ -149,16 +170,16 @@ pub fn run(
     opts: &RealOptions,
     data: Option<&Path>,
     stop: &AtomicBool,
-) -> Result<RealSummary, String> {
+) -> Result<RealSummary, RealModeError> {
     let props = &sim.files.simulation.properties;
     let dt = props.step_width;
     let mut kernel = kernel_for(sim, opts.seed, registry)?;
     let joints = kernel.joints();
     if robot.meta().joints != joints {
-        return Err(format!(
-            "the robot has {} servos, the configuration {joints} joints",
-            robot.meta().joints
-        ));
+        return Err(RealModeError::Joints {
+            servos: robot.meta().joints,
+            joints,
+        });
     }
     let read_every = u64::from(
         opts.read_every
@@ -166,8 +187,8 @@ pub fn run(
             .max(1),
     );
     let every = u64::from(opts.every.unwrap_or(props.accuracy).max(1));
-    robot.connect().map_err(|e| e.to_string())?;
-    let recorder = data.map(|path| -> Result<Recorder, String> {
+    robot.connect()?;
+    let recorder = data.map(|path| -> Result<Recorder, RealModeError> {
         let handlers = handlers_for(&kernel, &SensorData::default());
         let round = handlers
             .iter()
@@ -216,7 +237,7 @@ pub fn run(
     // Also when an error ended the loop.
     summary.wall = started.elapsed().as_secs_f64();
     if let Err(e) = &result {
-        summary.error = Some(e.clone());
+        summary.error = Some(e.to_string());
     }
     // Safe state whatever happened: torque off, then close.
     if let Err(e) = robot.enable_servos(false) {
@@ -246,14 +267,11 @@ fn control_loop(
     stop: &AtomicBool,
     recorder: &mut Option<Recorder>,
     summary: &mut RealSummary,
-) -> Result<(), String> {
-    let fail = |e: RobotError| e.to_string();
-    robot.read(&mut summary.readings).map_err(fail)?;
+) -> Result<(), RealModeError> {
+    robot.read(&mut summary.readings)?;
     summary.reads += 1;
-    robot
-        .set_joint_angles(&summary.readings.positions.clone())
-        .map_err(fail)?;
-    robot.enable_servos(true).map_err(fail)?;
+    robot.set_joint_angles(&summary.readings.positions.clone())?;
+    robot.enable_servos(true)?;
     let steps = duration.map(|d| (d / dt).round() as u64);
     let pacer = Pacer::new(Pacing::REAL_TIME, dt);
     let start = Instant::now();
@@ -268,7 +286,7 @@ fn control_loop(
             std::thread::sleep(due - now);
         }
         let desired = kernel.compute(step as f64 * dt, dt, step, &summary.readings.positions);
-        robot.set_joint_angles(desired).map_err(fail)?;
+        robot.set_joint_angles(desired)?;
         if (step + 1).is_multiple_of(read_every) {
             match robot.read(&mut summary.readings) {
                 Ok(()) => {
@@ -280,7 +298,7 @@ fn control_loop(
                     summary.last_read_error = Some(e.to_string());
                     failed_in_a_row += 1;
                     if failed_in_a_row >= MAX_FAILED_READS {
-                        return Err(fail(e));
+                        return Err(e.into());
                     }
                 }
             }

@@ -48,8 +48,8 @@ pub enum EditError {
     #[error("colour {0:?}: each part lies in 0..1")]
     Colour([f64; 3]),
     /// A name the files cannot hold.
-    #[error("{0}")]
-    Name(String),
+    #[error(transparent)]
+    Name(Box<crate::compose::error::ComposeError>),
     /// A scene file that cannot be read or written.
     #[error("{}: {source}", path.display())]
     Io {

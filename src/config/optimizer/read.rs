@@ -81,9 +81,8 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
     let parameters = read_parameters(&r, props)?;
     let genome = read_genomes(&r, root, &parameters)?;
     let fitness = match r.at_most_one(props, "fitness")? {
-        Some(el) => {
-            Fitness::parse(r.text(el)?).map_err(|m| r.err(el.pos, ErrorKind::InvalidValue, m))?
-        }
+        Some(el) => Fitness::parse(r.text(el)?)
+            .map_err(|m| r.err(el.pos, ErrorKind::InvalidValue, m.to_string()))?,
         None => Fitness::Displacement,
     };
     let max_evaluations = r

@@ -174,8 +174,8 @@ pub fn parse(file: &str, text: &str) -> Result<Document, ConfigError> {
                 push_text(&mut stack, &raw, before, text, &index, file, &err)?;
             }
             Event::GeneralRef(r) => {
-                let resolved =
-                    resolve_reference(&r).map_err(|m| err(before, ErrorKind::Syntax, m))?;
+                let resolved = resolve_reference(&r)
+                    .map_err(|m| err(before, ErrorKind::Syntax, m.to_string()))?;
                 push_text(&mut stack, &resolved, before, text, &index, file, &err)?;
             }
             Event::Comment(c) => {
@@ -212,17 +212,28 @@ pub fn parse(file: &str, text: &str) -> Result<Document, ConfigError> {
 }
 
 /// The text of an entity or character reference (`&amp;`, `&#955;`).
-fn resolve_reference(r: &quick_xml::events::BytesRef<'_>) -> Result<String, String> {
+fn resolve_reference(r: &quick_xml::events::BytesRef<'_>) -> Result<String, ReferenceError> {
     match r.resolve_char_ref() {
         Ok(Some(c)) => Ok(c.to_string()),
         Ok(None) => {
             let name = r.to_string();
             quick_xml::escape::resolve_predefined_entity(&name)
                 .map(str::to_string)
-                .ok_or_else(|| format!("unknown entity &{name};"))
+                .ok_or(ReferenceError::UnknownEntity(name))
         }
-        Err(e) => Err(format!("bad character reference: {e}")),
+        Err(e) => Err(ReferenceError::BadCharacter(e)),
     }
+}
+
+/// Why a reference has no text.
+#[derive(Debug, thiserror::Error)]
+enum ReferenceError {
+    /// Not one of XML's predefined entities.
+    #[error("unknown entity &{0};")]
+    UnknownEntity(String),
+    /// A `&#...;` that names no character.
+    #[error("bad character reference: {0}")]
+    BadCharacter(quick_xml::Error),
 }
 
 /// Closes the innermost open element: its text trimmed, it joins its parent (or becomes

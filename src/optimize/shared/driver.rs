@@ -6,6 +6,7 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 
 use crate::control::ModuleRegistry;
+use crate::optimize::error::OptimizeError;
 use crate::optimize::evaluate::Evaluator;
 use crate::optimize::settings::StopFlag;
 use std::time::Duration;
@@ -22,7 +23,7 @@ pub fn evaluate_round(
     seed: u64,
     pending: &[Pending],
     local: &mut LocalWorkers,
-) -> Result<Vec<f64>, String> {
+) -> Result<Vec<f64>, OptimizeError> {
     store.enqueue(run, seed, pending)?;
     let numbers: Vec<u64> = pending.iter().map(|p| p.number).collect();
     store.wait_scores(run, &numbers, |_| local.check())
@@ -31,7 +32,7 @@ pub fn evaluate_round(
 /// The driver's own evaluating threads, running beside it until dropped or finished.
 pub struct LocalWorkers {
     stop: StopFlag,
-    handle: Option<JoinHandle<Result<WorkerReport, String>>>,
+    handle: Option<JoinHandle<Result<WorkerReport, OptimizeError>>>,
 }
 
 impl LocalWorkers {
@@ -76,26 +77,24 @@ impl LocalWorkers {
 
     /// An error if the threads ended on one (a lost connection): the driver would otherwise
     /// wait for results no one computes.
-    pub fn check(&mut self) -> Result<(), String> {
+    pub fn check(&mut self) -> Result<(), OptimizeError> {
         if !self.handle.as_ref().is_some_and(|h| h.is_finished()) {
             return Ok(());
         }
         match self.handle.take().map(|h| h.join()) {
-            Some(Ok(Err(e))) => Err(format!("the local workers stopped: {e}")),
-            Some(Err(_)) => Err("a local worker panicked".into()),
+            Some(Ok(Err(e))) => Err(OptimizeError::LocalWorkers(Box::new(e))),
+            Some(Err(_)) => Err(OptimizeError::Panicked),
             _ => Ok(()),
         }
     }
 
     /// Stops the threads (woken through `store`) and returns what they did.
-    pub fn finish(mut self, store: &mut PgStore) -> Result<WorkerReport, String> {
+    pub fn finish(mut self, store: &mut PgStore) -> Result<WorkerReport, OptimizeError> {
         self.stop.stop();
         store.wake_workers()?;
         match self.handle.take() {
             None => Ok(WorkerReport::default()),
-            Some(h) => h
-                .join()
-                .unwrap_or_else(|_| Err("a local worker panicked".into())),
+            Some(h) => h.join().unwrap_or(Err(OptimizeError::Panicked)),
         }
     }
 }

@@ -32,7 +32,7 @@ pub fn follow_run(
     stop: &StopFlag,
     poll: Duration,
     mut on_eval: impl FnMut(&Evaluation),
-) -> Result<Followed, String> {
+) -> Result<Followed, crate::optimize::store::StoreError> {
     let mut store = Store::open_existing(location)?;
     let runs = store.runs()?;
     let chosen = match run {
@@ -44,8 +44,13 @@ pub fn follow_run(
             .or_else(|| runs.last()),
     }
     .ok_or_else(|| match run {
-        Some(id) => format!("{}: no run {id}", store.describe()),
-        None => format!("{}: no runs stored", store.describe()),
+        Some(run) => crate::optimize::store::StoreError::NoRun {
+            store: store.describe(),
+            run,
+        },
+        None => crate::optimize::store::StoreError::NoRuns {
+            store: store.describe(),
+        },
     })?;
     let id = chosen.id;
     let (mut next, mut best) = (0u64, f64::NEG_INFINITY);

@@ -56,16 +56,12 @@ pub enum UnevaluableRun {
         /// The run's genes.
         stored: String,
     },
-    /// Its search space or fitness cannot be set up (the optimizer file, the fitness name).
+    /// Its search space cannot be set up (the optimizer file).
     #[error("{0}")]
-    Setup(String),
-}
-
-/// Layers that still speak text take the refusal as its message.
-impl From<UnevaluableRun> for String {
-    fn from(e: UnevaluableRun) -> String {
-        e.to_string()
-    }
+    Setup(Box<crate::optimize::error::OptimizeError>),
+    /// Its fitness is not one this host knows.
+    #[error(transparent)]
+    Fitness(#[from] crate::config::error::UnknownName),
 }
 
 /// A stored run's simulation, loaded from its stored files with this host's module types.
@@ -104,7 +100,7 @@ pub fn run_evaluator(
     {
         return Err(UnevaluableRun::NoMujoco(e.to_string()));
     }
-    let (space, _) = prepare(&sim, registry).map_err(UnevaluableRun::Setup)?;
+    let (space, _) = prepare(&sim, registry).map_err(|e| UnevaluableRun::Setup(Box::new(e)))?;
     let genes: Vec<String> = space.genes.iter().map(|g| g.label()).collect();
     if genes != spec.info.genes {
         return Err(UnevaluableRun::Genes {
@@ -124,7 +120,7 @@ pub fn stored_evaluator(
     space: &SearchSpace,
     registry: &ModuleRegistry,
 ) -> Result<Evaluator, UnevaluableRun> {
-    let fitness = Fitness::parse(&spec.info.fitness).map_err(UnevaluableRun::Setup)?;
+    let fitness = Fitness::parse(&spec.info.fitness)?;
     Ok(Evaluator::new(
         sim,
         registry,

@@ -8,6 +8,7 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use crate::control::ModuleRegistry;
+use crate::optimize::error::OptimizeError;
 use crate::optimize::evaluate::{CandidateScore, Evaluator};
 use crate::optimize::settings::StopFlag;
 use crate::optimize::shared::run_evaluator;
@@ -114,7 +115,7 @@ pub fn run_pool(
     stop: &StopFlag,
     preloaded: Option<(i64, Arc<Evaluator>)>,
     on_message: &(dyn Fn(&str) + Sync),
-) -> Result<WorkerReport, String> {
+) -> Result<WorkerReport, OptimizeError> {
     let t = Instant::now();
     let pool = Pool {
         target,
@@ -145,12 +146,9 @@ pub fn run_pool(
             .collect();
         drop(alive);
         let beat = heartbeat(&mut heartbeat_store, &pool.id, options.lease, &beats);
-        let mut results: Vec<Result<(), String>> = threads
+        let mut results: Vec<Result<(), OptimizeError>> = threads
             .into_iter()
-            .map(|h| {
-                h.join()
-                    .unwrap_or_else(|_| Err("a worker thread panicked".into()))
-            })
+            .map(|h| h.join().unwrap_or(Err(OptimizeError::Panicked)))
             .collect();
         results.push(beat);
         results
@@ -171,7 +169,7 @@ fn heartbeat(
     id: &str,
     lease: Duration,
     beats: &std::sync::mpsc::Receiver<()>,
-) -> Result<(), String> {
+) -> Result<(), OptimizeError> {
     loop {
         if let Err(RecvTimeoutError::Disconnected) = beats.recv_timeout(lease / 3) {
             return Ok(());
@@ -194,7 +192,7 @@ impl Pool<'_> {
     /// One thread: claim, evaluate, write, until stopped or idle long enough. A lost
     /// connection (the server restarted) is made again, for up to [`OUTAGE`]; a result
     /// that could not be written then is written after it, if its lease still holds.
-    fn evaluate_loop(&self) -> Result<(), String> {
+    fn evaluate_loop(&self) -> Result<(), OptimizeError> {
         let mut store = PgStore::open(self.target, false)?;
         store.listen(PENDING)?;
         let mut thread = ThreadState {
@@ -221,7 +219,7 @@ impl Pool<'_> {
     }
 
     /// One claim and its evaluation (or a wait for work); `false` when idle long enough.
-    fn step(&self, store: &mut PgStore, thread: &mut ThreadState) -> Result<bool, String> {
+    fn step(&self, store: &mut PgStore, thread: &mut ThreadState) -> Result<bool, OptimizeError> {
         if let Some(u) = &thread.unsent {
             self.submit(store, u)?;
             thread.unsent = None;
@@ -251,7 +249,7 @@ impl Pool<'_> {
             Ok(e) => e,
             Err(e) if store.is_closed() => return Err(e),
             Err(why) => {
-                self.refuse(claim.run, why);
+                self.refuse(claim.run, &why);
                 store.release(&self.id, &claim)?;
                 return Ok(true);
             }
@@ -289,7 +287,7 @@ impl Pool<'_> {
     }
 
     /// Writes an evaluated claim's score, and counts it.
-    fn submit(&self, store: &mut PgStore, u: &Unsent) -> Result<(), String> {
+    fn submit(&self, store: &mut PgStore, u: &Unsent) -> Result<(), OptimizeError> {
         let t = Instant::now();
         let accepted = store.submit(&self.id, &u.claim, &u.score, u.wall)?;
         let submit_seconds = t.elapsed().as_secs_f64();
@@ -313,18 +311,21 @@ impl Pool<'_> {
         store: &mut PgStore,
         cache: &mut HashMap<i64, Arc<Evaluator>>,
         run: i64,
-    ) -> Result<Arc<Evaluator>, String> {
+    ) -> Result<Arc<Evaluator>, OptimizeError> {
         if let Some(e) = cache.get(&run) {
             return Ok(e.clone());
         }
         let spec = store.run_spec(run)?;
-        let e = Arc::new(run_evaluator(&spec, self.registry)?);
+        let e = Arc::new(
+            run_evaluator(&spec, self.registry)
+                .map_err(|why| OptimizeError::Unevaluable { run, why })?,
+        );
         cache.insert(run, e.clone());
         Ok(e)
     }
 
     /// Leaves `run` to other workers from now on, saying why once.
-    fn refuse(&self, run: i64, why: String) {
+    fn refuse(&self, run: i64, why: &OptimizeError) {
         let Ok(mut refused) = self.refused.lock() else {
             return;
         };
@@ -332,7 +333,10 @@ impl Pool<'_> {
             return;
         }
         refused.push(run);
-        let line = format!("refusing run {run}: {why}");
+        let line = match why {
+            OptimizeError::Unevaluable { why, .. } => format!("refusing run {run}: {why}"),
+            other => format!("refusing run {run}: {other}"),
+        };
         (self.on_message)(&line);
         if let Ok(mut r) = self.report.lock() {
             r.refused.push(line);

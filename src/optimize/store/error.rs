@@ -72,6 +72,12 @@ pub enum StoreError {
         /// The run asked for.
         run: i64,
     },
+    /// A store that holds no run yet.
+    #[error("{store}: no runs stored")]
+    NoRuns {
+        /// The store.
+        store: String,
+    },
     /// A stored evaluation whose column cannot be read back.
     #[error("{store}: run {run}, {evaluation}: {column} `{text}` is not {expected}")]
     Corrupt {

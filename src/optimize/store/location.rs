@@ -12,6 +12,8 @@ use std::time::Duration;
 
 use postgres::config::{Host, SslMode};
 
+use crate::optimize::error::BadChoice;
+
 /// Seconds to wait for a server that does not answer, unless the URL sets `connect_timeout`.
 const CONNECT_TIMEOUT_S: u64 = 10;
 
@@ -39,23 +41,22 @@ impl fmt::Debug for PgTarget {
 
 impl StoreLocation {
     /// Reads what `--store` says. A text with `://` is a URL and must be a PostgreSQL one.
-    pub fn parse(text: &str) -> Result<StoreLocation, String> {
+    pub fn parse(text: &str) -> Result<StoreLocation, BadChoice> {
         let Some((scheme, _)) = text.split_once("://") else {
             return Ok(StoreLocation::Sqlite(PathBuf::from(text)));
         };
         if scheme != "postgres" && scheme != "postgresql" {
-            return Err(format!(
-                "--store: unknown URL scheme \"{scheme}://\": give a file path (SQLite) or a postgres:// URL"
-            ));
+            return Err(BadChoice::Store(format!(
+                "unknown URL scheme \"{scheme}://\": give a file path (SQLite) or a postgres:// URL"
+            )));
         }
         let mut config = postgres::Config::from_str(text).map_err(|e| {
-            format!("--store: not a valid PostgreSQL URL ({e}); expected postgres://USER@HOST[:PORT]/DATABASE[?sslmode=require]")
+            BadChoice::Store(format!("not a valid PostgreSQL URL ({e}); expected postgres://USER@HOST[:PORT]/DATABASE[?sslmode=require]"))
         })?;
         if config.get_dbname().is_none() {
-            return Err(
-                "--store: the PostgreSQL URL names no database (postgres://USER@HOST/DATABASE)"
-                    .into(),
-            );
+            return Err(BadChoice::Store(
+                "the PostgreSQL URL names no database (postgres://USER@HOST/DATABASE)".into(),
+            ));
         }
         if config.get_user().is_none() {
             config.user(std::env::var("USER").as_deref().unwrap_or("postgres"));
@@ -222,14 +223,18 @@ mod tests {
 
     #[test]
     fn typos_in_urls_are_named() {
-        let scheme = StoreLocation::parse("postgress://lab@db/proleg").unwrap_err();
+        let why = |url| match StoreLocation::parse(url) {
+            Err(BadChoice::Store(why)) => why,
+            other => panic!("{url}: not a bad store: {other:?}"),
+        };
+        let scheme = why("postgress://lab@db/proleg");
         assert!(
             scheme.contains("unknown URL scheme \"postgress://\""),
             "{scheme}"
         );
-        let port = StoreLocation::parse("postgres://lab@db:54x2/proleg").unwrap_err();
+        let port = why("postgres://lab@db:54x2/proleg");
         assert!(port.contains("not a valid PostgreSQL URL"), "{port}");
-        let db = StoreLocation::parse("postgres://lab@db:5432").unwrap_err();
+        let db = why("postgres://lab@db:5432");
         assert!(db.contains("names no database"), "{db}");
     }
 

@@ -74,10 +74,34 @@ impl std::fmt::Debug for EmulatedBus {
     }
 }
 
+/// Why the emulated bus could not start.
+#[derive(Debug, thiserror::Error)]
+pub enum EmulatorError {
+    /// A pseudo-terminal call failed.
+    #[error("pseudo-terminal: {what}: {source}")]
+    Pty {
+        /// The call.
+        what: &'static str,
+        /// The system's error.
+        source: nix::Error,
+    },
+    /// The pseudo-terminal's device could not be opened.
+    #[error("{}: {source}", path.display())]
+    Open {
+        /// Its path.
+        path: PathBuf,
+        /// The system's error.
+        source: std::io::Error,
+    },
+    /// The emulator's thread could not start.
+    #[error("emulator thread: {0}")]
+    Thread(std::io::Error),
+}
+
 impl EmulatedBus {
     /// Servos with these ids, moving at `speed_deg_s`, on a new pseudo-terminal.
-    pub fn start(ids: &[u8], speed_deg_s: f64) -> Result<EmulatedBus, String> {
-        let err = |what: &str, e: nix::Error| format!("pseudo-terminal: {what}: {e}");
+    pub fn start(ids: &[u8], speed_deg_s: f64) -> Result<EmulatedBus, EmulatorError> {
+        let err = |what: &'static str, e: nix::Error| EmulatorError::Pty { what, source: e };
         let master = posix_openpt(OFlag::O_RDWR | OFlag::O_NOCTTY).map_err(|e| err("open", e))?;
         grantpt(&master).map_err(|e| err("grantpt", e))?;
         unlockpt(&master).map_err(|e| err("unlockpt", e))?;
@@ -88,7 +112,10 @@ impl EmulatedBus {
             .read(true)
             .write(true)
             .open(&path)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+            .map_err(|source| EmulatorError::Open {
+                path: path.clone(),
+                source,
+            })?;
         let mut t = tcgetattr(&slave).map_err(|e| err("tcgetattr", e))?;
         cfmakeraw(&mut t);
         tcsetattr(&slave, SetArg::TCSANOW, &t).map_err(|e| err("tcsetattr", e))?;
@@ -106,7 +133,7 @@ impl EmulatedBus {
             std::thread::Builder::new()
                 .name("dynamixel emulator".into())
                 .spawn(move || serve(master, slave, &shared, &stop))
-                .map_err(|e| format!("emulator thread: {e}"))?
+                .map_err(EmulatorError::Thread)?
         };
         Ok(EmulatedBus {
             path,

@@ -49,8 +49,8 @@ impl Simulator {
 
     /// Records every robot's handlers, and robot 0's into a new data file at `file`
     /// (created now; the error names it).
-    pub fn record_to(&mut self, file: &Path, settings: DataSettings) -> Result<(), String> {
-        let handlers = self.data_handlers(0).map_err(|e| e.to_string())?;
+    pub fn record_to(&mut self, file: &Path, settings: DataSettings) -> Result<(), RecordError> {
+        let handlers = self.data_handlers(0)?;
         let store = DataStore::create(file, handlers)?;
         self.enable_data(settings, Some(store));
         Ok(())
@@ -76,4 +76,15 @@ impl Simulator {
             None => Ok(0),
         }
     }
+}
+
+/// Why a data file could not be started.
+#[derive(Debug, thiserror::Error)]
+pub enum RecordError {
+    /// The world has no robot 0.
+    #[error(transparent)]
+    Sim(#[from] SimError),
+    /// The file cannot be created.
+    #[error(transparent)]
+    Store(#[from] crate::data::store::DataStoreError),
 }

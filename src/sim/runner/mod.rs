@@ -12,6 +12,7 @@
 
 mod control;
 mod data;
+pub use data::RecordError;
 mod state;
 
 use std::time::Instant;

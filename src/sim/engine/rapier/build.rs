@@ -322,7 +322,7 @@ fn shape(g: &Geom, sim: &Simulation, fixed: bool) -> Result<(rp::SharedShape, rp
                 .ok_or_else(|| err("not among the meshes the configuration loaded".into()))?;
             match collision {
                 MeshCollision::HeightField if fixed => {
-                    let map = mesh.height_map().map_err(|why| err(why.into()))?;
+                    let map = mesh.height_map().map_err(|why| err(why.to_string()))?;
                     Ok(heightfield(map, *scale))
                 }
                 MeshCollision::ConvexHull => {

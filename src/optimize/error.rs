@@ -1,0 +1,101 @@
+//! Why an optimization cannot start or go on: the optimize layer's errors, typed, turned
+//! into text only where the command line or a window prints them.
+
+use std::path::PathBuf;
+
+use crate::optimize::shared::UnevaluableRun;
+use crate::optimize::store::StoreError;
+
+/// An optimization that cannot be set up or run.
+#[derive(Debug, thiserror::Error)]
+pub enum OptimizeError {
+    /// The simulation's mode is not an optimization (no optimizer file).
+    #[error(
+        "{}: mode {mode:?} has no optimizer file; optimization needs mode \"Genetic Algorithm\" or \"Great Deluge\" with an <optimizer>",
+        file.display()
+    )]
+    NoOptimizer {
+        /// The simulation file.
+        file: PathBuf,
+        /// Its mode.
+        mode: String,
+    },
+    /// The optimizer file registers no parameter.
+    #[error("{}: no parameter is registered for optimization", file.display())]
+    NothingRegistered {
+        /// The optimizer file.
+        file: PathBuf,
+    },
+    /// The actuation's kernel cannot be built (the start candidate is read from it).
+    #[error(transparent)]
+    Kernel(#[from] crate::control::kernel::KernelError),
+    /// An episode could not be run or scored.
+    #[error(transparent)]
+    Eval(#[from] crate::optimize::evaluate::EvalError),
+    /// The experiment store failed.
+    #[error(transparent)]
+    Store(#[from] StoreError),
+    /// A shared store's connection was gone when the round was queued.
+    #[error("the shared store went away")]
+    StoreGone,
+    /// The optimizer ended without one evaluation.
+    #[error("the optimizer evaluated nothing")]
+    NothingEvaluated,
+    /// A run setting given on the command line or in the window that cannot be used.
+    #[error("{0}")]
+    Choice(#[from] BadChoice),
+    /// The run's own worker threads stopped with an error.
+    #[error("the local workers stopped: {0}")]
+    LocalWorkers(Box<OptimizeError>),
+    /// A worker thread panicked.
+    #[error("a worker thread panicked")]
+    Panicked,
+    /// A stored run this host cannot evaluate.
+    #[error("run {run}: {why}")]
+    Unevaluable {
+        /// The run.
+        run: i64,
+        /// Why not.
+        why: UnevaluableRun,
+    },
+    /// The store holds no run to follow.
+    #[error("{store}: {what}")]
+    NothingToFollow {
+        /// The store, without password.
+        store: String,
+        /// What was looked for.
+        what: String,
+    },
+    /// The curves could not be drawn.
+    #[error("{}: cannot draw: {message}", file.display())]
+    Plot {
+        /// The image file.
+        file: PathBuf,
+        /// The plotting library's message, or what is missing.
+        message: String,
+    },
+}
+
+/// A run setting that cannot be used, named as the command line spells it.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BadChoice {
+    /// `--duration` that is not a positive number of seconds.
+    #[error("--duration {0}: give a number of seconds > 0")]
+    Duration(f64),
+    /// `--lease` that is not a positive number of seconds.
+    #[error("--lease {0}: give a number of seconds > 0")]
+    Lease(f64),
+    /// `--workers 0` without a shared store whose workers evaluate.
+    #[error(
+        "--workers 0: give at least 1 (0 only with a shared postgres:// store, whose workers evaluate)"
+    )]
+    NoWorkers,
+    /// `--batch` above 1 with a shared store.
+    #[error(
+        "--batch {0}: a shared store evaluates one robot per world, so that a score does not depend on which worker claimed what"
+    )]
+    SharedBatch(usize),
+    /// A `--store` that is neither a path nor a usable PostgreSQL URL.
+    #[error("--store: {0}")]
+    Store(String),
+}
