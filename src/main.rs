@@ -295,6 +295,7 @@ fn wizard(opts: WizardOptions, plugins: proleg::plugin_host::PluginHost) -> Prin
             plugins,
         )
         .map(|()| String::new())
+        .map_err(Into::into)
     }
     #[cfg(not(feature = "gui"))]
     {

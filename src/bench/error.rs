@@ -53,9 +53,3 @@ pub enum BenchError {
     GateFailed(String),
 }
 
-/// The command line prints a benchmark's error as its message.
-impl From<BenchError> for String {
-    fn from(e: BenchError) -> String {
-        e.to_string()
-    }
-}

@@ -51,12 +51,6 @@ pub enum DataStoreError {
     },
 }
 
-/// Layers that still speak text take a data file's error as its message.
-impl From<DataStoreError> for String {
-    fn from(e: DataStoreError) -> String {
-        e.to_string()
-    }
-}
 
 /// A data file being written.
 pub struct DataStore {

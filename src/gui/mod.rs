@@ -14,6 +14,7 @@
 
 pub mod control;
 pub mod desktop;
+pub mod error;
 pub mod keyboard;
 pub mod meter;
 pub mod module_editor;

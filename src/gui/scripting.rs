@@ -1,7 +1,9 @@
 //! What the scripts of both windows share: the parsed script (commands with their
 //! lines, located parse errors), frames left of a `wait`, and screenshots asked of Bevy
 //! that the script waits for until the file is written. Each window defines its own
-//! commands (`control::script`, `setup::script`).
+//! commands as a clap-derived enum (`control::script`, `setup::script`): a line's words
+//! are parsed as a command line is, so an unknown word or a bad value is an error naming
+//! the file and line.
 
 use std::path::PathBuf;
 
@@ -27,7 +29,7 @@ pub struct ScriptPauses {
 
 impl ScriptPauses {
     /// Whether the script waits this frame; an error when a screenshot never appeared.
-    pub fn hold(&mut self) -> Result<bool, String> {
+    pub fn hold(&mut self) -> Result<bool, CommandError> {
         if self.waiting > 0 {
             self.waiting -= 1;
             return Ok(true);
@@ -38,10 +40,10 @@ impl ScriptPauses {
                 return Ok(true);
             }
             let missing = !path.exists();
-            let shot = path.display().to_string();
+            let shot = path.clone();
             self.pending_shot = None;
             if missing {
-                return Err(format!("screenshot {shot} was not written"));
+                return Err(CommandError::NoScreenshot(shot));
             }
         }
         Ok(false)
@@ -49,26 +51,39 @@ impl ScriptPauses {
 
     /// One frame of a `wait-for`: go on once `holds`, else poll again next frame, for at
     /// most `frames` frames (then an error naming `what`).
-    pub fn poll(&mut self, holds: bool, frames: u32, what: &str) -> Result<Flow, String> {
+    pub fn poll(&mut self, holds: bool, frames: u32, what: &str) -> Result<Flow, CommandError> {
         self.polls += 1;
         if holds {
             self.polls = 0;
             Ok(Flow::Next)
         } else if self.polls > frames {
-            Err(format!("waited {frames} frames for {what}"))
+            Err(CommandError::Timeout {
+                frames,
+                what: what.to_string(),
+            })
         } else {
             Ok(Flow::Again)
         }
     }
 
     /// Asks for a screenshot of the window into `path`; the script waits for the file.
-    pub fn screenshot(&mut self, commands: &mut Commands, path: PathBuf) {
+    pub fn screenshot(
+        &mut self,
+        commands: &mut Commands,
+        path: PathBuf,
+    ) -> Result<(), CommandError> {
         crate::gui::control::widgets::ensure_parent(&path);
-        let _ = std::fs::remove_file(&path);
+        // An old file would pass for the new one: it goes first.
+        match std::fs::remove_file(&path) {
+            Ok(()) => {}
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+            Err(source) => return Err(CommandError::Write { path, source }),
+        }
         commands
             .spawn(Screenshot::primary_window())
             .observe(save_to_disk(path.clone()));
         self.pending_shot = Some((path, 0));
+        Ok(())
     }
 }
 
@@ -97,23 +112,40 @@ impl<C> Default for Script<C> {
     }
 }
 
-/// Parses script text: one command per line, `#` comments and blank lines skipped.
-/// `command` turns a line (and its words) into a command; the function it is given
-/// prefixes a message with `FILE:LINE:`.
-pub fn parse_script<C>(
+/// A script line's words as a command of `C`: clap parses them as it parses a command
+/// line (`C`'s variants are the script's words, their fields its arguments).
+#[derive(clap::Parser, Debug)]
+#[command(
+    no_binary_name = true,
+    disable_help_flag = true,
+    disable_help_subcommand = true,
+    disable_version_flag = true
+)]
+struct Line<C: clap::Subcommand> {
+    #[command(subcommand)]
+    command: C,
+}
+
+/// Parses script text: one command per line, `#` comments and blank lines skipped; an
+/// error names the file and line.
+pub fn parse_script<C: clap::Subcommand>(
     path: &std::path::Path,
     text: &str,
-    command: impl Fn(&str, &[&str], &dyn Fn(String) -> String) -> Result<C, String>,
-) -> Result<Script<C>, String> {
+) -> Result<Script<C>, ScriptError> {
+    use clap::Parser as _;
     let mut commands = Vec::new();
     for (i, raw) in text.lines().enumerate() {
         let line = raw.split('#').next().unwrap_or("").trim();
         if line.is_empty() {
             continue;
         }
-        let at = |msg: String| format!("{}:{}: {msg}", path.display(), i + 1);
-        let words: Vec<&str> = line.split_whitespace().collect();
-        commands.push((i + 1, command(line, &words, &at)?));
+        let parsed =
+            Line::<C>::try_parse_from(line.split_whitespace()).map_err(|e| ScriptError::Parse {
+                file: path.to_path_buf(),
+                line: i + 1,
+                why: clap_message(&e),
+            })?;
+        commands.push((i + 1, parsed.command));
     }
     Ok(Script {
         commands,
@@ -122,13 +154,179 @@ pub fn parse_script<C>(
     })
 }
 
-/// Reads a script file and parses it with `parse`.
-pub fn load_script<C>(
-    path: &std::path::Path,
-    parse: fn(&std::path::Path, &str) -> Result<Script<C>, String>,
-) -> Result<Script<C>, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    parse(path, &text)
+/// Clap's message on one line, without its usage and help hints.
+fn clap_message(e: &clap::Error) -> String {
+    e.render()
+        .to_string()
+        .lines()
+        .map(str::trim)
+        .filter(|l| {
+            !l.is_empty() && !l.starts_with("Usage:") && !l.starts_with("For more information")
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+        .trim_start_matches("error: ")
+        .to_string()
+}
+
+/// Reads a script file and parses it.
+pub fn load_script<C: clap::Subcommand>(path: &std::path::Path) -> Result<Script<C>, ScriptError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ScriptError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_script(path, &text)
+}
+
+/// A finite number (scripts refuse NaN and infinities).
+pub fn finite(text: &str) -> Result<f64, NotFinite> {
+    text.parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .ok_or_else(|| NotFinite(text.to_string()))
+}
+
+/// A word that is not a finite number.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("{0:?} is not a finite number")]
+pub struct NotFinite(String);
+
+/// `on` or `off`.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OnOff {
+    /// On.
+    On,
+    /// Off.
+    Off,
+}
+
+impl OnOff {
+    /// Whether on.
+    pub fn on(self) -> bool {
+        self == OnOff::On
+    }
+}
+
+/// `open` or `close`.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OpenClose {
+    /// Open.
+    Open,
+    /// Close.
+    Close,
+}
+
+impl OpenClose {
+    /// Whether open.
+    pub fn open(self) -> bool {
+        self == OpenClose::Open
+    }
+}
+
+/// Why a script cannot run: it cannot be read, a line does not parse, or a command failed
+/// (its file and line).
+#[derive(Debug, thiserror::Error)]
+pub enum ScriptError {
+    /// The script file cannot be read.
+    #[error("{}: {source}", path.display())]
+    Read {
+        /// The script.
+        path: PathBuf,
+        /// The system's error.
+        source: std::io::Error,
+    },
+    /// A line that is no command of the window.
+    #[error("{}:{line}: {why}", file.display())]
+    Parse {
+        /// The script.
+        file: PathBuf,
+        /// The line (from 1).
+        line: usize,
+        /// The parser's message.
+        why: String,
+    },
+    /// A command that failed.
+    #[error("{}:{line}: {source}", file.display())]
+    Command {
+        /// The script.
+        file: PathBuf,
+        /// The command's line (from 1); 0 for a screenshot never written.
+        line: usize,
+        /// Why.
+        source: Box<CommandError>,
+    },
+}
+
+/// Why a script command failed.
+#[derive(Debug, thiserror::Error)]
+pub enum CommandError {
+    /// A screenshot that was never written.
+    #[error("screenshot {} was not written", .0.display())]
+    NoScreenshot(PathBuf),
+    /// A `wait-for` whose condition did not come.
+    #[error("waited {frames} frames for {what}")]
+    Timeout {
+        /// The frames waited.
+        frames: u32,
+        /// The condition.
+        what: String,
+    },
+    /// A file the command writes.
+    #[error("{}: {source}", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// The system's error.
+        source: std::io::Error,
+    },
+    /// Something the command names that the window does not have (a module, a link, a tab).
+    #[error("no {what} {name}")]
+    Missing {
+        /// What kind of thing.
+        what: &'static str,
+        /// Its name or number.
+        name: String,
+    },
+    /// A command that needs what is not there now (a selection, a paused run, an
+    /// optimization).
+    #[error("{0}")]
+    NotNow(&'static str),
+    /// The window refused the command and shows why (its status or error line).
+    #[error("{0}")]
+    Refused(String),
+    /// A word that is not a finite number.
+    #[error(transparent)]
+    Number(#[from] NotFinite),
+    /// A command routed to the wrong group of its window (a programming error).
+    #[error("internal: {0} reached the wrong command group")]
+    Misrouted(String),
+    /// The module library.
+    #[error(transparent)]
+    Plugin(#[from] crate::plugin_host::error::PluginError),
+    /// A view or device of the window.
+    #[error(transparent)]
+    Gui(#[from] crate::gui::error::GuiError),
+    /// The optimization view's Save best.
+    #[error(transparent)]
+    SaveBest(#[from] crate::gui::control::optimizer_view::SaveBestError),
+    /// The simulation.
+    #[error(transparent)]
+    Sim(#[from] crate::sim::SimError),
+    /// A module parameter.
+    #[error(transparent)]
+    Kernel(#[from] crate::control::kernel::KernelError),
+    /// A series selection.
+    #[error(transparent)]
+    Select(#[from] crate::data::export::SelectError),
+    /// The optimization.
+    #[error(transparent)]
+    Optimize(#[from] crate::optimize::error::OptimizeError),
+    /// A composition (wizard, expert dialog).
+    #[error(transparent)]
+    Compose(#[from] crate::compose::error::ComposeError),
+    /// The environment editor.
+    #[error(transparent)]
+    Edit(#[from] crate::compose::env_edit::EditError),
 }
 
 /// What a command leaves the script to do.
@@ -149,7 +347,7 @@ pub enum Flow {
 pub fn run_commands<C: Clone>(
     slot: &mut Option<Script<C>>,
     exit: &mut MessageWriter<AppExit>,
-    mut carry_out: impl FnMut(C, &mut Script<C>) -> Result<Flow, String>,
+    mut carry_out: impl FnMut(C, &mut Script<C>) -> Result<Flow, CommandError>,
 ) {
     let Some(script) = slot.as_mut() else {
         return;
@@ -160,7 +358,11 @@ pub fn run_commands<C: Clone>(
     let outcome = match script.pacing.hold() {
         Ok(true) => return,
         Ok(false) => step_commands(script, &mut carry_out),
-        Err(e) => Err(format!("{}: {e}", script.file.display())),
+        Err(source) => Err(ScriptError::Command {
+            file: script.file.clone(),
+            line: script.commands.get(script.next).map_or(0, |c| c.0),
+            source: Box::new(source),
+        }),
     };
     match outcome {
         Ok(false) => {}
@@ -180,11 +382,14 @@ pub fn run_commands<C: Clone>(
 /// file and line.
 fn step_commands<C: Clone>(
     script: &mut Script<C>,
-    carry_out: &mut impl FnMut(C, &mut Script<C>) -> Result<Flow, String>,
-) -> Result<bool, String> {
+    carry_out: &mut impl FnMut(C, &mut Script<C>) -> Result<Flow, CommandError>,
+) -> Result<bool, ScriptError> {
     while let Some((line, c)) = script.commands.get(script.next).cloned() {
-        let flow =
-            carry_out(c, script).map_err(|e| format!("{}:{line}: {e}", script.file.display()))?;
+        let flow = carry_out(c, script).map_err(|source| ScriptError::Command {
+            file: script.file.clone(),
+            line,
+            source: Box::new(source),
+        })?;
         match flow {
             Flow::Next => script.next += 1,
             Flow::Again => return Ok(false),

@@ -79,12 +79,6 @@ pub enum ReplayError {
     NothingScored,
 }
 
-/// Front ends that speak text take a replay's error as its message.
-impl From<ReplayError> for String {
-    fn from(e: ReplayError) -> String {
-        e.to_string()
-    }
-}
 
 /// A stored evaluation, ready to run again.
 #[derive(Clone)]

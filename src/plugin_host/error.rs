@@ -61,6 +61,10 @@ pub enum PluginError {
     /// The library was built but does not load.
     #[error("built, but it does not load: {0}")]
     DoesNotLoad(crate::plugin_host::library::LoadError),
+    /// The module editor cannot do this now (no module open, a build running, the build
+    /// thread gone).
+    #[error("{0}")]
+    Editor(&'static str),
     /// No fresh folder could be made for library copies.
     #[error("{}: no fresh folder {prefix}-N could be made", parent.display())]
     NoFreshFolder {

@@ -64,9 +64,3 @@ pub enum EditError {
     Invalid(#[from] ConfigError),
 }
 
-/// The windows' scripts and panels speak text: an edit's refusal as its message.
-impl From<EditError> for String {
-    fn from(e: EditError) -> String {
-        e.to_string()
-    }
-}

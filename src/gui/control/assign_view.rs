@@ -6,6 +6,7 @@ use bevy::prelude::*;
 use bevy_egui::egui;
 
 use crate::gui::control::session::SimSession;
+use crate::gui::error::GuiError;
 
 /// The form's state.
 #[derive(Resource, Debug, Clone, Default)]
@@ -20,14 +21,14 @@ pub struct AssignState {
 
 impl AssignState {
     /// Adds the chosen module; the outcome is kept for the form.
-    pub fn assign(&mut self, session: &mut SimSession) -> Result<(), String> {
+    pub fn assign(&mut self, session: &mut SimSession) -> Result<(), GuiError> {
         let result = session.add_module(&self.module, &self.mask);
         self.message = Some(match &result {
             Ok(()) => Ok(format!(
                 "{} drives {} (world rebuilt)",
                 self.module, self.mask
             )),
-            Err(e) => Err(e.clone()),
+            Err(e) => Err(e.to_string()),
         });
         result
     }

@@ -57,6 +57,7 @@ use crate::gui::control::scene::SceneBuilt;
 use crate::gui::control::script::ScriptRunner;
 use crate::gui::control::session::SimSession;
 use crate::gui::control::toolbar::ToolbarState;
+use crate::gui::error::GuiError;
 use crate::gui::module_editor::ModuleEditor;
 use crate::optimize::replay::Replay;
 use crate::remote::gamepad::{GamepadRemote, GamepadRemotePlugin};
@@ -126,7 +127,7 @@ pub fn run(
     script: Option<&Path>,
     remote: Option<&Path>,
     plugins: crate::plugin_host::PluginHost,
-) -> Result<(), String> {
+) -> Result<(), GuiError> {
     let registry = plugins.registry();
     let session = match replay {
         Some(r) => SimSession::open_replay(r, &registry)?,
@@ -157,7 +158,10 @@ pub fn run(
         .add_plugins(ControlWindowPlugin);
     match app.run() {
         AppExit::Success => Ok(()),
-        AppExit::Error(code) => Err(format!("the control window closed with status {code}")),
+        AppExit::Error(code) => Err(GuiError::Closed {
+            window: "control window",
+            code,
+        }),
     }
 }
 
@@ -185,7 +189,7 @@ fn open_or_fall_back(
     config: &Path,
     engine: Option<crate::config::simulation::EngineKind>,
     registry: &crate::control::ModuleRegistry,
-) -> Result<SimSession, String> {
+) -> Result<SimSession, GuiError> {
     let error = match SimSession::open(config, engine, registry) {
         Ok(s) => return Ok(s),
         Err(e) => e,

@@ -48,8 +48,8 @@ pub enum SaveBestError {
 /// A message from the optimization thread.
 enum Report {
     Eval(Evaluation),
-    Done(Box<Result<OptimizeReport, String>>),
-    Detached(Result<Followed, String>),
+    Done(Box<Result<OptimizeReport, crate::cli::error::CliError>>),
+    Detached(Result<Followed, crate::optimize::store::StoreError>),
 }
 
 /// The view's state and the running optimization, if any.
@@ -170,7 +170,7 @@ impl OptimizerView {
         let location = match StoreLocation::parse(self.attach_to.trim()) {
             Ok(l) => l,
             Err(e) => {
-                self.status = e;
+                self.status = e.to_string();
                 return;
             }
         };
@@ -184,10 +184,11 @@ impl OptimizerView {
         let (tx, rx) = channel();
         std::thread::spawn(move || {
             let eval_tx = tx.clone();
+            // The view closing drops the receiver; following ends with the thread.
             let result = follow_run(&location, None, &stop, FOLLOW_POLL, |e| {
-                let _ = eval_tx.send(Report::Eval(e.clone()));
+                if eval_tx.send(Report::Eval(e.clone())).is_err() {}
             });
-            let _ = tx.send(Report::Detached(result));
+            if tx.send(Report::Detached(result)).is_err() {}
         });
         self.rx = Some(std::sync::Mutex::new(rx));
     }
@@ -320,7 +321,7 @@ pub fn replay(session: &mut SimSession, genome: &Genome) {
     let space = match prepare(&session.sim, &session.registry) {
         Ok((space, _)) => space,
         Err(e) => {
-            session.error = Some(e);
+            session.error = Some(e.to_string());
             return;
         }
     };

@@ -150,7 +150,7 @@ pub fn apply(session: &mut SimSession, changes: Vec<Change>, reset: Option<usize
     if let Some(a) = reset
         && let Err(e) = reset_actuator(kernel, &initial, a)
     {
-        session.error = Some(e);
+        session.error = Some(e.to_string());
     }
 }
 
@@ -159,17 +159,18 @@ pub fn reset_actuator(
     kernel: &mut crate::control::ControlKernel,
     initial: &crate::control::ControlKernel,
     a: usize,
-) -> Result<(), String> {
+) -> Result<(), crate::gui::error::GuiError> {
     let Some(init) = initial.actuators().get(a) else {
-        return Err(format!("no actuator {a}"));
+        return Err(crate::gui::error::GuiError::Missing {
+            what: "module tab",
+            name: a.to_string(),
+        });
     };
     let d = init.module.descriptor();
     let p = init.module.parameters();
     for (pi, desc) in d.parameters.iter().enumerate() {
         for (local, joint) in init.joints.iter().enumerate() {
-            kernel
-                .set_parameter(a, desc.name, Some(*joint), p.get(pi, local))
-                .map_err(|e| e.to_string())?;
+            kernel.set_parameter(a, desc.name, Some(*joint), p.get(pi, local))?;
         }
     }
     Ok(())

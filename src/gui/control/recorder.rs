@@ -82,7 +82,8 @@ impl Recorder {
         t.closed = true;
         let finished = t.sink.take().map(VideoSink::finish).transpose();
         self.status = Some(match (finished, t.error.take()) {
-            (_, Some(e)) | (Err(e), None) => format!("recording failed: {e}"),
+            (_, Some(e)) => format!("recording failed: {e}"),
+            (Err(e), None) => format!("recording failed: {e}"),
             (Ok(None), None) => "nothing recorded".into(),
             (Ok(Some(w)), None) => {
                 self.last = Some((w.path.clone(), w.frames));
@@ -146,7 +147,7 @@ fn add_frame(take: &Mutex<Take>, image: &Image) {
                 }
             }
             Err(e) => {
-                t.error = Some(e);
+                t.error = Some(e.to_string());
                 return;
             }
         }
@@ -162,7 +163,7 @@ fn add_frame(take: &Mutex<Take>, image: &Image) {
     let pushed = t.sink.as_mut().map(|s| s.push(&frame));
     match pushed {
         Some(Ok(())) => t.frames += 1,
-        Some(Err(e)) => t.error = Some(e),
+        Some(Err(e)) => t.error = Some(e.to_string()),
         None => {}
     }
 }

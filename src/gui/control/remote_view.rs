@@ -16,6 +16,7 @@ use crate::config::remote::{
 };
 use crate::gui::control::params::reset_actuator;
 use crate::gui::control::session::SimSession;
+use crate::gui::error::GuiError;
 use crate::remote::device::{ElementKind, gamepad_elements};
 use crate::remote::gamepad::GamepadRemote;
 use crate::remote::{Remote, RemoteData, RemoteMapper};
@@ -95,20 +96,18 @@ impl Default for RemoteView {
 
 impl RemoteView {
     /// Loads a binding file (errors name file and line).
-    pub fn load(&mut self, path: &Path) -> Result<(), String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        self.file =
-            parse_remote_file(&path.display().to_string(), &text).map_err(|e| e.to_string())?;
+    pub fn load(&mut self, path: &Path) -> Result<(), GuiError> {
+        let text = std::fs::read_to_string(path).map_err(GuiError::io(path))?;
+        self.file = parse_remote_file(&path.display().to_string(), &text)?;
         self.path = path.display().to_string();
         self.edited();
         Ok(())
     }
 
     /// Writes the bindings.
-    pub fn save(&mut self, path: &Path) -> Result<(), String> {
+    pub fn save(&mut self, path: &Path) -> Result<(), GuiError> {
         crate::gui::control::widgets::ensure_parent(path);
-        std::fs::write(path, write_remote_file(&self.file))
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        std::fs::write(path, write_remote_file(&self.file)).map_err(GuiError::io(path))?;
         self.path = path.display().to_string();
         Ok(())
     }
@@ -132,12 +131,12 @@ impl RemoteView {
     }
 
     /// Removes binding `i`.
-    pub fn remove(&mut self, i: usize) -> Result<(), String> {
+    pub fn remove(&mut self, i: usize) -> Result<(), GuiError> {
         if i >= self.file.bindings.len() {
-            return Err(format!(
-                "no binding {i}; there are {}",
-                self.file.bindings.len()
-            ));
+            return Err(GuiError::Missing {
+                what: "binding",
+                name: format!("{i} (there are {})", self.file.bindings.len()),
+            });
         }
         self.file.bindings.remove(i);
         self.edited();
@@ -165,7 +164,10 @@ impl RemoteView {
             .simulator
             .kernel(0)
             .map_err(|e| e.to_string())
-            .and_then(|k| RemoteMapper::new(&self.file, &self.path, k, &orientations));
+            .and_then(|k| {
+                RemoteMapper::new(&self.file, &self.path, k, &orientations)
+                    .map_err(|e| e.to_string())
+            });
         match built {
             Ok(mut m) => {
                 if let (true, Some(old), Ok(k)) =
@@ -203,7 +205,7 @@ impl RemoteView {
         let actions = match mapper.apply(&data, dt, kernel) {
             Ok(a) => a,
             Err(e) => {
-                self.error = Some(e);
+                self.error = Some(e.to_string());
                 return;
             }
         };
@@ -216,7 +218,7 @@ impl RemoteView {
                     if let Ok(kernel) = session.simulator.kernel_mut(0) {
                         for i in 0..initial.actuators().len() {
                             if let Err(e) = reset_actuator(kernel, &initial, i) {
-                                self.error = Some(e);
+                                self.error = Some(e.to_string());
                             }
                         }
                         mapper.rebase(kernel);
@@ -267,15 +269,17 @@ pub fn show(
                 if ui.checkbox(&mut on, "use the gamepad").changed() {
                     if on {
                         if let Err(e) = remote.connect() {
-                            view.error = Some(e);
+                            view.error = Some(e.to_string());
                         }
                     } else {
                         remote.disconnect();
                     }
                 }
                 ui.checkbox(&mut view.enabled, "bindings act on the robot");
-                if ui.button("rumble").clicked() {
-                    let _ = remote.receive_command("rumble 0.6 0.3");
+                if ui.button("rumble").clicked()
+                    && let Err(e) = remote.receive_command("rumble 0.6 0.3")
+                {
+                    view.error = Some(e.to_string());
                 }
             });
             ui.separator();
@@ -296,12 +300,12 @@ pub fn show(
                 if ui.button("Load").clicked()
                     && let Err(e) = view.load(&path)
                 {
-                    view.error = Some(e);
+                    view.error = Some(e.to_string());
                 }
                 if ui.button("Save").clicked()
                     && let Err(e) = view.save(&path)
                 {
-                    view.error = Some(e);
+                    view.error = Some(e.to_string());
                 }
                 if ui.button("Default binding").clicked() {
                     view.file = default_gamepad_bindings();

@@ -27,8 +27,12 @@ pub struct StoredResults {
 impl StoredResults {
     /// Lists the runs of `self.store`.
     pub fn list(&mut self) {
-        let listed = StoreLocation::parse(self.store.trim())
-            .and_then(|l| Ok(Store::open_existing(&l)?.runs()?));
+        let listed = match StoreLocation::parse(self.store.trim()) {
+            Ok(l) => Store::open_existing(&l)
+                .and_then(|mut s| s.runs())
+                .map_err(|e| e.to_string()),
+            Err(e) => Err(e.to_string()),
+        };
         match listed {
             Ok(runs) => {
                 self.status = format!("{} runs", runs.len());
@@ -46,13 +50,9 @@ pub fn replay_stored(
     run: i64,
     which: Which,
     episode: Option<u32>,
-) -> Result<(), String> {
+) -> Result<(), crate::gui::error::GuiError> {
     let replay = replay_from(store, run, which, episode, &session.registry)?;
-    session.load_replay(replay);
-    match session.error.take() {
-        Some(e) => Err(e),
-        None => Ok(()),
-    }
+    session.try_load_replay(replay)
 }
 
 /// Draws the results section.
@@ -105,7 +105,7 @@ pub fn show(ui: &mut egui::Ui, session: &mut SimSession, r: &mut StoredResults) 
                 .replay
                 .as_ref()
                 .map_or(String::new(), |p| p.label.clone()),
-            Err(e) => e,
+            Err(e) => e.to_string(),
         };
     }
     if !r.status.is_empty() {

@@ -11,6 +11,7 @@ use bevy::prelude::*;
 use bevy_egui::egui;
 
 use crate::gui::control::session::SimSession;
+use crate::gui::error::GuiError;
 use crate::robot_io::dynamixel::DynamixelChain;
 use crate::robot_io::{Info, Readings, RobotControl};
 
@@ -100,7 +101,7 @@ impl RobotView {
     }
 
     /// Connects to the session's robot on the port; reads it once.
-    pub fn connect(&mut self, session: &SimSession) -> Result<(), String> {
+    pub fn connect(&mut self, session: &SimSession) -> Result<(), GuiError> {
         self.disconnect_robot();
         let mut chain = DynamixelChain::new(
             std::path::Path::new(self.port.trim()),
@@ -108,7 +109,7 @@ impl RobotView {
             session.sim.robot.servos.clone(),
             &session.sim.robot.pattern(),
         );
-        chain.connect().map_err(|e| e.to_string())?;
+        chain.connect()?;
         let n = chain.meta().joints;
         self.readings = Readings::new(n);
         self.temperatures = vec![0.0; n];
@@ -147,42 +148,53 @@ impl RobotView {
     }
 
     /// Torque on or off for every servo.
-    pub fn set_torque(&mut self, on: bool) -> Result<(), String> {
-        let r = self.robot.as_mut().ok_or("not connected")?;
-        r.enable_servos(on).map_err(|e| e.to_string())?;
+    pub fn set_torque(&mut self, on: bool) -> Result<(), GuiError> {
+        let r = self
+            .robot
+            .as_mut()
+            .ok_or(GuiError::NotNow("not connected"))?;
+        r.enable_servos(on)?;
         self.torque = on;
         Ok(())
     }
 
     /// Sends the command line (`COMMAND [VALUE...]`) to every servo or one id.
-    pub fn send(&mut self) -> Result<(), String> {
+    pub fn send(&mut self) -> Result<(), GuiError> {
         let mut words = self.command.split_whitespace();
         let name = words
             .next()
-            .ok_or("type a command, e.g. led 1")?
+            .ok_or(GuiError::NotNow("type a command, e.g. led 1"))?
             .to_string();
         let values = words
             .map(|w| {
                 w.parse::<f64>()
                     .ok()
                     .filter(|v| v.is_finite())
-                    .ok_or_else(|| format!("{w:?} is not a number"))
+                    .ok_or_else(|| GuiError::Missing {
+                        what: "number",
+                        name: format!("{w:?}"),
+                    })
             })
-            .collect::<Result<Vec<f64>, String>>()?;
+            .collect::<Result<Vec<f64>, GuiError>>()?;
         let target = match self.command_target {
             0 => crate::robot_io::Target::All,
             id => crate::robot_io::Target::Id(id),
         };
-        let r = self.robot.as_mut().ok_or("not connected")?;
-        r.send_command(&name, &values, target)
-            .map_err(|e| e.to_string())
+        let r = self
+            .robot
+            .as_mut()
+            .ok_or(GuiError::NotNow("not connected"))?;
+        Ok(r.send_command(&name, &values, target)?)
     }
 
     /// One frame's exchange: goals out (when driving), readings in.
-    fn exchange_once(&mut self, goals: Option<&[f64]>) -> Result<(), String> {
-        let r = self.robot.as_mut().ok_or("not connected")?;
+    fn exchange_once(&mut self, goals: Option<&[f64]>) -> Result<(), GuiError> {
+        let r = self
+            .robot
+            .as_mut()
+            .ok_or(GuiError::NotNow("not connected"))?;
         if let Some(g) = goals {
-            r.set_joint_angles(g).map_err(|e| e.to_string())?;
+            r.set_joint_angles(g)?;
             self.writes += 1;
         }
         self.frames += 1;
@@ -204,7 +216,7 @@ impl RobotView {
                 self.failed_reads += 1;
                 self.failed_in_a_row += 1;
                 if self.failed_in_a_row >= crate::robot_io::real_mode::MAX_FAILED_READS {
-                    Err(e.to_string())
+                    Err(e.into())
                 } else {
                     Ok(())
                 }
@@ -271,7 +283,7 @@ pub fn show(ctx: &egui::Context, view: &mut RobotView, session: &mut SimSession)
                 } else if ui.button("Connect").clicked()
                     && let Err(e) = view.connect(session)
                 {
-                    view.error = Some(e);
+                    view.error = Some(e.to_string());
                 }
             });
             if let Some(e) = &view.error {
@@ -298,7 +310,7 @@ pub fn show(ctx: &egui::Context, view: &mut RobotView, session: &mut SimSession)
                 if ui.checkbox(&mut torque, "Torque on").changed()
                     && let Err(e) = view.set_torque(torque)
                 {
-                    view.error = Some(e);
+                    view.error = Some(e.to_string());
                 }
                 ui.checkbox(&mut view.drive, "Kernel drives the servos")
                     .on_hover_text("start the simulation: each frame the kernel's angles go out");
@@ -316,7 +328,7 @@ pub fn show(ctx: &egui::Context, view: &mut RobotView, session: &mut SimSession)
                 ui.label("to id (0: all)");
                 ui.add(egui::DragValue::new(&mut view.command_target).range(0..=252));
                 if ui.button("Send").clicked() {
-                    view.error = view.send().err();
+                    view.error = view.send().err().map(|e| e.to_string());
                 }
             });
         });

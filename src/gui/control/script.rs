@@ -55,13 +55,20 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::data::export::SeriesSelector;
+use clap::Subcommand;
 
-/// One script command.
-#[derive(Debug, Clone, PartialEq)]
+use crate::data::export::SeriesSelector;
+use crate::gui::scripting::{OnOff, OpenClose, ScriptError, finite};
+
+/// One script command: the enum's variants are the script's words (`RunUntil` is
+/// `run-until`), their fields its arguments in order.
+#[derive(Subcommand, Debug, Clone, PartialEq)]
 pub enum Command {
     /// `wait N`: N frames.
-    Wait(u32),
+    Wait {
+        /// Frames.
+        frames: u32,
+    },
     /// `start`.
     Start,
     /// `pause`.
@@ -73,21 +80,43 @@ pub enum Command {
     /// `keep-tuned`: the toolbar's "Keep tuned values" after a restart.
     KeepTuned,
     /// `load FILE`: the toolbar's Load.
-    Load(PathBuf),
+    Load {
+        /// The simulation file.
+        file: PathBuf,
+    },
     /// `engine rapier|mujoco`: the toolbar's physics choice.
-    Engine(crate::config::simulation::EngineKind),
+    Engine {
+        /// The engine.
+        kind: crate::config::simulation::EngineKind,
+    },
     /// `run-until S`: runs until simulated second S.
-    RunUntil(f64),
-    /// `wait-for STATE FRAMES`: until `running`, `paused` or `debug` holds, or
-    /// (`file:PATH`) the file exists.
-    WaitFor(String, u32),
-    /// `step-to S`: step, paused, to exactly this simulated time (seconds, to the step): a replay's
-    /// episode ends where the optimization's did.
-    StepTo(f64),
+    RunUntil {
+        /// Simulated seconds.
+        #[arg(value_parser = finite)]
+        seconds: f64,
+    },
+    /// `wait-for running|paused|debug FRAMES` or `wait-for file PATH FRAMES`.
+    #[command(subcommand)]
+    WaitFor(WaitFor),
+    /// `step-to S`: step, paused, to exactly this simulated time (seconds, to the step): a
+    /// replay's episode ends where the optimization's did.
+    StepTo {
+        /// Simulated seconds.
+        #[arg(value_parser = finite)]
+        seconds: f64,
+    },
     /// Real-time factor (0: as fast as possible).
-    Speed(f64),
+    Speed {
+        /// The factor.
+        #[arg(value_parser = finite)]
+        factor: f64,
+    },
     /// `slow-frames MS`: every frame takes this much longer.
-    SlowFrames(u32),
+    SlowFrames {
+        /// Milliseconds (at most 10 000).
+        #[arg(value_parser = clap::value_parser!(u32).range(0..=10_000))]
+        ms: u32,
+    },
     /// `set MODULE PARAM VALUE [JOINT]`: a module parameter (joint from 1).
     Set {
         /// Module type.
@@ -95,313 +124,291 @@ pub enum Command {
         /// Parameter.
         param: String,
         /// New value.
+        #[arg(value_parser = finite, allow_negative_numbers = true)]
         value: f64,
         /// Joint (from 1), or all.
         joint: Option<usize>,
     },
     /// Series as `proleg data` selects them: `Handler/series`, `[k]` or `[a..b]` (from 0).
-    Plot(Vec<SeriesSelector>),
-    /// `record on [FILE]` (`Some`, with the file if given) or `record off` (`None`).
-    Record(Option<Option<PathBuf>>),
-    /// `panel params|plots|all`.
-    Panel(String),
-    /// Show a parameter of module tab N per joint (individual mode) or not.
+    Plot {
+        /// The series.
+        #[arg(required = true, value_parser = SeriesSelector::parse)]
+        series: Vec<SeriesSelector>,
+    },
+    /// `record on [FILE]` or `record off`: the Record button.
+    #[command(subcommand)]
+    Record(Record),
+    /// `panel params|plots|all|none`.
+    Panel {
+        /// Which docked views are open.
+        which: Panel,
+    },
+    /// `per-joint TAB PARAM on|off`: a parameter of module tab TAB per joint or not.
     PerJoint {
         /// Module tab.
         actuator: usize,
         /// Parameter.
         param: String,
         /// Per joint or uniform.
-        on: bool,
+        state: OnOff,
     },
-    /// Turn the physics debug view on or off.
-    Debug(bool),
-    /// Select robot link N (from 0) as a click would.
-    SelectLink(usize),
-    /// Move the selection by (dx, dy, dz) metres, as a drag would.
-    MoveBy([f64; 3]),
-    /// Open the data file inspection on a file and add a graph of these series.
-    Inspect(PathBuf, Vec<SeriesSelector>),
-    /// Run the simulation's optimization for this many evaluations and wait for it.
-    Optimize(u64, Option<String>),
+    /// `debug on|off`: the physics debug view.
+    Debug {
+        /// On or off.
+        state: OnOff,
+    },
+    /// `select-link N`: select robot link N (from 0) as a click would.
+    SelectLink {
+        /// The link.
+        link: usize,
+    },
+    /// `move-by DX DY DZ`: move the selection by these metres, as a drag would.
+    MoveBy {
+        /// Metres along x.
+        #[arg(value_parser = finite, allow_negative_numbers = true)]
+        dx: f64,
+        /// Metres along y.
+        #[arg(value_parser = finite, allow_negative_numbers = true)]
+        dy: f64,
+        /// Metres along z.
+        #[arg(value_parser = finite, allow_negative_numbers = true)]
+        dz: f64,
+    },
+    /// `inspect FILE SERIES...`: the data file inspection on a file with a graph of these
+    /// series.
+    Inspect {
+        /// The data file.
+        file: PathBuf,
+        /// The series.
+        #[arg(required = true, value_parser = SeriesSelector::parse)]
+        series: Vec<SeriesSelector>,
+    },
+    /// `optimize N [STORE]`: the optimization mode for N evaluations; waits for it.
+    Optimize {
+        /// Evaluations.
+        #[arg(value_parser = clap::value_parser!(u64).range(1..))]
+        evaluations: u64,
+        /// The store (default CONFIG-STEM.results.sqlite).
+        store: Option<String>,
+    },
     /// `save-best FILE`: the optimization view's Save best.
-    SaveBest(PathBuf),
+    SaveBest {
+        /// The actuation file.
+        file: PathBuf,
+    },
     /// `results STORE`: open the optimization window and list the store's runs.
-    Results(String),
-    /// `replay STORE RUN N|best [EP]`: a stored evaluation: store, run, evaluation (or best), episode of a robust run.
+    Results {
+        /// The store.
+        store: String,
+    },
+    /// `replay STORE RUN N|best [EP]`: a stored evaluation (episode EP of a robust run).
     Replay {
         /// The store (a path or a postgres:// URL).
         store: String,
         /// The run's id.
         run: i64,
         /// Which evaluation.
+        #[arg(value_parser = crate::optimize::replay::Which::parse)]
         which: crate::optimize::replay::Which,
         /// The episode of a robust run.
         episode: Option<u32>,
     },
-    /// Attach the optimization view to the store's latest unfinished run (read-only) and
-    /// wait until this many of its evaluations are drawn (or the run ends).
-    Attach(String, u64),
-    /// Replay the best candidate found in the viewer.
+    /// `attach STORE N`: follow the store's latest unfinished run (read-only) until N of its
+    /// evaluations are drawn (or the run ends).
+    Attach {
+        /// The store.
+        store: String,
+        /// Evaluations to wait for.
+        evaluations: u64,
+    },
+    /// `replay-best`: the best candidate found, in the viewer.
     ReplayBest,
-    /// Open or close the remote control dialog.
-    Remote(bool),
-    /// Set a remote element's value (standing in for the gamepad).
-    RemoteSet(String, f64),
-    /// Add a binding: element, mode, module, parameter, joints, scale.
+    /// `remote open|close`: the remote control dialog.
+    Remote {
+        /// Open or close.
+        state: OpenClose,
+    },
+    /// `remote-set ELEMENT VALUE`: a gamepad element's value, as if the pad sent it.
+    RemoteSet {
+        /// The element.
+        element: String,
+        /// Its value.
+        #[arg(value_parser = finite, allow_negative_numbers = true)]
+        value: f64,
+    },
+    /// `remote-bind ELEMENT MODE MODULE PARAM JOINTS SCALE`: adds a binding.
     RemoteBind {
         /// Remote element.
         element: String,
         /// How it changes the parameter.
+        #[arg(value_parser = bind_mode)]
         mode: crate::config::remote::BindMode,
         /// Module type.
         module: String,
         /// Parameter.
         parameter: String,
         /// Which joints.
+        #[arg(value_parser = joint_selection)]
         joints: crate::config::remote::JointSelection,
         /// Change per unit.
+        #[arg(value_parser = finite, allow_negative_numbers = true)]
         scale: f64,
     },
-    /// `remote-remove I`: removes binding I.
-    RemoteRemove(usize),
+    /// `remote-remove I`: removes binding I (from 0).
+    RemoteRemove {
+        /// The binding.
+        index: usize,
+    },
     /// `remote-load FILE`.
-    RemoteLoad(PathBuf),
+    RemoteLoad {
+        /// The remote file.
+        file: PathBuf,
+    },
     /// `remote-save FILE`.
-    RemoteSave(PathBuf),
+    RemoteSave {
+        /// The remote file.
+        file: PathBuf,
+    },
     /// A module library command.
+    #[command(flatten)]
     Module(crate::gui::module_editor::script::ModuleCommand),
     /// `assign MODULE MASK`: adds a module on the masked joints.
-    Assign(String, String),
-    /// The real-robot tab: open/close, connect, torque, drive, twin, disconnect.
-    RobotOpen(bool),
+    Assign {
+        /// Module type.
+        module: String,
+        /// Joint mask (`10101`).
+        mask: String,
+    },
+    /// `robot open|close`: the real-robot tab.
+    Robot {
+        /// Open or close.
+        state: OpenClose,
+    },
     /// `robot-connect PORT`.
-    RobotConnect(String),
+    RobotConnect {
+        /// The serial port.
+        port: String,
+    },
     /// `robot-torque on|off`.
-    RobotTorque(bool),
+    RobotTorque {
+        /// On or off.
+        state: OnOff,
+    },
     /// `robot-drive on|off`: the kernel drives the servos.
-    RobotDrive(bool),
+    RobotDrive {
+        /// On or off.
+        state: OnOff,
+    },
     /// `robot-twin on|off`: the viewer's robot follows the servos.
-    RobotTwin(bool),
+    RobotTwin {
+        /// On or off.
+        state: OnOff,
+    },
     /// `robot-disconnect`.
     RobotDisconnect,
     /// `screenshot FILE.png`.
-    Screenshot(PathBuf),
+    Screenshot {
+        /// The image file.
+        file: PathBuf,
+    },
     /// `state FILE`: writes the state a test checks.
-    State(PathBuf),
+    State {
+        /// The state file.
+        file: PathBuf,
+    },
     /// `quit`.
     Quit,
+}
+
+/// What a `wait-for` waits for.
+#[derive(Subcommand, Debug, Clone, PartialEq)]
+pub enum WaitFor {
+    /// The simulation runs.
+    Running {
+        /// At most this many frames.
+        frames: u32,
+    },
+    /// The simulation is paused.
+    Paused {
+        /// At most this many frames.
+        frames: u32,
+    },
+    /// The physics debug view is on.
+    Debug {
+        /// At most this many frames.
+        frames: u32,
+    },
+    /// A file exists (a test says its input was sent).
+    File {
+        /// The file.
+        path: PathBuf,
+        /// At most this many frames.
+        frames: u32,
+    },
+}
+
+/// `record on [FILE]` or `record off`.
+#[derive(Subcommand, Debug, Clone, PartialEq)]
+pub enum Record {
+    /// Start recording (default file: out/recordings/NAME-TIME.mp4).
+    On {
+        /// The video file.
+        file: Option<PathBuf>,
+    },
+    /// Stop recording.
+    Off,
+}
+
+/// Which docked views `panel` opens.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Panel {
+    /// The parameters.
+    Params,
+    /// The plots.
+    Plots,
+    /// Both.
+    All,
+    /// Neither.
+    None,
+}
+
+/// A binding mode by name.
+fn bind_mode(
+    s: &str,
+) -> Result<crate::config::remote::BindMode, crate::config::error::UnknownName> {
+    crate::config::remote::BindMode::parse(s).ok_or_else(|| {
+        crate::config::error::UnknownName::new(
+            "binding mode",
+            s,
+            &["rate", "absolute", "increment", "decrement", "toggle"],
+        )
+    })
+}
+
+/// A joint selection by name or mask.
+fn joint_selection(
+    s: &str,
+) -> Result<crate::config::remote::JointSelection, crate::config::error::UnknownName> {
+    crate::config::remote::JointSelection::parse(s).ok_or_else(|| {
+        crate::config::error::UnknownName::new(
+            "joint selection",
+            s,
+            &["all", "pitch", "yaw", "a 0/1 mask"],
+        )
+    })
 }
 
 /// A parsed script of this window's commands.
 pub type Script = crate::gui::scripting::Script<Command>;
 
 /// Reads a script file.
-pub fn load(path: &Path) -> Result<Script, String> {
-    crate::gui::scripting::load_script(path, parse)
+pub fn load(path: &Path) -> Result<Script, ScriptError> {
+    crate::gui::scripting::load_script(path)
 }
 
 /// Parses script text (`path` names it in errors).
-pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
-    crate::gui::scripting::parse_script(path, text, |line, words, at| {
-        let num = |w: Option<&&str>, what: &str| -> Result<f64, String> {
-            let w = w.ok_or_else(|| at(format!("{line:?}: missing {what}")))?;
-            w.parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| at(format!("{w:?} is not a number ({what})")))
-        };
-        if let Some(m) = crate::gui::module_editor::script::parse(words) {
-            return Ok(Command::Module(m));
-        }
-        match run_command(words, &num, at)? {
-            Some(c) => Ok(c),
-            None => view_command(words, &num, at),
-        }
-    })
-}
-
-/// Whether `w` is `yes` (true) or `no` (false); any other word is an error naming it
-/// (`debug of` is not `debug off`).
-fn switch(w: &str, (yes, no): (&str, &str), at: &dyn Fn(String) -> String) -> Result<bool, String> {
-    match w {
-        _ if w == yes => Ok(true),
-        _ if w == no => Ok(false),
-        other => Err(at(format!("{other:?}: expected {yes} or {no}"))),
-    }
-}
-
-/// `on` or `off`.
-fn on_off(w: &str, at: &dyn Fn(String) -> String) -> Result<bool, String> {
-    switch(w, ("on", "off"), at)
-}
-
-/// The commands that run, pace and tune the simulation (none: not one of them).
-fn run_command(
-    words: &[&str],
-    num: &NumberOf<'_>,
-    at: &dyn Fn(String) -> String,
-) -> Result<Option<Command>, String> {
-    Ok(Some(match words[0] {
-        "wait" => Command::Wait(num(words.get(1), "frames")?.max(0.0) as u32),
-        "start" => Command::Start,
-        "pause" => Command::Pause,
-        "restart" => Command::Restart,
-        "continue" => Command::Continue,
-        "keep-tuned" => Command::KeepTuned,
-        "load" if words.len() == 2 => Command::Load(PathBuf::from(words[1])),
-        "engine" if words.len() == 2 => Command::Engine(
-            crate::config::simulation::EngineKind::parse(words[1]).ok_or_else(|| {
-                at(format!(
-                    "unknown physics engine `{}` (rapier, mujoco)",
-                    words[1]
-                ))
-            })?,
-        ),
-        "run-until" => Command::RunUntil(num(words.get(1), "seconds")?),
-        "wait-for" if words.len() == 4 && words[1] == "file" => Command::WaitFor(
-            format!("file:{}", words[2]),
-            num(words.get(3), "frames")?.max(1.0) as u32,
-        ),
-        "wait-for" if words.len() == 3 && ["running", "paused", "debug"].contains(&words[1]) => {
-            Command::WaitFor(
-                words[1].to_string(),
-                num(words.get(2), "frames")?.max(1.0) as u32,
-            )
-        }
-        "step-to" => Command::StepTo(num(words.get(1), "seconds")?),
-        "speed" => Command::Speed(num(words.get(1), "real-time factor")?.max(0.0)),
-        "slow-frames" => {
-            Command::SlowFrames(num(words.get(1), "milliseconds")?.clamp(0.0, 10_000.0) as u32)
-        }
-        "set" => {
-            if words.len() < 4 {
-                return Err(at("set MODULE PARAM VALUE [JOINT]".into()));
-            }
-            Command::Set {
-                module: words[1].to_string(),
-                param: words[2].to_string(),
-                value: num(words.get(3), "value")?,
-                joint: match words.get(4) {
-                    Some(_) => Some(num(words.get(4), "joint")? as usize),
-                    None => None,
-                },
-            }
-        }
-        _ => return Ok(None),
-    }))
-}
-
-/// The commands of the views, the optimization view, the devices and quitting.
-fn view_command(
-    words: &[&str],
-    num: &NumberOf<'_>,
-    at: &dyn Fn(String) -> String,
-) -> Result<Command, String> {
-    Ok(match words[0] {
-        "plot" if words.len() > 1 => Command::Plot(
-            words[1..]
-                .iter()
-                .map(|w| SeriesSelector::parse(w).map_err(&at))
-                .collect::<Result<_, _>>()?,
-        ),
-        "panel" if words.len() == 2 => Command::Panel(words[1].to_string()),
-        "debug" if words.len() == 2 => Command::Debug(on_off(words[1], at)?),
-        "per-joint" if words.len() == 4 => Command::PerJoint {
-            actuator: num(words.get(1), "module tab")?.max(0.0) as usize,
-            param: words[2].to_string(),
-            on: on_off(words[3], at)?,
-        },
-        "select-link" => Command::SelectLink(num(words.get(1), "link")?.max(0.0) as usize),
-        "move-by" => Command::MoveBy([
-            num(words.get(1), "dx")?,
-            num(words.get(2), "dy")?,
-            num(words.get(3), "dz")?,
-        ]),
-        "inspect" if words.len() > 2 => Command::Inspect(
-            PathBuf::from(words[1]),
-            words[2..]
-                .iter()
-                .map(|w| SeriesSelector::parse(w).map_err(&at))
-                .collect::<Result<_, _>>()?,
-        ),
-        "screenshot" if words.len() == 2 => Command::Screenshot(PathBuf::from(words[1])),
-        "record" if words.get(1) == Some(&"on") && words.len() <= 3 => {
-            Command::Record(Some(words.get(2).map(PathBuf::from)))
-        }
-        "record" if words.len() == 2 && words[1] == "off" => Command::Record(None),
-        "state" if words.len() == 2 => Command::State(PathBuf::from(words[1])),
-        "optimize" if words.len() <= 3 => Command::Optimize(
-            num(words.get(1), "evaluations")?.max(1.0) as u64,
-            words.get(2).map(|s| s.to_string()),
-        ),
-        "save-best" if words.len() == 2 => Command::SaveBest(PathBuf::from(words[1])),
-        "attach" if words.len() == 3 => Command::Attach(
-            words[1].to_string(),
-            num(words.get(2), "evaluations")?.max(0.0) as u64,
-        ),
-        "replay-best" => Command::ReplayBest,
-        "results" if words.len() == 2 => Command::Results(words[1].to_string()),
-        "replay" if (4..=5).contains(&words.len()) => Command::Replay {
-            store: words[1].to_string(),
-            run: num(words.get(2), "run")? as i64,
-            which: crate::optimize::replay::Which::parse(words[3])
-                .map_err(|e| at(e.to_string()))?,
-            episode: match words.get(4) {
-                Some(_) => Some(num(words.get(4), "episode")?.max(0.0) as u32),
-                None => None,
-            },
-        },
-        w if w.starts_with("remote") || w.starts_with("robot") => device_command(words, &num, at)?,
-        "assign" if words.len() == 3 => Command::Assign(words[1].to_string(), words[2].to_string()),
-        "quit" => Command::Quit,
-        other => return Err(at(format!("unknown or incomplete command {other:?}"))),
-    })
-}
-
-/// Reads word `w` as a finite number (`what` names it in the error).
-type NumberOf<'a> = dyn Fn(Option<&&str>, &str) -> Result<f64, String> + 'a;
-
-/// The remote dialog's and the real-robot tab's commands (`remote*`, `robot*`).
-fn device_command(
-    words: &[&str],
-    num: &NumberOf<'_>,
-    at: &dyn Fn(String) -> String,
-) -> Result<Command, String> {
-    Ok(match words[0] {
-        "remote" if words.len() == 2 => Command::Remote(switch(words[1], ("open", "close"), at)?),
-        "remote-set" if words.len() == 3 => {
-            Command::RemoteSet(words[1].to_string(), num(words.get(2), "value")?)
-        }
-        "remote-bind" if words.len() == 7 => Command::RemoteBind {
-            element: words[1].to_string(),
-            mode: crate::config::remote::BindMode::parse(words[2]).ok_or_else(|| {
-                at(format!(
-                    "mode {:?}: rate, absolute, increment, decrement or toggle",
-                    words[2]
-                ))
-            })?,
-            module: words[3].to_string(),
-            parameter: words[4].to_string(),
-            joints: crate::config::remote::JointSelection::parse(words[5]).ok_or_else(|| {
-                at(format!(
-                    "joints {:?}: all, pitch, yaw or a 0/1 mask",
-                    words[5]
-                ))
-            })?,
-            scale: num(words.get(6), "scale")?,
-        },
-        "remote-remove" => Command::RemoteRemove(num(words.get(1), "binding")?.max(0.0) as usize),
-        "remote-load" if words.len() == 2 => Command::RemoteLoad(PathBuf::from(words[1])),
-        "remote-save" if words.len() == 2 => Command::RemoteSave(PathBuf::from(words[1])),
-        "robot" if words.len() == 2 => Command::RobotOpen(switch(words[1], ("open", "close"), at)?),
-        "robot-connect" if words.len() == 2 => Command::RobotConnect(words[1].to_string()),
-        "robot-torque" if words.len() == 2 => Command::RobotTorque(on_off(words[1], at)?),
-        "robot-drive" if words.len() == 2 => Command::RobotDrive(on_off(words[1], at)?),
-        "robot-twin" if words.len() == 2 => Command::RobotTwin(on_off(words[1], at)?),
-        "robot-disconnect" => Command::RobotDisconnect,
-        other => return Err(at(format!("unknown or incomplete command {other:?}"))),
-    })
+pub fn parse(path: &Path, text: &str) -> Result<Script, ScriptError> {
+    crate::gui::scripting::parse_script(path, text)
 }
 
 /// Key = value lines of the state a test checks.
@@ -436,8 +443,8 @@ mod tests {
         )
         .unwrap();
         assert_eq!(s.commands.len(), 11);
-        assert_eq!(s.commands[0], (1, Command::Wait(3)));
-        assert_eq!(s.commands[2], (4, Command::RunUntil(1.5)));
+        assert_eq!(s.commands[0], (1, Command::Wait { frames: 3 }));
+        assert_eq!(s.commands[2], (4, Command::RunUntil { seconds: 1.5 }));
         assert_eq!(
             s.commands[3].1,
             Command::Set {
@@ -447,20 +454,29 @@ mod tests {
                 joint: Some(2)
             }
         );
-        let e = parse(Path::new("t.script"), "start\nfly 3\n").unwrap_err();
-        assert!(e.starts_with("t.script:2:"), "{e}");
-        let e = parse(Path::new("t.script"), "run-until soon\n").unwrap_err();
-        assert!(e.contains("t.script:1:") && e.contains("soon"), "{e}");
-        let e = parse(Path::new("t.script"), "set A B NaN\n").unwrap_err();
-        assert!(e.contains("NaN"), "{e}");
+        let at = |text: &str| match parse(Path::new("t.script"), text) {
+            Err(ScriptError::Parse { line, why, .. }) => (line, why),
+            other => panic!("{text:?} parsed: {other:?}"),
+        };
+        let (line, why) = at("start\nfly 3\n");
+        assert!(line == 2 && why.contains("fly"), "{why}");
+        let (line, why) = at("run-until soon\n");
+        assert!(line == 1 && why.contains("soon"), "{why}");
+        assert!(at("set A B NaN\n").1.contains("NaN"));
         // A toggle's word is checked: `debug of` is no `debug off`.
-        let e = parse(Path::new("t.script"), "start\ndebug of\n").unwrap_err();
-        assert!(
-            e.contains("t.script:2:") && e.contains("expected on or off"),
-            "{e}"
+        let (line, why) = at("start\ndebug of\n");
+        assert!(line == 2 && why.contains("on, off"), "{why}");
+        assert!(at("remote opne\n").1.contains("open, close"));
+        // Negative numbers are numbers, not options.
+        let s = parse(Path::new("t.script"), "move-by -0.5 0 1e-3\n").unwrap();
+        assert_eq!(
+            s.commands[0].1,
+            Command::MoveBy {
+                dx: -0.5,
+                dy: 0.0,
+                dz: 1e-3
+            }
         );
-        let e = parse(Path::new("t.script"), "remote opne\n").unwrap_err();
-        assert!(e.contains("expected open or close"), "{e}");
     }
 
     #[test]
@@ -470,12 +486,12 @@ mod tests {
             "plot Robot_Data/y_pos M/Angle[0..2]\n",
         )
         .unwrap();
-        let Command::Plot(sel) = &s.commands[0].1 else {
+        let Command::Plot { series: sel } = &s.commands[0].1 else {
             panic!("not a plot: {:?}", s.commands[0]);
         };
         assert_eq!(sel.len(), 2);
         assert_eq!(sel[1].parts, Some((0, 2)));
         let e = parse(Path::new("p.script"), "wait 1\nplot nohandler\n").unwrap_err();
-        assert!(e.starts_with("p.script:2:"), "{e}");
+        assert!(matches!(e, ScriptError::Parse { line: 2, .. }), "{e}");
     }
 }

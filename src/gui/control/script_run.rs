@@ -12,9 +12,10 @@ use crate::gui::control::plots::LiveSeries;
 use crate::gui::control::results_view::replay_stored;
 use crate::gui::control::scene::BodyVisual;
 use crate::gui::control::script::{Command, ScriptRunner, state_report};
+use crate::gui::control::script::{Panel, Record, WaitFor};
 use crate::gui::control::session::SimSession;
 use crate::gui::control::{Panels, Views};
-use crate::gui::scripting::{Flow, run_commands};
+use crate::gui::scripting::{CommandError, Flow, run_commands};
 
 /// Carries out script commands (the `Script` set).
 pub fn run_script(
@@ -38,50 +39,50 @@ fn carry_out(
     session: &mut SimSession,
     views: &mut Views,
     visuals: &Query<(Entity, &BodyVisual)>,
-) -> Result<Flow, String> {
+) -> Result<Flow, CommandError> {
     use Command as C;
     match c {
-        C::Wait(_)
+        C::Wait { .. }
         | C::Start
         | C::Pause
         | C::Restart
-        | C::Load(_)
-        | C::Engine(_)
-        | C::RunUntil(_)
-        | C::StepTo(_)
-        | C::Speed(_)
-        | C::SlowFrames(_)
+        | C::Load { .. }
+        | C::Engine { .. }
+        | C::RunUntil { .. }
+        | C::StepTo { .. }
+        | C::Speed { .. }
+        | C::SlowFrames { .. }
         | C::Continue
-        | C::KeepTuned => simulation_command(c, script, session),
-        C::Set { .. } => simulation_command(c, script, session),
-        C::Plot(_)
-        | C::Panel(_)
+        | C::KeepTuned
+        | C::Set { .. } => simulation_command(c, script, session),
+        C::Plot { .. }
+        | C::Panel { .. }
         | C::PerJoint { .. }
-        | C::Debug(_)
-        | C::SelectLink(_)
-        | C::MoveBy(_)
-        | C::Inspect(..) => view_command(c, session, views, visuals),
-        C::Remote(_)
-        | C::RemoteSet(..)
+        | C::Debug { .. }
+        | C::SelectLink { .. }
+        | C::MoveBy { .. }
+        | C::Inspect { .. } => view_command(c, session, views, visuals),
+        C::Remote { .. }
+        | C::RemoteSet { .. }
         | C::RemoteBind { .. }
-        | C::RemoteRemove(_)
-        | C::RemoteLoad(_)
-        | C::RemoteSave(_) => remote_command(c, views),
-        C::RobotOpen(_)
-        | C::RobotConnect(_)
-        | C::RobotTorque(_)
-        | C::RobotDrive(_)
-        | C::RobotTwin(_)
+        | C::RemoteRemove { .. }
+        | C::RemoteLoad { .. }
+        | C::RemoteSave { .. } => remote_command(c, views),
+        C::Robot { .. }
+        | C::RobotConnect { .. }
+        | C::RobotTorque { .. }
+        | C::RobotDrive { .. }
+        | C::RobotTwin { .. }
         | C::RobotDisconnect => robot_command(c, session, views),
         C::Module(_)
-        | C::Assign(..)
-        | C::Optimize(..)
-        | C::SaveBest(_)
-        | C::Attach(..)
+        | C::Assign { .. }
+        | C::Optimize { .. }
+        | C::SaveBest { .. }
+        | C::Attach { .. }
         | C::ReplayBest
-        | C::Results(_)
+        | C::Results { .. }
         | C::Replay { .. } => tool_command(c, session, views),
-        C::Screenshot(_) | C::State(_) | C::Record(_) | C::WaitFor(..) | C::Quit => {
+        C::Screenshot { .. } | C::State { .. } | C::Record(_) | C::WaitFor(_) | C::Quit => {
             output_command(c, commands, script, session, views)
         }
     }
@@ -91,8 +92,8 @@ fn carry_out(
 const STEPS_PER_FRAME: u64 = 2000;
 
 /// A command outside its group (cannot happen: [`carry_out`] dispatches by group).
-fn misrouted(c: &Command) -> String {
-    format!("internal: {c:?} reached the wrong command group")
+fn misrouted(c: &Command) -> CommandError {
+    CommandError::Misrouted(format!("{c:?}"))
 }
 
 /// Running, pausing, pacing and parameters.
@@ -100,10 +101,10 @@ fn simulation_command(
     c: Command,
     script: &mut crate::gui::control::script::Script,
     session: &mut SimSession,
-) -> Result<Flow, String> {
+) -> Result<Flow, CommandError> {
     Ok(match c {
-        Command::Wait(n) => {
-            script.pacing.waiting = n;
+        Command::Wait { frames } => {
+            script.pacing.waiting = frames;
             Flow::Yield
         }
         Command::Start => {
@@ -120,49 +121,53 @@ fn simulation_command(
         }
         Command::KeepTuned => {
             if session.tuned.is_none() {
-                return Err("keep-tuned: no tuned values were set aside by a restart".into());
+                return Err(CommandError::NotNow(
+                    "keep-tuned: no tuned values were set aside by a restart",
+                ));
             }
             session.keep_tuned();
             Flow::Next
         }
         Command::Continue => {
             if session.halt.is_none() {
-                return Err("continue: the run did not pause by itself".into());
+                return Err(CommandError::NotNow(
+                    "continue: the run did not pause by itself",
+                ));
             }
             session.continue_run();
             Flow::Next
         }
-        Command::Load(path) => {
-            session.load(&path);
+        Command::Load { file } => {
+            session.load(&file);
             Flow::Next
         }
-        Command::Engine(kind) => {
+        Command::Engine { kind } => {
             session.set_engine(kind);
             Flow::Next
         }
-        Command::RunUntil(t) if session.sim_time() + 1e-9 < t => {
+        Command::RunUntil { seconds } if session.sim_time() + 1e-9 < seconds => {
             // Paced as the toolbar says, pausing exactly at t.
-            session.pause_at = Some(t);
+            session.pause_at = Some(seconds);
             session.running = true;
             Flow::Again
         }
-        Command::RunUntil(_) => {
+        Command::RunUntil { .. } => {
             session.pause_at = None;
             Flow::Next
         }
-        Command::StepTo(t) => {
+        Command::StepTo { seconds } => {
             session.running = false;
-            if session.step_to(t, STEPS_PER_FRAME) {
+            if session.step_to(seconds, STEPS_PER_FRAME) {
                 Flow::Next
             } else {
                 Flow::Again
             }
         }
-        Command::Speed(f) => {
-            session.pacing.realtime_factor = f;
+        Command::Speed { factor } => {
+            session.pacing.realtime_factor = factor.max(0.0);
             Flow::Next
         }
-        Command::SlowFrames(ms) => {
+        Command::SlowFrames { ms } => {
             script.pacing.frame_delay = std::time::Duration::from_millis(u64::from(ms));
             Flow::Next
         }
@@ -172,12 +177,12 @@ fn simulation_command(
             value,
             joint,
         } => {
-            let k = session.simulator.kernel_mut(0).map_err(|e| e.to_string())?;
-            let a = k
-                .find(&module)
-                .ok_or_else(|| format!("no module {module:?} in this robot's actuation"))?;
-            k.set_parameter(a, &param, joint.map(|j| j.saturating_sub(1)), value)
-                .map_err(|e| e.to_string())?;
+            let k = session.simulator.kernel_mut(0)?;
+            let a = k.find(&module).ok_or(CommandError::Missing {
+                what: "module in this robot's actuation",
+                name: module,
+            })?;
+            k.set_parameter(a, &param, joint.map(|j| j.saturating_sub(1)), value)?;
             Flow::Next
         }
         other => return Err(misrouted(&other)),
@@ -190,10 +195,10 @@ fn view_command(
     session: &mut SimSession,
     views: &mut Views,
     visuals: &Query<(Entity, &BodyVisual)>,
-) -> Result<Flow, String> {
+) -> Result<Flow, CommandError> {
     Ok(match c {
-        Command::Plot(selectors) => {
-            let log = session.simulator.data(0).map_err(|e| e.to_string())?;
+        Command::Plot { series: selectors } => {
+            let log = session.simulator.data(0)?;
             let cols = resolve(&log.handlers, &selectors)?;
             let series = cols
                 .into_iter()
@@ -206,63 +211,71 @@ fn view_command(
             views.plots.add(series);
             Flow::Next
         }
-        Command::Panel(which) => {
+        Command::Panel { which } => {
             *views.panels = Panels {
-                params: which == "params" || which == "all",
-                plots: which == "plots" || which == "all",
+                params: matches!(which, Panel::Params | Panel::All),
+                plots: matches!(which, Panel::Plots | Panel::All),
             };
             Flow::Next
         }
         Command::PerJoint {
             actuator,
             param,
-            on,
+            state,
         } => {
-            let k = session.simulator.kernel(0).map_err(|e| e.to_string())?;
-            let a = k
-                .actuators()
-                .get(actuator)
-                .ok_or_else(|| format!("no module tab {actuator}"))?;
+            let k = session.simulator.kernel(0)?;
+            let a = k.actuators().get(actuator).ok_or(CommandError::Missing {
+                what: "module tab",
+                name: actuator.to_string(),
+            })?;
             let d = a.module.descriptor();
             let p = d
                 .parameters
                 .iter()
                 .position(|p| p.answers_to(&param))
-                .ok_or_else(|| format!("{} has no parameter {param:?}", d.type_name))?;
+                .ok_or_else(|| CommandError::Missing {
+                    what: "parameter of this module",
+                    name: param.clone(),
+                })?;
             views.params.tab = actuator;
-            if on {
+            if state.on() {
                 views.params.individual.insert((actuator, p));
             } else {
                 views.params.individual.remove(&(actuator, p));
             }
             Flow::Next
         }
-        Command::Debug(on) => {
-            views.debug.0 = on;
+        Command::Debug { state } => {
+            views.debug.0 = state.on();
             Flow::Next
         }
-        Command::SelectLink(i) => {
-            let (e, _) = visuals
-                .iter()
-                .find(|(_, v)| v.link == Some(i))
-                .ok_or_else(|| format!("no link {i} in the viewer"))?;
+        Command::SelectLink { link } => {
+            let (e, _) = visuals.iter().find(|(_, v)| v.link == Some(link)).ok_or(
+                CommandError::Missing {
+                    what: "link in the viewer",
+                    name: link.to_string(),
+                },
+            )?;
             views.selection.body = Some(e);
             Flow::Next
         }
-        Command::MoveBy(d) => {
+        Command::MoveBy { dx, dy, dz } => {
             if views.selection.body.is_none() {
-                return Err("nothing selected (select-link first)".into());
+                return Err(CommandError::NotNow("nothing selected (select-link first)"));
             }
-            views.selection.nudge(d);
+            views.selection.nudge([dx, dy, dz]);
             Flow::Yield
         }
-        Command::Inspect(path, selectors) => {
+        Command::Inspect {
+            file: path,
+            series: selectors,
+        } => {
             let inspect = &mut views.inspect;
             inspect.open = true;
             inspect.path = path.display().to_string();
             inspect.load(&path);
             let Some((_, info)) = &inspect.file else {
-                return Err(inspect.message.clone());
+                return Err(CommandError::Refused(inspect.message.clone()));
             };
             let cols = resolve(&info.handlers, &selectors)?;
             let mut checked = std::collections::BTreeSet::new();
@@ -273,7 +286,9 @@ fn view_command(
                 }
             }
             inspect.checked = checked;
-            inspect.add_graph().ok_or_else(|| inspect.message.clone())?;
+            inspect
+                .add_graph()
+                .ok_or_else(|| CommandError::Refused(inspect.message.clone()))?;
             Flow::Next
         }
         other => return Err(misrouted(&other)),
@@ -281,13 +296,13 @@ fn view_command(
 }
 
 /// The remote dialog: bindings and injected gamepad values.
-fn remote_command(c: Command, views: &mut Views) -> Result<Flow, String> {
+fn remote_command(c: Command, views: &mut Views) -> Result<Flow, CommandError> {
     Ok(match c {
-        Command::Remote(open) => {
-            views.remote.open = open;
+        Command::Remote { state } => {
+            views.remote.open = state.open();
             Flow::Next
         }
-        Command::RemoteSet(element, value) => {
+        Command::RemoteSet { element, value } => {
             views.remote.injected.set(&element, value);
             Flow::Next
         }
@@ -312,16 +327,16 @@ fn remote_command(c: Command, views: &mut Views) -> Result<Flow, String> {
             );
             Flow::Next
         }
-        Command::RemoteRemove(i) => {
-            views.remote.remove(i)?;
+        Command::RemoteRemove { index } => {
+            views.remote.remove(index)?;
             Flow::Next
         }
-        Command::RemoteLoad(p) => {
-            views.remote.load(&p)?;
+        Command::RemoteLoad { file } => {
+            views.remote.load(&file)?;
             Flow::Next
         }
-        Command::RemoteSave(p) => {
-            views.remote.save(&p)?;
+        Command::RemoteSave { file } => {
+            views.remote.save(&file)?;
             Flow::Next
         }
         other => return Err(misrouted(&other)),
@@ -329,27 +344,31 @@ fn remote_command(c: Command, views: &mut Views) -> Result<Flow, String> {
 }
 
 /// The real-robot tab.
-fn robot_command(c: Command, session: &mut SimSession, views: &mut Views) -> Result<Flow, String> {
+fn robot_command(
+    c: Command,
+    session: &mut SimSession,
+    views: &mut Views,
+) -> Result<Flow, CommandError> {
     Ok(match c {
-        Command::RobotOpen(open) => {
-            views.robot.open = open;
+        Command::Robot { state } => {
+            views.robot.open = state.open();
             Flow::Next
         }
-        Command::RobotConnect(port) => {
+        Command::RobotConnect { port } => {
             views.robot.port = port;
             views.robot.connect(session)?;
             Flow::Next
         }
-        Command::RobotTorque(on) => {
-            views.robot.set_torque(on)?;
+        Command::RobotTorque { state } => {
+            views.robot.set_torque(state.on())?;
             Flow::Next
         }
-        Command::RobotDrive(on) => {
-            views.robot.drive = on;
+        Command::RobotDrive { state } => {
+            views.robot.drive = state.on();
             Flow::Next
         }
-        Command::RobotTwin(on) => {
-            views.robot.twin = on;
+        Command::RobotTwin { state } => {
+            views.robot.twin = state.on();
             Flow::Next
         }
         Command::RobotDisconnect => {
@@ -361,7 +380,11 @@ fn robot_command(c: Command, session: &mut SimSession, views: &mut Views) -> Res
 }
 
 /// The module library, module assignment and the optimizer.
-fn tool_command(c: Command, session: &mut SimSession, views: &mut Views) -> Result<Flow, String> {
+fn tool_command(
+    c: Command,
+    session: &mut SimSession,
+    views: &mut Views,
+) -> Result<Flow, CommandError> {
     Ok(match c {
         Command::Module(m) => {
             if crate::gui::module_editor::script::run(&mut views.modules, m)? {
@@ -370,13 +393,16 @@ fn tool_command(c: Command, session: &mut SimSession, views: &mut Views) -> Resu
                 Flow::Again
             }
         }
-        Command::Assign(module, mask) => {
+        Command::Assign { module, mask } => {
             views.assign.module = module;
             views.assign.mask = mask;
             views.assign.assign(session)?;
             Flow::Next
         }
-        Command::Attach(store, n) => {
+        Command::Attach {
+            store,
+            evaluations: n,
+        } => {
             let o = &mut views.optimizer;
             if !o.attached {
                 o.open = true;
@@ -385,7 +411,7 @@ fn tool_command(c: Command, session: &mut SimSession, views: &mut Views) -> Resu
             }
             o.poll();
             if o.status.starts_with("cannot attach") || o.status.starts_with("--store") {
-                return Err(o.status.clone());
+                return Err(CommandError::Refused(o.status.clone()));
             }
             if o.running() && (o.curve.len() as u64) < n {
                 Flow::Again
@@ -393,9 +419,14 @@ fn tool_command(c: Command, session: &mut SimSession, views: &mut Views) -> Resu
                 Flow::Next
             }
         }
-        Command::Optimize(n, store) => {
+        Command::Optimize {
+            evaluations: n,
+            store,
+        } => {
             if session.sim.optimizer.is_none() {
-                return Err("this simulation's mode is not an optimization".into());
+                return Err(CommandError::NotNow(
+                    "this simulation's mode is not an optimization",
+                ));
             }
             let o = &mut views.optimizer;
             if o.started.is_none() {
@@ -409,12 +440,12 @@ fn tool_command(c: Command, session: &mut SimSession, views: &mut Views) -> Resu
             o.poll();
             if o.running() { Flow::Again } else { Flow::Next }
         }
-        Command::SaveBest(path) => {
+        Command::SaveBest { file } => {
             let space =
                 crate::optimize::run::prepare(&session.sim, &session.registry).map(|(s, _)| s)?;
             let o = &mut views.optimizer;
-            o.save_to = path.display().to_string();
-            o.save_best(session, &space).map_err(|e| e.to_string())?;
+            o.save_to = file.display().to_string();
+            o.save_best(session, &space)?;
             Flow::Next
         }
         Command::ReplayBest => {
@@ -422,11 +453,11 @@ fn tool_command(c: Command, session: &mut SimSession, views: &mut Views) -> Resu
                 .optimizer
                 .best
                 .clone()
-                .ok_or("no candidate evaluated yet")?;
+                .ok_or(CommandError::NotNow("no candidate evaluated yet"))?;
             replay(session, &genome);
             Flow::Next
         }
-        Command::Results(store) => {
+        Command::Results { store } => {
             let o = &mut views.optimizer;
             o.open = true;
             o.results.store = store;
@@ -453,31 +484,33 @@ fn output_command(
     script: &mut crate::gui::control::script::Script,
     session: &mut SimSession,
     views: &mut Views,
-) -> Result<Flow, String> {
+) -> Result<Flow, CommandError> {
     Ok(match c {
-        Command::Screenshot(path) => {
-            script.pacing.screenshot(commands, path);
+        Command::Screenshot { file } => {
+            script.pacing.screenshot(commands, file)?;
             Flow::Yield
         }
-        Command::State(path) => {
-            std::fs::write(&path, state_lines(session, views))
-                .map_err(|e| format!("{}: {e}", path.display()))?;
+        Command::State { file } => {
+            std::fs::write(&file, state_lines(session, views))
+                .map_err(|source| CommandError::Write { path: file, source })?;
             Flow::Next
         }
-        Command::WaitFor(what, frames) => {
-            let holds = match what.as_str() {
-                "running" => session.running,
-                "paused" => !session.running,
-                w if w.starts_with("file:") => std::path::Path::new(&w[5..]).exists(),
-                _ => views.debug.0,
+        Command::WaitFor(target) => {
+            let (holds, frames, what) = match target {
+                WaitFor::Running { frames } => (session.running, frames, "running".to_string()),
+                WaitFor::Paused { frames } => (!session.running, frames, "paused".to_string()),
+                WaitFor::Debug { frames } => (views.debug.0, frames, "debug".to_string()),
+                WaitFor::File { path, frames } => {
+                    (path.exists(), frames, path.display().to_string())
+                }
             };
             script.pacing.poll(holds, frames, &what)?
         }
-        Command::Record(Some(file)) => {
+        Command::Record(Record::On { file }) => {
             views.recorder.start(&session.path, file);
             Flow::Next
         }
-        Command::Record(None) => {
+        Command::Record(Record::Off) => {
             views.recorder.stop();
             Flow::Next
         }
@@ -510,7 +543,7 @@ fn optimizer_pairs(pairs: &mut Vec<(&str, String)>, session: &SimSession, views:
     if let Some(score) = session.replay_score() {
         pairs.push((
             "replay_score",
-            score.map_or_else(|e| e, |s| format!("{s:.9}")),
+            score.map_or_else(|e| e.to_string(), |s| format!("{s:.9}")),
         ));
     }
 }

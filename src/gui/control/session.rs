@@ -10,6 +10,7 @@ use crate::config::Simulation;
 use crate::config::simulation::EngineKind;
 use crate::control::ControlKernel;
 use crate::control::{ModuleRegistry, load_simulation_in};
+use crate::gui::error::GuiError;
 use crate::optimize::evaluate::robot_score;
 use crate::optimize::replay::Replay;
 use crate::sim::datalog::DataSettings;
@@ -116,17 +117,15 @@ impl SimSession {
         path: &Path,
         engine: Option<EngineKind>,
         registry: &ModuleRegistry,
-    ) -> Result<SimSession, String> {
-        let sim = load_simulation_in(path, registry)
-            .map_err(|e| e.to_string())?
-            .with_engine(engine);
+    ) -> Result<SimSession, GuiError> {
+        let sim = load_simulation_in(path, registry)?.with_engine(engine);
         let mut session = SimSession::with(path.to_path_buf(), sim, None, registry)?;
         session.engine = engine;
         Ok(session)
     }
 
     /// A stored evaluation's world (its configuration, genome, seed and noise), paused.
-    pub fn open_replay(replay: Replay, registry: &ModuleRegistry) -> Result<SimSession, String> {
+    pub fn open_replay(replay: Replay, registry: &ModuleRegistry) -> Result<SimSession, GuiError> {
         SimSession::with(
             PathBuf::from(&replay.config),
             replay.sim.clone(),
@@ -145,7 +144,7 @@ impl SimSession {
         sim: Simulation,
         replay: Option<Replay>,
         registry: &ModuleRegistry,
-    ) -> Result<SimSession, String> {
+    ) -> Result<SimSession, GuiError> {
         let step_width = sim.files.simulation.properties.step_width;
         let pacing = Pacing::of(&sim.files.simulation.properties);
         let (simulator, initial_kernel) = build(&sim, step_width, replay.as_ref(), registry)?;
@@ -181,24 +180,31 @@ impl SimSession {
     /// Shows stored evaluation `replay` instead (see [`SimSession::open_replay`]); on
     /// failure keeps the current world and records the error.
     pub fn load_replay(&mut self, replay: Replay) {
-        match SimSession::open_replay(replay, &self.registry.clone()) {
-            Ok(s) => {
-                let generation = self.generation + 1;
-                *self = s;
-                self.generation = generation;
-            }
-            Err(e) => self.error = Some(e),
+        if let Err(e) = self.try_load_replay(replay) {
+            self.error = Some(e.to_string());
         }
+    }
+
+    /// [`SimSession::load_replay`], the error returned instead of recorded.
+    pub fn try_load_replay(&mut self, replay: Replay) -> Result<(), GuiError> {
+        let s = SimSession::open_replay(replay, &self.registry.clone())?;
+        let generation = self.generation + 1;
+        *self = s;
+        self.generation = generation;
+        Ok(())
     }
 
     /// The replayed episode's score so far (the optimizers' formula on robot 0 since the
     /// world was built); at the episode's duration it is the score the run stored.
-    pub fn replay_score(&self) -> Option<Result<f64, String>> {
+    pub fn replay_score(&self) -> Option<Result<f64, crate::optimize::evaluate::EvalError>> {
         let r = self.replay.as_ref()?;
-        Some(
-            robot_score(&self.simulator, 0, self.start, self.sim_time(), r.fitness())
-                .map_err(|e| e.to_string()),
-        )
+        Some(robot_score(
+            &self.simulator,
+            0,
+            self.start,
+            self.sim_time(),
+            r.fitness(),
+        ))
     }
 
     /// Loads another configuration; on failure keeps the current one and records the error
@@ -228,7 +234,7 @@ impl SimSession {
                 self.engine = Some(engine);
                 self.install(simulator, kernel);
             }
-            Err(e) => self.error = Some(e),
+            Err(e) => self.error = Some(e.to_string()),
         }
     }
 
@@ -248,7 +254,7 @@ impl SimSession {
                 self.install(simulator, kernel);
                 self.tuned = tuned.filter(|t| *t != was);
             }
-            Err(e) => self.error = Some(e),
+            Err(e) => self.error = Some(e.to_string()),
         }
     }
 
@@ -283,35 +289,37 @@ impl SimSession {
     /// Adds a module of type `name` (any registered type, plugins too) driving the joints
     /// whose mask character is `1` to the configuration shown, and rebuilds the world
     /// (paused at 0). The configuration files are not changed.
-    pub fn add_module(&mut self, name: &str, mask: &str) -> Result<(), String> {
+    pub fn add_module(&mut self, name: &str, mask: &str) -> Result<(), GuiError> {
         let registry = &self.registry;
         let descriptor = registry
             .get(name)
-            .ok_or_else(|| {
-                format!(
-                    "unknown module {name}; known: {}",
-                    registry.names().join(", ")
-                )
+            .ok_or_else(|| GuiError::Missing {
+                what: "module type",
+                name: format!("{name} (known: {})", registry.names().join(", ")),
             })?
             .clone();
         let joints = self.sim.robot.joints.len();
+        let bad = |why: String| GuiError::Mask {
+            mask: mask.to_string(),
+            why,
+        };
         let bits = mask
             .trim()
             .chars()
             .map(|c| match c {
                 '0' => Ok(false),
                 '1' => Ok(true),
-                other => Err(format!("joint mask {mask:?}: {other:?} is not 0 or 1")),
+                other => Err(bad(format!("{other:?} is not 0 or 1"))),
             })
-            .collect::<Result<Vec<bool>, String>>()?;
+            .collect::<Result<Vec<bool>, GuiError>>()?;
         if bits.len() != joints {
-            return Err(format!(
-                "joint mask {mask:?} has {} characters; the robot has {joints} joints",
+            return Err(bad(format!(
+                "{} characters; the robot has {joints} joints",
                 bits.len()
-            ));
+            )));
         }
         if !bits.contains(&true) {
-            return Err(format!("joint mask {mask:?} selects no joint"));
+            return Err(bad("it selects no joint".into()));
         }
         let mut sim = self.sim.clone();
         sim.actuation
@@ -477,9 +485,9 @@ fn build(
     dt: f64,
     replay: Option<&Replay>,
     registry: &ModuleRegistry,
-) -> Result<(Simulator, ControlKernel), String> {
+) -> Result<(Simulator, ControlKernel), GuiError> {
     if !(dt.is_finite() && dt > 0.0) {
-        return Err(format!("step width {dt} s: give a positive number"));
+        return Err(GuiError::StepWidth(dt));
     }
     let mut sim = sim.clone();
     sim.files.simulation.properties.step_width = dt;
@@ -492,10 +500,9 @@ fn build(
             ..Default::default()
         },
     };
-    let mut simulator =
-        Simulator::with_registry(&sim, &opts, registry).map_err(|e| e.to_string())?;
+    let mut simulator = Simulator::with_registry(&sim, &opts, registry)?;
     if let Some(r) = replay {
-        r.apply(&mut simulator).map_err(|e| e.to_string())?;
+        r.apply(&mut simulator)?;
     }
     let every = sim.files.simulation.properties.accuracy.max(1);
     simulator.enable_data(
@@ -505,6 +512,6 @@ fn build(
         },
         None,
     );
-    let kernel = simulator.kernel(0).map_err(|e| e.to_string())?.clone();
+    let kernel = simulator.kernel(0)?.clone();
     Ok((simulator, kernel))
 }

@@ -20,6 +20,7 @@ use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use bevy::prelude::*;
 
 use crate::plugin_host::build::{BuildOutcome, PluginBuildOptions, build, plugin_crates};
+use crate::plugin_host::error::PluginError;
 use crate::plugin_host::template::{Declaration, ParamDecl};
 use crate::plugin_host::{self, DEFAULT_LIBRARY, PluginHost};
 
@@ -137,7 +138,7 @@ pub struct ModuleEditor {
     /// The source differs from the file.
     pub modified: bool,
     /// The running build's answer (a mutex only to make the resource `Sync`).
-    job: Option<Mutex<Receiver<Result<BuildOutcome, String>>>>,
+    job: Option<Mutex<Receiver<Result<BuildOutcome, PluginError>>>>,
     /// The last build's output.
     pub log: String,
     /// The last outcome (generated, compiled, an error).
@@ -220,7 +221,7 @@ impl ModuleEditor {
     }
 
     /// Makes the declared module's crate and opens it in the editor.
-    pub fn declare(&mut self) -> Result<(), String> {
+    pub fn declare(&mut self) -> Result<(), PluginError> {
         let decl = self.form.declaration();
         let folder = decl.create(&self.workspace)?;
         self.status = Status::Info(format!(
@@ -231,19 +232,20 @@ impl ModuleEditor {
     }
 
     /// Opens crate `name`'s `src/lib.rs`.
-    pub fn open_crate(&mut self, name: &str) -> Result<(), String> {
+    pub fn open_crate(&mut self, name: &str) -> Result<(), PluginError> {
         let file = self.workspace.join(name).join("src").join("lib.rs");
-        self.source =
-            std::fs::read_to_string(&file).map_err(|e| format!("{}: {e}", file.display()))?;
+        self.source = std::fs::read_to_string(&file).map_err(PluginError::io("reading", &file))?;
         self.crate_name = Some(name.to_string());
         self.modified = false;
         Ok(())
     }
 
     /// Writes the editor's text to the crate's source file.
-    pub fn save(&mut self) -> Result<(), String> {
-        let file = self.source_file().ok_or("no module is open")?;
-        std::fs::write(&file, &self.source).map_err(|e| format!("{}: {e}", file.display()))?;
+    pub fn save(&mut self) -> Result<(), PluginError> {
+        let file = self
+            .source_file()
+            .ok_or(PluginError::Editor("no module is open"))?;
+        std::fs::write(&file, &self.source).map_err(PluginError::io("writing", &file))?;
         self.modified = false;
         Ok(())
     }
@@ -275,9 +277,9 @@ impl ModuleEditor {
     }
 
     /// Saves and starts building the open crate in the background.
-    pub fn compile(&mut self) -> Result<(), String> {
+    pub fn compile(&mut self) -> Result<(), PluginError> {
         if self.building() {
-            return Err("a build is running".into());
+            return Err(PluginError::Editor("a build is running"));
         }
         self.save()?;
         let opts = PluginBuildOptions {
@@ -290,9 +292,10 @@ impl ModuleEditor {
         std::thread::Builder::new()
             .name("module build".into())
             .spawn(move || {
+                // A closed editor no longer wants the outcome: nothing to tell.
                 let _ = tx.send(build(&opts));
             })
-            .map_err(|e| format!("could not start the build: {e}"))?;
+            .map_err(PluginError::io("starting the build of", &self.workspace))?;
         self.job = Some(Mutex::new(rx));
         self.log.clear();
         self.status = Status::Info("compiling…".into());
@@ -311,12 +314,12 @@ impl ModuleEditor {
         let result = match rx.try_recv() {
             Ok(r) => r,
             Err(TryRecvError::Empty) => return false,
-            Err(TryRecvError::Disconnected) => Err("the build thread stopped".into()),
+            Err(TryRecvError::Disconnected) => Err(PluginError::Editor("the build thread stopped")),
         };
         self.job = None;
         self.builds += 1;
         match result {
-            Err(e) => self.status = Status::Error(e),
+            Err(e) => self.status = Status::Error(e.to_string()),
             Ok(outcome) if !outcome.success => {
                 self.log = outcome.log;
                 let errors = self.log.lines().filter(|l| l.starts_with("error")).count();

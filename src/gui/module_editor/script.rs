@@ -11,73 +11,65 @@
 use std::path::PathBuf;
 
 use crate::gui::module_editor::{ModuleEditor, ParamRow, Status};
+use crate::gui::scripting::OpenClose;
+use crate::plugin_host::error::PluginError;
 use crate::plugin_host::template::ParamDecl;
 
-/// One module-library command.
-#[derive(Debug, Clone, PartialEq)]
+/// One module-library command (the words of both windows' scripts that start with
+/// `module`).
+#[derive(clap::Subcommand, Debug, Clone, PartialEq)]
 pub enum ModuleCommand {
     /// `modules open|close`: shows or hides the window.
-    Open(bool),
+    Modules {
+        /// Open or close.
+        state: OpenClose,
+    },
     /// `module-workspace DIR`: the plugin workspace to use.
-    Workspace(PathBuf),
-    /// Name, `name=value[:min..max]` parameters, data series, helpers (comma-separated).
-    Declare {
+    ModuleWorkspace {
+        /// The workspace.
+        dir: PathBuf,
+    },
+    /// `module-declare NAME [name=value[:min..max]]... [data=a,b] [helpers=f,g]`.
+    ModuleDeclare {
         /// Module name.
         name: String,
-        /// Parameter declarations (`name=initial[:min..max]`).
-        params: Vec<String>,
-        /// Data series, comma-separated.
-        series: String,
-        /// Helper functions, comma-separated.
-        helpers: String,
+        /// Parameter declarations, `data=` series and `helpers=` functions.
+        #[arg(allow_hyphen_values = true)]
+        items: Vec<String>,
     },
     /// `module-source FILE`: replaces the editor's text with the file.
-    Source(PathBuf),
+    ModuleSource {
+        /// The source file.
+        file: PathBuf,
+    },
     /// `module-compile`: builds and loads; waits for the build.
-    Compile,
+    ModuleCompile,
 }
 
-/// The command of a script line's words, or `None` when the line is not one of these.
-pub fn parse(words: &[&str]) -> Option<ModuleCommand> {
-    Some(match words {
-        ["modules", which] => ModuleCommand::Open(*which == "open"),
-        ["module-workspace", dir] => ModuleCommand::Workspace(PathBuf::from(dir)),
-        ["module-declare", name, rest @ ..] => {
-            let mut params = Vec::new();
-            let (mut series, mut helpers) = (String::new(), String::new());
-            for w in rest {
-                if let Some(d) = w.strip_prefix("data=") {
-                    series = d.to_string();
-                } else if let Some(h) = w.strip_prefix("helpers=") {
-                    helpers = h.to_string();
-                } else {
-                    params.push(w.to_string());
-                }
-            }
-            ModuleCommand::Declare {
-                name: name.to_string(),
-                params,
-                series,
-                helpers,
-            }
+/// A declaration's items: parameter declarations, the data series and the helpers
+/// (comma-separated).
+fn declaration_items(items: &[String]) -> (Vec<&str>, String, String) {
+    let mut params = Vec::new();
+    let (mut series, mut helpers) = (String::new(), String::new());
+    for w in items {
+        if let Some(d) = w.strip_prefix("data=") {
+            series = d.to_string();
+        } else if let Some(h) = w.strip_prefix("helpers=") {
+            helpers = h.to_string();
+        } else {
+            params.push(w.as_str());
         }
-        ["module-source", file] => ModuleCommand::Source(PathBuf::from(file)),
-        ["module-compile"] => ModuleCommand::Compile,
-        _ => return None,
-    })
+    }
+    (params, series, helpers)
 }
 
 /// Carries out a command; `Ok(false)` asks to be called again next frame (a build).
-pub fn run(editor: &mut ModuleEditor, command: ModuleCommand) -> Result<bool, String> {
+pub fn run(editor: &mut ModuleEditor, command: ModuleCommand) -> Result<bool, PluginError> {
     match command {
-        ModuleCommand::Open(open) => editor.open = open,
-        ModuleCommand::Workspace(dir) => editor.use_workspace(&dir),
-        ModuleCommand::Declare {
-            name,
-            params,
-            series,
-            helpers,
-        } => {
+        ModuleCommand::Modules { state } => editor.open = state.open(),
+        ModuleCommand::ModuleWorkspace { dir } => editor.use_workspace(&dir),
+        ModuleCommand::ModuleDeclare { name, items } => {
+            let (params, series, helpers) = declaration_items(&items);
             let form = &mut editor.form;
             form.name = name;
             form.params = params
@@ -95,12 +87,12 @@ pub fn run(editor: &mut ModuleEditor, command: ModuleCommand) -> Result<bool, St
             form.helpers = helpers;
             editor.declare()?;
         }
-        ModuleCommand::Source(path) => {
+        ModuleCommand::ModuleSource { file } => {
             editor.source =
-                std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+                std::fs::read_to_string(&file).map_err(PluginError::io("reading", &file))?;
             editor.modified = true;
         }
-        ModuleCommand::Compile => match editor.awaited_build {
+        ModuleCommand::ModuleCompile => match editor.awaited_build {
             None => {
                 editor.awaited_build = Some(editor.builds);
                 editor.compile()?;
@@ -152,19 +144,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn lines_parse_into_module_commands() {
-        assert_eq!(parse(&["modules", "open"]), Some(ModuleCommand::Open(true)));
-        assert_eq!(
-            parse(&["module-declare", "G", "a=1", "data=p,q", "helpers=h"]),
-            Some(ModuleCommand::Declare {
-                name: "G".into(),
-                params: vec!["a=1".into()],
-                series: "p,q".into(),
-                helpers: "h".into(),
-            })
-        );
-        assert_eq!(parse(&["module-compile"]), Some(ModuleCommand::Compile));
-        assert_eq!(parse(&["module-source"]), None);
-        assert_eq!(parse(&["start"]), None);
+    fn a_declaration_splits_parameters_series_and_helpers() {
+        let items: Vec<String> = ["a=1", "data=p,q", "b=-2:-5..5", "helpers=h"]
+            .map(String::from)
+            .to_vec();
+        let (params, series, helpers) = declaration_items(&items);
+        assert_eq!(params, ["a=1", "b=-2:-5..5"]);
+        assert_eq!((series.as_str(), helpers.as_str()), ("p,q", "h"));
     }
 }

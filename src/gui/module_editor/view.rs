@@ -31,7 +31,7 @@ pub fn show(ctx: &egui::Context, editor: &mut ModuleEditor) {
                             if ui.selectable_label(false, &c).clicked()
                                 && let Err(e) = editor.open_crate(&c)
                             {
-                                editor.status = Status::Error(e);
+                                editor.status = Status::Error(e.to_string());
                             }
                         }
                     });
@@ -103,7 +103,12 @@ fn declaration(ui: &mut egui::Ui, editor: &mut ModuleEditor) {
                 max: 100.0,
             });
         }
-        let problems = editor.form.declaration().validate().err();
+        let problems = editor
+            .form
+            .declaration()
+            .validate()
+            .err()
+            .map(|e| e.to_string());
         let ok = problems.is_none();
         if ui
             .add_enabled(ok, egui::Button::new("Generate module"))
@@ -111,7 +116,7 @@ fn declaration(ui: &mut egui::Ui, editor: &mut ModuleEditor) {
             .clicked()
             && let Err(e) = editor.declare()
         {
-            editor.status = Status::Error(e);
+            editor.status = Status::Error(e.to_string());
         }
         if let Some(p) = problems {
             ui.colored_label(egui::Color32::LIGHT_RED, p);
@@ -132,7 +137,7 @@ fn source(ui: &mut egui::Ui, editor: &mut ModuleEditor) {
         if ui.button("Save").clicked()
             && let Err(e) = editor.save()
         {
-            editor.status = Status::Error(e);
+            editor.status = Status::Error(e.to_string());
         }
         let building = editor.building();
         if ui
@@ -141,7 +146,7 @@ fn source(ui: &mut egui::Ui, editor: &mut ModuleEditor) {
             .clicked()
             && let Err(e) = editor.compile()
         {
-            editor.status = Status::Error(e);
+            editor.status = Status::Error(e.to_string());
         }
         if building {
             ui.spinner();

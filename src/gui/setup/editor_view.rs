@@ -141,7 +141,7 @@ fn file_buttons(ui: &mut egui::Ui, state: &mut SetupState) {
                 "Preview: the robot crawled {:.3} m in {PREVIEW_SECONDS} s (its path is drawn in orange in the views)",
                 run.distance
             )),
-            Err(e) => ui.colored_label(egui::Color32::RED, e),
+            Err(e) => ui.colored_label(egui::Color32::RED, e.to_string()),
         };
     }
 }

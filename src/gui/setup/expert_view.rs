@@ -12,6 +12,7 @@ use crate::compose::env_edit::EnvEditor;
 use crate::compose::expert::{Composition, Part, catalog};
 use crate::compose::wizard::{Page, RobotChoice};
 use crate::config::actuation::parse_actuation_file;
+use crate::gui::error::GuiError;
 use crate::gui::setup::state::{SetupState, Tool};
 
 fn short(p: &Path) -> String {
@@ -47,11 +48,9 @@ fn choose(
 /// environment, the properties) and opens it on the behaviour page.
 pub fn edit_in_wizard(state: &mut SetupState) {
     let c = state.expert.composition.clone();
-    let r = (|| -> Result<(), String> {
-        let text = std::fs::read_to_string(&c.actuation)
-            .map_err(|e| format!("{}: {e}", c.actuation.display()))?;
-        let a = parse_actuation_file(&c.actuation.display().to_string(), &text)
-            .map_err(|e| e.to_string())?;
+    let r = (|| -> Result<(), GuiError> {
+        let text = std::fs::read_to_string(&c.actuation).map_err(GuiError::io(&c.actuation))?;
+        let a = parse_actuation_file(&c.actuation.display().to_string(), &text)?;
         let env = match &c.environment {
             Some(p) => EnvEditor::load(p)?,
             None => EnvEditor::new(state.wizard.files().environment),
@@ -79,7 +78,7 @@ pub fn edit_in_wizard(state: &mut SetupState) {
 /// loads it; a broken file keeps the current composition and shows the located error.
 pub fn open(state: &mut SetupState, path: &std::path::Path) {
     let r = Composition::open_checked(path, &state.wizard.registry);
-    state.expert.check = r.as_ref().err().map(|e| Err(e.clone()));
+    state.expert.check = r.as_ref().err().map(|e| Err(e.to_string()));
     if let Some(c) = state.report(r, |_| format!("opened {}", path.display())) {
         state.expert.composition = c;
     }
@@ -131,7 +130,8 @@ pub fn show(ui: &mut egui::Ui, state: &mut SetupState) {
                 state
                     .expert
                     .composition
-                    .check(&path, &state.wizard.registry),
+                    .check(&path, &state.wizard.registry)
+                    .map_err(|e| e.to_string()),
             );
         }
         if ui.button("Save").clicked() {
@@ -141,7 +141,7 @@ pub fn show(ui: &mut egui::Ui, state: &mut SetupState) {
         if ui.button("Open in control window").clicked() {
             match state.expert.composition.save(&path, &state.wizard.registry) {
                 Ok(()) => crate::gui::setup::open_control_window(state, &path),
-                Err(e) => state.expert.check = Some(Err(e)),
+                Err(e) => state.expert.check = Some(Err(e.to_string())),
             }
         }
         if ui

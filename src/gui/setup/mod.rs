@@ -59,7 +59,10 @@ pub enum SetupSystems {
 }
 
 /// Opens the configuration window.
-pub fn run(opts: &SetupOptions, plugins: crate::plugin_host::PluginHost) -> Result<(), String> {
+pub fn run(
+    opts: &SetupOptions,
+    plugins: crate::plugin_host::PluginHost,
+) -> Result<(), crate::gui::error::GuiError> {
     let script = match &opts.script {
         Some(p) => SetupScript(Some(script::load(p)?)),
         None => SetupScript::default(),
@@ -88,9 +91,10 @@ pub fn run(opts: &SetupOptions, plugins: crate::plugin_host::PluginHost) -> Resu
         .add_plugins(SetupWindowPlugin);
     match app.run() {
         AppExit::Success => Ok(()),
-        AppExit::Error(code) => Err(format!(
-            "the configuration window closed with status {code}"
-        )),
+        AppExit::Error(code) => Err(crate::gui::error::GuiError::Closed {
+            window: "configuration window",
+            code,
+        }),
     }
 }
 

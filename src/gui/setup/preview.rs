@@ -10,6 +10,7 @@ use crate::config::resolve::robot::{RobotModel, resolve_robot};
 use crate::config::robot::{parse_robot_file, write_robot_file};
 use crate::config::source::FsSource;
 use crate::control::load_simulation_in;
+use crate::gui::error::GuiError;
 use crate::sim::{BuildOptions, Simulator};
 
 /// A key that changes whenever the robot the wizard describes changes.
@@ -21,7 +22,7 @@ pub fn robot_key(w: &Wizard) -> String {
 }
 
 /// The robot's links (robot frame), resolved the way a simulation resolves them.
-pub fn robot_model(w: &Wizard) -> Result<RobotModel, String> {
+pub fn robot_model(w: &Wizard) -> Result<RobotModel, GuiError> {
     match &w.robot {
         RobotChoice::Build(spec) => {
             spec.validate()?;
@@ -34,17 +35,17 @@ pub fn robot_model(w: &Wizard) -> Result<RobotModel, String> {
             let file = spec.to_robot_file(&parts);
             let mut src = OverlaySource::default();
             src.unsaved.insert(&path, write_robot_file(&file));
-            resolve_robot(&src, &path, &file).map_err(|e| e.to_string())
+            Ok(resolve_robot(&src, &path, &file)?)
         }
         RobotChoice::Existing(p) => robot_file_model(p),
     }
 }
 
 /// The links of a robot file.
-pub fn robot_file_model(p: &Path) -> Result<RobotModel, String> {
-    let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
-    let file = parse_robot_file(&p.display().to_string(), &text).map_err(|e| e.to_string())?;
-    resolve_robot(&FsSource, p, &file).map_err(|e| e.to_string())
+pub fn robot_file_model(p: &Path) -> Result<RobotModel, GuiError> {
+    let text = std::fs::read_to_string(p).map_err(GuiError::io(p))?;
+    let file = parse_robot_file(&p.display().to_string(), &text)?;
+    Ok(resolve_robot(&FsSource, p, &file)?)
 }
 
 /// Samples of robot 0's path a preview keeps per simulated second.
@@ -64,7 +65,7 @@ pub struct PreviewRun {
 /// Writes the configuration into a preview folder (`.preview/` in the output folder) and
 /// runs it headless for `seconds`: the simulation file, the distance robot 0 crawled
 /// (eq. 3.7) and its path.
-pub fn run_preview(w: &Wizard, seconds: f64) -> Result<PreviewRun, String> {
+pub fn run_preview(w: &Wizard, seconds: f64) -> Result<PreviewRun, GuiError> {
     let mut p = w.clone();
     // Beside the real files, so meshes and parts are found the same way.
     p.out_dir = w.out_dir.join(".preview");
@@ -72,7 +73,7 @@ pub fn run_preview(w: &Wizard, seconds: f64) -> Result<PreviewRun, String> {
     // Preview in the single-run mode whatever the wizard's mode.
     p.props.mode = crate::config::simulation::Mode::SingleRun;
     let sim_path = p.save()?;
-    let sim = load_simulation_in(&sim_path, &w.registry).map_err(|e| e.to_string())?;
+    let sim = load_simulation_in(&sim_path, &w.registry)?;
     let opts = BuildOptions {
         robots: 1,
         seed: sim.files.simulation.properties.seed,
@@ -80,13 +81,13 @@ pub fn run_preview(w: &Wizard, seconds: f64) -> Result<PreviewRun, String> {
         physics: None,
         ..Default::default()
     };
-    let mut s = Simulator::with_registry(&sim, &opts, &w.registry).map_err(|e| e.to_string())?;
-    let start = s.com(0).map_err(|e| e.to_string())?;
+    let mut s = Simulator::with_registry(&sim, &opts, &w.registry)?;
+    let start = s.com(0)?;
     let mut track = vec![start];
     let samples = (seconds * TRACK_RATE).ceil().max(1.0) as usize;
     for _ in 0..samples {
         s.run_for(seconds / samples as f64);
-        track.push(s.com(0).map_err(|e| e.to_string())?);
+        track.push(s.com(0)?);
     }
     let end = track.last().copied().unwrap_or(start);
     Ok(PreviewRun {

@@ -37,7 +37,7 @@ pub struct SceneCache {
     /// The expert composition's environment, shown read-only.
     expert_env: Option<(std::path::PathBuf, Option<EnvEditor>)>,
     /// The robot preview, or why there is none.
-    pub robot: Option<Result<RobotModel, String>>,
+    pub robot: Option<Result<RobotModel, crate::gui::error::GuiError>>,
     /// Objects of the edited environment the robot would start inside (warnings).
     pub overlaps: Vec<String>,
     meshes: HashMap<String, Handle<Mesh>>,
@@ -163,7 +163,10 @@ fn refresh_models(state: &SetupState, cache: &mut SceneCache) -> String {
     let expert_env = composition.environment.clone().filter(|_| expert);
     if cache.expert_env.as_ref().map(|(p, _)| p) != expert_env.as_ref() {
         cache.expert_env = expert_env.map(|p| {
-            let e = EnvEditor::load(&p).ok();
+            // The expert dialog's check names the broken file; the scene shows none.
+            let e = EnvEditor::load(&p)
+                .inspect_err(|e| bevy::log::warn!("scene without its environment: {e}"))
+                .ok();
             (p, e)
         });
     }

@@ -34,15 +34,27 @@
 
 use std::path::{Path, PathBuf};
 
-/// One script command.
-#[derive(Debug, Clone, PartialEq)]
+use clap::Subcommand;
+
+use crate::gui::scripting::{OnOff, ScriptError, finite};
+
+/// One script command: the enum's variants are the script's words (`MoveTo` is
+/// `move-to`), their fields its arguments in order.
+#[derive(Subcommand, Debug, Clone, PartialEq)]
 pub enum Command {
     /// `wait N`: N frames.
-    Wait(u32),
+    Wait {
+        /// Frames.
+        frames: u32,
+    },
     /// `tool wizard|expert|editor`.
-    Tool(String),
-    /// `set KEY VALUE`: a wizard field (`Wizard::set`).
-    Set(String, String),
+    Tool {
+        /// The tool.
+        tool: ToolName,
+    },
+    /// `set FIELD VALUE...`: a wizard field (its typed setter).
+    #[command(subcommand)]
+    Set(WizardField),
     /// `next`: the next page.
     Next,
     /// `back`.
@@ -52,31 +64,117 @@ pub enum Command {
     /// `save`: writes the wizard's files.
     Save,
     /// `add ITEM [X Y]`: a library item ahead of the robot or at X, Y.
-    Add(String, Option<[f64; 2]>),
+    Add {
+        /// The library item.
+        item: String,
+        /// x (m).
+        #[arg(value_parser = finite, allow_negative_numbers = true, requires = "y")]
+        x: Option<f64>,
+        /// y (m).
+        #[arg(value_parser = finite, allow_negative_numbers = true)]
+        y: Option<f64>,
+    },
     /// `drop ITEM PX PY`: drops an item at a window position.
-    Drop(String, [f32; 2]),
+    Drop {
+        /// The library item.
+        item: String,
+        /// Window x (pixels).
+        px: f32,
+        /// Window y (pixels).
+        py: f32,
+    },
     /// `select N|robot|none`.
-    Select(String),
+    Select {
+        /// An object number, `robot` or `none`.
+        what: String,
+    },
     /// `move-to X Y Z`.
-    MoveTo([f64; 3]),
+    MoveTo {
+        /// x (m).
+        #[arg(value_parser = finite, allow_negative_numbers = true)]
+        x: f64,
+        /// y (m).
+        #[arg(value_parser = finite, allow_negative_numbers = true)]
+        y: f64,
+        /// z (m).
+        #[arg(value_parser = finite, allow_negative_numbers = true)]
+        z: f64,
+    },
     /// `move-by DX DY DZ`.
-    MoveBy([f64; 3]),
+    MoveBy {
+        /// dx (m).
+        #[arg(value_parser = finite, allow_negative_numbers = true)]
+        dx: f64,
+        /// dy (m).
+        #[arg(value_parser = finite, allow_negative_numbers = true)]
+        dy: f64,
+        /// dz (m).
+        #[arg(value_parser = finite, allow_negative_numbers = true)]
+        dz: f64,
+    },
     /// `drag-to X Y`: drags the selection over the ground.
-    DragTo([f64; 2]),
+    DragTo {
+        /// x (m).
+        #[arg(value_parser = finite, allow_negative_numbers = true)]
+        x: f64,
+        /// y (m).
+        #[arg(value_parser = finite, allow_negative_numbers = true)]
+        y: f64,
+    },
     /// `rotate DEG`.
-    Rotate(f64),
+    Rotate {
+        /// Degrees.
+        #[arg(value_parser = finite, allow_negative_numbers = true)]
+        degrees: f64,
+    },
     /// `yaw DEG`: sets the heading.
-    Yaw(f64),
-    /// `scale FX FY FZ`.
-    Scale([f64; 3]),
+    Yaw {
+        /// Degrees.
+        #[arg(value_parser = finite, allow_negative_numbers = true)]
+        degrees: f64,
+    },
+    /// `scale F` or `scale FX FY FZ`.
+    Scale {
+        /// The factor (along x with three).
+        #[arg(value_parser = finite)]
+        x: f64,
+        /// Along y.
+        #[arg(value_parser = finite, requires = "z")]
+        y: Option<f64>,
+        /// Along z.
+        #[arg(value_parser = finite)]
+        z: Option<f64>,
+    },
     /// `friction MU`.
-    Friction(f64),
+    Friction {
+        /// The Coulomb coefficient.
+        #[arg(value_parser = finite)]
+        mu: f64,
+    },
     /// `dynamic on|off`.
-    Dynamic(bool),
+    Dynamic {
+        /// On or off.
+        state: OnOff,
+    },
     /// `mass KG`.
-    Mass(f64),
-    /// `colour R G B`.
-    Colour([f64; 3]),
+    Mass {
+        /// Kilograms.
+        #[arg(value_parser = finite)]
+        kg: f64,
+    },
+    /// `colour R G B` (`color` too).
+    #[command(alias = "color")]
+    Colour {
+        /// Red (0..1).
+        #[arg(value_parser = finite)]
+        r: f64,
+        /// Green (0..1).
+        #[arg(value_parser = finite)]
+        g: f64,
+        /// Blue (0..1).
+        #[arg(value_parser = finite)]
+        b: f64,
+    },
     /// `delete`.
     Delete,
     /// `undo`.
@@ -84,35 +182,296 @@ pub enum Command {
     /// `redo`.
     Redo,
     /// `env-save FILE`.
-    EnvSave(PathBuf),
+    EnvSave {
+        /// The environment file.
+        file: PathBuf,
+    },
     /// `env-load FILE`.
-    EnvLoad(PathBuf),
+    EnvLoad {
+        /// The environment file.
+        file: PathBuf,
+    },
     /// `expert PART FILE|none`: a part of the composition.
-    Expert(String, String),
+    Expert {
+        /// robot, actuation, environment or optimizer.
+        part: String,
+        /// The file, or `none`.
+        file: String,
+    },
     /// `expert-save FILE`.
-    ExpertSave(PathBuf),
+    ExpertSave {
+        /// The simulation file.
+        file: PathBuf,
+    },
     /// `expert-edit`: hands the composition to the wizard.
     ExpertEdit,
     /// `expert-open FILE`: the expert dialog's Open.
-    ExpertOpen(PathBuf),
+    ExpertOpen {
+        /// The simulation file.
+        file: PathBuf,
+    },
     /// `slow-frames MS`: every frame takes this much longer.
-    SlowFrames(u32),
+    SlowFrames {
+        /// Milliseconds (at most 10 000).
+        #[arg(value_parser = clap::value_parser!(u32).range(0..=10_000))]
+        ms: u32,
+    },
     /// `wait-for file PATH FRAMES`: until the file exists, at most this many frames.
-    WaitForFile(PathBuf, u32),
+    #[command(subcommand)]
+    WaitFor(WaitFor),
     /// `open-control FILE`: opens a simulation in a control window (a child process).
-    OpenControl(PathBuf),
+    OpenControl {
+        /// The simulation file.
+        file: PathBuf,
+    },
     /// `preview`: runs the wizard's robot for 5 s.
     Preview,
     /// `zoom H`: height of the top and side views (m).
-    Zoom(f32),
+    Zoom {
+        /// Metres.
+        #[arg(value_parser = finite)]
+        height: f64,
+    },
     /// `screenshot FILE.png`.
-    Screenshot(PathBuf),
+    Screenshot {
+        /// The image file.
+        file: PathBuf,
+    },
     /// `state FILE`: writes the state a test checks.
-    State(PathBuf),
+    State {
+        /// The state file.
+        file: PathBuf,
+    },
     /// A module library command.
+    #[command(flatten)]
     Module(crate::gui::module_editor::script::ModuleCommand),
     /// `quit`.
     Quit,
+}
+
+/// What `wait-for` waits for in this window.
+#[derive(Subcommand, Debug, Clone, PartialEq)]
+pub enum WaitFor {
+    /// A file exists (a test says its input was sent).
+    File {
+        /// The file.
+        path: PathBuf,
+        /// At most this many frames.
+        frames: u32,
+    },
+}
+
+/// The tools of the configuration window.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ToolName {
+    /// The wizard.
+    Wizard,
+    /// The expert dialog.
+    Expert,
+    /// The environment editor.
+    Editor,
+}
+
+/// A wizard field `set` changes, with its value: each one a typed setter of
+/// [`crate::compose::wizard::Wizard`] (or a plain field).
+#[derive(Subcommand, Debug, Clone, PartialEq)]
+pub enum WizardField {
+    /// `robot.name NAME`.
+    #[command(name = "robot.name")]
+    RobotName {
+        /// The name.
+        name: String,
+    },
+    /// `robot.topology pypyp` (spaces allowed).
+    #[command(name = "robot.topology")]
+    Topology {
+        /// Letters: p pitch, y yaw.
+        #[arg(num_args = 0..)]
+        letters: Vec<String>,
+    },
+    /// `robot.parts plain|touch|cube`.
+    #[command(name = "robot.parts")]
+    Parts {
+        /// The part set.
+        #[arg(value_parser = part_set)]
+        parts: crate::compose::robot_builder::PartSet,
+    },
+    /// `robot.build`: the robot is built from the wizard's fields.
+    #[command(name = "robot.build")]
+    Build,
+    /// `robot.existing FILE`: an existing robot file (relative to the configuration
+    /// folder).
+    #[command(name = "robot.existing")]
+    Existing {
+        /// The robot file.
+        file: PathBuf,
+    },
+    /// `behaviour.simple MODULE`: one group of all joints.
+    #[command(name = "behaviour.simple")]
+    Simple {
+        /// The module type.
+        module: String,
+    },
+    /// `behaviour.clear`: no groups.
+    #[command(name = "behaviour.clear")]
+    ClearGroups,
+    /// `behaviour.group MASK MODULE[,MODULE...]`.
+    #[command(name = "behaviour.group")]
+    Group {
+        /// The joints (`10101`).
+        mask: String,
+        /// The module types, comma-separated.
+        #[arg(value_delimiter = ',', required = true)]
+        modules: Vec<String>,
+    },
+    /// `behaviour.param GROUP MODULE PARAM VALUE|v1,v2,...` (GROUP from 1).
+    #[command(name = "behaviour.param")]
+    GroupParam {
+        /// The group (from 1).
+        group: usize,
+        /// The module type.
+        module: String,
+        /// The parameter.
+        param: String,
+        /// One value, or one per joint (comma-separated).
+        #[arg(value_delimiter = ',', required = true, value_parser = finite, allow_negative_numbers = true)]
+        values: Vec<f64>,
+    },
+    /// `sim.mode single|ga|gd|cmaes`.
+    #[command(name = "sim.mode")]
+    Mode {
+        /// The mode.
+        mode: ModeName,
+    },
+    /// `sim.step S`.
+    #[command(name = "sim.step")]
+    Step {
+        /// Seconds.
+        #[arg(value_parser = finite)]
+        seconds: f64,
+    },
+    /// `sim.accuracy N`: the sampling period in steps.
+    #[command(name = "sim.accuracy")]
+    Accuracy {
+        /// Steps.
+        steps: u32,
+    },
+    /// `sim.duration S`.
+    #[command(name = "sim.duration")]
+    Duration {
+        /// Seconds.
+        #[arg(value_parser = finite)]
+        seconds: f64,
+    },
+    /// `sim.seed N`.
+    #[command(name = "sim.seed")]
+    Seed {
+        /// The seed.
+        seed: u64,
+    },
+    /// `sim.storing 0|1`: data files.
+    #[command(name = "sim.storing")]
+    Storing {
+        /// 1: store data.
+        #[arg(value_parser = clap::value_parser!(u8).range(0..=1))]
+        on: u8,
+    },
+    /// `sim.viewer 0|1`.
+    #[command(name = "sim.viewer")]
+    Viewer {
+        /// 1: show the viewer.
+        #[arg(value_parser = clap::value_parser!(u8).range(0..=1))]
+        on: u8,
+    },
+    /// `sim.description TEXT...`.
+    #[command(name = "sim.description")]
+    Description {
+        /// The words.
+        #[arg(num_args = 0.., allow_hyphen_values = true)]
+        words: Vec<String>,
+    },
+    /// `opt.register MODULE PARAM all|MASK uniform|individual (LO HI INC | list v1,...)`.
+    #[command(name = "opt.register")]
+    Register {
+        /// The module type.
+        module: String,
+        /// The parameter.
+        param: String,
+        /// `all` or a joint mask.
+        joints: String,
+        /// One value for all joints, or one per joint.
+        sharing: Sharing,
+        /// `LO HI INC`, or `list v1,v2,...`.
+        #[arg(num_args = 2..=3, allow_negative_numbers = true)]
+        values: Vec<String>,
+    },
+    /// `opt.clear`: no registered parameters.
+    #[command(name = "opt.clear")]
+    ClearRegistrations,
+    /// `opt.popsize N`.
+    #[command(name = "opt.popsize")]
+    Popsize {
+        /// Candidates per generation.
+        size: u32,
+    },
+    /// `opt.max-evals N`.
+    #[command(name = "opt.max-evals")]
+    MaxEvals {
+        /// Evaluations.
+        #[arg(value_parser = clap::value_parser!(u64).range(1..))]
+        evaluations: u64,
+    },
+    /// `opt.fitness NAME`.
+    #[command(name = "opt.fitness")]
+    Fitness {
+        /// The fitness.
+        #[arg(value_parser = crate::optimize::fitness::Fitness::parse)]
+        fitness: crate::optimize::fitness::Fitness,
+    },
+}
+
+/// The modes `sim.mode` names.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModeName {
+    /// One run.
+    Single,
+    /// The genetic algorithm.
+    Ga,
+    /// The great deluge.
+    Gd,
+    /// CMA-ES.
+    Cmaes,
+}
+
+impl ModeName {
+    /// The simulation mode.
+    pub fn mode(self) -> crate::config::simulation::Mode {
+        use crate::config::simulation::Mode;
+        match self {
+            ModeName::Single => Mode::SingleRun,
+            ModeName::Ga => Mode::GeneticAlgorithm,
+            ModeName::Gd => Mode::GreatDeluge,
+            ModeName::Cmaes => Mode::CmaEs,
+        }
+    }
+}
+
+/// One value for all joints or one per joint.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Sharing {
+    /// One value.
+    Uniform,
+    /// One per joint.
+    Individual,
+}
+
+/// A part set by name.
+fn part_set(
+    s: &str,
+) -> Result<crate::compose::robot_builder::PartSet, crate::config::error::UnknownName> {
+    crate::compose::robot_builder::PartSet::parse(s).ok_or_else(|| {
+        crate::config::error::UnknownName::new("part set", s, &["plain", "touch", "cube"])
+    })
 }
 
 /// A parsed script of this window's commands.
@@ -123,97 +482,13 @@ pub type Script = crate::gui::scripting::Script<Command>;
 pub struct SetupScript(pub Option<Script>);
 
 /// Reads a script file.
-pub fn load(path: &Path) -> Result<Script, String> {
-    crate::gui::scripting::load_script(path, parse)
+pub fn load(path: &Path) -> Result<Script, ScriptError> {
+    crate::gui::scripting::load_script(path)
 }
 
 /// Parses script text (`path` names it in errors).
-pub fn parse(path: &Path, text: &str) -> Result<Script, String> {
-    crate::gui::scripting::parse_script(path, text, |line, words, at| {
-        let num = |k: usize, what: &str| -> Result<f64, String> {
-            let w = words
-                .get(k)
-                .ok_or_else(|| at(format!("{line:?}: missing {what}")))?;
-            w.parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| at(format!("{w:?} is not a number ({what})")))
-        };
-        let arg = |k: usize, what: &str| -> Result<String, String> {
-            words
-                .get(k)
-                .map(|w| w.to_string())
-                .ok_or_else(|| at(format!("{line:?}: missing {what}")))
-        };
-        let rest = |k: usize| words.get(k..).map(|w| w.join(" ")).unwrap_or_default();
-        if let Some(m) = crate::gui::module_editor::script::parse(words) {
-            return Ok(Command::Module(m));
-        }
-        let c = match words[0] {
-            "wait" => Command::Wait(num(1, "frames")?.max(0.0) as u32),
-            "slow-frames" => {
-                Command::SlowFrames(num(1, "milliseconds")?.clamp(0.0, 10_000.0) as u32)
-            }
-            "wait-for" if words.len() == 4 && words[1] == "file" => {
-                Command::WaitForFile(PathBuf::from(words[2]), num(3, "frames")?.max(1.0) as u32)
-            }
-            "tool" => Command::Tool(arg(1, "wizard, expert or editor")?),
-            "set" => Command::Set(arg(1, "field")?, rest(2)),
-            "next" => Command::Next,
-            "back" => Command::Back,
-            "skip" => Command::Skip,
-            "save" => Command::Save,
-            "add" => Command::Add(
-                arg(1, "library item")?,
-                if words.len() > 2 {
-                    Some([num(2, "x")?, num(3, "y")?])
-                } else {
-                    None
-                },
-            ),
-            "drop" => Command::Drop(
-                arg(1, "library item")?,
-                [num(2, "window x")? as f32, num(3, "window y")? as f32],
-            ),
-            "select" => Command::Select(arg(1, "object number, robot or none")?),
-            "move-to" => Command::MoveTo([num(1, "x")?, num(2, "y")?, num(3, "z")?]),
-            "move-by" => Command::MoveBy([num(1, "dx")?, num(2, "dy")?, num(3, "dz")?]),
-            "drag-to" => Command::DragTo([num(1, "x")?, num(2, "y")?]),
-            "rotate" => Command::Rotate(num(1, "degrees")?),
-            "yaw" => Command::Yaw(num(1, "degrees")?),
-            "scale" => {
-                let x = num(1, "factor")?;
-                if words.len() > 2 {
-                    Command::Scale([x, num(2, "y factor")?, num(3, "z factor")?])
-                } else {
-                    Command::Scale([x; 3])
-                }
-            }
-            "friction" => Command::Friction(num(1, "coefficient")?),
-            "dynamic" => Command::Dynamic(arg(1, "on or off")? == "on"),
-            "mass" => Command::Mass(num(1, "kg")?),
-            "colour" | "color" => {
-                Command::Colour([num(1, "red")?, num(2, "green")?, num(3, "blue")?])
-            }
-            "delete" => Command::Delete,
-            "undo" => Command::Undo,
-            "redo" => Command::Redo,
-            "env-save" => Command::EnvSave(PathBuf::from(arg(1, "path")?)),
-            "env-load" => Command::EnvLoad(PathBuf::from(arg(1, "path")?)),
-            "expert" => Command::Expert(arg(1, "part")?, arg(2, "path or none")?),
-            "expert-save" => Command::ExpertSave(PathBuf::from(arg(1, "path")?)),
-            "expert-edit" => Command::ExpertEdit,
-            "expert-open" => Command::ExpertOpen(PathBuf::from(arg(1, "path")?)),
-            "preview" => Command::Preview,
-            "open-control" => Command::OpenControl(PathBuf::from(arg(1, "path")?)),
-            "zoom" => Command::Zoom(num(1, "view height (m)")? as f32),
-            "screenshot" => Command::Screenshot(PathBuf::from(arg(1, "path")?)),
-            "state" => Command::State(PathBuf::from(arg(1, "path")?)),
-            "quit" => Command::Quit,
-            other => return Err(at(format!("unknown command {other:?}"))),
-        };
-        Ok(c)
-    })
+pub fn parse(path: &Path, text: &str) -> Result<Script, ScriptError> {
+    crate::gui::scripting::parse_script(path, text)
 }
 
 #[cfg(test)]
@@ -224,19 +499,52 @@ mod tests {
     fn parses_commands_and_locates_errors() {
         let s = parse(
             Path::new("w.script"),
-            "tool editor\nset robot.topology py py\nadd box 1 2\nscale 2\nscale 1 2 3 # axes\ndrop sphere 10 20\nquit\n",
+            "tool editor\nset robot.topology py py\nadd box 1 -2\nscale 2\nscale 1 2 3 # axes\ndrop sphere 10 20\nset behaviour.param 1 M Amplitude 10,-5\nquit\n",
         )
         .unwrap();
-        assert_eq!(s.commands.len(), 7);
+        assert_eq!(s.commands.len(), 8);
         assert_eq!(
             s.commands[1].1,
-            Command::Set("robot.topology".into(), "py py".into())
+            Command::Set(WizardField::Topology {
+                letters: vec!["py".into(), "py".into()]
+            })
         );
-        assert_eq!(s.commands[3].1, Command::Scale([2.0; 3]));
-        assert_eq!(s.commands[4].1, Command::Scale([1.0, 2.0, 3.0]));
-        let e = parse(Path::new("w.script"), "next\nfriction lots\n").unwrap_err();
-        assert!(e.starts_with("w.script:2:") && e.contains("lots"), "{e}");
-        let e = parse(Path::new("w.script"), "fly\n").unwrap_err();
-        assert!(e.starts_with("w.script:1:"), "{e}");
+        assert_eq!(
+            s.commands[2].1,
+            Command::Add {
+                item: "box".into(),
+                x: Some(1.0),
+                y: Some(-2.0)
+            }
+        );
+        assert_eq!(
+            s.commands[3].1,
+            Command::Scale {
+                x: 2.0,
+                y: None,
+                z: None
+            }
+        );
+        assert_eq!(
+            s.commands[6].1,
+            Command::Set(WizardField::GroupParam {
+                group: 1,
+                module: "M".into(),
+                param: "Amplitude".into(),
+                values: vec![10.0, -5.0]
+            })
+        );
+        let at = |text: &str| match parse(Path::new("w.script"), text) {
+            Err(ScriptError::Parse { line, why, .. }) => (line, why),
+            other => panic!("{text:?} parsed: {other:?}"),
+        };
+        let (line, why) = at("next\nfriction lots\n");
+        assert!(line == 2 && why.contains("lots"), "{why}");
+        assert_eq!(at("fly\n").0, 1);
+        // A wizard field that does not exist, and a part set that does not.
+        assert!(at("set robot.colour red\n").1.contains("robot.colour"));
+        assert!(at("set robot.parts gold\n").1.contains("gold"));
+        // Two scale factors are neither one nor three.
+        assert_eq!(at("scale 1 2\n").0, 1);
     }
 }

@@ -9,11 +9,15 @@ use bevy::prelude::*;
 use crate::compose::env_edit::{EnvEditor, Selected};
 use crate::compose::expert::Part;
 use crate::compose::library::LibraryItem;
+use crate::compose::optimization::ValueSet;
+use crate::compose::wizard::{RegisterSpec, Wizard};
 use crate::gui::control::script::state_report;
 use crate::gui::module_editor::ModuleEditor;
-use crate::gui::scripting::{Flow, run_commands};
+use crate::gui::scripting::{CommandError, Flow, run_commands};
 use crate::gui::setup::editor_view::preview;
-use crate::gui::setup::script::{Command, Script, SetupScript};
+use crate::gui::setup::script::{
+    Command, Script, SetupScript, Sharing, ToolName, WaitFor, WizardField,
+};
 use crate::gui::setup::state::{SetupState, Status, Tool};
 
 /// Carries out script commands (before the views update).
@@ -29,19 +33,16 @@ pub fn run_script(
     });
 }
 
-fn item(state: &SetupState, name: &str) -> Result<LibraryItem, String> {
+fn item(state: &SetupState, name: &str) -> Result<LibraryItem, CommandError> {
     state
         .library
         .iter()
         .find(|i| i.label().eq_ignore_ascii_case(name))
         .cloned()
         .or_else(|| LibraryItem::parse(name))
-        .ok_or_else(|| {
-            let names: Vec<String> = state.library.iter().map(|i| i.label()).collect();
-            format!(
-                "no library item {name:?}; the library holds: {}",
-                names.join(", ")
-            )
+        .ok_or_else(|| CommandError::Missing {
+            what: "library item",
+            name: name.to_string(),
         })
 }
 
@@ -51,28 +52,27 @@ fn carry_out(
     script: &mut Script,
     state: &mut SetupState,
     modules: &mut ModuleEditor,
-) -> Result<Flow, String> {
+) -> Result<Flow, CommandError> {
     match c {
-        Command::Wait(n) => {
-            script.pacing.waiting = n;
+        Command::Wait { frames } => {
+            script.pacing.waiting = frames;
             return Ok(Flow::Yield);
         }
-        Command::SlowFrames(ms) => {
+        Command::SlowFrames { ms } => {
             script.pacing.frame_delay = std::time::Duration::from_millis(u64::from(ms));
         }
-        Command::WaitForFile(path, frames) => {
+        Command::WaitFor(WaitFor::File { path, frames }) => {
             let what = path.display().to_string();
             return script.pacing.poll(path.exists(), frames, &what);
         }
-        Command::Tool(t) => {
-            state.tool = match t.as_str() {
-                "wizard" => Tool::Wizard,
-                "expert" => Tool::Expert,
-                "editor" => Tool::Editor,
-                other => return Err(format!("tool {other:?}: expected wizard, expert or editor")),
+        Command::Tool { tool } => {
+            state.tool = match tool {
+                ToolName::Wizard => Tool::Wizard,
+                ToolName::Expert => Tool::Expert,
+                ToolName::Editor => Tool::Editor,
             }
         }
-        Command::Set(k, v) => state.wizard.set(&k, &v)?,
+        Command::Set(field) => set_field(&mut state.wizard, field)?,
         Command::Next => state.wizard.next_page()?,
         Command::Back => state.wizard.back(),
         Command::Skip => state.wizard.skip()?,
@@ -80,49 +80,49 @@ fn carry_out(
             let p = state.wizard.save()?;
             state.status = Some(Status::Info(format!("saved {}", p.display())));
         }
-        Command::Add(..)
-        | Command::Drop(..)
-        | Command::Select(_)
-        | Command::MoveTo(_)
-        | Command::MoveBy(_)
-        | Command::DragTo(_)
-        | Command::Rotate(_)
-        | Command::Yaw(_)
-        | Command::Scale(_)
-        | Command::Friction(_)
-        | Command::Dynamic(_)
-        | Command::Mass(_)
-        | Command::Colour(_)
+        Command::Add { .. }
+        | Command::Drop { .. }
+        | Command::Select { .. }
+        | Command::MoveTo { .. }
+        | Command::MoveBy { .. }
+        | Command::DragTo { .. }
+        | Command::Rotate { .. }
+        | Command::Yaw { .. }
+        | Command::Scale { .. }
+        | Command::Friction { .. }
+        | Command::Dynamic { .. }
+        | Command::Mass { .. }
+        | Command::Colour { .. }
         | Command::Delete
         | Command::Undo
         | Command::Redo
-        | Command::EnvSave(_)
-        | Command::EnvLoad(_) => return editor_command(c, state),
-        Command::Expert(..)
-        | Command::ExpertSave(_)
+        | Command::EnvSave { .. }
+        | Command::EnvLoad { .. } => return editor_command(c, state),
+        Command::Expert { .. }
+        | Command::ExpertSave { .. }
         | Command::ExpertEdit
-        | Command::ExpertOpen(_) => expert_command(c, state)?,
-        Command::OpenControl(p) => {
-            crate::gui::setup::open_control_window(state, &p);
+        | Command::ExpertOpen { .. } => expert_command(c, state)?,
+        Command::OpenControl { file } => {
+            crate::gui::setup::open_control_window(state, &file);
             if let Some(Status::Error(e)) = &state.status {
-                return Err(e.clone());
+                return Err(CommandError::Refused(e.clone()));
             }
         }
         Command::Preview => {
             preview(state);
             if let Some(Err(e)) = &state.preview {
-                return Err(e.clone());
+                return Err(CommandError::Refused(e.to_string()));
             }
         }
-        Command::Zoom(h) => state.ortho_height = h.clamp(0.05, 40.0),
-        Command::Screenshot(path) => {
-            script.pacing.screenshot(commands, path);
+        Command::Zoom { height } => state.ortho_height = (height as f32).clamp(0.05, 40.0),
+        Command::Screenshot { file } => {
+            script.pacing.screenshot(commands, file)?;
             return Ok(Flow::Yield);
         }
-        Command::State(path) => {
-            crate::gui::control::widgets::ensure_parent(&path);
-            std::fs::write(&path, state_lines(state, modules))
-                .map_err(|e| format!("{}: {e}", path.display()))?;
+        Command::State { file } => {
+            crate::gui::control::widgets::ensure_parent(&file);
+            std::fs::write(&file, state_lines(state, modules))
+                .map_err(|source| CommandError::Write { path: file, source })?;
         }
         Command::Module(m) => {
             if !crate::gui::module_editor::script::run(modules, m)? {
@@ -135,124 +135,209 @@ fn carry_out(
     Ok(Flow::Next)
 }
 
+/// `set FIELD VALUE...`: the wizard's typed setter of the field (or the plain field).
+fn set_field(w: &mut Wizard, field: WizardField) -> Result<(), CommandError> {
+    match field {
+        WizardField::RobotName { name } => w.set_robot_name(&name)?,
+        WizardField::Topology { letters } => w.set_topology(&letters.concat())?,
+        WizardField::Parts { parts } => w.set_parts(parts),
+        WizardField::Build => w.build_robot(),
+        WizardField::Existing { file } => w.use_existing_robot(&file)?,
+        WizardField::Simple { module } => w.set_simple_behaviour(&module)?,
+        WizardField::ClearGroups => w.behaviour.groups.clear(),
+        WizardField::Group { mask, modules } => w.add_group(&mask, &modules)?,
+        WizardField::GroupParam {
+            group,
+            module,
+            param,
+            values,
+        } => w.set_group_param(group, &module, &param, &values)?,
+        WizardField::Mode { mode } => w.set_mode(mode.mode()),
+        WizardField::Step { seconds } => w.props.step_width = seconds,
+        WizardField::Accuracy { steps } => w.props.accuracy = steps,
+        WizardField::Duration { seconds } => w.props.duration = seconds,
+        WizardField::Seed { seed } => w.props.seed = seed,
+        WizardField::Storing { on } => w.props.storing_data = on == 1,
+        WizardField::Viewer { on } => w.props.show_viewer = on == 1,
+        WizardField::Description { words } => w.description = words.join(" "),
+        WizardField::Register {
+            module,
+            param,
+            joints,
+            sharing,
+            values,
+        } => w.register(RegisterSpec {
+            module,
+            parameter: param,
+            joints: (joints != "all").then_some(joints),
+            uniform: sharing == Sharing::Uniform,
+            values: value_set(&values)?,
+        })?,
+        WizardField::ClearRegistrations => w.optimization.params.clear(),
+        WizardField::Popsize { size } => w.optimization.ga.popsize = size,
+        WizardField::MaxEvals { evaluations } => w.optimization.max_evaluations = Some(evaluations),
+        WizardField::Fitness { fitness } => w.optimization.fitness = fitness,
+    }
+    Ok(())
+}
+
+/// `LO HI INC` or `list v1,v2,...`.
+fn value_set(words: &[String]) -> Result<ValueSet, CommandError> {
+    let number = |w: &str| crate::gui::scripting::finite(w.trim());
+    Ok(match words {
+        [list, values] if list == "list" => {
+            ValueSet::List(values.split(',').map(number).collect::<Result<_, _>>()?)
+        }
+        [lower, upper, increment] => ValueSet::Range {
+            lower: number(lower)?,
+            upper: number(upper)?,
+            increment: number(increment)?,
+        },
+        _ => {
+            return Err(CommandError::NotNow(
+                "opt.register: give LO HI INC or list v1,v2,...",
+            ));
+        }
+    })
+}
+
 /// The environment editor's commands (the editor tool, or the wizard's environment page).
-fn editor_command(c: Command, state: &mut SetupState) -> Result<Flow, String> {
+fn editor_command(c: Command, state: &mut SetupState) -> Result<Flow, CommandError> {
     let env_only = |state: &SetupState| {
         if state.editing_env() {
             Ok(())
         } else {
-            Err(
-                "not in the environment editor (tool editor, or the wizard's environment page)"
-                    .to_string(),
-            )
+            Err(CommandError::NotNow(
+                "not in the environment editor (tool editor, or the wizard's environment page)",
+            ))
         }
     };
     match c {
-        Command::Add(name, at) => {
+        Command::Add { item: name, x, y } => {
             env_only(state)?;
             let it = item(state, &name)?;
             let env = state.env_mut();
-            let [x, y] = at.unwrap_or_else(|| {
-                let r = env.robot_pose;
-                let a = r.rotate([0.0, 1.0, 0.0]);
-                [r.translation[0] + a[0], r.translation[1] + a[1]]
-            });
+            let [x, y] = match (x, y) {
+                (Some(x), Some(y)) => [x, y],
+                _ => {
+                    let r = env.robot_pose;
+                    let a = r.rotate([0.0, 1.0, 0.0]);
+                    [r.translation[0] + a[0], r.translation[1] + a[1]]
+                }
+            };
             env.add(&it, x, y);
         }
-        Command::Drop(name, [x, y]) => {
+        Command::Drop { item: name, px, py } => {
             env_only(state)?;
-            state.drop = Some((item(state, &name)?, Vec2::new(x, y)));
+            state.drop = Some((item(state, &name)?, Vec2::new(px, py)));
             // The drop is placed by the picking system this frame.
             return Ok(Flow::Yield);
         }
-        Command::Select(s) => {
+        Command::Select { what } => {
             env_only(state)?;
-            let sel = match s.as_str() {
+            let sel = match what.as_str() {
                 "robot" => Some(Selected::Robot),
                 "none" => None,
                 n => Some(Selected::Object(n.parse().map_err(|_| {
-                    format!("select {n:?}: expected an object number, robot or none")
+                    CommandError::Missing {
+                        what: "object (a number, robot or none)",
+                        name: n.to_string(),
+                    }
                 })?)),
             };
             state.env_mut().select(sel)?;
         }
-        Command::MoveTo(p) => state.env_mut().move_to(p)?,
-        Command::MoveBy(d) => state.env_mut().move_by(d)?,
-        Command::DragTo([x, y]) => {
+        Command::MoveTo { x, y, z } => state.env_mut().move_to([x, y, z])?,
+        Command::MoveBy { dx, dy, dz } => state.env_mut().move_by([dx, dy, dz])?,
+        Command::DragTo { x, y } => {
             let env = state.env_mut();
             env.begin_drag();
             let r = env.drag_to(x, y);
             env.end_drag();
             r?
         }
-        Command::Rotate(d) => state.env_mut().rotate_by(d)?,
-        Command::Yaw(d) => state.env_mut().set_yaw(d)?,
-        Command::Scale(f) => state.env_mut().scale(f)?,
-        Command::Friction(mu) => state.env_mut().set_friction(mu)?,
-        Command::Dynamic(on) => state.env_mut().set_dynamic(on)?,
-        Command::Mass(kg) => state.env_mut().set_mass(kg)?,
-        Command::Colour(rgb) => state.env_mut().set_colour(rgb)?,
+        Command::Rotate { degrees } => state.env_mut().rotate_by(degrees)?,
+        Command::Yaw { degrees } => state.env_mut().set_yaw(degrees)?,
+        Command::Scale { x, y, z } => state.env_mut().scale([x, y.unwrap_or(x), z.unwrap_or(x)])?,
+        Command::Friction { mu } => state.env_mut().set_friction(mu)?,
+        Command::Dynamic { state: on } => state.env_mut().set_dynamic(on.on())?,
+        Command::Mass { kg } => state.env_mut().set_mass(kg)?,
+        Command::Colour { r, g, b } => state.env_mut().set_colour([r, g, b])?,
         Command::Delete => state.env_mut().delete()?,
         Command::Undo => {
             if !state.env_mut().undo() {
-                return Err("nothing to undo".into());
+                return Err(CommandError::NotNow("nothing to undo"));
             }
         }
         Command::Redo => {
             if !state.env_mut().redo() {
-                return Err("nothing to redo".into());
+                return Err(CommandError::NotNow("nothing to redo"));
             }
         }
-        Command::EnvSave(p) => {
-            state.editor_path = p.display().to_string();
-            state.env_mut().save(&p)?;
-            state.status = Some(Status::Info(format!("saved {}", p.display())));
+        Command::EnvSave { file } => {
+            state.editor_path = file.display().to_string();
+            state.env_mut().save(&file)?;
+            state.status = Some(Status::Info(format!("saved {}", file.display())));
         }
-        Command::EnvLoad(p) => {
-            state.editor = EnvEditor::load(&p)?;
-            state.editor_path = p.display().to_string();
+        Command::EnvLoad { file } => {
+            state.editor = EnvEditor::load(&file)?;
+            state.editor_path = file.display().to_string();
         }
-        other => return Err(format!("internal: {other:?} is not an editor command")),
+        other => return Err(CommandError::Misrouted(format!("{other:?}"))),
     }
     Ok(Flow::Next)
 }
 
 /// The expert composition's commands.
-fn expert_command(c: Command, state: &mut SetupState) -> Result<(), String> {
+fn expert_command(c: Command, state: &mut SetupState) -> Result<(), CommandError> {
     match c {
-        Command::Expert(part, path) => {
+        Command::Expert { part, file } => {
             let c = &mut state.expert.composition;
-            let p = (path != "none").then(|| PathBuf::from(&path));
+            let p = (file != "none").then(|| PathBuf::from(&file));
             let part = Part::ALL
                 .into_iter()
                 .find(|k| k.label().eq_ignore_ascii_case(&part))
-                .ok_or_else(|| {
-                    format!("part {part:?}: expected robot, actuation, environment or optimizer")
+                .ok_or(CommandError::Missing {
+                    what: "part (robot, actuation, environment or optimizer)",
+                    name: part,
                 })?;
             match (part, p) {
                 (Part::Robot, Some(p)) => c.robot = p,
                 (Part::Actuation, Some(p)) => c.actuation = p,
                 (Part::Environment, p) => c.environment = p,
                 (Part::Optimizer, p) => c.optimizer = p,
-                (k, None) => return Err(format!("the {} cannot be none", k.label())),
+                (_, None) => {
+                    return Err(CommandError::NotNow(
+                        "the robot and the actuation cannot be none",
+                    ));
+                }
             }
         }
-        Command::ExpertSave(p) => {
-            state.expert.path = p.display().to_string();
-            state.expert.composition.save(&p, &state.wizard.registry)?;
-            state.expert.check = Some(state.expert.composition.check(&p, &state.wizard.registry));
+        Command::ExpertSave { file } => {
+            state.expert.path = file.display().to_string();
+            state
+                .expert
+                .composition
+                .save(&file, &state.wizard.registry)?;
+            state.expert.check = Some(
+                state
+                    .expert
+                    .composition
+                    .check(&file, &state.wizard.registry)
+                    .map_err(|e| e.to_string()),
+            );
         }
-        Command::ExpertOpen(p) => {
-            state.expert.path = p.display().to_string();
-            crate::gui::setup::expert_view::open(state, &p);
+        Command::ExpertOpen { file } => {
+            state.expert.path = file.display().to_string();
+            crate::gui::setup::expert_view::open(state, &file);
         }
         Command::ExpertEdit => {
             crate::gui::setup::expert_view::edit_in_wizard(state);
             if let Some(Status::Error(e)) = &state.status {
-                return Err(e.clone());
+                return Err(CommandError::Refused(e.clone()));
             }
         }
-        other => return Err(format!("internal: {other:?} is not an expert command")),
+        other => return Err(CommandError::Misrouted(format!("{other:?}"))),
     }
     Ok(())
 }
@@ -268,7 +353,8 @@ fn state_lines(state: &mut SetupState, modules: &ModuleEditor) -> String {
         ("robot", w.robot_name()),
         (
             "joints",
-            w.joint_count().map_or_else(|e| e, |n| n.to_string()),
+            w.joint_count()
+                .map_or_else(|e| e.to_string(), |n| n.to_string()),
         ),
         ("topology", w.topology()),
         ("groups", w.behaviour.groups.len().to_string()),

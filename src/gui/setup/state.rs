@@ -32,7 +32,7 @@ pub struct ExpertState {
     pub composition: Composition,
     /// Where "Save" writes the simulation file.
     pub path: String,
-    /// The last check's summary or error.
+    /// The last check's summary or error, as the dialog shows it.
     pub check: Option<Result<String, String>>,
 }
 
@@ -75,11 +75,10 @@ pub struct SetupState {
     /// A library item dropped at a window position, waiting for its ray cast.
     pub drop: Option<(LibraryItem, Vec2)>,
     /// The last preview run: the simulation file, the distance crawled and the path.
-    pub preview: Option<Result<crate::gui::setup::preview::PreviewRun, String>>,
+    pub preview:
+        Option<Result<crate::gui::setup::preview::PreviewRun, crate::gui::error::GuiError>>,
     /// Simulation files opened in a control window.
     pub opened: Vec<PathBuf>,
-    /// The summary page's check, made when the page is entered (it loads every file).
-    pub summary_check: Option<Result<(), String>>,
 }
 
 impl SetupState {
@@ -132,7 +131,6 @@ impl SetupState {
             drop: None,
             preview: None,
             opened: Vec::new(),
-            summary_check: None,
         }
     }
 
@@ -161,7 +159,7 @@ impl SetupState {
     }
 
     /// Records the outcome of an action for the status line.
-    pub fn report<T, E: Into<String>>(
+    pub fn report<T, E: std::fmt::Display>(
         &mut self,
         r: Result<T, E>,
         ok: impl FnOnce(&T) -> String,
@@ -172,7 +170,7 @@ impl SetupState {
                 Some(v)
             }
             Err(e) => {
-                self.status = Some(Status::Error(e.into()));
+                self.status = Some(Status::Error(e.to_string()));
                 None
             }
         }

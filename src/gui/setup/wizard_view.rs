@@ -46,9 +46,6 @@ fn explanation(page: Page) -> &'static str {
 pub fn show(ui: &mut egui::Ui, state: &mut SetupState) {
     let (i, n) = state.wizard.progress();
     let page = state.wizard.page;
-    if page != Page::Summary {
-        state.summary_check = None;
-    }
     ui.heading(format!("Step {i} of {n}: {}", page.title()));
     ui.label(explanation(page));
     ui.separator();
@@ -121,7 +118,7 @@ fn robot_page(ui: &mut egui::Ui, w: &mut Wizard) {
         w.robot = RobotChoice::Existing(chosen);
         match w.joint_count() {
             Ok(n) => ui.label(format!("{n} joints")),
-            Err(e) => ui.colored_label(egui::Color32::RED, e),
+            Err(e) => ui.colored_label(egui::Color32::RED, e.to_string()),
         };
         return;
     }
@@ -192,7 +189,7 @@ fn robot_form(ui: &mut egui::Ui, spec: &mut RobotSpec) {
         }
     ));
     if let Err(e) = spec.validate() {
-        ui.colored_label(egui::Color32::RED, e);
+        ui.colored_label(egui::Color32::RED, e.to_string());
     }
 }
 
@@ -296,7 +293,7 @@ fn behaviour_page(ui: &mut egui::Ui, w: &mut Wizard) {
         w.behaviour.groups.remove(gi);
     }
     if let Err(e) = w.behaviour.validate(&w.registry, joints) {
-        ui.colored_label(egui::Color32::RED, e);
+        ui.colored_label(egui::Color32::RED, e.to_string());
     }
 }
 
@@ -392,7 +389,7 @@ fn optimization_page(ui: &mut egui::Ui, w: &mut Wizard) {
         o.max_evaluations = limit.then_some(n);
     });
     if let Err(e) = o.validate() {
-        ui.colored_label(egui::Color32::RED, e);
+        ui.colored_label(egui::Color32::RED, e.to_string());
     }
 }
 
@@ -589,7 +586,7 @@ fn summary_page(ui: &mut egui::Ui, state: &mut SetupState) {
             egui::Color32::DARK_GREEN,
             "✔ the configuration checks (as proleg check)",
         ),
-        Err(e) => ui.colored_label(egui::Color32::RED, e),
+        Err(e) => ui.colored_label(egui::Color32::RED, e.to_string()),
     };
     ui.horizontal(|ui| {
         if ui.button("Save").clicked() {

@@ -93,7 +93,52 @@ impl std::fmt::Display for VideoReport {
 #[derive(Default)]
 struct Captured {
     frames: BTreeMap<u64, Frame>,
-    error: Option<String>,
+    error: Option<VideoError>,
+}
+
+/// Why a video could not be recorded.
+#[derive(Debug, thiserror::Error)]
+pub enum VideoError {
+    /// An option out of its range.
+    #[error("{option} {value}: {want}")]
+    Option {
+        /// The option.
+        option: &'static str,
+        /// Its value.
+        value: String,
+        /// What it must be.
+        want: &'static str,
+    },
+    /// The simulation cannot be opened.
+    #[error(transparent)]
+    Session(Box<crate::gui::error::GuiError>),
+    /// The world cannot be read.
+    #[error(transparent)]
+    Sim(#[from] crate::sim::SimError),
+    /// The renderer failed or gave no frames back.
+    #[error("{0}")]
+    Renderer(String),
+    /// A file or folder cannot be written.
+    #[error("{}: cannot {what}: {source}", path.display())]
+    Io {
+        /// What was being done.
+        what: &'static str,
+        /// The file or folder.
+        path: std::path::PathBuf,
+        /// The system's error.
+        source: std::io::Error,
+    },
+    /// ffmpeg failed.
+    #[error("ffmpeg: {0}")]
+    Ffmpeg(String),
+    /// A frame of another size than the video's.
+    #[error("frame of {}x{} for a {}x{} video", got.0, got.1, want.0, want.1)]
+    FrameSize {
+        /// The frame's size.
+        got: (u32, u32),
+        /// The video's.
+        want: (u32, u32),
+    },
 }
 
 /// The camera of the video (follows robot 0).
@@ -104,16 +149,19 @@ struct VideoCamera;
 pub fn record_video(
     req: &VideoRequest,
     registry: &crate::control::ModuleRegistry,
-) -> Result<VideoReport, String> {
+) -> Result<VideoReport, VideoError> {
     check(req)?;
-    let session = SimSession::open(&req.config, req.engine, registry)?;
+    let session = SimSession::open(&req.config, req.engine, registry)
+        .map_err(|e| VideoError::Session(Box::new(e)))?;
     let seconds = req
         .seconds
         .unwrap_or(session.sim.files.simulation.properties.duration);
     if !(seconds.is_finite() && seconds > 0.0) {
-        return Err(format!(
-            "duration {seconds} s: give a positive number of seconds"
-        ));
+        return Err(VideoError::Option {
+            option: "--duration",
+            value: seconds.to_string(),
+            want: "give a positive number of seconds",
+        });
     }
     let frames = (seconds * f64::from(req.fps)).round().max(1.0) as u64;
     let start = session.simulator.com(0).unwrap_or_default();
@@ -123,7 +171,9 @@ pub fn record_video(
         render(session, req, frames, &captured, &mut sink)
     }))
     .map_err(|_| {
-        "rendering failed (no usable graphics driver? Debian: mesa-vulkan-drivers)".to_string()
+        VideoError::Renderer(
+            "rendering failed (no usable graphics driver? Debian: mesa-vulkan-drivers)".into(),
+        )
     })?;
     let end = rendered?;
     let written = sink.finish()?;
@@ -138,16 +188,21 @@ pub fn record_video(
     })
 }
 
-fn check(req: &VideoRequest) -> Result<(), String> {
+fn check(req: &VideoRequest) -> Result<(), VideoError> {
     if req.fps == 0 || req.fps > 240 {
-        return Err(format!(
-            "--fps {}: give 1 to 240 frames per second",
-            req.fps
-        ));
+        return Err(VideoError::Option {
+            option: "--fps",
+            value: req.fps.to_string(),
+            want: "give 1 to 240 frames per second",
+        });
     }
     let (w, h) = req.size;
     if !(16..=7680).contains(&w) || !(16..=4320).contains(&h) {
-        return Err(format!("--size {w}x{h}: give 16x16 to 7680x4320 pixels"));
+        return Err(VideoError::Option {
+            option: "--size",
+            value: format!("{w}x{h}"),
+            want: "give 16x16 to 7680x4320 pixels",
+        });
     }
     Ok(())
 }
@@ -160,7 +215,7 @@ fn render(
     frames: u64,
     captured: &Arc<Mutex<Captured>>,
     sink: &mut VideoSink,
-) -> Result<[f64; 3], String> {
+) -> Result<[f64; 3], VideoError> {
     let mut app = video_app(session);
     let target = render_target(&mut app, req.size);
     // Closer than the window's default view: the robot fills the frame.
@@ -208,12 +263,12 @@ fn render(
         next = drain(captured, sink, next)?;
     }
     if next < frames {
-        return Err(format!(
+        return Err(VideoError::Renderer(format!(
             "only {next} of {frames} frames came back from the renderer"
-        ));
+        )));
     }
     let session = app.world().non_send::<SimSession>();
-    session.simulator.com(0).map_err(|e| e.to_string())
+    Ok(session.simulator.com(0)?)
 }
 
 /// The app: Bevy's plugins without windows or winit, the scene of the control window and
@@ -269,7 +324,7 @@ fn render_target(app: &mut App, (width, height): (u32, u32)) -> Handle<Image> {
 }
 
 /// One update, waiting for the GPU to finish it.
-fn update(app: &mut App) -> Result<(), String> {
+fn update(app: &mut App) -> Result<(), VideoError> {
     app.update();
     app.world()
         .resource::<RenderDevice>()
@@ -279,7 +334,7 @@ fn update(app: &mut App) -> Result<(), String> {
             timeout: None,
         })
         .map(|_| ())
-        .map_err(|e| format!("the renderer failed: {e}"))
+        .map_err(|e| VideoError::Renderer(format!("the renderer failed: {e}")))
 }
 
 /// Writes the frames that are next in order; returns the next frame expected.
@@ -287,10 +342,10 @@ fn drain(
     captured: &Arc<Mutex<Captured>>,
     sink: &mut VideoSink,
     mut next: u64,
-) -> Result<u64, String> {
+) -> Result<u64, VideoError> {
     let mut c = captured
         .lock()
-        .map_err(|_| "a frame read-back panicked".to_string())?;
+        .map_err(|_| VideoError::Renderer("a frame read-back panicked".into()))?;
     if let Some(e) = c.error.take() {
         return Err(e);
     }
@@ -302,11 +357,11 @@ fn drain(
 }
 
 /// A read-back image as RGBA bytes.
-fn to_frame(image: &Image) -> Result<Frame, String> {
+fn to_frame(image: &Image) -> Result<Frame, VideoError> {
     let rgba = image
         .clone()
         .try_into_dynamic()
-        .map_err(|e| format!("a frame could not be read: {e}"))?
+        .map_err(|e| VideoError::Renderer(format!("a frame could not be read: {e}")))?
         .to_rgba8();
     Ok(Frame {
         width: rgba.width(),

@@ -6,6 +6,8 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdin, Command, Stdio};
 
+use crate::gui::video::VideoError;
+
 /// A frame's pixels: width, height, RGBA bytes (row-major, no padding).
 pub struct Frame {
     /// Pixels per row.
@@ -69,7 +71,7 @@ impl VideoSink {
         out: &Path,
         size: (u32, u32),
         fps: u32,
-    ) -> Result<(VideoSink, Option<String>), String> {
+    ) -> Result<(VideoSink, Option<String>), VideoError> {
         let folder = out.is_dir() || out.extension().is_none();
         if folder || !have_ffmpeg() {
             let dir = if folder {
@@ -77,8 +79,11 @@ impl VideoSink {
             } else {
                 out.with_extension("")
             };
-            std::fs::create_dir_all(&dir)
-                .map_err(|e| format!("{}: cannot create the folder: {e}", dir.display()))?;
+            std::fs::create_dir_all(&dir).map_err(|source| VideoError::Io {
+                what: "create the folder",
+                path: dir.clone(),
+                source,
+            })?;
             let notice = (!folder).then(|| {
                 format!(
                     "no ffmpeg installed (Debian: apt install ffmpeg): PNG frames go to {} instead of {}",
@@ -89,8 +94,11 @@ impl VideoSink {
             return Ok((VideoSink::Pngs { dir, frames: 0 }, notice));
         }
         if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir)
-                .map_err(|e| format!("{}: cannot create the folder: {e}", dir.display()))?;
+            std::fs::create_dir_all(dir).map_err(|source| VideoError::Io {
+                what: "create the folder",
+                path: dir.to_path_buf(),
+                source,
+            })?;
         }
         let gif = out
             .extension()
@@ -128,7 +136,7 @@ impl VideoSink {
             .stdout(Stdio::null())
             .stderr(Stdio::piped())
             .spawn()
-            .map_err(|e| format!("cannot start ffmpeg: {e}"))?;
+            .map_err(|e| VideoError::Ffmpeg(format!("cannot start it: {e}")))?;
         let stdin = child.stdin.take();
         Ok((
             VideoSink::Ffmpeg {
@@ -143,7 +151,7 @@ impl VideoSink {
     }
 
     /// Appends a frame; a frame of another size than the video's is refused.
-    pub fn push(&mut self, frame: &Frame) -> Result<(), String> {
+    pub fn push(&mut self, frame: &Frame) -> Result<(), VideoError> {
         match self {
             VideoSink::Ffmpeg {
                 stdin,
@@ -153,35 +161,44 @@ impl VideoSink {
                 ..
             } => {
                 if (frame.width, frame.height) != *size {
-                    return Err(format!(
-                        "frame of {}x{} for a {}x{} video",
-                        frame.width, frame.height, size.0, size.1
-                    ));
+                    return Err(VideoError::FrameSize {
+                        got: (frame.width, frame.height),
+                        want: *size,
+                    });
                 }
-                let pipe = stdin.as_mut().ok_or("the encoder is closed")?;
+                let pipe = stdin
+                    .as_mut()
+                    .ok_or_else(|| VideoError::Ffmpeg("the encoder is closed".into()))?;
                 pipe.write_all(&frame.rgba).map_err(|e| {
-                    format!("{}: ffmpeg stopped taking frames: {e}", file.display())
+                    VideoError::Ffmpeg(format!("{} stopped taking frames: {e}", file.display()))
                 })?;
                 *frames += 1;
             }
             VideoSink::Pngs { dir, frames } => {
                 *frames += 1;
                 let path = dir.join(format!("frame_{frames:05}.png"));
-                let file = std::fs::File::create(&path)
-                    .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+                let file = std::fs::File::create(&path).map_err(|source| VideoError::Io {
+                    what: "write",
+                    path: path.clone(),
+                    source,
+                })?;
                 let mut png =
                     png::Encoder::new(std::io::BufWriter::new(file), frame.width, frame.height);
                 png.set_color(png::ColorType::Rgba);
                 png.write_header()
                     .and_then(|mut w| w.write_image_data(&frame.rgba))
-                    .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+                    .map_err(|e| VideoError::Io {
+                        what: "write",
+                        path: path.clone(),
+                        source: std::io::Error::other(e),
+                    })?;
             }
         }
         Ok(())
     }
 
     /// Closes the output (waits for ffmpeg to finish the file).
-    pub fn finish(self) -> Result<Written, String> {
+    pub fn finish(self) -> Result<Written, VideoError> {
         match self {
             VideoSink::Ffmpeg {
                 child,
@@ -193,13 +210,13 @@ impl VideoSink {
                 drop(stdin);
                 let out = child
                     .wait_with_output()
-                    .map_err(|e| format!("ffmpeg: {e}"))?;
+                    .map_err(|e| VideoError::Ffmpeg(e.to_string()))?;
                 if !out.status.success() {
-                    return Err(format!(
-                        "ffmpeg could not write {}: {}",
+                    return Err(VideoError::Ffmpeg(format!(
+                        "could not write {}: {}",
                         file.display(),
                         String::from_utf8_lossy(&out.stderr).trim()
-                    ));
+                    )));
                 }
                 Ok(Written {
                     path: file,

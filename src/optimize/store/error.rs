@@ -104,10 +104,3 @@ pub enum StoreError {
     },
 }
 
-/// Callers whose own layer still speaks text (the optimizer's run loop, the command line)
-/// take a store error as its message.
-impl From<StoreError> for String {
-    fn from(e: StoreError) -> String {
-        e.to_string()
-    }
-}
