@@ -52,4 +52,3 @@ pub enum BenchError {
     #[error("{0}")]
     GateFailed(String),
 }
-

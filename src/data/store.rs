@@ -51,7 +51,6 @@ pub enum DataStoreError {
     },
 }
 
-
 /// A data file being written.
 pub struct DataStore {
     path: PathBuf,

@@ -79,7 +79,6 @@ pub enum ReplayError {
     NothingScored,
 }
 
-
 /// A stored evaluation, ready to run again.
 #[derive(Clone)]
 pub struct Replay {

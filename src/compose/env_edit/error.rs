@@ -63,4 +63,3 @@ pub enum EditError {
     #[error("{0}")]
     Invalid(#[from] ConfigError),
 }
-

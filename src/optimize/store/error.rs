@@ -103,4 +103,3 @@ pub enum StoreError {
         last: Box<StoreError>,
     },
 }
-
