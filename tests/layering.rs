@@ -1,4 +1,4 @@
-//! Dependencies point one way (docs/DESIGN.md §2): each top-level module of the library may
+//! Dependencies point one way (docs/DESIGN.md §1): each top-level module of the library may
 //! use only the modules listed for it here. A `use crate::…` (or a path `crate::…` in code)
 //! outside the list fails this test, naming the file and line.
 
@@ -98,7 +98,7 @@ fn dependencies_point_one_way() {
     assert!(wrong.is_empty(), "layering broken:\n{}", wrong.join("\n"));
 }
 
-/// Each engine's types stay inside its own module (docs/DESIGN.md §3): rapier's under
+/// Each engine's types stay inside its own module (docs/DESIGN.md §4): rapier's under
 /// `src/sim/engine/rapier/`, MuJoCo's (its bindings, `mjModel`, `mjData`) under
 /// `src/sim/engine/mujoco/`. Everything else reaches physics through `PhysicsEngine`.
 #[test]

@@ -37,7 +37,7 @@ pub struct OptimizeOptions {
     pub workers: Option<usize>,
     /// Robots per world (default 1: scores independent of --workers; 0 splits each round
     /// evenly over the workers; more is faster on small robots, but scores can then move
-    /// slightly with the batch size, see docs/DESIGN.md §7).
+    /// slightly with the batch size, see docs/MEASUREMENTS.md).
     #[arg(long, default_value_t = crate::optimize::settings::DEFAULT_BATCH)]
     pub batch: usize,
     /// Stop after this many evaluations (default: the optimizer file's <maxEvaluations>).

@@ -66,7 +66,7 @@ pub struct RunSettings {
 /// Robots per world unless the user asks for more: each evaluation in a world of its own,
 /// so scores do not depend on the number of workers. Sharing worlds (`--batch N`) is faster
 /// on small robots, but on scenarios with many contacts (experiment 2) the scores move
-/// slightly with N (docs/DESIGN.md §7).
+/// slightly with N (docs/MEASUREMENTS.md).
 pub const DEFAULT_BATCH: usize = 1;
 
 /// What the user chose; `None` takes the simulation's files (the optimizer file's budget

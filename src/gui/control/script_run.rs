@@ -266,33 +266,39 @@ fn view_command(
             views.selection.nudge([dx, dy, dz]);
             Flow::Yield
         }
-        Command::Inspect {
-            file: path,
-            series: selectors,
-        } => {
-            let inspect = &mut views.inspect;
-            inspect.open = true;
-            inspect.path = path.display().to_string();
-            inspect.load(&path);
-            let Some((_, info)) = &inspect.file else {
-                return Err(CommandError::Refused(inspect.message.clone()));
-            };
-            let cols = resolve(&info.handlers, &selectors)?;
-            let mut checked = std::collections::BTreeSet::new();
-            for c in &cols {
-                let h = &info.handlers[c.handler];
-                if let Some(s) = (0..h.series.len()).rev().find(|s| h.offset(*s) <= c.value) {
-                    checked.insert((h.name.clone(), h.series[s].clone(), c.value - h.offset(s)));
-                }
-            }
-            inspect.checked = checked;
-            inspect
-                .add_graph()
-                .ok_or_else(|| CommandError::Refused(inspect.message.clone()))?;
+        Command::Inspect { file, series } => {
+            inspect(&mut views.inspect, &file, &series)?;
             Flow::Next
         }
         other => return Err(misrouted(&other)),
     })
+}
+
+/// `inspect FILE SERIES...`: the data file inspection on `path` with a graph of `selectors`.
+fn inspect(
+    inspect: &mut crate::gui::control::inspect::InspectState,
+    path: &std::path::Path,
+    selectors: &[crate::data::export::SeriesSelector],
+) -> Result<(), CommandError> {
+    inspect.open = true;
+    inspect.path = path.display().to_string();
+    inspect.load(path);
+    let Some((_, info)) = &inspect.file else {
+        return Err(CommandError::Refused(inspect.message.clone()));
+    };
+    let cols = resolve(&info.handlers, selectors)?;
+    let mut checked = std::collections::BTreeSet::new();
+    for c in &cols {
+        let h = &info.handlers[c.handler];
+        if let Some(s) = (0..h.series.len()).rev().find(|s| h.offset(*s) <= c.value) {
+            checked.insert((h.name.clone(), h.series[s].clone(), c.value - h.offset(s)));
+        }
+    }
+    inspect.checked = checked;
+    inspect
+        .add_graph()
+        .ok_or_else(|| CommandError::Refused(inspect.message.clone()))?;
+    Ok(())
 }
 
 /// The remote dialog: bindings and injected gamepad values.

@@ -7,7 +7,7 @@
 //! wait-for file PATH 600               # until PATH exists (a test says its input was sent)
 //! slow-frames 400                      # every frame takes 400 ms longer (a slow renderer)
 //! tool wizard|expert|editor
-//! set robot.topology pypyp             # any wizard field (see compose::wizard::Wizard::set)
+//! set robot.topology pypyp             # a wizard field (see WizardField: its typed setter)
 //! next | back | skip | save            # wizard navigation; save writes the files
 //! add box [X Y]                        # a library item dropped at (X, Y) m (default 1 m ahead)
 //! drop stairs 400 300                  # ... dropped at a window position (ray cast)

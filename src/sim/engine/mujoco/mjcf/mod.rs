@@ -33,7 +33,7 @@ pub enum Servos {
     /// drive the same model), and the constraint solver (implicit, like rapier's motor
     /// constraint) gives the torque that reaches the commanded speed, at most τ. A
     /// `<velocity>` actuator on the hinge clamped to ±τ is explicit once clamped and
-    /// oscillates on these light links (docs/DESIGN.md §3 has the measurement).
+    /// oscillates on these light links (docs/MEASUREMENTS.md has the measurement).
     Velocity,
     /// Position actuators approximating the servo on their own (an export for other tools).
     Position,
