@@ -22,6 +22,9 @@ pub enum CliError {
     /// A data file that cannot be finished.
     #[error(transparent)]
     DataStore(#[from] crate::data::store::DataStoreError),
+    /// An x axis that is none of the known ones.
+    #[error(transparent)]
+    Axis(#[from] crate::data::export::UnknownAxis),
     /// A series selection that is malformed or not in the file.
     #[error(transparent)]
     Select(#[from] crate::data::export::SelectError),

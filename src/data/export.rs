@@ -28,17 +28,13 @@ impl XAxis {
     pub const NAMES: [&'static str; 4] = ["simtime", "realtime", "stepcount", "index"];
 
     /// Reads an x-axis name (see [`XAxis::NAMES`]).
-    pub fn parse(s: &str) -> Result<XAxis, crate::config::error::UnknownName> {
+    pub fn parse(s: &str) -> Result<XAxis, UnknownAxis> {
         match s {
             "simtime" => Ok(XAxis::SimTime),
             "realtime" => Ok(XAxis::RealTime),
             "stepcount" | "step" => Ok(XAxis::StepCount),
             "index" | "count" => Ok(XAxis::Index),
-            _ => Err(crate::config::error::UnknownName::new(
-                "x series",
-                s,
-                &XAxis::NAMES,
-            )),
+            _ => Err(UnknownAxis(s.to_string())),
         }
     }
 
@@ -123,6 +119,11 @@ impl SeriesSelector {
             .collect()
     }
 }
+
+/// A name that is no x axis.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown x series {name:?}; expected one of {}", XAxis::NAMES.join(", "), name = .0)]
+pub struct UnknownAxis(pub String);
 
 /// A series selection that is malformed or not in a file.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
