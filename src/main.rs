@@ -86,6 +86,10 @@ enum Command {
         /// Write every evaluation as TSV.
         #[arg(long)]
         export: Option<PathBuf>,
+        /// Draw the first MAP-Elites run's archive (best score per cell of its two
+        /// descriptors) into this PNG.
+        #[arg(long)]
+        map: Option<PathBuf>,
     },
     /// Re-evaluate a stored candidate on fresh randomized episodes (friction, masses, servo
     /// torque and gain, start pose, sensor noise): how much of its score a gait keeps.
@@ -471,12 +475,17 @@ fn main() -> ExitCode {
             runs,
             curve,
             export,
-        } => printed(cli::results::run(&cli::results::ResultsOptions {
-            stores,
-            runs,
-            curve,
-            export,
-        })),
+            map,
+        } => printed(cli::results::run(
+            &cli::results::ResultsOptions {
+                stores,
+                runs,
+                curve,
+                export,
+                map,
+            },
+            &registry,
+        )),
         Command::Data { command } => match command {
             DataCommand::Info { file } => printed(cli::data::show_info(&file)),
             DataCommand::Export { pick } => printed(cli::data::export_table(

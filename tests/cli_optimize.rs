@@ -197,3 +197,87 @@ fn optimize_refuses_a_single_run_configuration() {
     assert!(!ok);
     assert!(err.contains("no such store"), "{err}");
 }
+
+/// The archive line `proleg results` prints for a MAP-Elites run.
+fn archive_line(store: &std::path::Path) -> String {
+    let (ok, out, err) = proleg(&["results", store.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    out.lines()
+        .find(|l| l.contains(" archive: "))
+        .map(|l| l.to_string())
+        .unwrap_or_else(|| panic!("no archive line in {out}"))
+}
+
+#[test]
+fn a_killed_map_elites_run_resumes_to_the_same_archive_and_maps_it() {
+    let dir = common::scratch("cli_optimize_map");
+    let run = |extra: &[&str], store: &std::path::Path| {
+        let mut a = vec![
+            "optimize",
+            "configs/experiment1_mapelites.simulation.xml",
+            "--max-evals",
+            "60",
+            "--duration",
+            "2",
+            "--quiet",
+            "--store",
+            store.to_str().unwrap(),
+        ];
+        a.extend(extra);
+        proleg(&a)
+    };
+    let whole = dir.join("whole.sqlite");
+    let (ok, full, err) = run(&[], &whole);
+    assert!(ok, "{err}");
+    // 20 random candidates, then 4 rounds of 10 mutants.
+    assert!(full.contains("60 evaluations in 5 rounds"), "{full}");
+    let archive = archive_line(&whole);
+    // 60 candidates over 8 x 8 cells: several cells, not all.
+    let filled: usize = archive
+        .split(" archive: ")
+        .nth(1)
+        .and_then(|l| l.split_whitespace().next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no cell count in {archive}"));
+    assert!((10..64).contains(&filled), "{archive}");
+
+    let killed = dir.join("killed.sqlite");
+    let (ok, _, _) = run(&["--crash-after", "35"], &killed);
+    assert!(!ok, "the crash aid aborts the process");
+    let (ok, resumed, err) = run(&["--resume"], &killed);
+    assert!(ok, "{err}");
+    assert_eq!(result_lines(&resumed), result_lines(&full));
+    assert_eq!(archive_line(&killed), archive);
+
+    let png = dir.join("map.png");
+    let (ok, out, err) = proleg(&[
+        "results",
+        whole.to_str().unwrap(),
+        "--map",
+        png.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(out.contains("archive map written to"), "{out}");
+    assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+    // A run of another optimizer has no archive to map.
+    let cma = dir.join("cma.sqlite");
+    let (ok, _, err) = proleg(&[
+        "optimize",
+        "configs/experiment1_cmaes.simulation.xml",
+        "--max-evals",
+        "3",
+        "--duration",
+        "1",
+        "--quiet",
+        "--store",
+        cma.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let (ok, _, err) = proleg(&[
+        "results",
+        cma.to_str().unwrap(),
+        "--map",
+        png.to_str().unwrap(),
+    ]);
+    assert!(!ok && err.contains("--map"), "{err}");
+}

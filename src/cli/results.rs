@@ -6,6 +6,8 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::cli::error::CliError;
+use crate::control::ModuleRegistry;
+use crate::optimize::archive::{StoredArchive, plot_map, stored_archive};
 use crate::optimize::curve::{CurveGroup, plot_curves};
 use crate::optimize::store::{RunRow, Store, StoreLocation, engine_scores_text};
 
@@ -25,6 +27,8 @@ pub struct ResultsOptions {
     pub curve: Option<PathBuf>,
     /// Write every evaluation as TSV here.
     pub export: Option<PathBuf>,
+    /// Draw the first MAP-Elites run's archive as a heat map into this PNG.
+    pub map: Option<PathBuf>,
 }
 
 /// The runs of the stores, and the files written.
@@ -36,6 +40,10 @@ pub struct ResultsReport {
     pub curve: Option<PathBuf>,
     /// The evaluations' TSV, if written.
     pub export: Option<PathBuf>,
+    /// The archives of the MAP-Elites runs among them.
+    pub archives: Vec<StoredArchive>,
+    /// The archive's heat map, if drawn.
+    pub map: Option<PathBuf>,
 }
 
 impl std::fmt::Display for ResultsReport {
@@ -52,8 +60,14 @@ impl std::fmt::Display for ResultsReport {
                 describe(&mut out, r);
             }
         }
+        for a in &self.archives {
+            let _ = writeln!(out, "{}", a.summary());
+        }
         if let Some(png) = &self.curve {
             let _ = writeln!(out, "learning curves written to {}", png.display());
+        }
+        if let Some(png) = &self.map {
+            let _ = writeln!(out, "archive map written to {}", png.display());
         }
         if let Some(tsv) = &self.export {
             let _ = writeln!(out, "evaluations written to {}", tsv.display());
@@ -100,7 +114,7 @@ fn describe(out: &mut String, r: &RunRow) {
 }
 
 /// Lists the runs and best candidates of the stores; draws and exports as asked.
-pub fn run(o: &ResultsOptions) -> Result<ResultsReport, CliError> {
+pub fn run(o: &ResultsOptions, registry: &ModuleRegistry) -> Result<ResultsReport, CliError> {
     let mut opened: Vec<(Store, Vec<RunRow>)> = Vec::new();
     for text in &o.stores {
         let mut store = Store::open_existing(&StoreLocation::parse(text)?)?;
@@ -116,6 +130,26 @@ pub fn run(o: &ResultsOptions) -> Result<ResultsReport, CliError> {
             .any(|(_, runs)| runs.iter().any(|r| r.id == **id))
     }) {
         return Err(CliError::NoRun(*missing));
+    }
+    let mut archives = Vec::new();
+    for (store, runs) in &mut opened {
+        for r in runs.iter() {
+            if let Some(a) = stored_archive(store, r.id, registry)? {
+                archives.push(a);
+            }
+        }
+    }
+    if let Some(png) = &o.map {
+        let first = archives.first().ok_or(CliError::Options(
+            "--map draws a MAP-Elites run's archive; the runs asked for hold none",
+        ))?;
+        let fitness = opened
+            .iter()
+            .flat_map(|(_, runs)| runs.iter())
+            .find(|r| r.id == first.run)
+            .map(|r| r.info.fitness.clone())
+            .unwrap_or_else(|| "score".into());
+        plot_map(first, &fitness, png, (900, 760))?;
     }
     if let Some(png) = &o.curve {
         let curves = curve_groups(&mut opened)?;
@@ -161,6 +195,8 @@ pub fn run(o: &ResultsOptions) -> Result<ResultsReport, CliError> {
             .collect(),
         curve: o.curve.clone(),
         export: o.export.clone(),
+        archives,
+        map: o.map.clone(),
     })
 }
 

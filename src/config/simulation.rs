@@ -32,6 +32,8 @@ pub enum Mode {
     GreatDeluge,
     /// Optimize with CMA-ES.
     CmaEs,
+    /// Map designs with MAP-Elites.
+    MapElites,
 }
 
 impl Mode {
@@ -43,11 +45,12 @@ impl Mode {
             Mode::GeneticAlgorithm => "GA optimization",
             Mode::GreatDeluge => "Great Deluge optimization",
             Mode::CmaEs => "CMA-ES optimization",
+            Mode::MapElites => "MAP-Elites optimization",
         }
     }
 
     /// Accepted spellings (compared ignoring case, spaces, `_` and `-`).
-    const ALIASES: [(Mode, &'static [&'static str]); 5] = [
+    const ALIASES: [(Mode, &'static [&'static str]); 6] = [
         (
             Mode::SingleRun,
             &["Single Run Simulation", "Single Run", "single"],
@@ -77,6 +80,10 @@ impl Mode {
             ],
         ),
         (Mode::CmaEs, &["CMA-ES optimization", "CMA-ES", "CMAES"]),
+        (
+            Mode::MapElites,
+            &["MAP-Elites optimization", "MAP-Elites", "MAPElites"],
+        ),
     ];
 
     /// Reads a mode as files write it (other spellings accepted).
@@ -91,7 +98,7 @@ impl Mode {
     pub fn is_optimization(self) -> bool {
         matches!(
             self,
-            Mode::GeneticAlgorithm | Mode::GreatDeluge | Mode::CmaEs
+            Mode::GeneticAlgorithm | Mode::GreatDeluge | Mode::CmaEs | Mode::MapElites
         )
     }
 }

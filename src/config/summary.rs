@@ -206,6 +206,21 @@ fn optimizer_part(s: &mut String, sim: &Simulation) {
                 g.confidence
             );
         }
+        Algorithm::MapElites(m) => {
+            let axes: Vec<String> = m
+                .descriptors
+                .iter()
+                .map(|d| format!("gene {} in {} cells", d.gene, d.bins))
+                .collect();
+            let _ = writeln!(
+                s,
+                "  {} random candidates, then {} mutants per round (mutation {}); archive over {}",
+                m.initial,
+                m.batch,
+                num(m.mutation),
+                axes.join(" x ")
+            );
+        }
         Algorithm::CmaEs(c) => {
             let _ = writeln!(
                 s,

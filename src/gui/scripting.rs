@@ -191,6 +191,27 @@ pub fn finite(text: &str) -> Result<f64, NotFinite> {
 #[error("{0:?} is not a finite number")]
 pub struct NotFinite(String);
 
+/// Three finite numbers: a position or a displacement (metres, z up).
+#[derive(clap::Args, Debug, Clone, Copy, PartialEq)]
+pub struct Xyz {
+    /// Along x.
+    #[arg(value_parser = finite, allow_negative_numbers = true)]
+    pub x: f64,
+    /// Along y.
+    #[arg(value_parser = finite, allow_negative_numbers = true)]
+    pub y: f64,
+    /// Along z.
+    #[arg(value_parser = finite, allow_negative_numbers = true)]
+    pub z: f64,
+}
+
+impl Xyz {
+    /// As an array.
+    pub fn array(self) -> [f64; 3] {
+        [self.x, self.y, self.z]
+    }
+}
+
 /// `on` or `off`.
 #[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 pub enum OnOff {

@@ -38,6 +38,14 @@ pub enum OptimizeError {
     /// A shared store's connection was gone when the round was queued.
     #[error("the shared store went away")]
     StoreGone,
+    /// A MAP-Elites descriptor naming a gene the search space does not have.
+    #[error("MAP-Elites descriptor gene {gene}: the search space has genes 1..={genes}")]
+    Descriptor {
+        /// The gene named (0: a missing descriptor).
+        gene: u32,
+        /// Genes of the space.
+        genes: usize,
+    },
     /// The optimizer ended without one evaluation.
     #[error("the optimizer evaluated nothing")]
     NothingEvaluated,

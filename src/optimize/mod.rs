@@ -6,6 +6,7 @@
 //! ([`evaluate`]); the experiment store ([`store`]: SQLite, or PostgreSQL shared by a
 //! driver and workers on many hosts, [`shared`]).
 
+pub mod archive;
 pub mod cmaes;
 pub mod curve;
 pub mod deluge;
@@ -13,6 +14,7 @@ pub mod error;
 pub mod evaluate;
 pub mod fitness;
 pub mod ga;
+pub mod map_elites;
 pub mod replay;
 pub mod result;
 pub mod robust;

@@ -13,6 +13,7 @@ use crate::optimize::deluge::GreatDeluge;
 use crate::optimize::error::{BadChoice, OptimizeError};
 use crate::optimize::evaluate::Evaluator;
 use crate::optimize::ga::GeneticAlgorithm;
+use crate::optimize::map_elites::{Descriptor, MapElites};
 use crate::optimize::shared::driver::{LocalWorkers, evaluate_round};
 use crate::optimize::shared::worker::OUTAGE;
 use crate::optimize::space::{Genome, SearchSpace};
@@ -130,7 +131,7 @@ pub fn optimize(
         });
     };
     let start = start_candidate(model.spec.random_start, &space, configured, settings.seed);
-    let mut optimizer = build_optimizer(&model.spec.algorithm, &space, &start, settings);
+    let mut optimizer = build_optimizer(&model.spec.algorithm, &space, &start, settings)?;
     let shared = recording.as_mut().and_then(|r| r.store.shared()).is_some();
     check_workers(settings, shared)?;
     let workers = settings.workers;
@@ -347,13 +348,32 @@ fn queue_missing(
 }
 
 /// The optimizer an optimizer file names, starting from `start`.
+/// The archive's two axes of a MAP-Elites file in `space`; a descriptor naming a gene the
+/// space does not have is an error naming both.
+pub fn map_axes(
+    m: &crate::config::optimizer::MapElitesSettings,
+    space: &SearchSpace,
+) -> Result<[Descriptor; 2], OptimizeError> {
+    let axis = |k: usize| {
+        let spec = m.descriptors.get(k).ok_or(OptimizeError::Descriptor {
+            gene: 0,
+            genes: space.genes.len(),
+        })?;
+        Descriptor::of(spec, space).ok_or(OptimizeError::Descriptor {
+            gene: spec.gene,
+            genes: space.genes.len(),
+        })
+    };
+    Ok([axis(0)?, axis(1)?])
+}
+
 fn build_optimizer(
     algorithm: &Algorithm,
     space: &SearchSpace,
     start: &Genome,
     settings: &RunSettings,
-) -> Box<dyn Optimizer> {
-    match algorithm {
+) -> Result<Box<dyn Optimizer>, OptimizeError> {
+    Ok(match algorithm {
         Algorithm::Genetic(ga) => Box::new(GeneticAlgorithm::new(
             space.clone(),
             ga.clone(),
@@ -377,7 +397,15 @@ fn build_optimizer(
             settings.deluge_batch,
             settings.max_evaluations,
         )),
-    }
+        Algorithm::MapElites(m) => Box::new(MapElites::new(
+            space.clone(),
+            m.clone(),
+            map_axes(m, space)?,
+            start.clone(),
+            settings.seed,
+            settings.max_evaluations,
+        )),
+    })
 }
 
 /// The scores an interrupted attempt stored for this round's candidates (same number and

@@ -140,6 +140,29 @@ pub struct CmaSettings {
 /// CMA-ES's initial step size unless the file gives one.
 pub const DEFAULT_CMA_SIGMA: f64 = 0.3;
 
+/// MAP-Elites settings (our extension).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MapElitesSettings {
+    /// Random candidates before the first mutants (the first round).
+    pub initial: u32,
+    /// Mutants per round.
+    pub batch: u32,
+    /// Probability that a mutant redraws a gene (at least one gene is redrawn).
+    pub mutation: f64,
+    /// The two behaviour descriptors (x, y) of the archive.
+    pub descriptors: Vec<DescriptorSpec>,
+}
+
+/// A behaviour descriptor: a gene's place in its range, cut into cells.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DescriptorSpec {
+    /// The gene, numbered from 1 in genome order (registered parameters in their order,
+    /// one gene per value of each).
+    pub gene: u32,
+    /// Cells along this axis.
+    pub bins: u32,
+}
+
 /// Which optimizer, with its settings.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Algorithm {
@@ -149,6 +172,8 @@ pub enum Algorithm {
     GreatDeluge(GdSettings),
     /// The covariance matrix adaptation evolution strategy.
     CmaEs(CmaSettings),
+    /// MAP-Elites: an archive of the best candidate per cell of two descriptors.
+    MapElites(MapElitesSettings),
 }
 
 /// An optimizer file as written.
@@ -179,6 +204,7 @@ impl OptimizerFile {
             Algorithm::Genetic(_) => "genetic algorithm",
             Algorithm::GreatDeluge(_) => "modified great deluge",
             Algorithm::CmaEs(_) => "CMA-ES",
+            Algorithm::MapElites(_) => "MAP-Elites",
         }
     }
 }
@@ -253,6 +279,42 @@ mod tests {
         let e = parse_optimizer_file("x.ga.xml", &bad).unwrap_err();
         assert_eq!(e.kind, ErrorKind::InvalidValue);
         assert!(e.to_string().contains("unknown fitness"), "{e}");
+    }
+
+    #[test]
+    fn map_elites_settings_round_trip_and_are_checked() {
+        let base = include_str!("../../../configs/optimizer/experiment1.mapelites.xml");
+        let o = parse_optimizer_file("x.mapelites.xml", base).unwrap();
+        let Algorithm::MapElites(m) = &o.algorithm else {
+            panic!("not MAP-Elites: {:?}", o.algorithm);
+        };
+        assert_eq!((m.initial, m.batch, m.mutation), (20, 10, 0.2));
+        assert_eq!(
+            m.descriptors,
+            vec![
+                DescriptorSpec { gene: 1, bins: 8 },
+                DescriptorSpec { gene: 5, bins: 8 }
+            ]
+        );
+        assert_eq!(o.label(), "MAP-Elites");
+        let again = parse_optimizer_file("y.xml", &write_optimizer_file(&o)).unwrap();
+        assert_eq!(again, o);
+        for (bad, says) in [
+            ("<descriptor gene=\"5\" bins=\"8\"/>", "two <descriptor"),
+            ("<maxEvaluations>300</maxEvaluations>", "<maxEvaluations>"),
+            ("<mutation>0.2</mutation>", "mutation"),
+        ] {
+            let text = base.replacen(bad, "", 1);
+            let e = parse_optimizer_file("x.xml", &text)
+                .unwrap_err()
+                .to_string();
+            assert!(e.starts_with("x.xml:") && e.contains(says), "{bad}: {e}");
+        }
+        let zero = base.replace("gene=\"1\"", "gene=\"0\"");
+        let e = parse_optimizer_file("x.xml", &zero)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("counts from 1"), "{e}");
     }
 
     #[test]

@@ -5,8 +5,8 @@ use crate::config::error::{ConfigResult, ErrorKind};
 use crate::config::fitness::Fitness;
 use crate::config::optimizer::genome::read_genomes;
 use crate::config::optimizer::{
-    Algorithm, CmaSettings, DEFAULT_CMA_SIGMA, GaSettings, GdSettings, OptimizerFile,
-    RegisteredParameter,
+    Algorithm, CmaSettings, DEFAULT_CMA_SIGMA, DescriptorSpec, GaSettings, GdSettings,
+    MapElitesSettings, OptimizerFile, RegisteredParameter,
 };
 use crate::config::robustness::read_robustness;
 use crate::config::xml::dom::Element;
@@ -165,15 +165,68 @@ fn read_algorithm(r: &Reader, root: &Element, props: &Element) -> ConfigResult<A
         allowed.extend(common);
         r.only_children(props, &allowed)?;
         Algorithm::CmaEs(read_cma(r, props)?)
+    } else if root.is("mapelites") {
+        let mut allowed = vec!["initialsamples", "batch", "mutation", "descriptor"];
+        allowed.extend(common);
+        r.only_children(props, &allowed)?;
+        Algorithm::MapElites(read_map_elites(r, props)?)
     } else {
         return Err(r.err(
             root.pos,
             ErrorKind::UnknownElement,
             format!(
-                "an optimizer file starts with <geneticAlgorithm>, <greatDeluge> or <cmaEvolutionStrategy>, not <{}>",
+                "an optimizer file starts with <geneticAlgorithm>, <greatDeluge>, <cmaEvolutionStrategy> or <mapElites>, not <{}>",
                 root.name
             ),
         ));
+    })
+}
+
+/// MAP-Elites' properties: two descriptors, and `<maxEvaluations>` (the archive fills
+/// until the budget; there is no other end).
+fn read_map_elites(r: &Reader, props: &Element) -> ConfigResult<MapElitesSettings> {
+    let mutation = r.required(props, "mutation")?;
+    let mutation = r.f64_in(mutation, 0.0, 1.0)?;
+    let mut descriptors = Vec::new();
+    for d in props.children_named("descriptor") {
+        r.only_attrs(d, &["gene", "bins"])?;
+        let gene = r.required_attr(d, "gene")?;
+        let bins = r.required_attr(d, "bins")?;
+        let spec = DescriptorSpec {
+            gene: r.u32_str(&gene.value, gene.pos, "gene=")?,
+            bins: r.u32_str(&bins.value, bins.pos, "bins=")?,
+        };
+        if spec.gene == 0 || spec.bins == 0 || spec.bins > 1000 {
+            return Err(r.err(
+                d.pos,
+                ErrorKind::OutOfRange,
+                "a descriptor's gene counts from 1 and its bins lie in 1..=1000",
+            ));
+        }
+        descriptors.push(spec);
+    }
+    if descriptors.len() != 2 {
+        return Err(r.err(
+            props.pos,
+            ErrorKind::InvalidValue,
+            format!(
+                "MAP-Elites needs two <descriptor gene=\"N\" bins=\"B\"/> elements, found {}",
+                descriptors.len()
+            ),
+        ));
+    }
+    if r.at_most_one(props, "maxevaluations")?.is_none() {
+        return Err(r.err(
+            props.pos,
+            ErrorKind::Missing,
+            "MAP-Elites needs <maxEvaluations>: its archive fills until the budget",
+        ));
+    }
+    Ok(MapElitesSettings {
+        initial: count(r, props, "initialsamples", 1)?,
+        batch: count(r, props, "batch", 1)?,
+        mutation,
+        descriptors,
     })
 }
 

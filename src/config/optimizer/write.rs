@@ -13,6 +13,7 @@ pub fn write_optimizer_file(o: &OptimizerFile) -> String {
         Algorithm::Genetic(_) => "geneticAlgorithm",
         Algorithm::GreatDeluge(_) => "greatDeluge",
         Algorithm::CmaEs(_) => "cmaEvolutionStrategy",
+        Algorithm::MapElites(_) => "mapElites",
     };
     w.open(root, &[]);
     w.open("properties", &[]);
@@ -102,6 +103,17 @@ fn write_algorithm(w: &mut XmlWriter, algorithm: &Algorithm) {
             w.num("sigma", c.sigma);
             if c.restarts > 0 {
                 w.leaf("restarts", &c.restarts.to_string());
+            }
+        }
+        Algorithm::MapElites(m) => {
+            w.leaf("initialSamples", &m.initial.to_string());
+            w.leaf("batch", &m.batch.to_string());
+            w.num("mutation", m.mutation);
+            for d in &m.descriptors {
+                w.empty(
+                    "descriptor",
+                    &[("gene", d.gene.to_string()), ("bins", d.bins.to_string())],
+                );
             }
         }
     }

@@ -225,6 +225,7 @@ fn load_optimizer(
         Mode::GeneticAlgorithm => Some("genetic algorithm"),
         Mode::GreatDeluge => Some("modified great deluge"),
         Mode::CmaEs => Some("CMA-ES"),
+        Mode::MapElites => Some("MAP-Elites"),
         _ => None,
     };
     if let Some(expected) = expected

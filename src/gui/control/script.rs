@@ -58,7 +58,7 @@ use std::path::{Path, PathBuf};
 use clap::Subcommand;
 
 use crate::data::export::SeriesSelector;
-use crate::gui::scripting::{OnOff, OpenClose, ScriptError, finite};
+use crate::gui::scripting::{OnOff, OpenClose, ScriptError, Xyz, finite};
 
 /// One script command: the enum's variants are the script's words (`RunUntil` is
 /// `run-until`), their fields its arguments in order.
@@ -163,17 +163,7 @@ pub enum Command {
         link: usize,
     },
     /// `move-by DX DY DZ`: move the selection by these metres, as a drag would.
-    MoveBy {
-        /// Metres along x.
-        #[arg(value_parser = finite, allow_negative_numbers = true)]
-        dx: f64,
-        /// Metres along y.
-        #[arg(value_parser = finite, allow_negative_numbers = true)]
-        dy: f64,
-        /// Metres along z.
-        #[arg(value_parser = finite, allow_negative_numbers = true)]
-        dz: f64,
-    },
+    MoveBy(Xyz),
     /// `inspect FILE SERIES...`: the data file inspection on a file with a graph of these
     /// series.
     Inspect {
@@ -471,11 +461,11 @@ mod tests {
         let s = parse(Path::new("t.script"), "move-by -0.5 0 1e-3\n").unwrap();
         assert_eq!(
             s.commands[0].1,
-            Command::MoveBy {
-                dx: -0.5,
-                dy: 0.0,
-                dz: 1e-3
-            }
+            Command::MoveBy(Xyz {
+                x: -0.5,
+                y: 0.0,
+                z: 1e-3
+            })
         );
     }
 

@@ -60,7 +60,7 @@ fn carry_out(
         | C::PerJoint { .. }
         | C::Debug { .. }
         | C::SelectLink { .. }
-        | C::MoveBy { .. }
+        | C::MoveBy(_)
         | C::Inspect { .. } => view_command(c, session, views, visuals),
         C::Remote { .. }
         | C::RemoteSet { .. }
@@ -259,11 +259,11 @@ fn view_command(
             views.selection.body = Some(e);
             Flow::Next
         }
-        Command::MoveBy { dx, dy, dz } => {
+        Command::MoveBy(d) => {
             if views.selection.body.is_none() {
                 return Err(CommandError::NotNow("nothing selected (select-link first)"));
             }
-            views.selection.nudge([dx, dy, dz]);
+            views.selection.nudge(d.array());
             Flow::Yield
         }
         Command::Inspect { file, series } => {

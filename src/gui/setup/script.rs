@@ -36,7 +36,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Subcommand;
 
-use crate::gui::scripting::{OnOff, ScriptError, finite};
+use crate::gui::scripting::{OnOff, ScriptError, Xyz, finite};
 
 /// One script command: the enum's variants are the script's words (`MoveTo` is
 /// `move-to`), their fields its arguments in order.
@@ -89,29 +89,9 @@ pub enum Command {
         what: String,
     },
     /// `move-to X Y Z`.
-    MoveTo {
-        /// x (m).
-        #[arg(value_parser = finite, allow_negative_numbers = true)]
-        x: f64,
-        /// y (m).
-        #[arg(value_parser = finite, allow_negative_numbers = true)]
-        y: f64,
-        /// z (m).
-        #[arg(value_parser = finite, allow_negative_numbers = true)]
-        z: f64,
-    },
+    MoveTo(Xyz),
     /// `move-by DX DY DZ`.
-    MoveBy {
-        /// dx (m).
-        #[arg(value_parser = finite, allow_negative_numbers = true)]
-        dx: f64,
-        /// dy (m).
-        #[arg(value_parser = finite, allow_negative_numbers = true)]
-        dy: f64,
-        /// dz (m).
-        #[arg(value_parser = finite, allow_negative_numbers = true)]
-        dz: f64,
-    },
+    MoveBy(Xyz),
     /// `drag-to X Y`: drags the selection over the ground.
     DragTo {
         /// x (m).

@@ -83,8 +83,8 @@ fn carry_out(
         Command::Add { .. }
         | Command::Drop { .. }
         | Command::Select { .. }
-        | Command::MoveTo { .. }
-        | Command::MoveBy { .. }
+        | Command::MoveTo(_)
+        | Command::MoveBy(_)
         | Command::DragTo { .. }
         | Command::Rotate { .. }
         | Command::Yaw { .. }
@@ -247,8 +247,8 @@ fn editor_command(c: Command, state: &mut SetupState) -> Result<Flow, CommandErr
             };
             state.env_mut().select(sel)?;
         }
-        Command::MoveTo { x, y, z } => state.env_mut().move_to([x, y, z])?,
-        Command::MoveBy { dx, dy, dz } => state.env_mut().move_by([dx, dy, dz])?,
+        Command::MoveTo(p) => state.env_mut().move_to(p.array())?,
+        Command::MoveBy(d) => state.env_mut().move_by(d.array())?,
         Command::DragTo { x, y } => {
             let env = state.env_mut();
             env.begin_drag();
