@@ -72,25 +72,7 @@ enum Command {
     /// Optimize the registered parameters of a GA / great-deluge simulation, headless.
     Optimize(cli::optimize::OptimizeOptions),
     /// Runs and best candidates of an experiment store; learning curves and TSV export.
-    Results {
-        /// Stores written by `proleg optimize`: SQLite files or postgres:// URLs (runs of all
-        /// are drawn together).
-        #[arg(required = true)]
-        stores: Vec<String>,
-        /// Only these runs (comma-separated ids).
-        #[arg(long, value_delimiter = ',')]
-        runs: Vec<i64>,
-        /// Draw the learning curves (best score so far per evaluation) into this PNG.
-        #[arg(long)]
-        curve: Option<PathBuf>,
-        /// Write every evaluation as TSV.
-        #[arg(long)]
-        export: Option<PathBuf>,
-        /// Draw the first MAP-Elites run's archive (best score per cell of its two
-        /// descriptors) into this PNG.
-        #[arg(long)]
-        map: Option<PathBuf>,
-    },
+    Results(ResultsArgs),
     /// Re-evaluate a stored candidate on fresh randomized episodes (friction, masses, servo
     /// torque and gain, start pose, sensor noise): how much of its score a gait keeps.
     Robustness(cli::robustness::RobustnessArgs),
@@ -318,6 +300,36 @@ struct WizardOptions {
     script: Option<PathBuf>,
 }
 
+/// `proleg results`: what the stores hold, drawn and exported.
+#[derive(clap::Args, Debug)]
+struct ResultsArgs {
+    /// Stores written by `proleg optimize`: SQLite files or postgres:// URLs (runs of all
+    /// are drawn together).
+    #[arg(required = true)]
+    stores: Vec<String>,
+    /// Only these runs (comma-separated ids).
+    #[arg(long, value_delimiter = ',')]
+    runs: Vec<i64>,
+    /// Draw the learning curves (best score so far per evaluation) into this PNG.
+    #[arg(long)]
+    curve: Option<PathBuf>,
+    /// Write every evaluation as TSV.
+    #[arg(long)]
+    export: Option<PathBuf>,
+    /// Draw the first MAP-Elites run's archive (best score per cell of its two
+    /// descriptors) into this PNG.
+    #[arg(long)]
+    map: Option<PathBuf>,
+    /// Write a co-design run's evaluation N (or the best) as ordinary configuration
+    /// files (robot, actuation, simulation) into the folder -o names (inside the
+    /// configuration's folder, where its parts and environment are found).
+    #[arg(long, value_name = "N|best", requires = "out")]
+    export_robot: Option<String>,
+    /// The folder --export-robot writes.
+    #[arg(short, long)]
+    out: Option<PathBuf>,
+}
+
 /// `proleg gui`: the control window on a simulation, or replaying a stored evaluation.
 #[derive(clap::Args, Debug)]
 struct GuiArgs {
@@ -470,22 +482,7 @@ fn main() -> ExitCode {
         Command::Run(request) if request.video.is_some() => video(&request, &registry),
         Command::Run(request) => printed(cli::run::run(&request, &registry)),
         Command::Optimize(options) => printed(cli::optimize::run(&options, &registry)),
-        Command::Results {
-            stores,
-            runs,
-            curve,
-            export,
-            map,
-        } => printed(cli::results::run(
-            &cli::results::ResultsOptions {
-                stores,
-                runs,
-                curve,
-                export,
-                map,
-            },
-            &registry,
-        )),
+        Command::Results(args) => results_command(args, &registry),
         Command::Data { command } => match command {
             DataCommand::Info { file } => printed(cli::data::show_info(&file)),
             DataCommand::Export { pick } => printed(cli::data::export_table(
@@ -595,6 +592,32 @@ fn bench_command(a: &BenchArgs, registry: &proleg::control::ModuleRegistry) -> P
         }
     };
     figures.map_err(Into::into)
+}
+
+/// `proleg results`: the stores' runs, curves, archives and exports.
+fn results_command(a: ResultsArgs, registry: &proleg::control::ModuleRegistry) -> Printed {
+    let export_robot = match a.export_robot.as_deref() {
+        None => None,
+        Some("best") => Some(None),
+        Some(n) => Some(Some(n.parse().map_err(|_| {
+            cli::error::CliError::Option {
+                option: "--export-robot",
+                value: n.to_string(),
+                want: "give an evaluation number or best",
+            }
+        })?)),
+    };
+    printed(cli::results::run(
+        &cli::results::ResultsOptions {
+            stores: a.stores,
+            runs: a.runs,
+            curve: a.curve,
+            export: a.export,
+            map: a.map,
+            export_robot: export_robot.map(|n| (n, a.out.unwrap_or_default())),
+        },
+        registry,
+    ))
 }
 
 /// `proleg import`: the URDF's robot, floor, gait and simulation files in `--out`.

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use crate::cli::error::CliError;
 use crate::control::ModuleRegistry;
-use crate::optimize::archive::{StoredArchive, plot_map, stored_archive};
+use crate::optimize::archive::{StoredArchive, export_design, plot_map, stored_archive};
 use crate::optimize::curve::{CurveGroup, plot_curves};
 use crate::optimize::store::{RunRow, Store, StoreLocation, engine_scores_text};
 
@@ -29,6 +29,9 @@ pub struct ResultsOptions {
     pub export: Option<PathBuf>,
     /// Draw the first MAP-Elites run's archive as a heat map into this PNG.
     pub map: Option<PathBuf>,
+    /// Write a co-design evaluation (its number, or `None`: the best) of the first run as
+    /// configuration files into this folder.
+    pub export_robot: Option<(Option<u64>, PathBuf)>,
 }
 
 /// The runs of the stores, and the files written.
@@ -44,6 +47,8 @@ pub struct ResultsReport {
     pub archives: Vec<StoredArchive>,
     /// The archive's heat map, if drawn.
     pub map: Option<PathBuf>,
+    /// The exported design's simulation file, if written.
+    pub exported: Option<PathBuf>,
 }
 
 impl std::fmt::Display for ResultsReport {
@@ -68,6 +73,9 @@ impl std::fmt::Display for ResultsReport {
         }
         if let Some(png) = &self.map {
             let _ = writeln!(out, "archive map written to {}", png.display());
+        }
+        if let Some(sim) = &self.exported {
+            let _ = writeln!(out, "design written: {}", sim.display());
         }
         if let Some(tsv) = &self.export {
             let _ = writeln!(out, "evaluations written to {}", tsv.display());
@@ -151,6 +159,14 @@ pub fn run(o: &ResultsOptions, registry: &ModuleRegistry) -> Result<ResultsRepor
             .unwrap_or_else(|| "score".into());
         plot_map(first, &fitness, png, (900, 760))?;
     }
+    let exported = match &o.export_robot {
+        Some((number, dir)) => {
+            let (store, runs) = opened.first_mut().ok_or(CliError::NoRun(0))?;
+            let run = runs.first().ok_or(CliError::NoRun(0))?.id;
+            Some(export_design(store, (run, *number), dir, registry)?)
+        }
+        None => None,
+    };
     if let Some(png) = &o.curve {
         let curves = curve_groups(&mut opened)?;
         let fitness = opened
@@ -197,6 +213,7 @@ pub fn run(o: &ResultsOptions, registry: &ModuleRegistry) -> Result<ResultsRepor
         export: o.export.clone(),
         archives,
         map: o.map.clone(),
+        exported,
     })
 }
 

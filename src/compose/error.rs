@@ -4,8 +4,6 @@
 
 use std::path::PathBuf;
 
-use crate::compose::robot_builder::MAX_JOINTS;
-
 /// Why a composition cannot be built, checked or written.
 #[derive(Debug, thiserror::Error)]
 pub enum ComposeError {
@@ -30,33 +28,9 @@ pub enum ComposeError {
         /// The path it names.
         include: String,
     },
-    /// A robot or file name that is empty.
-    #[error("{what}: give a name")]
-    NoName {
-        /// What the name names.
-        what: &'static str,
-    },
-    /// A name with a character files cannot hold.
-    #[error("{what} \"{name}\": '{bad}' is not allowed; use letters, digits, _ and -")]
-    BadName {
-        /// What the name names.
-        what: &'static str,
-        /// The name.
-        name: String,
-        /// Its first bad character.
-        bad: char,
-    },
-    /// A topology letter that is neither p nor y.
-    #[error("topology: joint {joint} is '{letter}'; write p (pitch) or y (yaw) per joint")]
-    Topology {
-        /// The joint (from 1).
-        joint: usize,
-        /// Its letter.
-        letter: char,
-    },
-    /// A robot with no joints or too many.
-    #[error("a robot needs 1 to {MAX_JOINTS} joints; this one has {0}")]
-    JointCount(usize),
+    /// A robot the builder cannot build (name, topology, joint count).
+    #[error(transparent)]
+    Build(#[from] crate::config::robot_builder::BuildError),
     /// A robot file that is not there.
     #[error("no robot file {}", .0.display())]
     NoRobotFile(PathBuf),

@@ -19,5 +19,7 @@ pub mod expert;
 pub mod library;
 pub mod optimization;
 pub mod paths;
-pub mod robot_builder;
 pub mod wizard;
+
+/// The robot builder lives with the formats (the optimizers build bodies too).
+pub use crate::config::robot_builder;

@@ -216,6 +216,7 @@ impl OptimizationSpec {
             })
             .collect();
         OptimizerFile {
+            morphology: None,
             algorithm: match self.method {
                 Method::Genetic => Algorithm::Genetic(self.ga.clone()),
                 Method::GreatDeluge => Algorithm::GreatDeluge(self.gd.clone()),

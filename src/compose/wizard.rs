@@ -288,7 +288,7 @@ impl Wizard {
     pub fn validate(&self, page: Page) -> Result<(), ComposeError> {
         match page {
             Page::Robot => match &self.robot {
-                RobotChoice::Build(s) => s.validate(),
+                RobotChoice::Build(s) => Ok(s.validate()?),
                 RobotChoice::Existing(_) => self.joint_count().map(|_| ()),
             },
             Page::Behaviour => self.behaviour.validate(&self.registry, self.joint_count()?),
@@ -575,6 +575,7 @@ fn module_choice(registry: &ModuleRegistry, name: &str) -> Result<ModuleChoice, 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::config::robot_builder::BuildError;
 
     fn wizard(tag: &str) -> (Wizard, PathBuf) {
         let out = std::env::temp_dir().join(format!("proleg_wizard_{tag}_{}", std::process::id()));
@@ -587,7 +588,10 @@ mod tests {
         let (mut w, _) = wizard("pages");
         assert_eq!(w.pages().len(), 5);
         w.set_topology("").unwrap();
-        assert!(matches!(w.next_page(), Err(ComposeError::JointCount(0))));
+        assert!(matches!(
+            w.next_page(),
+            Err(ComposeError::Build(BuildError::JointCount(0)))
+        ));
         w.set_topology("pyp").unwrap();
         w.next_page().unwrap();
         assert_eq!(w.page, Page::Behaviour);

@@ -74,6 +74,29 @@ impl FileSource for MemSource {
     }
 }
 
+/// Files in memory laid over another source: a path the memory holds is read from it,
+/// any other from the source below (a generated robot over the configuration folder).
+pub struct Overlay<'a> {
+    /// The files laid on top.
+    pub top: MemSource,
+    /// Where the others are read.
+    pub base: &'a dyn FileSource,
+}
+
+impl FileSource for Overlay<'_> {
+    fn read(&self, path: &Path) -> io::Result<String> {
+        if self.top.exists(path) {
+            self.top.read(path)
+        } else {
+            self.base.read(path)
+        }
+    }
+
+    fn exists(&self, path: &Path) -> bool {
+        self.top.exists(path) || self.base.exists(path)
+    }
+}
+
 /// Another source that keeps a copy of every file read through it: the resolved
 /// configuration of a run, stored with it so a worker on another host needs nothing else.
 pub struct RecordingSource<'a> {

@@ -210,7 +210,10 @@ fn optimizer_part(s: &mut String, sim: &Simulation) {
             let axes: Vec<String> = m
                 .descriptors
                 .iter()
-                .map(|d| format!("gene {} in {} cells", d.gene, d.bins))
+                .map(|d| match d.yaw_share {
+                    true => format!("yaw share in {} cells", d.bins),
+                    false => format!("gene {} in {} cells", d.gene, d.bins),
+                })
                 .collect();
             let _ = writeln!(
                 s,

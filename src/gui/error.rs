@@ -21,6 +21,9 @@ pub enum GuiError {
     /// A composition (wizard, expert dialog, robot builder).
     #[error(transparent)]
     Compose(#[from] crate::compose::error::ComposeError),
+    /// A robot the builder cannot build.
+    #[error(transparent)]
+    Build(#[from] crate::config::robot_builder::BuildError),
     /// The environment editor or its file.
     #[error(transparent)]
     Edit(#[from] crate::compose::env_edit::EditError),

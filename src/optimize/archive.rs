@@ -22,6 +22,8 @@ pub struct StoredArchive {
     pub archive: Archive,
     /// The two descriptors' genes, as `proleg results` names genes.
     pub labels: [String; 2],
+    /// A co-design run's best body: modules, orientations (`p`/`y` per joint), parts.
+    pub best_body: Option<String>,
 }
 
 impl StoredArchive {
@@ -29,8 +31,13 @@ impl StoredArchive {
     pub fn summary(&self) -> String {
         let a = &self.archive;
         let filled = a.cells.iter().filter(|c| c.is_some()).count();
+        let body = self
+            .best_body
+            .as_ref()
+            .map(|b| format!("; best body {b}"))
+            .unwrap_or_default();
         format!(
-            "run {} archive: {filled} of {} cells ({:.1} %), QD-score {:.4}, over {} x {}",
+            "run {} archive: {filled} of {} cells ({:.1} %), QD-score {:.4}, over {} x {}{body}",
             self.run,
             a.cells.len(),
             100.0 * a.coverage(),
@@ -57,14 +64,28 @@ pub fn stored_archive(
         return Ok(None);
     };
     let (space, _) = prepare(&sim, registry)?;
-    let axes = map_axes(m, &space)?;
-    let labels = [axes[0].gene, axes[1].gene].map(|g| space.genes[g].label());
+    let design = sim
+        .optimizer
+        .as_ref()
+        .and_then(crate::optimize::design::DesignSpace::from_model);
+    let axes = map_axes(m, &space, design.clone())?;
+    let labels = [axes[0].label(&space), axes[1].label(&space)];
     let evaluations = store.evaluations(run)?;
     let archive = Archive::replayed(axes, evaluations.iter().map(|e| (&e.genome, e.score)));
+    let best_body = design.zip(archive.best()).map(|(d, (g, _))| {
+        let body = d.body(g, "best");
+        format!(
+            "{} modules {} {}",
+            body.modules(),
+            crate::config::robot_builder::topology_string(&body.joints),
+            body.parts.name()
+        )
+    });
     Ok(Some(StoredArchive {
         run,
         archive,
         labels,
+        best_body,
     }))
 }
 
@@ -106,6 +127,7 @@ pub fn plot_map(
     chart
         .configure_mesh()
         .disable_mesh()
+        .axis_desc_style(("monospace", 14))
         .x_desc(format!("{} (place in its range)", a.labels[0]))
         .y_desc(format!("{} (place in its range)", a.labels[1]))
         .draw()
@@ -120,4 +142,59 @@ pub fn plot_map(
     });
     chart.draw_series(cells).map_err(|e| draw(&e))?;
     root.present().map_err(|e| draw(&e))
+}
+
+/// Writes evaluation `number` (or, with `None`, the best one) of co-design run `run` as
+/// ordinary configuration files in `dir` (`design.robot.xml`, `design.actuation.xml`,
+/// `design.simulation.xml`), checks that they load, and returns the simulation file.
+pub fn export_design(
+    store: &mut Store,
+    (run, number): (i64, Option<u64>),
+    dir: &Path,
+    registry: &ModuleRegistry,
+) -> Result<std::path::PathBuf, OptimizeError> {
+    let spec = store.run_spec(run)?;
+    let sim = stored_simulation(&spec, registry)
+        .map_err(|why| OptimizeError::Unevaluable { run, why })?;
+    let design = crate::optimize::design::Design::of(
+        &sim,
+        std::sync::Arc::new(crate::config::source::FsSource),
+    )
+    .ok_or(OptimizeError::CoDesign(
+        "the run has no <morphology>: its robot is the configuration's own",
+    ))?;
+    let evaluations = store.evaluations(run)?;
+    let chosen = match number {
+        Some(n) => evaluations.iter().find(|e| e.number == n),
+        None => evaluations
+            .iter()
+            .filter(|e| e.score.is_finite())
+            .max_by(|a, b| a.score.total_cmp(&b.score)),
+    }
+    .ok_or_else(|| crate::optimize::store::StoreError::NoRun {
+        store: store.describe(),
+        run,
+    })?;
+    let write = |path: &Path, text: &str| {
+        std::fs::write(path, text).map_err(|source| OptimizeError::Write {
+            path: path.to_path_buf(),
+            source,
+        })
+    };
+    std::fs::create_dir_all(dir).map_err(|source| OptimizeError::Write {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let files = design.files(&chosen.genome, dir);
+    for (p, t) in &files {
+        write(p, t)?;
+    }
+    let sim_file = files[2].0.clone();
+    crate::control::load_simulation_in(&sim_file, registry).map_err(|e| {
+        OptimizeError::DesignFiles {
+            dir: dir.to_path_buf(),
+            source: Box::new(e),
+        }
+    })?;
+    Ok(sim_file)
 }

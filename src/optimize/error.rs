@@ -46,6 +46,25 @@ pub enum OptimizeError {
         /// Genes of the space.
         genes: usize,
     },
+    /// What co-design (a `<morphology>`) does not do yet.
+    #[error("co-design: {0}")]
+    CoDesign(&'static str),
+    /// An exported design's files do not load where they were written.
+    #[error("{}: the exported design does not load (its parts and environment are found from the configuration's folder: export into it): {source}", dir.display())]
+    DesignFiles {
+        /// The folder written.
+        dir: PathBuf,
+        /// The loader's error.
+        source: Box<crate::config::ConfigError>,
+    },
+    /// A file that cannot be written.
+    #[error("{}: cannot write: {source}", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// The system's error.
+        source: std::io::Error,
+    },
     /// The optimizer ended without one evaluation.
     #[error("the optimizer evaluated nothing")]
     NothingEvaluated,

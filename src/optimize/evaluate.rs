@@ -31,6 +31,9 @@ pub enum EvalError {
     /// The candidate's values do not fit the kernel.
     #[error(transparent)]
     Kernel(#[from] crate::control::kernel::KernelError),
+    /// A co-design candidate's generated robot or actuation does not load.
+    #[error("the candidate's body does not load: {0}")]
+    Design(Box<crate::config::ConfigError>),
 }
 
 /// Farther than this from the start (m) counts as a blow-up.
@@ -59,6 +62,8 @@ pub struct Evaluator {
     pub robust: Option<RobustEpisodes>,
     /// The engines every candidate runs on, if the optimizer file asks for several.
     pub cross: Option<CrossEngine>,
+    /// A co-design run's bodies: each candidate builds its own robot and actuation.
+    pub design: Option<std::sync::Arc<crate::optimize::design::Design>>,
 }
 
 /// One candidate's score, and with cross-engine scores its score on each engine.
@@ -118,13 +123,18 @@ impl Evaluator {
             seed,
             batch: 1,
             workers: 1,
+            design: crate::optimize::design::Design::of(
+                sim,
+                std::sync::Arc::new(crate::config::source::FsSource),
+            )
+            .map(std::sync::Arc::new),
         }
     }
 
     /// Robots per world this evaluator uses (1 with robust fitness: each episode's physics
     /// is its own; at most what every engine scored on holds).
     pub fn robots_per_world(&self) -> usize {
-        if self.robust.is_some() {
+        if self.robust.is_some() || self.design.is_some() {
             return 1;
         }
         let most = scoring_engines(&self.sim)
@@ -238,6 +248,17 @@ impl Evaluator {
         engine: Option<EngineKind>,
         genomes: &[Genome],
     ) -> Result<Vec<f64>, EvalError> {
+        if let Some(design) = &self.design {
+            let world = (self.seed, SensorNoise::default(), engine);
+            let mut scores = Vec::with_capacity(genomes.len());
+            for g in genomes {
+                let sim = design
+                    .simulation(g, &self.registry)
+                    .map_err(|e| EvalError::Design(Box::new(e)))?;
+                scores.extend(self.run_world(&sim, world, std::slice::from_ref(g))?);
+            }
+            return Ok(scores);
+        }
         let Some(robust) = &self.robust else {
             let world = (self.seed, SensorNoise::default(), engine);
             return self.run_world(&self.sim, world, genomes);
@@ -273,9 +294,12 @@ impl Evaluator {
             noise,
         };
         let mut s = Simulator::with_registry(sim, &opts, &self.registry)?;
-        for (i, g) in genomes.iter().enumerate() {
-            let kernel = s.kernel_mut(i)?;
-            self.space.apply(g, kernel)?;
+        // A co-design candidate's values are in its generated actuation file.
+        if self.design.is_none() {
+            for (i, g) in genomes.iter().enumerate() {
+                let kernel = s.kernel_mut(i)?;
+                self.space.apply(g, kernel)?;
+            }
         }
         let mut start = Vec::with_capacity(genomes.len());
         for i in 0..genomes.len() {

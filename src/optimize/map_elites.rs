@@ -12,39 +12,72 @@
 
 use crate::config::optimizer::{DescriptorSpec, MapElitesSettings};
 use crate::optimize::Optimizer;
+use crate::optimize::design::DesignSpace;
 use crate::optimize::space::{Genome, SearchSpace};
 use crate::rng::SimRng;
 
-/// One behaviour descriptor: which gene, and how many cells its range is cut into.
+/// One behaviour descriptor: what it measures of a genome, and how many cells its range
+/// (0..=1) is cut into.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Descriptor {
-    /// The gene (index into the genome).
-    pub gene: usize,
+    /// What it measures.
+    pub axis: Axis,
     /// Cells along this axis.
     pub bins: usize,
-    /// Alleles of the gene.
-    alleles: u32,
+}
+
+/// What a descriptor measures.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Axis {
+    /// A gene's place in its range.
+    Gene {
+        /// The gene (index into the genome).
+        gene: usize,
+        /// Its alleles.
+        alleles: u32,
+    },
+    /// A co-design body's share of yaw joints.
+    YawShare(std::sync::Arc<DesignSpace>),
 }
 
 impl Descriptor {
-    /// The descriptor of `spec` in `space` (its gene is numbered from 1 in files).
-    pub fn of(spec: &DescriptorSpec, space: &SearchSpace) -> Option<Descriptor> {
-        let gene = (spec.gene as usize).checked_sub(1)?;
-        let alleles = space.genes.get(gene)?.alleles.count();
+    /// The descriptor of `spec` in `space` (its gene is numbered from 1 in files); a
+    /// yaw-share descriptor needs the co-design `design`.
+    pub fn of(
+        spec: &DescriptorSpec,
+        space: &SearchSpace,
+        design: Option<&std::sync::Arc<DesignSpace>>,
+    ) -> Option<Descriptor> {
+        let axis = if spec.yaw_share {
+            Axis::YawShare(design?.clone())
+        } else {
+            let gene = (spec.gene as usize).checked_sub(1)?;
+            let alleles = space.genes.get(gene)?.alleles.count();
+            Axis::Gene { gene, alleles }
+        };
         Some(Descriptor {
-            gene,
+            axis,
             bins: spec.bins as usize,
-            alleles,
         })
     }
 
-    /// The descriptor's value for `genome`: the gene's place in its range, 0..=1.
+    /// The descriptor's value for `genome`, 0..=1.
     pub fn value(&self, genome: &Genome) -> f64 {
-        let k = genome.get(self.gene).copied().unwrap_or(0);
-        if self.alleles <= 1 {
-            0.0
-        } else {
-            f64::from(k) / f64::from(self.alleles - 1)
+        match &self.axis {
+            Axis::Gene { alleles, .. } if *alleles <= 1 => 0.0,
+            Axis::Gene { gene, alleles } => {
+                let k = genome.get(*gene).copied().unwrap_or(0);
+                f64::from(k) / f64::from(alleles - 1)
+            }
+            Axis::YawShare(design) => design.yaw_share(genome),
+        }
+    }
+
+    /// What the axis shows, named as `proleg results` names genes.
+    pub fn label(&self, space: &SearchSpace) -> String {
+        match &self.axis {
+            Axis::Gene { gene, .. } => space.genes[*gene].label(),
+            Axis::YawShare(_) => "share of yaw joints".into(),
         }
     }
 
@@ -273,7 +306,14 @@ mod tests {
     }
 
     fn axes(space: &SearchSpace) -> [Descriptor; 2] {
-        [1, 2].map(|gene| Descriptor::of(&DescriptorSpec { gene, bins: 10 }, space).unwrap())
+        [1, 2].map(|gene| {
+            let spec = DescriptorSpec {
+                gene,
+                bins: 10,
+                yaw_share: false,
+            };
+            Descriptor::of(&spec, space, None).unwrap()
+        })
     }
 
     /// The toy problem: genes 0 and 1 place the candidate in the map; the score is best
@@ -367,11 +407,19 @@ mod tests {
             batch: 1,
             mutation: 0.1,
             descriptors: vec![
-                DescriptorSpec { gene: 1, bins: 4 },
-                DescriptorSpec { gene: 9, bins: 4 },
+                DescriptorSpec {
+                    gene: 1,
+                    bins: 4,
+                    yaw_share: false,
+                },
+                DescriptorSpec {
+                    gene: 9,
+                    bins: 4,
+                    yaw_share: false,
+                },
             ],
         };
-        let e = crate::optimize::run::map_axes(&settings, &space()).unwrap_err();
+        let e = crate::optimize::run::map_axes(&settings, &space(), None).unwrap_err();
         assert!(
             matches!(
                 e,

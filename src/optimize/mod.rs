@@ -10,6 +10,7 @@ pub mod archive;
 pub mod cmaes;
 pub mod curve;
 pub mod deluge;
+pub mod design;
 pub mod error;
 pub mod evaluate;
 pub mod fitness;

@@ -129,6 +129,17 @@ pub fn load_replay(
             number: Some(number),
         })?;
     let sim = stored_simulation(&spec, registry)?;
+    if sim
+        .optimizer
+        .as_ref()
+        .is_some_and(|o| o.spec.morphology.is_some())
+    {
+        return Err(ReplayError::Setup(Box::new(
+            crate::optimize::error::OptimizeError::CoDesign(
+                "a co-design evaluation is not replayed yet",
+            ),
+        )));
+    }
     let (space, _) = prepare(&sim, registry).map_err(|e| ReplayError::Setup(Box::new(e)))?;
     if eval.genome.len() != space.genes.len() {
         return Err(ReplayError::Genes {

@@ -78,6 +78,17 @@ pub fn prepare(
             file: sim.file.clone(),
             mode: sim.files.simulation.properties.mode.name().to_string(),
         })?;
+    if let Some(design) = crate::optimize::design::DesignSpace::from_model(model) {
+        if model.spec.robustness.is_some() {
+            return Err(OptimizeError::CoDesign(
+                "robust fitness (<robustness>) is not yet available with a <morphology>",
+            ));
+        }
+        // Bodies and gaits start from the middle of every gene's range.
+        let space = design.search_space();
+        let start = space.genes.iter().map(|g| g.alleles.count() / 2).collect();
+        return Ok((space, start));
+    }
     let space = SearchSpace::from_model(model);
     if space.genes.is_empty() {
         return Err(OptimizeError::NothingRegistered {
@@ -131,7 +142,8 @@ pub fn optimize(
         });
     };
     let start = start_candidate(model.spec.random_start, &space, configured, settings.seed);
-    let mut optimizer = build_optimizer(&model.spec.algorithm, &space, &start, settings)?;
+    let design = crate::optimize::design::DesignSpace::from_model(model);
+    let mut optimizer = build_optimizer(&model.spec.algorithm, (&space, design), &start, settings)?;
     let shared = recording.as_mut().and_then(|r| r.store.shared()).is_some();
     check_workers(settings, shared)?;
     let workers = settings.workers;
@@ -353,13 +365,15 @@ fn queue_missing(
 pub fn map_axes(
     m: &crate::config::optimizer::MapElitesSettings,
     space: &SearchSpace,
+    design: Option<crate::optimize::design::DesignSpace>,
 ) -> Result<[Descriptor; 2], OptimizeError> {
+    let design = design.map(std::sync::Arc::new);
     let axis = |k: usize| {
         let spec = m.descriptors.get(k).ok_or(OptimizeError::Descriptor {
             gene: 0,
             genes: space.genes.len(),
         })?;
-        Descriptor::of(spec, space).ok_or(OptimizeError::Descriptor {
+        Descriptor::of(spec, space, design.as_ref()).ok_or(OptimizeError::Descriptor {
             gene: spec.gene,
             genes: space.genes.len(),
         })
@@ -369,7 +383,7 @@ pub fn map_axes(
 
 fn build_optimizer(
     algorithm: &Algorithm,
-    space: &SearchSpace,
+    (space, design): (&SearchSpace, Option<crate::optimize::design::DesignSpace>),
     start: &Genome,
     settings: &RunSettings,
 ) -> Result<Box<dyn Optimizer>, OptimizeError> {
@@ -400,7 +414,7 @@ fn build_optimizer(
         Algorithm::MapElites(m) => Box::new(MapElites::new(
             space.clone(),
             m.clone(),
-            map_axes(m, space)?,
+            map_axes(m, space, design)?,
             start.clone(),
             settings.seed,
             settings.max_evaluations,

@@ -96,7 +96,7 @@ pub struct SearchSpace {
     pub genes: Vec<Gene>,
 }
 
-fn alleles_of(g: &GenomeConfig, i: usize) -> Alleles {
+pub(crate) fn alleles_of(g: &GenomeConfig, i: usize) -> Alleles {
     if g.value_space == 0 {
         return Alleles::List(g.values.clone());
     }

@@ -49,7 +49,7 @@ pub enum EditError {
     Colour([f64; 3]),
     /// A name the files cannot hold.
     #[error(transparent)]
-    Name(Box<crate::compose::error::ComposeError>),
+    Name(crate::config::robot_builder::BuildError),
     /// A scene file that cannot be read or written.
     #[error("{}: {source}", path.display())]
     Io {

@@ -673,8 +673,7 @@ impl EnvEditor {
 
     /// Renames the selected object.
     pub fn rename(&mut self, name: &str) -> Result<(), EditError> {
-        crate::compose::robot_builder::check_name(name, "object name")
-            .map_err(|e| EditError::Name(Box::new(e)))?;
+        crate::compose::robot_builder::check_name(name, "object name").map_err(EditError::Name)?;
         self.editable()?;
         self.checkpoint();
         self.editable()?.name = Some(name.to_string());

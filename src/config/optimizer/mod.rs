@@ -17,7 +17,8 @@
 //! Every optimizer file may also have (our extensions) `<randomStart>1</randomStart>` in its
 //! properties (the search starts from a point drawn from the run's seed instead of the
 //! actuation file's values), a `<robustness>` element ([`crate::config::robustness`]) and
-//! `<engines>`/`<combine>` in its properties ([`crate::config::cross_engine`]).
+//! `<engines>`/`<combine>` in its properties ([`crate::config::cross_engine`]) and a
+//! `<morphology>` element ([`crate::config::morphology`]).
 
 mod genome;
 mod read;
@@ -153,14 +154,18 @@ pub struct MapElitesSettings {
     pub descriptors: Vec<DescriptorSpec>,
 }
 
-/// A behaviour descriptor: a gene's place in its range, cut into cells.
+/// A behaviour descriptor: a gene's place in its range (or, in a co-design file, the
+/// body's share of yaw joints), cut into cells.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DescriptorSpec {
     /// The gene, numbered from 1 in genome order (registered parameters in their order,
-    /// one gene per value of each).
+    /// one gene per value of each; in a co-design file the body genes come first, gene 1
+    /// being the module count); 0 with `yaw_share`.
     pub gene: u32,
     /// Cells along this axis.
     pub bins: u32,
+    /// `name="yaw-share"`: the share of the body's joints that are yaw joints.
+    pub yaw_share: bool,
 }
 
 /// Which optimizer, with its settings.
@@ -195,6 +200,8 @@ pub struct OptimizerFile {
     pub robustness: Option<Robustness>,
     /// Our extension `<engines>`/`<combine>`: every candidate scored on several engines.
     pub cross_engine: Option<CrossEngine>,
+    /// Our extension `<morphology>`: the bodies a co-design search may build.
+    pub morphology: Option<crate::config::morphology::Morphology>,
 }
 
 impl OptimizerFile {
@@ -292,8 +299,16 @@ mod tests {
         assert_eq!(
             m.descriptors,
             vec![
-                DescriptorSpec { gene: 1, bins: 8 },
-                DescriptorSpec { gene: 5, bins: 8 }
+                DescriptorSpec {
+                    gene: 1,
+                    bins: 8,
+                    yaw_share: false
+                },
+                DescriptorSpec {
+                    gene: 5,
+                    bins: 8,
+                    yaw_share: false
+                }
             ]
         );
         assert_eq!(o.label(), "MAP-Elites");

@@ -74,7 +74,10 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
     let doc = crate::config::xml::dom::parse(file, text)?;
     let r = Reader::new(file);
     let root = &doc.root;
-    r.only_children(root, &["properties", "genomeconfig", "robustness"])?;
+    r.only_children(
+        root,
+        &["properties", "genomeconfig", "robustness", "morphology"],
+    )?;
     r.only_attrs(root, &[])?;
     let props = r.required(root, "properties")?;
     let algorithm = read_algorithm(&r, root, props)?;
@@ -98,7 +101,12 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
         .map(|el| read_robustness(&r, el))
         .transpose()?;
     let cross_engine = read_cross_engine(&r, props)?;
+    let morphology = r
+        .at_most_one(root, "morphology")?
+        .map(|el| crate::config::morphology::read_morphology(&r, el))
+        .transpose()?;
     Ok(OptimizerFile {
+        morphology,
         algorithm,
         parameters,
         genome,
@@ -189,14 +197,35 @@ fn read_map_elites(r: &Reader, props: &Element) -> ConfigResult<MapElitesSetting
     let mutation = r.f64_in(mutation, 0.0, 1.0)?;
     let mut descriptors = Vec::new();
     for d in props.children_named("descriptor") {
-        r.only_attrs(d, &["gene", "bins"])?;
-        let gene = r.required_attr(d, "gene")?;
+        r.only_attrs(d, &["gene", "name", "bins"])?;
         let bins = r.required_attr(d, "bins")?;
-        let spec = DescriptorSpec {
-            gene: r.u32_str(&gene.value, gene.pos, "gene=")?,
-            bins: r.u32_str(&bins.value, bins.pos, "bins=")?,
+        let bins = r.u32_str(&bins.value, bins.pos, "bins=")?;
+        let spec = match d.attr("name") {
+            Some(n) if n.value == "yaw-share" => DescriptorSpec {
+                gene: 0,
+                bins,
+                yaw_share: true,
+            },
+            Some(n) => {
+                return Err(r.err(
+                    n.pos,
+                    ErrorKind::InvalidValue,
+                    format!(
+                        "descriptor name={:?}: the named descriptor is yaw-share",
+                        n.value
+                    ),
+                ));
+            }
+            None => {
+                let gene = r.required_attr(d, "gene")?;
+                DescriptorSpec {
+                    gene: r.u32_str(&gene.value, gene.pos, "gene=")?,
+                    bins,
+                    yaw_share: false,
+                }
+            }
         };
-        if spec.gene == 0 || spec.bins == 0 || spec.bins > 1000 {
+        if (spec.gene == 0 && !spec.yaw_share) || spec.bins == 0 || spec.bins > 1000 {
             return Err(r.err(
                 d.pos,
                 ErrorKind::OutOfRange,

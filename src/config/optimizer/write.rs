@@ -76,6 +76,9 @@ pub fn write_optimizer_file(o: &OptimizerFile) -> String {
     if let Some(rb) = &o.robustness {
         write_robustness(&mut w, rb);
     }
+    if let Some(m) = &o.morphology {
+        crate::config::morphology::write_morphology(&mut w, m);
+    }
     w.finish()
 }
 
@@ -110,10 +113,12 @@ fn write_algorithm(w: &mut XmlWriter, algorithm: &Algorithm) {
             w.leaf("batch", &m.batch.to_string());
             w.num("mutation", m.mutation);
             for d in &m.descriptors {
-                w.empty(
-                    "descriptor",
-                    &[("gene", d.gene.to_string()), ("bins", d.bins.to_string())],
-                );
+                let axis = if d.yaw_share {
+                    ("name", "yaw-share".to_string())
+                } else {
+                    ("gene", d.gene.to_string())
+                };
+                w.empty("descriptor", &[axis, ("bins", d.bins.to_string())]);
             }
         }
     }

@@ -3,11 +3,42 @@
 //! pads, cube modules). The result is an ordinary robot file that includes the module
 //! parts of `configs/parts/`.
 
-use crate::compose::error::ComposeError;
 use crate::config::error::Pos;
 use crate::config::kinbody::{Include, Joint, KinBody};
 use crate::config::robot::RobotFile;
 use crate::config::transform::Pose;
+
+/// Why a robot cannot be built.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum BuildError {
+    /// A robot or file name that is empty.
+    #[error("{what}: give a name")]
+    NoName {
+        /// What the name names.
+        what: &'static str,
+    },
+    /// A name with a character files cannot hold.
+    #[error("{what} \"{name}\": '{bad}' is not allowed; use letters, digits, _ and -")]
+    BadName {
+        /// What the name names.
+        what: &'static str,
+        /// The name.
+        name: String,
+        /// Its first bad character.
+        bad: char,
+    },
+    /// A topology letter that is neither p nor y.
+    #[error("topology: joint {joint} is '{letter}'; write p (pitch) or y (yaw) per joint")]
+    Topology {
+        /// The joint (from 1).
+        joint: usize,
+        /// Its letter.
+        letter: char,
+    },
+    /// A robot with no joints or too many.
+    #[error("a robot needs 1 to {MAX_JOINTS} joints; this one has {0}")]
+    JointCount(usize),
+}
 
 /// Most joints a built robot may have.
 pub const MAX_JOINTS: usize = 32;
@@ -108,14 +139,14 @@ impl Default for RobotSpec {
 }
 
 /// Parses a topology such as `ppyp` (or `PYPY`, spaces ignored).
-pub fn parse_topology(s: &str) -> Result<Vec<Orientation>, ComposeError> {
+pub fn parse_topology(s: &str) -> Result<Vec<Orientation>, BuildError> {
     s.chars()
         .filter(|c| !c.is_whitespace())
         .enumerate()
         .map(|(i, c)| match c.to_ascii_lowercase() {
             'p' => Ok(Orientation::Pitch),
             'y' => Ok(Orientation::Yaw),
-            other => Err(ComposeError::Topology {
+            other => Err(BuildError::Topology {
                 joint: i + 1,
                 letter: other,
             }),
@@ -129,15 +160,15 @@ pub fn topology_string(joints: &[Orientation]) -> String {
 }
 
 /// Whether `name` may name a robot and its files.
-pub fn check_name(name: &str, what: &'static str) -> Result<(), ComposeError> {
+pub fn check_name(name: &str, what: &'static str) -> Result<(), BuildError> {
     if name.is_empty() {
-        return Err(ComposeError::NoName { what });
+        return Err(BuildError::NoName { what });
     }
     if let Some(c) = name
         .chars()
         .find(|c| !(c.is_ascii_alphanumeric() || *c == '_' || *c == '-'))
     {
-        return Err(ComposeError::BadName {
+        return Err(BuildError::BadName {
             what,
             name: name.to_string(),
             bad: c,
@@ -148,10 +179,10 @@ pub fn check_name(name: &str, what: &'static str) -> Result<(), ComposeError> {
 
 impl RobotSpec {
     /// Why this robot cannot be built, if it cannot.
-    pub fn validate(&self) -> Result<(), ComposeError> {
+    pub fn validate(&self) -> Result<(), BuildError> {
         check_name(&self.name, "robot name")?;
         if self.joints.is_empty() || self.joints.len() > MAX_JOINTS {
-            return Err(ComposeError::JointCount(self.joints.len()));
+            return Err(BuildError::JointCount(self.joints.len()));
         }
         Ok(())
     }
@@ -252,7 +283,7 @@ mod tests {
         assert_eq!(topology_string(&t), "pyp");
         assert!(matches!(
             parse_topology("ppx"),
-            Err(ComposeError::Topology {
+            Err(BuildError::Topology {
                 joint: 3,
                 letter: 'x'
             })
@@ -317,10 +348,10 @@ mod tests {
         s.name = "my snake".into();
         assert!(matches!(
             s.validate(),
-            Err(ComposeError::BadName { bad: ' ', .. })
+            Err(BuildError::BadName { bad: ' ', .. })
         ));
         s.name = "ok".into();
         s.joints.clear();
-        assert!(matches!(s.validate(), Err(ComposeError::JointCount(0))));
+        assert!(matches!(s.validate(), Err(BuildError::JointCount(0))));
     }
 }

@@ -1,0 +1,110 @@
+//! Co-design: a genome's body is the robot the builder makes, it loads and runs like any
+//! robot, the same candidate scores the same every time, and a killed co-design run
+//! resumes to the same archive.
+
+mod common;
+
+use std::sync::Arc;
+
+use common::proleg;
+use proleg::config::resolve::robot::JointOrientation;
+use proleg::config::source::FsSource;
+use proleg::control::{ModuleRegistry, load_simulation_in};
+use proleg::optimize::design::{Design, DesignSpace};
+use proleg::optimize::evaluate::Evaluator;
+use proleg::optimize::fitness::Fitness;
+use proleg::optimize::run::prepare;
+
+const CONFIG: &str = "configs/codesign_flat.simulation.xml";
+
+#[test]
+fn a_genome_builds_a_body_that_loads_and_crawls_the_same_every_time() {
+    let registry = ModuleRegistry::standard();
+    let sim = load_simulation_in(common::root().join(CONFIG), &registry).unwrap();
+    let (space, start) = prepare(&sim, &registry).unwrap();
+    let model = sim.optimizer.as_ref().unwrap();
+    let design_space = DesignSpace::from_model(model).unwrap();
+    assert_eq!(space, design_space.search_space());
+    // modules, 8 orientation genes, parts, 2 orientations x 3 gait parameters.
+    assert_eq!(space.genes.len(), 1 + 8 + 1 + 6);
+    // 7 modules: joints y y p y p p (two yaw joints in a row need the YY part).
+    let mut genome = start.clone();
+    genome[0] = 4;
+    genome[1..9].copy_from_slice(&[1, 1, 0, 1, 0, 0, 0, 0]);
+    let design = Design::of(&sim, Arc::new(FsSource)).unwrap();
+    let body = design.simulation(&genome, &registry).unwrap();
+    let kinds: Vec<JointOrientation> = body.robot.joints.iter().map(|j| j.orientation).collect();
+    use JointOrientation::{Pitch as P, Yaw as Y};
+    assert_eq!(kinds, vec![Y, Y, P, Y, P, P]);
+    assert_eq!(
+        body.actuation.modules.len(),
+        2,
+        "one sine per orientation group"
+    );
+
+    // A 6-module pitch snake with the demo's wave: amplitude 40, phase difference 60,
+    // 1 Hz (the pitch group's genes; the yaw group's are unused).
+    let mut snake = start.clone();
+    snake[0] = 3;
+    snake[1..9].copy_from_slice(&[0; 8]);
+    snake[10..13].copy_from_slice(&[8, 16, 3]);
+    let evaluator = Evaluator::new(&sim, &registry, &space, Fitness::Displacement, 3.0, 1);
+    let genomes = vec![snake.clone(), genome.clone(), snake];
+    let scores = evaluator.evaluate(&genomes).unwrap();
+    assert!(scores.iter().all(|s| s.is_finite()), "{scores:?}");
+    assert_eq!(scores[0], scores[2], "the same candidate scores the same");
+    assert_ne!(scores[0], scores[1], "another body moves otherwise");
+    assert!(scores[0] > 0.1, "the pitch snake crawls: {scores:?}");
+}
+
+/// The archive line `proleg results` prints for the store's run.
+fn archive_line(store: &std::path::Path) -> String {
+    let (ok, out, err) = proleg(&["results", store.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    out.lines()
+        .find(|l| l.contains(" archive: "))
+        .map(|l| l.to_string())
+        .unwrap_or_else(|| panic!("no archive line in {out}"))
+}
+
+#[test]
+fn a_killed_co_design_run_resumes_to_the_same_archive() {
+    let dir = common::scratch("codesign_resume");
+    let run = |extra: &[&str], store: &std::path::Path| {
+        let mut a = vec![
+            "optimize",
+            CONFIG,
+            "--max-evals",
+            "60",
+            "--duration",
+            "1",
+            "--quiet",
+            "--store",
+            store.to_str().unwrap(),
+        ];
+        a.extend(extra);
+        proleg(&a)
+    };
+    let whole = dir.join("whole.sqlite");
+    let (ok, full, err) = run(&[], &whole);
+    assert!(ok, "{err}");
+    let archive = archive_line(&whole);
+    assert!(archive.contains("share of yaw joints"), "{archive}");
+    let killed = dir.join("killed.sqlite");
+    let (ok, _, _) = run(&["--crash-after", "45"], &killed);
+    assert!(!ok, "the crash aid aborts the process");
+    let (ok, resumed, err) = run(&["--resume"], &killed);
+    assert!(ok, "{err}");
+    let best = |out: &str| -> Vec<String> {
+        out.lines()
+            .skip_while(|l| !l.starts_with("best score"))
+            .map(str::to_string)
+            .collect()
+    };
+    assert_eq!(best(&resumed), best(&full));
+    assert_eq!(archive_line(&killed), archive);
+    // A shared store's workers refuse co-design runs (their bodies are built on the
+    // driving host); a replay says it is not available yet.
+    let (ok, _, err) = proleg(&["gui", "--replay", whole.to_str().unwrap(), "--run", "1"]);
+    assert!(!ok && err.contains("co-design"), "{err}");
+}
