@@ -198,16 +198,6 @@ fn optimize_refuses_a_single_run_configuration() {
     assert!(err.contains("no such store"), "{err}");
 }
 
-/// The archive line `proleg results` prints for a MAP-Elites run.
-fn archive_line(store: &std::path::Path) -> String {
-    let (ok, out, err) = proleg(&["results", store.to_str().unwrap()]);
-    assert!(ok, "{err}");
-    out.lines()
-        .find(|l| l.contains(" archive: "))
-        .map(|l| l.to_string())
-        .unwrap_or_else(|| panic!("no archive line in {out}"))
-}
-
 #[test]
 fn a_killed_map_elites_run_resumes_to_the_same_archive_and_maps_it() {
     let dir = common::scratch("cli_optimize_map");
@@ -231,7 +221,7 @@ fn a_killed_map_elites_run_resumes_to_the_same_archive_and_maps_it() {
     assert!(ok, "{err}");
     // 20 random candidates, then 4 rounds of 10 mutants.
     assert!(full.contains("60 evaluations in 5 rounds"), "{full}");
-    let archive = archive_line(&whole);
+    let archive = common::archive_line(&whole);
     // 60 candidates over 8 x 8 cells: several cells, not all.
     let filled: usize = archive
         .split(" archive: ")
@@ -247,7 +237,7 @@ fn a_killed_map_elites_run_resumes_to_the_same_archive_and_maps_it() {
     let (ok, resumed, err) = run(&["--resume"], &killed);
     assert!(ok, "{err}");
     assert_eq!(result_lines(&resumed), result_lines(&full));
-    assert_eq!(archive_line(&killed), archive);
+    assert_eq!(common::archive_line(&killed), archive);
 
     let png = dir.join("map.png");
     let (ok, out, err) = proleg(&[

@@ -57,16 +57,6 @@ fn a_genome_builds_a_body_that_loads_and_crawls_the_same_every_time() {
     assert!(scores[0] > 0.1, "the pitch snake crawls: {scores:?}");
 }
 
-/// The archive line `proleg results` prints for the store's run.
-fn archive_line(store: &std::path::Path) -> String {
-    let (ok, out, err) = proleg(&["results", store.to_str().unwrap()]);
-    assert!(ok, "{err}");
-    out.lines()
-        .find(|l| l.contains(" archive: "))
-        .map(|l| l.to_string())
-        .unwrap_or_else(|| panic!("no archive line in {out}"))
-}
-
 #[test]
 fn a_killed_co_design_run_resumes_to_the_same_archive() {
     let dir = common::scratch("codesign_resume");
@@ -88,7 +78,7 @@ fn a_killed_co_design_run_resumes_to_the_same_archive() {
     let whole = dir.join("whole.sqlite");
     let (ok, full, err) = run(&[], &whole);
     assert!(ok, "{err}");
-    let archive = archive_line(&whole);
+    let archive = common::archive_line(&whole);
     assert!(archive.contains("share of yaw joints"), "{archive}");
     let killed = dir.join("killed.sqlite");
     let (ok, _, _) = run(&["--crash-after", "45"], &killed);
@@ -102,7 +92,7 @@ fn a_killed_co_design_run_resumes_to_the_same_archive() {
             .collect()
     };
     assert_eq!(best(&resumed), best(&full));
-    assert_eq!(archive_line(&killed), archive);
+    assert_eq!(common::archive_line(&killed), archive);
     // A shared store's workers refuse co-design runs (their bodies are built on the
     // driving host); a replay says it is not available yet.
     let (ok, _, err) = proleg(&["gui", "--replay", whole.to_str().unwrap(), "--run", "1"]);

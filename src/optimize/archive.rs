@@ -97,10 +97,7 @@ pub fn plot_map(
     output: &Path,
     size: (u32, u32),
 ) -> Result<(), OptimizeError> {
-    let draw = |e: &dyn std::fmt::Display| OptimizeError::Plot {
-        file: output.to_path_buf(),
-        message: e.to_string(),
-    };
+    let draw = OptimizeError::plot(output);
     let scores: Vec<f64> = a.archive.cells.iter().flatten().map(|c| c.1).collect();
     let (lo, hi) = scores
         .iter()

@@ -80,10 +80,7 @@ pub fn plot_curves(
     output: &Path,
     size: (u32, u32),
 ) -> Result<(), OptimizeError> {
-    let draw = |e: &dyn std::fmt::Display| OptimizeError::Plot {
-        file: output.to_path_buf(),
-        message: e.to_string(),
-    };
+    let draw = OptimizeError::plot(output);
     let curves: Vec<Drawn> = groups.iter().map(drawn).collect();
     let all = curves
         .iter()

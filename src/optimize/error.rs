@@ -126,3 +126,13 @@ pub enum BadChoice {
     #[error("--store: {0}")]
     Store(String),
 }
+
+impl OptimizeError {
+    /// A plotting failure (or what is missing to plot) writing `file`.
+    pub fn plot(file: &std::path::Path) -> impl Fn(&dyn std::fmt::Display) -> OptimizeError + '_ {
+        move |e| OptimizeError::Plot {
+            file: file.to_path_buf(),
+            message: e.to_string(),
+        }
+    }
+}

@@ -86,3 +86,13 @@ pub fn mujoco_here(test: &str) -> bool {
         }
     }
 }
+
+/// The archive line `proleg results` prints for a store's MAP-Elites run.
+pub fn archive_line(store: &Path) -> String {
+    let (ok, out, err) = proleg(&["results", &store.display().to_string()]);
+    assert!(ok, "{err}");
+    out.lines()
+        .find(|l| l.contains(" archive: "))
+        .map(|l| l.to_string())
+        .unwrap_or_else(|| panic!("no archive line in {out}"))
+}
