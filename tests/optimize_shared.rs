@@ -241,6 +241,89 @@ fn a_robust_cma_es_run_scores_the_same_through_a_worker_as_in_one_process() {
 }
 
 #[test]
+fn a_co_design_run_builds_the_same_bodies_through_a_worker_as_in_one_process() {
+    // MAP-Elites over bodies and gaits through the queue: the worker builds every body
+    // from the files stored with the run (the part files of every body the space holds
+    // among them) and scores the same evaluations as one process on SQLite.
+    let config = "configs/codesign_flat.simulation.xml";
+    let args = |store: &str| -> Vec<String> {
+        [
+            "optimize",
+            config,
+            "--max-evals",
+            "30",
+            "--duration",
+            "1",
+            "--quiet",
+            "--store",
+            store,
+        ]
+        .map(String::from)
+        .to_vec()
+    };
+    let dir = common::scratch("shared_codesign");
+    let reference = dir.join("reference.sqlite").display().to_string();
+    let a = args(&reference);
+    let (ok, _, err) = common::proleg(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(ok, "{err}");
+    let pg = server();
+    let url = pg.database("shared_codesign");
+    let mut a = args(&url);
+    a.extend(["--workers".into(), "0".into()]);
+    let mut driver = spawn(pg.proleg(&a.iter().map(String::as_str).collect::<Vec<_>>()));
+    pg.wait_until("shared_codesign", HAS_STORE, &mut driver);
+    worker_role(
+        &pg,
+        "shared_codesign",
+        "proleg_worker_codesign",
+        "w-codesign",
+    );
+    let worker_url = url.replace("proleg_admin@", "proleg_worker_codesign@");
+    let worker = spawn(pg.proleg_as(
+        "w-codesign",
+        &[
+            "worker",
+            "--store",
+            &worker_url,
+            "--threads",
+            "2",
+            "--idle-exit",
+            "1",
+        ],
+    ));
+    let out = driver.wait_with_output().expect("driver");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let w = worker.wait_with_output().expect("worker");
+    assert!(w.status.success(), "{}", text(&w.stderr));
+    assert_eq!(
+        evaluations(&pg, &url, "shared_codesign_pg"),
+        evaluations(&pg, &reference, "shared_codesign_sqlite")
+    );
+    let parts: i64 = pg
+        .connect("shared_codesign")
+        .query_one(
+            "SELECT COUNT(*) FROM run_files WHERE path LIKE '%parts/YY.kinbody.xml'",
+            &[],
+        )
+        .unwrap()
+        .get(0);
+    assert_eq!(
+        parts, 1,
+        "the part no body of the run's own robot uses is stored"
+    );
+    let archive = |store: &str| {
+        let out = output(pg.proleg(&["results", store]));
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        text(&out.stdout)
+            .lines()
+            .find(|l| l.contains(" archive: "))
+            .map(str::to_string)
+            .expect("an archive line")
+    };
+    assert_eq!(archive(&url), archive(&reference));
+}
+
+#[test]
 fn a_killed_worker_s_evaluation_is_claimed_again_and_nothing_is_lost() {
     let (expected, reference) = sqlite_run("optimize_shared_kill_worker", "30", "4");
     let pg = server();

@@ -157,6 +157,7 @@ pub fn run_observed(
     // worker on another host needs nothing but the store.
     let source = RecordingSource::new(&FsSource);
     let sim = load_simulation_with(&source, &o.config, registry)?.with_engine(o.engine);
+    record_design_parts(&source, &sim);
     let fitness = o.fitness.as_deref().map(Fitness::parse).transpose()?;
     let settings = RunSettings::of(&sim, &o.choices(fitness))?;
     let (space, _) = prepare(&sim, registry)?;
@@ -390,6 +391,33 @@ fn stored_files(
         }
     }
     files
+}
+
+/// A co-design run's part files, read through `source` so that they are stored with the
+/// run (its bodies use parts the configuration's own robot may not): a worker builds the
+/// bodies from the store alone. A part that is not found is left to the first body that
+/// needs it, whose load names it; one that cannot be read is a warning.
+fn record_design_parts(source: &RecordingSource, sim: &Simulation) {
+    let Some(space) = sim
+        .optimizer
+        .as_ref()
+        .and_then(crate::optimize::design::DesignSpace::from_model)
+    else {
+        return;
+    };
+    let robot = sim
+        .file
+        .parent()
+        .unwrap_or(Path::new(""))
+        .join("design.robot.xml");
+    for part in space.part_includes() {
+        if let Some(path) = crate::config::source::resolve_include(source, &robot, &part) {
+            // Reading records it.
+            if let Err(e) = crate::config::source::FileSource::read(source, &path) {
+                eprintln!("warning: {}: {e}", path.display());
+            }
+        }
+    }
 }
 
 /// The store of `proleg optimize CONFIG` without `--store`: `CONFIG-STEM.results.sqlite`

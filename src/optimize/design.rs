@@ -259,6 +259,39 @@ impl DesignSpace {
         }
     }
 
+    /// The part files (as robot files include them) that bodies of this space may use: a
+    /// run stores them with its configuration, so workers build bodies from the store.
+    pub fn part_includes(&self) -> Vec<String> {
+        use crate::config::robot_builder::PartSet;
+        let letters: Vec<char> = self
+            .morphology
+            .orientations
+            .iter()
+            .map(|o| o.letter().to_ascii_uppercase())
+            .collect();
+        let mut names = Vec::new();
+        for set in &self.morphology.parts {
+            match set {
+                PartSet::Cube => names.push("Cube".to_string()),
+                PartSet::Touch => {
+                    names.extend(["TailPTouch", "HeadPTouch", "PPTouch"].map(String::from))
+                }
+                PartSet::Plain => {
+                    names.extend(["TailP", "HeadP"].map(String::from));
+                    for a in &letters {
+                        for b in &letters {
+                            names.push(format!("{a}{b}"));
+                        }
+                    }
+                }
+            }
+        }
+        names
+            .into_iter()
+            .map(|n| format!("parts/{n}.kinbody.xml"))
+            .collect()
+    }
+
     /// The share of a body's joints that are yaw joints (a behaviour descriptor).
     pub fn yaw_share(&self, genome: &Genome) -> f64 {
         let body = self.body(genome, "d");

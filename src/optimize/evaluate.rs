@@ -131,6 +131,17 @@ impl Evaluator {
         }
     }
 
+    /// This evaluator with its co-design bodies built over `files` (a stored run's files)
+    /// instead of the files on disk.
+    pub fn with_files(
+        mut self,
+        files: std::sync::Arc<dyn crate::config::source::FileSource + Send + Sync>,
+    ) -> Evaluator {
+        self.design =
+            crate::optimize::design::Design::of(&self.sim, files).map(std::sync::Arc::new);
+        self
+    }
+
     /// Robots per world this evaluator uses (1 with robust fitness: each episode's physics
     /// is its own; at most what every engine scored on holds).
     pub fn robots_per_world(&self) -> usize {

@@ -59,9 +59,6 @@ pub enum UnevaluableRun {
     /// Its search space cannot be set up (the optimizer file).
     #[error("{0}")]
     Setup(Box<crate::optimize::error::OptimizeError>),
-    /// A co-design run: its bodies are built from files on the driving host.
-    #[error("co-design runs (a <morphology>) are evaluated by the process that drives them")]
-    CoDesign,
     /// Its fitness is not one this host knows.
     #[error(transparent)]
     Fitness(#[from] crate::config::error::UnknownName),
@@ -98,13 +95,6 @@ pub fn run_evaluator(
         });
     }
     let sim = stored_simulation(spec, registry)?;
-    if sim
-        .optimizer
-        .as_ref()
-        .is_some_and(|o| o.spec.morphology.is_some())
-    {
-        return Err(UnevaluableRun::CoDesign);
-    }
     if scoring_engines(&sim).contains(&EngineKind::Mujoco)
         && let Err(e) = crate::sim::engine::mujoco::library::library()
     {
@@ -131,6 +121,10 @@ pub fn stored_evaluator(
     registry: &ModuleRegistry,
 ) -> Result<Evaluator, UnevaluableRun> {
     let fitness = Fitness::parse(&spec.info.fitness)?;
+    let mut files = MemSource::new();
+    for (path, text) in &spec.files {
+        files.insert(path, text.as_str());
+    }
     Ok(Evaluator::new(
         sim,
         registry,
@@ -138,5 +132,6 @@ pub fn stored_evaluator(
         fitness,
         spec.info.duration,
         spec.info.seed,
-    ))
+    )
+    .with_files(std::sync::Arc::new(files)))
 }
