@@ -38,6 +38,17 @@ fn every_simulation_loads_and_every_file_is_used() {
         files.extend(sim.environment.files.iter().cloned());
         files.push(sim.actuation.file.clone());
         files.extend(sim.optimizer.iter().map(|o| o.file.clone()));
+        // A co-design space's bodies use the part files of its orientations and sets.
+        if let Some(space) = sim
+            .optimizer
+            .as_ref()
+            .and_then(proleg::optimize::design::DesignSpace::from_model)
+        {
+            let dir = s.parent().unwrap();
+            for part in space.part_includes() {
+                files.push(dir.join(part));
+            }
+        }
         for b in &sim.environment.bodies {
             for g in &b.geoms {
                 if let proleg::config::body::Shape::Trimesh { file, .. } = &g.shape {
