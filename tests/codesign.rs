@@ -1,6 +1,6 @@
 //! Co-design: a genome's body is the robot the builder makes, it loads and runs like any
-//! robot, the same candidate scores the same every time, and a killed co-design run
-//! resumes to the same archive.
+//! robot, the same candidate scores the same every time, a killed co-design run resumes
+//! to the same archive, and a stored body replays to its stored score.
 
 mod common;
 
@@ -13,6 +13,7 @@ use proleg::control::{ModuleRegistry, load_simulation_in};
 use proleg::optimize::design::{Design, DesignSpace};
 use proleg::optimize::evaluate::Evaluator;
 use proleg::optimize::fitness::Fitness;
+use proleg::optimize::replay::{Which, replay_from};
 use proleg::optimize::run::prepare;
 
 const CONFIG: &str = "configs/codesign_flat.simulation.xml";
@@ -93,8 +94,10 @@ fn a_killed_co_design_run_resumes_to_the_same_archive() {
     };
     assert_eq!(best(&resumed), best(&full));
     assert_eq!(common::archive_line(&killed), archive);
-    // A shared store's workers refuse co-design runs (their bodies are built on the
-    // driving host); a replay says it is not available yet.
-    let (ok, _, err) = proleg(&["gui", "--replay", whole.to_str().unwrap(), "--run", "1"]);
-    assert!(!ok && err.contains("co-design"), "{err}");
+    // A stored body replays to its stored score: the best, and one from the middle.
+    let registry = ModuleRegistry::standard();
+    for which in [Which::Best, Which::Number(30)] {
+        let r = replay_from(whole.to_str().unwrap(), 1, which, None, &registry).unwrap();
+        assert_eq!(r.score().unwrap(), r.stored_score, "{}", r.label);
+    }
 }

@@ -129,17 +129,6 @@ pub fn load_replay(
             number: Some(number),
         })?;
     let sim = stored_simulation(&spec, registry)?;
-    if sim
-        .optimizer
-        .as_ref()
-        .is_some_and(|o| o.spec.morphology.is_some())
-    {
-        return Err(ReplayError::Setup(Box::new(
-            crate::optimize::error::OptimizeError::CoDesign(
-                "a co-design evaluation is not replayed yet",
-            ),
-        )));
-    }
     let (space, _) = prepare(&sim, registry).map_err(|e| ReplayError::Setup(Box::new(e)))?;
     if eval.genome.len() != space.genes.len() {
         return Err(ReplayError::Genes {
@@ -181,7 +170,16 @@ pub fn load_replay(
         (None, Some(k)) => {
             return Err(ReplayError::NoEpisodes { run, episode: k });
         }
-        (None, None) => (sim.clone(), spec.info.seed, SensorNoise::default()),
+        // A co-design candidate's world is its own body, built from the stored files.
+        (None, None) => match &evaluator.design {
+            Some(d) => (
+                d.simulation(&eval.genome, registry)
+                    .map_err(UnevaluableRun::Config)?,
+                spec.info.seed,
+                SensorNoise::default(),
+            ),
+            None => (sim.clone(), spec.info.seed, SensorNoise::default()),
+        },
         (Some(r), k) => {
             let (world, seed, noise) = episode_of(r, k.unwrap_or(0))?;
             label.push_str(&format!(
@@ -245,6 +243,10 @@ impl Replay {
     /// Puts the candidate's values into robot 0's kernel of a world built with
     /// [`Replay::build_options`].
     pub fn apply(&self, simulator: &mut Simulator) -> Result<(), SimError> {
+        // A co-design candidate's values are in its own actuation file.
+        if self.evaluator.design.is_some() {
+            return Ok(());
+        }
         let kernel = simulator.kernel_mut(0)?;
         self.space
             .apply(&self.genome, kernel)
