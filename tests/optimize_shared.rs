@@ -56,6 +56,59 @@ fn sqlite_run(name: &str, evals: &str, duration: &str) -> (Vec<String>, String) 
 
 /// Every evaluation of a store's runs as (number, round, score, genome, engine scores), by
 /// `proleg results --export` (store name and wall seconds left out).
+/// Runs `config` for `evals` evaluations of 1 s on SQLite, then as a driver without
+/// local workers on database `name` with one least-privilege worker that has nothing but
+/// the URL; both must succeed. Returns the server, the database's URL and the SQLite store.
+fn one_worker_against_sqlite(name: &str, config: &str, evals: &str) -> (Pg, String, String) {
+    let args = |store: &str| -> Vec<String> {
+        [
+            "optimize",
+            config,
+            "--max-evals",
+            evals,
+            "--duration",
+            "1",
+            "--quiet",
+            "--store",
+            store,
+        ]
+        .map(String::from)
+        .to_vec()
+    };
+    let dir = common::scratch(name);
+    let reference = dir.join("reference.sqlite").display().to_string();
+    let a = args(&reference);
+    let (ok, _, err) = common::proleg(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(ok, "{err}");
+    let pg = server();
+    let url = pg.database(name);
+    let mut a = args(&url);
+    a.extend(["--workers".into(), "0".into()]);
+    let mut driver = spawn(pg.proleg(&a.iter().map(String::as_str).collect::<Vec<_>>()));
+    pg.wait_until(name, HAS_STORE, &mut driver);
+    let role = format!("proleg_worker_{name}");
+    let password = format!("w-{name}");
+    worker_role(&pg, name, &role, &password);
+    let worker_url = url.replace("proleg_admin@", &format!("{role}@"));
+    let worker = spawn(pg.proleg_as(
+        &password,
+        &[
+            "worker",
+            "--store",
+            &worker_url,
+            "--threads",
+            "2",
+            "--idle-exit",
+            "1",
+        ],
+    ));
+    let out = driver.wait_with_output().expect("driver");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let w = worker.wait_with_output().expect("worker");
+    assert!(w.status.success(), "{}", text(&w.stderr));
+    (pg, url, reference)
+}
+
 fn evaluations(pg: &Pg, store: &str, name: &str) -> Vec<String> {
     let tsv = common::scratch(name).join("evaluations.tsv");
     let out = output(pg.proleg(&["results", store, "--export", tsv.to_str().unwrap()]));
@@ -183,51 +236,11 @@ fn a_driver_and_three_workers_store_each_evaluation_once_and_find_the_sqlite_bes
 fn a_robust_cma_es_run_scores_the_same_through_a_worker_as_in_one_process() {
     // CMA-ES through the queue, each candidate scored over 8 randomized episodes by a
     // least-privilege worker that has nothing but the URL: the same evaluations as SQLite.
-    let config = "configs/gait_from_scratch_robust.simulation.xml";
-    let args = |store: &str| -> Vec<String> {
-        [
-            "optimize",
-            config,
-            "--max-evals",
-            "11",
-            "--duration",
-            "1",
-            "--quiet",
-            "--store",
-            store,
-        ]
-        .map(String::from)
-        .to_vec()
-    };
-    let dir = common::scratch("shared_robust");
-    let reference = dir.join("reference.sqlite").display().to_string();
-    let a = args(&reference);
-    let (ok, _, err) = common::proleg(&a.iter().map(String::as_str).collect::<Vec<_>>());
-    assert!(ok, "{err}");
-    let pg = server();
-    let url = pg.database("shared_robust");
-    let mut a = args(&url);
-    a.extend(["--workers".into(), "0".into()]);
-    let mut driver = spawn(pg.proleg(&a.iter().map(String::as_str).collect::<Vec<_>>()));
-    pg.wait_until("shared_robust", HAS_STORE, &mut driver);
-    worker_role(&pg, "shared_robust", "proleg_worker_robust", "w-robust");
-    let worker_url = url.replace("proleg_admin@", "proleg_worker_robust@");
-    let worker = spawn(pg.proleg_as(
-        "w-robust",
-        &[
-            "worker",
-            "--store",
-            &worker_url,
-            "--threads",
-            "2",
-            "--idle-exit",
-            "1",
-        ],
-    ));
-    let out = driver.wait_with_output().expect("driver");
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    let w = worker.wait_with_output().expect("worker");
-    assert!(w.status.success(), "{}", text(&w.stderr));
+    let (pg, url, reference) = one_worker_against_sqlite(
+        "shared_robust",
+        "configs/gait_from_scratch_robust.simulation.xml",
+        "11",
+    );
     assert_eq!(
         evaluations(&pg, &url, "shared_robust_pg"),
         evaluations(&pg, &reference, "shared_robust_sqlite")
@@ -245,56 +258,11 @@ fn a_co_design_run_builds_the_same_bodies_through_a_worker_as_in_one_process() {
     // MAP-Elites over bodies and gaits through the queue: the worker builds every body
     // from the files stored with the run (the part files of every body the space holds
     // among them) and scores the same evaluations as one process on SQLite.
-    let config = "configs/codesign_flat.simulation.xml";
-    let args = |store: &str| -> Vec<String> {
-        [
-            "optimize",
-            config,
-            "--max-evals",
-            "30",
-            "--duration",
-            "1",
-            "--quiet",
-            "--store",
-            store,
-        ]
-        .map(String::from)
-        .to_vec()
-    };
-    let dir = common::scratch("shared_codesign");
-    let reference = dir.join("reference.sqlite").display().to_string();
-    let a = args(&reference);
-    let (ok, _, err) = common::proleg(&a.iter().map(String::as_str).collect::<Vec<_>>());
-    assert!(ok, "{err}");
-    let pg = server();
-    let url = pg.database("shared_codesign");
-    let mut a = args(&url);
-    a.extend(["--workers".into(), "0".into()]);
-    let mut driver = spawn(pg.proleg(&a.iter().map(String::as_str).collect::<Vec<_>>()));
-    pg.wait_until("shared_codesign", HAS_STORE, &mut driver);
-    worker_role(
-        &pg,
+    let (pg, url, reference) = one_worker_against_sqlite(
         "shared_codesign",
-        "proleg_worker_codesign",
-        "w-codesign",
+        "configs/codesign_flat.simulation.xml",
+        "30",
     );
-    let worker_url = url.replace("proleg_admin@", "proleg_worker_codesign@");
-    let worker = spawn(pg.proleg_as(
-        "w-codesign",
-        &[
-            "worker",
-            "--store",
-            &worker_url,
-            "--threads",
-            "2",
-            "--idle-exit",
-            "1",
-        ],
-    ));
-    let out = driver.wait_with_output().expect("driver");
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    let w = worker.wait_with_output().expect("worker");
-    assert!(w.status.success(), "{}", text(&w.stderr));
     assert_eq!(
         evaluations(&pg, &url, "shared_codesign_pg"),
         evaluations(&pg, &reference, "shared_codesign_sqlite")
