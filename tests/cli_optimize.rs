@@ -202,19 +202,12 @@ fn optimize_refuses_a_single_run_configuration() {
 fn a_killed_map_elites_run_resumes_to_the_same_archive_and_maps_it() {
     let dir = common::scratch("cli_optimize_map");
     let run = |extra: &[&str], store: &std::path::Path| {
-        let mut a = vec![
-            "optimize",
+        common::optimize(
             "configs/experiment1_mapelites.simulation.xml",
-            "--max-evals",
-            "60",
-            "--duration",
-            "2",
-            "--quiet",
-            "--store",
-            store.to_str().unwrap(),
-        ];
-        a.extend(extra);
-        proleg(&a)
+            ("60", "2"),
+            store,
+            extra,
+        )
     };
     let whole = dir.join("whole.sqlite");
     let (ok, full, err) = run(&[], &whole);

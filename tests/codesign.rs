@@ -6,7 +6,6 @@ mod common;
 
 use std::sync::Arc;
 
-use common::proleg;
 use proleg::config::resolve::robot::JointOrientation;
 use proleg::config::source::FsSource;
 use proleg::control::{ModuleRegistry, load_simulation_in};
@@ -62,19 +61,7 @@ fn a_genome_builds_a_body_that_loads_and_crawls_the_same_every_time() {
 fn a_killed_co_design_run_resumes_to_the_same_archive() {
     let dir = common::scratch("codesign_resume");
     let run = |extra: &[&str], store: &std::path::Path| {
-        let mut a = vec![
-            "optimize",
-            CONFIG,
-            "--max-evals",
-            "60",
-            "--duration",
-            "1",
-            "--quiet",
-            "--store",
-            store.to_str().unwrap(),
-        ];
-        a.extend(extra);
-        proleg(&a)
+        common::optimize(CONFIG, ("60", "1"), store, extra)
     };
     let whole = dir.join("whole.sqlite");
     let (ok, full, err) = run(&[], &whole);

@@ -96,3 +96,27 @@ pub fn archive_line(store: &Path) -> String {
         .map(|l| l.to_string())
         .unwrap_or_else(|| panic!("no archive line in {out}"))
 }
+
+/// `proleg optimize CONFIG --max-evals EVALS --duration SECONDS --quiet --store STORE`,
+/// then `extra`.
+pub fn optimize(
+    config: &str,
+    (evals, seconds): (&str, &str),
+    store: &Path,
+    extra: &[&str],
+) -> (bool, String, String) {
+    let store = store.display().to_string();
+    let mut a = vec![
+        "optimize",
+        config,
+        "--max-evals",
+        evals,
+        "--duration",
+        seconds,
+        "--quiet",
+        "--store",
+        &store,
+    ];
+    a.extend(extra);
+    proleg(&a)
+}
