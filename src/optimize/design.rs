@@ -220,7 +220,6 @@ impl DesignSpace {
     /// module on the group's joints with the group's values (`robot` is written as the
     /// file's valid robot).
     pub fn actuation(&self, genome: &Genome, body: &RobotSpec, robot: &str) -> ActuationFile {
-        let space = self.search_space();
         let first = self.body_genes();
         let mut modules: Vec<ModuleAssignment> = Vec::new();
         for (g, o) in self.morphology.orientations.iter().enumerate() {
@@ -228,11 +227,9 @@ impl DesignSpace {
             if !mask.contains(&true) {
                 continue;
             }
-            for (c, (module, parameter, _)) in self.controls.iter().enumerate() {
+            for (c, (module, parameter, alleles)) in self.controls.iter().enumerate() {
                 let i = first + g * self.controls.len() + c;
-                let value = space.genes[i]
-                    .alleles
-                    .value(genome.get(i).copied().unwrap_or(0));
+                let value = alleles.value(genome.get(i).copied().unwrap_or(0));
                 let setting = ParamSetting {
                     name: parameter.to_string(),
                     value: ParamValue::Uniform(value),

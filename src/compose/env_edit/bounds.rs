@@ -123,7 +123,23 @@ pub struct SceneMeshes(Mutex<MeshCache>);
 #[derive(Debug, Default, Clone)]
 struct MeshCache {
     meshes: Meshes,
-    errors: BTreeMap<String, String>,
+    errors: BTreeMap<String, MeshError>,
+}
+
+/// A mesh file a scene names that cannot be drawn or measured.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum MeshError {
+    /// The file does not read or parse (its located error).
+    #[error(transparent)]
+    Load(#[from] crate::config::ConfigError),
+    /// No such file beside the scene or in a folder above it.
+    #[error("{file}: mesh file not found next to {}", scene.display())]
+    NotFound {
+        /// The file as the scene names it.
+        file: String,
+        /// The scene file.
+        scene: std::path::PathBuf,
+    },
 }
 
 impl Clone for SceneMeshes {
@@ -143,11 +159,11 @@ impl SceneMeshes {
     pub fn mesh(&self, scene: &Path, file: &str) -> Option<Arc<TriMesh>> {
         let mut cache = self.cache();
         let loaded = match resolve_include(&FsSource, scene, file) {
-            Some(path) => cache.meshes.load(&path).map_err(|e| e.to_string()),
-            None => Err(format!(
-                "{file}: mesh file not found next to {}",
-                scene.display()
-            )),
+            Some(path) => cache.meshes.load(&path).map_err(MeshError::from),
+            None => Err(MeshError::NotFound {
+                file: file.to_string(),
+                scene: scene.to_path_buf(),
+            }),
         };
         match loaded {
             Ok(m) => Some(m),
@@ -168,7 +184,7 @@ impl SceneMeshes {
     }
 
     /// The mesh files that could not be read, with the reason (file: line).
-    pub fn errors(&self) -> Vec<String> {
+    pub fn errors(&self) -> Vec<MeshError> {
         self.cache().errors.values().cloned().collect()
     }
 }

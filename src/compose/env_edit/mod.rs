@@ -10,6 +10,7 @@
 //! [`library`]: crate::compose::library
 
 mod bounds;
+pub use bounds::MeshError;
 mod error;
 mod history;
 
@@ -276,7 +277,7 @@ impl EnvEditor {
     }
 
     /// Mesh files the scene names that could not be read, with the reason (file: line).
-    pub fn mesh_errors(&self) -> Vec<String> {
+    pub fn mesh_errors(&self) -> Vec<MeshError> {
         self.meshes.errors()
     }
 
@@ -829,13 +830,15 @@ mod tests {
         let errors = e.mesh_errors();
         assert_eq!(errors.len(), 2, "{errors:?}");
         assert!(
-            errors
-                .iter()
-                .any(|m| m.contains("broken.obj") && m.contains(":3:")),
+            errors.iter().any(|e| matches!(e, MeshError::Load(c)
+                if c.file.to_string_lossy().contains("broken.obj") && c.pos.line == 3)),
             "{errors:?}"
         );
         assert!(
-            errors.iter().any(|m| m.contains("missing.obj")),
+            errors
+                .iter()
+                .any(|e| matches!(e, MeshError::NotFound { file, .. }
+                if file == "missing.obj")),
             "{errors:?}"
         );
         let _ = std::fs::remove_dir_all(&dir);

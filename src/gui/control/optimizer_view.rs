@@ -153,11 +153,16 @@ impl OptimizerView {
         let (tx, rx) = channel();
         std::thread::spawn(move || {
             let eval_tx = tx.clone();
+            // The view closing drops the receiver; the run goes on to its end and is
+            // stored like any other (`proleg results` lists it).
             let result = crate::cli::optimize::run_observed(&options, &registry, &mut |e, _| {
-                // The view closing drops the receiver; the run goes on to its end.
-                if eval_tx.send(Report::Eval(e.clone())).is_err() {}
+                if eval_tx.send(Report::Eval(e.clone())).is_err() {
+                    bevy::log::debug!("evaluation {} not shown: the view is closed", e.number);
+                }
             });
-            if tx.send(Report::Done(Box::new(result))).is_err() {}
+            if tx.send(Report::Done(Box::new(result))).is_err() {
+                bevy::log::info!("the optimization ended after its view closed; it is stored");
+            }
         });
         self.rx = Some(std::sync::Mutex::new(rx));
     }
@@ -184,11 +189,15 @@ impl OptimizerView {
         let (tx, rx) = channel();
         std::thread::spawn(move || {
             let eval_tx = tx.clone();
-            // The view closing drops the receiver; following ends with the thread.
+            // The view closing drops the receiver: following stops.
             let result = follow_run(&location, None, &stop, FOLLOW_POLL, |e| {
-                if eval_tx.send(Report::Eval(e.clone())).is_err() {}
+                if eval_tx.send(Report::Eval(e.clone())).is_err() {
+                    stop.stop();
+                }
             });
-            if tx.send(Report::Detached(result)).is_err() {}
+            if tx.send(Report::Detached(result)).is_err() {
+                bevy::log::debug!("stopped following: the view is closed");
+            }
         });
         self.rx = Some(std::sync::Mutex::new(rx));
     }

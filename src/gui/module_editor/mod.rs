@@ -292,8 +292,11 @@ impl ModuleEditor {
         std::thread::Builder::new()
             .name("module build".into())
             .spawn(move || {
-                // A closed editor no longer wants the outcome: nothing to tell.
-                let _ = tx.send(build(&opts));
+                // A closed editor no longer wants the outcome; the libraries are built
+                // and installed all the same.
+                if tx.send(build(&opts)).is_err() {
+                    bevy::log::info!("a module build ended after its editor closed");
+                }
             })
             .map_err(PluginError::io("starting the build of", &self.workspace))?;
         self.job = Some(Mutex::new(rx));

@@ -47,7 +47,7 @@ pub fn show_library(ui: &mut egui::Ui, state: &mut SetupState, overlaps: &[Strin
         );
     }
     for e in state.env().mesh_errors() {
-        ui.colored_label(egui::Color32::from_rgb(230, 80, 60), e);
+        ui.colored_label(egui::Color32::from_rgb(230, 80, 60), e.to_string());
     }
     for w in overlaps {
         ui.colored_label(egui::Color32::from_rgb(230, 140, 20), format!("⚠ {w}"));
