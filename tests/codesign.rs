@@ -88,3 +88,117 @@ fn a_killed_co_design_run_resumes_to_the_same_archive() {
         assert_eq!(r.score().unwrap(), r.stored_score, "{}", r.label);
     }
 }
+
+/// The flat co-design set-up in `dir`, with touch parts allowed and a wall across the floor
+/// 0.4 m ahead of the tail, where only bodies of 7 or more modules reach.
+fn walled_setup(dir: &std::path::Path) -> std::path::PathBuf {
+    let configs = common::root().join("configs");
+    let copy = |from: &str| {
+        let to = dir.join(from);
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        std::fs::copy(configs.join(from), to).unwrap();
+    };
+    for folder in ["parts", "sensors"] {
+        for file in std::fs::read_dir(configs.join(folder)).unwrap() {
+            let name = file.unwrap().file_name();
+            copy(&format!("{folder}/{}", name.to_string_lossy()));
+        }
+    }
+    copy("robots/snake5p.robot.xml");
+    copy("actuation/snake5p_sine40.actuation.xml");
+    let optimizer = std::fs::read_to_string(configs.join("optimizer/codesign.mapelites.xml"))
+        .unwrap()
+        .replace("<parts>plain</parts>", "<parts>plain touch</parts>");
+    std::fs::create_dir_all(dir.join("optimizer")).unwrap();
+    std::fs::write(dir.join("optimizer/codesign.mapelites.xml"), optimizer).unwrap();
+    let env = std::fs::read_to_string(configs.join("environments/flat.env.xml"))
+        .unwrap()
+        .replace(
+            "</Environment>",
+            r#"<KinBody name="wall"><Body type="static"><Translation>0 0.45 0.1</Translation>
+  <Geom type="box"><extents>1 0.05 0.1</extents></Geom></Body></KinBody>
+</Environment>"#,
+        );
+    std::fs::create_dir_all(dir.join("environments")).unwrap();
+    std::fs::write(dir.join("environments/walled.env.xml"), env).unwrap();
+    let sim = std::fs::read_to_string(common::root().join(CONFIG))
+        .unwrap()
+        .replace("environments/flat.env.xml", "environments/walled.env.xml");
+    let path = dir.join("codesign_walled.simulation.xml");
+    std::fs::write(&path, sim).unwrap();
+    path
+}
+
+#[test]
+fn invalid_bodies_are_rejected_unrun_with_their_reason() {
+    use proleg::optimize::design::{Candidate, Rejection};
+    let dir = common::scratch("codesign_rejects");
+    let config = walled_setup(&dir);
+    let registry = ModuleRegistry::standard();
+    let sim = load_simulation_in(&config, &registry).unwrap();
+    let (space, start) = prepare(&sim, &registry).unwrap();
+    let design = Design::of(&sim, Arc::new(FsSource)).unwrap();
+    // Genes: modules (from 3), 8 orientations, parts (plain, touch), the gait.
+    let body = |modules: u32, orientations: [u32; 8], parts: u32| {
+        let mut g = start.clone();
+        g[0] = modules - 3;
+        g[1..9].copy_from_slice(&orientations);
+        g[9] = parts;
+        g
+    };
+    let short = body(3, [0; 8], 0);
+    let long = body(9, [0; 8], 0);
+    let touch_yaw = body(4, [0, 1, 0, 0, 0, 0, 0, 0], 1);
+    let touch_pitch = body(4, [0; 8], 1);
+    let verdict = |g| match design.candidate(g, &registry).unwrap() {
+        Candidate::Run(_) => None,
+        Candidate::Rejected(why) => Some(why),
+    };
+    assert_eq!(verdict(&short), None);
+    assert_eq!(verdict(&touch_pitch), None);
+    let wall = verdict(&long).expect("the long body starts inside the wall");
+    assert!(matches!(&wall, Rejection::Start(_)), "{wall:?}");
+    assert!(wall.to_string().contains("wall"), "{wall}");
+    let pitch_only = verdict(&touch_yaw).expect("touch modules hold pitch joints only");
+    assert!(matches!(pitch_only, Rejection::Build(_)), "{pitch_only:?}");
+    assert!(
+        pitch_only.to_string().contains("joint 2 is yaw"),
+        "{pitch_only}"
+    );
+
+    // Rejected bodies score -inf with their reason; the others run.
+    let evaluator = Evaluator::new(&sim, &registry, &space, Fitness::Displacement, 1.0, 1);
+    let scored = evaluator
+        .evaluate_with(&[short, long, touch_yaw], |_, _, _| {})
+        .unwrap();
+    assert!(scored[0].score.is_finite() && scored[0].rejected.is_none());
+    assert_eq!(scored[1].score, f64::NEG_INFINITY);
+    assert_eq!(scored[1].rejected, Some(wall));
+    assert_eq!(scored[2].rejected, Some(pitch_only));
+
+    // A run stores each rejected body's reason, counts them, and keeps none in its archive.
+    let store = dir.join("run.sqlite");
+    let (ok, _, err) = common::optimize(config.to_str().unwrap(), ("60", "1"), &store, &[]);
+    assert!(ok, "{err}");
+    let location = proleg::optimize::store::StoreLocation::parse(store.to_str().unwrap()).unwrap();
+    let mut opened = proleg::optimize::store::Store::open_existing(&location).unwrap();
+    let evals = opened.evaluations(1).unwrap();
+    let reasons: Vec<&str> = evals.iter().filter_map(|e| e.rejected.as_deref()).collect();
+    assert!(
+        reasons.iter().any(|r| r.contains("inside wall")),
+        "{reasons:?}"
+    );
+    assert!(
+        reasons.iter().any(|r| r.contains("pitch joints only")),
+        "{reasons:?}"
+    );
+    for e in evals.iter().filter(|e| e.rejected.is_some()) {
+        assert_eq!(e.score, f64::NEG_INFINITY, "evaluation {}", e.number);
+    }
+    let (ok, out, err) = common::proleg(&["results", store.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains(&format!("{} bodies rejected unrun", reasons.len())),
+        "{out}"
+    );
+}

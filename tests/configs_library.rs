@@ -45,9 +45,8 @@ fn every_simulation_loads_and_every_file_is_used() {
             .and_then(proleg::optimize::design::DesignSpace::from_model)
         {
             let dir = s.parent().unwrap();
-            for part in space.part_includes() {
-                files.push(dir.join(part));
-            }
+            let source = proleg::config::source::FsSource;
+            files.extend(proleg::optimize::design::body_files(&space, &source, dir).unwrap());
         }
         for b in &sim.environment.bodies {
             for g in &b.geoms {

@@ -36,6 +36,9 @@ fn eval(number: u64, score: f64) -> StoredEval {
             (EngineKind::Rapier, score),
             (EngineKind::Mujoco, score / 2.0),
         ],
+        // A co-design body rejected unrun keeps its reason.
+        rejected: (score == f64::NEG_INFINITY)
+            .then(|| "self-intersecting start pose: links A and B overlap by 5 mm".into()),
         wall: 0.25,
     }
 }
@@ -65,20 +68,23 @@ fn conformance(store: &mut dyn ExperimentStore) {
     );
     assert!(!spec.finished);
 
-    // Out of order, in two transactions, a failed episode (NaN) among them.
-    let first = [eval(2, 1.5), eval(0, 0.5)];
+    // Out of order, in two transactions, a failed episode (NaN) and a rejected body
+    // (-inf, with its reason) among them.
+    let first = [eval(2, 1.5), eval(0, 0.5), eval(4, f64::NEG_INFINITY)];
     let second = [eval(1, f64::NAN), eval(3, 3.25)];
     store.record(run, 5, &first).expect("record");
     store.record(run, 5, &second).expect("record");
     let back = store.evaluations(run).expect("evaluations");
     assert_eq!(
         back.iter().map(|e| e.number).collect::<Vec<_>>(),
-        [0, 1, 2, 3]
+        [0, 1, 2, 3, 4]
     );
     assert_eq!(back[0], eval(0, 0.5));
     assert!(back[1].score.is_nan());
     assert_eq!(back[3], eval(3, 3.25));
-    assert_eq!(store.evaluations_from(run, 2).expect("from").len(), 2);
+    assert_eq!(back[4], eval(4, f64::NEG_INFINITY));
+    assert!(back[4].rejected.is_some());
+    assert_eq!(store.evaluations_from(run, 2).expect("from").len(), 3);
     assert!(store.evaluations(other).expect("none").is_empty());
 
     let rows = store.runs().expect("runs");
@@ -86,7 +92,7 @@ fn conformance(store: &mut dyn ExperimentStore) {
         .iter()
         .find(|r| r.id == run)
         .expect("the run is listed");
-    assert_eq!((row.evaluations, row.best_score), (4, Some(3.25)));
+    assert_eq!((row.evaluations, row.best_score), (5, Some(3.25)));
     assert_eq!(row.best_values.as_deref(), Some("13 45.5"));
     assert_eq!(row.best_engines, eval(3, 3.25).engines);
 

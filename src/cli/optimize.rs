@@ -393,10 +393,10 @@ fn stored_files(
     files
 }
 
-/// A co-design run's part files, read through `source` so that they are stored with the
-/// run (its bodies use parts the configuration's own robot may not): a worker builds the
-/// bodies from the store alone. A part that is not found is left to the first body that
-/// needs it, whose load names it; one that cannot be read is a warning.
+/// A co-design run's part files (and the sensors and meshes they include), read through
+/// `source` so that they are stored with the run (its bodies use parts the configuration's
+/// own robot may not): a worker builds the bodies from the store alone. Parts that do not
+/// load are a warning naming the file; the first body that needs them fails the run.
 fn record_design_parts(source: &RecordingSource, sim: &Simulation) {
     let Some(space) = sim
         .optimizer
@@ -405,18 +405,10 @@ fn record_design_parts(source: &RecordingSource, sim: &Simulation) {
     else {
         return;
     };
-    let robot = sim
-        .file
-        .parent()
-        .unwrap_or(Path::new(""))
-        .join("design.robot.xml");
-    for part in space.part_includes() {
-        if let Some(path) = crate::config::source::resolve_include(source, &robot, &part) {
-            // Reading records it.
-            if let Err(e) = crate::config::source::FileSource::read(source, &path) {
-                eprintln!("warning: {}: {e}", path.display());
-            }
-        }
+    let dir = sim.file.parent().unwrap_or(Path::new(""));
+    // Resolving the sample bodies reads, and so records, every file they use.
+    if let Err(e) = crate::optimize::design::body_files(&space, source, dir) {
+        eprintln!("warning: co-design parts: {e}");
     }
 }
 

@@ -101,6 +101,13 @@ fn describe(out: &mut String, r: &RunRow) {
             "  (unfinished: --resume continues it)"
         }
     );
+    if r.rejected > 0 {
+        let _ = writeln!(
+            out,
+            "         {} bodies rejected unrun (each with its reason: --export lists them)",
+            r.rejected
+        );
+    }
     if let (Some(s), Some(v)) = (r.best_score, &r.best_values) {
         let engines: Vec<String> = r
             .best_engines
@@ -178,7 +185,7 @@ pub fn run(o: &ResultsOptions, registry: &ModuleRegistry) -> Result<ResultsRepor
     }
     if let Some(tsv) = &o.export {
         let mut text = String::from(
-            "store\trun\tevaluation\tround\tscore\twall_s\tgenome\tvalues\tengine_scores\n",
+            "store\trun\tevaluation\tround\tscore\twall_s\tgenome\tvalues\tengine_scores\trejected\n",
         );
         for (store, runs) in &mut opened {
             let shown = store.describe();
@@ -188,7 +195,7 @@ pub fn run(o: &ResultsOptions, registry: &ModuleRegistry) -> Result<ResultsRepor
                     let v: Vec<String> = e.values.iter().map(|k| k.to_string()).collect();
                     let _ = writeln!(
                         text,
-                        "{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}",
+                        "{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}",
                         shown,
                         r.id,
                         e.number,
@@ -197,7 +204,8 @@ pub fn run(o: &ResultsOptions, registry: &ModuleRegistry) -> Result<ResultsRepor
                         e.wall,
                         g.join(" "),
                         v.join(" "),
-                        engine_scores_text(&e.engines)
+                        engine_scores_text(&e.engines),
+                        e.rejected.as_deref().unwrap_or_default()
                     );
                 }
             }

@@ -11,6 +11,7 @@
 //!   ranges, series) to check files against
 //! - [`remote`]: remote (gamepad) bindings to module parameters (our extension)
 //! - [`resolve`]: loading a simulation with all its includes into checked models
+//! - [`start_clearance`]: whether a robot's start pose is free of itself and the scenery
 //!
 //! Every error names the file, line and column and says what was expected
 //! ([`ConfigError`]). Each `parse_*_file` / `write_*_file` pair round-trips: writing a
@@ -38,6 +39,7 @@ pub mod sensor;
 pub mod servos;
 pub mod simulation;
 pub mod source;
+pub mod start_clearance;
 pub mod summary;
 pub mod transform;
 pub mod xml;

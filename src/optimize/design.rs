@@ -6,6 +6,11 @@
 //! registered parameter (uniform, of a module the actuation file names) is one gene per
 //! orientation of the alphabet, and a body's actuation drives each orientation group (its
 //! pitch joints, its yaw joints) with its own copy of the module and that group's values.
+//!
+//! A body the builder cannot make (touch modules with a yaw joint) or whose start pose is
+//! blocked (links overlapping each other, or the scenery: [`start_overlaps`]) is a
+//! [`Rejection`]: it is not run, scores `-inf` so no optimizer keeps it, and its reason is
+//! stored with the evaluation.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -18,12 +23,34 @@ use crate::config::mask::JointMask;
 use crate::config::morphology::Morphology;
 use crate::config::resolve::Simulation;
 use crate::config::resolve::optimizer::OptimizerModel;
-use crate::config::robot::write_robot_file;
-use crate::config::robot_builder::{Orientation, RobotSpec};
+use crate::config::resolve::robot::resolve_robot;
+use crate::config::robot::{parse_robot_file, write_robot_file};
+use crate::config::robot_builder::{BuildError, Orientation, PartSet, RobotSpec};
+use crate::config::start_clearance::{StartOverlap, start_overlaps};
 use crate::config::simulation::{FileRef, Mode, SimulationFile, write_simulation_file};
 use crate::config::source::{FileSource, MemSource, Overlay};
 use crate::control::ModuleRegistry;
 use crate::optimize::space::{Alleles, Gene, Genome, SearchSpace, alleles_of};
+
+/// Why a co-design candidate's body is not run.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Rejection {
+    /// The robot builder cannot make it.
+    #[error("the builder cannot make this body: {0}")]
+    Build(#[from] BuildError),
+    /// Its start pose is blocked.
+    #[error(transparent)]
+    Start(#[from] StartOverlap),
+}
+
+/// What a candidate genome becomes.
+#[derive(Debug)]
+pub enum Candidate {
+    /// A simulation to run.
+    Run(Box<Simulation>),
+    /// A body rejected unrun.
+    Rejected(Rejection),
+}
 
 /// A co-design run's bodies and gaits, and how a candidate becomes a simulation: its robot
 /// and actuation files written by the builder and laid over the run's own files.
@@ -96,6 +123,24 @@ impl Design {
                 write_simulation_file(&file),
             ),
         ]
+    }
+
+    /// The candidate's simulation, or why its body is rejected: the builder refuses it, or
+    /// its start pose is blocked. A file that does not load (a part missing) is an error of
+    /// the run's configuration, not of the body.
+    pub fn candidate(
+        &self,
+        genome: &Genome,
+        registry: &ModuleRegistry,
+    ) -> ConfigResult<Candidate> {
+        if let Err(e) = self.space.body(genome, "design").validate() {
+            return Ok(Candidate::Rejected(e.into()));
+        }
+        let sim = self.simulation(genome, registry)?;
+        Ok(match start_overlaps(&sim).into_iter().next() {
+            Some(blocked) => Candidate::Rejected(blocked.into()),
+            None => Candidate::Run(Box::new(sim)),
+        })
     }
 
     /// The candidate's simulation ([`Design::files`] beside the run's simulation file).
@@ -256,36 +301,27 @@ impl DesignSpace {
         }
     }
 
-    /// The part files (as robot files include them) that bodies of this space may use: a
-    /// run stores them with its configuration, so workers build bodies from the store.
-    pub fn part_includes(&self) -> Vec<String> {
-        use crate::config::robot_builder::PartSet;
-        let letters: Vec<char> = self
-            .morphology
-            .orientations
+    /// Bodies that together use every part of this space: per part set, a chain whose
+    /// joints hold every pair of orientations of the alphabet in a row.
+    pub fn sample_bodies(&self) -> Vec<RobotSpec> {
+        let alphabet = &self.morphology.orientations;
+        self.morphology
+            .parts
             .iter()
-            .map(|o| o.letter().to_ascii_uppercase())
-            .collect();
-        let mut names = Vec::new();
-        for set in &self.morphology.parts {
-            match set {
-                PartSet::Cube => names.push("Cube".to_string()),
-                PartSet::Touch => {
-                    names.extend(["TailPTouch", "HeadPTouch", "PPTouch"].map(String::from))
+            .map(|&parts| {
+                let joints = match parts {
+                    PartSet::Plain => alphabet
+                        .iter()
+                        .flat_map(|a| alphabet.iter().flat_map(move |b| [*a, *b]))
+                        .collect(),
+                    PartSet::Touch | PartSet::Cube => vec![Orientation::Pitch; 2],
+                };
+                RobotSpec {
+                    name: "sample".into(),
+                    joints,
+                    parts,
                 }
-                PartSet::Plain => {
-                    names.extend(["TailP", "HeadP"].map(String::from));
-                    for a in &letters {
-                        for b in &letters {
-                            names.push(format!("{a}{b}"));
-                        }
-                    }
-                }
-            }
-        }
-        names
-            .into_iter()
-            .map(|n| format!("parts/{n}.kinbody.xml"))
+            })
             .collect()
     }
 
@@ -299,6 +335,31 @@ impl DesignSpace {
             .count();
         yaw as f64 / body.joints.len().max(1) as f64
     }
+}
+
+/// Every file the bodies of `space` may read besides the run's own (their parts, and the
+/// sensors and meshes those include), found from the folder `dir` through `source`: each
+/// of [`DesignSpace::sample_bodies`] is resolved there. A co-design run stores them, so a
+/// worker builds the bodies from the store alone.
+pub fn body_files(
+    space: &DesignSpace,
+    source: &dyn FileSource,
+    dir: &Path,
+) -> ConfigResult<Vec<PathBuf>> {
+    let path = dir.join("design.robot.xml");
+    let mut files = Vec::new();
+    for body in space.sample_bodies() {
+        let text = write_robot_file(&body.to_robot_file("parts"));
+        let mut top = MemSource::new();
+        top.insert(&path, text.clone());
+        let overlay = Overlay { top, base: source };
+        let file = parse_robot_file(&path.display().to_string(), &text)?;
+        let model = resolve_robot(&overlay, &path, &file)?;
+        files.extend(model.files.into_iter().filter(|f| *f != path));
+    }
+    files.sort();
+    files.dedup();
+    Ok(files)
 }
 
 #[cfg(test)]

@@ -16,6 +16,7 @@ use crate::config::cross_engine::CrossEngine;
 use crate::config::simulation::EngineKind;
 use crate::control::ModuleRegistry;
 use crate::measure::ground_distance;
+use crate::optimize::design::{Candidate, Design, Rejection};
 use crate::optimize::fitness::{Episode, Fitness};
 use crate::optimize::robust::RobustEpisodes;
 use crate::optimize::space::{Genome, SearchSpace};
@@ -73,6 +74,8 @@ pub struct CandidateScore {
     pub score: f64,
     /// Each engine's score, in the optimizer file's order (empty on one engine).
     pub engines: Vec<(EngineKind, f64)>,
+    /// Why a co-design candidate's body was not run (its score is then `-inf`).
+    pub rejected: Option<Rejection>,
 }
 
 impl CandidateScore {
@@ -81,6 +84,16 @@ impl CandidateScore {
         CandidateScore {
             score,
             engines: Vec::new(),
+            rejected: None,
+        }
+    }
+
+    /// A body rejected unrun: `-inf`, with its reason.
+    pub fn rejected(why: Rejection) -> CandidateScore {
+        CandidateScore {
+            score: f64::NEG_INFINITY,
+            engines: Vec::new(),
+            rejected: Some(why),
         }
     }
 }
@@ -230,6 +243,9 @@ impl Evaluator {
 
     /// The scores of `genomes`, each with its engines' scores when it runs on several.
     pub fn run_batch_scored(&self, genomes: &[Genome]) -> Result<Vec<CandidateScore>, EvalError> {
+        if let Some(design) = &self.design {
+            return genomes.iter().map(|g| self.run_design(design, g)).collect();
+        }
         let Some(cross) = &self.cross else {
             let scores = self.run_batch_on(None, genomes)?;
             return Ok(scores.into_iter().map(CandidateScore::single).collect());
@@ -246,9 +262,36 @@ impl Evaluator {
             scores.push(CandidateScore {
                 score: cross.combine.apply(&row),
                 engines: per_engine.iter().map(|(k, s)| (*k, s[i])).collect(),
+                rejected: None,
             });
         }
         Ok(scores)
+    }
+
+    /// A co-design candidate's score: its body built and run in a world of its own (on
+    /// each engine with cross-engine scores), or rejected unrun.
+    fn run_design(&self, design: &Design, genome: &Genome) -> Result<CandidateScore, EvalError> {
+        let sim = match design.candidate(genome, &self.registry) {
+            Ok(Candidate::Run(sim)) => sim,
+            Ok(Candidate::Rejected(why)) => return Ok(CandidateScore::rejected(why)),
+            Err(e) => return Err(EvalError::Design(Box::new(e))),
+        };
+        let one = std::slice::from_ref(genome);
+        let Some(cross) = &self.cross else {
+            let world = (self.seed, SensorNoise::default(), None);
+            return Ok(CandidateScore::single(self.run_world(&sim, world, one)?[0]));
+        };
+        let mut engines = Vec::with_capacity(cross.engines.len());
+        for &kind in &cross.engines {
+            let world = (self.seed, SensorNoise::default(), Some(kind));
+            engines.push((kind, self.run_world(&sim, world, one)?[0]));
+        }
+        let row: Vec<f64> = engines.iter().map(|(_, s)| *s).collect();
+        Ok(CandidateScore {
+            score: cross.combine.apply(&row),
+            engines,
+            rejected: None,
+        })
     }
 
     /// The scores of `genomes` on `engine` (`None`: the simulation's): one world with a
@@ -259,17 +302,6 @@ impl Evaluator {
         engine: Option<EngineKind>,
         genomes: &[Genome],
     ) -> Result<Vec<f64>, EvalError> {
-        if let Some(design) = &self.design {
-            let world = (self.seed, SensorNoise::default(), engine);
-            let mut scores = Vec::with_capacity(genomes.len());
-            for g in genomes {
-                let sim = design
-                    .simulation(g, &self.registry)
-                    .map_err(|e| EvalError::Design(Box::new(e)))?;
-                scores.extend(self.run_world(&sim, world, std::slice::from_ref(g))?);
-            }
-            return Ok(scores);
-        }
         let Some(robust) = &self.robust else {
             let world = (self.seed, SensorNoise::default(), engine);
             return self.run_world(&self.sim, world, genomes);

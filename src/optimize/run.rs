@@ -559,6 +559,7 @@ fn simulate_missing(
                         values: space.decode(&r.candidates[i]),
                         score: s.score,
                         engines: s.engines.clone(),
+                        rejected: s.rejected.as_ref().map(ToString::to_string),
                         wall: wall / batch_scores.len().max(1) as f64,
                     }
                 })

@@ -55,9 +55,9 @@ impl Aabb {
     }
 }
 
-/// How deep (m) an object's bounds may reach into the robot's before the editor warns
-/// (a robot resting on the floor touches it).
-pub const OVERLAP_TOLERANCE: f64 = 0.002;
+/// How deep (m) an object's bounds may reach into the robot's before the editor warns (the
+/// same depth a co-design search rejects a body at).
+pub use crate::config::start_clearance::OVERLAP_TOLERANCE;
 
 /// Bounds of a box, sphere or cylinder in its own frame (meshes: see the callers).
 pub(super) fn shape_aabb(shape: &Shape) -> Option<Aabb> {

@@ -9,7 +9,7 @@
 //! | `runs` | what identifies a run ([`RunInfo`]), when it started, whether it finished, the program that started it |
 //! | `run_files` | the run's resolved configuration: every file it read (simulation, robot, parts, actuation, environment, meshes, optimizer) |
 //! | `run_episodes` | robust fitness: each randomized episode's seed and what it drew |
-//! | `evaluations` | one row per candidate: number, round, genome, values, score, its score on each engine (`engine_scores`, runs with `<engines>`), seed, wall seconds; and for shared evaluation its `state` (`pending`, `running`, `done`), the claiming `worker`, the claim's `attempt` and `lease_until` |
+//! | `evaluations` | one row per candidate: number, round, genome, values, score, its score on each engine (`engine_scores`, runs with `<engines>`), why its body was rejected (`rejected`, co-design; NULL for a body that ran), seed, wall seconds; and for shared evaluation its `state` (`pending`, `running`, `done`), the claiming `worker`, the claim's `attempt` and `lease_until` |
 //!
 //! [`sqlite`] is the embedded store of one machine (evaluations run in the optimizing
 //! process); [`pg`] a PostgreSQL database shared by a driver and `proleg worker`s on many
@@ -30,8 +30,8 @@ pub use pg::PgStore;
 pub use sqlite::SqliteStore;
 
 /// The layout this program reads and writes (1: before shared evaluation; 2: before
-/// `run_episodes`; 3: before `evaluations.engine_scores`).
-pub const SCHEMA_VERSION: i64 = 4;
+/// `run_episodes`; 3: before `evaluations.engine_scores`; 4: before `evaluations.rejected`).
+pub const SCHEMA_VERSION: i64 = 5;
 
 /// The program that starts a run, stored with it: a worker of another version refuses the
 /// run (its physics may differ, so its scores would not be the driver's).
@@ -75,6 +75,8 @@ pub struct RunRow {
     pub best_values: Option<String>,
     /// The best candidate's score on each engine (runs with `<engines>`; else empty).
     pub best_engines: Vec<(EngineKind, f64)>,
+    /// Co-design bodies rejected unrun.
+    pub rejected: u64,
 }
 
 /// Everything a worker needs to evaluate a run's candidates.
@@ -120,6 +122,8 @@ pub struct StoredEval {
     pub score: f64,
     /// Its score on each engine, when the run scores on several (`<engines>`).
     pub engines: Vec<(EngineKind, f64)>,
+    /// Why its body was rejected unrun (a co-design candidate; its score is then `-inf`).
+    pub rejected: Option<String>,
     /// Wall seconds of its evaluation (a batch's shared by its candidates).
     pub wall: f64,
 }
@@ -221,7 +225,7 @@ impl std::ops::DerefMut for Store {
 }
 
 /// One row of `evaluations` as both drivers read it (number, round, genome, vals, score,
-/// wall, engine_scores), before its text columns are parsed by [`EvalRow::parse`].
+/// wall, engine_scores, rejected), before its text columns are parsed by [`EvalRow::parse`].
 pub(crate) struct EvalRow {
     pub number: i64,
     pub round: i64,
@@ -230,10 +234,12 @@ pub(crate) struct EvalRow {
     pub score: Option<f64>,
     pub wall: f64,
     pub engines: String,
+    pub rejected: Option<String>,
 }
 
 /// The columns both drivers select for an [`EvalRow`], in its order.
-pub(crate) const EVAL_COLUMNS: &str = "number, round, genome, vals, score, wall, engine_scores";
+pub(crate) const EVAL_COLUMNS: &str =
+    "number, round, genome, vals, score, wall, engine_scores, rejected";
 
 impl EvalRow {
     /// The stored evaluation, each text column parsed; a column that does not parse is a
@@ -252,6 +258,7 @@ impl EvalRow {
             values: place.list("vals", &self.vals)?,
             score: self.score.unwrap_or(f64::NAN),
             engines: place.engines(&self.engines)?,
+            rejected: self.rejected,
             wall: self.wall,
         })
     }
@@ -319,7 +326,8 @@ pub(crate) const RUNS_WITH_BEST: &str = "SELECT r.id, r.config, r.algorithm, r.s
         (SELECT vals FROM evaluations e WHERE e.run = r.id AND e.state = 'done' AND e.score IS NOT NULL
          ORDER BY score DESC, number LIMIT 1),
         (SELECT engine_scores FROM evaluations e WHERE e.run = r.id AND e.state = 'done' AND e.score IS NOT NULL
-         ORDER BY score DESC, number LIMIT 1)
+         ORDER BY score DESC, number LIMIT 1),
+        (SELECT COUNT(*) FROM evaluations e WHERE e.run = r.id AND e.state = 'done' AND e.rejected IS NOT NULL)
      FROM runs r ORDER BY r.id";
 
 /// Numbers as one space-separated text column.

@@ -43,7 +43,7 @@ CREATE TABLE run_episodes (
 CREATE TABLE evaluations (
     run BIGINT NOT NULL REFERENCES runs(id), number BIGINT NOT NULL,
     round BIGINT NOT NULL, genome TEXT NOT NULL, vals TEXT NOT NULL,
-    score DOUBLE PRECISION, engine_scores TEXT NOT NULL DEFAULT '',
+    score DOUBLE PRECISION, engine_scores TEXT NOT NULL DEFAULT '', rejected TEXT,
     seed BIGINT NOT NULL, wall DOUBLE PRECISION NOT NULL DEFAULT 0,
     state TEXT NOT NULL DEFAULT 'done' CHECK (state IN ('pending', 'running', 'done')),
     worker TEXT, attempt INTEGER NOT NULL DEFAULT 0, lease_until TIMESTAMPTZ,
@@ -61,6 +61,11 @@ UPDATE proleg_meta SET schema_version = 3;";
 const FROM_V3: &str = "
 ALTER TABLE evaluations ADD COLUMN engine_scores TEXT NOT NULL DEFAULT '';
 UPDATE proleg_meta SET schema_version = 4;";
+
+/// Version 4 to 5: why a co-design body was rejected.
+const FROM_V4: &str = "
+ALTER TABLE evaluations ADD COLUMN rejected TEXT;
+UPDATE proleg_meta SET schema_version = 5;";
 
 impl PgStore {
     /// Connects; with `create`, makes the tables when the database has none. A database
@@ -84,9 +89,14 @@ impl PgStore {
             Some(2) if create => {
                 tx.batch_execute(FROM_V2).map_err(&fail)?;
                 tx.batch_execute(FROM_V3).map_err(&fail)?;
+                tx.batch_execute(FROM_V4).map_err(&fail)?;
             }
             Some(3) if create => {
                 tx.batch_execute(FROM_V3).map_err(&fail)?;
+                tx.batch_execute(FROM_V4).map_err(&fail)?;
+            }
+            Some(4) if create => {
+                tx.batch_execute(FROM_V4).map_err(&fail)?;
             }
             Some(v) => {
                 return Err(StoreError::Schema {
@@ -265,11 +275,11 @@ impl ExperimentStore for PgStore {
         let mut tx = self.client.transaction().map_err(&fail)?;
         let st = tx
             .prepare(
-                "INSERT INTO evaluations (run, number, round, genome, vals, score, seed, wall, engine_scores)
-                 VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9)
+                "INSERT INTO evaluations (run, number, round, genome, vals, score, seed, wall, engine_scores, rejected)
+                 VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10)
                  ON CONFLICT (run, number) DO UPDATE SET round = EXCLUDED.round,
                    genome = EXCLUDED.genome, vals = EXCLUDED.vals, score = EXCLUDED.score,
-                   engine_scores = EXCLUDED.engine_scores,
+                   engine_scores = EXCLUDED.engine_scores, rejected = EXCLUDED.rejected,
                    seed = EXCLUDED.seed, wall = EXCLUDED.wall, state = 'done', lease_until = NULL",
             )
             .map_err(&fail)?;
@@ -286,6 +296,7 @@ impl ExperimentStore for PgStore {
                     &(seed as i64),
                     &e.wall,
                     &engine_scores_text(&e.engines),
+                    &e.rejected,
                 ],
             )
             .map_err(&fail)?;
@@ -317,6 +328,7 @@ impl ExperimentStore for PgStore {
                     score: r.try_get(4)?,
                     wall: r.try_get(5)?,
                     engines: r.try_get(6)?,
+                    rejected: r.try_get(7)?,
                 };
                 Ok::<_, postgres::Error>(row)
             })
@@ -359,6 +371,7 @@ impl ExperimentStore for PgStore {
                     best_score: r.try_get(10)?,
                     best_values: r.try_get(11)?,
                     best_engines: Vec::new(),
+                    rejected: r.try_get::<_, i64>(13)? as u64,
                 };
                 Ok::<_, postgres::Error>((row, r.try_get::<_, Option<String>>(12)?))
             })

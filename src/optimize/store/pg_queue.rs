@@ -189,7 +189,7 @@ impl PgStore {
             .query(
                 "WITH done AS (
                      UPDATE evaluations SET state = 'done', score = $1, wall = $2, lease_until = NULL,
-                       engine_scores = $7
+                       engine_scores = $7, rejected = $8
                      WHERE run = $3 AND number = $4 AND attempt = $5 AND worker = $6
                        AND state = 'running' AND lease_until >= now()
                      RETURNING run)
@@ -202,6 +202,7 @@ impl PgStore {
                     &claim.attempt,
                     &worker,
                     &engine_scores_text(&score.engines),
+                    &score.rejected.as_ref().map(ToString::to_string),
                 ],
             )
             .map_err(&fail)?;

@@ -36,7 +36,7 @@ CREATE TABLE IF NOT EXISTS run_episodes (
 CREATE TABLE IF NOT EXISTS evaluations (
     run INTEGER NOT NULL REFERENCES runs(id), number INTEGER NOT NULL,
     round INTEGER NOT NULL, genome TEXT NOT NULL, vals TEXT NOT NULL,
-    score REAL, engine_scores TEXT NOT NULL DEFAULT '', seed INTEGER NOT NULL,
+    score REAL, engine_scores TEXT NOT NULL DEFAULT '', rejected TEXT, seed INTEGER NOT NULL,
     wall REAL NOT NULL DEFAULT 0, state TEXT NOT NULL DEFAULT 'done', worker TEXT, attempt INTEGER NOT NULL DEFAULT 0,
     lease_until REAL,
     PRIMARY KEY (run, number));";
@@ -51,6 +51,9 @@ ALTER TABLE evaluations ADD COLUMN lease_until REAL;";
 
 /// Versions 1 to 3 to 4: each evaluation's scores on several engines.
 const TO_V4: &str = "ALTER TABLE evaluations ADD COLUMN engine_scores TEXT NOT NULL DEFAULT '';";
+
+/// Versions 1 to 4 to 5: why a co-design body was rejected.
+const TO_V5: &str = "ALTER TABLE evaluations ADD COLUMN rejected TEXT;";
 
 impl SqliteStore {
     /// Opens (creating if needed) the store at `path`.
@@ -106,8 +109,11 @@ impl SqliteStore {
                 if old == Some(1) {
                     self.conn.execute_batch(FROM_V1).map_err(|e| self.fail(e))?;
                 }
-                if old.is_some() {
+                if old.is_some_and(|v| v < 4) {
                     self.conn.execute_batch(TO_V4).map_err(|e| self.fail(e))?;
+                }
+                if old.is_some() {
+                    self.conn.execute_batch(TO_V5).map_err(|e| self.fail(e))?;
                 }
                 self.conn.execute_batch(CREATE).map_err(|e| self.fail(e))?;
                 self.conn
@@ -261,8 +267,8 @@ impl ExperimentStore for SqliteStore {
         {
             let mut st = tx
                 .prepare_cached(
-                    "INSERT OR REPLACE INTO evaluations (run, number, round, genome, vals, score, seed, wall, engine_scores)
-                     VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)",
+                    "INSERT OR REPLACE INTO evaluations (run, number, round, genome, vals, score, seed, wall, engine_scores, rejected)
+                     VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)",
                 )
                 .map_err(fail)?;
             for e in evals {
@@ -275,7 +281,8 @@ impl ExperimentStore for SqliteStore {
                     score_of(e.score),
                     seed as i64,
                     e.wall,
-                    engine_scores_text(&e.engines)
+                    engine_scores_text(&e.engines),
+                    e.rejected
                 ])
                 .map_err(fail)?;
             }
@@ -314,6 +321,7 @@ impl ExperimentStore for SqliteStore {
                     score: r.get(4)?,
                     wall: r.get(5)?,
                     engines: r.get(6)?,
+                    rejected: r.get(7)?,
                 })
             })
             .map_err(|e| self.fail(e))?;
@@ -347,6 +355,7 @@ impl ExperimentStore for SqliteStore {
                     best_score: r.get(10)?,
                     best_values: r.get(11)?,
                     best_engines: Vec::new(),
+                    rejected: r.get::<_, i64>(13)? as u64,
                 };
                 Ok((row, r.get::<_, Option<String>>(12)?))
             })
@@ -406,8 +415,9 @@ mod tests {
         assert_eq!(runs.len(), 1);
         assert_eq!(runs[0].best_score, Some(0.5));
         assert_eq!(store.evaluations(1).unwrap()[0].genome, vec![4]);
-        // Version 3's run_episodes is there (empty for an old run), and version 4's engine
-        // scores (none for an old run; new rows keep theirs).
+        // Version 3's run_episodes is there (empty for an old run), version 4's engine
+        // scores and version 5's rejection reasons (none for an old run; new rows keep
+        // theirs).
         assert!(store.run_spec(1).unwrap().episodes.is_empty());
         assert!(store.evaluations(1).unwrap()[0].engines.is_empty());
         let mut store = store;
@@ -419,10 +429,16 @@ mod tests {
             values: vec![50.0],
             score: 0.25,
             engines: both.clone(),
+            rejected: Some("a reason".into()),
             wall: 0.1,
         };
         store.record(1, 3, &[e]).unwrap();
         assert_eq!(store.evaluations_from(1, 1).unwrap()[0].engines, both);
+        assert_eq!(
+            store.evaluations_from(1, 1).unwrap()[0].rejected.as_deref(),
+            Some("a reason")
+        );
+        assert_eq!(store.evaluations(1).unwrap()[0].rejected, None);
         assert_eq!(store.runs().unwrap()[0].best_engines, Vec::new());
         drop(store);
         // A store of a newer schema is refused.
