@@ -1,6 +1,7 @@
 //! Co-design: a genome's body is the robot the builder makes, it loads and runs like any
 //! robot, the same candidate scores the same every time, a killed co-design run resumes
-//! to the same archive, and a stored body replays to its stored score.
+//! to the same archive, a stored body replays to its stored score, and invalid bodies are
+//! rejected unrun with their reason.
 
 mod common;
 
@@ -201,4 +202,59 @@ fn invalid_bodies_are_rejected_unrun_with_their_reason() {
         out.contains(&format!("{} bodies rejected unrun", reasons.len())),
         "{out}"
     );
+}
+
+#[test]
+fn a_self_intersecting_start_pose_names_its_links() {
+    use proleg::config::start_clearance::{StartOverlap, start_overlaps};
+    let dir = common::scratch("start_overlap");
+    let body = |name: &str, y: f64| {
+        format!(
+            "<Body name=\"{name}\" type=\"dynamic\"><Translation>0 {y} 0.03</Translation>\
+             <Geom type=\"box\"><extents>0.03 0.03 0.03</extents></Geom></Body>\n"
+        )
+    };
+    let joint = |name: &str, a: &str, b: &str| {
+        format!(
+            "<Joint type=\"hinge\" name=\"{name}\"><Body>{a}</Body><Body>{b}</Body>\
+             <offsetfrom>{b}</offsetfrom><axis>1 0 0</axis></Joint>\n"
+        )
+    };
+    let write = |c: f64| {
+        let robot = format!(
+            "<Robot name=\"fold\"><KinBody name=\"fold\">\n{}{}{}{}{}</KinBody></Robot>\n",
+            body("a", 0.0),
+            body("b", 0.06),
+            body("c", c),
+            joint("j1", "a", "b"),
+            joint("j2", "b", "c")
+        );
+        std::fs::write(dir.join("fold.robot.xml"), robot).unwrap();
+        std::fs::write(
+            dir.join("fold.actuation.xml"),
+            "<actuation><validRobot robotName=\"fold.robot.xml\"/></actuation>",
+        )
+        .unwrap();
+        let sim = dir.join("fold.simulation.xml");
+        std::fs::write(
+            &sim,
+            "<simulation><robot>fold.robot.xml</robot><actuation>fold.actuation.xml</actuation>\
+             <simulationProperties><stepWidth>0.001</stepWidth><duration>1</duration>\
+             </simulationProperties></simulation>",
+        )
+        .unwrap();
+        load_simulation_in(&sim, &ModuleRegistry::standard()).unwrap()
+    };
+    // Link c folded back 2 cm into link a (which no joint connects to it); the touching
+    // neighbours a-b and b-c do not count.
+    let folded = start_overlaps(&write(0.04));
+    assert_eq!(folded.len(), 1, "{folded:?}");
+    let StartOverlap::SelfIntersection { a, b, depth } = &folded[0] else {
+        panic!("{folded:?}")
+    };
+    assert_eq!((a.as_str(), b.as_str()), ("a", "c"));
+    assert!((depth - 0.02).abs() < 1e-9, "{depth}");
+    assert!(folded[0].to_string().contains("self-intersecting"));
+    // Laid out straight, nothing overlaps.
+    assert_eq!(start_overlaps(&write(0.12)), Vec::new());
 }

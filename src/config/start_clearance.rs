@@ -82,7 +82,9 @@ impl Obb {
 
     /// The box's half width along unit direction `d`.
     fn reach(&self, d: [f64; 3]) -> f64 {
-        (0..3).map(|k| self.half[k] * dot(self.axes[k], d).abs()).sum()
+        (0..3)
+            .map(|k| self.half[k] * dot(self.axes[k], d).abs())
+            .sum()
     }
 
     /// How deep the boxes overlap: the smallest overlap of their projections onto the
@@ -218,7 +220,11 @@ mod tests {
         // apart, though their axis-aligned bounds overlap.
         let s = std::f64::consts::FRAC_1_SQRT_2;
         let turned = Obb {
-            centre: [0.5 + 0.1 + 0.5 * 2f64.sqrt(), 0.5 + 0.1 + 0.5 * 2f64.sqrt(), 0.0],
+            centre: [
+                0.5 + 0.1 + 0.5 * 2f64.sqrt(),
+                0.5 + 0.1 + 0.5 * 2f64.sqrt(),
+                0.0,
+            ],
             axes: [[s, s, 0.0], [-s, s, 0.0], [0.0, 0.0, 1.0]],
             half: [0.5; 3],
         };

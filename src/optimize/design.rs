@@ -26,9 +26,9 @@ use crate::config::resolve::optimizer::OptimizerModel;
 use crate::config::resolve::robot::resolve_robot;
 use crate::config::robot::{parse_robot_file, write_robot_file};
 use crate::config::robot_builder::{BuildError, Orientation, PartSet, RobotSpec};
-use crate::config::start_clearance::{StartOverlap, start_overlaps};
 use crate::config::simulation::{FileRef, Mode, SimulationFile, write_simulation_file};
 use crate::config::source::{FileSource, MemSource, Overlay};
+use crate::config::start_clearance::{StartOverlap, start_overlaps};
 use crate::control::ModuleRegistry;
 use crate::optimize::space::{Alleles, Gene, Genome, SearchSpace, alleles_of};
 
@@ -128,11 +128,7 @@ impl Design {
     /// The candidate's simulation, or why its body is rejected: the builder refuses it, or
     /// its start pose is blocked. A file that does not load (a part missing) is an error of
     /// the run's configuration, not of the body.
-    pub fn candidate(
-        &self,
-        genome: &Genome,
-        registry: &ModuleRegistry,
-    ) -> ConfigResult<Candidate> {
+    pub fn candidate(&self, genome: &Genome, registry: &ModuleRegistry) -> ConfigResult<Candidate> {
         if let Err(e) = self.space.body(genome, "design").validate() {
             return Ok(Candidate::Rejected(e.into()));
         }
