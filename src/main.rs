@@ -328,6 +328,19 @@ struct ResultsArgs {
     /// The folder --export-robot writes.
     #[arg(short, long)]
     out: Option<PathBuf>,
+    /// Render a co-design run's best distinct bodies (the first run listed: choose it with
+    /// --runs) off-screen, each replayed with its gait, into this PNG as a captioned grid.
+    #[arg(long)]
+    gallery: Option<PathBuf>,
+    /// With --gallery: how many designs.
+    #[arg(long, default_value_t = 6, requires = "gallery")]
+    gallery_count: usize,
+    /// With --gallery: each picture's size in pixels, WIDTHxHEIGHT.
+    #[arg(long, default_value = "480x320", value_parser = cli::parse_size, requires = "gallery")]
+    gallery_tile: (u32, u32),
+    /// With --gallery: the moment of each design's episode shown (simulated seconds).
+    #[arg(long, default_value_t = 3.0, requires = "gallery")]
+    gallery_at: f64,
 }
 
 /// `proleg gui`: the control window on a simulation, or replaying a stored evaluation.
@@ -607,9 +620,9 @@ fn results_command(a: ResultsArgs, registry: &proleg::control::ModuleRegistry) -
             }
         })?)),
     };
-    printed(cli::results::run(
+    let report = cli::results::run(
         &cli::results::ResultsOptions {
-            stores: a.stores,
+            stores: a.stores.clone(),
             runs: a.runs,
             curve: a.curve,
             export: a.export,
@@ -617,7 +630,61 @@ fn results_command(a: ResultsArgs, registry: &proleg::control::ModuleRegistry) -
             export_robot: export_robot.map(|n| (n, a.out.unwrap_or_default())),
         },
         registry,
-    ))
+    )?;
+    let Some(out) = a.gallery else {
+        return Ok(report.to_string());
+    };
+    let run = report
+        .stores
+        .first()
+        .and_then(|(_, runs)| runs.first())
+        .ok_or(cli::error::CliError::NoRun(0))?
+        .id;
+    let gallery = gallery(
+        GalleryArgs {
+            store: a.stores[0].clone(),
+            run,
+            count: a.gallery_count,
+            tile: a.gallery_tile,
+            at: a.gallery_at,
+            out,
+        },
+        registry,
+    )?;
+    Ok(format!("{report}{gallery}"))
+}
+
+/// What `--gallery` renders.
+struct GalleryArgs {
+    store: String,
+    run: i64,
+    count: usize,
+    tile: (u32, u32),
+    at: f64,
+    out: PathBuf,
+}
+
+/// `proleg results --gallery`: the best bodies rendered off-screen.
+fn gallery(g: GalleryArgs, registry: &proleg::control::ModuleRegistry) -> Printed {
+    #[cfg(feature = "gui")]
+    {
+        let request = proleg::gui::video::gallery::GalleryRequest {
+            store: g.store,
+            run: g.run,
+            count: g.count,
+            tile: g.tile,
+            at: g.at,
+            out: g.out,
+        };
+        proleg::gui::video::gallery::render_gallery(&request, registry)
+            .map(|r| r.to_string())
+            .map_err(Into::into)
+    }
+    #[cfg(not(feature = "gui"))]
+    {
+        let _ = (g.store, g.run, g.count, g.tile, g.at, g.out, registry);
+        Err(Box::new(cli::error::CliError::Options(NO_WINDOWS)))
+    }
 }
 
 /// `proleg import`: the URDF's robot, floor, gait and simulation files in `--out`.

@@ -140,3 +140,96 @@ fn the_record_button_records_what_the_window_shows() {
     assert!(frames >= 4, "{frames} frames recorded in 8 window frames");
     assert_eq!(probe(&video), (frames, 1280, 800));
 }
+
+#[test]
+fn a_co_design_gallery_shows_each_best_body_rendered_and_captioned() {
+    let dir = scratch("gallery");
+    let store = dir.join("codesign.sqlite");
+    let (ok, _, err) = common::optimize(
+        "configs/codesign_flat.simulation.xml",
+        ("40", "1"),
+        &store,
+        &[],
+    );
+    assert!(ok, "{err}");
+    let png = dir.join("gallery.png");
+    let out = run_offscreen(&[
+        "results",
+        store.to_str().unwrap(),
+        "--gallery",
+        png.to_str().unwrap(),
+        "--gallery-count",
+        "4",
+        "--gallery-tile",
+        "160x120",
+        "--gallery-at",
+        "0.5",
+    ]);
+    // Four distinct bodies, best first, each with its stored evaluation.
+    let ranked: Vec<(f64, String)> = out
+        .lines()
+        .skip_while(|l| !l.starts_with("gallery of 4 designs (2 x 2"))
+        .skip(1)
+        .map(|l| {
+            let mut w = l.split_whitespace().skip(1);
+            let score: f64 = w.next().unwrap().parse().unwrap();
+            let body: Vec<&str> = w.skip(2).collect();
+            (score, body.join(" "))
+        })
+        .collect();
+    assert_eq!(ranked.len(), 4, "{out}");
+    assert!(ranked.windows(2).all(|p| p[0].0 >= p[1].0), "{ranked:?}");
+    let mut bodies: Vec<&String> = ranked.iter().map(|(_, b)| b).collect();
+    bodies.dedup();
+    assert_eq!(bodies.len(), 4, "{ranked:?}");
+    // A 2 x 2 grid of 160 x 120 pictures, each over a 46-px caption; every picture
+    // shows a scene (many colours, not an empty frame) and each differs from the others.
+    let (pixels, w, h, channels) = common::window::png_pixels(&png);
+    assert_eq!((w, h), (320, 2 * (120 + 46)));
+    let tile = |k: u32| -> Vec<[u8; 3]> {
+        let (x0, y0) = ((k % 2) * 160, (k / 2) * 166);
+        let mut v = Vec::new();
+        for y in y0..y0 + 120 {
+            for x in x0..x0 + 160 {
+                let i = ((y * w + x) as usize) * channels;
+                v.push([pixels[i], pixels[i + 1], pixels[i + 2]]);
+            }
+        }
+        v
+    };
+    let tiles: Vec<Vec<[u8; 3]>> = (0..4).map(tile).collect();
+    for (k, t) in tiles.iter().enumerate() {
+        let mut colours = t.clone();
+        colours.sort_unstable();
+        colours.dedup();
+        assert!(colours.len() > 50, "picture {k}: {} colours", colours.len());
+    }
+    for a in 0..4 {
+        for b in a + 1..4 {
+            assert_ne!(tiles[a], tiles[b], "pictures {a} and {b}");
+        }
+    }
+
+    // A run of one fixed body has no gallery: said plainly.
+    let gait = dir.join("gait.sqlite");
+    let (ok, _, err) = common::optimize(
+        "configs/gait_flat.simulation.xml",
+        ("10", "0.2"),
+        &gait,
+        &[],
+    );
+    assert!(ok, "{err}");
+    let out = Command::new(env!("CARGO_BIN_EXE_proleg"))
+        .args(["results", gait.to_str().unwrap(), "--gallery"])
+        .arg(dir.join("none.png"))
+        .current_dir(common::root())
+        .output()
+        .expect("proleg");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("a gallery shows the bodies of a co-design run"),
+        "{err}"
+    );
+    assert!(!dir.join("none.png").exists());
+}

@@ -208,6 +208,16 @@ impl RobotSpec {
         self.joints.len() + 1
     }
 
+    /// The body in one phrase: `8 modules yppyppp plain`.
+    pub fn summary(&self) -> String {
+        format!(
+            "{} modules {} {}",
+            self.modules(),
+            topology_string(&self.joints),
+            self.parts.name()
+        )
+    }
+
     /// The robot file; `parts_dir` is the parts folder as seen from the robot file
     /// (e.g. `../parts`).
     pub fn to_robot_file(&self, parts_dir: &str) -> RobotFile {

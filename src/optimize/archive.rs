@@ -72,15 +72,9 @@ pub fn stored_archive(
     let labels = [axes[0].label(&space), axes[1].label(&space)];
     let evaluations = store.evaluations(run)?;
     let archive = Archive::replayed(axes, evaluations.iter().map(|e| (&e.genome, e.score)));
-    let best_body = design.zip(archive.best()).map(|(d, (g, _))| {
-        let body = d.body(g, "best");
-        format!(
-            "{} modules {} {}",
-            body.modules(),
-            crate::config::robot_builder::topology_string(&body.joints),
-            body.parts.name()
-        )
-    });
+    let best_body = design
+        .zip(archive.best())
+        .map(|(d, (g, _))| d.body(g, "best").summary());
     Ok(Some(StoredArchive {
         run,
         archive,

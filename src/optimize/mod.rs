@@ -15,6 +15,7 @@ pub mod error;
 pub mod evaluate;
 pub mod fitness;
 pub mod ga;
+pub mod gallery;
 pub mod map_elites;
 pub mod replay;
 pub mod result;

@@ -82,18 +82,25 @@ pub fn get<'a>(s: &'a [(String, String)], key: &str) -> &'a str {
         .unwrap_or_else(|| panic!("no {key} in the state"))
 }
 
-/// Decodes a PNG and counts its distinct colours (a blank or failed render has one).
-pub fn png_colours(path: &Path) -> (u32, u32, usize) {
-    let file = std::fs::File::open(path).expect("screenshot written");
+/// Decodes a PNG: its pixels, width, height and bytes per pixel.
+pub fn png_pixels(path: &Path) -> (Vec<u8>, u32, u32, usize) {
+    let file = std::fs::File::open(path).expect("the PNG was written");
     let decoder = png::Decoder::new(std::io::BufReader::new(file));
     let mut reader = decoder.read_info().expect("a PNG");
     let mut buf = vec![0; reader.output_buffer_size().expect("size")];
     let info = reader.next_frame(&mut buf).expect("PNG frame");
+    buf.truncate(info.buffer_size());
     let bpp = info.line_size / info.width as usize;
-    let mut colours: Vec<&[u8]> = buf[..info.buffer_size()].chunks(bpp).collect();
+    (buf, info.width, info.height, bpp)
+}
+
+/// Decodes a PNG and counts its distinct colours (a blank or failed render has one).
+pub fn png_colours(path: &Path) -> (u32, u32, usize) {
+    let (buf, width, height, bpp) = png_pixels(path);
+    let mut colours: Vec<&[u8]> = buf.chunks(bpp).collect();
     colours.sort();
     colours.dedup();
-    (info.width, info.height, colours.len())
+    (width, height, colours.len())
 }
 
 /// An Xvfb server on a display of its own, stopped when dropped.

@@ -5,6 +5,7 @@
 //! loop is pumped here, frame by frame, so the video's time is simulated time whatever
 //! the rendering speed (no window, no display needed: Mesa's software Vulkan renders).
 
+pub mod gallery;
 pub mod sink;
 
 use std::collections::BTreeMap;
@@ -131,6 +132,26 @@ pub enum VideoError {
     /// ffmpeg failed.
     #[error("ffmpeg: {0}")]
     Ffmpeg(String),
+    /// A gallery's store or run cannot give its designs.
+    #[error(transparent)]
+    Replay(Box<crate::optimize::replay::ReplayError>),
+    /// A gallery's run holds no co-design, or its designs cannot be listed.
+    #[error(transparent)]
+    Designs(Box<crate::optimize::error::OptimizeError>),
+    /// A gallery's run has no design that ran.
+    #[error("run {run} has no design that ran yet")]
+    NoDesigns {
+        /// The run.
+        run: i64,
+    },
+    /// A gallery's captions cannot be drawn.
+    #[error("{}: the captions cannot be drawn: {message}", file.display())]
+    Caption {
+        /// The gallery.
+        file: std::path::PathBuf,
+        /// The drawing library's message.
+        message: String,
+    },
     /// A frame of another size than the video's.
     #[error("frame of {}x{} for a {}x{} video", got.0, got.1, want.0, want.1)]
     FrameSize {
