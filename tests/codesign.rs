@@ -90,9 +90,13 @@ fn a_killed_co_design_run_resumes_to_the_same_archive() {
     }
 }
 
-/// The flat co-design set-up in `dir`, with touch parts allowed and a wall across the floor
-/// 0.4 m ahead of the tail, where only bodies of 7 or more modules reach.
-fn walled_setup(dir: &std::path::Path) -> std::path::PathBuf {
+/// The flat co-design set-up copied into `dir`, its optimizer file and environment
+/// changed by `optimizer` and `environment`; the simulation file's path.
+fn setup_in(
+    dir: &std::path::Path,
+    optimizer: impl Fn(String) -> String,
+    environment: impl Fn(String) -> String,
+) -> std::path::PathBuf {
     let configs = common::root().join("configs");
     let copy = |from: &str| {
         let to = dir.join(from);
@@ -107,27 +111,88 @@ fn walled_setup(dir: &std::path::Path) -> std::path::PathBuf {
     }
     copy("robots/snake5p.robot.xml");
     copy("actuation/snake5p_sine40.actuation.xml");
-    let optimizer = std::fs::read_to_string(configs.join("optimizer/codesign.mapelites.xml"))
-        .unwrap()
-        .replace("<parts>plain</parts>", "<parts>plain touch</parts>");
-    std::fs::create_dir_all(dir.join("optimizer")).unwrap();
-    std::fs::write(dir.join("optimizer/codesign.mapelites.xml"), optimizer).unwrap();
-    let env = std::fs::read_to_string(configs.join("environments/flat.env.xml"))
-        .unwrap()
-        .replace(
-            "</Environment>",
-            r#"<KinBody name="wall"><Body type="static"><Translation>0 0.45 0.1</Translation>
+    let write = |to: &str, text: String| {
+        std::fs::create_dir_all(dir.join(to).parent().unwrap()).unwrap();
+        std::fs::write(dir.join(to), text).unwrap();
+    };
+    let read = |from: &str| std::fs::read_to_string(configs.join(from)).unwrap();
+    write(
+        "optimizer/codesign.mapelites.xml",
+        optimizer(read("optimizer/codesign.mapelites.xml")),
+    );
+    write(
+        "environments/flat.env.xml",
+        environment(read("environments/flat.env.xml")),
+    );
+    write(
+        "codesign.simulation.xml",
+        read("codesign_flat.simulation.xml"),
+    );
+    dir.join("codesign.simulation.xml")
+}
+
+/// The flat co-design set-up in `dir`, with touch parts allowed and a wall across the floor
+/// 0.4 m ahead of the tail, where only bodies of 7 or more modules reach.
+fn walled_setup(dir: &std::path::Path) -> std::path::PathBuf {
+    setup_in(
+        dir,
+        |o| o.replace("<parts>plain</parts>", "<parts>plain touch</parts>"),
+        |e| {
+            e.replace(
+                "</Environment>",
+                r#"<KinBody name="wall"><Body type="static"><Translation>0 0.45 0.1</Translation>
   <Geom type="box"><extents>1 0.05 0.1</extents></Geom></Body></KinBody>
 </Environment>"#,
-        );
-    std::fs::create_dir_all(dir.join("environments")).unwrap();
-    std::fs::write(dir.join("environments/walled.env.xml"), env).unwrap();
-    let sim = std::fs::read_to_string(common::root().join(CONFIG))
-        .unwrap()
-        .replace("environments/flat.env.xml", "environments/walled.env.xml");
-    let path = dir.join("codesign_walled.simulation.xml");
-    std::fs::write(&path, sim).unwrap();
-    path
+            )
+        },
+    )
+}
+
+#[test]
+fn robust_co_design_scores_each_body_over_its_own_randomized_episodes() {
+    use proleg::optimize::robust::combine;
+    let dir = common::scratch("codesign_robust");
+    let config = setup_in(
+        &dir,
+        |o| {
+            o.replace(
+                "<morphology>",
+                "<robustness><episodes>3</episodes><friction>30</friction><mass>10</mass>\
+                 <heading>20</heading></robustness>\n  <morphology>",
+            )
+        },
+        |e| e,
+    );
+    let store = dir.join("robust.sqlite");
+    let (ok, _, err) = common::optimize(config.to_str().unwrap(), ("12", "1"), &store, &[]);
+    assert!(ok, "{err}");
+    let registry = ModuleRegistry::standard();
+    let location = store.to_str().unwrap();
+    let mut opened = proleg::optimize::store::Store::open_existing(
+        &proleg::optimize::store::StoreLocation::parse(location).unwrap(),
+    )
+    .unwrap();
+    let mut bodies = std::collections::BTreeSet::new();
+    for e in opened.evaluations(1).unwrap() {
+        // Each episode replays with the evaluation's own body; their mean is the score.
+        let scores: Vec<f64> = (0..3)
+            .map(|k| {
+                let r = proleg::optimize::replay::load_replay(
+                    &mut opened,
+                    1,
+                    e.number,
+                    Some(k),
+                    &registry,
+                )
+                .unwrap();
+                bodies.insert(r.sim.robot.joints.len());
+                r.score().unwrap()
+            })
+            .collect();
+        assert_eq!(combine(&scores, None), e.score, "evaluation {}", e.number);
+        assert_ne!(scores[0], scores[1], "the episodes differ: {scores:?}");
+    }
+    assert!(bodies.len() > 1, "bodies of several lengths: {bodies:?}");
 }
 
 #[test]

@@ -276,15 +276,12 @@ impl Evaluator {
             Ok(Candidate::Rejected(why)) => return Ok(CandidateScore::rejected(why)),
             Err(e) => return Err(EvalError::Design(Box::new(e))),
         };
-        let one = std::slice::from_ref(genome);
         let Some(cross) = &self.cross else {
-            let world = (self.seed, SensorNoise::default(), None);
-            return Ok(CandidateScore::single(self.run_world(&sim, world, one)?[0]));
+            return Ok(CandidateScore::single(self.design_on(&sim, genome, None)?));
         };
         let mut engines = Vec::with_capacity(cross.engines.len());
         for &kind in &cross.engines {
-            let world = (self.seed, SensorNoise::default(), Some(kind));
-            engines.push((kind, self.run_world(&sim, world, one)?[0]));
+            engines.push((kind, self.design_on(&sim, genome, Some(kind))?));
         }
         let row: Vec<f64> = engines.iter().map(|(_, s)| *s).collect();
         Ok(CandidateScore {
@@ -292,6 +289,28 @@ impl Evaluator {
             engines,
             rejected: None,
         })
+    }
+
+    /// A co-design body's score on `engine` (`None`: the simulation's): its episode, or
+    /// with robust fitness its randomized episodes combined.
+    fn design_on(
+        &self,
+        body: &Simulation,
+        genome: &Genome,
+        engine: Option<EngineKind>,
+    ) -> Result<f64, EvalError> {
+        let one = std::slice::from_ref(genome);
+        let Some(robust) = &self.robust else {
+            let world = (self.seed, SensorNoise::default(), engine);
+            return Ok(self.run_world(body, world, one)?[0]);
+        };
+        let mut scores = Vec::with_capacity(robust.episodes.len());
+        for k in 0..robust.episodes.len() {
+            if let Some(e) = robust.of_body(k, body) {
+                scores.extend(self.run_world(&e.sim, (e.seed, e.noise, engine), one)?);
+            }
+        }
+        Ok(robust.combine(&scores))
     }
 
     /// The scores of `genomes` on `engine` (`None`: the simulation's): one world with a

@@ -181,7 +181,16 @@ pub fn load_replay(
             None => (sim.clone(), spec.info.seed, SensorNoise::default()),
         },
         (Some(r), k) => {
-            let (world, seed, noise) = episode_of(r, k.unwrap_or(0))?;
+            let (mut world, seed, noise) = episode_of(r, k.unwrap_or(0))?;
+            // A co-design body draws the episode with its own links and joints.
+            if let Some(d) = &evaluator.design {
+                let body = d
+                    .simulation(&eval.genome, registry)
+                    .map_err(UnevaluableRun::Config)?;
+                if let Some(e) = r.of_body(k.unwrap_or(0) as usize, &body) {
+                    world = e.sim;
+                }
+            }
             label.push_str(&format!(
                 ", episode {} of {}",
                 k.unwrap_or(0),

@@ -1,7 +1,10 @@
 //! Robust fitness: a candidate's score over the K randomized episodes an optimizer file's
 //! `<robustness>` asks for — their mean or a lower quantile. The episodes are drawn once per
 //! run from its seed ([`episode_seeds`]) and are the same for every candidate (common random
-//! numbers: candidates differ by their gait, not by their luck).
+//! numbers: candidates differ by their gait, not by their luck). A co-design body draws
+//! its episodes from the same seeds with its own links and joints ([`RobustEpisodes::of_body`]):
+//! the friction is the same for every body, the masses, servos and start pose follow the
+//! body's link and joint count.
 
 use crate::config::Simulation;
 use crate::config::robustness::Robustness;
@@ -15,6 +18,8 @@ pub struct RobustEpisodes {
     pub episodes: Vec<RandomizedEpisode>,
     /// How episode scores combine.
     pub quantile: Option<f64>,
+    /// What is drawn.
+    pub spec: Robustness,
 }
 
 impl RobustEpisodes {
@@ -27,7 +32,15 @@ impl RobustEpisodes {
         RobustEpisodes {
             episodes,
             quantile: r.quantile,
+            spec: *r,
         }
+    }
+
+    /// Episode `k` drawn for another robot than the run's own: `body`, a co-design
+    /// candidate's simulation (none when the run has no episode `k`).
+    pub fn of_body(&self, k: usize, body: &Simulation) -> Option<RandomizedEpisode> {
+        let seed = self.episodes.get(k)?.seed;
+        Some(randomize(body, &self.spec, seed))
     }
 
     /// The episodes `sim`'s optimizer file asks for, if it asks for any.

@@ -79,11 +79,6 @@ pub fn prepare(
             mode: sim.files.simulation.properties.mode.name().to_string(),
         })?;
     if let Some(design) = crate::optimize::design::DesignSpace::from_model(model) {
-        if model.spec.robustness.is_some() {
-            return Err(OptimizeError::CoDesign(
-                "robust fitness (<robustness>) is not yet available with a <morphology>",
-            ));
-        }
         // Bodies and gaits start from the middle of every gene's range.
         let space = design.search_space();
         let start = space.genes.iter().map(|g| g.alleles.count() / 2).collect();
