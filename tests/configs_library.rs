@@ -39,15 +39,8 @@ fn every_simulation_loads_and_every_file_is_used() {
         files.push(sim.actuation.file.clone());
         files.extend(sim.optimizer.iter().map(|o| o.file.clone()));
         // A co-design space's bodies use the part files of its orientations and sets.
-        if let Some(space) = sim
-            .optimizer
-            .as_ref()
-            .and_then(proleg::optimize::design::DesignSpace::from_model)
-        {
-            let dir = s.parent().unwrap();
-            let source = proleg::config::source::FsSource;
-            files.extend(proleg::optimize::design::body_files(&space, &source, dir).unwrap());
-        }
+        let source = proleg::config::source::FsSource;
+        files.extend(proleg::optimize::design::body_files(&sim, &source).unwrap());
         for b in &sim.environment.bodies {
             for g in &b.geoms {
                 if let proleg::config::body::Shape::Trimesh { file, .. } = &g.shape {

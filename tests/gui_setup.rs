@@ -132,6 +132,70 @@ fn wizard_walks_every_page_and_writes_a_checked_configuration() {
 }
 
 #[test]
+fn wizard_sets_up_a_co_design_map_elites_run_that_optimizes() {
+    let out = scratch("wizard-codesign");
+    let shot = out.join("optimization.png");
+    let s = scripted(
+        "codesign",
+        &out,
+        &format!(
+            "wait 2\n\
+             set robot.name cosnake\nset robot.topology ppp\nnext\n\
+             set behaviour.simple PatternGenerator_sinusoidal\nnext\nnext\n\
+             set sim.mode mapelites\nset sim.duration 1\nnext\n\
+             set opt.register PatternGenerator_sinusoidal Amplitude all uniform 0 60 5\n\
+             set opt.register PatternGenerator_sinusoidal Phase_Difference all uniform -180 180 30\n\
+             set opt.morphology 3 6 pitch,yaw plain --motif 2\nset opt.max-evals 30\n\
+             wait 1\nscreenshot {}\nnext\nsave\nwait 1",
+            shot.display()
+        ),
+    );
+    let sim = PathBuf::from(get(&s, "saved"));
+    let (w, h, colours) = png_colours(&shot);
+    assert_eq!((w, h), (1280, 800));
+    assert!(colours > 50, "a blank screenshot ({colours} colours)");
+    // The files hold MAP-Elites over module count and share of yaw joints, and the
+    // morphology ranges.
+    let loaded = proleg::control::load_simulation(&sim).expect("the wizard's files load");
+    let model = loaded.optimizer.as_ref().expect("an optimizer file");
+    let m = model.spec.morphology.as_ref().expect("a morphology");
+    assert_eq!(
+        (m.modules, m.motif, m.orientations.len()),
+        ([3, 6], Some(2), 2)
+    );
+    let proleg::config::optimizer::Algorithm::MapElites(me) = &model.spec.algorithm else {
+        panic!("{:?}", model.spec.algorithm)
+    };
+    assert_eq!(me.descriptors[0].bins, 4, "one cell per module count 3..6");
+    assert!(me.descriptors[1].yaw_share);
+    // And the run it sets up searches bodies: its archive lists the best body.
+    let store = out.join("codesign.sqlite");
+    let run = |args: &[&str]| {
+        let o = Command::new(env!("CARGO_BIN_EXE_proleg"))
+            .args(args)
+            .output()
+            .expect("proleg");
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    let store_arg = store.display().to_string();
+    run(&[
+        "optimize",
+        sim.to_str().unwrap(),
+        "--quiet",
+        "--store",
+        &store_arg,
+    ]);
+    let results = run(&["results", &store_arg]);
+    assert!(results.contains("30 evaluations"), "{results}");
+    assert!(
+        results.contains("share of yaw joints; best body"),
+        "{results}"
+    );
+    std::fs::remove_dir_all(out).ok();
+}
+
+#[test]
 fn wizard_refuses_to_leave_an_invalid_page_and_names_the_script_line() {
     let out = scratch("wizard-bad");
     let script = out.join("bad.script");

@@ -398,16 +398,8 @@ fn stored_files(
 /// own robot may not): a worker builds the bodies from the store alone. Parts that do not
 /// load are a warning naming the file; the first body that needs them fails the run.
 fn record_design_parts(source: &RecordingSource, sim: &Simulation) {
-    let Some(space) = sim
-        .optimizer
-        .as_ref()
-        .and_then(crate::optimize::design::DesignSpace::from_model)
-    else {
-        return;
-    };
-    let dir = sim.file.parent().unwrap_or(Path::new(""));
     // Resolving the sample bodies reads, and so records, every file they use.
-    if let Err(e) = crate::optimize::design::body_files(&space, source, dir) {
+    if let Err(e) = crate::optimize::design::body_files(sim, source) {
         eprintln!("warning: co-design parts: {e}");
     }
 }

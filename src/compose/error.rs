@@ -92,6 +92,20 @@ pub enum ComposeError {
     /// A genetic algorithm with fewer than 2 candidates per generation.
     #[error("population size must be at least 2")]
     Popsize,
+    /// A module-count range no chain fits.
+    #[error("morphology: {} to {} modules: a chain has 2 to {most} modules, min <= max", range[0], range[1])]
+    ModuleRange {
+        /// The range given.
+        range: [u32; 2],
+        /// Most modules a chain may have.
+        most: u32,
+    },
+    /// Morphology ranges no body fits.
+    #[error("morphology: {0}")]
+    Morphology(&'static str),
+    /// MAP-Elites descriptors that cannot map the candidates.
+    #[error("MAP-Elites: {0}")]
+    Descriptors(&'static str),
     /// A step width out of range.
     #[error("step width {0} s is outside 0.000001..{max} s", max = crate::config::simulation::MAX_STEP_WIDTH)]
     StepWidth(f64),

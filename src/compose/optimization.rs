@@ -1,17 +1,21 @@
 //! The optimization page (thesis 4.4.8): module parameters registered for the genetic
-//! algorithm, the modified great deluge or CMA-ES, each on all or selected joints, uniform (one
-//! gene) or individual (one gene per joint), with a value set (a range with an increment,
-//! or listed values), and the algorithm settings with the thesis's defaults
-//! (tables 6.1 and 6.3), CMA-ES's defaults, a random start and robust fitness.
+//! algorithm, the modified great deluge, CMA-ES or MAP-Elites, each on all or selected
+//! joints, uniform (one gene) or individual (one gene per joint), with a value set (a range
+//! with an increment, or listed values), and the algorithm settings with the thesis's
+//! defaults (tables 6.1 and 6.3), CMA-ES's and MAP-Elites' defaults, a random start, robust
+//! fitness, and the morphology ranges of a co-design search (the body evolved with its
+//! gait).
 
 use crate::compose::error::ComposeError;
 use crate::config::cross_engine::CrossEngine;
 use crate::config::error::Pos;
 use crate::config::mask::JointMask;
+use crate::config::morphology::Morphology;
 use crate::config::optimizer::{
-    Algorithm, BoundType, CmaSettings, DEFAULT_CMA_SIGMA, GaSettings, GdSettings, GenomeConfig,
-    OptimizerFile, RegisteredParameter,
+    Algorithm, BoundType, CmaSettings, DEFAULT_CMA_SIGMA, DescriptorSpec, GaSettings, GdSettings,
+    GenomeConfig, MapElitesSettings, OptimizerFile, RegisteredParameter,
 };
+use crate::config::robot_builder::MAX_JOINTS;
 use crate::config::robustness::Robustness;
 use crate::optimize::fitness::Fitness;
 
@@ -57,6 +61,8 @@ pub enum Method {
     GreatDeluge,
     /// The covariance matrix adaptation evolution strategy.
     CmaEs,
+    /// MAP-Elites: a map of the best candidate per cell of two descriptors.
+    MapElites,
 }
 
 /// The optimization page's content.
@@ -70,6 +76,10 @@ pub struct OptimizationSpec {
     pub gd: GdSettings,
     /// CMA-ES settings.
     pub cma: CmaSettings,
+    /// MAP-Elites settings.
+    pub map_elites: MapElitesSettings,
+    /// The bodies a co-design search may build, if the body is searched too.
+    pub morphology: Option<Morphology>,
     /// Start from a point drawn from the run's seed.
     pub random_start: bool,
     /// Robust fitness over randomized episodes, if asked for.
@@ -110,6 +120,13 @@ impl OptimizationSpec {
                 sigma: DEFAULT_CMA_SIGMA,
                 restarts: 0,
             },
+            map_elites: MapElitesSettings {
+                initial: 40,
+                batch: 10,
+                mutation: 0.15,
+                descriptors: vec![gene_descriptor(1, 10), gene_descriptor(2, 10)],
+            },
+            morphology: None,
             random_start: false,
             robustness: None,
             cross_engine: None,
@@ -161,7 +178,45 @@ impl OptimizationSpec {
         if self.method == Method::Genetic && self.ga.popsize < 2 {
             return Err(ComposeError::Popsize);
         }
+        if let Some(m) = &self.morphology {
+            validate_morphology(m)?;
+        }
+        if self.method == Method::MapElites {
+            if self.map_elites.descriptors.len() != 2 {
+                return Err(ComposeError::Descriptors("give two descriptors"));
+            }
+            if self.morphology.is_none() && self.map_elites.descriptors.iter().any(|d| d.yaw_share)
+            {
+                return Err(ComposeError::Descriptors(
+                    "the share of yaw joints describes co-design bodies: evolve the body too",
+                ));
+            }
+            if self.max_evaluations.is_none() {
+                return Err(ComposeError::Descriptors(
+                    "MAP-Elites runs until its budget: set \"stop after\"",
+                ));
+            }
+        }
         Ok(())
+    }
+
+    /// Searches the body too (`Some`) or not: with MAP-Elites, the descriptors become the
+    /// module count and the share of yaw joints.
+    pub fn set_morphology(&mut self, morphology: Option<Morphology>) {
+        if let Some(m) = &morphology {
+            let modules = m.modules[1].saturating_sub(m.modules[0]) + 1;
+            self.map_elites.descriptors = vec![
+                gene_descriptor(1, modules),
+                DescriptorSpec {
+                    gene: 0,
+                    bins: 5,
+                    yaw_share: true,
+                },
+            ];
+        } else if self.morphology.is_some() {
+            self.map_elites.descriptors = vec![gene_descriptor(1, 10), gene_descriptor(2, 10)];
+        }
+        self.morphology = morphology;
     }
 
     /// The optimizer file; `module_joints(module)` gives the joints a module drives (for
@@ -216,11 +271,12 @@ impl OptimizationSpec {
             })
             .collect();
         OptimizerFile {
-            morphology: None,
+            morphology: self.morphology.clone(),
             algorithm: match self.method {
                 Method::Genetic => Algorithm::Genetic(self.ga.clone()),
                 Method::GreatDeluge => Algorithm::GreatDeluge(self.gd.clone()),
                 Method::CmaEs => Algorithm::CmaEs(self.cma.clone()),
+                Method::MapElites => Algorithm::MapElites(self.map_elites.clone()),
             },
             parameters,
             genome,
@@ -231,6 +287,37 @@ impl OptimizationSpec {
             cross_engine: self.cross_engine.clone(),
         }
     }
+}
+
+/// A descriptor over gene `gene` (from 1) cut into `bins` cells.
+fn gene_descriptor(gene: u32, bins: u32) -> DescriptorSpec {
+    DescriptorSpec {
+        gene,
+        bins,
+        yaw_share: false,
+    }
+}
+
+/// The morphology page's ranges: a chain of 2 to MAX_JOINTS + 1 modules, min <= max, at
+/// least one orientation and one part set, touch parts only with pitch joints.
+fn validate_morphology(m: &Morphology) -> Result<(), ComposeError> {
+    let most = MAX_JOINTS as u32 + 1;
+    if m.modules[0] < 2 || m.modules[0] > m.modules[1] || m.modules[1] > most {
+        return Err(ComposeError::ModuleRange {
+            range: m.modules,
+            most,
+        });
+    }
+    if m.orientations.is_empty() {
+        return Err(ComposeError::Morphology("choose pitch, yaw or both"));
+    }
+    if m.parts.is_empty() {
+        return Err(ComposeError::Morphology("choose at least one part set"));
+    }
+    if m.motif == Some(0) {
+        return Err(ComposeError::Morphology("a motif has at least one joint"));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -278,6 +278,7 @@ impl Wizard {
                     Method::Genetic => "ga.xml",
                     Method::GreatDeluge => "gd.xml",
                     Method::CmaEs => "cmaes.xml",
+                    Method::MapElites => "mapelites.xml",
                 })
             }),
             simulation: f("simulation.xml"),
@@ -527,6 +528,7 @@ impl Wizard {
             Mode::GeneticAlgorithm => self.optimization.method = Method::Genetic,
             Mode::GreatDeluge => self.optimization.method = Method::GreatDeluge,
             Mode::CmaEs => self.optimization.method = Method::CmaEs,
+            Mode::MapElites => self.optimization.method = Method::MapElites,
             _ => {}
         }
         self.props.mode = mode;

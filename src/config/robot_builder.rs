@@ -38,14 +38,6 @@ pub enum BuildError {
     /// A robot with no joints or too many.
     #[error("a robot needs 1 to {MAX_JOINTS} joints; this one has {0}")]
     JointCount(usize),
-    /// A joint orientation its parts cannot hold (the touch modules are pitch modules).
-    #[error("{parts} parts hold pitch joints only; joint {joint} is yaw")]
-    PitchOnly {
-        /// The part set.
-        parts: &'static str,
-        /// The first yaw joint (from 1).
-        joint: usize,
-    },
 }
 
 /// Most joints a built robot may have.
@@ -191,14 +183,6 @@ impl RobotSpec {
         check_name(&self.name, "robot name")?;
         if self.joints.is_empty() || self.joints.len() > MAX_JOINTS {
             return Err(BuildError::JointCount(self.joints.len()));
-        }
-        if self.parts == PartSet::Touch
-            && let Some(j) = self.joints.iter().position(|o| *o == Orientation::Yaw)
-        {
-            return Err(BuildError::PitchOnly {
-                parts: self.parts.name(),
-                joint: j + 1,
-            });
         }
         Ok(())
     }

@@ -172,3 +172,34 @@ pub fn resolve_include(src: &dyn FileSource, from: &Path, written: &str) -> Opti
     }
     None
 }
+
+/// The path that names `target` from a file in folder `from_dir`, with `/` separators.
+/// Both are taken relative to the working directory when not absolute.
+pub fn relative_path(from_dir: &Path, target: &Path) -> String {
+    let abs = |p: &Path| {
+        if p.is_absolute() {
+            normalize(p)
+        } else {
+            normalize(
+                &std::env::current_dir()
+                    .unwrap_or_else(|_| PathBuf::from("/"))
+                    .join(p),
+            )
+        }
+    };
+    let (from, to) = (abs(from_dir), abs(target));
+    let f: Vec<Component> = from.components().collect();
+    let t: Vec<Component> = to.components().collect();
+    let common = f.iter().zip(&t).take_while(|(a, b)| a == b).count();
+    if common <= 1 {
+        // Only the root in common: an absolute path says it best.
+        return to.display().to_string();
+    }
+    let mut parts: Vec<String> = vec!["..".to_string(); f.len() - common];
+    parts.extend(
+        t[common..]
+            .iter()
+            .map(|c| c.as_os_str().to_string_lossy().into_owned()),
+    );
+    parts.join("/")
+}

@@ -7,7 +7,7 @@
 //! orientation of the alphabet, and a body's actuation drives each orientation group (its
 //! pitch joints, its yaw joints) with its own copy of the module and that group's values.
 //!
-//! A body the builder cannot make (touch modules with a yaw joint) or whose start pose is
+//! A body the builder cannot make or whose start pose is
 //! blocked (links overlapping each other, or the scenery: [`start_overlaps`]) is a
 //! [`Rejection`]: it is not run, scores `-inf` so no optimizer keeps it, and its reason is
 //! stored with the evaluation.
@@ -27,7 +27,7 @@ use crate::config::resolve::robot::resolve_robot;
 use crate::config::robot::{parse_robot_file, write_robot_file};
 use crate::config::robot_builder::{BuildError, Orientation, PartSet, RobotSpec};
 use crate::config::simulation::{FileRef, Mode, SimulationFile, write_simulation_file};
-use crate::config::source::{FileSource, MemSource, Overlay};
+use crate::config::source::{FileSource, MemSource, Overlay, relative_path};
 use crate::config::start_clearance::{StartOverlap, start_overlaps};
 use crate::control::ModuleRegistry;
 use crate::optimize::space::{Alleles, Gene, Genome, SearchSpace, alleles_of};
@@ -59,9 +59,10 @@ pub struct Design {
     pub space: DesignSpace,
     /// The run's simulation file (environment, properties).
     base: SimulationFile,
-    /// Its folder: the candidate's files are placed there, so the parts are found as the
-    /// run's own robot finds them (`parts/` there or in a folder above).
+    /// Its folder: the candidate's files are placed there.
     dir: PathBuf,
+    /// The folder of the part files (where the run's own robot finds its parts).
+    parts: PathBuf,
     /// Where the run's files are read.
     source: Arc<dyn FileSource + Send + Sync>,
 }
@@ -85,13 +86,16 @@ impl Design {
             space,
             base: sim.files.simulation.clone(),
             dir: sim.file.parent().map(Path::to_path_buf).unwrap_or_default(),
+            parts: parts_folder(sim),
             source,
         })
     }
 
-    /// The candidate's robot file (text).
-    pub fn robot_text(&self, genome: &Genome) -> String {
-        write_robot_file(&self.space.body(genome, "design").to_robot_file("parts"))
+    /// The candidate's robot file (text), as it is written in `dir` (naming the parts
+    /// from there).
+    pub fn robot_text(&self, genome: &Genome, dir: &Path) -> String {
+        let parts = relative_path(dir, &self.parts);
+        write_robot_file(&self.space.body(genome, "design").to_robot_file(&parts))
     }
 
     /// The candidate's actuation file (text).
@@ -113,7 +117,7 @@ impl Design {
         file.optimizer = None;
         file.properties.mode = Mode::SingleRun;
         [
-            (dir.join("design.robot.xml"), self.robot_text(genome)),
+            (dir.join("design.robot.xml"), self.robot_text(genome, dir)),
             (
                 dir.join("design.actuation.xml"),
                 self.actuation_text(genome),
@@ -333,19 +337,40 @@ impl DesignSpace {
     }
 }
 
-/// Every file the bodies of `space` may read besides the run's own (their parts, and the
-/// sensors and meshes those include), found from the folder `dir` through `source`: each
-/// of [`DesignSpace::sample_bodies`] is resolved there. A co-design run stores them, so a
-/// worker builds the bodies from the store alone.
-pub fn body_files(
-    space: &DesignSpace,
-    source: &dyn FileSource,
-    dir: &Path,
-) -> ConfigResult<Vec<PathBuf>> {
+/// The folder of `sim`'s part files: where its own robot's parts lie (a `parts` folder
+/// holding a kinbody file it read), else `parts` beside the simulation file. Co-design
+/// bodies are built of the parts there, wherever their files are written.
+pub fn parts_folder(sim: &Simulation) -> PathBuf {
+    sim.robot
+        .files
+        .iter()
+        .filter(|f| f.to_string_lossy().ends_with(".kinbody.xml"))
+        .filter_map(|f| f.parent())
+        .find(|d| d.file_name().is_some_and(|n| n == "parts"))
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| {
+            sim.file
+                .parent()
+                .map(|d| d.join("parts"))
+                .unwrap_or_else(|| PathBuf::from("parts"))
+        })
+}
+
+/// Every file the bodies of `sim`'s co-design space may read besides the run's own (their
+/// parts, and the sensors and meshes those include), through `source`: each of
+/// [`DesignSpace::sample_bodies`] is resolved beside the simulation file. A co-design run
+/// stores them, so a worker builds the bodies from the store alone. Empty without a
+/// `<morphology>`.
+pub fn body_files(sim: &Simulation, source: &dyn FileSource) -> ConfigResult<Vec<PathBuf>> {
+    let Some(space) = sim.optimizer.as_ref().and_then(DesignSpace::from_model) else {
+        return Ok(Vec::new());
+    };
+    let dir = sim.file.parent().unwrap_or(Path::new(""));
+    let parts = relative_path(dir, &parts_folder(sim));
     let path = dir.join("design.robot.xml");
     let mut files = Vec::new();
     for body in space.sample_bodies() {
-        let text = write_robot_file(&body.to_robot_file("parts"));
+        let text = write_robot_file(&body.to_robot_file(&parts));
         let mut top = MemSource::new();
         top.insert(&path, text.clone());
         let overlay = Overlay { top, base: source };

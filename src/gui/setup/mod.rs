@@ -9,6 +9,7 @@
 //! - [`script`], [`script_run`]: scripted driving for tests and screenshots
 
 pub mod cameras;
+pub mod codesign_view;
 pub mod editor_view;
 pub mod expert_view;
 pub mod keys;

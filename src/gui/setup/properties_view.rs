@@ -11,7 +11,13 @@ pub fn show(ui: &mut egui::Ui, p: &mut SimulationProperties, description: &mut S
     egui::ComboBox::from_label("mode")
         .selected_text(p.mode.name())
         .show_ui(ui, |ui| {
-            for m in [Mode::SingleRun, Mode::GeneticAlgorithm, Mode::GreatDeluge] {
+            for m in [
+                Mode::SingleRun,
+                Mode::GeneticAlgorithm,
+                Mode::GreatDeluge,
+                Mode::CmaEs,
+                Mode::MapElites,
+            ] {
                 ui.selectable_value(&mut p.mode, m, m.name());
             }
         });

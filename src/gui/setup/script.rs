@@ -317,7 +317,7 @@ pub enum WizardField {
         #[arg(value_delimiter = ',', required = true, value_parser = finite, allow_negative_numbers = true)]
         values: Vec<f64>,
     },
-    /// `sim.mode single|ga|gd|cmaes`.
+    /// `sim.mode single|ga|gd|cmaes|mapelites`.
     #[command(name = "sim.mode")]
     Mode {
         /// The mode.
@@ -401,6 +401,27 @@ pub enum WizardField {
         #[arg(value_parser = clap::value_parser!(u64).range(1..))]
         evaluations: u64,
     },
+    /// `opt.morphology MIN MAX pitch,yaw plain,touch [--motif K]`: the body is searched
+    /// too, within these ranges.
+    #[command(name = "opt.morphology")]
+    Morphology {
+        /// Fewest modules.
+        min: u32,
+        /// Most modules.
+        max: u32,
+        /// The joint orientations allowed, comma-separated.
+        #[arg(value_delimiter = ',', value_parser = orientation)]
+        orientations: Vec<crate::config::robot_builder::Orientation>,
+        /// The part sets allowed, comma-separated.
+        #[arg(value_delimiter = ',', value_parser = part_set)]
+        parts: Vec<crate::compose::robot_builder::PartSet>,
+        /// Repeat a motif of K orientations along the chain.
+        #[arg(long)]
+        motif: Option<u32>,
+    },
+    /// `opt.fixed-body`: the body is not searched.
+    #[command(name = "opt.fixed-body")]
+    FixedBody,
     /// `opt.fitness NAME`.
     #[command(name = "opt.fitness")]
     Fitness {
@@ -421,6 +442,8 @@ pub enum ModeName {
     Gd,
     /// CMA-ES.
     Cmaes,
+    /// MAP-Elites.
+    Mapelites,
 }
 
 impl ModeName {
@@ -432,6 +455,7 @@ impl ModeName {
             ModeName::Ga => Mode::GeneticAlgorithm,
             ModeName::Gd => Mode::GreatDeluge,
             ModeName::Cmaes => Mode::CmaEs,
+            ModeName::Mapelites => Mode::MapElites,
         }
     }
 }
@@ -452,6 +476,21 @@ fn part_set(
     crate::compose::robot_builder::PartSet::parse(s).ok_or_else(|| {
         crate::config::error::UnknownName::new("part set", s, &["plain", "touch", "cube"])
     })
+}
+
+fn orientation(
+    s: &str,
+) -> Result<crate::config::robot_builder::Orientation, crate::config::error::UnknownName> {
+    use crate::config::robot_builder::Orientation;
+    match s.trim().to_ascii_lowercase().as_str() {
+        "pitch" | "p" => Ok(Orientation::Pitch),
+        "yaw" | "y" => Ok(Orientation::Yaw),
+        _ => Err(crate::config::error::UnknownName::new(
+            "orientation",
+            s,
+            &["pitch", "yaw"],
+        )),
+    }
 }
 
 /// A parsed script of this window's commands.

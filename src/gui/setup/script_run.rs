@@ -177,6 +177,22 @@ fn set_field(w: &mut Wizard, field: WizardField) -> Result<(), CommandError> {
         WizardField::Popsize { size } => w.optimization.ga.popsize = size,
         WizardField::MaxEvals { evaluations } => w.optimization.max_evaluations = Some(evaluations),
         WizardField::Fitness { fitness } => w.optimization.fitness = fitness,
+        WizardField::Morphology {
+            min,
+            max,
+            orientations,
+            parts,
+            motif,
+        } => w
+            .optimization
+            .set_morphology(Some(crate::config::morphology::Morphology {
+                modules: [min, max],
+                orientations,
+                motif,
+                parts,
+                pos: crate::config::error::Pos::new(0, 0),
+            })),
+        WizardField::FixedBody => w.optimization.set_morphology(None),
     }
     Ok(())
 }

@@ -330,6 +330,7 @@ fn simulation_page(ui: &mut egui::Ui, w: &mut Wizard) {
         Mode::GeneticAlgorithm => w.optimization.method = Method::Genetic,
         Mode::GreatDeluge => w.optimization.method = Method::GreatDeluge,
         Mode::CmaEs => w.optimization.method = Method::CmaEs,
+        Mode::MapElites => w.optimization.method = Method::MapElites,
         _ => {}
     }
 }
@@ -342,6 +343,7 @@ fn optimization_page(ui: &mut egui::Ui, w: &mut Wizard) {
         Method::Genetic => "Genetic algorithm",
         Method::GreatDeluge => "Modified great deluge",
         Method::CmaEs => "CMA-ES",
+        Method::MapElites => "MAP-Elites",
     });
     let mut remove = None;
     for (i, r) in o.params.iter_mut().enumerate() {
@@ -374,6 +376,8 @@ fn optimization_page(ui: &mut egui::Ui, w: &mut Wizard) {
                 }
             }
         });
+    ui.separator();
+    crate::gui::setup::codesign_view::morphology_settings(ui, o);
     ui.separator();
     algorithm_settings(ui, o);
     let mut limit = o.max_evaluations.is_some();
@@ -501,6 +505,7 @@ fn algorithm_settings(ui: &mut egui::Ui, o: &mut OptimizationSpec) {
                     .prefix("IPOP restarts "),
             );
         }
+        Method::MapElites => crate::gui::setup::codesign_view::map_elites_settings(ui, o),
     }
     ui.checkbox(
         &mut o.random_start,
