@@ -312,3 +312,92 @@ fn a_self_intersecting_start_pose_names_its_links() {
     // Laid out straight, nothing overlaps.
     assert_eq!(start_overlaps(&write(0.12)), Vec::new());
 }
+
+#[test]
+fn measured_descriptors_map_bodies_by_how_they_move_and_resume_to_the_same_archive() {
+    use proleg::config::optimizer::Quantity;
+    use proleg::optimize::store::{Store, StoreLocation};
+    let dir = common::scratch("codesign_measured");
+    let config = setup_in(
+        &dir,
+        |o| {
+            o.replace(
+                r#"<descriptor gene="1" bins="7"/>
+    <descriptor name="yaw-share" bins="5"/>"#,
+                r#"<descriptor name="height" min="0" max="0.06" bins="4"/>
+    <descriptor name="curvature" min="0" max="90" bins="3"/>"#,
+            )
+        },
+        |e| e,
+    );
+    let registry = ModuleRegistry::standard();
+    let sim = load_simulation_in(&config, &registry).unwrap();
+    let (space, start) = prepare(&sim, &registry).unwrap();
+    let evaluator = Evaluator::new(&sim, &registry, &space, Fitness::Displacement, 3.0, 1);
+    assert_eq!(evaluator.measures, [Quantity::Height, Quantity::Curvature]);
+    // A 6-module pitch snake lying still is flat; waving at 40 degrees it arches, and it
+    // crawls straight on.
+    let snake = |amplitude: u32| {
+        let mut g = start.clone();
+        g[0] = 3;
+        g[1..9].copy_from_slice(&[0; 8]);
+        g[10..13].copy_from_slice(&[amplitude, 16, 3]);
+        g
+    };
+    let scored = evaluator
+        .evaluate_with(&[snake(0), snake(8)], |_, _, _| {})
+        .unwrap();
+    let (still, waving) = (&scored[0].measures, &scored[1].measures);
+    assert!(still[0] < 0.002, "a still snake is flat: {still:?}");
+    assert!(waving[0] > still[0] + 0.005, "waving arches it: {waving:?}");
+    assert!(
+        waving[1] < 30.0,
+        "a pitch snake crawls straight on: {waving:?}"
+    );
+
+    // A run stores every evaluation's measures; its archive places each elite by them;
+    // killed and resumed, it ends with the same archive.
+    let run = |extra: &[&str], store: &std::path::Path| {
+        common::optimize(config.to_str().unwrap(), ("40", "2"), store, extra)
+    };
+    let whole = dir.join("whole.sqlite");
+    let (ok, _, err) = run(&[], &whole);
+    assert!(ok, "{err}");
+    let archive = common::archive_line(&whole);
+    assert!(
+        archive.contains("over body height (m) x path curvature (deg)"),
+        "{archive}"
+    );
+    let killed = dir.join("killed.sqlite");
+    let (ok, _, _) = run(&["--crash-after", "25"], &killed);
+    assert!(!ok, "the crash aid aborts the process");
+    let (ok, _, err) = run(&["--resume"], &killed);
+    assert!(ok, "{err}");
+    assert_eq!(common::archive_line(&killed), archive);
+    let mut store =
+        Store::open_existing(&StoreLocation::parse(whole.to_str().unwrap()).unwrap()).unwrap();
+    let evals = store.evaluations(1).unwrap();
+    assert!(
+        evals.iter().all(|e| e.measures.len() == 2),
+        "{:?}",
+        evals[0]
+    );
+    let heights: Vec<f64> = evals.iter().map(|e| e.measures[0]).collect();
+    assert!(
+        heights.iter().any(|h| (h - heights[0]).abs() > 1e-3),
+        "bodies differ in height: {heights:?}"
+    );
+    let stored = proleg::optimize::archive::stored_archive(&mut store, 1, &registry)
+        .unwrap()
+        .unwrap();
+    for (cell, elite) in stored.archive.cells.iter().enumerate() {
+        let Some((genome, score)) = elite else {
+            continue;
+        };
+        let e = evals
+            .iter()
+            .find(|e| &e.genome == genome && e.score == *score)
+            .unwrap();
+        assert_eq!(stored.archive.cell(genome, &e.measures), cell);
+    }
+}

@@ -144,7 +144,7 @@ fn worker_role(pg: &Pg, db: &str, role: &str, password: &str) {
          GRANT CONNECT ON DATABASE {db} TO {role};
          GRANT USAGE ON SCHEMA public TO {role};
          GRANT SELECT ON proleg_meta, runs, run_files, run_episodes TO {role};
-         GRANT SELECT, UPDATE (state, worker, attempt, lease_until, score, wall, engine_scores, rejected) ON evaluations TO {role};"
+         GRANT SELECT, UPDATE (state, worker, attempt, lease_until, score, wall, engine_scores, rejected, measures) ON evaluations TO {role};"
     ))
     .expect("worker role");
 }
@@ -507,6 +507,7 @@ fn a_store_of_version_2_is_brought_to_the_current_version_by_the_driver() {
     c.batch_execute(
         "DROP TABLE run_episodes; ALTER TABLE evaluations DROP COLUMN engine_scores;
          ALTER TABLE evaluations DROP COLUMN rejected;
+         ALTER TABLE evaluations DROP COLUMN measures;
          UPDATE proleg_meta SET schema_version = 2;",
     )
     .unwrap();

@@ -37,6 +37,7 @@ fn eval(number: u64, score: f64) -> StoredEval {
             (EngineKind::Mujoco, score / 2.0),
         ],
         // A co-design body rejected unrun keeps its reason.
+        measures: vec![number as f64 * 0.01, 45.5],
         rejected: (score == f64::NEG_INFINITY)
             .then(|| "self-intersecting start pose: links A and B overlap by 5 mm".into()),
         wall: 0.25,

@@ -185,7 +185,7 @@ pub fn run(o: &ResultsOptions, registry: &ModuleRegistry) -> Result<ResultsRepor
     }
     if let Some(tsv) = &o.export {
         let mut text = String::from(
-            "store\trun\tevaluation\tround\tscore\twall_s\tgenome\tvalues\tengine_scores\trejected\n",
+            "store\trun\tevaluation\tround\tscore\twall_s\tgenome\tvalues\tengine_scores\trejected\tmeasures\n",
         );
         for (store, runs) in &mut opened {
             let shown = store.describe();
@@ -195,7 +195,7 @@ pub fn run(o: &ResultsOptions, registry: &ModuleRegistry) -> Result<ResultsRepor
                     let v: Vec<String> = e.values.iter().map(|k| k.to_string()).collect();
                     let _ = writeln!(
                         text,
-                        "{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}",
+                        "{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}",
                         shown,
                         r.id,
                         e.number,
@@ -205,7 +205,12 @@ pub fn run(o: &ResultsOptions, registry: &ModuleRegistry) -> Result<ResultsRepor
                         g.join(" "),
                         v.join(" "),
                         engine_scores_text(&e.engines),
-                        e.rejected.as_deref().unwrap_or_default()
+                        e.rejected.as_deref().unwrap_or_default(),
+                        e.measures
+                            .iter()
+                            .map(f64::to_string)
+                            .collect::<Vec<_>>()
+                            .join(" ")
                     );
                 }
             }

@@ -185,6 +185,17 @@ impl OptimizationSpec {
             if self.map_elites.descriptors.len() != 2 {
                 return Err(ComposeError::Descriptors("give two descriptors"));
             }
+            if self
+                .map_elites
+                .descriptors
+                .iter()
+                .filter_map(|d| d.measured)
+                .any(|m| m.range[0] >= m.range[1] || !m.range.iter().all(|v| v.is_finite()))
+            {
+                return Err(ComposeError::Descriptors(
+                    "a measured descriptor's range runs from a lower to a higher value",
+                ));
+            }
             if self.morphology.is_none() && self.map_elites.descriptors.iter().any(|d| d.yaw_share)
             {
                 return Err(ComposeError::Descriptors(
@@ -211,6 +222,7 @@ impl OptimizationSpec {
                     gene: 0,
                     bins: 5,
                     yaw_share: true,
+                    measured: None,
                 },
             ];
         } else if self.morphology.is_some() {
@@ -295,6 +307,7 @@ fn gene_descriptor(gene: u32, bins: u32) -> DescriptorSpec {
         gene,
         bins,
         yaw_share: false,
+        measured: None,
     }
 }
 

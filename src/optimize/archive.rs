@@ -71,7 +71,12 @@ pub fn stored_archive(
     let axes = map_axes(m, &space, design.clone())?;
     let labels = [axes[0].label(&space), axes[1].label(&space)];
     let evaluations = store.evaluations(run)?;
-    let archive = Archive::replayed(axes, evaluations.iter().map(|e| (&e.genome, e.score)));
+    let archive = Archive::replayed(
+        axes,
+        evaluations
+            .iter()
+            .map(|e| (&e.genome, e.measures.as_slice(), e.score)),
+    );
     let best_body = design
         .zip(archive.best())
         .map(|(d, (g, _))| d.body(g, "best").summary());
@@ -119,8 +124,8 @@ pub fn plot_map(
         .configure_mesh()
         .disable_mesh()
         .axis_desc_style(("monospace", 14))
-        .x_desc(format!("{} (place in its range)", a.labels[0]))
-        .y_desc(format!("{} (place in its range)", a.labels[1]))
+        .x_desc(format!("{} ({})", a.labels[0], xa.scale()))
+        .y_desc(format!("{} ({})", a.labels[1], ya.scale()))
         .draw()
         .map_err(|e| draw(&e))?;
     let (w, h) = (1.0 / xa.bins as f64, 1.0 / ya.bins as f64);

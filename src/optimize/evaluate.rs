@@ -13,9 +13,11 @@ use std::time::Instant;
 
 use crate::config::Simulation;
 use crate::config::cross_engine::CrossEngine;
+use crate::config::optimizer::Quantity;
 use crate::config::simulation::EngineKind;
 use crate::control::ModuleRegistry;
 use crate::measure::ground_distance;
+use crate::optimize::behaviour::{Probe, SAMPLE_SECONDS, measured_quantities};
 use crate::optimize::design::{Candidate, Design, Rejection};
 use crate::optimize::fitness::{Episode, Fitness};
 use crate::optimize::robust::RobustEpisodes;
@@ -35,6 +37,9 @@ pub enum EvalError {
     /// A co-design candidate's generated robot or actuation does not load.
     #[error("the candidate's body does not load: {0}")]
     Design(Box<crate::config::ConfigError>),
+    /// A world built for one robot gave no outcome.
+    #[error("the episode gave no outcome")]
+    Empty,
 }
 
 /// Farther than this from the start (m) counts as a blow-up.
@@ -65,6 +70,8 @@ pub struct Evaluator {
     pub cross: Option<CrossEngine>,
     /// A co-design run's bodies: each candidate builds its own robot and actuation.
     pub design: Option<std::sync::Arc<crate::optimize::design::Design>>,
+    /// The quantities measured in each episode (MAP-Elites' measured descriptors).
+    pub measures: Vec<Quantity>,
 }
 
 /// One candidate's score, and with cross-engine scores its score on each engine.
@@ -76,6 +83,9 @@ pub struct CandidateScore {
     pub engines: Vec<(EngineKind, f64)>,
     /// Why a co-design candidate's body was not run (its score is then `-inf`).
     pub rejected: Option<Rejection>,
+    /// The quantities measured in its episode (MAP-Elites' measured descriptors; of the
+    /// first engine with cross-engine scores, averaged over robust fitness's episodes).
+    pub measures: Vec<f64>,
 }
 
 impl CandidateScore {
@@ -84,6 +94,31 @@ impl CandidateScore {
         CandidateScore {
             score,
             engines: Vec::new(),
+            rejected: None,
+            measures: Vec::new(),
+        }
+    }
+
+    /// An outcome on the simulation's one engine.
+    fn of(outcome: Outcome) -> CandidateScore {
+        CandidateScore {
+            score: outcome.score,
+            engines: Vec::new(),
+            rejected: None,
+            measures: outcome.measures,
+        }
+    }
+
+    /// Outcomes on several engines: their scores combined, the first engine's quantities.
+    fn combined(cross: &CrossEngine, row: Vec<(EngineKind, Outcome)>) -> CandidateScore {
+        let scores: Vec<f64> = row.iter().map(|(_, o)| o.score).collect();
+        CandidateScore {
+            score: cross.combine.apply(&scores),
+            measures: row
+                .first()
+                .map(|(_, o)| o.measures.clone())
+                .unwrap_or_default(),
+            engines: row.into_iter().map(|(k, o)| (k, o.score)).collect(),
             rejected: None,
         }
     }
@@ -94,6 +129,7 @@ impl CandidateScore {
             score: f64::NEG_INFINITY,
             engines: Vec::new(),
             rejected: Some(why),
+            measures: Vec::new(),
         }
     }
 }
@@ -136,6 +172,7 @@ impl Evaluator {
             seed,
             batch: 1,
             workers: 1,
+            measures: measured_quantities(sim),
             design: crate::optimize::design::Design::of(
                 sim,
                 std::sync::Arc::new(crate::config::source::FsSource),
@@ -247,23 +284,18 @@ impl Evaluator {
             return genomes.iter().map(|g| self.run_design(design, g)).collect();
         }
         let Some(cross) = &self.cross else {
-            let scores = self.run_batch_on(None, genomes)?;
-            return Ok(scores.into_iter().map(CandidateScore::single).collect());
+            let outcomes = self.run_batch_on(None, genomes)?;
+            return Ok(outcomes.into_iter().map(CandidateScore::of).collect());
         };
         let mut per_engine = Vec::with_capacity(cross.engines.len());
         for &kind in &cross.engines {
             per_engine.push((kind, self.run_batch_on(Some(kind), genomes)?));
         }
         let mut scores = Vec::with_capacity(genomes.len());
-        let mut row = Vec::with_capacity(cross.engines.len());
         for i in 0..genomes.len() {
-            row.clear();
-            row.extend(per_engine.iter().map(|(_, s)| s[i]));
-            scores.push(CandidateScore {
-                score: cross.combine.apply(&row),
-                engines: per_engine.iter().map(|(k, s)| (*k, s[i])).collect(),
-                rejected: None,
-            });
+            let row: Vec<(EngineKind, Outcome)> =
+                per_engine.iter().map(|(k, o)| (*k, o[i].clone())).collect();
+            scores.push(CandidateScore::combined(cross, row));
         }
         Ok(scores)
     }
@@ -277,65 +309,61 @@ impl Evaluator {
             Err(e) => return Err(EvalError::Design(Box::new(e))),
         };
         let Some(cross) = &self.cross else {
-            return Ok(CandidateScore::single(self.design_on(&sim, genome, None)?));
+            return Ok(CandidateScore::of(self.design_on(&sim, genome, None)?));
         };
-        let mut engines = Vec::with_capacity(cross.engines.len());
+        let mut row = Vec::with_capacity(cross.engines.len());
         for &kind in &cross.engines {
-            engines.push((kind, self.design_on(&sim, genome, Some(kind))?));
+            row.push((kind, self.design_on(&sim, genome, Some(kind))?));
         }
-        let row: Vec<f64> = engines.iter().map(|(_, s)| *s).collect();
-        Ok(CandidateScore {
-            score: cross.combine.apply(&row),
-            engines,
-            rejected: None,
-        })
+        Ok(CandidateScore::combined(cross, row))
     }
 
-    /// A co-design body's score on `engine` (`None`: the simulation's): its episode, or
+    /// A co-design body's outcome on `engine` (`None`: the simulation's): its episode, or
     /// with robust fitness its randomized episodes combined.
     fn design_on(
         &self,
         body: &Simulation,
         genome: &Genome,
         engine: Option<EngineKind>,
-    ) -> Result<f64, EvalError> {
+    ) -> Result<Outcome, EvalError> {
         let one = std::slice::from_ref(genome);
         let Some(robust) = &self.robust else {
             let world = (self.seed, SensorNoise::default(), engine);
-            return Ok(self.run_world(body, world, one)?[0]);
+            return first(self.run_world_measured(body, world, one)?);
         };
-        let mut scores = Vec::with_capacity(robust.episodes.len());
+        let mut episodes = Vec::with_capacity(robust.episodes.len());
         for k in 0..robust.episodes.len() {
             if let Some(e) = robust.of_body(k, body) {
-                scores.extend(self.run_world(&e.sim, (e.seed, e.noise, engine), one)?);
+                let world = (e.seed, e.noise, engine);
+                episodes.extend(self.run_world_measured(&e.sim, world, one)?);
             }
         }
-        Ok(robust.combine(&scores))
+        Ok(Outcome::over_episodes(robust, &episodes))
     }
 
-    /// The scores of `genomes` on `engine` (`None`: the simulation's): one world with a
+    /// The outcomes of `genomes` on `engine` (`None`: the simulation's): one world with a
     /// robot per genome, or with robust fitness each genome's randomized episodes,
     /// combined.
     fn run_batch_on(
         &self,
         engine: Option<EngineKind>,
         genomes: &[Genome],
-    ) -> Result<Vec<f64>, EvalError> {
+    ) -> Result<Vec<Outcome>, EvalError> {
         let Some(robust) = &self.robust else {
             let world = (self.seed, SensorNoise::default(), engine);
-            return self.run_world(&self.sim, world, genomes);
+            return self.run_world_measured(&self.sim, world, genomes);
         };
-        let mut scores = Vec::with_capacity(genomes.len());
+        let mut outcomes = Vec::with_capacity(genomes.len());
         let mut episodes = Vec::with_capacity(robust.episodes.len());
         for g in genomes {
             episodes.clear();
             for e in &robust.episodes {
                 let world = (e.seed, e.noise, engine);
-                episodes.extend(self.run_world(&e.sim, world, std::slice::from_ref(g))?);
+                episodes.extend(self.run_world_measured(&e.sim, world, std::slice::from_ref(g))?);
             }
-            scores.push(robust.combine(&episodes));
+            outcomes.push(Outcome::over_episodes(robust, &episodes));
         }
-        Ok(scores)
+        Ok(outcomes)
     }
 
     /// The scores of `genomes` as robots of one world of `sim`, built with `seed` and
@@ -343,9 +371,21 @@ impl Evaluator {
     pub fn run_world(
         &self,
         sim: &Simulation,
-        (seed, noise, engine): (u64, SensorNoise, Option<EngineKind>),
+        world: (u64, SensorNoise, Option<EngineKind>),
         genomes: &[Genome],
     ) -> Result<Vec<f64>, EvalError> {
+        let outcomes = self.run_world_measured(sim, world, genomes)?;
+        Ok(outcomes.into_iter().map(|o| o.score).collect())
+    }
+
+    /// [`Evaluator::run_world`], each robot's measured quantities ([`Evaluator::measures`])
+    /// with its score.
+    pub fn run_world_measured(
+        &self,
+        sim: &Simulation,
+        (seed, noise, engine): (u64, SensorNoise, Option<EngineKind>),
+        genomes: &[Genome],
+    ) -> Result<Vec<Outcome>, EvalError> {
         let opts = BuildOptions {
             robots: genomes.len(),
             seed,
@@ -369,14 +409,80 @@ impl Evaluator {
         }
         let dt = s.clock().dt;
         let steps = (self.duration / dt).round() as u64;
-        s.run_steps(steps);
+        let probes = self.run_probed(&mut s, genomes.len(), steps)?;
         let time = steps as f64 * dt;
-        let mut scores = Vec::with_capacity(genomes.len());
+        let mut outcomes = Vec::with_capacity(genomes.len());
         for (i, start) in start.into_iter().enumerate() {
-            scores.push(robot_score(&s, i, start, time, self.fitness)?);
+            outcomes.push(Outcome {
+                score: robot_score(&s, i, start, time, self.fitness)?,
+                measures: probes
+                    .get(i)
+                    .map(|p| p.finish(&self.measures))
+                    .unwrap_or_default(),
+            });
         }
-        Ok(scores)
+        Ok(outcomes)
     }
+
+    /// Runs `steps` steps of `s`; with quantities to measure, in chunks between samples
+    /// of each of its `robots` (none measured: one run of steps, no probes).
+    fn run_probed(
+        &self,
+        s: &mut Simulator,
+        robots: usize,
+        steps: u64,
+    ) -> Result<Vec<Probe>, EvalError> {
+        if self.measures.is_empty() {
+            s.run_steps(steps);
+            return Ok(Vec::new());
+        }
+        let chunk = (SAMPLE_SECONDS / s.clock().dt).round().max(1.0) as u64;
+        let samples = steps.div_ceil(chunk) as usize;
+        let mut probes = (0..robots)
+            .map(|i| Probe::start(s, i, samples))
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut done = 0;
+        while done < steps {
+            let k = chunk.min(steps - done);
+            s.run_steps(k);
+            done += k;
+            for p in &mut probes {
+                p.sample(s)?;
+            }
+        }
+        Ok(probes)
+    }
+}
+
+/// One robot's episode: its score and the quantities measured (empty unless the
+/// evaluator measures any).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outcome {
+    /// The score.
+    pub score: f64,
+    /// The measured quantities, in [`Evaluator::measures`]' order.
+    pub measures: Vec<f64>,
+}
+
+impl Outcome {
+    /// A candidate's outcome over its randomized episodes: their scores combined, their
+    /// quantities averaged.
+    fn over_episodes(robust: &RobustEpisodes, episodes: &[Outcome]) -> Outcome {
+        let scores: Vec<f64> = episodes.iter().map(|o| o.score).collect();
+        let n = episodes.first().map_or(0, |o| o.measures.len());
+        let measures = (0..n)
+            .map(|k| episodes.iter().map(|o| o.measures[k]).sum::<f64>() / episodes.len() as f64)
+            .collect();
+        Outcome {
+            score: robust.combine(&scores),
+            measures,
+        }
+    }
+}
+
+/// The one outcome of a one-robot world.
+fn first(outcomes: Vec<Outcome>) -> Result<Outcome, EvalError> {
+    outcomes.into_iter().next().ok_or(EvalError::Empty)
 }
 
 /// Robot `robot`'s score after an episode that started with its centre of mass and heading

@@ -5,12 +5,14 @@
 //! probability `mutation`, at least one gene changed). The result is a map of which
 //! designs work where, not one best candidate alone.
 //!
-//! The descriptors are functions of the genome ([`Descriptor`]: a gene's place in its
-//! range), so the archive is a function of the evaluated candidates and their scores: a run
-//! resumed from the store, or evaluated by workers on other hosts, ends with the same
-//! archive. Like the other optimizers it is a deterministic function of seed and scores.
+//! The descriptors ([`Descriptor`]) are functions of the genome (a gene's place in its
+//! range, a body's share of yaw joints) or quantities measured in the episode (body
+//! height, path curvature: stored with each evaluation), so the archive is a function of
+//! the evaluated candidates, their scores and their measures: a run resumed from the store,
+//! or evaluated by workers on other hosts, ends with the same archive. Like the other
+//! optimizers it is a deterministic function of seed and scores.
 
-use crate::config::optimizer::{DescriptorSpec, MapElitesSettings};
+use crate::config::optimizer::{DescriptorSpec, MapElitesSettings, Quantity};
 use crate::optimize::Optimizer;
 use crate::optimize::design::DesignSpace;
 use crate::optimize::space::{Genome, SearchSpace};
@@ -38,17 +40,34 @@ pub enum Axis {
     },
     /// A co-design body's share of yaw joints.
     YawShare(std::sync::Arc<DesignSpace>),
+    /// A quantity measured in the episode, over the range the cells cut.
+    Measured {
+        /// Which of the evaluation's measures (in descriptor order).
+        index: usize,
+        /// What it is.
+        quantity: Quantity,
+        /// The range (min, max) the cells cut.
+        range: [f64; 2],
+    },
 }
 
 impl Descriptor {
     /// The descriptor of `spec` in `space` (its gene is numbered from 1 in files); a
-    /// yaw-share descriptor needs the co-design `design`.
+    /// yaw-share descriptor needs the co-design `design`; a measured one reads the
+    /// evaluation's measure `measure_index`.
     pub fn of(
         spec: &DescriptorSpec,
         space: &SearchSpace,
         design: Option<&std::sync::Arc<DesignSpace>>,
+        measure_index: usize,
     ) -> Option<Descriptor> {
-        let axis = if spec.yaw_share {
+        let axis = if let Some(m) = spec.measured {
+            Axis::Measured {
+                index: measure_index,
+                quantity: m.quantity,
+                range: m.range,
+            }
+        } else if spec.yaw_share {
             Axis::YawShare(design?.clone())
         } else {
             let gene = (spec.gene as usize).checked_sub(1)?;
@@ -61,8 +80,9 @@ impl Descriptor {
         })
     }
 
-    /// The descriptor's value for `genome`, 0..=1.
-    pub fn value(&self, genome: &Genome) -> f64 {
+    /// The descriptor's value for `genome` with the quantities `measures` measured in its
+    /// episode, 0..=1 (a measure outside its range counts at the range's end).
+    pub fn value(&self, genome: &Genome, measures: &[f64]) -> f64 {
         match &self.axis {
             Axis::Gene { alleles, .. } if *alleles <= 1 => 0.0,
             Axis::Gene { gene, alleles } => {
@@ -70,6 +90,11 @@ impl Descriptor {
                 f64::from(k) / f64::from(alleles - 1)
             }
             Axis::YawShare(design) => design.yaw_share(genome),
+            Axis::Measured { index, range, .. } => {
+                let v = measures.get(*index).copied().unwrap_or(f64::NAN);
+                let t = (v - range[0]) / (range[1] - range[0]);
+                if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) }
+            }
         }
     }
 
@@ -78,6 +103,16 @@ impl Descriptor {
         match &self.axis {
             Axis::Gene { gene, .. } => space.genes[*gene].label(),
             Axis::YawShare(_) => "share of yaw joints".into(),
+            Axis::Measured { quantity, .. } => quantity.label().into(),
+        }
+    }
+
+    /// What the axis's 0..1 spans: a gene's or a share's place in its range, or a measured
+    /// quantity's range.
+    pub fn scale(&self) -> String {
+        match &self.axis {
+            Axis::Measured { range, .. } => format!("{} to {}", range[0], range[1]),
+            _ => "place in its range".into(),
         }
     }
 
@@ -106,19 +141,20 @@ impl Archive {
         }
     }
 
-    /// The cell of `genome`.
-    pub fn cell(&self, genome: &Genome) -> usize {
+    /// The cell of `genome` with its measured quantities `measures`.
+    pub fn cell(&self, genome: &Genome, measures: &[f64]) -> usize {
         let [x, y] = &self.axes;
-        y.bin(y.value(genome)) * x.bins + x.bin(x.value(genome))
+        y.bin(y.value(genome, measures)) * x.bins + x.bin(x.value(genome, measures))
     }
 
-    /// Offers a scored candidate; true when it became its cell's elite (a first, or a
-    /// better score; a score that is not a number never enters).
-    pub fn offer(&mut self, genome: &Genome, score: f64) -> bool {
+    /// Offers a scored candidate with its measured quantities; true when it became its
+    /// cell's elite (a first, or a better score; a score that is not a number never
+    /// enters).
+    pub fn offer(&mut self, genome: &Genome, measures: &[f64], score: f64) -> bool {
         if score.is_nan() || score == f64::NEG_INFINITY {
             return false;
         }
-        let c = self.cell(genome);
+        let c = self.cell(genome, measures);
         match &self.cells[c] {
             Some((_, s)) if *s >= score => false,
             _ => {
@@ -153,15 +189,15 @@ impl Archive {
             .map(|(g, s)| (g, *s))
     }
 
-    /// The archive the scored candidates `evaluations` make, in order: how a stored run's
-    /// archive is rebuilt.
+    /// The archive the scored candidates `evaluations` (genome, measures, score) make, in
+    /// order: how a stored run's archive is rebuilt.
     pub fn replayed<'a>(
         axes: [Descriptor; 2],
-        evaluations: impl IntoIterator<Item = (&'a Genome, f64)>,
+        evaluations: impl IntoIterator<Item = (&'a Genome, &'a [f64], f64)>,
     ) -> Self {
         let mut a = Archive::new(axes);
-        for (g, s) in evaluations {
-            a.offer(g, s);
+        for (g, m, s) in evaluations {
+            a.offer(g, m, s);
         }
         a
     }
@@ -266,9 +302,14 @@ impl Optimizer for MapElites {
     }
 
     fn tell(&mut self, scores: &[f64]) {
+        self.tell_measured(scores, &[]);
+    }
+
+    fn tell_measured(&mut self, scores: &[f64], measures: &[Vec<f64>]) {
         let asked = std::mem::take(&mut self.pending);
-        for (g, s) in asked.iter().zip(scores) {
-            self.archive.offer(g, *s);
+        for (i, (g, s)) in asked.iter().zip(scores).enumerate() {
+            let m = measures.get(i).map_or(&[][..], Vec::as_slice);
+            self.archive.offer(g, m, *s);
         }
         self.evaluations += scores.len() as u64;
     }
@@ -311,8 +352,9 @@ mod tests {
                 gene,
                 bins: 10,
                 yaw_share: false,
+                measured: None,
             };
-            Descriptor::of(&spec, space, None).unwrap()
+            Descriptor::of(&spec, space, None, 0).unwrap()
         })
     }
 
@@ -360,7 +402,7 @@ mod tests {
             let mut arch = Archive::new(axes(&s));
             for _ in 0..2000 {
                 let g = s.random(&mut rng);
-                arch.offer(&g, score(&s, &g));
+                arch.offer(&g, &[], score(&s, &g));
             }
             arch
         };
@@ -396,7 +438,7 @@ mod tests {
             me.tell(&scores);
             seen.extend(asked.into_iter().zip(scores));
         }
-        let replayed = Archive::replayed(axes(&s), seen.iter().map(|(g, s)| (g, *s)));
+        let replayed = Archive::replayed(axes(&s), seen.iter().map(|(g, s)| (g, &[][..], *s)));
         assert_eq!(&replayed, me.archive());
     }
 
@@ -411,11 +453,13 @@ mod tests {
                     gene: 1,
                     bins: 4,
                     yaw_share: false,
+                    measured: None,
                 },
                 DescriptorSpec {
                     gene: 9,
                     bins: 4,
                     yaw_share: false,
+                    measured: None,
                 },
             ],
         };
@@ -433,11 +477,11 @@ mod tests {
     fn scores_that_are_not_numbers_never_become_elites() {
         let s = space();
         let mut a = Archive::new(axes(&s));
-        assert!(!a.offer(&vec![0; 4], f64::NAN));
-        assert!(!a.offer(&vec![0; 4], f64::NEG_INFINITY));
-        assert!(a.offer(&vec![0; 4], -5.0));
+        assert!(!a.offer(&vec![0; 4], &[], f64::NAN));
+        assert!(!a.offer(&vec![0; 4], &[], f64::NEG_INFINITY));
+        assert!(a.offer(&vec![0; 4], &[], -5.0));
         assert!(
-            !a.offer(&vec![0, 0, 1, 1], -6.0),
+            !a.offer(&vec![0, 0, 1, 1], &[], -6.0),
             "a worse score keeps the elite"
         );
         assert_eq!(a.coverage(), 0.01);

@@ -7,6 +7,7 @@
 //! driver and workers on many hosts, [`shared`]).
 
 pub mod archive;
+pub mod behaviour;
 pub mod cmaes;
 pub mod curve;
 pub mod deluge;
@@ -34,6 +35,11 @@ pub trait Optimizer: Send {
     fn ask(&mut self) -> Vec<Genome>;
     /// The scores of the candidates of the last `ask`, in order.
     fn tell(&mut self, scores: &[f64]);
+    /// The scores and the quantities measured in their episodes (MAP-Elites places
+    /// candidates by measured descriptors; the others use the scores alone).
+    fn tell_measured(&mut self, scores: &[f64], _measures: &[Vec<f64>]) {
+        self.tell(scores);
+    }
     /// Whether the search has stopped.
     fn finished(&self) -> bool;
     /// The best candidate seen and its score.

@@ -175,7 +175,8 @@ pub fn optimize(
         if candidates.is_empty() {
             break;
         }
-        let scores = scoring.score(&mut recording, (n, round), &candidates, settings.seed)?;
+        let (scores, measures) =
+            scoring.score(&mut recording, (n, round), &candidates, settings.seed)?;
         for (g, s) in candidates.iter().zip(&scores) {
             start_score = start_score.or(Some(*s));
             best = best.max(*s);
@@ -188,7 +189,7 @@ pub fn optimize(
             });
             n += 1;
         }
-        optimizer.tell(&scores);
+        optimizer.tell_measured(&scores, &measures);
         round += 1;
     }
     let (batching, simulated) = scoring.finish(&mut recording, workers)?;
@@ -212,6 +213,9 @@ pub fn optimize(
     })
 }
 
+/// A round's scores and the quantities measured in their episodes, in candidate order.
+type Scores = (Vec<f64>, Vec<Vec<f64>>);
+
 /// How a run's candidates get their scores: from the store (resuming), simulated here, or
 /// through a shared store's queue with the driver's local workers.
 struct Scoring {
@@ -225,14 +229,15 @@ struct Scoring {
 }
 
 impl Scoring {
-    /// The scores of a round's candidates, the first numbered `first`.
+    /// The scores of a round's candidates, the first numbered `first`, and the quantities
+    /// measured in their episodes.
     fn score(
         &mut self,
         recording: &mut Option<Recording<'_>>,
         (first, round): (u64, u64),
         candidates: &[Genome],
         seed: u64,
-    ) -> Result<Vec<f64>, OptimizeError> {
+    ) -> Result<Scores, OptimizeError> {
         let (mut scores, missing) = reuse_stored(recording.as_ref(), first, candidates);
         self.simulated += missing.len() as u64;
         let round_of = RoundRef {
@@ -323,7 +328,7 @@ fn queue_missing(
     seed: u64,
     space: &crate::optimize::space::SearchSpace,
     r: &RoundRef<'_>,
-    scores: &mut [f64],
+    scores: &mut Scores,
     local: &mut LocalWorkers,
 ) -> Result<(), OptimizeError> {
     if r.missing.is_empty() {
@@ -348,8 +353,10 @@ fn queue_missing(
             Err(e) => return Err(e),
         }
     };
-    for (k, s) in got.into_iter().enumerate() {
-        scores[r.missing[k]] = if s.is_nan() { f64::NEG_INFINITY } else { s };
+    for (k, (s, m)) in got.into_iter().enumerate() {
+        let i = r.missing[k];
+        scores.0[i] = if s.is_nan() { f64::NEG_INFINITY } else { s };
+        scores.1[i] = m;
     }
     Ok(())
 }
@@ -368,7 +375,12 @@ pub fn map_axes(
             gene: 0,
             genes: space.genes.len(),
         })?;
-        Descriptor::of(spec, space, design.as_ref()).ok_or(OptimizeError::Descriptor {
+        // Measured descriptors read the evaluation's measures in descriptor order.
+        let index = m.descriptors[..k]
+            .iter()
+            .filter(|d| d.measured.is_some())
+            .count();
+        Descriptor::of(spec, space, design.as_ref(), index).ok_or(OptimizeError::Descriptor {
             gene: spec.gene,
             genes: space.genes.len(),
         })
@@ -417,14 +429,15 @@ fn build_optimizer(
     })
 }
 
-/// The scores an interrupted attempt stored for this round's candidates (same number and
-/// genome), and the indices of the candidates still to simulate.
+/// The scores (and measures) an interrupted attempt stored for this round's candidates
+/// (same number and genome), and the indices of the candidates still to simulate.
 fn reuse_stored(
     recording: Option<&Recording<'_>>,
     first: u64,
     candidates: &[Genome],
-) -> (Vec<f64>, Vec<usize>) {
+) -> (Scores, Vec<usize>) {
     let mut scores = vec![f64::NAN; candidates.len()];
+    let mut measures = vec![Vec::new(); candidates.len()];
     let mut missing = Vec::new();
     for (i, g) in candidates.iter().enumerate() {
         let number = first + i as u64;
@@ -437,12 +450,18 @@ fn reuse_stored(
                 .filter(|k| k.genome == *g)
         });
         match known {
-            Some(k) if k.score.is_nan() => scores[i] = f64::NEG_INFINITY,
-            Some(k) => scores[i] = k.score,
+            Some(k) => {
+                scores[i] = if k.score.is_nan() {
+                    f64::NEG_INFINITY
+                } else {
+                    k.score
+                };
+                measures[i].clone_from(&k.measures);
+            }
             None => missing.push(i),
         }
     }
-    (scores, missing)
+    ((scores, measures), missing)
 }
 
 /// How candidates are spread over worlds: given, or measured on the first large round
@@ -523,7 +542,7 @@ fn simulate_missing(
     evaluator: &mut Evaluator,
     batching: &mut Batching,
     r: &RoundRef<'_>,
-    scores: &mut [f64],
+    scores: &mut Scores,
     recording: &mut Option<Recording<'_>>,
     (seed, stored): (u64, &mut u64),
 ) -> Result<(), OptimizeError> {
@@ -555,6 +574,7 @@ fn simulate_missing(
                         score: s.score,
                         engines: s.engines.clone(),
                         rejected: s.rejected.as_ref().map(ToString::to_string),
+                        measures: s.measures.clone(),
                         wall: wall / batch_scores.len().max(1) as f64,
                     }
                 })
@@ -573,7 +593,9 @@ fn simulate_missing(
         let rate = range.len() as f64 / t.elapsed().as_secs_f64().max(1e-9);
         rates.push((batch, rate));
         for (k, score) in got.into_iter().enumerate() {
-            scores[r.missing[offset + k]] = score.score;
+            let i = r.missing[offset + k];
+            scores.0[i] = score.score;
+            scores.1[i] = score.measures;
         }
     }
     batching.learn(&rates);

@@ -155,17 +155,58 @@ pub struct MapElitesSettings {
 }
 
 /// A behaviour descriptor: a gene's place in its range (or, in a co-design file, the
-/// body's share of yaw joints), cut into cells.
+/// body's share of yaw joints, or a quantity measured in the episode), cut into cells.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DescriptorSpec {
     /// The gene, numbered from 1 in genome order (registered parameters in their order,
     /// one gene per value of each; in a co-design file the body genes come first, gene 1
-    /// being the module count); 0 with `yaw_share`.
+    /// being the module count); 0 with `yaw_share` or `measured`.
     pub gene: u32,
     /// Cells along this axis.
     pub bins: u32,
     /// `name="yaw-share"`: the share of the body's joints that are yaw joints.
     pub yaw_share: bool,
+    /// `name="height"` or `name="curvature"` with `min`/`max`: measured in the episode.
+    pub measured: Option<Measured>,
+}
+
+/// What a measured descriptor measures in each episode.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Quantity {
+    /// The body's height: the highest link centre above the lowest, averaged over the
+    /// episode (m).
+    Height,
+    /// The path's turn: the angle between the centre of mass's displacements over the
+    /// episode's first and second halves (degrees, 0 straight on, 180 back).
+    Curvature,
+}
+
+impl Quantity {
+    /// The name files use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Quantity::Height => "height",
+            Quantity::Curvature => "curvature",
+        }
+    }
+
+    /// What it is, for axis labels.
+    pub fn label(self) -> &'static str {
+        match self {
+            Quantity::Height => "body height (m)",
+            Quantity::Curvature => "path curvature (deg)",
+        }
+    }
+}
+
+/// A measured descriptor: the quantity and the range its cells cover (values outside fall
+/// into the end cells).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Measured {
+    /// What is measured.
+    pub quantity: Quantity,
+    /// The range (min, max) the cells cut.
+    pub range: [f64; 2],
 }
 
 /// Which optimizer, with its settings.
@@ -302,12 +343,14 @@ mod tests {
                 DescriptorSpec {
                     gene: 1,
                     bins: 8,
-                    yaw_share: false
+                    yaw_share: false,
+                    measured: None,
                 },
                 DescriptorSpec {
                     gene: 5,
                     bins: 8,
-                    yaw_share: false
+                    yaw_share: false,
+                    measured: None,
                 }
             ]
         );

@@ -6,7 +6,7 @@ use crate::config::fitness::Fitness;
 use crate::config::optimizer::genome::read_genomes;
 use crate::config::optimizer::{
     Algorithm, CmaSettings, DEFAULT_CMA_SIGMA, DescriptorSpec, GaSettings, GdSettings,
-    MapElitesSettings, OptimizerFile, RegisteredParameter,
+    MapElitesSettings, Measured, OptimizerFile, Quantity, RegisteredParameter,
 };
 use crate::config::robustness::read_robustness;
 use crate::config::xml::dom::Element;
@@ -197,7 +197,7 @@ fn read_map_elites(r: &Reader, props: &Element) -> ConfigResult<MapElitesSetting
     let mutation = r.f64_in(mutation, 0.0, 1.0)?;
     let mut descriptors = Vec::new();
     for d in props.children_named("descriptor") {
-        r.only_attrs(d, &["gene", "name", "bins"])?;
+        r.only_attrs(d, &["gene", "name", "bins", "min", "max"])?;
         let bins = r.required_attr(d, "bins")?;
         let bins = r.u32_str(&bins.value, bins.pos, "bins=")?;
         let spec = match d.attr("name") {
@@ -205,16 +205,32 @@ fn read_map_elites(r: &Reader, props: &Element) -> ConfigResult<MapElitesSetting
                 gene: 0,
                 bins,
                 yaw_share: true,
+                measured: None,
             },
             Some(n) => {
-                return Err(r.err(
-                    n.pos,
-                    ErrorKind::InvalidValue,
-                    format!(
-                        "descriptor name={:?}: the named descriptor is yaw-share",
-                        n.value
-                    ),
-                ));
+                let quantity = match n.value.as_str() {
+                    "height" => Quantity::Height,
+                    "curvature" => Quantity::Curvature,
+                    _ => {
+                        return Err(r.err(
+                            n.pos,
+                            ErrorKind::InvalidValue,
+                            format!(
+                                "descriptor name={:?}: the named descriptors are yaw-share, height and curvature",
+                                n.value
+                            ),
+                        ));
+                    }
+                };
+                DescriptorSpec {
+                    gene: 0,
+                    bins,
+                    yaw_share: false,
+                    measured: Some(Measured {
+                        quantity,
+                        range: measured_range(r, d)?,
+                    }),
+                }
             }
             None => {
                 let gene = r.required_attr(d, "gene")?;
@@ -222,10 +238,12 @@ fn read_map_elites(r: &Reader, props: &Element) -> ConfigResult<MapElitesSetting
                     gene: r.u32_str(&gene.value, gene.pos, "gene=")?,
                     bins,
                     yaw_share: false,
+                    measured: None,
                 }
             }
         };
-        if (spec.gene == 0 && !spec.yaw_share) || spec.bins == 0 || spec.bins > 1000 {
+        let named = spec.yaw_share || spec.measured.is_some();
+        if (spec.gene == 0 && !named) || spec.bins == 0 || spec.bins > 1000 {
             return Err(r.err(
                 d.pos,
                 ErrorKind::OutOfRange,
@@ -257,6 +275,37 @@ fn read_map_elites(r: &Reader, props: &Element) -> ConfigResult<MapElitesSetting
         mutation,
         descriptors,
     })
+}
+
+/// A measured descriptor's `min` and `max`: numbers, min below max.
+fn measured_range(r: &Reader, d: &Element) -> ConfigResult<[f64; 2]> {
+    let bound = |name: &str| -> ConfigResult<f64> {
+        let a = r.required_attr(d, name)?;
+        a.value
+            .trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| {
+                r.err(
+                    a.pos,
+                    ErrorKind::InvalidValue,
+                    format!("{name}={:?}: give a number", a.value),
+                )
+            })
+    };
+    let range = [bound("min")?, bound("max")?];
+    if range[0] >= range[1] {
+        return Err(r.err(
+            d.pos,
+            ErrorKind::OutOfRange,
+            format!(
+                "descriptor min=\"{}\" max=\"{}\": min must lie below max",
+                range[0], range[1]
+            ),
+        ));
+    }
+    Ok(range)
 }
 
 /// CMA-ES's properties, with their defaults.

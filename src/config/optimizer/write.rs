@@ -113,12 +113,18 @@ fn write_algorithm(w: &mut XmlWriter, algorithm: &Algorithm) {
             w.leaf("batch", &m.batch.to_string());
             w.num("mutation", m.mutation);
             for d in &m.descriptors {
-                let axis = if d.yaw_share {
-                    ("name", "yaw-share".to_string())
-                } else {
-                    ("gene", d.gene.to_string())
+                let bins = ("bins", d.bins.to_string());
+                let attrs = match (&d.measured, d.yaw_share) {
+                    (Some(q), _) => vec![
+                        ("name", q.quantity.name().to_string()),
+                        ("min", q.range[0].to_string()),
+                        ("max", q.range[1].to_string()),
+                        bins,
+                    ],
+                    (None, true) => vec![("name", "yaw-share".to_string()), bins],
+                    (None, false) => vec![("gene", d.gene.to_string()), bins],
                 };
-                w.empty("descriptor", &[axis, ("bins", d.bins.to_string())]);
+                w.empty("descriptor", &attrs);
             }
         }
     }

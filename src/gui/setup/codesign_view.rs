@@ -1,12 +1,14 @@
 //! The optimization page's MAP-Elites settings and co-design ranges: whether the body is
 //! searched with the gait, and which bodies (module count, joint orientations, an optional
-//! repeated motif, part sets), and the archive's two descriptors.
+//! repeated motif, part sets), and the archive's two descriptors (a gene, a body's share
+//! of yaw joints, or a quantity measured in the episode over a range).
 
 use bevy_egui::egui;
 
 use crate::compose::optimization::OptimizationSpec;
 use crate::config::error::Pos;
 use crate::config::morphology::Morphology;
+use crate::config::optimizer::{DescriptorSpec, Measured, Quantity};
 use crate::config::robot_builder::{MAX_JOINTS, Orientation, PartSet};
 
 /// MAP-Elites' own settings: first random round, mutants per round, mutation rate, and
@@ -28,18 +30,29 @@ pub fn map_elites_settings(ui: &mut egui::Ui, o: &mut OptimizationSpec) {
     for (axis, d) in ["x", "y"].into_iter().zip(m.descriptors.iter_mut()) {
         ui.horizontal(|ui| {
             ui.label(format!("{axis}:"));
-            if co_design {
-                ui.checkbox(&mut d.yaw_share, "share of yaw joints");
-            } else {
-                d.yaw_share = false;
-            }
-            if !d.yaw_share {
-                d.gene = d.gene.max(1);
-                ui.add(
-                    egui::DragValue::new(&mut d.gene)
-                        .range(1..=10_000)
-                        .prefix("gene "),
-                );
+            descriptor_kind(ui, axis, d, co_design);
+            match &mut d.measured {
+                Some(q) => {
+                    ui.add(
+                        egui::DragValue::new(&mut q.range[0])
+                            .speed(0.01)
+                            .prefix("from "),
+                    );
+                    ui.add(
+                        egui::DragValue::new(&mut q.range[1])
+                            .speed(0.01)
+                            .prefix("to "),
+                    );
+                }
+                None if !d.yaw_share => {
+                    d.gene = d.gene.max(1);
+                    ui.add(
+                        egui::DragValue::new(&mut d.gene)
+                            .range(1..=10_000)
+                            .prefix("gene "),
+                    );
+                }
+                None => {}
             }
             ui.add(
                 egui::DragValue::new(&mut d.bins)
@@ -53,6 +66,43 @@ pub fn map_elites_settings(ui: &mut egui::Ui, o: &mut OptimizationSpec) {
     } else {
         "genes are numbered from 1 in registration order"
     });
+}
+
+/// What a descriptor describes: a gene, a body's share of yaw joints (co-design only), or
+/// a quantity measured in the episode.
+fn descriptor_kind(ui: &mut egui::Ui, axis: &str, d: &mut DescriptorSpec, co_design: bool) {
+    let now = match (&d.measured, d.yaw_share) {
+        (Some(q), _) => q.quantity.label(),
+        (None, true) => "share of yaw joints",
+        (None, false) => "a gene",
+    };
+    egui::ComboBox::from_id_salt(("descriptor", axis))
+        .selected_text(now)
+        .show_ui(ui, |ui| {
+            if ui.selectable_label(now == "a gene", "a gene").clicked() {
+                (d.yaw_share, d.measured) = (false, None);
+            }
+            if co_design
+                && ui
+                    .selectable_label(d.yaw_share, "share of yaw joints")
+                    .clicked()
+            {
+                (d.yaw_share, d.measured) = (true, None);
+            }
+            for (quantity, range) in [
+                (Quantity::Height, [0.0, 0.08]),
+                (Quantity::Curvature, [0.0, 120.0]),
+            ] {
+                let on = d.measured.is_some_and(|m| m.quantity == quantity);
+                if ui.selectable_label(on, quantity.label()).clicked() && !on {
+                    d.yaw_share = false;
+                    d.measured = Some(Measured { quantity, range });
+                }
+            }
+        });
+    if !co_design {
+        d.yaw_share = false;
+    }
 }
 
 /// Whether the body is searched too, and within which ranges.

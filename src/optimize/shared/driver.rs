@@ -15,15 +15,15 @@ use crate::optimize::shared::worker::{WorkerOptions, WorkerReport, run_pool};
 use crate::optimize::store::PgStore;
 use crate::optimize::store::pg_queue::Pending;
 
-/// Queues `pending` (candidates of `run`) and waits for their scores, in the same order;
-/// a failed episode scores NaN. The wait ends with an error if the local workers fail.
+/// Queues `pending` (candidates of `run`) and waits for their scores and measured
+/// quantities, in the same order; a failed episode scores NaN. The wait ends with an error if the local workers fail.
 pub fn evaluate_round(
     store: &mut PgStore,
     run: i64,
     seed: u64,
     pending: &[Pending],
     local: &mut LocalWorkers,
-) -> Result<Vec<f64>, OptimizeError> {
+) -> Result<Vec<(f64, Vec<f64>)>, OptimizeError> {
     store.enqueue(run, seed, pending)?;
     let numbers: Vec<u64> = pending.iter().map(|p| p.number).collect();
     store.wait_scores(run, &numbers, |_| local.check())

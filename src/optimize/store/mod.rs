@@ -9,7 +9,7 @@
 //! | `runs` | what identifies a run ([`RunInfo`]), when it started, whether it finished, the program that started it |
 //! | `run_files` | the run's resolved configuration: every file it read (simulation, robot, parts, actuation, environment, meshes, optimizer) |
 //! | `run_episodes` | robust fitness: each randomized episode's seed and what it drew |
-//! | `evaluations` | one row per candidate: number, round, genome, values, score, its score on each engine (`engine_scores`, runs with `<engines>`), why its body was rejected (`rejected`, co-design; NULL for a body that ran), seed, wall seconds; and for shared evaluation its `state` (`pending`, `running`, `done`), the claiming `worker`, the claim's `attempt` and `lease_until` |
+//! | `evaluations` | one row per candidate: number, round, genome, values, score, its score on each engine (`engine_scores`, runs with `<engines>`), why its body was rejected (`rejected`, co-design; NULL for a body that ran), the quantities measured in its episode (`measures`, MAP-Elites' measured descriptors), seed, wall seconds; and for shared evaluation its `state` (`pending`, `running`, `done`), the claiming `worker`, the claim's `attempt` and `lease_until` |
 //!
 //! [`sqlite`] is the embedded store of one machine (evaluations run in the optimizing
 //! process); [`pg`] a PostgreSQL database shared by a driver and `proleg worker`s on many
@@ -30,7 +30,7 @@ pub use pg::PgStore;
 pub use sqlite::SqliteStore;
 
 /// The layout this program reads and writes (1: before shared evaluation; 2: before
-/// `run_episodes`; 3: before `evaluations.engine_scores`; 4: before `evaluations.rejected`).
+/// `run_episodes`; 3: before `evaluations.engine_scores`; 4: before `evaluations.rejected` and `evaluations.measures`).
 pub const SCHEMA_VERSION: i64 = 5;
 
 /// The program that starts a run, stored with it: a worker of another version refuses the
@@ -124,6 +124,9 @@ pub struct StoredEval {
     pub engines: Vec<(EngineKind, f64)>,
     /// Why its body was rejected unrun (a co-design candidate; its score is then `-inf`).
     pub rejected: Option<String>,
+    /// The quantities measured in its episode (MAP-Elites' measured descriptors; else
+    /// empty).
+    pub measures: Vec<f64>,
     /// Wall seconds of its evaluation (a batch's shared by its candidates).
     pub wall: f64,
 }
@@ -225,7 +228,7 @@ impl std::ops::DerefMut for Store {
 }
 
 /// One row of `evaluations` as both drivers read it (number, round, genome, vals, score,
-/// wall, engine_scores, rejected), before its text columns are parsed by [`EvalRow::parse`].
+/// wall, engine_scores, rejected, measures), before its text columns are parsed by [`EvalRow::parse`].
 pub(crate) struct EvalRow {
     pub number: i64,
     pub round: i64,
@@ -235,11 +238,12 @@ pub(crate) struct EvalRow {
     pub wall: f64,
     pub engines: String,
     pub rejected: Option<String>,
+    pub measures: String,
 }
 
 /// The columns both drivers select for an [`EvalRow`], in its order.
 pub(crate) const EVAL_COLUMNS: &str =
-    "number, round, genome, vals, score, wall, engine_scores, rejected";
+    "number, round, genome, vals, score, wall, engine_scores, rejected, measures";
 
 impl EvalRow {
     /// The stored evaluation, each text column parsed; a column that does not parse is a
@@ -259,6 +263,7 @@ impl EvalRow {
             score: self.score.unwrap_or(f64::NAN),
             engines: place.engines(&self.engines)?,
             rejected: self.rejected,
+            measures: place.list("measures", &self.measures)?,
             wall: self.wall,
         })
     }

@@ -43,7 +43,7 @@ CREATE TABLE run_episodes (
 CREATE TABLE evaluations (
     run BIGINT NOT NULL REFERENCES runs(id), number BIGINT NOT NULL,
     round BIGINT NOT NULL, genome TEXT NOT NULL, vals TEXT NOT NULL,
-    score DOUBLE PRECISION, engine_scores TEXT NOT NULL DEFAULT '', rejected TEXT,
+    score DOUBLE PRECISION, engine_scores TEXT NOT NULL DEFAULT '', rejected TEXT, measures TEXT NOT NULL DEFAULT '',
     seed BIGINT NOT NULL, wall DOUBLE PRECISION NOT NULL DEFAULT 0,
     state TEXT NOT NULL DEFAULT 'done' CHECK (state IN ('pending', 'running', 'done')),
     worker TEXT, attempt INTEGER NOT NULL DEFAULT 0, lease_until TIMESTAMPTZ,
@@ -62,9 +62,10 @@ const FROM_V3: &str = "
 ALTER TABLE evaluations ADD COLUMN engine_scores TEXT NOT NULL DEFAULT '';
 UPDATE proleg_meta SET schema_version = 4;";
 
-/// Version 4 to 5: why a co-design body was rejected.
+/// Version 4 to 5: why a co-design body was rejected, and measured descriptors.
 const FROM_V4: &str = "
 ALTER TABLE evaluations ADD COLUMN rejected TEXT;
+ALTER TABLE evaluations ADD COLUMN measures TEXT NOT NULL DEFAULT '';
 UPDATE proleg_meta SET schema_version = 5;";
 
 impl PgStore {
@@ -275,11 +276,12 @@ impl ExperimentStore for PgStore {
         let mut tx = self.client.transaction().map_err(&fail)?;
         let st = tx
             .prepare(
-                "INSERT INTO evaluations (run, number, round, genome, vals, score, seed, wall, engine_scores, rejected)
-                 VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10)
+                "INSERT INTO evaluations (run, number, round, genome, vals, score, seed, wall, engine_scores, rejected, measures)
+                 VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11)
                  ON CONFLICT (run, number) DO UPDATE SET round = EXCLUDED.round,
                    genome = EXCLUDED.genome, vals = EXCLUDED.vals, score = EXCLUDED.score,
                    engine_scores = EXCLUDED.engine_scores, rejected = EXCLUDED.rejected,
+                   measures = EXCLUDED.measures,
                    seed = EXCLUDED.seed, wall = EXCLUDED.wall, state = 'done', lease_until = NULL",
             )
             .map_err(&fail)?;
@@ -297,6 +299,7 @@ impl ExperimentStore for PgStore {
                     &e.wall,
                     &engine_scores_text(&e.engines),
                     &e.rejected,
+                    &join(&e.measures),
                 ],
             )
             .map_err(&fail)?;
@@ -329,6 +332,7 @@ impl ExperimentStore for PgStore {
                     wall: r.try_get(5)?,
                     engines: r.try_get(6)?,
                     rejected: r.try_get(7)?,
+                    measures: r.try_get(8)?,
                 };
                 Ok::<_, postgres::Error>(row)
             })

@@ -189,7 +189,7 @@ impl PgStore {
             .query(
                 "WITH done AS (
                      UPDATE evaluations SET state = 'done', score = $1, wall = $2, lease_until = NULL,
-                       engine_scores = $7, rejected = $8
+                       engine_scores = $7, rejected = $8, measures = $9
                      WHERE run = $3 AND number = $4 AND attempt = $5 AND worker = $6
                        AND state = 'running' AND lease_until >= now()
                      RETURNING run)
@@ -203,6 +203,7 @@ impl PgStore {
                     &worker,
                     &engine_scores_text(&score.engines),
                     &score.rejected.as_ref().map(ToString::to_string),
+                    &join(&score.measures),
                 ],
             )
             .map_err(&fail)?;
@@ -230,7 +231,7 @@ impl PgStore {
         run: i64,
         numbers: &[u64],
         mut on_wait: impl FnMut(f64) -> Result<(), E>,
-    ) -> Result<Vec<f64>, E> {
+    ) -> Result<Vec<(f64, Vec<f64>)>, E> {
         let (Some(first), Some(last)) = (numbers.iter().min(), numbers.iter().max()) else {
             return Ok(Vec::new());
         };
@@ -240,7 +241,7 @@ impl PgStore {
             let rows = self
                 .client
                 .query(
-                    "SELECT number, score FROM evaluations
+                    "SELECT number, score, measures FROM evaluations
                      WHERE run = $1 AND number BETWEEN $2 AND $3 AND state = 'done'",
                     &[&run, &(*first as i64), &(*last as i64)],
                 )
@@ -249,10 +250,20 @@ impl PgStore {
             for r in &rows {
                 let number: i64 = r.try_get(0).map_err(&fail)?;
                 let score: Option<f64> = r.try_get(1).map_err(&fail)?;
-                found.insert(number as u64, score.unwrap_or(f64::NAN));
+                let text: String = r.try_get(2).map_err(&fail)?;
+                let place = Place {
+                    store: &self.target().to_string(),
+                    run,
+                    evaluation: Some(number as u64),
+                };
+                let measures = place.list("measures", &text)?;
+                found.insert(number as u64, (score.unwrap_or(f64::NAN), measures));
             }
             if numbers.iter().all(|n| found.contains_key(n)) {
-                return Ok(numbers.iter().map(|n| found[n]).collect());
+                return Ok(numbers
+                    .iter()
+                    .map(|n| found.remove(n).unwrap_or((f64::NAN, Vec::new())))
+                    .collect());
             }
             if !self.wait_notification(Duration::from_secs(2))? {
                 on_wait(started.elapsed().as_secs_f64())?;

@@ -36,7 +36,7 @@ CREATE TABLE IF NOT EXISTS run_episodes (
 CREATE TABLE IF NOT EXISTS evaluations (
     run INTEGER NOT NULL REFERENCES runs(id), number INTEGER NOT NULL,
     round INTEGER NOT NULL, genome TEXT NOT NULL, vals TEXT NOT NULL,
-    score REAL, engine_scores TEXT NOT NULL DEFAULT '', rejected TEXT, seed INTEGER NOT NULL,
+    score REAL, engine_scores TEXT NOT NULL DEFAULT '', rejected TEXT, measures TEXT NOT NULL DEFAULT '', seed INTEGER NOT NULL,
     wall REAL NOT NULL DEFAULT 0, state TEXT NOT NULL DEFAULT 'done', worker TEXT, attempt INTEGER NOT NULL DEFAULT 0,
     lease_until REAL,
     PRIMARY KEY (run, number));";
@@ -52,8 +52,9 @@ ALTER TABLE evaluations ADD COLUMN lease_until REAL;";
 /// Versions 1 to 3 to 4: each evaluation's scores on several engines.
 const TO_V4: &str = "ALTER TABLE evaluations ADD COLUMN engine_scores TEXT NOT NULL DEFAULT '';";
 
-/// Versions 1 to 4 to 5: why a co-design body was rejected.
-const TO_V5: &str = "ALTER TABLE evaluations ADD COLUMN rejected TEXT;";
+/// Versions 1 to 4 to 5: why a co-design body was rejected, and measured descriptors.
+const TO_V5: &str = "ALTER TABLE evaluations ADD COLUMN rejected TEXT;
+ALTER TABLE evaluations ADD COLUMN measures TEXT NOT NULL DEFAULT '';";
 
 impl SqliteStore {
     /// Opens (creating if needed) the store at `path`.
@@ -267,8 +268,8 @@ impl ExperimentStore for SqliteStore {
         {
             let mut st = tx
                 .prepare_cached(
-                    "INSERT OR REPLACE INTO evaluations (run, number, round, genome, vals, score, seed, wall, engine_scores, rejected)
-                     VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)",
+                    "INSERT OR REPLACE INTO evaluations (run, number, round, genome, vals, score, seed, wall, engine_scores, rejected, measures)
+                     VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11)",
                 )
                 .map_err(fail)?;
             for e in evals {
@@ -282,7 +283,8 @@ impl ExperimentStore for SqliteStore {
                     seed as i64,
                     e.wall,
                     engine_scores_text(&e.engines),
-                    e.rejected
+                    e.rejected,
+                    join(&e.measures)
                 ])
                 .map_err(fail)?;
             }
@@ -322,6 +324,7 @@ impl ExperimentStore for SqliteStore {
                     wall: r.get(5)?,
                     engines: r.get(6)?,
                     rejected: r.get(7)?,
+                    measures: r.get(8)?,
                 })
             })
             .map_err(|e| self.fail(e))?;
@@ -430,6 +433,7 @@ mod tests {
             score: 0.25,
             engines: both.clone(),
             rejected: Some("a reason".into()),
+            measures: vec![0.04, 12.5],
             wall: 0.1,
         };
         store.record(1, 3, &[e]).unwrap();
