@@ -1,7 +1,8 @@
 //! Co-design: a genome's body is the robot the builder makes, it loads and runs like any
 //! robot, the same candidate scores the same every time, a killed co-design run resumes
-//! to the same archive, a stored body replays to its stored score, and invalid bodies are
-//! rejected unrun with their reason.
+//! to the same archive, a stored body replays to its stored score, invalid bodies are
+//! rejected unrun with their reason, robust fitness and measured descriptors work with
+//! bodies, and the genetic algorithm searches bodies and gaits together.
 
 mod common;
 
@@ -400,4 +401,72 @@ fn measured_descriptors_map_bodies_by_how_they_move_and_resume_to_the_same_archi
             .unwrap();
         assert_eq!(stored.archive.cell(genome, &e.measures), cell);
     }
+}
+
+#[test]
+fn the_genetic_algorithm_searches_bodies_and_gaits_together() {
+    use std::collections::BTreeSet;
+    let dir = common::scratch("codesign_ga");
+    let config = setup_in(
+        &dir,
+        |o| {
+            o.replace("<mapElites>", "<geneticAlgorithm>")
+                .replace("</mapElites>", "</geneticAlgorithm>")
+                .replace(
+                    r#"<initialSamples>40</initialSamples>
+    <batch>10</batch>
+    <mutation>0.15</mutation>
+    <descriptor gene="1" bins="7"/>
+    <descriptor name="yaw-share" bins="5"/>"#,
+                    "<popsize>10</popsize><pmut>0.3</pmut><pcross>0.6</pcross>\
+                     <nConvergence>50</nConvergence><pConvergence>0.99</pConvergence>\
+                     <flushFrequency>1</flushFrequency><gaMode>1</gaMode>",
+                )
+        },
+        |e| e,
+    );
+    let sim_text = std::fs::read_to_string(&config)
+        .unwrap()
+        .replace("MAP-Elites optimization", "GA optimization");
+    std::fs::write(&config, sim_text).unwrap();
+    let registry = ModuleRegistry::standard();
+    let sim = load_simulation_in(&config, &registry).unwrap();
+    let design = Design::of(&sim, Arc::new(FsSource)).unwrap();
+    let choices = proleg::optimize::settings::RunChoices {
+        max_evaluations: Some(40),
+        duration: Some(1.0),
+        workers: Some(2),
+        ..Default::default()
+    };
+    let settings = proleg::optimize::settings::RunSettings::of(&sim, &choices).unwrap();
+    let mut seen = Vec::new();
+    let outcome =
+        proleg::optimize::run::optimize(&sim, &settings, &registry, None, |e| seen.push(e.clone()))
+            .unwrap();
+    assert_eq!(seen.len(), 40);
+    // Every genome the GA makes, by mutation or crossover, is a body that builds and
+    // runs; later generations hold bodies the first did not.
+    let body = |g: &Vec<u32>| design.space.body(g, "b").summary();
+    for e in &seen {
+        assert!(e.score.is_finite(), "evaluation {}: {}", e.number, e.score);
+        assert!(design.simulation(&e.genome, &registry).is_ok());
+    }
+    let first: BTreeSet<String> = seen
+        .iter()
+        .filter(|e| e.round == 0)
+        .map(|e| body(&e.genome))
+        .collect();
+    let later: BTreeSet<String> = seen
+        .iter()
+        .filter(|e| e.round > 0)
+        .map(|e| body(&e.genome))
+        .collect();
+    assert!(later.difference(&first).count() > 0, "{first:?} {later:?}");
+    assert!(
+        outcome.best_score
+            >= seen[..10]
+                .iter()
+                .map(|e| e.score)
+                .fold(f64::NEG_INFINITY, f64::max)
+    );
 }

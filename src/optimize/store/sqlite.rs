@@ -451,8 +451,9 @@ mod tests {
             .unwrap();
         match SqliteStore::open(&path) {
             Err(e @ StoreError::Schema { found: 9, .. }) => assert!(
-                e.to_string()
-                    .ends_with("this proleg reads version 4 (a newer proleg wrote it)"),
+                e.to_string().ends_with(&format!(
+                    "this proleg reads version {SCHEMA_VERSION} (a newer proleg wrote it)"
+                )),
                 "{e}"
             ),
             other => panic!("expected a schema error, got {:?}", other.err()),
