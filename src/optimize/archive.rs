@@ -13,6 +13,16 @@ use crate::optimize::run::{map_axes, prepare};
 use crate::optimize::shared::stored_simulation;
 use crate::optimize::store::Store;
 
+/// Run `run`'s stored configuration, loaded here with `registry`'s module types.
+pub(crate) fn stored_run(
+    store: &mut Store,
+    run: i64,
+    registry: &ModuleRegistry,
+) -> Result<crate::config::Simulation, OptimizeError> {
+    let spec = store.run_spec(run)?;
+    stored_simulation(&spec, registry).map_err(|why| OptimizeError::Unevaluable { run, why })
+}
+
 /// A MAP-Elites run's archive and what its axes are.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StoredArchive {
@@ -55,9 +65,7 @@ pub fn stored_archive(
     run: i64,
     registry: &ModuleRegistry,
 ) -> Result<Option<StoredArchive>, OptimizeError> {
-    let spec = store.run_spec(run)?;
-    let sim = stored_simulation(&spec, registry)
-        .map_err(|why| OptimizeError::Unevaluable { run, why })?;
+    let sim = stored_run(store, run, registry)?;
     let Some(crate::config::optimizer::Algorithm::MapElites(m)) =
         sim.optimizer.as_ref().map(|o| &o.spec.algorithm)
     else {
@@ -149,9 +157,7 @@ pub fn export_design(
     dir: &Path,
     registry: &ModuleRegistry,
 ) -> Result<std::path::PathBuf, OptimizeError> {
-    let spec = store.run_spec(run)?;
-    let sim = stored_simulation(&spec, registry)
-        .map_err(|why| OptimizeError::Unevaluable { run, why })?;
+    let sim = stored_run(store, run, registry)?;
     let design = crate::optimize::design::Design::of(
         &sim,
         std::sync::Arc::new(crate::config::source::FsSource),

@@ -3,9 +3,9 @@
 //! rendered by the GUI layer (`gui::video::gallery`).
 
 use crate::control::ModuleRegistry;
+use crate::optimize::archive::stored_run;
 use crate::optimize::design::DesignSpace;
 use crate::optimize::error::OptimizeError;
-use crate::optimize::shared::stored_simulation;
 use crate::optimize::store::Store;
 
 /// One design of a gallery.
@@ -27,9 +27,7 @@ pub fn best_designs(
     count: usize,
     registry: &ModuleRegistry,
 ) -> Result<Vec<GalleryEntry>, OptimizeError> {
-    let spec = store.run_spec(run)?;
-    let sim = stored_simulation(&spec, registry)
-        .map_err(|why| OptimizeError::Unevaluable { run, why })?;
+    let sim = stored_run(store, run, registry)?;
     let design = sim
         .optimizer
         .as_ref()
