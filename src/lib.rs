@@ -5,6 +5,7 @@
 //!
 //! ## Contents
 //! - [`bench`]: throughput figures of the reference scenario.
+//! - [`calibrate`]: servo identification from real-robot recordings (`proleg calibrate`).
 //! - [`cli`]: the command line's logic (each `proleg` subcommand as a function returning a
 //!   typed report); `main.rs` only parses and prints.
 //! - [`compose`]: composing configurations without XML — robot builder, behaviour
@@ -34,6 +35,7 @@
 #![warn(missing_docs)]
 
 pub mod bench;
+pub mod calibrate;
 pub mod cli;
 pub mod compose;
 pub mod config;

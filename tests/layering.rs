@@ -31,6 +31,10 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ),
     ("interop", &["config", "sim"]),
     (
+        "calibrate",
+        &["config", "data", "measure", "optimize", "rng", "sim"],
+    ),
+    (
         "bench",
         &["config", "control", "data", "measure", "rng", "sim"],
     ),
@@ -48,6 +52,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "sim",
             "bench",
             "interop",
+            "calibrate",
         ],
     ),
 ];

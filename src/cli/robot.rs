@@ -10,6 +10,7 @@ use crate::cli::error::CliError;
 use crate::control::{ModuleRegistry, load_simulation_in};
 use crate::robot_io::dynamixel::DynamixelChain;
 use crate::robot_io::emulator::EmulatedBus;
+use crate::robot_io::emulator::servo::ServoDynamics;
 use crate::robot_io::real_mode::{RealOptions, RealSummary, run};
 
 /// `proleg robot`'s arguments.
@@ -152,6 +153,49 @@ pub struct EmulatorOptions {
     /// Servo speed toward the goal (degrees/s).
     #[arg(long, default_value_t = 300.0)]
     pub speed: f64,
+    /// Proportional gain (1/s; default: the top speed until the goal).
+    #[arg(long)]
+    pub gain: Option<f64>,
+    /// Angle error left uncorrected (degrees).
+    #[arg(long, default_value_t = 0.0)]
+    pub dead_band: f64,
+    /// How long a written goal takes to act (s).
+    #[arg(long, default_value_t = 0.0)]
+    pub latency: f64,
+    /// Noise on the reported position (standard deviation, degrees).
+    #[arg(long, default_value_t = 0.0)]
+    pub noise: f64,
+    /// Play between motor and output shaft (degrees).
+    #[arg(long, default_value_t = 0.0)]
+    pub backlash: f64,
+}
+
+impl EmulatorOptions {
+    /// The servos' dynamics; an error names a value out of range.
+    pub fn dynamics(&self) -> Result<ServoDynamics, CliError> {
+        let check = |option: &'static str, v: f64, ok: bool| {
+            if v.is_finite() && ok {
+                Ok(v)
+            } else {
+                Err(CliError::Option {
+                    option,
+                    value: v.to_string(),
+                    want: "give a number >= 0 (a speed and a gain > 0)",
+                })
+            }
+        };
+        Ok(ServoDynamics {
+            speed_deg_s: check("--speed", self.speed, self.speed > 0.0)?,
+            gain: match self.gain {
+                Some(g) => check("--gain", g, g > 0.0)?,
+                None => f64::INFINITY,
+            },
+            dead_band_deg: check("--dead-band", self.dead_band, self.dead_band >= 0.0)?,
+            latency_s: check("--latency", self.latency, self.latency >= 0.0)?,
+            noise_deg: check("--noise", self.noise, self.noise >= 0.0)?,
+            backlash_deg: check("--backlash", self.backlash, self.backlash >= 0.0)?,
+        })
+    }
 }
 
 /// Runs an emulated bus until Ctrl-C.
@@ -164,7 +208,7 @@ pub fn emulator(o: &EmulatorOptions) -> Result<String, CliError> {
         });
     }
     let ids: Vec<u8> = (1..=o.servos).collect();
-    let bus = EmulatedBus::start(&ids, o.speed)?;
+    let bus = EmulatedBus::start_with(&ids, o.dynamics()?)?;
     println!(
         "emulating {} Dynamixel servos (ids 1..{}) on {}",
         o.servos,

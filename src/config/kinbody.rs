@@ -35,6 +35,10 @@ pub struct Joint {
     pub limits_deg: Option<[f64; 2]>,
     /// Extension: the servo's proportional gain (1/s).
     pub servo_gain: Option<f64>,
+    /// Extension `<servoDeadBand>`: the angle error (degrees) the servo does not correct.
+    pub servo_dead_band: Option<f64>,
+    /// Extension `<servoLatency>`: how long (s) a goal takes to reach the servo.
+    pub servo_latency: Option<f64>,
     /// Where it was written (line, column).
     pub pos: Pos,
 }
@@ -132,6 +136,8 @@ impl Joint {
         let max_torque = r.opt_positive(el, "maxtorque")?;
         let max_vel = r.opt_positive(el, "maxvel")?;
         let servo_gain = r.opt_positive(el, "servogain")?;
+        let servo_dead_band = r.opt_positive(el, "servodeadband")?;
+        let servo_latency = r.opt_positive(el, "servolatency")?;
         let limits_deg = read_limits(r, el, &name)?;
         Ok(Joint {
             offset_from: r
@@ -146,6 +152,8 @@ impl Joint {
             max_vel,
             limits_deg,
             servo_gain,
+            servo_dead_band,
+            servo_latency,
             pos: el.pos,
         })
     }
@@ -176,6 +184,12 @@ impl Joint {
         }
         if let Some(g) = self.servo_gain {
             w.num("servoGain", g);
+        }
+        if let Some(d) = self.servo_dead_band {
+            w.num("servoDeadBand", d);
+        }
+        if let Some(l) = self.servo_latency {
+            w.num("servoLatency", l);
         }
         w.close();
     }

@@ -257,6 +257,8 @@ impl RobotSpec {
                 max_vel: Some(4.5),
                 limits_deg: Some([-90.0, 90.0]),
                 servo_gain: None,
+                servo_dead_band: None,
+                servo_latency: None,
                 pos: Pos::new(0, 0),
             })
             .collect();

@@ -1,7 +1,10 @@
 //! Joints and their servos (the OpenMR controller the thesis used, 5.1): a proportional
 //! controller on the angle error gives a velocity command, clamped to the joint's maximum
 //! velocity, applied as a velocity motor whose torque is limited to the joint's maximum
-//! torque. The joint's limits are enforced by the physics joint itself.
+//! torque. The joint's limits are enforced by the physics joint itself. A servo may leave
+//! errors within its dead band uncorrected and see its goals late (its latency, as a real
+//! bus delivers them): [`servo_velocity`] is the law, the one the emulated servos and the
+//! calibration's servo replay use too.
 
 use bevy::prelude::*;
 
@@ -37,6 +40,53 @@ pub struct Servo {
     pub max_velocity: f64,
     /// Degrees.
     pub limits_deg: [f64; 2],
+    /// The angle error (degrees) left uncorrected.
+    pub dead_band: f64,
+    /// The goals on their way to the servo (its latency).
+    pub delay: TargetDelay,
+}
+
+/// Goals on their way to a servo: the last `n` targets in a fixed ring, `n` the latency in
+/// steps (none without latency).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct TargetDelay {
+    ring: Vec<f64>,
+    next: usize,
+}
+
+impl TargetDelay {
+    /// A delay of `latency` seconds at steps of `dt` seconds (rounded to whole steps),
+    /// holding `start` until the first goal arrives.
+    pub fn new(latency: f64, dt: f64, start: f64) -> TargetDelay {
+        let n = if dt > 0.0 && latency > 0.0 {
+            (latency / dt).round() as usize
+        } else {
+            0
+        };
+        TargetDelay {
+            ring: vec![start; n],
+            next: 0,
+        }
+    }
+
+    /// Sends `target`; returns the goal the servo sees now (the one sent `n` steps ago).
+    pub fn pass(&mut self, target: f64) -> f64 {
+        let Some(slot) = self.ring.get_mut(self.next) else {
+            return target;
+        };
+        let seen = std::mem::replace(slot, target);
+        self.next = (self.next + 1) % self.ring.len();
+        seen
+    }
+}
+
+/// The servo law: the velocity command (degrees/s) for an angle `error` (degrees) with
+/// proportional `gain` (1/s), at most `max_deg_s`, none within the `dead_band` (degrees).
+pub fn servo_velocity(gain: f64, max_deg_s: f64, dead_band: f64, error: f64) -> f64 {
+    if error.abs() <= dead_band {
+        return 0.0;
+    }
+    (gain * error).clamp(-max_deg_s, max_deg_s)
 }
 
 /// What the joint does now.
@@ -62,19 +112,26 @@ pub fn sense_joints(physics: Res<SimPhysics>, mut joints: Query<(&SimJoint, &mut
     }
 }
 
-/// The velocity command of the proportional servo (degrees/s).
-pub fn servo_command(servo: &Servo, angle: f64) -> f64 {
-    let max = servo.max_velocity.to_degrees();
-    (servo.gain * (servo.target - angle)).clamp(-max, max)
+/// The velocity command of the proportional servo (degrees/s) toward the goal it sees,
+/// `seen` (its target after its latency).
+pub fn servo_command(servo: &Servo, seen: f64, angle: f64) -> f64 {
+    servo_velocity(
+        servo.gain,
+        servo.max_velocity.to_degrees(),
+        servo.dead_band,
+        seen - angle,
+    )
 }
 
 /// Turns each servo's target into a velocity-motor command (the `Servo` set).
 pub fn drive_servos(
     mut physics: ResMut<SimPhysics>,
-    mut joints: Query<(&SimJoint, &Servo, &mut JointState)>,
+    mut joints: Query<(&SimJoint, &mut Servo, &mut JointState)>,
 ) {
-    for (j, servo, mut state) in &mut joints {
-        let v = servo_command(servo, state.angle);
+    for (j, mut servo, mut state) in &mut joints {
+        let target = servo.target;
+        let seen = servo.delay.pass(target);
+        let v = servo_command(&servo, seen, state.angle);
         state.commanded_velocity = v;
         let now = JointReading {
             angle: state.angle,
@@ -82,5 +139,27 @@ pub fn drive_servos(
             torque: state.torque,
         };
         physics.engine.drive_joint(j.id, v, &now);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_law_clamps_and_leaves_the_dead_band_alone() {
+        assert_eq!(servo_velocity(60.0, 300.0, 0.0, 2.0), 120.0);
+        assert_eq!(servo_velocity(60.0, 300.0, 0.0, -10.0), -300.0);
+        assert_eq!(servo_velocity(60.0, 300.0, 0.5, 0.4), 0.0);
+        assert_eq!(servo_velocity(60.0, 300.0, 0.5, -0.6), -36.0);
+    }
+
+    #[test]
+    fn a_latency_delays_goals_by_whole_steps() {
+        let mut none = TargetDelay::new(0.0, 0.001, 0.0);
+        assert_eq!(none.pass(3.0), 3.0);
+        let mut three = TargetDelay::new(0.003, 0.001, 0.0);
+        let seen: Vec<f64> = (1..=6).map(|k| three.pass(f64::from(k))).collect();
+        assert_eq!(seen, [0.0, 0.0, 0.0, 1.0, 2.0, 3.0]);
     }
 }

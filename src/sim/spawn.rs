@@ -22,7 +22,7 @@ use crate::sim::physics::SimPhysics;
 use crate::sim::randomize::{NoisySensors, SensorNoise};
 use crate::sim::record::{RecordSettings, Track};
 use crate::sim::robot::SimRobot;
-use crate::sim::servo::{DEFAULT_SERVO_GAIN, JointState, Servo, SimJoint};
+use crate::sim::servo::{DEFAULT_SERVO_GAIN, JointState, Servo, SimJoint, TargetDelay};
 use crate::sim::tactile::{RobotSensors, SimPad};
 
 pub use crate::sim::engine::mujoco::MujocoSettings;
@@ -226,6 +226,12 @@ fn spawn_joints(
                 max_torque: j.max_torque,
                 max_velocity: j.max_vel,
                 limits_deg: j.limits_deg,
+                dead_band: j.dead_band_deg,
+                delay: TargetDelay::new(
+                    j.latency_s,
+                    sim.files.simulation.properties.step_width,
+                    0.0,
+                ),
             };
             let name = Name::new(format!("joint {}", j.name));
             world

@@ -126,6 +126,10 @@ pub struct RobotJoint {
     pub max_vel: f64,
     /// Servo gain (1/s) when the file sets one.
     pub servo_gain: Option<f64>,
+    /// The angle error (degrees) the servo leaves uncorrected (0: none).
+    pub dead_band_deg: f64,
+    /// How long (s) a goal takes to reach the servo (0: at once).
+    pub latency_s: f64,
     /// Pitch, yaw or roll, from its axis.
     pub orientation: JointOrientation,
 }
@@ -478,6 +482,8 @@ fn resolve_joints(
             max_torque: j.max_torque.unwrap_or(DEFAULT_MAX_TORQUE),
             max_vel: j.max_vel.unwrap_or(DEFAULT_MAX_VEL),
             servo_gain: j.servo_gain,
+            dead_band_deg: j.servo_dead_band.unwrap_or(0.0),
+            latency_s: j.servo_latency.unwrap_or(0.0),
             orientation: classify(axis, chain),
         });
     }

@@ -360,6 +360,8 @@ fn hinge(
         max_vel: positive(lim.velocity, "velocity", "4.5 rad/s", warn),
         limits_deg: Some(limits_deg.map(|d| (d * 1e4).round() / 1e4)),
         servo_gain: None,
+        servo_dead_band: None,
+        servo_latency: None,
         pos: Pos::default(),
     }
 }

@@ -101,6 +101,14 @@ pub enum EmulatorError {
 impl EmulatedBus {
     /// Servos with these ids, moving at `speed_deg_s`, on a new pseudo-terminal.
     pub fn start(ids: &[u8], speed_deg_s: f64) -> Result<EmulatedBus, EmulatorError> {
+        EmulatedBus::start_with(ids, servo::ServoDynamics::constant_speed(speed_deg_s))
+    }
+
+    /// Starts a bus of servos with these ids that move as `dynamics` say.
+    pub fn start_with(
+        ids: &[u8],
+        dynamics: servo::ServoDynamics,
+    ) -> Result<EmulatedBus, EmulatorError> {
         let err = |what: &'static str, e: nix::Error| EmulatorError::Pty { what, source: e };
         let master = posix_openpt(OFlag::O_RDWR | OFlag::O_NOCTTY).map_err(|e| err("open", e))?;
         grantpt(&master).map_err(|e| err("grantpt", e))?;
@@ -122,7 +130,7 @@ impl EmulatedBus {
         let shared = Arc::new(Mutex::new(Shared {
             servos: ids
                 .iter()
-                .map(|id| EmulatedServo::new(*id, speed_deg_s))
+                .map(|id| EmulatedServo::with_dynamics(*id, dynamics))
                 .collect(),
             stats: BusStats::default(),
             garble_after: None,

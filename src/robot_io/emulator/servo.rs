@@ -1,7 +1,52 @@
 //! One emulated X-series servo: its control table, and a motion model that moves the
-//! present position toward the goal at a set speed while torque is on.
+//! present position toward the goal while torque is on: the simulator's servo law
+//! ([`servo_velocity`]: a proportional gain clamped to a speed, a dead band) on goals that
+//! arrive after a latency, with optional backlash between motor and output and noise on
+//! the reported position ([`ServoDynamics`]; by default a constant speed toward the goal).
+//! Calibration tests hide dynamics here and recover them from a recording.
 
+use std::collections::VecDeque;
+
+use crate::rng::SimRng;
 use crate::robot_io::dynamixel::table;
+use crate::sim::servo::servo_velocity;
+
+/// How an emulated servo moves.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ServoDynamics {
+    /// Top speed (degrees/s).
+    pub speed_deg_s: f64,
+    /// Proportional gain (1/s); infinite: the top speed until the goal.
+    pub gain: f64,
+    /// Angle error (degrees) left uncorrected.
+    pub dead_band_deg: f64,
+    /// How long (s) a written goal takes to act.
+    pub latency_s: f64,
+    /// Standard deviation (degrees) of the noise on the reported position.
+    pub noise_deg: f64,
+    /// Play (degrees) between the motor and the output shaft.
+    pub backlash_deg: f64,
+}
+
+impl ServoDynamics {
+    /// A servo that moves at `speed_deg_s` straight to its goal, at once and exactly.
+    pub fn constant_speed(speed_deg_s: f64) -> ServoDynamics {
+        ServoDynamics {
+            speed_deg_s,
+            gain: f64::INFINITY,
+            dead_band_deg: 0.0,
+            latency_s: 0.0,
+            noise_deg: 0.0,
+            backlash_deg: 0.0,
+        }
+    }
+}
+
+/// Longest integration step of the motion model (s).
+const SUBSTEP: f64 = 0.0005;
+
+/// Degrees per position unit.
+const DEG_PER_UNIT: f64 = 360.0 / table::POSITION_UNITS;
 
 /// An emulated servo.
 #[derive(Debug, Clone, PartialEq)]
@@ -10,10 +55,20 @@ pub struct EmulatedServo {
     pub id: u8,
     /// The control table (little-endian registers).
     pub memory: [u8; table::TABLE_LEN],
-    /// Present position in units, kept as a float between steps.
+    /// Output position in units, kept as a float between steps.
     position: f64,
-    /// Speed toward the goal (position units per second).
-    speed: f64,
+    /// Motor position in units (the output follows it within the backlash).
+    motor: f64,
+    /// How it moves.
+    dynamics: ServoDynamics,
+    /// Emulator time (s) this servo has advanced.
+    clock: f64,
+    /// Goals written (time, units) not yet acting.
+    in_flight: VecDeque<(f64, f64)>,
+    /// The goal acting now (units).
+    acting: f64,
+    /// The noise of the reported position.
+    rng: SimRng,
     /// Does not answer (to test timeouts).
     pub silent: bool,
     /// Stops answering once the bus has seen this many packets.
@@ -27,11 +82,22 @@ pub struct EmulatedServo {
 impl EmulatedServo {
     /// A servo at the centre (0°), torque off, moving at `speed_deg_s` when on.
     pub fn new(id: u8, speed_deg_s: f64) -> Self {
+        EmulatedServo::with_dynamics(id, ServoDynamics::constant_speed(speed_deg_s))
+    }
+
+    /// A servo at the centre (0°), torque off, moving as `dynamics` say when on (its
+    /// noise seeded by its id).
+    pub fn with_dynamics(id: u8, dynamics: ServoDynamics) -> Self {
         let mut s = EmulatedServo {
             id,
             memory: [0; table::TABLE_LEN],
             position: table::POSITION_CENTRE,
-            speed: speed_deg_s * table::POSITION_UNITS / 360.0,
+            motor: table::POSITION_CENTRE,
+            dynamics,
+            clock: 0.0,
+            in_flight: VecDeque::new(),
+            acting: table::POSITION_CENTRE,
+            rng: SimRng::new(0x5e7_0000 + u64::from(id)),
             silent: false,
             silent_after: None,
             goals_written: 0,
@@ -95,30 +161,76 @@ impl EmulatedServo {
         if end > table::TABLE_LEN || overlaps(0, 7) || overlaps(120, 147) {
             return false;
         }
-        if a <= usize::from(table::GOAL_POSITION) && end > usize::from(table::GOAL_POSITION) {
-            self.goals_written += 1;
-        }
+        let goal =
+            a <= usize::from(table::GOAL_POSITION) && end > usize::from(table::GOAL_POSITION);
         self.memory[a..end].copy_from_slice(data);
+        if goal {
+            self.goals_written += 1;
+            self.in_flight
+                .push_back((self.clock, f64::from(self.goal())));
+        }
         true
     }
 
     /// Moves toward the goal for `dt` seconds and updates the present registers.
     pub fn advance(&mut self, dt: f64) {
-        let mut velocity = 0.0;
-        if self.torque() && dt > 0.0 {
-            let goal = f64::from(self.goal());
-            let step = self.speed * dt;
-            let delta = (goal - self.position).clamp(-step, step);
-            self.position += delta;
-            velocity = delta / dt;
+        let before = self.position;
+        if dt > 0.0 {
+            let steps = (dt / SUBSTEP).ceil().max(1.0);
+            let h = dt / steps;
+            for _ in 0..steps as u64 {
+                self.clock += h;
+                self.take_arrived_goals();
+                if self.torque() {
+                    self.move_motor(h);
+                }
+            }
         }
+        let velocity = if dt > 0.0 {
+            (self.position - before) / dt
+        } else {
+            0.0
+        };
         self.sync_present(velocity);
+    }
+
+    /// The goals whose latency has passed act, the last of them now.
+    fn take_arrived_goals(&mut self) {
+        while let Some(&(written, goal)) = self.in_flight.front() {
+            if written + self.dynamics.latency_s > self.clock {
+                break;
+            }
+            self.acting = goal;
+            self.in_flight.pop_front();
+        }
+    }
+
+    /// One integration step of `h` seconds: the servo law moves the motor (never past its
+    /// goal), the output follows within the backlash.
+    fn move_motor(&mut self, h: f64) {
+        let d = &self.dynamics;
+        let error = (self.acting - self.motor) * DEG_PER_UNIT;
+        let v = servo_velocity(d.gain, d.speed_deg_s, d.dead_band_deg, error);
+        let step = v * h;
+        let step = if step.abs() > error.abs() {
+            error
+        } else {
+            step
+        };
+        self.motor += step / DEG_PER_UNIT;
+        let play = d.backlash_deg / 2.0 / DEG_PER_UNIT;
+        self.position = self.position.clamp(self.motor - play, self.motor + play);
     }
 
     fn sync_present(&mut self, velocity_units_s: f64) {
         // Units of 0.229 rpm = 1.374 deg/s = 15.63 position units/s.
+        let noise = if self.dynamics.noise_deg > 0.0 {
+            self.rng.gaussian() * self.dynamics.noise_deg / DEG_PER_UNIT
+        } else {
+            0.0
+        };
         let (position, velocity) = self.held.unwrap_or((
-            self.position.round() as i32,
+            (self.position + noise).round() as i32,
             (velocity_units_s * 360.0 / table::POSITION_UNITS / table::VELOCITY_UNIT_DEG_S).round()
                 as i32,
         ));
