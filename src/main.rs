@@ -59,6 +59,9 @@ enum Command {
     /// Whether the robot comes to rest on the floor with its joints held: its lowest point
     /// within 1 cm of the floor after the time given; exit 1 when it sinks or hangs.
     Settle(SettleArgs),
+    /// Fit the servo model (gain, top speed, dead band, latency) to a real-robot recording:
+    /// the calibrated robot file and a picture of recorded against replayed angles.
+    Calibrate(cli::calibrate::CalibrateArgs),
     /// Import a URDF robot: a robot file with its meshes, plus a floor, a sine on every
     /// joint and a simulation file, checked; what cannot be represented is listed.
     Import(ImportArgs),
@@ -518,6 +521,7 @@ fn main() -> ExitCode {
         Command::Compare(args) => printed(cli::compare::run(&args, &registry)),
         Command::Robot(options) => printed(cli::robot::robot(&options, &registry)),
         Command::RobotEmulator(options) => printed(cli::robot::emulator(&options)),
+        Command::Calibrate(args) => printed(cli::calibrate::run(&args, &registry)),
         Command::Import(args) => import_command(args, &registry),
         Command::Settle(args) => settle_command(&args, &registry),
         Command::Export {

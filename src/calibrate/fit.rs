@@ -3,18 +3,21 @@
 //! band and latency, from several seeds; the best fit is the estimate and the spread of the
 //! runs' fits its confidence. A parameter the recording does not excite is reported as
 //! unidentifiable, never as a number: the latency needs goals that turn back often enough
-//! to show the lag, the others must change the replay measurably.
+//! to show the lag (ten full swings per joint), and every parameter must change the replay
+//! measurably when it moves off its fit (a likelihood-ratio test: with Gaussian residuals,
+//! `n ln(SSE'/SSE)` above the 0.1 % point of chi-square with one degree of freedom).
 
 use crate::calibrate::recording::Recording;
 use crate::calibrate::replay::{ServoModel, replay, rms};
 use crate::optimize::cmaes::CmaEs;
 
-/// Reversals of the goal a recording needs per joint to show the latency.
-pub const MIN_REVERSALS: usize = 10;
+/// Reversals of the goal a recording needs per joint to show the latency (ten full
+/// swings).
+pub const MIN_REVERSALS: usize = 20;
 
-/// How much (relative) the replay's RMS must grow when a parameter moves off its fit for
-/// the recording to identify it.
-const SENSITIVITY: f64 = 0.01;
+/// The likelihood ratio a parameter moved off its fit must reach for the recording to
+/// identify it: chi-square with one degree of freedom at p = 0.001.
+const LIKELIHOOD_RATIO: f64 = 10.83;
 
 /// Fits per group of joints.
 const GENERATIONS: usize = 150;
@@ -48,7 +51,7 @@ impl Identified {
 pub enum Unidentifiable {
     /// The goals turn back too rarely to show the lag.
     #[error(
-        "the recording is too short for the latency: its goals turn back {found} times per joint, at least {needed} needed"
+        "the recording is too short for the latency: its goals turn back {found} times per joint on average, at least {needed} needed"
     )]
     TooFewReversals {
         /// Reversals per joint found.
@@ -59,7 +62,7 @@ pub enum Unidentifiable {
     /// Moving the parameter does not change the replay (e.g. the goals never ask for the
     /// top speed).
     #[error(
-        "the recording does not depend on it (the replay changes by less than 1 % when it moves)"
+        "the recording does not depend on it (moved off its fit, the replay fits no worse beyond chance)"
     )]
     NoEffect,
     /// A joint held in the air carries no load.
@@ -137,8 +140,11 @@ pub fn fit_group(rec: &Recording, joints: &[usize], runs: u32, seed: u64) -> Gro
         let mean = fits.iter().map(|(_, m)| f(m)).sum::<f64>() / n;
         (fits.iter().map(|(_, m)| (f(m) - mean).powi(2)).sum::<f64>() / n).sqrt()
     };
-    let sensitive =
-        |moved: ServoModel| group_rms(rec, joints, &moved) > best_rms * (1.0 + SENSITIVITY) + 1e-9;
+    let samples = (rec.times.len() * joints.len()) as f64;
+    let sensitive = |moved: ServoModel| {
+        let ratio = (group_rms(rec, joints, &moved) / best_rms.max(1e-12)).powi(2);
+        samples * ratio.ln() > LIKELIHOOD_RATIO
+    };
     let judge = |value: f64, spread: f64, moved: ServoModel| {
         if sensitive(moved) {
             Identified::Value { value, spread }
@@ -146,7 +152,8 @@ pub fn fit_group(rec: &Recording, joints: &[usize], runs: u32, seed: u64) -> Gro
             Identified::Unidentifiable(Unidentifiable::NoEffect)
         }
     };
-    let reversals = joints.iter().map(|&j| rec.reversals(j)).min().unwrap_or(0);
+    // Per joint, on average: joints driven slowly show the dead band, fast ones the lag.
+    let reversals = joints.iter().map(|&j| rec.reversals(j)).sum::<usize>() / joints.len().max(1);
     let period = rec.sample_period().max(0.001);
     GroupFit {
         joints: joints.to_vec(),

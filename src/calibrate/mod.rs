@@ -8,13 +8,16 @@
 //! with the fitted values set on its joints.
 
 pub mod fit;
+pub mod plot;
 pub mod recording;
 pub mod replay;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use crate::config::Simulation;
 use crate::config::robot::write_robot_file;
+use crate::config::sensor::SensorSource;
+use crate::config::source::{FsSource, relative_path, resolve_include};
 use crate::sim::servo::DEFAULT_SERVO_GAIN;
 use fit::{GroupFit, Identified, fit_group, group_rms};
 use recording::Recording;
@@ -68,6 +71,14 @@ pub enum CalibrateError {
     JointElsewhere {
         /// The joint's name.
         joint: String,
+    },
+    /// The picture cannot be drawn.
+    #[error("{}: cannot draw: {message}", file.display())]
+    Plot {
+        /// The PNG.
+        file: PathBuf,
+        /// The drawing library's message.
+        message: String,
     },
     /// A file cannot be written.
     #[error("{}: cannot write: {source}", path.display())]
@@ -191,12 +202,27 @@ pub fn calibrate(
 }
 
 /// `sim`'s robot file with the calibrated servo values of `report` on its joints (the
-/// identified ones), headed by a comment naming the recording.
+/// identified ones), headed by a comment naming the recording, as it is written in the
+/// folder `dir` (its includes named from there).
 pub fn calibrated_robot_file(
     sim: &Simulation,
     report: &CalibrationReport,
+    dir: &Path,
 ) -> Result<String, CalibrateError> {
     let mut file = sim.files.robot.clone();
+    let here = |written: &mut String| {
+        if let Some(found) = resolve_include(&FsSource, &sim.robot.file, written) {
+            *written = relative_path(dir, &found);
+        }
+    };
+    for inc in &mut file.kinbody.includes {
+        here(&mut inc.file);
+    }
+    for s in file.sensors.iter_mut().chain(&mut file.kinbody.sensors) {
+        if let SensorSource::File { path, .. } = &mut s.source {
+            here(path);
+        }
+    }
     for (j, joint) in sim.robot.joints.iter().enumerate() {
         let written = file
             .kinbody

@@ -1,7 +1,8 @@
 //! The servo model a calibration fits, replayed on a recording: the simulator's servo law
 //! ([`servo_velocity`]) moving a joint held in the air (no load) toward the goals it sees
 //! after its latency, integrated in 0.5-ms steps, never past its goal — the same motion
-//! model the emulated servos use.
+//! model the emulated servos use. The goals between two samples are interpolated linearly
+//! (the control loop sends one every step; the recording keeps one every few).
 
 use crate::sim::servo::servo_velocity;
 
@@ -21,8 +22,8 @@ pub struct ServoModel {
     pub latency_s: f64,
 }
 
-/// The angles (degrees) the model servo holds at `times` when the goals `desired` (held
-/// from each sample to the next) drive it from `start`.
+/// The angles (degrees) the model servo holds at `times` when the goals `desired`
+/// (interpolated between samples) drive it from `start`.
 pub fn replay(model: &ServoModel, times: &[f64], desired: &[f64], start: f64) -> Vec<f64> {
     let mut out = Vec::with_capacity(times.len());
     let Some(&t0) = times.first() else {
@@ -43,7 +44,7 @@ pub fn replay(model: &ServoModel, times: &[f64], desired: &[f64], start: f64) ->
             let goal = if seen_time < t0 {
                 start
             } else {
-                desired[goal_at]
+                interpolated(times, desired, goal_at, seen_time)
             };
             let error = goal - angle;
             let v = servo_velocity(model.gain, model.max_vel_deg_s, model.dead_band_deg, error);
@@ -57,6 +58,17 @@ pub fn replay(model: &ServoModel, times: &[f64], desired: &[f64], start: f64) ->
         out.push(angle);
     }
     out
+}
+
+/// The goal at `time`, between sample `i` (at or before it) and the next.
+fn interpolated(times: &[f64], desired: &[f64], i: usize, time: f64) -> f64 {
+    match (times.get(i + 1), desired.get(i + 1)) {
+        (Some(&t1), Some(&d1)) if t1 > times[i] => {
+            let w = ((time - times[i]) / (t1 - times[i])).clamp(0.0, 1.0);
+            desired[i] + w * (d1 - desired[i])
+        }
+        _ => desired[i],
+    }
 }
 
 /// Root mean square (degrees) of the differences of two series.
@@ -88,7 +100,7 @@ mod tests {
         };
         let a = replay(&model, &times, &desired, 0.0);
         // Nothing moves before the step has passed the latency (0.1 + 0.05 s).
-        assert_eq!(a[14], 0.0);
+        assert!(a[14].abs() < 1e-9, "{}", a[14]);
         // Then 100 deg/s while the error is above 5 degrees: 10 degrees after 0.1 s.
         assert!((a[25] - 10.0).abs() < 0.1, "{}", a[25]);
         assert!(a[100] > 29.9 && a[100] <= 30.0, "{}", a[100]);

@@ -37,6 +37,9 @@ pub enum CliError {
     /// An optimization that cannot be set up or run.
     #[error(transparent)]
     Optimize(#[from] crate::optimize::error::OptimizeError),
+    /// A servo calibration that cannot be done.
+    #[error(transparent)]
+    Calibrate(Box<crate::calibrate::CalibrateError>),
     /// A run setting that cannot be used.
     #[error(transparent)]
     Choice(#[from] crate::optimize::error::BadChoice),

@@ -13,8 +13,10 @@
 //! | `proleg data info / export / plot` | [`data`] ([`data::InfoReport`]; export and plot: what was written) |
 //! | `proleg plugin new / build / list` | [`plugin`] (the listing's text) |
 //! | `proleg import`, `proleg export mjcf` | [`interop`] ([`interop::ImportReport`]) |
+//! | `proleg calibrate` | [`calibrate`] ([`calibrate::CalibrateReport`]) |
 //! | `proleg robot`, `proleg robot-emulator` | [`robot`] ([`robot::RobotReport`]; the emulator: its port) |
 
+pub mod calibrate;
 pub mod compare;
 pub mod data;
 pub mod error;

@@ -1,0 +1,96 @@
+//! `proleg calibrate`: a recording's servo identification (`calibrate`), the calibrated
+//! robot file beside the original (its part files found as before) or in `-o DIR`, and the
+//! before/after picture.
+
+use std::path::{Path, PathBuf};
+
+use crate::calibrate::plot::plot_calibration;
+use crate::calibrate::recording::read_recording;
+use crate::calibrate::{
+    CalibrateError, CalibrateOptions, CalibrationReport, calibrate, calibrated_robot_file,
+};
+use crate::cli::error::CliError;
+use crate::control::{ModuleRegistry, load_simulation_in};
+
+/// `proleg calibrate`'s arguments.
+#[derive(clap::Args, Debug)]
+pub struct CalibrateArgs {
+    /// The recording (a data file of `proleg robot`: desired and real joint positions).
+    pub data: PathBuf,
+    /// The simulation whose robot the recording drove.
+    #[arg(long)]
+    pub config: PathBuf,
+    /// Where the calibrated robot file and the picture go (default: beside the robot
+    /// file, so its part files are found as before).
+    #[arg(short, long)]
+    pub out: Option<PathBuf>,
+    /// One servo model per joint instead of one for all.
+    #[arg(long)]
+    pub per_joint: bool,
+    /// Fits from different seeds; their spread is the confidence.
+    #[arg(long, default_value_t = 4)]
+    pub runs: u32,
+    /// Seed of the first fit.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+/// What `proleg calibrate` found and wrote.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CalibrateReport {
+    /// The fit.
+    pub report: CalibrationReport,
+    /// The calibrated robot file.
+    pub robot: PathBuf,
+    /// The before/after picture.
+    pub plot: PathBuf,
+}
+
+impl std::fmt::Display for CalibrateReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.report)?;
+        writeln!(f, "calibrated robot file: {}", self.robot.display())?;
+        writeln!(
+            f,
+            "recorded against replayed angles: {}",
+            self.plot.display()
+        )
+    }
+}
+
+/// Calibrates `a.config`'s servos on `a.data`.
+pub fn run(a: &CalibrateArgs, registry: &ModuleRegistry) -> Result<CalibrateReport, CliError> {
+    let sim = load_simulation_in(&a.config, registry)?;
+    let rec = read_recording(&a.data)?;
+    let options = CalibrateOptions {
+        per_joint: a.per_joint,
+        runs: a.runs.max(1),
+        seed: a.seed,
+    };
+    let report = calibrate(&rec, &sim, &options)?;
+    let robot_file = &sim.robot.file;
+    let beside = robot_file.parent().unwrap_or(Path::new("")).to_path_buf();
+    let dir = a.out.clone().unwrap_or(beside);
+    std::fs::create_dir_all(&dir).map_err(CliError::write(&dir))?;
+    let stem = robot_file
+        .file_name()
+        .and_then(|n| n.to_str())
+        .map(|n| n.trim_end_matches(".xml").trim_end_matches(".robot"))
+        .unwrap_or("robot");
+    let robot = dir.join(format!("{stem}.calibrated.robot.xml"));
+    let text = calibrated_robot_file(&sim, &report, &dir)?;
+    std::fs::write(&robot, text).map_err(CliError::write(&robot))?;
+    let plot = dir.join(format!("{stem}.calibration.png"));
+    plot_calibration(&rec, &report, &plot)?;
+    Ok(CalibrateReport {
+        report,
+        robot,
+        plot,
+    })
+}
+
+impl From<CalibrateError> for CliError {
+    fn from(e: CalibrateError) -> Self {
+        CliError::Calibrate(Box::new(e))
+    }
+}

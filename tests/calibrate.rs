@@ -1,0 +1,187 @@
+//! Servo identification against a known truth: an emulated Dynamixel chain whose servos
+//! hide their gain, top speed, dead band and latency is driven by the real-robot mode for
+//! 20 s; `calibrate` recovers them from the recording, and the replay then tracks the
+//! recording several times better than the robot file's servo model did. A 3-s recording
+//! is too short for the latency, and a recording of another robot is refused.
+
+mod common;
+
+use std::path::Path;
+use std::sync::atomic::AtomicBool;
+
+use proleg::calibrate::fit::{Identified, Unidentifiable};
+use proleg::calibrate::recording::read_recording;
+use proleg::calibrate::{CalibrateError, CalibrateOptions, calibrate};
+use proleg::control::{ModuleRegistry, load_simulation};
+use proleg::robot_io::dynamixel::DynamixelChain;
+use proleg::robot_io::emulator::EmulatedBus;
+use proleg::robot_io::emulator::servo::ServoDynamics;
+use proleg::robot_io::real_mode::{RealOptions, run};
+
+/// The hidden truth: none of them the robot file's.
+const TRUTH: ServoDynamics = ServoDynamics {
+    speed_deg_s: 150.0,
+    gain: 25.0,
+    dead_band_deg: 0.8,
+    latency_s: 0.03,
+    noise_deg: 0.1,
+    backlash_deg: 0.0,
+};
+
+/// The experiment-1 snake with its tail joints swinging slowly (0.2 Hz, 40 degrees: slow
+/// goals show the dead band and the gain) and the others fast (1.5 Hz, 30 degrees: beyond
+/// the top speed, often turning back: the speed and the lag); its simulation file, written
+/// in `dir`.
+fn sweep_config(dir: &Path) -> std::path::PathBuf {
+    let configs = common::root().join("configs");
+    let module = |joints: &str, amplitude: u32, frequency: f64| {
+        format!(
+            r#"  <actuationModule name="PatternGenerator_sinusoidal">
+    <jointConfiguration joints="{joints}"/>
+    <parameter name="Amplitude" value="{amplitude}"/>
+    <parameter name="Frequency" value="{frequency}"/>
+  </actuationModule>
+"#
+        )
+    };
+    let actuation = format!(
+        "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<actuation>\n  <validRobot robotName=\"snake5p.robot.xml\"/>\n{}{}</actuation>\n",
+        module("11000", 40, 0.2),
+        module("00111", 30, 1.5)
+    );
+    std::fs::write(dir.join("sweep.actuation.xml"), actuation).unwrap();
+    let sim = std::fs::read_to_string(configs.join("snake5p_real.simulation.xml"))
+        .unwrap()
+        .replace(
+            "robots/snake5p.robot.xml",
+            &configs
+                .join("robots/snake5p.robot.xml")
+                .display()
+                .to_string(),
+        )
+        .replace(
+            "actuation/snake5p_sine40.actuation.xml",
+            "sweep.actuation.xml",
+        )
+        .replace(
+            "environments/flat.env.xml",
+            &configs
+                .join("environments/flat.env.xml")
+                .display()
+                .to_string(),
+        );
+    let path = dir.join("sweep.simulation.xml");
+    std::fs::write(&path, sim).unwrap();
+    path
+}
+
+/// Records `seconds` of `sim`'s gait on the emulated chain into `data`.
+fn record(sim: &proleg::config::Simulation, seconds: f64, data: &Path) {
+    let bus = EmulatedBus::start_with(&[1, 2, 3, 4, 5], TRUTH).unwrap();
+    let mut robot = DynamixelChain::new(
+        bus.path(),
+        None,
+        sim.robot.servos.clone(),
+        &sim.robot.pattern(),
+    );
+    let options = RealOptions {
+        duration: Some(seconds),
+        read_every: Some(10),
+        every: Some(10),
+        seed: 1,
+    };
+    let stop = AtomicBool::new(false);
+    let s = run(
+        sim,
+        &ModuleRegistry::standard(),
+        &mut robot,
+        &options,
+        Some(data),
+        &stop,
+    )
+    .unwrap();
+    assert_eq!(s.error, None);
+}
+
+#[test]
+fn hidden_servo_dynamics_are_recovered_from_a_recording() {
+    let dir = common::scratch("calibrate");
+    let sim = load_simulation(sweep_config(&dir)).unwrap();
+    let data = dir.join("sweep.data.xml");
+    record(&sim, 20.0, &data);
+    let rec = read_recording(&data).unwrap();
+    let options = CalibrateOptions {
+        per_joint: false,
+        runs: 3,
+        seed: 1,
+    };
+    let report = calibrate(&rec, &sim, &options).unwrap();
+    let g = &report.groups[0];
+    let within = |id: &Identified, truth: f64, tol: f64, what: &str| {
+        let v = id
+            .value()
+            .unwrap_or_else(|| panic!("{what}: {id:?}\n{report}"));
+        assert!(
+            (v - truth).abs() <= tol,
+            "{what}: {v} against {truth}\n{report}"
+        );
+    };
+    within(&g.gain, TRUTH.gain, 0.1 * TRUTH.gain, "gain");
+    within(
+        &g.max_vel_deg_s,
+        TRUTH.speed_deg_s,
+        0.1 * TRUTH.speed_deg_s,
+        "top speed",
+    );
+    within(
+        &g.dead_band_deg,
+        TRUTH.dead_band_deg,
+        0.1 * TRUTH.dead_band_deg,
+        "dead band",
+    );
+    within(
+        &g.latency_s,
+        TRUTH.latency_s,
+        rec.sample_period(),
+        "latency",
+    );
+    for (j, (before, after)) in report.rms_before.iter().zip(&report.rms_after).enumerate() {
+        assert!(
+            after * 3.0 <= *before,
+            "J{}: {before} -> {after}\n{report}",
+            j + 1
+        );
+    }
+
+    // Three seconds: the goals turn back too rarely to tell the latency.
+    let short = dir.join("short.data.xml");
+    record(&sim, 3.0, &short);
+    let report = calibrate(&read_recording(&short).unwrap(), &sim, &options).unwrap();
+    assert!(
+        matches!(
+            report.groups[0].latency_s,
+            Identified::Unidentifiable(Unidentifiable::TooFewReversals { .. })
+        ),
+        "{report}"
+    );
+    assert!(
+        report.to_string().contains("too short for the latency"),
+        "{report}"
+    );
+
+    // A robot of another joint count is refused, naming both.
+    let other =
+        load_simulation(common::root().join("configs/snake8py_slope.simulation.xml")).unwrap();
+    let e = calibrate(&rec, &other, &options).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            CalibrateError::JointCount {
+                found: 5,
+                expected: 7,
+                ..
+            }
+        ),
+        "{e}"
+    );
+}
