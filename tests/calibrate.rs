@@ -185,3 +185,32 @@ fn hidden_servo_dynamics_are_recovered_from_a_recording() {
         "{e}"
     );
 }
+
+#[test]
+fn the_simulator_honours_a_servo_latency_and_dead_band() {
+    use proleg::sim::{BuildOptions, Simulator};
+    let dir = common::scratch("calibrate-sim");
+    let nominal = load_simulation(sweep_config(&dir)).unwrap();
+    let registry = ModuleRegistry::standard();
+    let angles_after = |sim: &proleg::config::Simulation, steps: u64| -> Vec<f64> {
+        let mut s = Simulator::with_registry(sim, &BuildOptions::default(), &registry).unwrap();
+        s.run_steps(steps);
+        s.joint_states(0).unwrap().iter().map(|j| j.angle).collect()
+    };
+    // 40 ms into the fast joints' swing: moving without latency, still with 50 ms of it.
+    let mut late = nominal.clone();
+    for j in &mut late.robot.joints {
+        j.latency_s = 0.05;
+    }
+    let moved = angles_after(&nominal, 40);
+    let held = angles_after(&late, 40);
+    assert!(moved[4].abs() > 1.0, "{moved:?}");
+    assert!(held[4].abs() < 0.2, "{held:?}");
+    // A dead band wider than the swing keeps a joint where it is.
+    let mut slack = nominal.clone();
+    for j in &mut slack.robot.joints {
+        j.dead_band_deg = 90.0;
+    }
+    let still = angles_after(&slack, 200);
+    assert!(still.iter().all(|a| a.abs() < 0.5), "{still:?}");
+}
