@@ -214,3 +214,44 @@ fn the_simulator_honours_a_servo_latency_and_dead_band() {
     let still = angles_after(&slack, 200);
     assert!(still.iter().all(|a| a.abs() < 0.5), "{still:?}");
 }
+
+#[test]
+fn bad_recordings_say_what_is_missing() {
+    let dir = common::scratch("calibrate-bad");
+    let config = sweep_config(&dir);
+    let sim = load_simulation(&config).unwrap();
+    let data = dir.join("rec.data.xml");
+    record(&sim, 0.3, &data);
+    let text = std::fs::read_to_string(&data).unwrap();
+    let calibrate_cli = |file: &Path| {
+        common::proleg(&[
+            "calibrate",
+            file.to_str().unwrap(),
+            "--config",
+            config.to_str().unwrap(),
+            "-o",
+            dir.to_str().unwrap(),
+        ])
+    };
+    // No real positions recorded.
+    let no_real = dir.join("no_real.data.xml");
+    std::fs::write(
+        &no_real,
+        text.replace("real_joint_positions", "other_positions"),
+    )
+    .unwrap();
+    let (ok, _, err) = calibrate_cli(&no_real);
+    assert!(
+        !ok && err.contains("real_joint_positions") && err.contains("no_real.data.xml"),
+        "{err}"
+    );
+    // 30 samples are too few.
+    let (ok, _, err) = calibrate_cli(&data);
+    assert!(
+        !ok && err.contains("30 samples") && err.contains("at least 50"),
+        "{err}"
+    );
+    // A file that is not there.
+    let (ok, _, err) = calibrate_cli(&dir.join("none.data.xml"));
+    assert!(!ok && err.contains("none.data.xml"), "{err}");
+}
