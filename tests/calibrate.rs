@@ -2,7 +2,9 @@
 //! hide their gain, top speed, dead band and latency is driven by the real-robot mode for
 //! 20 s; `calibrate` recovers them from the recording, and the replay then tracks the
 //! recording several times better than the robot file's servo model did. A 3-s recording
-//! is too short for the latency, and a recording of another robot is refused.
+//! is too short for the latency, and a recording of another robot is refused. On a gait
+//! recorded on the same chain, the simulation with the calibrated servos tracks the
+//! recording several times closer than with the robot file's.
 
 mod common;
 
@@ -28,52 +30,9 @@ const TRUTH: ServoDynamics = ServoDynamics {
     backlash_deg: 0.0,
 };
 
-/// The experiment-1 snake with its tail joints swinging slowly (0.2 Hz, 40 degrees: slow
-/// goals show the dead band and the gain) and the others fast (1.5 Hz, 30 degrees: beyond
-/// the top speed, often turning back: the speed and the lag); its simulation file, written
-/// in `dir`.
-fn sweep_config(dir: &Path) -> std::path::PathBuf {
-    let configs = common::root().join("configs");
-    let module = |joints: &str, amplitude: u32, frequency: f64| {
-        format!(
-            r#"  <actuationModule name="PatternGenerator_sinusoidal">
-    <jointConfiguration joints="{joints}"/>
-    <parameter name="Amplitude" value="{amplitude}"/>
-    <parameter name="Frequency" value="{frequency}"/>
-  </actuationModule>
-"#
-        )
-    };
-    let actuation = format!(
-        "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<actuation>\n  <validRobot robotName=\"snake5p.robot.xml\"/>\n{}{}</actuation>\n",
-        module("11000", 40, 0.2),
-        module("00111", 30, 1.5)
-    );
-    std::fs::write(dir.join("sweep.actuation.xml"), actuation).unwrap();
-    let sim = std::fs::read_to_string(configs.join("snake5p_real.simulation.xml"))
-        .unwrap()
-        .replace(
-            "robots/snake5p.robot.xml",
-            &configs
-                .join("robots/snake5p.robot.xml")
-                .display()
-                .to_string(),
-        )
-        .replace(
-            "actuation/snake5p_sine40.actuation.xml",
-            "sweep.actuation.xml",
-        )
-        .replace(
-            "environments/flat.env.xml",
-            &configs
-                .join("environments/flat.env.xml")
-                .display()
-                .to_string(),
-        );
-    let path = dir.join("sweep.simulation.xml");
-    std::fs::write(&path, sim).unwrap();
-    path
-}
+/// The calibration recording's gait: the tail joints slow (the dead band and the gain
+/// show), the others fast (the top speed and the lag).
+const SWEEP: &str = "configs/calibration_sweep.simulation.xml";
 
 /// Records `seconds` of `sim`'s gait on the emulated chain into `data`.
 fn record(sim: &proleg::config::Simulation, seconds: f64, data: &Path) {
@@ -106,7 +65,7 @@ fn record(sim: &proleg::config::Simulation, seconds: f64, data: &Path) {
 #[test]
 fn hidden_servo_dynamics_are_recovered_from_a_recording() {
     let dir = common::scratch("calibrate");
-    let sim = load_simulation(sweep_config(&dir)).unwrap();
+    let sim = load_simulation(common::root().join(SWEEP)).unwrap();
     let data = dir.join("sweep.data.xml");
     record(&sim, 20.0, &data);
     let rec = read_recording(&data).unwrap();
@@ -153,6 +112,49 @@ fn hidden_servo_dynamics_are_recovered_from_a_recording() {
         );
     }
 
+    // The calibrated robot file loads, its joints carrying the fitted values.
+    let robot = dir.join("snake5p.calibrated.robot.xml");
+    let text = proleg::calibrate::calibrated_robot_file(&sim, &report, &dir).unwrap();
+    std::fs::write(&robot, text).unwrap();
+    let configs = common::root().join("configs");
+    let sim_text = std::fs::read_to_string(common::root().join(SWEEP))
+        .unwrap()
+        .replace("robots/snake5p.robot.xml", robot.to_str().unwrap())
+        .replace("actuation/", &format!("{}/actuation/", configs.display()))
+        .replace(
+            "environments/",
+            &format!("{}/environments/", configs.display()),
+        );
+    std::fs::write(dir.join("calibrated.simulation.xml"), sim_text).unwrap();
+    let calibrated = load_simulation(dir.join("calibrated.simulation.xml")).unwrap();
+    let j = &calibrated.robot.joints[2];
+    assert_eq!(
+        j.servo_gain,
+        Some((g.gain.value().unwrap() * 1e4).round() / 1e4)
+    );
+    assert!((j.latency_s - g.latency_s.value().unwrap()).abs() < 1e-4);
+    assert!((j.dead_band_deg - g.dead_band_deg.value().unwrap()).abs() < 1e-4);
+
+    // What it buys on a gait: the demo sine recorded on the same chain against its
+    // simulation on the floor, with the robot file's servos and with the calibrated ones.
+    let demo = load_simulation(common::root().join("configs/snake5p_real.simulation.xml")).unwrap();
+    let gait = dir.join("gait.data.xml");
+    record(&demo, 4.0, &gait);
+    let gap = proleg::calibrate::check::gait_gap(
+        &read_recording(&gait).unwrap(),
+        &demo,
+        &report,
+        &ModuleRegistry::standard(),
+    )
+    .unwrap();
+    for (j, (before, after)) in gap.before.iter().zip(&gap.after).enumerate() {
+        assert!(
+            after * 3.0 <= *before,
+            "J{}: {before} -> {after}\n{gap}",
+            j + 1
+        );
+    }
+
     // Three seconds: the goals turn back too rarely to tell the latency.
     let short = dir.join("short.data.xml");
     record(&sim, 3.0, &short);
@@ -189,8 +191,7 @@ fn hidden_servo_dynamics_are_recovered_from_a_recording() {
 #[test]
 fn the_simulator_honours_a_servo_latency_and_dead_band() {
     use proleg::sim::{BuildOptions, Simulator};
-    let dir = common::scratch("calibrate-sim");
-    let nominal = load_simulation(sweep_config(&dir)).unwrap();
+    let nominal = load_simulation(common::root().join(SWEEP)).unwrap();
     let registry = ModuleRegistry::standard();
     let angles_after = |sim: &proleg::config::Simulation, steps: u64| -> Vec<f64> {
         let mut s = Simulator::with_registry(sim, &BuildOptions::default(), &registry).unwrap();
@@ -218,7 +219,7 @@ fn the_simulator_honours_a_servo_latency_and_dead_band() {
 #[test]
 fn bad_recordings_say_what_is_missing() {
     let dir = common::scratch("calibrate-bad");
-    let config = sweep_config(&dir);
+    let config = common::root().join(SWEEP);
     let sim = load_simulation(&config).unwrap();
     let data = dir.join("rec.data.xml");
     record(&sim, 0.3, &data);

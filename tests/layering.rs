@@ -32,7 +32,9 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("interop", &["config", "sim"]),
     (
         "calibrate",
-        &["config", "data", "measure", "optimize", "rng", "sim"],
+        &[
+            "config", "control", "data", "measure", "optimize", "rng", "sim",
+        ],
     ),
     (
         "bench",

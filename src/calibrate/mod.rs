@@ -5,8 +5,10 @@
 //! report gives each parameter before (the robot file's) and after with its spread over
 //! several fits, the RMS tracking error per joint before and after, and a parameter the
 //! recording cannot tell is reported as such. The calibrated robot file is the robot file
-//! with the fitted values set on its joints.
+//! with the fitted values set on its joints; [`check`] shows what the calibration buys on a
+//! recorded gait.
 
+pub mod check;
 pub mod fit;
 pub mod plot;
 pub mod recording;
@@ -72,6 +74,9 @@ pub enum CalibrateError {
         /// The joint's name.
         joint: String,
     },
+    /// The gait's simulation cannot be built or read.
+    #[error(transparent)]
+    Sim(#[from] crate::sim::SimError),
     /// The picture cannot be drawn.
     #[error("{}: cannot draw: {message}", file.display())]
     Plot {

@@ -1,9 +1,12 @@
 //! `proleg calibrate`: a recording's servo identification (`calibrate`), the calibrated
-//! robot file beside the original (its part files found as before) or in `-o DIR`, and the
-//! before/after picture.
+//! robot file beside the original (its part files found as before) or in `-o DIR`, the
+//! before/after picture, and with `--check GAIT` the gap between a gait on the robot
+//! (recorded now on `--port`, or earlier in `--check-data`) and its simulation before and
+//! after.
 
 use std::path::{Path, PathBuf};
 
+use crate::calibrate::check::{GaitGap, gait_gap};
 use crate::calibrate::plot::plot_calibration;
 use crate::calibrate::recording::read_recording;
 use crate::calibrate::{
@@ -33,6 +36,19 @@ pub struct CalibrateArgs {
     /// Seed of the first fit.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// A gait's simulation file: its run on the robot against its simulation with the
+    /// robot file's servos and with the calibrated ones.
+    #[arg(long)]
+    pub check: Option<PathBuf>,
+    /// With --check: the gait's recording on the robot (else it is recorded on --port).
+    #[arg(long, requires = "check")]
+    pub check_data: Option<PathBuf>,
+    /// With --check: the robot's port, to record the gait now.
+    #[arg(long, requires = "check")]
+    pub port: Option<PathBuf>,
+    /// With --check --port: seconds of the gait on the robot (default: its file's).
+    #[arg(long, requires = "port")]
+    pub check_seconds: Option<f64>,
 }
 
 /// What `proleg calibrate` found and wrote.
@@ -44,6 +60,8 @@ pub struct CalibrateReport {
     pub robot: PathBuf,
     /// The before/after picture.
     pub plot: PathBuf,
+    /// The gap on a gait, when checked.
+    pub gait: Option<GaitGap>,
 }
 
 impl std::fmt::Display for CalibrateReport {
@@ -54,7 +72,11 @@ impl std::fmt::Display for CalibrateReport {
             f,
             "recorded against replayed angles: {}",
             self.plot.display()
-        )
+        )?;
+        if let Some(g) = &self.gait {
+            write!(f, "{g}")?;
+        }
+        Ok(())
     }
 }
 
@@ -82,11 +104,57 @@ pub fn run(a: &CalibrateArgs, registry: &ModuleRegistry) -> Result<CalibrateRepo
     std::fs::write(&robot, text).map_err(CliError::write(&robot))?;
     let plot = dir.join(format!("{stem}.calibration.png"));
     plot_calibration(&rec, &report, &plot)?;
+    let gait = match &a.check {
+        Some(gait) => Some(check_gait(a, gait, &dir, &report, registry)?),
+        None => None,
+    };
     Ok(CalibrateReport {
         report,
         robot,
         plot,
+        gait,
     })
+}
+
+/// The gap on the gait `gait`: its recording (given, or made now on the port) against
+/// its simulation before and after calibration.
+fn check_gait(
+    a: &CalibrateArgs,
+    gait: &Path,
+    dir: &Path,
+    report: &CalibrationReport,
+    registry: &ModuleRegistry,
+) -> Result<GaitGap, CliError> {
+    let sim = load_simulation_in(gait, registry)?;
+    let data = match (&a.check_data, &a.port) {
+        (Some(d), _) => d.clone(),
+        (None, Some(port)) => {
+            let data = dir.join("gait.check.data.xml");
+            crate::cli::robot::robot(
+                &crate::cli::robot::RobotOptions {
+                    config: gait.to_path_buf(),
+                    port: port.clone(),
+                    baud: None,
+                    duration: a
+                        .check_seconds
+                        .or(Some(sim.files.simulation.properties.duration)),
+                    data: Some(data.clone()),
+                    every: None,
+                    read_every: None,
+                    seed: None,
+                },
+                registry,
+            )?;
+            data
+        }
+        (None, None) => {
+            return Err(CliError::Options(
+                "--check needs the gait's recording (--check-data) or the robot's port (--port)",
+            ));
+        }
+    };
+    let rec = read_recording(&data)?;
+    Ok(gait_gap(&rec, &sim, report, registry)?)
 }
 
 impl From<CalibrateError> for CliError {

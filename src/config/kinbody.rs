@@ -75,7 +75,7 @@ pub struct KinBody {
     pub pos: Pos,
 }
 
-const JOINT_CHILDREN: [&str; 9] = [
+const JOINT_CHILDREN: [&str; 12] = [
     "body",
     "offsetfrom",
     "anchor",
@@ -85,6 +85,9 @@ const JOINT_CHILDREN: [&str; 9] = [
     "limitsdeg",
     "limitsrad",
     "limits",
+    "servogain",
+    "servodeadband",
+    "servolatency",
 ];
 
 impl Joint {
@@ -358,4 +361,28 @@ pub fn write_kinbody_file(kb: &KinBody) -> String {
     let mut w = XmlWriter::new();
     kb.write(&mut w);
     w.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_joints_servo_extensions_round_trip() {
+        let text = r#"<KinBody name="k">
+  <Body name="a"><Geom type="box"><extents>0.1 0.1 0.1</extents></Geom></Body>
+  <Body name="b"><Geom type="box"><extents>0.1 0.1 0.1</extents></Geom></Body>
+  <Joint type="hinge" name="J1"><Body>a</Body><Body>b</Body><axis>1 0 0</axis>
+    <servoGain>24.75</servoGain><servoDeadBand>0.81</servoDeadBand><servoLatency>0.03</servoLatency>
+  </Joint>
+</KinBody>"#;
+        let kb = parse_kinbody_file("k.kinbody.xml", text).unwrap();
+        let j = &kb.joints[0];
+        assert_eq!(
+            (j.servo_gain, j.servo_dead_band, j.servo_latency),
+            (Some(24.75), Some(0.81), Some(0.03))
+        );
+        let again = parse_kinbody_file("k.kinbody.xml", &write_kinbody_file(&kb)).unwrap();
+        assert_eq!(again, kb);
+    }
 }
