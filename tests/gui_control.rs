@@ -553,3 +553,56 @@ fn the_physics_choice_rebuilds_the_world_on_mujoco_and_it_crawls() {
         "centre of mass {com:?}: the snake crawls on MuJoCo"
     );
 }
+
+#[test]
+fn real_robot_tab_calibrates_the_servos_on_a_recording() {
+    use proleg::robot_io::emulator::servo::ServoDynamics;
+    // A 4-s recording of the calibration sweep on emulated servos with hidden dynamics.
+    let dir = scratch("robot-calibrate");
+    let config = "configs/calibration_sweep.simulation.xml";
+    let sim = proleg::control::load_simulation(common::root().join(config)).expect("sweep");
+    let dynamics = ServoDynamics {
+        speed_deg_s: 150.0,
+        gain: 25.0,
+        dead_band_deg: 0.8,
+        latency_s: 0.03,
+        noise_deg: 0.1,
+        backlash_deg: 0.0,
+    };
+    let bus = proleg::robot_io::emulator::EmulatedBus::start_with(&[1, 2, 3, 4, 5], dynamics)
+        .expect("emulated bus");
+    let mut chain = proleg::robot_io::dynamixel::DynamixelChain::new(
+        bus.path(),
+        None,
+        sim.robot.servos.clone(),
+        &sim.robot.pattern(),
+    );
+    let data = dir.join("sweep.data.xml");
+    let options = proleg::robot_io::real_mode::RealOptions {
+        duration: Some(4.0),
+        read_every: Some(10),
+        every: Some(10),
+        seed: 1,
+    };
+    let stop = std::sync::atomic::AtomicBool::new(false);
+    let registry = proleg::control::ModuleRegistry::standard();
+    proleg::robot_io::real_mode::run(&sim, &registry, &mut chain, &options, Some(&data), &stop)
+        .expect("recorded");
+    // The tab calibrates it and shows the fit and the before/after plot.
+    let shot = dir.join("calibration.png");
+    let commands = format!(
+        "wait 2\nrobot-calibrate {}\nwait-for calibrated 3000\nwait 3\nscreenshot {}\n",
+        data.display(),
+        shot.display()
+    );
+    let s = scripted_state("calibrate", config, &commands);
+    assert_eq!(get(&s, "calibration_error"), "", "{s:?}");
+    let rms: Vec<f64> = get(&s, "calibration_rms")
+        .split(' ')
+        .map(|v| v.parse().expect("rms"))
+        .collect();
+    assert!(rms[1] * 3.0 < rms[0], "RMS before and after: {rms:?}");
+    let (w, h, colours) = png_colours(&shot);
+    assert_eq!((w, h), (1280, 800));
+    assert!(colours > 50);
+}

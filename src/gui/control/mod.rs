@@ -14,6 +14,7 @@
 //! - [`keys`]: keyboard shortcuts; [`recorder`]: the Record button
 
 pub mod assign_view;
+pub mod calibration_view;
 pub mod camera;
 pub mod debug_view;
 pub mod inspect;
@@ -322,6 +323,7 @@ fn busy(
         || views.optimizer.running()
         || views.recorder.recording()
         || views.robot.connected()
+        || views.robot.calibration.running()
         || !gamepads.is_empty();
     busy.set_if_neq(crate::gui::desktop::Busy(now));
 }

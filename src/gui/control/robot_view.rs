@@ -4,6 +4,9 @@
 //! and the viewer's robot becomes the twin that follows the measured angles. Errors are
 //! shown and switch the torque off; closing the window or disconnecting does too.
 //!
+//! A recording can be calibrated here too (gain, top speed, dead band, latency fitted,
+//! before/after shown: [`crate::gui::control::calibration_view`]).
+//!
 //! The window's loop runs at the frame rate (the servos get the kernel's newest angles
 //! once per frame); `proleg robot` runs the loop at the file's step width.
 
@@ -54,6 +57,8 @@ pub struct RobotView {
     pub command: String,
     /// The servo a command goes to (0: all).
     pub command_target: u8,
+    /// Servo calibration from a recording.
+    pub calibration: crate::gui::control::calibration_view::CalibrationPanel,
 }
 
 impl Default for RobotView {
@@ -77,6 +82,7 @@ impl Default for RobotView {
             error: None,
             command: "led 1".into(),
             command_target: 0,
+            calibration: Default::default(),
         }
     }
 }
@@ -266,7 +272,7 @@ pub fn show(ctx: &egui::Context, view: &mut RobotView, session: &mut SimSession)
     let mut open = view.open;
     egui::Window::new("Real robot")
         .open(&mut open)
-        .default_size([560.0, 360.0])
+        .default_size([640.0, 560.0])
         .show(ctx, |ui| {
             ui.horizontal(|ui| {
                 ui.label("Port");
@@ -289,6 +295,10 @@ pub fn show(ctx: &egui::Context, view: &mut RobotView, session: &mut SimSession)
             if let Some(e) = &view.error {
                 ui.colored_label(egui::Color32::LIGHT_RED, e);
             }
+            let reveal = view.calibration.take_reveal();
+            egui::CollapsingHeader::new("Calibrate the servo model from a recording")
+                .open(reveal.then_some(true))
+                .show(ui, |ui| view.calibration.show(ui, &session.sim));
             if !view.connected() {
                 ui.label(format!(
                     "Dynamixel (Protocol 2.0) servos, ids {:?} for joints J1..J{} (the robot \

@@ -10,7 +10,7 @@
 //!                                # that left the world): the message's Continue
 //! load CONFIG                    # the toolbar's Load (a broken file: its error, the world kept)
 //! run-until 3.0                  # runs (paced) and pauses exactly at this simulated second
-//! wait-for running|paused|debug 600   # until the state holds (e.g. after a real key press
+//! wait-for running|paused|debug|calibrated 600   # until the state holds (e.g. after a real key press
 //!                                # from xdotool), at most this many frames
 //! wait-for file PATH 600         # until PATH exists (a test says its input was sent)
 //! step-to 10                     # step, paused, to exactly this simulated second
@@ -42,6 +42,7 @@
 //! robot open|close               # the real-robot tab
 //! robot-connect PORT             # connect to the servos on PORT (e.g. an emulator's pty)
 //! robot-torque on|off | robot-drive on|off | robot-twin on|off | robot-disconnect
+//! robot-calibrate out/sweep.data.xml  # calibrate the servos on a recording (background)
 //! screenshot docs/control_window.png
 //! record on [FILE] | record off   # the Record button: the window's frames (default file:
 //!                                # out/recordings/NAME-TIME.mp4)
@@ -95,7 +96,7 @@ pub enum Command {
         #[arg(value_parser = finite)]
         seconds: f64,
     },
-    /// `wait-for running|paused|debug FRAMES` or `wait-for file PATH FRAMES`.
+    /// `wait-for running|paused|debug|calibrated FRAMES` or `wait-for file PATH FRAMES`.
     #[command(subcommand)]
     WaitFor(WaitFor),
     /// `step-to S`: step, paused, to exactly this simulated time (seconds, to the step): a
@@ -296,6 +297,12 @@ pub enum Command {
     },
     /// `robot-disconnect`.
     RobotDisconnect,
+    /// `robot-calibrate FILE`: calibrate the servo model on a recording (in the
+    /// background; `wait` for it).
+    RobotCalibrate {
+        /// The recording.
+        file: PathBuf,
+    },
     /// `screenshot FILE.png`.
     Screenshot {
         /// The image file.
@@ -325,6 +332,11 @@ pub enum WaitFor {
     },
     /// The physics debug view is on.
     Debug {
+        /// At most this many frames.
+        frames: u32,
+    },
+    /// The real-robot tab's calibration has ended (with a result or an error).
+    Calibrated {
         /// At most this many frames.
         frames: u32,
     },

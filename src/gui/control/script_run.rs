@@ -73,6 +73,7 @@ fn carry_out(
         | C::RobotTorque { .. }
         | C::RobotDrive { .. }
         | C::RobotTwin { .. }
+        | C::RobotCalibrate { .. }
         | C::RobotDisconnect => robot_command(c, session, views),
         C::Module(_)
         | C::Assign { .. }
@@ -381,6 +382,12 @@ fn robot_command(
             views.robot.disconnect(session);
             Flow::Next
         }
+        Command::RobotCalibrate { file } => {
+            views.robot.open = true;
+            views.robot.calibration.file = file.display().to_string();
+            views.robot.calibration.start(&session.sim);
+            Flow::Next
+        }
         other => return Err(misrouted(&other)),
     })
 }
@@ -506,6 +513,12 @@ fn output_command(
                 WaitFor::Running { frames } => (session.running, frames, "running".to_string()),
                 WaitFor::Paused { frames } => (!session.running, frames, "paused".to_string()),
                 WaitFor::Debug { frames } => (views.debug.0, frames, "debug".to_string()),
+                WaitFor::Calibrated { frames } => {
+                    views.robot.calibration.poll();
+                    let c = &views.robot.calibration;
+                    let done = !c.running() && (c.result.is_some() || c.error.is_some());
+                    (done, frames, "a calibration".to_string())
+                }
                 WaitFor::File { path, frames } => {
                     (path.exists(), frames, path.display().to_string())
                 }
@@ -555,6 +568,24 @@ fn optimizer_pairs(pairs: &mut Vec<(&str, String)>, session: &SimSession, views:
 }
 
 /// The state a GUI test checks.
+/// The real-robot tab's calibration: running, its error, the mean RMS before and after.
+fn calibration_pairs(pairs: &mut Vec<(&str, String)>, views: &Views) {
+    let c = &views.robot.calibration;
+    pairs.push(("calibration_running", c.running().to_string()));
+    pairs.push(("calibration_error", c.error.clone().unwrap_or_default()));
+    if let Some(r) = &c.result {
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
+        pairs.push((
+            "calibration_rms",
+            format!(
+                "{:.4} {:.4}",
+                mean(&r.report.rms_before),
+                mean(&r.report.rms_after)
+            ),
+        ));
+    }
+}
+
 fn state_lines(session: &SimSession, views: &Views) -> String {
     let mut pairs: Vec<(&str, String)> = vec![
         ("config", session.path.display().to_string()),
@@ -595,6 +626,7 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
     ];
     optimizer_pairs(&mut pairs, session, views);
     pairs.push(("recording", views.recorder.recording().to_string()));
+    calibration_pairs(&mut pairs, views);
     // One line per key: an error's "included from" lines are joined by \n.
     let error = session.error.clone().unwrap_or_default();
     pairs.push(("error", error.replace('\n', "\\n")));
