@@ -21,14 +21,7 @@ use proleg::robot_io::emulator::servo::ServoDynamics;
 use proleg::robot_io::real_mode::{RealOptions, run};
 
 /// The hidden truth: none of them the robot file's.
-const TRUTH: ServoDynamics = ServoDynamics {
-    speed_deg_s: 150.0,
-    gain: 25.0,
-    dead_band_deg: 0.8,
-    latency_s: 0.03,
-    noise_deg: 0.1,
-    backlash_deg: 0.0,
-};
+const TRUTH: ServoDynamics = common::HIDDEN_SERVOS;
 
 /// The calibration recording's gait: the tail joints slow (the dead band and the gain
 /// show), the others fast (the top speed and the lag).

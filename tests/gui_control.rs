@@ -556,19 +556,11 @@ fn the_physics_choice_rebuilds_the_world_on_mujoco_and_it_crawls() {
 
 #[test]
 fn real_robot_tab_calibrates_the_servos_on_a_recording() {
-    use proleg::robot_io::emulator::servo::ServoDynamics;
     // A 4-s recording of the calibration sweep on emulated servos with hidden dynamics.
     let dir = scratch("robot-calibrate");
     let config = "configs/calibration_sweep.simulation.xml";
     let sim = proleg::control::load_simulation(common::root().join(config)).expect("sweep");
-    let dynamics = ServoDynamics {
-        speed_deg_s: 150.0,
-        gain: 25.0,
-        dead_band_deg: 0.8,
-        latency_s: 0.03,
-        noise_deg: 0.1,
-        backlash_deg: 0.0,
-    };
+    let dynamics = common::HIDDEN_SERVOS;
     let bus = proleg::robot_io::emulator::EmulatedBus::start_with(&[1, 2, 3, 4, 5], dynamics)
         .expect("emulated bus");
     let mut chain = proleg::robot_io::dynamixel::DynamixelChain::new(

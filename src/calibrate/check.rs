@@ -6,7 +6,7 @@
 
 use crate::calibrate::recording::Recording;
 use crate::calibrate::replay::{ServoModel, rms};
-use crate::calibrate::{CalibrateError, CalibrationReport};
+use crate::calibrate::{CalibrateError, CalibrationReport, of_this_robot};
 use crate::config::Simulation;
 use crate::control::ModuleRegistry;
 use crate::sim::{BuildOptions, Simulator};
@@ -83,15 +83,7 @@ pub fn gait_gap(
     report: &CalibrationReport,
     registry: &ModuleRegistry,
 ) -> Result<GaitGap, CalibrateError> {
-    let joints = sim.robot.joints.len();
-    if gait.joints() != joints {
-        return Err(CalibrateError::JointCount {
-            file: gait.file.clone(),
-            found: gait.joints(),
-            robot: sim.robot.name.clone(),
-            expected: joints,
-        });
-    }
+    let joints = of_this_robot(gait, sim)?;
     let calibrated: Vec<ServoModel> = (0..joints).map(|j| report.after(j)).collect();
     let gap = |angles: Vec<Vec<f64>>| -> Vec<f64> {
         angles

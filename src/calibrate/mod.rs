@@ -155,12 +155,8 @@ pub fn models_of(sim: &Simulation) -> Vec<ServoModel> {
         .collect()
 }
 
-/// Fits `sim`'s servo models to `rec`.
-pub fn calibrate(
-    rec: &Recording,
-    sim: &Simulation,
-    o: &CalibrateOptions,
-) -> Result<CalibrationReport, CalibrateError> {
+/// `sim`'s joint count, when `rec` recorded as many joints (else the error naming both).
+pub fn of_this_robot(rec: &Recording, sim: &Simulation) -> Result<usize, CalibrateError> {
     let expected = sim.robot.joints.len();
     if rec.joints() != expected {
         return Err(CalibrateError::JointCount {
@@ -170,6 +166,16 @@ pub fn calibrate(
             expected,
         });
     }
+    Ok(expected)
+}
+
+/// Fits `sim`'s servo models to `rec`.
+pub fn calibrate(
+    rec: &Recording,
+    sim: &Simulation,
+    o: &CalibrateOptions,
+) -> Result<CalibrationReport, CalibrateError> {
+    let expected = of_this_robot(rec, sim)?;
     if rec.times.len() < MIN_SAMPLES {
         return Err(CalibrateError::TooShort {
             file: rec.file.clone(),

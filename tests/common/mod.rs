@@ -7,6 +7,17 @@ pub mod window;
 
 use std::path::{Path, PathBuf};
 
+/// Emulated servos' hidden dynamics for calibration tests: none of them the robot file's.
+pub const HIDDEN_SERVOS: proleg::robot_io::emulator::servo::ServoDynamics =
+    proleg::robot_io::emulator::servo::ServoDynamics {
+        speed_deg_s: 150.0,
+        gain: 25.0,
+        dead_band_deg: 0.8,
+        latency_s: 0.03,
+        noise_deg: 0.1,
+        backlash_deg: 0.0,
+    };
+
 /// The repository root.
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
