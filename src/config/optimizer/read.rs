@@ -281,19 +281,9 @@ fn read_map_elites(r: &Reader, props: &Element) -> ConfigResult<MapElitesSetting
 fn measured_range(r: &Reader, d: &Element) -> ConfigResult<[f64; 2]> {
     let bound = |name: &str| -> ConfigResult<f64> {
         let a = r.required_attr(d, name)?;
-        a.value
-            .trim()
-            .parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(|| {
-                r.err(
-                    a.pos,
-                    ErrorKind::InvalidValue,
-                    format!("{name}={:?}: give a number", a.value),
-                )
-            })
+        r.number(&a.value, a.pos, name)
     };
+
     let range = [bound("min")?, bound("max")?];
     if range[0] >= range[1] {
         return Err(r.err(

@@ -24,6 +24,17 @@ pub struct Calibrated {
     lines: Vec<[Vec<[f64; 2]>; 3]>,
 }
 
+/// Why the panel has no calibration to show.
+#[derive(Debug, thiserror::Error)]
+pub enum PanelError {
+    /// The calibration failed.
+    #[error(transparent)]
+    Calibrate(#[from] CalibrateError),
+    /// Its thread ended without an answer.
+    #[error("the calibration stopped without a result")]
+    Stopped,
+}
+
 /// The panel's state.
 #[derive(Default)]
 pub struct CalibrationPanel {
@@ -34,7 +45,7 @@ pub struct CalibrationPanel {
     /// The last calibration.
     pub result: Option<Calibrated>,
     /// Why the last one failed.
-    pub error: Option<String>,
+    pub error: Option<PanelError>,
     /// The joint drawn.
     pub joint: usize,
     /// Open the panel at the next frame (a calibration started or ended).
@@ -84,13 +95,13 @@ impl CalibrationPanel {
                 self.reveal = true;
             }
             Ok(Err(e)) => {
-                self.error = Some(e.to_string());
+                self.error = Some(e.into());
                 self.job = None;
                 self.reveal = true;
             }
             Err(TryRecvError::Empty) => {}
             Err(TryRecvError::Disconnected) => {
-                self.error = Some("the calibration stopped without a result".into());
+                self.error = Some(PanelError::Stopped);
                 self.job = None;
             }
         }
@@ -120,7 +131,7 @@ impl CalibrationPanel {
             }
         });
         if let Some(e) = &self.error {
-            ui.colored_label(egui::Color32::LIGHT_RED, e);
+            ui.colored_label(egui::Color32::LIGHT_RED, e.to_string());
         }
         let Some(c) = &self.result else {
             return;

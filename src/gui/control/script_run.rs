@@ -572,7 +572,13 @@ fn optimizer_pairs(pairs: &mut Vec<(&str, String)>, session: &SimSession, views:
 fn calibration_pairs(pairs: &mut Vec<(&str, String)>, views: &Views) {
     let c = &views.robot.calibration;
     pairs.push(("calibration_running", c.running().to_string()));
-    pairs.push(("calibration_error", c.error.clone().unwrap_or_default()));
+    pairs.push((
+        "calibration_error",
+        c.error
+            .as_ref()
+            .map(ToString::to_string)
+            .unwrap_or_default(),
+    ));
     if let Some(r) = &c.result {
         let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
         pairs.push((
