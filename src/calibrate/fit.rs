@@ -83,8 +83,6 @@ pub struct GroupFit {
     pub dead_band_deg: Identified,
     /// Latency (s).
     pub latency_s: Identified,
-    /// The fitted model (every parameter at its best fit).
-    pub model: ServoModel,
 }
 
 /// The model of `x` (CMA-ES's search coordinates, each of order 1).
@@ -196,7 +194,6 @@ pub fn fit_group(rec: &Recording, joints: &[usize], runs: u32, seed: u64) -> Gro
                 },
             )
         },
-        model,
     }
 }
 
