@@ -588,3 +588,63 @@ fn joints_outside_their_limits_are_brought_in_by_their_servos_on_every_articulat
         assert!(r.at_rest(), "{engine} {articulation:?}: {r}");
     }
 }
+
+#[test]
+fn a_collision_mesh_placed_away_from_its_visual_copy_is_named_with_both_lines() {
+    // alex_nub_hands: each nub's <collision> has xyz="0 1.57 0" where its <visual> has
+    // rpy="0 1.57 0"; the humanoid leaned on phantom nubs 1.57 m beside its hands.
+    let dir = common::scratch("urdf-misplaced-collision");
+    let registry = ModuleRegistry::standard();
+    write(
+        &dir,
+        "nub.obj",
+        "v 0 0 0\nv 0.04 0 0\nv 0 0.04 0\nv 0 0 0.04\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+    );
+    let nub = |collision_origin: &str| {
+        format!(
+            "<robot name=\"hand\">\n{}\n<link name=\"nub\"><inertial><mass value=\"0.3\"/><inertia ixx=\"0.001\" ixy=\"0\" ixz=\"0\" iyy=\"0.001\" iyz=\"0\" izz=\"0.001\"/></inertial>\n\
+             <visual><origin rpy=\"0 1.57 0\" xyz=\"0 0 0\"/><geometry><mesh filename=\"nub.obj\"/></geometry></visual>\n\
+             <collision>{collision_origin}<geometry><mesh filename=\"nub.obj\"/></geometry></collision>\n\
+             </link>\n{}\n</robot>",
+            link("palm", BOX),
+            hinge("j", "palm", "nub")
+        )
+    };
+    let swapped = import(
+        &write(
+            &dir,
+            "swapped.urdf",
+            &nub("<origin xyz=\"0 1.57 0\" rpy=\"0 0 0\"/>"),
+        ),
+        &dir.join("swapped"),
+        &registry,
+    )
+    .unwrap();
+    let w = swapped
+        .import
+        .warnings
+        .iter()
+        .find(|w| w.contains("<collision> mesh nub.obj"))
+        .unwrap_or_else(|| panic!("{:#?}", swapped.import.warnings));
+    assert!(
+        w.starts_with("line 5: link nub:")
+            && w.contains("lies 1.570 m from the <visual> of the same mesh (line 4)")
+            && w.contains("its xyz (0 1.57 0) is the visual's rpy"),
+        "{w}"
+    );
+    // The copies overlapping (a 1 cm offset on a 4 cm mesh): nothing to say.
+    let near = import(
+        &write(&dir, "near.urdf", &nub("<origin xyz=\"0.01 0 0\"/>")),
+        &dir.join("near"),
+        &registry,
+    )
+    .unwrap();
+    assert!(
+        near.import
+            .warnings
+            .iter()
+            .all(|w| !w.contains("<collision> mesh")),
+        "{:#?}",
+        near.import.warnings
+    );
+}

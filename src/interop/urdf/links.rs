@@ -8,8 +8,11 @@ use nalgebra::{Isometry3, Matrix3, UnitQuaternion, Vector3};
 use crate::config::body::{Body, BodyKind, Geom, Mass, MeshCollision, Shape};
 use crate::config::body::{balanced_inertia, principal_moments};
 use crate::config::error::Pos;
+use crate::config::mesh::TriMesh;
+use crate::interop::urdf::lint::misplaced_collision;
 use crate::interop::urdf::meshes::MeshWriter;
 use crate::interop::urdf::tree::{Tree, origin};
+use crate::interop::urdf::validate::LinkLines;
 use crate::interop::{InteropError, to_pose};
 
 /// The smallest radius of gyration (m) an imported body keeps about any axis: a link whose
@@ -63,8 +66,8 @@ fn min_moment(mass: f64) -> f64 {
 pub struct Context {
     /// The mass and inertia of links without either.
     pub stand_in: StandIn,
-    /// Each link's line in the URDF, by name.
-    pub lines: std::collections::BTreeMap<String, u32>,
+    /// Where each link is written in the URDF, by name.
+    pub lines: std::collections::BTreeMap<String, LinkLines>,
 }
 
 impl Context {
@@ -72,7 +75,7 @@ impl Context {
     pub fn at(&self, name: &str) -> String {
         self.lines
             .get(name)
-            .map(|l| format!("line {l}: "))
+            .map(|l| format!("line {}: ", l.link))
             .unwrap_or_default()
     }
 }
@@ -101,7 +104,7 @@ pub fn body(
                 link.name
             ));
         }
-        for c in &link.collision {
+        for (ci, c) in link.collision.iter().enumerate() {
             let at = tree.in_body(l) * origin(&c.origin);
             let g = geom(&link.name, &c.geometry, &at, meshes, warn).map_err(|e| {
                 // The URDF's place first, then what the mesh file says.
@@ -111,6 +114,16 @@ pub fn body(
                 )
             })?;
             if let Some(mut g) = g {
+                if let Shape::Trimesh { file, .. } = &g.shape
+                    && let Some(size) = meshes.mesh(file).map(diagonal)
+                {
+                    warn.extend(misplaced_collision(
+                        link,
+                        ctx.lines.get(&link.name),
+                        ci,
+                        size,
+                    ));
+                }
                 g.diffuse_color = colour;
                 geoms.push(g);
             }
@@ -170,6 +183,12 @@ pub fn body(
         mass,
         pos: Pos::default(),
     })
+}
+
+/// The diagonal of `mesh`'s bounding box (m).
+fn diagonal(mesh: &TriMesh) -> f64 {
+    let (lo, hi) = mesh.bounds();
+    (0..3).map(|i| (hi[i] - lo[i]).powi(2)).sum::<f64>().sqrt()
 }
 
 /// The colour of a link's first visual with one (inline or a named robot material).

@@ -11,8 +11,10 @@
 //! | continuous joint | hinge limited to +-180 deg (warning) |
 //! | fixed joint | child link merged into its parent body |
 //! | prismatic / floating / planar / spherical joint, capsule, other mesh formats, visual-only geometry, mimic, damping | warnings, listed in the report |
+//! | a `<collision>` mesh farther from the `<visual>` of the same mesh than the mesh is large | imported as written, a warning naming both lines ([`lint`]) |
 
 mod links;
+mod lint;
 mod meshes;
 mod outputs;
 mod tree;

@@ -109,8 +109,30 @@ const SINGLE: &[&str] = &[
 pub struct Cleaned {
     /// The text for `urdf-rs`.
     pub text: String,
-    /// Each link's line in the file, by name.
-    pub lines: std::collections::BTreeMap<String, u32>,
+    /// Where each link is written in the file, by name.
+    pub lines: std::collections::BTreeMap<String, LinkLines>,
+}
+
+/// The lines of one link's elements, in the order `urdf-rs` reads them.
+#[derive(Debug, Clone, Default)]
+pub struct LinkLines {
+    /// The `<link>` element's line.
+    pub link: u32,
+    /// Each `<collision>`'s line.
+    pub collisions: Vec<u32>,
+    /// Each `<visual>`'s line (those drawn: a faulty visual is dropped before).
+    pub visuals: Vec<u32>,
+}
+
+impl LinkLines {
+    fn of(link: &Element) -> LinkLines {
+        let lines = |tag: &str| link.children_named(tag).map(|c| c.pos.line).collect();
+        LinkLines {
+            link: link.pos.line,
+            collisions: lines("collision"),
+            visuals: lines("visual"),
+        }
+    }
 }
 
 /// The URDF text `text` of `file`, checked and cleaned for `urdf-rs`; `warn` gets what was
@@ -155,7 +177,7 @@ pub fn cleaned(
     write(&out, &mut w);
     let lines = out
         .children_named("link")
-        .filter_map(|l| Some((l.attr("name")?.value.clone(), l.pos.line)))
+        .filter_map(|l| Some((l.attr("name")?.value.clone(), LinkLines::of(l))))
         .collect();
     Ok(Cleaned {
         text: w.finish(),
