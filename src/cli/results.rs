@@ -53,40 +53,39 @@ pub struct ResultsReport {
 
 impl std::fmt::Display for ResultsReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let mut out = String::new();
         for (path, runs) in &self.stores {
             if self.stores.len() > 1 {
-                let _ = writeln!(out, "{path}:");
+                writeln!(f, "{path}:")?;
             }
             if runs.is_empty() {
-                out.push_str("no runs stored\n");
+                f.write_str("no runs stored\n")?;
             }
             for r in runs {
-                describe(&mut out, r);
+                describe(f, r)?;
             }
         }
         for a in &self.archives {
-            let _ = writeln!(out, "{}", a.summary());
+            writeln!(f, "{}", a.summary())?;
         }
         if let Some(png) = &self.curve {
-            let _ = writeln!(out, "learning curves written to {}", png.display());
+            writeln!(f, "learning curves written to {}", png.display())?;
         }
         if let Some(png) = &self.map {
-            let _ = writeln!(out, "archive map written to {}", png.display());
+            writeln!(f, "archive map written to {}", png.display())?;
         }
         if let Some(sim) = &self.exported {
-            let _ = writeln!(out, "design written: {}", sim.display());
+            writeln!(f, "design written: {}", sim.display())?;
         }
         if let Some(tsv) = &self.export {
-            let _ = writeln!(out, "evaluations written to {}", tsv.display());
+            writeln!(f, "evaluations written to {}", tsv.display())?;
         }
-        f.write_str(&out)
+        Ok(())
     }
 }
 
-fn describe(out: &mut String, r: &RunRow) {
-    let _ = writeln!(
-        out,
+fn describe(f: &mut std::fmt::Formatter<'_>, r: &RunRow) -> std::fmt::Result {
+    writeln!(
+        f,
         "run {:>3}  {}  {}  seed {}  {} ({} s)  {} evaluations{}",
         r.id,
         r.info.config,
@@ -100,13 +99,13 @@ fn describe(out: &mut String, r: &RunRow) {
         } else {
             "  (unfinished: --resume continues it)"
         }
-    );
+    )?;
     if r.rejected > 0 {
-        let _ = writeln!(
-            out,
+        writeln!(
+            f,
             "         {} bodies rejected unrun (each with its reason: --export lists them)",
             r.rejected
-        );
+        )?;
     }
     if let (Some(s), Some(v)) = (r.best_score, &r.best_values) {
         let engines: Vec<String> = r
@@ -115,17 +114,14 @@ fn describe(out: &mut String, r: &RunRow) {
             .map(|(k, e)| format!("{k} {e:.4}"))
             .collect();
         match engines.as_slice() {
-            [] => {
-                let _ = writeln!(out, "         best {s:.4}");
-            }
-            _ => {
-                let _ = writeln!(out, "         best {s:.4} ({})", engines.join(", "));
-            }
+            [] => writeln!(f, "         best {s:.4}")?,
+            _ => writeln!(f, "         best {s:.4} ({})", engines.join(", "))?,
         }
         for (g, val) in r.info.genes.iter().zip(v.split_whitespace()) {
-            let _ = writeln!(out, "           {g:<40} {val}");
+            writeln!(f, "           {g:<40} {val}")?;
         }
     }
+    Ok(())
 }
 
 /// Lists the runs and best candidates of the stores; draws and exports as asked.
