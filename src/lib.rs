@@ -17,6 +17,8 @@
 //!   standard module library and the control kernel.
 //! - `gui` (feature `gui`): the control window, a Bevy 3D viewer with egui views on the
 //!   same core.
+//! - [`gym`]: reinforcement-learning environments over any simulation file (the
+//!   Gymnasium shape, single and vectorized), for the Python package.
 //! - [`interop`]: other robotics formats: URDF robots in, MuJoCo MJCF out.
 //! - [`measure`]: formulas on positions shared by every layer (displacement, potential
 //!   energy).
@@ -43,6 +45,7 @@ pub mod control;
 pub mod data;
 #[cfg(feature = "gui")]
 pub mod gui;
+pub mod gym;
 pub mod interop;
 pub mod measure;
 pub mod optimize;

@@ -31,6 +31,10 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ),
     ("interop", &["config", "sim"]),
     (
+        "gym",
+        &["config", "control", "measure", "optimize", "rng", "sim"],
+    ),
+    (
         "calibrate",
         &[
             "config", "control", "data", "measure", "optimize", "rng", "sim",

@@ -2,14 +2,14 @@
 //! learning curves (PNG, all runs together as in thesis fig. 7.1a) and every evaluation
 //! as TSV.
 
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::cli::error::CliError;
 use crate::control::ModuleRegistry;
 use crate::optimize::archive::{StoredArchive, export_design, plot_map, stored_archive};
 use crate::optimize::curve::{CurveGroup, plot_curves};
-use crate::optimize::store::{RunRow, Store, StoreLocation, engine_scores_text};
+use crate::optimize::store::table::{self, evaluation_rows};
+use crate::optimize::store::{RunRow, Store, StoreLocation};
 
 /// Which curve a run belongs to: its configuration file's name and its optimizer.
 type GroupKey = (String, String);
@@ -180,38 +180,11 @@ pub fn run(o: &ResultsOptions, registry: &ModuleRegistry) -> Result<ResultsRepor
         plot_curves(&curves, &fitness, png, (1100, 600))?;
     }
     if let Some(tsv) = &o.export {
-        let mut text = String::from(
-            "store\trun\tevaluation\tround\tscore\twall_s\tgenome\tvalues\tengine_scores\trejected\tmeasures\n",
-        );
+        let mut rows = Vec::new();
         for (store, runs) in &mut opened {
-            let shown = store.describe();
-            for r in runs.iter() {
-                for e in store.evaluations(r.id)? {
-                    let g: Vec<String> = e.genome.iter().map(|k| k.to_string()).collect();
-                    let v: Vec<String> = e.values.iter().map(|k| k.to_string()).collect();
-                    let _ = writeln!(
-                        text,
-                        "{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}",
-                        shown,
-                        r.id,
-                        e.number,
-                        e.round,
-                        e.score,
-                        e.wall,
-                        g.join(" "),
-                        v.join(" "),
-                        engine_scores_text(&e.engines),
-                        e.rejected.as_deref().unwrap_or_default(),
-                        e.measures
-                            .iter()
-                            .map(f64::to_string)
-                            .collect::<Vec<_>>()
-                            .join(" ")
-                    );
-                }
-            }
+            rows.extend(evaluation_rows(store, runs)?);
         }
-        std::fs::write(tsv, text).map_err(CliError::write(tsv))?;
+        std::fs::write(tsv, table::tsv(&rows)).map_err(CliError::write(tsv))?;
     }
     Ok(ResultsReport {
         stores: opened

@@ -248,6 +248,17 @@ impl ControlKernel {
         self.limits.len()
     }
 
+    /// Each robot joint's limits (degrees).
+    pub fn limits(&self) -> &[[f64; 2]] {
+        &self.limits
+    }
+
+    /// An empty kernel for the same robot (its joint limits): where a policy replaces the
+    /// file's modules.
+    pub fn emptied(&self) -> ControlKernel {
+        ControlKernel::new(self.limits.clone())
+    }
+
     /// The first actuator whose module type answers to `type_name`.
     pub fn find(&self, type_name: &str) -> Option<usize> {
         self.actuators.iter().position(|a| {
@@ -398,6 +409,25 @@ impl ControlKernel {
             .index(name)
             .map_err(|error| KernelError::Param { module, error })?;
         p.set(idx, local, value)
+            .map_err(|error| KernelError::Param { module, error })
+    }
+
+    /// Sets parameter `name` of actuator `index` to one value per driven joint, in the
+    /// module's joint order (checked like [`ControlKernel::set_parameter`]; nothing is
+    /// allocated): a policy's targets every control period.
+    pub fn set_parameter_values(
+        &mut self,
+        index: usize,
+        name: &str,
+        values: &[f64],
+    ) -> Result<(), KernelError> {
+        let a = self.actuator_mut(index)?;
+        let module = a.module.descriptor().type_name;
+        let p = a.module.parameters_mut();
+        let idx = p
+            .index(name)
+            .map_err(|error| KernelError::Param { module, error })?;
+        p.set_all(idx, values)
             .map_err(|error| KernelError::Param { module, error })
     }
 

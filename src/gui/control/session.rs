@@ -14,7 +14,7 @@ use crate::gui::error::GuiError;
 use crate::optimize::evaluate::robot_score;
 use crate::optimize::replay::Replay;
 use crate::sim::datalog::DataSettings;
-use crate::sim::{BuildOptions, Pacer, Pacing, Simulator};
+use crate::sim::{BuildOptions, Pacer, Pacing, Simulator, WorldExit};
 
 /// Longest a frame may spend stepping when the simulation runs as fast as possible, so the
 /// window stays responsive (seconds).
@@ -24,10 +24,6 @@ const UNPACED_STEP_BUDGET: f64 = 0.12;
 /// long as the previous frame took (so a slow renderer does not cap the real-time factor),
 /// within these.
 const PACED_STEP_BUDGET: (f64, f64) = (0.05, 0.25);
-
-/// How far below the lowest static collider a robot's centre of mass has left the world
-/// (m), and how far beyond the scenery's sides.
-const WORLD_MARGIN: (f64, f64) = (1.0, 2.0);
 
 /// Why a run paused by itself; the toolbar shows it with what the user can do next.
 #[derive(Debug, Clone, PartialEq)]
@@ -447,25 +443,17 @@ impl SimSession {
         !self.running
     }
 
-    /// Robot 0 below the scenery's lowest point or beyond its sides (by [`WORLD_MARGIN`]);
-    /// without scenery, 10 m below where it started.
+    /// Robot 0 left the world ([`Simulator::world_exit`]); leaving the scenery counts only
+    /// while the world is watched.
     fn left_world(&self) -> Option<Halt> {
-        let c = self.simulator.com(0).ok()?;
-        if c.iter().any(|v| !v.is_finite()) {
-            return Some(Halt::Diverged);
+        match self
+            .simulator
+            .world_exit(0, self.scenery, self.start.0)
+            .ok()??
+        {
+            WorldExit::Diverged => Some(Halt::Diverged),
+            WorldExit::Left(c) => self.watch_world.then_some(Halt::LeftWorld(c)),
         }
-        if !self.watch_world {
-            return None;
-        }
-        let out = match self.scenery {
-            Some((lo, hi)) => {
-                c[2] < lo[2] - WORLD_MARGIN.0
-                    || (0..2)
-                        .any(|k| c[k] < lo[k] - WORLD_MARGIN.1 || c[k] > hi[k] + WORLD_MARGIN.1)
-            }
-            None => c[2] < self.start.0[2] - 10.0,
-        };
-        out.then_some(Halt::LeftWorld(c))
     }
 }
 

@@ -20,6 +20,7 @@ pub mod location;
 pub mod pg;
 pub mod pg_queue;
 pub mod sqlite;
+pub mod table;
 
 use crate::config::simulation::EngineKind;
 use crate::optimize::space::Genome;

@@ -29,7 +29,7 @@ use crate::sim::pacing::{Pacer, Pacing};
 use crate::sim::schedule::SimStep;
 use crate::sim::spawn::{BuildOptions, build_world};
 
-pub use state::{PadReading, SceneBody};
+pub use state::{PadReading, SceneBody, WORLD_MARGIN, WorldExit};
 
 /// What a run did.
 #[derive(Debug, Clone, PartialEq)]
@@ -85,9 +85,11 @@ impl RunSummary {
     }
 }
 
-/// A headless simulation.
+/// A headless simulation. It owns the ECS world that [`SimPlugins`] set up (the `App`
+/// that built it is dropped: nothing here runs Bevy's update loop), so a `Simulator` is
+/// `Send` and moves between threads (a vectorized environment's thread pool).
 pub struct Simulator {
-    app: App,
+    world: World,
     robots: Vec<Entity>,
     pacing: Pacing,
 }
@@ -119,7 +121,7 @@ impl Simulator {
         app.add_plugins(stages);
         let robots = build_world(app.world_mut(), sim, opts, registry)?;
         Ok(Simulator {
-            app,
+            world: std::mem::take(app.world_mut()),
             robots,
             pacing: Pacing::UNPACED,
         })
@@ -128,17 +130,17 @@ impl Simulator {
     /// The wall time of each stage, when the world was built with
     /// [`crate::sim::StageTimerPlugin`].
     pub fn stage_times(&self) -> Option<&crate::sim::StageTimes> {
-        self.app.world().get_resource()
+        self.world.get_resource()
     }
 
     /// The ECS world, for the crate's own systems and tests of the schedule.
     pub(crate) fn world(&self) -> &World {
-        self.app.world()
+        &self.world
     }
 
     /// The ECS world, mutable, for the crate's own benchmarks and the facade's methods.
     pub(crate) fn world_mut(&mut self) -> &mut World {
-        self.app.world_mut()
+        &mut self.world
     }
 
     /// The robot entities, in batch order.
@@ -159,7 +161,7 @@ impl Simulator {
     /// A component of robot `index`'s root entity.
     fn robot_component<C: Component>(&self, index: usize) -> Result<&C, SimError> {
         let e = self.robot(index)?;
-        self.app.world().get::<C>(e).ok_or(SimError::NoSuchRobot {
+        self.world.get::<C>(e).ok_or(SimError::NoSuchRobot {
             index,
             count: self.robots.len(),
         })
@@ -172,15 +174,14 @@ impl Simulator {
     ) -> Result<Mut<'_, C>, SimError> {
         let e = self.robot(index)?;
         let count = self.robots.len();
-        self.app
-            .world_mut()
+        self.world
             .get_mut::<C>(e)
             .ok_or(SimError::NoSuchRobot { index, count })
     }
 
     /// Step counter, step width and simulated time.
     pub fn clock(&self) -> &SimClock {
-        self.app.world().resource::<SimClock>()
+        self.world.resource::<SimClock>()
     }
 
     /// How [`Simulator::run_for`] paces against the wall clock.
@@ -195,7 +196,7 @@ impl Simulator {
 
     /// Runs `n` steps as fast as possible.
     pub fn run_steps(&mut self, n: u64) {
-        let world = self.app.world_mut();
+        let world = &mut self.world;
         // Taking the schedule out once saves its lookup on every step.
         let Some(mut schedule) = world.resource_mut::<Schedules>().remove(SimStep) else {
             return;

@@ -42,6 +42,19 @@ pub struct PadReading {
     pub pressed: bool,
 }
 
+/// How far below the lowest static collider a robot's centre of mass has left the world
+/// (m), and how far beyond the scenery's sides.
+pub const WORLD_MARGIN: (f64, f64) = (1.0, 2.0);
+
+/// How a robot left the world ([`Simulator::world_exit`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum WorldExit {
+    /// Its centre of mass (m) is below the scenery or beyond its sides.
+    Left([f64; 3]),
+    /// The physics diverged.
+    Diverged,
+}
+
 /// Things listed in the order of their index.
 trait Indexed {
     fn index(&self) -> usize;
@@ -96,13 +109,28 @@ impl Simulator {
 
     /// The current state of every joint of robot `index`.
     pub fn joint_states(&self, index: usize) -> Result<Vec<JointState>, SimError> {
+        let mut out = Vec::new();
+        self.joint_states_into(index, &mut out)?;
+        Ok(out)
+    }
+
+    /// [`Simulator::joint_states`] into `out` (cleared first; no allocation once `out` has
+    /// room), for readers that run every control period.
+    pub fn joint_states_into(
+        &self,
+        index: usize,
+        out: &mut Vec<JointState>,
+    ) -> Result<(), SimError> {
         let robot = self.robot_component::<SimRobot>(index)?;
         let w = self.world();
-        Ok(robot
-            .joints
-            .iter()
-            .map(|j| w.get::<JointState>(*j).copied().unwrap_or_default())
-            .collect())
+        out.clear();
+        out.extend(
+            robot
+                .joints
+                .iter()
+                .map(|j| w.get::<JointState>(*j).copied().unwrap_or_default()),
+        );
+        Ok(())
     }
 
     /// The servo targets (degrees) of robot `index`'s joints, as the last step drove them.
@@ -254,6 +282,32 @@ impl Simulator {
     /// Pose, centre of mass, velocity and mass of a body.
     pub fn body_state(&self, body: BodyId) -> Option<BodyState> {
         self.engine().body(body)
+    }
+
+    /// Whether robot `index` left the world: the physics diverged (its centre of mass is not
+    /// a number, or the engine stopped), or its centre of mass is more than
+    /// [`WORLD_MARGIN`] below `scenery`'s lowest point or beyond its sides (the box of
+    /// [`Simulator::scenery_bounds`]); without scenery, 10 m below `start`. The control
+    /// window pauses on it and an environment terminates its episode.
+    pub fn world_exit(
+        &self,
+        index: usize,
+        scenery: Option<([f64; 3], [f64; 3])>,
+        start: [f64; 3],
+    ) -> Result<Option<WorldExit>, SimError> {
+        let c = self.com(index)?;
+        if c.iter().any(|v| !v.is_finite()) || self.diverged() {
+            return Ok(Some(WorldExit::Diverged));
+        }
+        let out = match scenery {
+            Some((lo, hi)) => {
+                c[2] < lo[2] - WORLD_MARGIN.0
+                    || (0..2)
+                        .any(|k| c[k] < lo[k] - WORLD_MARGIN.1 || c[k] > hi[k] + WORLD_MARGIN.1)
+            }
+            None => c[2] < start[2] - 10.0,
+        };
+        Ok(out.then_some(WorldExit::Left(c)))
     }
 
     /// Whether the physics blew up and the world stopped ([`PhysicsEngine::diverged`]).

@@ -1,0 +1,39 @@
+"""proleg from Python: simulations of chain-like modular robots and Gymnasium environments.
+
+The work is done by the Rust library (``proleg._native``); this package gives it Python
+shapes:
+
+- :func:`load` a simulation file into a :class:`Simulation` to step and read,
+- :class:`ProlegEnv`, a Gymnasium environment over any simulation file, and
+  :class:`ProlegVectorEnv`, N of them stepped natively on a thread pool,
+- registered ids for the shipped scenarios (``proleg/FlatCrawl-v0``, ``proleg/HillCourse-v0``,
+  ``proleg/Stairs-v0``), each on either engine (``engine="rapier"`` or ``"mujoco"``),
+- :func:`read_store`, an experiment store as a pandas table,
+- :func:`proleg.sb3.SB3VecEnv`, the vector environment for Stable-Baselines3.
+
+Errors of the library arrive as exceptions with its message: a file that does not load as
+:class:`ConfigError` (with ``file``, ``line`` and ``column``), bad input as ``ValueError``,
+a closed environment as ``RuntimeError``, anything else as :class:`ProlegError`.
+"""
+
+from ._native import VERSION as __version__
+from ._native import ConfigError, ProlegError, Simulation, load
+from .envs import ProlegEnv, scenario_path
+from .registration import SCENARIOS, register_envs
+from .store import read_store
+from .vector import ProlegVectorEnv
+
+register_envs()
+
+__all__ = [
+    "ConfigError",
+    "ProlegEnv",
+    "ProlegError",
+    "ProlegVectorEnv",
+    "SCENARIOS",
+    "Simulation",
+    "__version__",
+    "load",
+    "read_store",
+    "scenario_path",
+]

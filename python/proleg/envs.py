@@ -1,0 +1,120 @@
+"""A Gymnasium environment over any proleg simulation file.
+
+The policy is one more module of the robot's control kernel: alone it drives every joint,
+as a residual (``mode="residual"``) it adds to the file's own modules, which the kernel
+sums (thesis fig. 4.4). An action is one value in [-1, 1] per joint; it moves the joint's
+target by ``action_scale`` times half the joint's range (1 alone, 0.25 as a residual),
+around the middle of its limits or around the modules' sum. The targets are held for one
+control period (``control_period``, 20 ms by default).
+
+The observation is float64, one value per name in :attr:`ProlegEnv.observation_names`:
+joint angles (rad) and speeds (rad/s), tactile pads (0/1), laser ranges (m), gravity's
+direction in the head's frame, the centre of mass's velocity in the heading frame
+(forward, lateral, up; m/s), and, as a residual, sine and cosine of each generator's
+phase.
+
+The reward is the growth over the step of proleg's fitness (``fitness="distance"``: metres
+along the start heading; also ``"displacement"`` and ``"speed"``) minus ``energy_weight``
+per joule the servos put out: an episode's return is the optimizers' score of the same
+episode. An episode terminates when the robot leaves the world or the physics diverges
+(``info["exit"]`` says which) and is truncated at the file's duration (or ``duration``).
+The same seed and actions give the same trajectory, bit for bit.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+import gymnasium
+import numpy as np
+from gymnasium import spaces
+
+from . import _native
+
+
+def scenario_path(file: str) -> str:
+    """The path of a shipped simulation file: under ``$PROLEG_CONFIGS`` when set, else in
+    the ``configs/`` folder of the checkout the package was built from."""
+    root = os.environ.get("PROLEG_CONFIGS", _native.CONFIGS)
+    return os.path.normpath(os.path.join(root, file))
+
+
+class ProlegEnv(gymnasium.Env):
+    """One robot in one world of a simulation file (see the module's documentation)."""
+
+    metadata = {"render_modes": []}
+
+    def __init__(
+        self,
+        path: str | os.PathLike,
+        engine: str | None = None,
+        control_period: float = 0.02,
+        mode: str = "alone",
+        action_scale: float | None = None,
+        fitness: str = "distance",
+        energy_weight: float = 0.0,
+        duration: float | None = None,
+        render_mode: str | None = None,
+    ):
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(
+                f"render_mode {render_mode!r} is not offered: {self.metadata['render_modes']}"
+            )
+        self.render_mode = render_mode
+        self._env = _native.Env(
+            os.fspath(path),
+            engine=engine,
+            control_period=control_period,
+            mode=mode,
+            action_scale=action_scale,
+            fitness=fitness,
+            energy_weight=energy_weight,
+            duration=duration,
+        )
+        self.action_space = spaces.Box(-1.0, 1.0, (self._env.action_len,), np.float32)
+        self.observation_space = spaces.Box(
+            -np.inf, np.inf, (self._env.obs_len,), np.float64
+        )
+        #: The name of every observation index.
+        self.observation_names: list[str] = self._env.observation_names
+        self.metadata = {**self.metadata, "render_fps": round(1.0 / control_period)}
+
+    @property
+    def engine(self) -> str:
+        """The engine stepping the world (``"rapier"`` or ``"mujoco"``)."""
+        return self._env.engine
+
+    @property
+    def control_period(self) -> float:
+        """Simulated seconds per step."""
+        return self._env.control_period
+
+    @property
+    def max_steps(self) -> int:
+        """Steps per episode (then it is truncated)."""
+        return self._env.max_steps
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        """Starts an episode in a fresh world built with ``seed`` (as ``proleg run`` builds
+        it with the file's ``<seed>``); without one, the next seed of the stream the last
+        seed started."""
+        super().reset(seed=seed)
+        if seed is not None and seed < 0:
+            raise ValueError(f"seed {seed}: give a non-negative integer")
+        return self._env.reset(seed)
+
+    def step(self, action) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        """Holds the targets of ``action`` for one control period."""
+        a = np.ascontiguousarray(action, dtype=np.float64)
+        if a.shape != self.action_space.shape:
+            raise ValueError(
+                f"action of shape {a.shape}, expected {self.action_space.shape}"
+            )
+        return self._env.step(a)
+
+    def close(self) -> None:
+        """Frees the world (closing twice is fine)."""
+        self._env.close()

@@ -1,0 +1,388 @@
+//! One environment: a simulation file's world driven by a policy every control period.
+//!
+//! The policy is one more module of the robot's control kernel (a `DirectJointAccess` on
+//! every joint, its `Angle` set from the action): alone, the kernel holds only it; as a
+//! residual, the kernel sums it with the file's own modules (thesis fig. 4.4). An action
+//! in [-1, 1] per joint moves the joint's target by `scale` times its half range, around the
+//! middle of its limits (alone) or around the modules' sum (residual).
+//!
+//! The reward is the growth of proleg's own fitness over the step, minus `energy_weight`
+//! times the joules the servos put out, so an episode's return is the optimizers' score of
+//! the same episode (minus the energy term). An episode terminates when the robot leaves
+//! the world or the physics diverges ([`Simulator::world_exit`], the control window's rule)
+//! and is truncated at the duration. Every reset builds a fresh world from the seed, so the
+//! same seed and actions give the same trajectory, bit for bit.
+
+use std::sync::Arc;
+
+use crate::config::Simulation;
+use crate::control::ModuleRegistry;
+use crate::gym::error::GymError;
+use crate::gym::observe::{ObsLayout, Previous, observe};
+use crate::gym::options::{ActionMode, EnvOptions};
+use crate::optimize::evaluate::robot_score;
+use crate::rng::SimRng;
+use crate::sim::servo::JointState;
+use crate::sim::{BuildOptions, Simulator, WorldExit};
+
+/// The module type that carries the policy's targets into the kernel.
+const POLICY_MODULE: &str = "DirectJointAccess";
+/// Its parameter that holds each joint's target.
+const POLICY_PARAMETER: &str = "Angle";
+
+/// What one environment step gave besides the observation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Transition {
+    /// The reward of the step.
+    pub reward: f64,
+    /// The episode ended in the world (the robot left it, the physics diverged).
+    pub terminated: bool,
+    /// The episode reached its duration.
+    pub truncated: bool,
+    /// The episode so far.
+    pub info: StepInfo,
+}
+
+/// The episode so far, after a step.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StepInfo {
+    /// Simulated seconds since the reset.
+    pub time: f64,
+    /// The fitness of the episode so far (the optimizers' score of it).
+    pub score: f64,
+    /// Joules the servos put out since the reset.
+    pub energy: f64,
+    /// How the robot left the world, when it did.
+    pub exit: Option<WorldExit>,
+}
+
+/// One running episode's bookkeeping.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Episode {
+    start_com: [f64; 3],
+    start_heading: f64,
+    scenery: Option<([f64; 3], [f64; 3])>,
+    prev: Previous,
+    score: f64,
+    energy: f64,
+    steps: u64,
+    over: bool,
+}
+
+/// An environment over one simulation file.
+pub struct Env {
+    sim: Arc<Simulation>,
+    registry: ModuleRegistry,
+    opts: EnvOptions,
+    layout: ObsLayout,
+    world: Simulator,
+    /// The policy's actuator in the kernel.
+    policy: usize,
+    /// Per joint: the target at action 0 (alone: the middle of the limits) and the change
+    /// at action 1.
+    scaling: Vec<(f64, f64)>,
+    /// The policy module's parameter range (degrees).
+    range: (f64, f64),
+    targets: Vec<f64>,
+    joints: Vec<JointState>,
+    steps_per_action: u64,
+    max_steps: u64,
+    episode: Episode,
+    /// The seed of the next reset without one, and where the last one came from.
+    seeds: SimRng,
+    ready: bool,
+}
+
+impl Env {
+    /// An environment over `sim` (loaded with `registry`), built once with the file's seed;
+    /// call [`Env::reset`] before the first step.
+    pub fn new(
+        sim: Arc<Simulation>,
+        registry: ModuleRegistry,
+        opts: EnvOptions,
+    ) -> Result<Env, GymError> {
+        opts.check()?;
+        let sim = match opts.engine {
+            Some(e) if e != sim.engine() => Arc::new((*sim).clone().with_engine(Some(e))),
+            _ => sim,
+        };
+        let props = &sim.files.simulation.properties;
+        let dt = props.step_width;
+        let ratio = opts.control_period / dt;
+        if (ratio - ratio.round()).abs() > 1e-6 || ratio.round() < 1.0 {
+            return Err(GymError::Option {
+                option: "control_period",
+                value: opts.control_period.to_string(),
+                want: "give a whole number of the simulation's steps (its <stepWidth>)",
+            });
+        }
+        let steps_per_action = ratio.round() as u64;
+        let duration = opts.duration.unwrap_or(props.duration);
+        let max_steps = (duration / opts.control_period).round().max(1.0) as u64;
+        let seed = props.seed;
+        let world = build(&sim, &registry, seed)?;
+        let joints = world.kernel(0)?.joints();
+        if joints == 0 {
+            return Err(GymError::NoJoints {
+                file: sim.file.display().to_string(),
+            });
+        }
+        let mut env = Env {
+            layout: ObsLayout::of(&world, None)?,
+            sim,
+            registry,
+            world,
+            policy: 0,
+            scaling: Vec::new(),
+            range: (0.0, 0.0),
+            targets: vec![0.0; joints],
+            joints: Vec::with_capacity(joints),
+            steps_per_action,
+            max_steps,
+            episode: Episode {
+                start_com: [0.0; 3],
+                start_heading: 0.0,
+                scenery: None,
+                prev: Previous { com: [0.0; 3] },
+                score: 0.0,
+                energy: 0.0,
+                steps: 0,
+                over: true,
+            },
+            seeds: SimRng::new(seed),
+            ready: false,
+            opts,
+        };
+        env.attach_policy()?;
+        Ok(env)
+    }
+
+    /// The settings.
+    pub fn options(&self) -> &EnvOptions {
+        &self.opts
+    }
+
+    /// The simulation file's model.
+    pub fn simulation(&self) -> &Simulation {
+        &self.sim
+    }
+
+    /// Values per action (the robot's joints).
+    pub fn action_len(&self) -> usize {
+        self.targets.len()
+    }
+
+    /// The observation's layout.
+    pub fn layout(&self) -> &ObsLayout {
+        &self.layout
+    }
+
+    /// Physics steps per environment step.
+    pub fn steps_per_action(&self) -> u64 {
+        self.steps_per_action
+    }
+
+    /// Environment steps until an episode is truncated.
+    pub fn max_steps(&self) -> u64 {
+        self.max_steps
+    }
+
+    /// The running world (read-only: an environment's world changes through its steps).
+    pub fn world(&self) -> &Simulator {
+        &self.world
+    }
+
+    /// Starts an episode in a fresh world built with `seed` (as `proleg run` builds it with
+    /// the file's `<seed>`) and writes its first observation into `obs`. Without a seed the
+    /// world's seed is the next of a stream seeded by the last seed given (the file's at
+    /// first), so a sequence of episodes is reproducible from its first seed.
+    pub fn reset(&mut self, seed: Option<u64>, obs: &mut [f64]) -> Result<StepInfo, GymError> {
+        let episode_seed = match seed {
+            Some(s) => {
+                self.seeds = SimRng::new(s);
+                s
+            }
+            None => self.seeds.next_u64(),
+        };
+        self.world = build(&self.sim, &self.registry, episode_seed)?;
+        self.attach_policy()?;
+        let com = self.world.com(0)?;
+        self.episode = Episode {
+            start_com: com,
+            start_heading: self.world.heading(0)?,
+            scenery: self.world.scenery_bounds(),
+            prev: Previous { com },
+            score: 0.0,
+            energy: 0.0,
+            steps: 0,
+            over: false,
+        };
+        self.ready = true;
+        observe(
+            &self.world,
+            &self.layout,
+            &self.episode.prev,
+            self.opts.control_period,
+            &mut self.joints,
+            obs,
+        )?;
+        Ok(StepInfo::default())
+    }
+
+    /// One environment step: the action's targets held for one control period; the next
+    /// observation is written into `obs`.
+    pub fn step(&mut self, action: &[f64], obs: &mut [f64]) -> Result<Transition, GymError> {
+        if !self.ready {
+            return Err(GymError::State("step before reset: call reset first"));
+        }
+        if self.episode.over {
+            return Err(GymError::State(
+                "step after the episode ended (terminated or truncated): call reset",
+            ));
+        }
+        self.set_targets(action)?;
+        self.world.run_steps(self.steps_per_action);
+        self.episode.steps += 1;
+        let dt = self.world.clock().dt;
+        let time = (self.episode.steps * self.steps_per_action) as f64 * dt;
+        let exit = self
+            .world
+            .world_exit(0, self.episode.scenery, self.episode.start_com)?;
+        let score = robot_score(
+            &self.world,
+            0,
+            (self.episode.start_com, self.episode.start_heading),
+            time,
+            self.opts.fitness,
+        )?;
+        let energy = self.world.energy(0)?.joules;
+        let diverged = !score.is_finite() || matches!(exit, Some(WorldExit::Diverged));
+        let reward = if diverged {
+            0.0
+        } else {
+            (score - self.episode.score) - self.opts.energy_weight * (energy - self.episode.energy)
+        };
+        let terminated = exit.is_some() || diverged;
+        let exit = if diverged {
+            Some(WorldExit::Diverged)
+        } else {
+            exit
+        };
+        let truncated = !terminated && self.episode.steps >= self.max_steps;
+        if diverged {
+            // Nothing in a diverged world is a number worth showing a policy.
+            obs.fill(0.0);
+        } else {
+            observe(
+                &self.world,
+                &self.layout,
+                &self.episode.prev,
+                self.opts.control_period,
+                &mut self.joints,
+                obs,
+            )?;
+            self.episode.prev = Previous {
+                com: self.world.com(0)?,
+            };
+            self.episode.score = score;
+            self.episode.energy = energy;
+        }
+        self.episode.over = terminated || truncated;
+        Ok(Transition {
+            reward,
+            terminated,
+            truncated,
+            info: StepInfo {
+                time,
+                score: self.episode.score,
+                energy: self.episode.energy,
+                exit,
+            },
+        })
+    }
+
+    /// Checks `action` and hands its targets to the policy module.
+    fn set_targets(&mut self, action: &[f64]) -> Result<(), GymError> {
+        if action.len() != self.targets.len() {
+            return Err(GymError::Shape {
+                what: "the action",
+                given: action.len(),
+                want: self.targets.len(),
+            });
+        }
+        let (lo, hi) = self.range;
+        for (index, ((t, a), (centre, half))) in self
+            .targets
+            .iter_mut()
+            .zip(action)
+            .zip(&self.scaling)
+            .enumerate()
+        {
+            if !a.is_finite() {
+                return Err(GymError::NotFinite { index, value: *a });
+            }
+            *t = (centre + a.clamp(-1.0, 1.0) * half).clamp(lo, hi);
+        }
+        self.world.kernel_mut(0)?.set_parameter_values(
+            self.policy,
+            POLICY_PARAMETER,
+            &self.targets,
+        )?;
+        Ok(())
+    }
+
+    /// Puts the policy module into the fresh world's kernel (alone: instead of the file's
+    /// modules) and, the first time, fixes the observation's layout and the scaling.
+    fn attach_policy(&mut self) -> Result<(), GymError> {
+        let n = self.targets.len();
+        let module = self
+            .registry
+            .create(POLICY_MODULE, n)
+            .map_err(crate::control::kernel::KernelError::Create)?;
+        let params = module.parameters();
+        let param = params.index(POLICY_PARAMETER).map_err(|error| {
+            crate::control::kernel::KernelError::Param {
+                module: POLICY_MODULE,
+                error,
+            }
+        })?;
+        let d = &params.descriptors()[param];
+        self.range = (d.min, d.max);
+        let residual = self.opts.mode == ActionMode::Residual;
+        let kernel = self.world.kernel_mut(0)?;
+        if !residual {
+            *kernel = kernel.emptied();
+        }
+        let scale = self.opts.scale();
+        self.scaling = kernel
+            .limits()
+            .iter()
+            .map(|[lo, hi]| {
+                let half = 0.5 * (hi - lo) * scale;
+                (if residual { 0.0 } else { 0.5 * (lo + hi) }, half)
+            })
+            .collect();
+        self.policy = kernel.add(module, (0..n).collect())?;
+        // The policy module has no `Phase` series: the layout lists the file's generators.
+        let phases = if residual {
+            Some(self.world.kernel(0)?)
+        } else {
+            None
+        };
+        self.layout = ObsLayout::of(&self.world, phases)?;
+        Ok(())
+    }
+}
+
+/// A fresh world of `sim` with `seed`, recording nothing (as the optimizers build theirs).
+fn build(sim: &Simulation, registry: &ModuleRegistry, seed: u64) -> Result<Simulator, GymError> {
+    Ok(Simulator::with_registry(
+        sim,
+        &BuildOptions {
+            seed,
+            record: false,
+            ..Default::default()
+        },
+        registry,
+    )?)
+}

@@ -1,0 +1,25 @@
+//! Reinforcement-learning episodes over any simulation file, in the shape Gymnasium 1.x
+//! gives them (reset, step, observation, reward, terminated, truncated), for the Python
+//! package `proleg` (`python/`) and for Rust alike:
+//!
+//! | module | role |
+//! |---|---|
+//! | [`options`] | the environment's settings: engine, control period, alone or residual, reward |
+//! | [`observe`] | the observation's layout (a name per index) and its reading from the world |
+//! | [`env`] | one environment: the policy as one more module of the kernel, the reward from the optimizers' fitness, termination on the control window's rule |
+//! | [`vector`] | N environments on a thread pool, autoreset next-step, same-step or disabled |
+//! | [`error`] | [`GymError`] |
+//!
+//! Nothing here is Python: the binding crate converts arrays and errors and nothing else.
+
+pub mod env;
+pub mod error;
+pub mod observe;
+pub mod options;
+pub mod vector;
+
+pub use env::{Env, StepInfo, Transition};
+pub use error::GymError;
+pub use observe::ObsLayout;
+pub use options::{ActionMode, EnvOptions};
+pub use vector::{Autoreset, Lane, VecEnv};

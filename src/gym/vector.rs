@@ -1,0 +1,272 @@
+//! Many environments stepped together: N [`Env`]s on a thread pool of their own (rayon),
+//! their observations written into one preallocated array, their rewards, flags and
+//! episode figures into one [`Lane`] each, resetting themselves as Gymnasium's autoreset
+//! modes say. Each environment is stepped by one thread at a time and touches nothing of
+//! the others, so the arrays are the same whatever the thread count.
+
+use std::sync::Arc;
+
+use rayon::prelude::*;
+
+use crate::config::Simulation;
+use crate::control::ModuleRegistry;
+use crate::gym::env::{Env, StepInfo};
+use crate::gym::error::GymError;
+use crate::gym::options::EnvOptions;
+
+/// When a finished environment starts its next episode (Gymnasium 1.x's `AutoresetMode`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Autoreset {
+    /// On the step after the one that ended it: that step ignores the action and returns
+    /// the first observation, reward 0, neither flag (Gymnasium's default).
+    NextStep,
+    /// On the step that ended it: the observation returned is the new episode's first, the
+    /// last one of the ended episode is kept as its final observation.
+    SameStep,
+    /// Never by itself: finished environments are reset through [`VecEnv::reset`] with a
+    /// mask.
+    Disabled,
+}
+
+impl Autoreset {
+    /// Reads Gymnasium's names (`next_step`, `same_step`, `disabled`, any case).
+    pub fn parse(s: &str) -> Result<Autoreset, GymError> {
+        match s.trim().to_ascii_lowercase().replace('-', "_").as_str() {
+            "next_step" | "nextstep" => Ok(Autoreset::NextStep),
+            "same_step" | "samestep" => Ok(Autoreset::SameStep),
+            "disabled" => Ok(Autoreset::Disabled),
+            _ => Err(GymError::Option {
+                option: "autoreset_mode",
+                value: s.to_string(),
+                want: "give next_step, same_step or disabled",
+            }),
+        }
+    }
+}
+
+/// One environment's outcome of the last step or reset.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Lane {
+    /// The step's reward.
+    pub reward: f64,
+    /// The episode ended in the world.
+    pub terminated: bool,
+    /// The episode reached its duration.
+    pub truncated: bool,
+    /// This step reset the environment (next-step autoreset, or a reset).
+    pub reset: bool,
+    /// Same-step autoreset: the final observation of the ended episode is in
+    /// [`VecEnv::final_observations`].
+    pub has_final: bool,
+    /// The episode (the ended one, when it ended this step).
+    pub info: StepInfo,
+    /// Next-step autoreset: the next step resets this environment.
+    needs_reset: bool,
+}
+
+/// N environments of one simulation, stepped on a pool of threads.
+pub struct VecEnv {
+    envs: Vec<Env>,
+    lanes: Vec<Lane>,
+    obs: Vec<f64>,
+    final_obs: Vec<f64>,
+    pool: rayon::ThreadPool,
+    autoreset: Autoreset,
+    obs_len: usize,
+    action_len: usize,
+}
+
+impl VecEnv {
+    /// `n` environments of `sim`, built in parallel on `threads` threads.
+    pub fn new(
+        sim: Arc<Simulation>,
+        registry: &ModuleRegistry,
+        opts: &EnvOptions,
+        n: usize,
+        threads: usize,
+        autoreset: Autoreset,
+    ) -> Result<VecEnv, GymError> {
+        if n == 0 {
+            return Err(GymError::Option {
+                option: "num_envs",
+                value: n.to_string(),
+                want: "give at least one environment",
+            });
+        }
+        if threads == 0 {
+            return Err(GymError::Option {
+                option: "threads",
+                value: threads.to_string(),
+                want: "give at least one thread",
+            });
+        }
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .thread_name(|i| format!("proleg-env-{i}"))
+            .build()
+            .map_err(|e| GymError::Threads(e.to_string()))?;
+        let envs = pool.install(|| {
+            (0..n)
+                .into_par_iter()
+                .map(|_| Env::new(sim.clone(), registry.clone(), opts.clone()))
+                .collect::<Result<Vec<Env>, GymError>>()
+        })?;
+        let obs_len = envs[0].layout().len();
+        let action_len = envs[0].action_len();
+        Ok(VecEnv {
+            lanes: vec![Lane::default(); n],
+            obs: vec![0.0; n * obs_len],
+            final_obs: vec![0.0; n * obs_len],
+            envs,
+            pool,
+            autoreset,
+            obs_len,
+            action_len,
+        })
+    }
+
+    /// The environments.
+    pub fn envs(&self) -> &[Env] {
+        &self.envs
+    }
+
+    /// Threads of the pool.
+    pub fn threads(&self) -> usize {
+        self.pool.current_num_threads()
+    }
+
+    /// The autoreset mode.
+    pub fn autoreset(&self) -> Autoreset {
+        self.autoreset
+    }
+
+    /// Values per observation of one environment.
+    pub fn obs_len(&self) -> usize {
+        self.obs_len
+    }
+
+    /// Values per action of one environment.
+    pub fn action_len(&self) -> usize {
+        self.action_len
+    }
+
+    /// The observations of the last step or reset, environment after environment.
+    pub fn observations(&self) -> &[f64] {
+        &self.obs
+    }
+
+    /// Same-step autoreset: the final observations of the episodes that ended in the last
+    /// step (rows of the others are stale; see [`Lane::has_final`]).
+    pub fn final_observations(&self) -> &[f64] {
+        &self.final_obs
+    }
+
+    /// Each environment's outcome of the last step or reset.
+    pub fn lanes(&self) -> &[Lane] {
+        &self.lanes
+    }
+
+    /// Resets the environments `mask` selects (all without one): environment i with
+    /// `seed + i` when a seed is given, else with the next seed of its own stream.
+    pub fn reset(&mut self, seed: Option<u64>, mask: Option<&[bool]>) -> Result<(), GymError> {
+        let n = self.envs.len();
+        if let Some(m) = mask
+            && m.len() != n
+        {
+            return Err(GymError::Shape {
+                what: "the reset mask",
+                given: m.len(),
+                want: n,
+            });
+        }
+        let o = self.obs_len;
+        let work = (
+            self.envs.par_iter_mut(),
+            self.obs.par_chunks_mut(o),
+            self.lanes.par_iter_mut(),
+        );
+        let results: Vec<Result<(), GymError>> = self.pool.install(|| {
+            work.into_par_iter()
+                .enumerate()
+                .map(|(i, (env, obs, lane))| {
+                    if mask.is_some_and(|m| !m[i]) {
+                        return Ok(());
+                    }
+                    let info = env.reset(seed.map(|s| s.wrapping_add(i as u64)), obs)?;
+                    *lane = Lane {
+                        reset: true,
+                        info,
+                        ..Lane::default()
+                    };
+                    Ok(())
+                })
+                .collect()
+        });
+        results.into_iter().collect()
+    }
+
+    /// One step of every environment with its row of `actions` (n x action_len values),
+    /// resetting finished ones as the autoreset mode says.
+    pub fn step(&mut self, actions: &[f64]) -> Result<(), GymError> {
+        let (o, a) = (self.obs_len, self.action_len);
+        let want = self.envs.len() * a;
+        if actions.len() != want {
+            return Err(GymError::Shape {
+                what: "the actions",
+                given: actions.len(),
+                want,
+            });
+        }
+        let mode = self.autoreset;
+        let work = (
+            self.envs.par_iter_mut(),
+            self.obs.par_chunks_mut(o),
+            self.final_obs.par_chunks_mut(o),
+            actions.par_chunks(a),
+            self.lanes.par_iter_mut(),
+        );
+        let results: Vec<Result<(), GymError>> = self.pool.install(|| {
+            work.into_par_iter()
+                .map(|(env, obs, fin, action, lane)| step_lane(mode, env, obs, fin, action, lane))
+                .collect()
+        });
+        results.into_iter().collect()
+    }
+}
+
+/// One environment's step under `mode`.
+fn step_lane(
+    mode: Autoreset,
+    env: &mut Env,
+    obs: &mut [f64],
+    fin: &mut [f64],
+    action: &[f64],
+    lane: &mut Lane,
+) -> Result<(), GymError> {
+    if mode == Autoreset::NextStep && lane.needs_reset {
+        let info = env.reset(None, obs)?;
+        *lane = Lane {
+            reset: true,
+            info,
+            ..Lane::default()
+        };
+        return Ok(());
+    }
+    let t = env.step(action, obs)?;
+    let over = t.terminated || t.truncated;
+    *lane = Lane {
+        reward: t.reward,
+        terminated: t.terminated,
+        truncated: t.truncated,
+        reset: false,
+        has_final: false,
+        info: t.info,
+        needs_reset: mode == Autoreset::NextStep && over,
+    };
+    if mode == Autoreset::SameStep && over {
+        fin.copy_from_slice(obs);
+        lane.has_final = true;
+        env.reset(None, obs)?;
+    }
+    Ok(())
+}
