@@ -47,13 +47,13 @@ class ProlegVectorEnv(VectorEnv):
     ):
         if render_mode is not None:
             raise ValueError(f"render_mode {render_mode!r} is not offered by the vector env")
-        mode_ = AutoresetMode(autoreset_mode)
+        mode_ = _autoreset_mode(autoreset_mode)
         self.autoreset_mode = mode_
         self._venv = _native.VecEnv(
             os.fspath(path),
             num_envs,
             threads=threads if threads is not None else (os.cpu_count() or 1),
-            autoreset=mode_.value,
+            autoreset=mode_.name.lower(),
             engine=engine,
             control_period=control_period,
             mode=mode,
@@ -163,6 +163,19 @@ class ProlegVectorEnv(VectorEnv):
     def close_extras(self, **kwargs: Any) -> None:
         """Frees the worlds and the thread pool."""
         self._venv.close()
+
+
+def _autoreset_mode(mode: AutoresetMode | str) -> AutoresetMode:
+    """Gymnasium's mode, or its name in any spelling (``"same_step"``, ``"SameStep"``)."""
+    if isinstance(mode, AutoresetMode):
+        return mode
+    key = str(mode).replace("_", "").replace("-", "").lower()
+    for m in AutoresetMode:
+        if m.name.replace("_", "").lower() == key:
+            return m
+    raise ValueError(
+        f"autoreset_mode {mode!r}: give one of {[m.name.lower() for m in AutoresetMode]}"
+    )
 
 
 def _seed(seed: int | None) -> int | None:
