@@ -37,20 +37,29 @@ HEADLESS_PACKAGES=(pkg-config gcc libfontconfig1-dev libfreetype-dev fonts-dejav
 # Debian's old MuJoCo 2.2.2 is the "wrong version" proleg must refuse.
 TEST_PACKAGES=(postgresql openssl python3 python3-venv xdotool libmujoco2.2.2)
 
-# Peer checks from the Python registry: URDFs we did not write (pybullet's pybullet_data)
-# for the import tests, and MuJoCo for the cross-engine check of an exported gait.
-PYTHON_PACKAGES=(pybullet==3.2.7 mujoco==4.0.0)
+# From the Python registry: peer checks (URDFs we did not write, pybullet's pybullet_data,
+# for the import tests; MuJoCo for the cross-engine check of an exported gait and the
+# plain Gymnasium environment `python -m proleg.bench` compares with), and what the Python
+# package `proleg` (python/) is built and tested with: maturin, Gymnasium, pandas, pytest.
+PYTHON_PACKAGES=(pybullet==3.2.7 mujoco==4.0.0 maturin==1.16.0 "gymnasium[mujoco]==1.4.0" pandas==3.1.1 pytest==9.2.0)
 
-# A virtual environment with PYTHON_PACKAGES under ~/.cache/proleg/python (made once);
-# exports PROLEG_PYTHON, its interpreter, for the tests.
+# A virtual environment with PYTHON_PACKAGES under ~/.cache/proleg/python (made once, topped
+# up when the list grows); exports PROLEG_PYTHON, its interpreter, for the tests.
 ensure_python() {
   local venv="$HOME/.cache/proleg/python"
-  if ! "$venv/bin/python" -c "import mujoco, pybullet_data" >/dev/null 2>&1; then
+  if ! "$venv/bin/python" -c "import mujoco, pybullet_data, gymnasium, imageio, pandas, pytest, maturin" >/dev/null 2>&1; then
     echo "installing into $venv: ${PYTHON_PACKAGES[*]}"
-    python3 -m venv "$venv"
+    [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
     "$venv/bin/pip" install -q "${PYTHON_PACKAGES[@]}"
   fi
   export PROLEG_PYTHON="$venv/bin/python"
+}
+
+# Builds and installs the Python package `proleg` from python/ into PROLEG_PYTHON's
+# environment, as `pip install ./python` does (maturin builds the extension in release with
+# cargo, into CARGO_TARGET_DIR when set; build isolation off: maturin is in the venv).
+install_python_package() {
+  "$PROLEG_PYTHON" -m pip install -q --no-build-isolation ./python
 }
 
 # The control window: gamepad support builds against libudev; GUI tests render under Xvfb

@@ -9,6 +9,7 @@ shapes:
 - registered ids for the shipped scenarios (``proleg/FlatCrawl-v0``, ``proleg/HillCourse-v0``,
   ``proleg/Stairs-v0``), each on either engine (``engine="rapier"`` or ``"mujoco"``),
 - :func:`read_store`, an experiment store as a pandas table,
+- :meth:`ProlegEnv.render` (``render_mode="rgb_array"``) and :func:`save_video`,
 - :func:`proleg.sb3.SB3VecEnv`, the vector environment for Stable-Baselines3.
 
 Errors of the library arrive as exceptions with its message: a file that does not load as
@@ -22,6 +23,7 @@ from .envs import ProlegEnv, scenario_path
 from .registration import SCENARIOS, register_envs
 from .store import read_store
 from .vector import ProlegVectorEnv
+from .video import save_video
 
 register_envs()
 
@@ -35,5 +37,6 @@ __all__ = [
     "__version__",
     "load",
     "read_store",
+    "save_video",
     "scenario_path",
 ]

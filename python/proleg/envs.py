@@ -13,6 +13,10 @@ direction in the head's frame, the centre of mass's velocity in the heading fram
 (forward, lateral, up; m/s), and, as a residual, sine and cosine of each generator's
 phase.
 
+With ``render_mode="rgb_array"``, :meth:`ProlegEnv.render` draws the world off-screen
+through the renderer of ``proleg run --video``; :func:`proleg.save_video` writes frames
+as a video (ffmpeg) or PNG files.
+
 The reward is the growth over the step of proleg's fitness (``fitness="distance"``: metres
 along the start heading; also ``"displacement"`` and ``"speed"``) minus ``energy_weight``
 per joule the servos put out: an episode's return is the optimizers' score of the same
@@ -43,7 +47,7 @@ def scenario_path(file: str) -> str:
 class ProlegEnv(gymnasium.Env):
     """One robot in one world of a simulation file (see the module's documentation)."""
 
-    metadata = {"render_modes": []}
+    metadata = {"render_modes": ["rgb_array"]}
 
     def __init__(
         self,
@@ -56,12 +60,16 @@ class ProlegEnv(gymnasium.Env):
         energy_weight: float = 0.0,
         duration: float | None = None,
         render_mode: str | None = None,
+        render_size: tuple[int, int] = (640, 480),
     ):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(
                 f"render_mode {render_mode!r} is not offered: {self.metadata['render_modes']}"
             )
         self.render_mode = render_mode
+        self._render_size = render_size
+        self._renderer = None
+        self._path, self._engine = os.fspath(path), engine
         self._env = _native.Env(
             os.fspath(path),
             engine=engine,
@@ -115,6 +123,18 @@ class ProlegEnv(gymnasium.Env):
             )
         return self._env.step(a)
 
+    def render(self) -> np.ndarray | None:
+        """With ``render_mode="rgb_array"``: the world now as an (height, width, 3) uint8
+        array, drawn off-screen by the renderer ``proleg run --video`` uses (the camera
+        follows the robot). The renderer is made at the first call."""
+        if self.render_mode != "rgb_array":
+            return None
+        if self._renderer is None:
+            width, height = self._render_size
+            self._renderer = _native.Renderer(self._path, width, height, self._engine)
+        return self._renderer.frame(self._env)
+
     def close(self) -> None:
-        """Frees the world (closing twice is fine)."""
+        """Frees the world and the renderer (closing twice is fine)."""
+        self._renderer = None
         self._env.close()

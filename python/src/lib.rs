@@ -9,6 +9,7 @@
 
 mod bench;
 mod errors;
+mod render;
 mod simulation;
 mod store;
 mod vector;
@@ -25,6 +26,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<simulation::Simulation>()?;
     m.add_class::<simulation::Env>()?;
     m.add_class::<vector::VecEnv>()?;
+    m.add_class::<render::Renderer>()?;
+    m.add_class::<render::VideoWriter>()?;
     m.add_function(wrap_pyfunction!(simulation::load, m)?)?;
     m.add_function(wrap_pyfunction!(store::read_store, m)?)?;
     m.add_function(wrap_pyfunction!(bench::pipeline_rate, m)?)?;

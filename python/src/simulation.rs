@@ -413,6 +413,11 @@ pub struct Env {
 }
 
 impl Env {
+    /// The environment, for the renderer that draws its world.
+    pub fn inner_mut(&mut self) -> PyResult<&mut proleg::gym::Env> {
+        self.env()
+    }
+
     fn env(&mut self) -> PyResult<&mut proleg::gym::Env> {
         self.env
             .as_mut()

@@ -44,7 +44,7 @@ impl VecEnv {
         } else {
             v.observations()
         };
-        Ok(PyArray1::from_slice(py, data).reshape([v.lanes().len(), v.obs_len()])?)
+        PyArray1::from_slice(py, data).reshape([v.lanes().len(), v.obs_len()])
     }
 }
 

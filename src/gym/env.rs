@@ -91,6 +91,7 @@ pub struct Env {
     /// The seed of the next reset without one, and where the last one came from.
     seeds: SimRng,
     ready: bool,
+    episodes: u64,
 }
 
 impl Env {
@@ -151,6 +152,7 @@ impl Env {
             },
             seeds: SimRng::new(seed),
             ready: false,
+            episodes: 0,
             opts,
         };
         env.attach_policy()?;
@@ -192,6 +194,17 @@ impl Env {
         &self.world
     }
 
+    /// The running world, to lend to an off-screen renderer that draws it (and swaps it
+    /// back); stepping or changing it changes the episode.
+    pub fn world_mut(&mut self) -> &mut Simulator {
+        &mut self.world
+    }
+
+    /// Resets so far (each builds a new world).
+    pub fn episodes(&self) -> u64 {
+        self.episodes
+    }
+
     /// Starts an episode in a fresh world built with `seed` (as `proleg run` builds it with
     /// the file's `<seed>`) and writes its first observation into `obs`. Without a seed the
     /// world's seed is the next of a stream seeded by the last seed given (the file's at
@@ -218,6 +231,7 @@ impl Env {
             over: false,
         };
         self.ready = true;
+        self.episodes += 1;
         observe(
             &self.world,
             &self.layout,

@@ -159,8 +159,10 @@ fn gravity_in_head(world: &Simulator) -> Result<[f64; 3], GymError> {
     } else {
         [0.0, 0.0, -1.0]
     };
-    let links = world.links(0)?;
-    let head = links.last().and_then(|l| world.body_state(l.body));
+    let head = match world.link_count(0)?.checked_sub(1) {
+        Some(last) => world.body_state(world.link_body(0, last)?),
+        None => None,
+    };
     Ok(match head {
         Some(state) => Pose {
             translation: [0.0; 3],

@@ -5,6 +5,7 @@
 //! loop is pumped here, frame by frame, so the video's time is simulated time whatever
 //! the rendering speed (no window, no display needed: Mesa's software Vulkan renders).
 
+pub mod frames;
 pub mod gallery;
 pub mod sink;
 
@@ -217,7 +218,11 @@ fn check(req: &VideoRequest) -> Result<(), VideoError> {
             want: "give 1 to 240 frames per second",
         });
     }
-    let (w, h) = req.size;
+    check_size(req.size)
+}
+
+/// Refuses a picture size the renderer cannot make.
+fn check_size((w, h): (u32, u32)) -> Result<(), VideoError> {
     if !(16..=7680).contains(&w) || !(16..=4320).contains(&h) {
         return Err(VideoError::Option {
             option: "--size",
@@ -375,6 +380,17 @@ fn drain(
         next += 1;
     }
     Ok(next)
+}
+
+/// Frame `k` when it is back, taken out of `captured`.
+fn drain_one(captured: &Arc<Mutex<Captured>>, k: u64) -> Result<Option<Frame>, VideoError> {
+    let mut c = captured
+        .lock()
+        .map_err(|_| VideoError::Renderer("a frame read-back panicked".into()))?;
+    if let Some(e) = c.error.take() {
+        return Err(e);
+    }
+    Ok(c.frames.remove(&k))
 }
 
 /// A read-back image as RGBA bytes.

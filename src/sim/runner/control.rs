@@ -8,7 +8,6 @@ use crate::sim::engine::{BodyId, PhysicsEngine};
 use crate::sim::error::SimError;
 use crate::sim::kernel::{JointOverride, Kernel};
 use crate::sim::physics::SimPhysics;
-use crate::sim::robot::SimRobot;
 
 impl Simulator {
     /// Changes a module parameter of robot `robot` between steps (see
@@ -106,11 +105,7 @@ impl Simulator {
         value: [f64; 3],
         set: impl FnOnce(&mut dyn PhysicsEngine, BodyId, [f64; 3]),
     ) -> Result<(), SimError> {
-        let bodies = &self.robot_component::<SimRobot>(robot)?.bodies;
-        let (body, _) = *bodies.get(link).ok_or(SimError::NoSuchLink {
-            link,
-            count: bodies.len(),
-        })?;
+        let body = self.link_body(robot, link)?;
         if value.iter().all(|v| v.is_finite()) {
             let mut physics = self.world_mut().resource_mut::<SimPhysics>();
             set(physics.engine.as_mut(), body, value);

@@ -224,6 +224,24 @@ impl Simulator {
         out
     }
 
+    /// How many links robot `index` has.
+    pub fn link_count(&self, index: usize) -> Result<usize, SimError> {
+        Ok(self.robot_component::<SimRobot>(index)?.bodies.len())
+    }
+
+    /// The body of link `link` of robot `robot` (no allocation, unlike
+    /// [`Simulator::links`]).
+    pub fn link_body(&self, robot: usize, link: usize) -> Result<BodyId, SimError> {
+        let bodies = &self.robot_component::<SimRobot>(robot)?.bodies;
+        bodies
+            .get(link)
+            .map(|(b, _)| *b)
+            .ok_or(SimError::NoSuchLink {
+                link,
+                count: bodies.len(),
+            })
+    }
+
     /// The link bodies of robot `index`, in link order (ids only).
     pub fn robot_bodies(&self, index: usize) -> Result<Vec<BodyId>, SimError> {
         let robot = self.robot_component::<SimRobot>(index)?;

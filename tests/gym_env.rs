@@ -1,0 +1,108 @@
+//! The environments from Rust (`proleg::gym`): a vector environment gives the same arrays
+//! on one, two and three threads; a residual policy with zero action runs the file's own
+//! gait, its return the optimizers' score; the policy's targets reach the joints.
+
+mod common;
+
+use std::sync::Arc;
+
+use proleg::config::fitness::Fitness;
+use proleg::control::{ModuleRegistry, load_simulation};
+use proleg::gym::{ActionMode, Autoreset, Env, EnvOptions, VecEnv};
+use proleg::optimize::evaluate::robot_score;
+use proleg::sim::{BuildOptions, Simulator};
+
+fn demo() -> Arc<proleg::config::Simulation> {
+    Arc::new(load_simulation(common::root().join("configs/demo.simulation.xml")).expect("demo"))
+}
+
+/// Observations, rewards and flags of `steps` steps of 5 environments on `threads`.
+fn run(threads: usize, steps: usize) -> (Vec<f64>, Vec<f64>) {
+    let opts = EnvOptions {
+        duration: Some(0.1),
+        ..EnvOptions::default()
+    };
+    let mut v = VecEnv::new(
+        demo(),
+        &ModuleRegistry::standard(),
+        &opts,
+        5,
+        threads,
+        Autoreset::NextStep,
+    )
+    .expect("vector env");
+    v.reset(Some(3), None).expect("reset");
+    let (mut obs, mut rewards) = (v.observations().to_vec(), Vec::new());
+    for k in 0..steps {
+        let actions: Vec<f64> = (0..25)
+            .map(|i| ((i * 7 + k * 3) % 11) as f64 / 5.0 - 1.0)
+            .collect();
+        v.step(&actions).expect("step");
+        obs.extend_from_slice(v.observations());
+        rewards.extend(v.lanes().iter().map(|l| l.reward));
+    }
+    (obs, rewards)
+}
+
+#[test]
+fn a_vector_env_gives_the_same_arrays_on_one_two_and_three_threads() {
+    let one = run(1, 12);
+    assert_eq!(one, run(2, 12));
+    assert_eq!(one, run(3, 12));
+    assert!(one.1.iter().any(|r| *r != 0.0));
+}
+
+#[test]
+fn a_residual_with_zero_action_runs_the_files_gait_and_returns_its_score() {
+    let sim = demo();
+    let opts = EnvOptions {
+        mode: ActionMode::Residual,
+        duration: Some(1.0),
+        ..EnvOptions::default()
+    };
+    let mut env = Env::new(sim.clone(), ModuleRegistry::standard(), opts).expect("env");
+    let mut obs = vec![0.0; env.layout().len()];
+    env.reset(Some(1), &mut obs).expect("reset");
+    let mut total = 0.0;
+    loop {
+        let t = env.step(&[0.0; 5], &mut obs).expect("step");
+        total += t.reward;
+        if t.truncated || t.terminated {
+            assert!(t.truncated);
+            break;
+        }
+    }
+    let mut plain = Simulator::new(&sim, &BuildOptions::default()).expect("world");
+    let start = (
+        plain.com(0).expect("com"),
+        plain.heading(0).expect("heading"),
+    );
+    plain.run_steps(1000);
+    assert_eq!(env.world().com(0).expect("com"), plain.com(0).expect("com"));
+    let score = robot_score(&plain, 0, start, 1.0, Fitness::Distance).expect("score");
+    assert!((total - score).abs() < 1e-12, "{total} against {score}");
+    assert!(score > 0.03, "the demo crawls forward: {score}");
+}
+
+#[test]
+fn the_policys_targets_reach_the_joints() {
+    let mut env = Env::new(demo(), ModuleRegistry::standard(), EnvOptions::default()).expect("env");
+    let mut obs = vec![0.0; env.layout().len()];
+    env.reset(Some(1), &mut obs).expect("reset");
+    for _ in 0..50 {
+        env.step(&[0.5, -0.5, 0.0, 0.25, 1.5], &mut obs)
+            .expect("step");
+    }
+    let limits = env.world().kernel(0).expect("kernel").limits().to_vec();
+    let want: Vec<f64> = [0.5, -0.5, 0.0, 0.25, 1.0]
+        .iter()
+        .zip(&limits)
+        .map(|(a, [lo, hi])| 0.5 * (lo + hi) + a * 0.5 * (hi - lo))
+        .collect();
+    let angles: Vec<f64> = obs[..5].iter().map(|a| a.to_degrees()).collect();
+    for (a, w) in angles.iter().zip(&want) {
+        assert!((a - w).abs() < 3.0, "{angles:?} against {want:?}");
+    }
+    assert!(env.step(&[f64::NAN; 5], &mut obs).is_err());
+    assert!(env.step(&[0.0; 4], &mut obs).is_err());
+}
