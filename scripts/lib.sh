@@ -57,9 +57,10 @@ ensure_python() {
 
 # Builds and installs the Python package `proleg` from python/ into PROLEG_PYTHON's
 # environment, as `pip install ./python` does (maturin builds the extension in release with
-# cargo, into CARGO_TARGET_DIR when set; build isolation off: maturin is in the venv).
+# cargo, into CARGO_TARGET_DIR when set; build isolation off: maturin is the venv's, on the
+# PATH for pip's build hook).
 install_python_package() {
-  "$PROLEG_PYTHON" -m pip install -q --no-build-isolation ./python
+  PATH="$(dirname "$PROLEG_PYTHON"):$PATH" "$PROLEG_PYTHON" -m pip install -q --no-build-isolation ./python
 }
 
 # The control window: gamepad support builds against libudev; GUI tests render under Xvfb

@@ -46,6 +46,7 @@ class SB3VecEnv(_Base):
         )
         observation_space = spaces.Box(-np.inf, np.inf, (self._venv.obs_len,), np.float32)
         action_space = spaces.Box(-1.0, 1.0, (self._venv.action_len,), np.float32)
+        self.render_mode = None
         if HAVE_SB3:
             super().__init__(num_envs, observation_space, action_space)
         else:

@@ -7,11 +7,10 @@
 use std::path::PathBuf;
 
 use bevy::prelude::*;
-use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
 use plotters::prelude::*;
 
 use super::sink::Frame;
-use super::{VideoCamera, VideoError, render_target, to_frame, update, video_app};
+use super::{VideoCamera, VideoError, WARM_UP, capture, render_target, video_app};
 use crate::control::ModuleRegistry;
 use crate::gui::control::camera::{OrbitCamera, to_bevy};
 use crate::gui::control::session::SimSession;
@@ -206,7 +205,7 @@ fn render_designs(
             .non_send_mut::<SimSession>()
             .step_to(at, u64::MAX);
         frame_robot(app)?;
-        pictures.push(capture(app, image)?);
+        pictures.push(capture(app, image, WARM_UP)?);
     }
     Ok(())
 }
@@ -236,40 +235,6 @@ fn frame_robot(app: &mut App) -> Result<(), VideoError> {
         *t = orbit.transform();
     }
     Ok(())
-}
-
-/// Updates before a picture is taken (the scene's meshes reach the render world).
-const WARM_UP: usize = 3;
-
-/// Renders one frame into `image` and reads it back.
-fn capture(app: &mut App, image: &Handle<Image>) -> Result<Frame, VideoError> {
-    // The scene is rebuilt on the first update and its meshes are ready for the render
-    // world an update later: a read-back spawned before then shows an empty frame.
-    for _ in 0..WARM_UP {
-        update(app)?;
-    }
-    let shot = std::sync::Arc::new(std::sync::Mutex::new(None));
-    let shared = shot.clone();
-    app.world_mut()
-        .spawn(Screenshot::image(image.clone()))
-        .observe(move |s: On<ScreenshotCaptured>| {
-            if let Ok(mut slot) = shared.lock() {
-                *slot = Some(to_frame(&s.image));
-            }
-        });
-    for _ in 0..10 {
-        update(app)?;
-        let taken = shot
-            .lock()
-            .map_err(|_| VideoError::Renderer("a read-back panicked".into()))?
-            .take();
-        if let Some(frame) = taken {
-            return frame;
-        }
-    }
-    Err(VideoError::Renderer(
-        "no picture came back from the renderer".into(),
-    ))
 }
 
 /// Lays the pictures out in `grid` with their captions and writes the PNG.

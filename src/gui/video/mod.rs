@@ -382,15 +382,40 @@ fn drain(
     Ok(next)
 }
 
-/// Frame `k` when it is back, taken out of `captured`.
-fn drain_one(captured: &Arc<Mutex<Captured>>, k: u64) -> Result<Option<Frame>, VideoError> {
-    let mut c = captured
-        .lock()
-        .map_err(|_| VideoError::Renderer("a frame read-back panicked".into()))?;
-    if let Some(e) = c.error.take() {
-        return Err(e);
+/// Updates before a picture of a newly built scene is taken (the scene's meshes reach the
+/// render world an update after the scene is built).
+const WARM_UP: usize = 3;
+
+/// Renders one frame into `image` after `warm_up` updates and reads it back (the gallery's
+/// pictures, an environment's frames).
+fn capture(app: &mut App, image: &Handle<Image>, warm_up: usize) -> Result<Frame, VideoError> {
+    // The scene is rebuilt on the first update and its meshes are ready for the render
+    // world an update later: a read-back spawned before then shows an empty frame.
+    for _ in 0..warm_up {
+        update(app)?;
     }
-    Ok(c.frames.remove(&k))
+    let shot = Arc::new(Mutex::new(None));
+    let shared = shot.clone();
+    app.world_mut()
+        .spawn(Screenshot::image(image.clone()))
+        .observe(move |s: On<ScreenshotCaptured>| {
+            if let Ok(mut slot) = shared.lock() {
+                *slot = Some(to_frame(&s.image));
+            }
+        });
+    for _ in 0..10 {
+        update(app)?;
+        let taken = shot
+            .lock()
+            .map_err(|_| VideoError::Renderer("a read-back panicked".into()))?
+            .take();
+        if let Some(frame) = taken {
+            return frame;
+        }
+    }
+    Err(VideoError::Renderer(
+        "no picture came back from the renderer".into(),
+    ))
 }
 
 /// A read-back image as RGBA bytes.
