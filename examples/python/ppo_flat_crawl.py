@@ -4,9 +4,10 @@
     python examples/python/ppo_flat_crawl.py --steps 300000 --out docs/ppo_flat_crawl
 
 Trains PPO on `proleg.sb3.SB3VecEnv` (the worlds stepped inside Rust, no DummyVecEnv),
-evaluates the random policy and the trained one on the same seeds, and writes the
-learning curve (mean episode return against environment steps) as PNG and TSV, and the
-figures as JSON. Episodes last 10 s (500 steps of 20 ms); the return is the metres
+evaluates the random policy, the file's own sine gait (the residual with zero action) and
+the trained policy on the same seeds, and writes the learning curve (mean episode return
+against environment steps) as PNG and TSV, the figures as JSON, the trained model (.zip)
+and a video of one trained episode rendered off-screen (.mp4). Episodes last 10 s (500 steps of 20 ms); the return is the metres
 travelled along the start heading (proleg's `distance` fitness).
 """
 
@@ -23,13 +24,13 @@ import proleg
 from proleg.sb3 import SB3VecEnv
 
 
-def evaluate(policy, path: str, episodes: int, duration: float, seed: int) -> list[float]:
+def evaluate(policy, path: str, episodes: int, duration: float, seed: int, **kw) -> list[float]:
     """Returns of `episodes` episodes on seeds seed, seed+1, ...; `policy(obs)` gives the
     action (None: uniformly random actions)."""
     rng = np.random.default_rng(seed)
     returns = []
     for k in range(episodes):
-        env = proleg.ProlegEnv(path, duration=duration)
+        env = proleg.ProlegEnv(path, duration=duration, **kw)
         obs, _ = env.reset(seed=seed + k)
         total, done = 0.0, False
         while not done:
@@ -92,6 +93,18 @@ def main() -> None:
         return model.predict(obs.astype(np.float32), deterministic=True)[0]
 
     trained_returns = evaluate(act, path, args.eval_episodes, args.duration, 1000)
+    sine_returns = evaluate(
+        lambda obs: np.zeros(5), path, 1, args.duration, 1000, mode="residual"
+    )
+    model.save(args.out + ".zip")
+    env = proleg.ProlegEnv(path, duration=args.duration, render_mode="rgb_array")
+    obs, _ = env.reset(seed=1000)
+    frames, done = [env.render()], False
+    while not done:
+        obs, _, term, trunc, _ = env.step(act(obs))
+        frames.append(env.render())
+        done = term or trunc
+    proleg.save_video(frames, args.out + ".mp4", fps=50)
     figures = {
         "steps": args.steps,
         "envs": args.envs,
@@ -100,6 +113,7 @@ def main() -> None:
         "random_std": float(np.std(random_returns)),
         "trained_mean": float(np.mean(trained_returns)),
         "trained_std": float(np.std(trained_returns)),
+        "sine_gait": float(sine_returns[0]),
         "episode_s": args.duration,
     }
     with open(args.out + ".json", "w") as f:
@@ -119,6 +133,7 @@ def main() -> None:
         plt.plot(xs, ys, label="PPO (training episodes)")
         plt.axhline(figures["random_mean"], color="grey", ls="--", label="random policy")
         plt.axhline(figures["trained_mean"], color="C2", ls=":", label="PPO, deterministic")
+        plt.axhline(figures["sine_gait"], color="C1", ls="-.", label="the file's sine gait")
         plt.xlabel("environment steps (20 ms each)")
         plt.ylabel(f"return: m along the heading in {args.duration:g} s")
         plt.title("proleg/FlatCrawl: PPO on the native vector env (16 worlds)")

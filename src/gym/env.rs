@@ -232,14 +232,7 @@ impl Env {
         };
         self.ready = true;
         self.episodes += 1;
-        observe(
-            &self.world,
-            &self.layout,
-            &self.episode.prev,
-            self.opts.control_period,
-            &mut self.joints,
-            obs,
-        )?;
+        self.observe(obs)?;
         Ok(StepInfo::default())
     }
 
@@ -287,14 +280,7 @@ impl Env {
             // Nothing in a diverged world is a number worth showing a policy.
             obs.fill(0.0);
         } else {
-            observe(
-                &self.world,
-                &self.layout,
-                &self.episode.prev,
-                self.opts.control_period,
-                &mut self.joints,
-                obs,
-            )?;
+            self.observe(obs)?;
             self.episode.prev = Previous {
                 com: self.world.com(0)?,
             };
@@ -313,6 +299,18 @@ impl Env {
                 exit,
             },
         })
+    }
+
+    /// Writes the observation of the world now into `obs`.
+    fn observe(&mut self, obs: &mut [f64]) -> Result<(), GymError> {
+        observe(
+            &self.world,
+            &self.layout,
+            &self.episode.prev,
+            self.opts.control_period,
+            &mut self.joints,
+            obs,
+        )
     }
 
     /// Checks `action` and hands its targets to the policy module.

@@ -1,16 +1,13 @@
 //! One picture of a world on demand: the video's off-screen app and following camera
-//! (`super::video_app`), for a simulator that lives elsewhere (an environment's). The
+//! (`super::following_app`), for a simulator that lives elsewhere (an environment's). The
 //! simulator is lent for the frame: swapped into the renderer's session, drawn, swapped
 //! back, so the renderer never steps it and the caller's world stays the caller's.
 
 use bevy::prelude::*;
 
-use crate::gui::control::camera::OrbitCamera;
 use crate::gui::control::session::SimSession;
 use crate::gui::video::sink::Frame;
-use crate::gui::video::{
-    VideoCamera, VideoError, WARM_UP, capture, check_size, render_target, video_app,
-};
+use crate::gui::video::{VideoError, WARM_UP, capture, check_size, following_app};
 use crate::sim::Simulator;
 
 /// An off-screen renderer of other simulators' worlds.
@@ -26,21 +23,7 @@ impl FrameRenderer {
     pub fn new(session: SimSession, size: (u32, u32)) -> Result<FrameRenderer, VideoError> {
         check_size(size)?;
         let (app, target) = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            let mut app = video_app(session);
-            let target = render_target(&mut app, size);
-            let orbit = OrbitCamera {
-                distance: 0.75,
-                ..OrbitCamera::default()
-            };
-            app.world_mut().spawn((
-                Name::new("frame camera"),
-                VideoCamera,
-                Camera3d::default(),
-                bevy::camera::RenderTarget::from(target.clone()),
-                orbit.transform(),
-                orbit,
-            ));
-            (app, target)
+            following_app(session, size)
         }))
         .map_err(|_| no_renderer())?;
         Ok(FrameRenderer { app, target, size })

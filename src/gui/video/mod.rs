@@ -242,21 +242,7 @@ fn render(
     captured: &Arc<Mutex<Captured>>,
     sink: &mut VideoSink,
 ) -> Result<[f64; 3], VideoError> {
-    let mut app = video_app(session);
-    let target = render_target(&mut app, req.size);
-    // Closer than the window's default view: the robot fills the frame.
-    let orbit = OrbitCamera {
-        distance: 0.75,
-        ..OrbitCamera::default()
-    };
-    app.world_mut().spawn((
-        Name::new("video camera"),
-        VideoCamera,
-        Camera3d::default(),
-        RenderTarget::from(target.clone()),
-        orbit.transform(),
-        orbit,
-    ));
+    let (mut app, target) = following_app(session, req.size);
     let mut next = 0;
     for k in 0..frames {
         let t = k as f64 / f64::from(req.fps);
@@ -331,6 +317,26 @@ fn video_app(session: SimSession) -> App {
     app.finish();
     app.cleanup();
     app
+}
+
+/// The video's app with an image of `size` to render into and a camera that follows robot
+/// 0, closer than the window's default view (the robot fills the frame).
+fn following_app(session: SimSession, size: (u32, u32)) -> (App, Handle<Image>) {
+    let mut app = video_app(session);
+    let target = render_target(&mut app, size);
+    let orbit = OrbitCamera {
+        distance: 0.75,
+        ..OrbitCamera::default()
+    };
+    app.world_mut().spawn((
+        Name::new("video camera"),
+        VideoCamera,
+        Camera3d::default(),
+        RenderTarget::from(target.clone()),
+        orbit.transform(),
+        orbit,
+    ));
+    (app, target)
 }
 
 /// An image to render into.
