@@ -58,15 +58,21 @@ def _timed_steps(step, actions: np.ndarray, steps: int) -> float:
     return best
 
 
-def native(path: str, engine: str, n: int, threads: int, seconds: float) -> dict:
+def native(
+    path: str, engine: str, n: int, threads: int, seconds: float, residual: bool = False
+) -> dict:
     """The native vector environment: ``seconds`` simulated per environment (at least 25
-    steps) per run; episodes end and reset as they would in training."""
+    steps) per run; episodes end and reset as they would in training. Random actions, or
+    with ``residual`` zero actions added to the file's gait (the pipeline's physics)."""
     _pin(_ONE if threads == 1 else None)
-    venv = ProlegVectorEnv(path, n, threads=threads, engine=engine)
+    mode = "residual" if residual else "alone"
+    venv = ProlegVectorEnv(path, n, threads=threads, engine=engine, mode=mode)
     venv.reset(seed=0)
     steps = max(25, math.ceil(seconds / venv._venv.control_period))
     rng = np.random.default_rng(0)
     actions = rng.uniform(-1, 1, (64, n, venv.single_action_space.shape[0]))
+    if residual:
+        actions[:] = 0.0
     wall = _timed_steps(venv.step, actions, steps)
     env_rate = n * steps / wall
     physics = env_rate * venv.steps_per_action
@@ -164,22 +170,32 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--json", help="also write the figures to this file")
     args = p.parse_args(argv)
     out: dict = {"config": args.config, "native": [], "pipeline": {}}
-    print(f"proleg.bench: {args.config}, control period 20 ms, random actions in [-1, 1]")
+    print(f"proleg.bench: {args.config}, control period 20 ms, random actions in [-1, 1]"
+          f" (alone) unless marked")
     print(f"{'engine':<8}{'envs':>5}{'threads':>8}{'env-steps/s':>14}{'robot-steps/s':>15}"
           f"{'sim s/wall s':>14}{'vs pipeline':>13}")
     for engine in args.engines:
-        _pin(_ONE)
-        pipe = _native.pipeline_rate(args.config, engine, args.pipeline_seconds)
-        _pin(None)
+        # The machine's speed drifts over minutes: the pipeline is measured before each
+        # figure and its best counts, so every ratio compares runs minutes apart at most.
+        pipes = []
+        rows = []
+        configs = [(n, t, False) for n in args.envs for t in args.threads]
+        configs.append((max(args.envs), 1, True))
+        for n, t, residual in configs:
+            _pin(_ONE)
+            pipes.append(_native.pipeline_rate(args.config, engine, args.pipeline_seconds))
+            _pin(None)
+            rows.append(native(args.config, engine, n, t, args.seconds, residual))
+        pipe = max(pipes)
         out["pipeline"][engine] = pipe
-        for n in args.envs:
-            for t in args.threads:
-                r = native(args.config, engine, n, t, args.seconds)
-                r["vs_pipeline"] = r["robot_steps_per_s"] / pipe
-                out["native"].append(r)
-                print(f"{engine:<8}{n:>5}{t:>8}{r['env_steps_per_s']:>14.0f}"
-                      f"{r['robot_steps_per_s']:>15.0f}{r['sim_s_per_s']:>13.1f}x"
-                      f"{r['vs_pipeline']:>12.2f}x")
+        for r, (n, t, residual) in zip(rows, configs):
+            r["vs_pipeline"] = r["robot_steps_per_s"] / pipe
+            r["residual_zero_actions"] = residual
+            out["native"].append(r)
+            what = "  (the file's gait: residual, zero actions)" if residual else ""
+            print(f"{engine:<8}{n:>5}{t:>8}{r['env_steps_per_s']:>14.0f}"
+                  f"{r['robot_steps_per_s']:>15.0f}{r['sim_s_per_s']:>13.1f}x"
+                  f"{r['vs_pipeline']:>12.2f}x{what}")
         print(f"{engine:<8}{'proleg bench pipeline, 1 robot/world, 1 core:':>42}{pipe:>15.0f}"
               f"{pipe * 0.001:>13.1f}x")
     if args.peers > 0:
@@ -202,7 +218,8 @@ def main(argv: list[str] | None = None) -> int:
                       f"{r['physics_steps_per_s']:>10.0f} physics steps/s"
                       f"{r['sim_s_per_s']:>8.1f}x")
             ours = [r for r in out["native"]
-                    if r["engine"] == "mujoco" and r["threads"] == 1 and r["envs"] == max(args.envs)]
+                    if r["engine"] == "mujoco" and r["threads"] == 1
+                    and r["envs"] == max(args.envs) and not r["residual_zero_actions"]]
             if ours:
                 ratio = ours[0]["env_steps_per_s"] / plain["env_steps_per_s"]
                 out["mujoco_vs_plain_gymnasium"] = ratio
