@@ -44,6 +44,28 @@ def scenario_path(file: str) -> str:
     return os.path.normpath(os.path.join(root, file))
 
 
+def native_options(
+    engine: str | None = None,
+    control_period: float = 0.02,
+    mode: str = "alone",
+    action_scale: float | None = None,
+    fitness: str = "distance",
+    energy_weight: float = 0.0,
+    duration: float | None = None,
+) -> dict[str, Any]:
+    """The environment options every native environment takes (see the module's
+    documentation), as keywords."""
+    return {
+        "engine": engine,
+        "control_period": control_period,
+        "mode": mode,
+        "action_scale": action_scale,
+        "fitness": fitness,
+        "energy_weight": energy_weight,
+        "duration": duration,
+    }
+
+
 class ProlegEnv(gymnasium.Env):
     """One robot in one world of a simulation file (see the module's documentation)."""
 
@@ -72,13 +94,9 @@ class ProlegEnv(gymnasium.Env):
         self._path, self._engine = os.fspath(path), engine
         self._env = _native.Env(
             os.fspath(path),
-            engine=engine,
-            control_period=control_period,
-            mode=mode,
-            action_scale=action_scale,
-            fitness=fitness,
-            energy_weight=energy_weight,
-            duration=duration,
+            **native_options(
+                engine, control_period, mode, action_scale, fitness, energy_weight, duration
+            ),
         )
         self.action_space = spaces.Box(-1.0, 1.0, (self._env.action_len,), np.float32)
         self.observation_space = spaces.Box(

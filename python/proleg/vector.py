@@ -22,6 +22,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from . import _native
+from .envs import native_options
 
 _INFO_KEYS = ("time", "score", "energy", "exit")
 
@@ -54,13 +55,9 @@ class ProlegVectorEnv(VectorEnv):
             num_envs,
             threads=threads if threads is not None else (os.cpu_count() or 1),
             autoreset=mode_.name.lower(),
-            engine=engine,
-            control_period=control_period,
-            mode=mode,
-            action_scale=action_scale,
-            fitness=fitness,
-            energy_weight=energy_weight,
-            duration=duration,
+            **native_options(
+                engine, control_period, mode, action_scale, fitness, energy_weight, duration
+            ),
         )
         self.num_envs = num_envs
         self.render_mode = None

@@ -401,15 +401,7 @@ impl ControlKernel {
         joint: Option<usize>,
         value: f64,
     ) -> Result<(), KernelError> {
-        let a = self.actuator_mut(index)?;
-        let local = Self::local_joint(a, joint)?;
-        let module = a.module.descriptor().type_name;
-        let p = a.module.parameters_mut();
-        let idx = p
-            .index(name)
-            .map_err(|error| KernelError::Param { module, error })?;
-        p.set(idx, local, value)
-            .map_err(|error| KernelError::Param { module, error })
+        self.change_parameter(index, name, joint, |p, idx, local| p.set(idx, local, value))
     }
 
     /// Sets parameter `name` of actuator `index` to one value per driven joint, in the
@@ -421,14 +413,30 @@ impl ControlKernel {
         name: &str,
         values: &[f64],
     ) -> Result<(), KernelError> {
+        self.change_parameter(index, name, None, |p, idx, _| p.set_all(idx, values))
+    }
+
+    /// Finds parameter `name` of actuator `index` (and robot joint `joint` among its
+    /// joints) and hands its values, its index and the joint's local index to `change`.
+    fn change_parameter(
+        &mut self,
+        index: usize,
+        name: &str,
+        joint: Option<usize>,
+        change: impl FnOnce(
+            &mut crate::control::module::Parameters,
+            usize,
+            Option<usize>,
+        ) -> Result<(), ParamError>,
+    ) -> Result<(), KernelError> {
         let a = self.actuator_mut(index)?;
+        let local = Self::local_joint(a, joint)?;
         let module = a.module.descriptor().type_name;
         let p = a.module.parameters_mut();
         let idx = p
             .index(name)
             .map_err(|error| KernelError::Param { module, error })?;
-        p.set_all(idx, values)
-            .map_err(|error| KernelError::Param { module, error })
+        change(p, idx, local).map_err(|error| KernelError::Param { module, error })
     }
 
     /// Adds a constant `degrees` to actuator `index`'s output at robot joint `joint`, or at
