@@ -256,3 +256,34 @@ fn a_stored_mujoco_evaluation_replays_to_its_stored_score() {
         "stored {best}, replayed {nominal}"
     );
 }
+
+/// Worlds of one file share MuJoCo's compiled model (built once, not on every reset or
+/// evaluation); dragging a static body changes the dragged world's model only, and a world
+/// built after the drag gets the file's.
+#[test]
+fn a_static_body_dragged_in_one_world_stays_put_in_the_others() {
+    if !common::mujoco_here("shared models") {
+        return;
+    }
+    let sim = demo();
+    let world = || Simulator::new(&sim, &BuildOptions::default()).unwrap();
+    let (mut a, mut b) = (world(), world());
+    let floor = a.environment_bodies()[0].body;
+    let z = |s: &Simulator| s.body_position(floor).unwrap()[2];
+    let z0 = z(&b);
+    a.translate_bodies(&[floor], [0.0, 0.0, -0.5]);
+    assert!((z(&a) - (z0 - 0.5)).abs() < 1e-9, "{} vs {z0}", z(&a));
+    let mut c = world();
+    assert_eq!((z(&b), z(&c)), (z0, z0));
+    for s in [&mut a, &mut b, &mut c] {
+        s.run_steps(300);
+    }
+    let height = |s: &Simulator| s.com(0).unwrap()[2];
+    assert!(
+        height(&a) < height(&b) - 0.2,
+        "{} vs {}",
+        height(&a),
+        height(&b)
+    );
+    assert_eq!(height(&b).to_bits(), height(&c).to_bits());
+}

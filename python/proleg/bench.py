@@ -9,9 +9,12 @@ core, the yardsticks: a plain Gymnasium ``MujocoEnv`` of the same robot (the MJC
 ``proleg export mjcf`` writes: position servos, the same control period, a forward-progress
 reward) under ``SyncVectorEnv``, and Gymnasium's ``Swimmer-v5``.
 
-Every figure is the best of three runs (the machines here are shared VMs whose speed
-varies from minute to minute, as ``proleg bench`` says); single-thread figures run pinned
-to one core (the process's first allowed CPU).
+Every figure is the best of three rounds, each round measuring every row once in turn (the
+machines here are shared VMs whose speed drifts from minute to minute, as ``proleg bench``
+says: interleaved rounds expose every row to the same drift, so the ratios compare like
+with like); single-thread figures run pinned to one core (the process's first allowed
+CPU). Every environment has the file's episode length (truncated at its duration and
+reset, the plain Gymnasium one through ``TimeLimit`` as ``gymnasium.make`` would).
 """
 
 from __future__ import annotations
@@ -41,28 +44,25 @@ _ALL = os.sched_getaffinity(0) if hasattr(os, "sched_getaffinity") else set()
 _ONE = {min(_ALL)} if _ALL else None
 
 
-REPEATS = 3
+ROUNDS = 3
 
 
 def _timed_steps(step, actions: np.ndarray, steps: int) -> float:
-    """The fastest of :data:`REPEATS` runs of ``steps`` calls of ``step`` with the rows of
-    ``actions`` in turn (wall seconds), after a warm-up."""
+    """Wall seconds of ``steps`` calls of ``step`` with the rows of ``actions`` in turn,
+    after a warm-up."""
     for k in range(3):
         step(actions[k % len(actions)])
-    best = float("inf")
-    for _ in range(REPEATS):
-        t = time.perf_counter()
-        for k in range(steps):
-            step(actions[k % len(actions)])
-        best = min(best, time.perf_counter() - t)
-    return best
+    t = time.perf_counter()
+    for k in range(steps):
+        step(actions[k % len(actions)])
+    return time.perf_counter() - t
 
 
 def native(
     path: str, engine: str, n: int, threads: int, seconds: float, residual: bool = False
 ) -> dict:
-    """The native vector environment: ``seconds`` simulated per environment (at least 25
-    steps) per run; episodes end and reset as they would in training. Random actions, or
+    """The native vector environment, one run: ``seconds`` simulated per environment (at
+    least 25 steps); episodes end and reset as they would in training. Random actions, or
     with ``residual`` zero actions added to the file's gait (the pipeline's physics)."""
     _pin(_ONE if threads == 1 else None)
     mode = "residual" if residual else "alone"
@@ -91,7 +91,8 @@ def native(
 
 def exported_mujoco_env(path: str, control_period: float):
     """A plain Gymnasium ``MujocoEnv`` of ``path``'s robot as ``proleg export mjcf`` writes
-    it; its reward is the root's progress along +y (the demo's heading) per second."""
+    it; its reward is the root's progress along +y (the demo's heading) per second. Returns
+    its class, its frame skip and the episode length in steps (the file's duration)."""
     import mujoco
     from gymnasium import spaces
     from gymnasium.envs.mujoco import MujocoEnv
@@ -131,11 +132,12 @@ def exported_mujoco_env(path: str, control_period: float):
             self.set_state(self.init_qpos, self.init_qvel)
             return self._obs()
 
-    return ExportedRobotEnv, frame_skip
+    episode = round(_native.load(path).duration / control_period)
+    return ExportedRobotEnv, frame_skip, episode
 
 
 def gymnasium_sync(make_one, n: int, frame_skip: int, seconds_per_step: float, seconds: float) -> dict:
-    """``SyncVectorEnv`` of ``n`` environments from ``make_one``, on one core."""
+    """``SyncVectorEnv`` of ``n`` environments from ``make_one``, on one core, one run."""
     import gymnasium
 
     _pin(_ONE)
@@ -156,7 +158,7 @@ def gymnasium_sync(make_one, n: int, frame_skip: int, seconds_per_step: float, s
     }
 
 
-def main(argv: list[str] | None = None) -> int:
+def _args(argv: list[str] | None) -> argparse.Namespace:
     p = argparse.ArgumentParser(prog="python -m proleg.bench", description=__doc__.split("\n\n")[0])
     p.add_argument("--config", default=scenario_path("demo.simulation.xml"))
     p.add_argument("--engines", nargs="+", default=["rapier", "mujoco"])
@@ -167,28 +169,72 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--pipeline-seconds", type=float, default=10.0)
     p.add_argument("--peers", type=int, default=16,
                    help="environments of the Gymnasium yardsticks (0: skip them)")
+    p.add_argument("--rounds", type=int, default=ROUNDS,
+                   help="rounds over every row; each figure is its best round")
     p.add_argument("--json", help="also write the figures to this file")
-    args = p.parse_args(argv)
-    out: dict = {"config": args.config, "native": [], "pipeline": {}}
+    return p.parse_args(argv)
+
+
+def _yardsticks(args: argparse.Namespace) -> dict:
+    """The plain Gymnasium ``MujocoEnv`` of the file's robot and ``Swimmer-v5``, as
+    callables measuring one run each (none without Gymnasium's MuJoCo extra)."""
+    if args.peers <= 0 or "mujoco" not in args.engines:
+        return {}
+    try:
+        import gymnasium
+        from gymnasium.wrappers import TimeLimit
+
+        env_cls, skip, episode = exported_mujoco_env(args.config, 0.02)
+    except ImportError as e:
+        print(f"yardsticks skipped: {e} (pip install gymnasium[mujoco])")
+        return {}
+    return {
+        "gymnasium_mujoco_env": lambda: gymnasium_sync(
+            lambda: TimeLimit(env_cls(), episode), args.peers, skip, 0.02, args.seconds),
+        "swimmer_v5": lambda: gymnasium_sync(
+            lambda: gymnasium.make("Swimmer-v5"), args.peers, 4, 0.04, args.seconds),
+    }
+
+
+def _measure(args: argparse.Namespace) -> dict:
+    """Every row, ``args.rounds`` times in turn; each row's best round."""
+    rows = [(e, n, t, False) for e in args.engines for n in args.envs for t in args.threads]
+    rows += [(e, max(args.envs), 1, True) for e in args.engines]
+    yardsticks = _yardsticks(args)
+    best: dict = {}
+
+    def keep(key, figure, rate_key):
+        if key not in best or figure[rate_key] > best[key][rate_key]:
+            best[key] = figure
+
+    for _ in range(max(1, args.rounds)):
+        for engine in args.engines:
+            _pin(_ONE)
+            rate = _native.pipeline_rate(args.config, engine, args.pipeline_seconds)
+            _pin(None)
+            keep(("pipeline", engine), {"robot_steps_per_s": rate}, "robot_steps_per_s")
+        for row in rows:
+            keep(row, native(args.config, *row[:3], args.seconds, row[3]), "robot_steps_per_s")
+        for name, run in yardsticks.items():
+            keep(name, run(), "env_steps_per_s")
+    return {"rows": rows, "best": best}
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _args(argv)
+    measured = _measure(args)
+    best = measured["best"]
+    out: dict = {"config": args.config, "rounds": args.rounds, "native": [], "pipeline": {}}
     print(f"proleg.bench: {args.config}, control period 20 ms, random actions in [-1, 1]"
-          f" (alone) unless marked")
+          f" (alone) unless marked; best of {args.rounds} interleaved rounds")
     print(f"{'engine':<8}{'envs':>5}{'threads':>8}{'env-steps/s':>14}{'robot-steps/s':>15}"
           f"{'sim s/wall s':>14}{'vs pipeline':>13}")
     for engine in args.engines:
-        # The machine's speed drifts over minutes: the pipeline is measured before each
-        # figure and its best counts, so every ratio compares runs minutes apart at most.
-        pipes = []
-        rows = []
-        configs = [(n, t, False) for n in args.envs for t in args.threads]
-        configs.append((max(args.envs), 1, True))
-        for n, t, residual in configs:
-            _pin(_ONE)
-            pipes.append(_native.pipeline_rate(args.config, engine, args.pipeline_seconds))
-            _pin(None)
-            rows.append(native(args.config, engine, n, t, args.seconds, residual))
-        pipe = max(pipes)
+        pipe = best[("pipeline", engine)]["robot_steps_per_s"]
         out["pipeline"][engine] = pipe
-        for r, (n, t, residual) in zip(rows, configs):
+        for row in [r for r in measured["rows"] if r[0] == engine]:
+            _, n, t, residual = row
+            r = dict(best[row])
             r["vs_pipeline"] = r["robot_steps_per_s"] / pipe
             r["residual_zero_actions"] = residual
             out["native"].append(r)
@@ -198,33 +244,24 @@ def main(argv: list[str] | None = None) -> int:
                   f"{r['vs_pipeline']:>12.2f}x{what}")
         print(f"{engine:<8}{'proleg bench pipeline, 1 robot/world, 1 core:':>42}{pipe:>15.0f}"
               f"{pipe * 0.001:>13.1f}x")
-    if args.peers > 0:
-        try:
-            import gymnasium
-
-            env_cls, skip = exported_mujoco_env(args.config, 0.02)
-            plain = gymnasium_sync(env_cls, args.peers, skip, 0.02, args.seconds)
-            swimmer = gymnasium_sync(lambda: gymnasium.make("Swimmer-v5"), args.peers, 4, 0.04,
-                                     args.seconds)
-        except ImportError as e:
-            print(f"yardsticks skipped: {e} (pip install gymnasium[mujoco])")
-        else:
-            out["gymnasium_mujoco_env"] = plain
-            out["swimmer_v5"] = swimmer
-            print(f"yardsticks, SyncVectorEnv of {args.peers}, 1 core:")
-            for name, r in [("plain Gymnasium MujocoEnv, exported MJCF", plain),
-                            ("Gymnasium Swimmer-v5 (no contacts)", swimmer)]:
-                print(f"  {name:<42}{r['env_steps_per_s']:>10.0f} env-steps/s"
-                      f"{r['physics_steps_per_s']:>10.0f} physics steps/s"
-                      f"{r['sim_s_per_s']:>8.1f}x")
-            ours = [r for r in out["native"]
-                    if r["engine"] == "mujoco" and r["threads"] == 1
-                    and r["envs"] == max(args.envs) and not r["residual_zero_actions"]]
+    if "gymnasium_mujoco_env" in best:
+        plain, swimmer = best["gymnasium_mujoco_env"], best["swimmer_v5"]
+        out["gymnasium_mujoco_env"], out["swimmer_v5"] = plain, swimmer
+        print(f"yardsticks, SyncVectorEnv of {args.peers}, 1 core, episodes of the file's"
+              f" duration:")
+        for name, r in [("plain Gymnasium MujocoEnv, exported MJCF", plain),
+                        ("Gymnasium Swimmer-v5 (no contacts)", swimmer)]:
+            print(f"  {name:<42}{r['env_steps_per_s']:>10.0f} env-steps/s"
+                  f"{r['physics_steps_per_s']:>10.0f} physics steps/s"
+                  f"{r['sim_s_per_s']:>8.1f}x")
+        ratios = {}
+        for n in sorted({args.peers, max(args.envs)}):
+            ours = best.get(("mujoco", n, 1, False))
             if ours:
-                ratio = ours[0]["env_steps_per_s"] / plain["env_steps_per_s"]
-                out["mujoco_vs_plain_gymnasium"] = ratio
-                print(f"native MuJoCo vector env ({max(args.envs)} envs, 1 thread) vs the plain "
-                      f"Gymnasium MujocoEnv: {ratio:.2f}x env-steps/s")
+                ratios[n] = ours["env_steps_per_s"] / plain["env_steps_per_s"]
+                print(f"native MuJoCo vector env ({n} envs, 1 thread) vs the plain Gymnasium "
+                      f"MujocoEnv ({args.peers} envs): {ratios[n]:.2f}x env-steps/s")
+        out["mujoco_vs_plain_gymnasium"] = {str(n): r for n, r in ratios.items()}
     if args.json:
         with open(args.json, "w") as f:
             json.dump(out, f, indent=2)

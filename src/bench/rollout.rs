@@ -1,12 +1,9 @@
 //! MuJoCo's own speed on the same scenario, measured in the same run as proleg's pipeline
 //! on MuJoCo by `mujoco.rollout` (Python's `mujoco` 4.0.0, one thread, timed by
-//! `scripts/mujoco_rollout.py`), on two models of it from the MJCF mapping:
-//!
-//! - the export (`proleg export mjcf`): servos as position actuators, driven by the servo
-//!   targets proleg's run gave every step;
-//! - the engine's own model: servos as bounded velocity constraints (tendon friction loss,
-//!   two more constraint rows and one more dof per servo), driven by the speeds proleg's
-//!   servo stage commanded every step: the same physics proleg steps, without proleg.
+//! `scripts/mujoco_rollout.py`) on the export of its MJCF mapping (`proleg export mjcf`):
+//! servos as position actuators, driven by the servo targets proleg's run gave every
+//! step. (The engine's own model cannot be rolled out alone: its servos' target speeds
+//! are set between `mj_step1` and `mj_step2`, which `mujoco.rollout` does not expose.)
 //!
 //! The interpreter is `PROLEG_PYTHON` (scripts/test sets it to its virtual environment),
 //! else `python3`.
@@ -51,32 +48,22 @@ pub enum RolloutError {
 /// The script, carried in the binary so the bench runs from any folder.
 const SCRIPT: &str = include_str!("../../scripts/mujoco_rollout.py");
 
-/// What a run of `sim` commanded every step: the servo targets (rad) and the servo
-/// stage's speed commands (rad/s), as TSV rows.
-fn commands(sim: &Simulation, seconds: f64) -> Result<(String, String), RolloutError> {
+/// What a run of `sim` commanded every step: the servo targets (rad), as TSV rows.
+fn targets(sim: &Simulation, seconds: f64) -> Result<String, RolloutError> {
     let mut s = world_of(sim, 1, &ModuleRegistry::standard(), None)
         .map_err(|e| RolloutError::Scenario(e.to_string()))?;
     let steps = (seconds / s.clock().dt).round() as u64;
-    let (mut targets, mut speeds) = (String::new(), String::new());
-    let row = |out: &mut String, values: &mut dyn Iterator<Item = f64>| {
-        let cells: Vec<String> = values.map(|v| v.to_radians().to_string()).collect();
-        out.push_str(&cells.join("\t"));
-        out.push('\n');
-    };
+    let mut targets = String::new();
     for _ in 0..steps {
         s.run_steps(1);
-        let e = |e: crate::sim::SimError| RolloutError::Scenario(e.to_string());
-        row(
-            &mut targets,
-            &mut s.servo_targets(0).map_err(e)?.into_iter(),
-        );
-        let states = s.joint_states(0).map_err(e)?;
-        row(
-            &mut speeds,
-            &mut states.iter().map(|j| j.commanded_velocity),
-        );
+        let row = s
+            .servo_targets(0)
+            .map_err(|e| RolloutError::Scenario(e.to_string()))?;
+        let cells: Vec<String> = row.iter().map(|v| v.to_radians().to_string()).collect();
+        targets.push_str(&cells.join("\t"));
+        targets.push('\n');
     }
-    Ok((targets, speeds))
+    Ok(targets)
 }
 
 /// MuJoCo's rollout of `model` driven by `controls`, steps per second (one thread).
@@ -127,11 +114,11 @@ fn rollout_rate(model: &str, controls: &str) -> Result<f64, RolloutError> {
         .ok_or_else(|| RolloutError::Unreadable(text.to_string()))
 }
 
-/// The model of `sim` with `servos`.
-fn model(sim: &Simulation, servos: Servos) -> Result<String, RolloutError> {
+/// The export of `sim` (position servos).
+fn export(sim: &Simulation) -> Result<String, RolloutError> {
     let opts = MjcfOptions {
         robots: 1,
-        servos,
+        servos: Servos::Position,
         settings: MujocoSettings::default(),
     };
     mjcf(sim, &opts)
@@ -139,12 +126,9 @@ fn model(sim: &Simulation, servos: Servos) -> Result<String, RolloutError> {
         .map_err(|e| RolloutError::Scenario(e.to_string()))
 }
 
-/// Rollout rates of the export and of the engine's own model, steps per second.
-pub fn rollout_rates(sim: &Simulation, seconds: f64) -> Result<(f64, f64), RolloutError> {
-    let (targets, speeds) = commands(sim, seconds)?;
-    let export = rollout_rate(&model(sim, Servos::Position)?, &targets)?;
-    let own = rollout_rate(&model(sim, Servos::Velocity)?, &speeds)?;
-    Ok((export, own))
+/// Rollout rate of the export, steps per second.
+pub fn rollout_rate_of_export(sim: &Simulation, seconds: f64) -> Result<f64, RolloutError> {
+    rollout_rate(&export(sim)?, &targets(sim, seconds)?)
 }
 
 /// proleg's pipeline over the rollouts' window (from the start, no warm-up: the rollouts
@@ -169,11 +153,10 @@ pub fn compare(sim: &Simulation, seconds: f64) -> String {
         Ok(r) => r,
         Err(e) => return format!("MuJoCo's own mujoco.rollout: not measured ({e})"),
     };
-    match rollout_rates(sim, seconds) {
-        Ok((export, own)) => format!(
-            "the first {seconds} s against MuJoCo's own mujoco.rollout (1 thread, same run): proleg's pipeline {ours:.0} steps/s;\n  rollout of the exported scenario (position servos) {export:.0} steps/s: proleg {:.2}x of it per core;\n  rollout of the engine's own model (bounded velocity servos) {own:.0} steps/s: proleg {:.2}x of it per core",
-            ours / export,
-            ours / own
+    match rollout_rate_of_export(sim, seconds) {
+        Ok(export) => format!(
+            "the first {seconds} s against MuJoCo's own mujoco.rollout (1 thread, same run): proleg's pipeline {ours:.0} steps/s;\n  rollout of the exported scenario (position servos, no sensors, no kernel) {export:.0} steps/s: proleg {:.2}x of it per core",
+            ours / export
         ),
         Err(e) => format!("MuJoCo's own mujoco.rollout: not measured ({e})"),
     }

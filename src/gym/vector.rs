@@ -1,5 +1,5 @@
-//! Many environments stepped together: N [`Env`]s on a thread pool of their own (rayon),
-//! their observations written into one preallocated array, their rewards, flags and
+//! Many environments stepped together: N [`Env`]s on a thread pool of their own (rayon;
+//! with one thread, on the calling thread: no hand-over per step), their observations written into one preallocated array, their rewards, flags and
 //! episode figures into one [`Lane`] each, resetting themselves as Gymnasium's autoreset
 //! modes say. Each environment is stepped by one thread at a time and touches nothing of
 //! the others, so the arrays are the same whatever the thread count.
@@ -64,13 +64,31 @@ pub struct Lane {
     needs_reset: bool,
 }
 
+/// Where a [`VecEnv`]'s environments are stepped.
+enum Threads {
+    /// One after another on the calling thread.
+    Caller,
+    /// On a pool of two or more threads.
+    Pool(rayon::ThreadPool),
+}
+
+/// What one environment's part of a reset or step is given: its index, environment,
+/// observation row, final-observation row and lane.
+type LaneWork<'a> = (
+    usize,
+    &'a mut Env,
+    &'a mut [f64],
+    &'a mut [f64],
+    &'a mut Lane,
+);
+
 /// N environments of one simulation, stepped on a pool of threads.
 pub struct VecEnv {
     envs: Vec<Env>,
     lanes: Vec<Lane>,
     obs: Vec<f64>,
     final_obs: Vec<f64>,
-    pool: rayon::ThreadPool,
+    threads: Threads,
     autoreset: Autoreset,
     obs_len: usize,
     action_len: usize,
@@ -100,17 +118,24 @@ impl VecEnv {
                 want: "give at least one thread",
             });
         }
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .thread_name(|i| format!("proleg-env-{i}"))
-            .build()
-            .map_err(|e| GymError::Threads(e.to_string()))?;
-        let envs = pool.install(|| {
-            (0..n)
-                .into_par_iter()
-                .map(|_| Env::new(sim.clone(), registry.clone(), opts.clone()))
-                .collect::<Result<Vec<Env>, GymError>>()
-        })?;
+        let make = |_| Env::new(sim.clone(), registry.clone(), opts.clone());
+        let (threads, envs) = if threads == 1 {
+            let envs = (0..n).map(make).collect::<Result<Vec<Env>, GymError>>()?;
+            (Threads::Caller, envs)
+        } else {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .thread_name(|i| format!("proleg-env-{i}"))
+                .build()
+                .map_err(|e| GymError::Threads(e.to_string()))?;
+            let envs = pool.install(|| {
+                (0..n)
+                    .into_par_iter()
+                    .map(make)
+                    .collect::<Result<Vec<Env>, GymError>>()
+            })?;
+            (Threads::Pool(pool), envs)
+        };
         let obs_len = envs[0].layout().len();
         let action_len = envs[0].action_len();
         Ok(VecEnv {
@@ -118,7 +143,7 @@ impl VecEnv {
             obs: vec![0.0; n * obs_len],
             final_obs: vec![0.0; n * obs_len],
             envs,
-            pool,
+            threads,
             autoreset,
             obs_len,
             action_len,
@@ -130,9 +155,44 @@ impl VecEnv {
         &self.envs
     }
 
-    /// Threads of the pool.
+    /// Threads that step the environments.
     pub fn threads(&self) -> usize {
-        self.pool.current_num_threads()
+        match &self.threads {
+            Threads::Caller => 1,
+            Threads::Pool(pool) => pool.current_num_threads(),
+        }
+    }
+
+    /// Runs `f` on every environment's part, in parallel on the pool (the first error
+    /// found is returned; every environment touches only its own part).
+    fn for_each_lane(
+        &mut self,
+        f: impl Fn(LaneWork<'_>) -> Result<(), GymError> + Sync,
+    ) -> Result<(), GymError> {
+        let o = self.obs_len;
+        match &self.threads {
+            Threads::Caller => self
+                .envs
+                .iter_mut()
+                .zip(self.obs.chunks_mut(o))
+                .zip(self.final_obs.chunks_mut(o))
+                .zip(self.lanes.iter_mut())
+                .enumerate()
+                .try_for_each(|(i, (((env, obs), fin), lane))| f((i, env, obs, fin, lane))),
+            Threads::Pool(pool) => {
+                let work = (
+                    self.envs.par_iter_mut(),
+                    self.obs.par_chunks_mut(o),
+                    self.final_obs.par_chunks_mut(o),
+                    self.lanes.par_iter_mut(),
+                );
+                pool.install(|| {
+                    work.into_par_iter()
+                        .enumerate()
+                        .try_for_each(|(i, (env, obs, fin, lane))| f((i, env, obs, fin, lane)))
+                })
+            }
+        }
     }
 
     /// The autoreset mode.
@@ -179,36 +239,24 @@ impl VecEnv {
                 want: n,
             });
         }
-        let o = self.obs_len;
-        let work = (
-            self.envs.par_iter_mut(),
-            self.obs.par_chunks_mut(o),
-            self.lanes.par_iter_mut(),
-        );
-        let results: Vec<Result<(), GymError>> = self.pool.install(|| {
-            work.into_par_iter()
-                .enumerate()
-                .map(|(i, (env, obs, lane))| {
-                    if mask.is_some_and(|m| !m[i]) {
-                        return Ok(());
-                    }
-                    let info = env.reset(seed.map(|s| s.wrapping_add(i as u64)), obs)?;
-                    *lane = Lane {
-                        reset: true,
-                        info,
-                        ..Lane::default()
-                    };
-                    Ok(())
-                })
-                .collect()
-        });
-        results.into_iter().collect()
+        self.for_each_lane(|(i, env, obs, _, lane)| {
+            if mask.is_some_and(|m| !m[i]) {
+                return Ok(());
+            }
+            let info = env.reset(seed.map(|s| s.wrapping_add(i as u64)), obs)?;
+            *lane = Lane {
+                reset: true,
+                info,
+                ..Lane::default()
+            };
+            Ok(())
+        })
     }
 
     /// One step of every environment with its row of `actions` (n x action_len values),
     /// resetting finished ones as the autoreset mode says.
     pub fn step(&mut self, actions: &[f64]) -> Result<(), GymError> {
-        let (o, a) = (self.obs_len, self.action_len);
+        let a = self.action_len;
         let want = self.envs.len() * a;
         if actions.len() != want {
             return Err(GymError::Shape {
@@ -218,19 +266,9 @@ impl VecEnv {
             });
         }
         let mode = self.autoreset;
-        let work = (
-            self.envs.par_iter_mut(),
-            self.obs.par_chunks_mut(o),
-            self.final_obs.par_chunks_mut(o),
-            actions.par_chunks(a),
-            self.lanes.par_iter_mut(),
-        );
-        let results: Vec<Result<(), GymError>> = self.pool.install(|| {
-            work.into_par_iter()
-                .map(|(env, obs, fin, action, lane)| step_lane(mode, env, obs, fin, action, lane))
-                .collect()
-        });
-        results.into_iter().collect()
+        self.for_each_lane(|(i, env, obs, fin, lane)| {
+            step_lane(mode, env, obs, fin, &actions[i * a..(i + 1) * a], lane)
+        })
     }
 }
 

@@ -14,7 +14,7 @@
 //!
 //! Semantics both engines share (docs/DESIGN.md §4): the servo's velocity command is
 //! computed by our `Servo` stage and driven by a velocity constraint whose torque is
-//! limited to the joint's `maxtorque` (rapier's motor, MuJoCo's tendon friction loss); the
+//! limited to the joint's `maxtorque` (rapier's motor, MuJoCo's hinge friction loss aimed at the command); the
 //! contact friction is the smaller of the two surfaces'; links joined by a hinge do not
 //! collide; a pad is touched when a contact patch of its link overlaps its area.
 

@@ -1,14 +1,16 @@
 //! [`MujocoEngine`]: a MuJoCo model and its data, built in memory from the simulation's
-//! MJCF mapping (a virtual file system, no temporary file), stepped by `mj_step` and then
-//! `mj_kinematics`, so that the next simulation step senses the bodies where they are
-//! after the step (as on rapier), and the contacts found at the step's start (as on rapier,
-//! whose narrow phase runs before it integrates). The servo stage's speeds enter before
-//! `mj_step`, whose velocity stage then sees them.
+//! MJCF mapping (a virtual file system, no temporary file), stepped by `mj_step1`, the
+//! servos' targets, `mj_step2` and then `mj_kinematics`, so that the next simulation step
+//! senses the bodies where they are after the step (as on rapier), and the contacts found
+//! at the step's start (as on rapier, whose narrow phase runs before it integrates).
 //!
-//! The servo stage's velocity command is the speed of the hinge's reference hinge (set,
-//! and held by the reference's stiff velocity actuator); the tendon between them holds the hinge at that speed with a friction-loss constraint of at
-//! most `maxtorque` ([`super::mjcf::Servos::Velocity`]): like rapier's motor, a velocity
-//! constraint with bounded force, solved implicitly. Joint limits are MuJoCo's own. A pad reads its link's contacts grouped by geometry pair (one
+//! A servo is its hinge's friction loss of at most `maxtorque`
+//! ([`super::mjcf::Servos::Velocity`]): between `mj_step1` (which builds the constraint
+//! rows and their reference accelerations) and `mj_step2` (which solves them) the engine
+//! moves each servo row's target speed from 0 to the servo stage's command, so the solver
+//! gives the torque that reaches the command within the bound: like rapier's motor, a
+//! velocity constraint with bounded force, solved implicitly, and no extra dof. Joint
+//! limits are MuJoCo's own. A pad reads its link's contacts grouped by geometry pair (one
 //! patch per pair, as rapier's manifolds), a laser casts `mj_ray` per beam.
 //!
 //! Where MuJoCo differs from rapier here: dragging moves a robot by its root's free joint
@@ -19,15 +21,15 @@
 //! `mj_kinematics` updates positions only.
 
 use std::ffi::{CString, c_char, c_int};
+use std::sync::Arc;
 
 use super::ffi::{
-    mjData, mjModel, mjVFS, mjtGeom_mjGEOM_BOX, mjtGeom_mjGEOM_SPHERE, mjtObj_mjOBJ_BODY,
-    mjtObj_mjOBJ_JOINT,
+    mjData, mjModel, mjVFS, mjtConstraint_mjCNSTR_FRICTION_DOF, mjtGeom_mjGEOM_BOX,
+    mjtGeom_mjGEOM_SPHERE, mjtObj_mjOBJ_BODY, mjtObj_mjOBJ_JOINT,
 };
 use super::library::{Library, library, take_error};
-use super::mjcf::{
-    MjcfOptions, Servos, env_body_name, link_body_name, mjcf, robot_prefix, servo_name,
-};
+use super::mjcf::{MjcfOptions, Servos, env_body_name, link_body_name, mjcf, robot_prefix};
+use super::models::{MujocoModel, shared};
 use super::{MujocoError, MujocoSettings};
 use crate::config::Simulation;
 use crate::config::simulation::EngineKind;
@@ -41,14 +43,19 @@ use crate::sim::error::SimError;
 /// The name the model's document has in the virtual file system.
 const MODEL_NAME: &str = "proleg-model.xml";
 
-/// A hinge: where its angle and speed are, its servo reference's dof and actuator.
+/// A hinge: where its angle and speed are, and its servo: the commanded speed and the
+/// constraint row of its friction loss in this step (none when its torque limit is 0).
 #[derive(Debug, Clone, Copy)]
 struct Hinge {
     qpos: usize,
     dof: usize,
-    servo: usize,
-    actuator: usize,
+    /// rad/s.
+    command: f64,
+    row: Option<usize>,
 }
+
+/// No hinge on this dof (in [`MujocoEngine::dof_hinge`]).
+const NO_HINGE: u32 = u32::MAX;
 
 /// A pad: its link's MuJoCo body and the map from the link's frame to the pad's.
 #[derive(Debug, Clone, Copy)]
@@ -70,12 +77,15 @@ struct Laser {
 /// A MuJoCo world.
 pub struct MujocoEngine {
     lib: &'static Library,
-    model: *mut mjModel,
+    /// Shared with the other worlds of the same document ([`super::models`]).
+    model: Arc<MujocoModel>,
     data: *mut mjData,
     settings: MujocoSettings,
     /// Our body ids to MuJoCo's.
     bodies: Vec<c_int>,
     hinges: Vec<Hinge>,
+    /// The hinge of each MuJoCo dof, or [`NO_HINGE`].
+    dof_hinge: Vec<u32>,
     pads: Vec<Pad>,
     lasers: Vec<Laser>,
     /// Whether a MuJoCo body carries a pad (indexed by MuJoCo's body id).
@@ -105,11 +115,9 @@ unsafe impl Sync for MujocoEngine {}
 
 impl Drop for MujocoEngine {
     fn drop(&mut self) {
-        // SAFETY: both were made by MuJoCo in `build` and are freed once, here.
-        unsafe {
-            self.lib.api.mj_deleteData(self.data);
-            self.lib.api.mj_deleteModel(self.model);
-        }
+        // SAFETY: made by MuJoCo in `build` and freed once, here (the model frees itself
+        // with its last world).
+        unsafe { self.lib.api.mj_deleteData(self.data) };
     }
 }
 
@@ -140,12 +148,12 @@ impl MujocoEngine {
                 settings,
             },
         )?;
-        let model = load_model(lib, &doc.xml, sim)?;
-        // SAFETY: `model` is a valid model just compiled.
-        let data = unsafe { lib.api.mj_makeData(model) };
+        let model = shared(&doc.xml, || {
+            load_model(lib, &doc.xml, sim).map(|m| MujocoModel::new(lib, m))
+        })?;
+        // SAFETY: `model` is a valid compiled model.
+        let data = unsafe { lib.api.mj_makeData(model.ptr()) };
         if data.is_null() {
-            // SAFETY: made above, not shared.
-            unsafe { lib.api.mj_deleteModel(model) };
             return Err(rejected(sim, "mj_makeData failed".into()).into());
         }
         let mut engine = MujocoEngine {
@@ -155,30 +163,51 @@ impl MujocoEngine {
             settings,
             bodies: Vec::new(),
             hinges: Vec::new(),
+            dof_hinge: Vec::new(),
             pads: Vec::new(),
             lasers: Vec::new(),
             pad_bodies: Vec::new(),
             patches: Vec::new(),
         };
         let layout = engine.layout(sim, robots)?;
+        // SAFETY: nv is the model's dof count.
+        engine.dof_hinge = vec![NO_HINGE; unsafe { (*engine.mp()).nv } as usize];
+        for (k, h) in engine.hinges.iter().enumerate() {
+            engine.dof_hinge[h.dof] = k as u32;
+        }
         // SAFETY: nbody is the model's body count.
-        engine.pad_bodies = vec![false; unsafe { (*engine.model).nbody } as usize];
+        engine.pad_bodies = vec![false; unsafe { (*engine.mp()).nbody } as usize];
         for pad in &engine.pads {
             engine.pad_bodies[pad.body as usize] = true;
         }
         // SAFETY: valid model and data; computes the positions, contacts and centres of
         // mass of the start pose.
-        unsafe { lib.api.mj_forward(engine.model, engine.data) };
+        unsafe { lib.api.mj_forward(engine.mp(), engine.data) };
         if let Some(e) = take_error() {
             return Err(MujocoError::Library(e).into());
         }
         engine.index_patches();
+        engine.target_servos();
         Ok((engine, layout))
     }
 
     fn m(&self) -> &mjModel {
         // SAFETY: valid for the engine's life.
-        unsafe { &*self.model }
+        unsafe { &*self.model.ptr() }
+    }
+
+    /// The model for MuJoCo's calls.
+    fn mp(&self) -> *mut mjModel {
+        self.model.ptr()
+    }
+
+    /// The model, to change: first a copy of its own when other worlds share it (or may
+    /// share it later); `None` when MuJoCo could not allocate the copy.
+    fn own_model(&mut self) -> Option<*mut mjModel> {
+        if Arc::get_mut(&mut self.model).is_none() {
+            self.model = Arc::new(self.model.copy()?);
+        }
+        Some(self.model.ptr())
     }
 
     fn d(&self) -> &mjData {
@@ -192,7 +221,7 @@ impl MujocoEngine {
         let id = unsafe {
             self.lib
                 .api
-                .mj_name2id(self.model, kind as c_int, c.as_ptr())
+                .mj_name2id(self.mp(), kind as c_int, c.as_ptr())
         };
         if id < 0 {
             return Err(rejected(sim, format!("no object named {name} in the model")).into());
@@ -225,22 +254,19 @@ impl MujocoEngine {
             for j in &sim.robot.joints {
                 let name = format!("{prefix}{}", j.name);
                 let id = self.id(mjtObj_mjOBJ_JOINT, &name, sim)?;
-                let servo = self.id(mjtObj_mjOBJ_JOINT, &servo_name(&name), sim)?;
                 let m = self.m();
-                // SAFETY: both are joints of the model, the arrays have `njnt` entries.
-                let (qpos, dof, servo) = unsafe {
+                // SAFETY: a joint of the model, the arrays have `njnt` entries.
+                let (qpos, dof) = unsafe {
                     (
                         *m.jnt_qposadr.add(id as usize) as usize,
                         *m.jnt_dofadr.add(id as usize) as usize,
-                        *m.jnt_dofadr.add(servo as usize) as usize,
                     )
                 };
-                let actuator = self.hinges.len();
                 self.hinges.push(Hinge {
                     qpos,
                     dof,
-                    servo,
-                    actuator,
+                    command: 0.0,
+                    row: None,
                 });
                 robot.joints.push(JointId(self.hinges.len() as u32 - 1));
             }
@@ -362,8 +388,39 @@ impl MujocoEngine {
     /// Recomputes positions and contacts after a change between steps.
     fn refresh(&mut self) {
         // SAFETY: valid model and data.
-        unsafe { self.lib.api.mj_forward(self.model, self.data) };
+        unsafe { self.lib.api.mj_forward(self.mp(), self.data) };
         self.index_patches();
+    }
+
+    /// Each servo's friction-loss row (MuJoCo's rows: equality, then friction, ...) aims
+    /// at its command instead of 0: the reference acceleration `-B v` becomes
+    /// `-B (v - command)`. Called after `mj_step1` made the rows; remembers them for the
+    /// torque readings.
+    fn target_servos(&mut self) {
+        // SAFETY: valid data; rows `ne..ne + nf` exist, `efc_KBIP` holds 4 values per row.
+        let d = unsafe { &*self.data };
+        let friction = d.ne.max(0) as usize..(d.ne.max(0) + d.nf.max(0)) as usize;
+        for h in &mut self.hinges {
+            h.row = None;
+        }
+        for r in friction {
+            // SAFETY: `r < nefc`.
+            let (kind, dof) = unsafe { (*d.efc_type.add(r), *d.efc_id.add(r)) };
+            if kind != mjtConstraint_mjCNSTR_FRICTION_DOF as c_int {
+                continue;
+            }
+            let k = self
+                .dof_hinge
+                .get(dof as usize)
+                .copied()
+                .unwrap_or(NO_HINGE);
+            let Some(h) = self.hinges.get_mut(k as usize) else {
+                continue;
+            };
+            h.row = Some(r);
+            // SAFETY: as above.
+            unsafe { *d.efc_aref.add(r) += *d.efc_KBIP.add(4 * r + 1) * h.command };
+        }
     }
 
     /// Finds this step's contact patches on pad links: one pass over the contacts, into a
@@ -374,7 +431,7 @@ impl MujocoEngine {
             return;
         }
         // SAFETY: valid for the engine's life; read only here, while `patches` is written.
-        let (m, d) = unsafe { (&*self.model, &*self.data) };
+        let (m, d) = unsafe { (&*self.mp(), &*self.data) };
         let n = d.ncon.max(0) as usize;
         let mut i = 0;
         while i < n {
@@ -513,12 +570,15 @@ impl PhysicsEngine for MujocoEngine {
     }
 
     fn step(&mut self) {
-        let api = &self.lib.api;
-        // SAFETY (both): valid model and data.
+        // SAFETY (all three): valid model and data; between the two halves of the step the
+        // user may change the constraints' reference accelerations (MuJoCo solves them in
+        // `mj_step2`).
         for _ in 0..self.settings.steps_per_step.max(1) {
-            unsafe { api.mj_step(self.model, self.data) };
+            unsafe { self.lib.api.mj_step1(self.mp(), self.data) };
+            self.target_servos();
+            unsafe { self.lib.api.mj_step2(self.mp(), self.data) };
         }
-        unsafe { api.mj_kinematics(self.model, self.data) };
+        unsafe { self.lib.api.mj_kinematics(self.mp(), self.data) };
         self.index_patches();
     }
 
@@ -527,28 +587,22 @@ impl PhysicsEngine for MujocoEngine {
             return JointReading::default();
         };
         let d = self.d();
-        // SAFETY: the addresses came from the model. The servo tendon's force acts on the
-        // hinge as on its reference hinge, with the opposite sign, and no other constraint
-        // acts on the reference hinge: its constraint force is the servo's torque.
+        // SAFETY: the addresses came from the model, the row from this step's rows. The
+        // friction row's Jacobian is 1 on the hinge's dof: its force is the servo's torque.
         unsafe {
             JointReading {
                 angle: (*d.qpos.add(h.qpos)).to_degrees(),
                 velocity: (*d.qvel.add(h.dof)).to_degrees(),
-                torque: -*d.qfrc_constraint.add(h.servo),
+                torque: h.row.map_or(0.0, |r| *d.efc_force.add(r)),
             }
         }
     }
 
     fn drive_joint(&mut self, j: JointId, velocity: f64, _now: &JointReading) {
-        if let Some(h) = self.hinges.get(j.0 as usize) {
-            let v = velocity.to_radians();
-            // The reference turns at the command from the step's start (the tendon's
-            // constraint sees it this step, as rapier's motor sees its target), and its
-            // actuator holds it there. SAFETY: a dof of the model; `actuator < nu`.
-            unsafe {
-                *self.d().qvel.add(h.servo) = v;
-                *self.d().ctrl.add(h.actuator) = v;
-            }
+        // The servo's row aims at the command from this step on (as rapier's motor sees
+        // its target).
+        if let Some(h) = self.hinges.get_mut(j.0 as usize) {
+            h.command = velocity.to_radians();
         }
     }
 
@@ -567,7 +621,7 @@ impl PhysicsEngine for MujocoEngine {
         // SAFETY: `id < nbody`; `velocity` holds the 6 values mj_objectVelocity writes.
         let (mass, inertia, weld) = unsafe {
             self.lib.api.mj_objectVelocity(
-                self.model,
+                self.mp(),
                 self.data,
                 mjtObj_mjOBJ_BODY as c_int,
                 id,
@@ -628,7 +682,7 @@ impl PhysicsEngine for MujocoEngine {
             // `geom` one; no normal is asked for.
             let hit = unsafe {
                 self.lib.api.mj_ray(
-                    self.model,
+                    self.mp(),
                     self.data,
                     at.translation.as_ptr(),
                     dir.as_ptr(),
@@ -658,7 +712,11 @@ impl PhysicsEngine for MujocoEngine {
                 unsafe { *q.add(qpos + k) += dk };
             }
         } else if unsafe { *self.m().body_weldid.add(id as usize) } == 0 {
-            let p = self.m().body_pos;
+            // Out of memory for a copy of the shared model: the body stays where it is.
+            let Some(model) = self.own_model() else {
+                return;
+            };
+            let p = unsafe { (*model).body_pos };
             for (k, dk) in delta.iter().enumerate() {
                 unsafe { *p.add(3 * id as usize + k) += dk };
             }
@@ -787,7 +845,7 @@ impl MujocoEngine {
         // SAFETY: valid model and data, `body < nbody`, `v` holds 6 numbers.
         unsafe {
             self.lib.api.mj_objectVelocity(
-                self.model,
+                self.mp(),
                 self.data,
                 mjtObj_mjOBJ_BODY as c_int,
                 body,

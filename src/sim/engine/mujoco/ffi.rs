@@ -75,6 +75,15 @@ pub const mjtObj_mjOBJ_FRAME: mjtObj = 100;
 pub const mjtObj_mjOBJ_DEFAULT: mjtObj = 101;
 pub const mjtObj_mjOBJ_MODEL: mjtObj = 102;
 pub type mjtObj = ::std::os::raw::c_uint;
+pub const mjtConstraint_mjCNSTR_EQUALITY: mjtConstraint = 0;
+pub const mjtConstraint_mjCNSTR_FRICTION_DOF: mjtConstraint = 1;
+pub const mjtConstraint_mjCNSTR_FRICTION_TENDON: mjtConstraint = 2;
+pub const mjtConstraint_mjCNSTR_LIMIT_JOINT: mjtConstraint = 3;
+pub const mjtConstraint_mjCNSTR_LIMIT_TENDON: mjtConstraint = 4;
+pub const mjtConstraint_mjCNSTR_CONTACT_FRICTIONLESS: mjtConstraint = 5;
+pub const mjtConstraint_mjCNSTR_CONTACT_PYRAMIDAL: mjtConstraint = 6;
+pub const mjtConstraint_mjCNSTR_CONTACT_ELLIPTIC: mjtConstraint = 7;
+pub type mjtConstraint = ::std::os::raw::c_uint;
 #[repr(C)]
 #[derive(Debug, Copy, Clone)]
 pub struct mjVFS_ {
@@ -1140,6 +1149,7 @@ pub struct MujocoApi {
     pub mj_step1: unsafe extern "C" fn(m: *const mjModel, d: *mut mjData),
     pub mj_step2: unsafe extern "C" fn(m: *const mjModel, d: *mut mjData),
     pub mj_forward: unsafe extern "C" fn(m: *const mjModel, d: *mut mjData),
+    pub mj_copyModel: unsafe extern "C" fn(dest: *mut mjModel, src: *const mjModel) -> *mut mjModel,
     pub mj_deleteModel: unsafe extern "C" fn(m: *mut mjModel),
     pub mj_makeData: unsafe extern "C" fn(m: *const mjModel) -> *mut mjData,
     pub mj_resetData: unsafe extern "C" fn(m: *const mjModel, d: *mut mjData),
@@ -1195,6 +1205,7 @@ impl MujocoApi {
         let mj_step1 = __library.get(b"mj_step1\0").map(|sym| *sym)?;
         let mj_step2 = __library.get(b"mj_step2\0").map(|sym| *sym)?;
         let mj_forward = __library.get(b"mj_forward\0").map(|sym| *sym)?;
+        let mj_copyModel = __library.get(b"mj_copyModel\0").map(|sym| *sym)?;
         let mj_deleteModel = __library.get(b"mj_deleteModel\0").map(|sym| *sym)?;
         let mj_makeData = __library.get(b"mj_makeData\0").map(|sym| *sym)?;
         let mj_resetData = __library.get(b"mj_resetData\0").map(|sym| *sym)?;
@@ -1217,6 +1228,7 @@ impl MujocoApi {
             mj_step1,
             mj_step2,
             mj_forward,
+            mj_copyModel,
             mj_deleteModel,
             mj_makeData,
             mj_resetData,
@@ -1266,6 +1278,9 @@ impl MujocoApi {
     }
     pub unsafe fn mj_forward(&self, m: *const mjModel, d: *mut mjData) {
         (self.mj_forward)(m, d)
+    }
+    pub unsafe fn mj_copyModel(&self, dest: *mut mjModel, src: *const mjModel) -> *mut mjModel {
+        (self.mj_copyModel)(dest, src)
     }
     pub unsafe fn mj_deleteModel(&self, m: *mut mjModel) {
         (self.mj_deleteModel)(m)

@@ -17,6 +17,7 @@ mod engine;
 pub mod ffi;
 pub mod library;
 pub mod mjcf;
+mod models;
 
 pub use engine::{MujocoEngine, check_mjcf_file};
 

@@ -5,7 +5,7 @@
 //! |---|---|
 //! | robot links, hinges (tail to head) | nested `<body>`s under a free root, `<joint type="hinge">` with range |
 //! | link mass spread over its geometry / given inertia | per-geom `mass` / `<inertial fullinertia>` |
-//! | servo, in the engine: our P controller's velocity command, torque limit τ | a bounded velocity constraint: a `<fixed>` tendon (the hinge minus a reference hinge `NAME_servo`, which a stiff `<velocity>` actuator turns at the commanded speed) with `frictionloss` τ, `solreffriction` two engine steps |
+//! | servo, in the engine: our P controller's velocity command, torque limit τ | a bounded velocity constraint: the hinge's `frictionloss` τ, `solreffriction` two engine steps, whose target speed the engine moves from 0 to the command every step (no extra dof) |
 //! | servo, in an export: torque limit τ, speed limit v, gain g (1/s) | `<position>` actuator, `forcerange` ±τ, `kp` = g·τ/v, joint `damping` τ/v (so full torque gives speed v) |
 //! | contact friction: the smaller of the two geometries' | `friction` per geom, `priority` so the smaller one wins |
 //! | robots of a batch, self-collision off | `contype`/`conaffinity` bits: links meet the terrain (and their own robot with self-collision) |
@@ -28,12 +28,13 @@ use geoms::{Assets, Collision, geom_attrs, mj, pose_attrs};
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Servos {
     /// Bounded velocity constraints driven by proleg's servo stage every step (the engine):
-    /// MuJoCo's friction loss on a tendon between the hinge and a reference hinge whose
-    /// speed the stage sets (through the reference's actuator, so `mujoco.rollout` can
-    /// drive the same model), and the constraint solver (implicit, like rapier's motor
-    /// constraint) gives the torque that reaches the commanded speed, at most τ. A
-    /// `<velocity>` actuator on the hinge clamped to ±τ is explicit once clamped and
-    /// oscillates on these light links (docs/MEASUREMENTS.md has the measurement).
+    /// MuJoCo's friction loss on the hinge, whose constraint row the engine retargets
+    /// from speed 0 to the stage's command between `mj_step1` and `mj_step2`, and the
+    /// constraint solver (implicit, like rapier's motor constraint) gives the torque that
+    /// reaches the commanded speed, at most τ. A `<velocity>` actuator on the hinge
+    /// clamped to ±τ is explicit once clamped and oscillates on these light links
+    /// (docs/MEASUREMENTS.md has the measurement). Read by another tool, this model's
+    /// servos are brakes (target speed 0).
     Velocity,
     /// Position actuators approximating the servo on their own (an export for other tools).
     Position,
@@ -72,11 +73,6 @@ pub fn robot_prefix(robots: usize, r: usize) -> String {
     } else {
         String::new()
     }
-}
-
-/// The name of the reference hinge (and its body and tendon) of hinge `joint`.
-pub fn servo_name(joint: &str) -> String {
-    format!("{joint}_servo")
 }
 
 /// The name of environment body `i` of `sim`: `env_NAME`, with `_i` appended when an
@@ -129,13 +125,9 @@ pub fn mjcf(sim: &Simulation, opts: &MjcfOptions) -> Result<Mjcf, MujocoError> {
     for r in 0..opts.robots {
         robot(sim, opts, r, &mut w, &assets)?;
     }
-    if opts.servos == Servos::Velocity {
-        servo_references(sim, opts, &mut w);
-    }
     w.close();
-    match opts.servos {
-        Servos::Velocity => servo_tendons(sim, opts, &mut w),
-        Servos::Position => actuators(sim, &mut w),
+    if opts.servos == Servos::Position {
+        actuators(sim, &mut w);
     }
     w.close();
     Ok(Mjcf {
@@ -150,10 +142,11 @@ pub fn mjcf(sim: &Simulation, opts: &MjcfOptions) -> Result<Mjcf, MujocoError> {
 /// `<option>`: the engine's timestep (the simulation step divided by the refinement),
 /// gravity, the implicit-fast integrator (velocity actuators' `kv` implicit), dense
 /// Jacobians, cone and solver iterations. MuJoCo picks sparse Jacobians from 60 dofs (a
-/// batch of 6 snakes): measured with the servo tendons, the solver then runs out of its
-/// iterations and the world blows up within 10 ms, dense stays stable.
+/// batch of 6 snakes): measured with the servo model of the time (a tendon to a reference
+/// hinge per servo), the solver then ran out of its iterations and the world blew up
+/// within 10 ms, dense stayed stable.
 fn option(sim: &Simulation, s: &MujocoSettings, w: &mut XmlWriter) {
-    let dt = sim.files.simulation.properties.step_width / s.steps_per_step.max(1) as f64;
+    let dt = timestep(sim, s);
     let mut attrs = vec![
         ("timestep", mj(&[dt])),
         ("gravity", mj(&sim.environment.physics.gravity)),
@@ -168,6 +161,11 @@ fn option(sim: &Simulation, s: &MujocoSettings, w: &mut XmlWriter) {
         attrs.push(("iterations", n.to_string()));
     }
     w.empty("option", &attrs);
+}
+
+/// MuJoCo's timestep: the simulation step divided by the refinement.
+fn timestep(sim: &Simulation, s: &MujocoSettings) -> f64 {
+    sim.files.simulation.properties.step_width / s.steps_per_step.max(1) as f64
 }
 
 /// `<default>`: every geom's contact spring, from the environment's contact model.
@@ -231,6 +229,7 @@ fn robot(
             self_collision: sim.environment.physics.self_collision,
         },
         servos: opts.servos,
+        dt: timestep(sim, &opts.settings),
         assets,
     };
     let mut written = 0;
@@ -253,6 +252,8 @@ struct Tree<'a> {
     prefix: String,
     collision: Collision,
     servos: Servos,
+    /// The engine's timestep (s).
+    dt: f64,
     assets: &'a Assets,
 }
 
@@ -316,8 +317,10 @@ impl Tree<'_> {
         Ok(written)
     }
 
-    /// Hinge `k` in its child's frame: range; in an export, the damping that caps the
-    /// speed at full torque at the servo's speed limit.
+    /// Hinge `k` in its child's frame: range; in the engine, the servo's friction loss
+    /// (its torque limit, as stiff as MuJoCo allows: a time constant of two engine steps);
+    /// in an export, the damping that caps the speed at full torque at the servo's speed
+    /// limit.
     fn hinge(&self, k: usize, w: &mut XmlWriter) {
         let robot = &self.sim.robot;
         let j = &robot.joints[k];
@@ -331,98 +334,15 @@ impl Tree<'_> {
             ("axis", mj(&axis)),
             ("range", mj(&j.limits_deg.map(f64::to_radians))),
         ];
-        if self.servos == Servos::Position {
-            attrs.push(("damping", mj(&[j.max_torque / j.max_vel])));
+        match self.servos {
+            Servos::Velocity => {
+                attrs.push(("frictionloss", mj(&[j.max_torque])));
+                attrs.push(("solreffriction", mj(&[2.0 * self.dt, 1.0])));
+            }
+            Servos::Position => attrs.push(("damping", mj(&[j.max_torque / j.max_vel]))),
         }
         w.empty("joint", &attrs);
     }
-}
-
-/// Every hinge's name, robot by robot in joint order.
-fn hinge_names<'a>(
-    sim: &'a Simulation,
-    opts: &MjcfOptions,
-) -> impl Iterator<Item = (String, &'a crate::config::resolve::robot::RobotJoint)> {
-    let robots = opts.robots;
-    (0..robots).flat_map(move |r| {
-        let prefix = robot_prefix(robots, r);
-        sim.robot
-            .joints
-            .iter()
-            .map(move |j| (format!("{prefix}{}", j.name), j))
-    })
-}
-
-/// The reference hinges of the servos: on bodies of their own at the origin, their axis
-/// through their centre of mass (gravity does not turn them).
-fn servo_references(sim: &Simulation, opts: &MjcfOptions, w: &mut XmlWriter) {
-    for (name, _) in hinge_names(sim, opts) {
-        let servo = servo_name(&name);
-        w.open("body", &[("name", servo.clone())]);
-        w.empty(
-            "joint",
-            &[
-                ("name", servo),
-                ("type", "hinge".into()),
-                ("axis", "0 0 1".into()),
-                ("armature", mj(&[SERVO_REFERENCE_ARMATURE])),
-            ],
-        );
-        w.empty(
-            "inertial",
-            &[
-                ("pos", "0 0 0".into()),
-                ("mass", "1".into()),
-                ("diaginertia", "1 1 1".into()),
-            ],
-        );
-        w.close();
-    }
-}
-
-/// Armature of a servo's reference hinge (kg·m²).
-pub const SERVO_REFERENCE_ARMATURE: f64 = 1.0;
-
-/// Gain of the reference hinge's velocity actuator (N·m·s/rad), implicit in
-/// `implicitfast`: within one 1 ms step the reference reaches the commanded speed to
-/// 1/1001 (armature / (armature + dt·kv)), and a 1 N·m servo reaction moves it by 1e-6 rad/s.
-pub const SERVO_REFERENCE_GAIN: f64 = 1e6;
-
-/// The servos' tendons: hinge minus reference, friction loss up to the servo's torque,
-/// as stiff as MuJoCo allows (a time constant of two engine steps).
-fn servo_tendons(sim: &Simulation, opts: &MjcfOptions, w: &mut XmlWriter) {
-    let dt =
-        sim.files.simulation.properties.step_width / opts.settings.steps_per_step.max(1) as f64;
-    w.open("tendon", &[]);
-    for (name, j) in hinge_names(sim, opts) {
-        let servo = servo_name(&name);
-        w.open(
-            "fixed",
-            &[
-                ("name", servo.clone()),
-                ("frictionloss", mj(&[j.max_torque])),
-                ("solreffriction", mj(&[2.0 * dt, 1.0])),
-            ],
-        );
-        w.empty("joint", &[("joint", name), ("coef", "1".into())]);
-        w.empty("joint", &[("joint", servo), ("coef", "-1".into())]);
-        w.close();
-    }
-    w.close();
-    // The reference hinges' actuators, in hinge order: actuator k drives hinge k's servo.
-    w.open("actuator", &[]);
-    for (name, _) in hinge_names(sim, opts) {
-        let servo = servo_name(&name);
-        w.empty(
-            "velocity",
-            &[
-                ("name", servo.clone()),
-                ("joint", servo),
-                ("kv", mj(&[SERVO_REFERENCE_GAIN])),
-            ],
-        );
-    }
-    w.close();
 }
 
 /// A position actuator per hinge (an export's servo): torque limit, and the gain that gives
