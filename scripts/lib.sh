@@ -41,13 +41,13 @@ TEST_PACKAGES=(postgresql openssl python3 python3-venv xdotool libmujoco2.2.2)
 # for the import tests; MuJoCo for the cross-engine check of an exported gait and the
 # plain Gymnasium environment `python -m proleg.bench` compares with), and what the Python
 # package `proleg` (python/) is built and tested with: maturin, Gymnasium, pandas, pytest.
-PYTHON_PACKAGES=(pybullet==3.2.7 mujoco==4.0.0 maturin==1.16.0 "gymnasium[mujoco]==1.4.0" pandas==3.1.1 pytest==9.2.0)
+PYTHON_PACKAGES=(pybullet==3.2.7 mujoco==4.0.0 maturin==1.16.0 "gymnasium[mujoco]==1.4.0" pandas==3.1.1 pytest==9.2.0 safetensors==0.8.0)
 
 # A virtual environment with PYTHON_PACKAGES under ~/.cache/proleg/python (made once, topped
 # up when the list grows); exports PROLEG_PYTHON, its interpreter, for the tests.
 ensure_python() {
   local venv="$HOME/.cache/proleg/python"
-  if ! "$venv/bin/python" -c "import mujoco, pybullet_data, gymnasium, imageio, pandas, pytest, maturin" >/dev/null 2>&1; then
+  if ! "$venv/bin/python" -c "import mujoco, pybullet_data, gymnasium, imageio, pandas, pytest, maturin, safetensors" >/dev/null 2>&1; then
     echo "installing into $venv: ${PYTHON_PACKAGES[*]}"
     [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
     "$venv/bin/pip" install -q "${PYTHON_PACKAGES[@]}"

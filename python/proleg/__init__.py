@@ -10,7 +10,9 @@ shapes:
   ``proleg/Stairs-v0``), each on either engine (``engine="rapier"`` or ``"mujoco"``),
 - :func:`read_store`, an experiment store as a pandas table,
 - :meth:`ProlegEnv.render` (``render_mode="rgb_array"``) and :func:`save_video`,
-- :func:`proleg.sb3.SB3VecEnv`, the vector environment for Stable-Baselines3.
+- :func:`proleg.sb3.SB3VecEnv`, the vector environment for Stable-Baselines3,
+- :func:`save_policy` and :func:`load_policy`, a learned policy's network in the weights
+  file proleg's policy module reads, run by the library's own forward pass.
 
 Errors of the library arrive as exceptions with its message: a file that does not load as
 :class:`ConfigError` (with ``file``, ``line`` and ``column``), bad input as ``ValueError``,
@@ -20,6 +22,7 @@ a closed environment as ``RuntimeError``, anything else as :class:`ProlegError`.
 from ._native import VERSION as __version__
 from ._native import ConfigError, ProlegError, Simulation, load
 from .envs import ProlegEnv, scenario_path
+from .policy import load_policy, save_policy
 from .registration import SCENARIOS, register_envs
 from .store import read_store
 from .vector import ProlegVectorEnv
@@ -36,7 +39,9 @@ __all__ = [
     "Simulation",
     "__version__",
     "load",
+    "load_policy",
     "read_store",
+    "save_policy",
     "save_video",
     "scenario_path",
 ]

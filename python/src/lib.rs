@@ -9,6 +9,7 @@
 
 mod bench;
 mod errors;
+mod policy;
 mod render;
 mod simulation;
 mod store;
@@ -26,6 +27,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<simulation::Simulation>()?;
     m.add_class::<simulation::Env>()?;
     m.add_class::<vector::VecEnv>()?;
+    m.add_class::<policy::PolicyNet>()?;
     m.add_class::<render::Renderer>()?;
     m.add_class::<render::VideoWriter>()?;
     m.add_function(wrap_pyfunction!(simulation::load, m)?)?;

@@ -7,6 +7,7 @@ pub mod library;
 pub mod load;
 pub mod module;
 pub mod pattern;
+pub mod policy;
 pub mod registry;
 
 pub use crate::config::module_types::{ModuleDescriptor, ParamDescriptor};

@@ -1,0 +1,90 @@
+"""Policy weights from Python: written by the package, read and run by the library's own
+forward pass (the policy module's), matching a numpy network within float32 rounding; the
+file is a plain safetensors file both ways; bad networks and files raise."""
+
+import numpy as np
+import pytest
+from safetensors.numpy import load_file, save_file
+
+import proleg
+from proleg.policy import load_policy, save_policy
+
+
+def _numpy_forward(layers, activation, mean, std, obs):
+    x = (obs - mean) / std
+    act = {"tanh": np.tanh, "relu": lambda v: np.maximum(v, 0.0), "linear": lambda v: v}
+    for i, (w, b) in enumerate(layers):
+        x = x @ w.T + b
+        if i < len(layers) - 1:
+            x = act[activation](x)
+    return x
+
+
+def _layers(rng, sizes):
+    return [(rng.normal(0, 0.5, (o, i)), rng.normal(0, 0.1, o)) for i, o in zip(sizes, sizes[1:])]
+
+
+@pytest.mark.parametrize("activation", ["tanh", "relu", "linear"])
+def test_proleg_acts_as_the_numpy_network_within_float32(tmp_path, activation):
+    rng = np.random.default_rng(3)
+    sizes = [17, 32, 32, 5]
+    layers = _layers(rng, sizes)
+    mean, std = rng.normal(0, 1, 17), rng.uniform(0.5, 2.0, 17)
+    save_policy(tmp_path / "p.safetensors", layers, activation, mean, std)
+    net = load_policy(tmp_path / "p.safetensors")
+    assert (net.inputs, net.outputs, net.activation) == (17, 5, activation)
+    obs = rng.normal(0, 2, (200, 17))
+    ours = net.forward(obs)
+    # The file holds float32: the reference network uses the stored values.
+    f32 = [(w.astype(np.float32).astype(np.float64), b.astype(np.float32).astype(np.float64))
+           for w, b in layers]
+    ref = _numpy_forward(f32, activation, mean.astype(np.float32), std.astype(np.float32), obs)
+    assert np.max(np.abs(ours - ref)) < 1e-5
+    # The weights round-trip (to float32).
+    for (w, b), (w2, b2) in zip(f32, net.layers()):
+        assert np.array_equal(w, w2) and np.array_equal(b, b2)
+
+
+def test_the_file_is_plain_safetensors_both_ways(tmp_path):
+    rng = np.random.default_rng(4)
+    layers = _layers(rng, [4, 8, 2])
+    save_policy(tmp_path / "ours.safetensors", layers, "relu")
+    tensors = load_file(str(tmp_path / "ours.safetensors"))
+    assert sorted(tensors) == ["layers.0.bias", "layers.0.weight", "layers.1.bias",
+                               "layers.1.weight", "obs.mean", "obs.std"]
+    assert tensors["layers.0.weight"].shape == (8, 4) and tensors["layers.0.weight"].dtype == np.float32
+    # Written by the safetensors package, as a torch user would save a state dict.
+    theirs = {f"layers.{i}.{k}": v.astype(np.float32)
+              for i, (w, b) in enumerate(layers) for k, v in (("weight", w), ("bias", b))}
+    theirs["obs.mean"] = np.zeros(4, np.float32)
+    theirs["obs.std"] = np.ones(4, np.float32)
+    save_file(theirs, str(tmp_path / "theirs.safetensors"), metadata={"activation": "relu"})
+    obs = rng.normal(0, 1, (10, 4))
+    a = load_policy(tmp_path / "ours.safetensors").forward(obs)
+    b = load_policy(tmp_path / "theirs.safetensors").forward(obs)
+    assert np.array_equal(a, b)
+
+
+def test_bad_networks_and_files_raise(tmp_path):
+    rng = np.random.default_rng(5)
+    layers = _layers(rng, [3, 4, 2])
+    with pytest.raises(ValueError, match="do not chain"):
+        save_policy(tmp_path / "x.safetensors", [layers[1], layers[0]])
+    bad = [(layers[0][0].copy(), layers[0][1]), layers[1]]
+    bad[0][0][1, 2] = np.nan
+    with pytest.raises(ValueError, match="weights"):
+        save_policy(tmp_path / "x.safetensors", bad)
+    with pytest.raises(ValueError, match="activation"):
+        save_policy(tmp_path / "x.safetensors", layers, "sigmoid")
+    with pytest.raises(ValueError, match="obs_std"):
+        save_policy(tmp_path / "x.safetensors", layers, obs_std=np.zeros(3))
+    net = save_policy(tmp_path / "ok.safetensors", layers)
+    with pytest.raises(ValueError, match="3"):
+        net.forward(np.zeros((1, 5)))
+    tensors = load_file(str(tmp_path / "ok.safetensors"))
+    del tensors["obs.std"]
+    save_file(tensors, str(tmp_path / "no_std.safetensors"))
+    with pytest.raises(proleg.ProlegError, match=r"no_std.safetensors.*obs\.std"):
+        load_policy(tmp_path / "no_std.safetensors")
+    with pytest.raises(proleg.ProlegError, match="missing.safetensors"):
+        load_policy(tmp_path / "missing.safetensors")
