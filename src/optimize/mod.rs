@@ -13,6 +13,7 @@ pub mod curve;
 pub mod deluge;
 pub mod design;
 pub mod error;
+pub mod es;
 pub mod evaluate;
 pub mod fitness;
 pub mod ga;
