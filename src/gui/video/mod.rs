@@ -15,6 +15,7 @@ use std::sync::{Arc, Mutex};
 
 use bevy::asset::RenderAssetUsages;
 use bevy::camera::RenderTarget;
+use bevy::log::LogPlugin;
 use bevy::prelude::*;
 use bevy::render::RenderPlugin;
 use bevy::render::render_resource::{
@@ -284,7 +285,10 @@ fn render(
 }
 
 /// The app: Bevy's plugins without windows or winit, the scene of the control window and
-/// the following camera.
+/// the following camera. Without Bevy's log plugin: a video is drawn inside other
+/// programs too (the command line, the optimizer's gallery, a Python process rendering an
+/// environment), whose own logging it must neither take over nor fill with the renderer's
+/// adapter report.
 fn video_app(session: SimSession) -> App {
     let mut app = App::new();
     app.add_plugins(
@@ -298,7 +302,8 @@ fn video_app(session: SimSession) -> App {
                 synchronous_pipeline_compilation: true,
                 ..default()
             })
-            .disable::<WinitPlugin>(),
+            .disable::<WinitPlugin>()
+            .disable::<LogPlugin>(),
     )
     .insert_resource(ClearColor(Color::srgb(0.62, 0.74, 0.86)))
     .insert_non_send(session)
