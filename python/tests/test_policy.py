@@ -88,3 +88,52 @@ def test_bad_networks_and_files_raise(tmp_path):
         load_policy(tmp_path / "no_std.safetensors")
     with pytest.raises(proleg.ProlegError, match="missing.safetensors"):
         load_policy(tmp_path / "missing.safetensors")
+
+
+class _Tensor:
+    """What torch_layers reads of a torch tensor."""
+
+    def __init__(self, a):
+        self.a = np.asarray(a, dtype=np.float32)
+
+    def detach(self):
+        return self
+
+    def cpu(self):
+        return self
+
+    def numpy(self):
+        return self.a
+
+
+class Linear:
+    def __init__(self, w, b):
+        self.weight, self.bias = _Tensor(w), None if b is None else _Tensor(b)
+
+
+class Tanh:
+    pass
+
+
+class ReLU:
+    pass
+
+
+class Dropout:
+    pass
+
+
+def test_torch_modules_become_the_network_and_odd_ones_raise(tmp_path):
+    from proleg.policy import torch_layers
+
+    rng = np.random.default_rng(6)
+    (w0, b0), (w1, b1) = _layers(rng, [3, 5, 2])
+    layers, activation = torch_layers([Linear(w0, b0), Tanh(), Linear(w1, b1)])
+    assert activation == "tanh" and len(layers) == 2
+    assert np.array_equal(layers[1][0], w1.astype(np.float32))
+    with pytest.raises(ValueError, match="several activations"):
+        torch_layers([Linear(w0, b0), Tanh(), Linear(w1, b1), ReLU(), Linear(w1.T @ w1, b1)])
+    with pytest.raises(ValueError, match="Dropout"):
+        torch_layers([Linear(w0, b0), Dropout(), Linear(w1, b1)])
+    with pytest.raises(ValueError, match="without bias"):
+        torch_layers([Linear(w0, None)])
