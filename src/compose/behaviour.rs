@@ -17,6 +17,8 @@ pub struct ModuleChoice {
     pub name: String,
     /// Parameter values: uniform, or one per joint of the group.
     pub params: Vec<(String, ParamValue)>,
+    /// The weights file of a module that runs a network (as written in the actuation file).
+    pub weights: Option<String>,
 }
 
 impl ModuleChoice {
@@ -30,6 +32,7 @@ impl ModuleChoice {
                 .iter()
                 .map(|p| (p.name.to_string(), ParamValue::Uniform(p.default)))
                 .collect(),
+            weights: None,
         })
     }
 
@@ -173,6 +176,7 @@ impl BehaviourSpec {
                         .collect(),
                     pos: Pos::new(0, 0),
                     mask_pos: Pos::new(0, 0),
+                    weights: m.weights.clone().map(|file| (file, Pos::new(0, 0))),
                 });
             }
         }
@@ -193,6 +197,7 @@ impl BehaviourSpec {
                     .iter()
                     .map(|p| (p.name.clone(), p.value.clone()))
                     .collect(),
+                weights: m.weights.as_ref().map(|(file, _)| file.clone()),
             };
             match groups.iter_mut().find(|g| g.joints == m.joints.0) {
                 Some(g) => g.modules.push(choice),

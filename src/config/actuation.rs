@@ -3,7 +3,8 @@
 //!
 //! Extension: parameter values per module, uniform or one per driven joint:
 //! `<parameter name="Amplitude" value="40"/>` or
-//! `<parameter name="Amplitude" values="40 40 40 40 0"/>`.
+//! `<parameter name="Amplitude" values="40 40 40 40 0"/>`; a module that runs a learned
+//! network names its weights file: `<actuationModule name="Policy" weights="w.safetensors">`.
 
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::mask::JointMask;
@@ -43,6 +44,9 @@ pub struct ModuleAssignment {
     pub pos: Pos,
     /// Where its joint mask was written.
     pub mask_pos: Pos,
+    /// The weights file of a module that runs a network (`weights="crawl.safetensors"`,
+    /// relative to the actuation file), and where it was written.
+    pub weights: Option<(String, Pos)>,
 }
 
 /// An actuation file as written.
@@ -70,8 +74,9 @@ pub fn parse_actuation_file(file: &str, text: &str) -> ConfigResult<ActuationFil
     let mut modules = Vec::new();
     for m in root.children_named("actuationmodule") {
         r.only_children(m, &["jointconfiguration", "parameter"])?;
-        r.only_attrs(m, &["name"])?;
+        r.only_attrs(m, &["name", "weights"])?;
         let name = r.required_attr(m, "name")?.value.clone();
+        let weights = m.attr("weights").map(|w| (w.value.clone(), w.pos));
         let jc = r.required(m, "jointconfiguration")?;
         r.only_attrs(jc, &["joints"])?;
         let mask_attr = r.required_attr(jc, "joints")?;
@@ -104,6 +109,7 @@ pub fn parse_actuation_file(file: &str, text: &str) -> ConfigResult<ActuationFil
             params,
             pos: m.pos,
             mask_pos: mask_attr.pos,
+            weights,
         });
     }
     Ok(ActuationFile {
@@ -120,7 +126,11 @@ pub fn write_actuation_file(a: &ActuationFile) -> String {
         w.empty("validRobot", &[("robotName", v.clone())]);
     }
     for m in &a.modules {
-        w.open("actuationModule", &[("name", m.name.clone())]);
+        let mut attrs = vec![("name", m.name.clone())];
+        if let Some((file, _)) = &m.weights {
+            attrs.push(("weights", file.clone()));
+        }
+        w.open("actuationModule", &attrs);
         w.empty("jointConfiguration", &[("joints", m.joints.to_string())]);
         for p in &m.params {
             let attr = match &p.value {

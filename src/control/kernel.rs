@@ -12,6 +12,7 @@ use std::fmt;
 use crate::config::actuation::ParamValue;
 use crate::config::resolve::ActuationModel;
 use crate::control::module::{ActuationModule, ParamError, StepContext};
+use crate::control::policy::{NetworkMismatch, PolicyError, PolicyNet};
 use crate::control::registry::{CreateError, ModuleRegistry};
 use crate::rng::SimRng;
 use crate::sensing::SensorData;
@@ -99,6 +100,20 @@ pub enum KernelError {
         /// The value.
         value: f64,
     },
+    /// A module's weights file could not be read or does not fit the module.
+    Policy(std::sync::Arc<PolicyError>),
+    /// A module has no network to change.
+    NoNetwork {
+        /// The module type.
+        module: &'static str,
+    },
+    /// A module refused a network or its parameters.
+    Network {
+        /// The module type.
+        module: &'static str,
+        /// Why.
+        cause: NetworkMismatch,
+    },
 }
 
 impl fmt::Display for KernelError {
@@ -119,11 +134,45 @@ impl fmt::Display for KernelError {
             KernelError::NotFinite { what, value } => {
                 write!(f, "{what} must be a finite number, got {value}")
             }
+            KernelError::Policy(e) => e.fmt(f),
+            KernelError::NoNetwork { module } => {
+                write!(f, "module {module} has no network (give it a weights file)")
+            }
+            KernelError::Network { module, cause } => write!(f, "{module}: {cause}"),
         }
     }
 }
 
 impl std::error::Error for KernelError {}
+
+/// Reads weights file `file` and gives the network to `module`.
+fn load_network(
+    module: &mut dyn ActuationModule,
+    file: &std::path::Path,
+) -> Result<(), KernelError> {
+    let net = PolicyNet::read(file).map_err(|e| KernelError::Policy(e.into()))?;
+    let tensor = format!("layers.{}.weight", net.layers.len().saturating_sub(1));
+    module.set_network(net).map_err(|cause| {
+        KernelError::Policy(
+            PolicyError::Mismatch {
+                file: file.to_path_buf(),
+                tensor,
+                cause,
+            }
+            .into(),
+        )
+    })
+}
+
+/// Each generator's phase at its first joint (degrees) into `out`.
+fn gather_phases(actuators: &[Actuator], generators: &[(usize, usize)], out: &mut [f64]) {
+    for (slot, (a, series)) in out.iter_mut().zip(generators) {
+        *slot = actuators
+            .get(*a)
+            .and_then(|a| a.module.internal_data().series(*series).first().copied())
+            .unwrap_or(0.0);
+    }
+}
 
 /// The control kernel of one robot.
 #[derive(Debug, Clone)]
@@ -133,6 +182,10 @@ pub struct ControlKernel {
     limits: Vec<[f64; 2]>,
     /// The summed, clamped output per robot joint.
     desired: Vec<f64>,
+    /// The generators: (actuator, index of its `Phase` series), in actuator order.
+    generators: Vec<(usize, usize)>,
+    /// Each generator's phase at its first joint (degrees), gathered before every step.
+    phases: Vec<f64>,
 }
 
 impl ControlKernel {
@@ -143,6 +196,8 @@ impl ControlKernel {
             actuators: Vec::new(),
             limits,
             desired: vec![0.0; n],
+            generators: Vec::new(),
+            phases: Vec::new(),
         }
     }
 
@@ -174,9 +229,49 @@ impl ControlKernel {
                     error,
                 })?;
             }
+            if let Some(file) = &m.weights {
+                load_network(module.as_mut(), file)?;
+            }
             k.add(module, joints)?;
         }
         Ok(k)
+    }
+
+    /// Reads weights file `file` into the network of actuator `index` (a `Policy`).
+    pub fn load_network(
+        &mut self,
+        index: usize,
+        file: &std::path::Path,
+    ) -> Result<(), KernelError> {
+        let count = self.actuators.len();
+        let a = self
+            .actuators
+            .get_mut(index)
+            .ok_or(KernelError::NoSuchActuator { index, count })?;
+        load_network(a.module.as_mut(), file)
+    }
+
+    /// Sets the flat parameters (see [`PolicyNet::parameters`]) of actuator `index`'s
+    /// network.
+    pub fn set_network_parameters(
+        &mut self,
+        index: usize,
+        values: &[f64],
+    ) -> Result<(), KernelError> {
+        let count = self.actuators.len();
+        let a = self
+            .actuators
+            .get_mut(index)
+            .ok_or(KernelError::NoSuchActuator { index, count })?;
+        let module = a.module.descriptor().type_name;
+        let mut net = a
+            .module
+            .network()
+            .cloned()
+            .ok_or(KernelError::NoNetwork { module })?;
+        let refused = |cause| KernelError::Network { module, cause };
+        net.set_parameters(values).map_err(refused)?;
+        a.module.set_network(net).map_err(refused)
     }
 
     /// Adds a module driving `joints` (robot joint indices); returns its actuator index.
@@ -200,7 +295,30 @@ impl ControlKernel {
             distortion: vec![0.0; n],
             distorted: false,
         });
-        Ok(self.actuators.len() - 1)
+        let index = self.actuators.len() - 1;
+        if let Some(series) = self.actuators[index]
+            .module
+            .internal_data()
+            .names()
+            .iter()
+            .position(|n| *n == "Phase")
+        {
+            self.generators.push((index, series));
+            self.phases.push(0.0);
+        }
+        Ok(index)
+    }
+
+    /// The generators whose phases modules and observations see: (actuator, index of its
+    /// `Phase` series), in actuator order.
+    pub fn generators(&self) -> &[(usize, usize)] {
+        &self.generators
+    }
+
+    /// Each generator's current phase at its first joint (degrees) into `out` (one per
+    /// [`ControlKernel::generators`]).
+    pub fn phases_into(&self, out: &mut [f64]) {
+        gather_phases(&self.actuators, &self.generators, out);
     }
 
     /// The kernel's actuators, in actuation-file order.
@@ -293,6 +411,7 @@ impl ControlKernel {
         measured: &[f64],
         sensors: &SensorData,
     ) {
+        gather_phases(&self.actuators, &self.generators, &mut self.phases);
         for a in &mut self.actuators {
             for (slot, j) in a.angles.iter_mut().zip(&a.joints) {
                 *slot = measured.get(*j).copied().unwrap_or(0.0);
@@ -302,7 +421,9 @@ impl ControlKernel {
                 dt,
                 step,
                 angles: &a.angles,
+                robot_angles: measured,
                 sensors,
+                phases: &self.phases,
             };
             a.module.compute(&ctx, &mut a.out);
             if a.distorted {

@@ -6,6 +6,7 @@ pub mod kernel;
 pub mod library;
 pub mod load;
 pub mod module;
+pub mod observation;
 pub mod pattern;
 pub mod policy;
 pub mod registry;

@@ -8,6 +8,7 @@
 use std::fmt;
 
 use crate::config::module_types::{ModuleDescriptor, ParamDescriptor};
+use crate::control::policy::{NetworkMismatch, PolicyNet};
 use crate::rng::SimRng;
 use crate::sensing::SensorData;
 
@@ -22,8 +23,13 @@ pub struct StepContext<'a> {
     pub step: u64,
     /// Current measured angles (degrees) of the module's joints, in mask order.
     pub angles: &'a [f64],
+    /// Current measured angles (degrees) of every robot joint.
+    pub robot_angles: &'a [f64],
     /// The robot's latest sensor readings (for sensing modules).
     pub sensors: &'a SensorData,
+    /// The phase (degrees) of each generator of the kernel at its first joint, as of the
+    /// previous step: every module with a `Phase` series, in kernel order.
+    pub phases: &'a [f64],
 }
 
 /// Why a parameter could not be read or changed.
@@ -357,6 +363,16 @@ pub trait ActuationModule: Send + Sync {
     fn failure(&self) -> Option<&str> {
         None
     }
+    /// The network the module runs (the `Policy` module), if any.
+    fn network(&self) -> Option<&PolicyNet> {
+        None
+    }
+    /// Gives the module a network to run; modules that run none refuse it.
+    fn set_network(&mut self, _net: PolicyNet) -> Result<(), NetworkMismatch> {
+        Err(NetworkMismatch::NotAPolicy {
+            module: self.descriptor().type_name,
+        })
+    }
 }
 
 impl Clone for Box<dyn ActuationModule> {
@@ -385,7 +401,9 @@ pub(crate) fn drive(
                 dt,
                 step: k as u64,
                 angles: &angles,
+                robot_angles: &angles,
                 sensors: &sensors,
+                phases: &[],
             };
             module.compute(&ctx, &mut out);
             out.clone()

@@ -86,6 +86,50 @@ pub enum PolicyError {
         /// The name given.
         given: String,
     },
+    /// The network does not fit the module that should run it.
+    #[error("{file}: tensor {tensor}: {cause}")]
+    Mismatch {
+        /// The file.
+        file: PathBuf,
+        /// The tensor that does not fit.
+        tensor: String,
+        /// How.
+        cause: NetworkMismatch,
+    },
+}
+
+/// Two errors are equal when they say the same (the I/O cause compares by its message).
+impl PartialEq for PolicyError {
+    fn eq(&self, other: &Self) -> bool {
+        self.to_string() == other.to_string()
+    }
+}
+
+/// Why a module refused a network.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum NetworkMismatch {
+    /// The network writes another number of outputs than the module drives joints.
+    #[error("the network writes {given} outputs but the module drives {want} joints")]
+    Outputs {
+        /// The network's outputs.
+        given: usize,
+        /// The module's joints.
+        want: usize,
+    },
+    /// The module runs no network.
+    #[error("module {module} runs no network (only Policy does)")]
+    NotAPolicy {
+        /// The module type.
+        module: &'static str,
+    },
+    /// A flat parameter vector of the wrong length.
+    #[error("{given} parameters given, the network has {want}")]
+    Parameters {
+        /// Values given.
+        given: usize,
+        /// The network's parameters.
+        want: usize,
+    },
 }
 
 /// The hidden layers' nonlinearity.
@@ -200,6 +244,44 @@ impl PolicyNet {
     /// Outputs the network writes.
     pub fn outputs(&self) -> usize {
         self.layers.last().map_or(0, Layer::outputs)
+    }
+
+    /// Weights and biases of every layer (the observation statistics excluded).
+    pub fn parameter_count(&self) -> usize {
+        self.layers
+            .iter()
+            .map(|l| l.weight.len() + l.bias.len())
+            .sum()
+    }
+
+    /// Every layer's weights then bias, in layer order: the vector an evolution strategy
+    /// searches.
+    pub fn parameters(&self) -> Vec<f64> {
+        let mut v = Vec::with_capacity(self.parameter_count());
+        for l in &self.layers {
+            v.extend_from_slice(&l.weight);
+            v.extend_from_slice(&l.bias);
+        }
+        v
+    }
+
+    /// Sets every layer's weights and bias from a vector laid out as [`Self::parameters`].
+    pub fn set_parameters(&mut self, values: &[f64]) -> Result<(), NetworkMismatch> {
+        if values.len() != self.parameter_count() {
+            return Err(NetworkMismatch::Parameters {
+                given: values.len(),
+                want: self.parameter_count(),
+            });
+        }
+        let mut rest = values;
+        for l in &mut self.layers {
+            let (w, tail) = rest.split_at(l.weight.len());
+            l.weight.copy_from_slice(w);
+            let (b, tail) = tail.split_at(l.bias.len());
+            l.bias.copy_from_slice(b);
+            rest = tail;
+        }
+        Ok(())
     }
 
     /// The network's outputs for `input` into `out` (`input.len()` = [`Self::inputs`],

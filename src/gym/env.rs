@@ -17,12 +17,12 @@ use std::sync::Arc;
 
 use crate::config::Simulation;
 use crate::control::ModuleRegistry;
+use crate::control::observation::ObsLayout;
 use crate::gym::error::GymError;
-use crate::gym::observe::{ObsLayout, Previous, observe};
+use crate::gym::observe::{Previous, Scratch, layout_of, observe};
 use crate::gym::options::{ActionMode, EnvOptions};
 use crate::optimize::evaluate::robot_score;
 use crate::rng::SimRng;
-use crate::sim::servo::JointState;
 use crate::sim::{BuildOptions, Simulator, WorldExit};
 
 /// The module type that carries the policy's targets into the kernel.
@@ -84,7 +84,7 @@ pub struct Env {
     /// The policy module's parameter range (degrees).
     range: (f64, f64),
     targets: Vec<f64>,
-    joints: Vec<JointState>,
+    scratch: Scratch,
     steps_per_action: u64,
     max_steps: u64,
     episode: Episode,
@@ -129,7 +129,7 @@ impl Env {
             });
         }
         let mut env = Env {
-            layout: ObsLayout::of(&world, None)?,
+            layout: layout_of(&world, false)?,
             sim,
             registry,
             world,
@@ -137,7 +137,7 @@ impl Env {
             scaling: Vec::new(),
             range: (0.0, 0.0),
             targets: vec![0.0; joints],
-            joints: Vec::with_capacity(joints),
+            scratch: Scratch::default(),
             steps_per_action,
             max_steps,
             episode: Episode {
@@ -308,7 +308,7 @@ impl Env {
             &self.layout,
             &self.episode.prev,
             self.opts.control_period,
-            &mut self.joints,
+            &mut self.scratch,
             obs,
         )
     }
@@ -376,12 +376,7 @@ impl Env {
             .collect();
         self.policy = kernel.add(module, (0..n).collect())?;
         // The policy module has no `Phase` series: the layout lists the file's generators.
-        let phases = if residual {
-            Some(self.world.kernel(0)?)
-        } else {
-            None
-        };
-        self.layout = ObsLayout::of(&self.world, phases)?;
+        self.layout = layout_of(&self.world, residual)?;
         Ok(())
     }
 }

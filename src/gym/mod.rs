@@ -18,8 +18,8 @@ pub mod observe;
 pub mod options;
 pub mod vector;
 
+pub use crate::control::observation::ObsLayout;
 pub use env::{Env, StepInfo, Transition};
 pub use error::GymError;
-pub use observe::ObsLayout;
 pub use options::{ActionMode, EnvOptions};
 pub use vector::{Autoreset, Lane, VecEnv};

@@ -291,6 +291,7 @@ impl DesignSpace {
                         params: vec![setting],
                         pos: Pos::new(0, 0),
                         mask_pos: Pos::new(0, 0),
+                        weights: None,
                     }),
                 }
             }

@@ -277,6 +277,8 @@ fn control_loop(
     let start = Instant::now();
     let mut step = 0u64;
     let mut failed_in_a_row = 0;
+    // A real robot senses its joints only: no pads, lasers, gravity or position.
+    let mut sensors = SensorData::default();
     while steps.is_none_or(|n| step < n) && !stop.load(Ordering::SeqCst) {
         let due = start + pacer.due(step);
         let now = Instant::now();
@@ -285,7 +287,10 @@ fn control_loop(
         } else if due > now {
             std::thread::sleep(due - now);
         }
-        let desired = kernel.compute(step as f64 * dt, dt, step, &summary.readings.positions);
+        sensors.joint_speeds.clone_from(&summary.readings.speeds);
+        let time = step as f64 * dt;
+        kernel.compute_modules(time, dt, step, &summary.readings.positions, &sensors);
+        let desired = kernel.sum();
         robot.set_joint_angles(desired)?;
         if (step + 1).is_multiple_of(read_every) {
             match robot.read(&mut summary.readings) {

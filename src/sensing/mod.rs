@@ -19,6 +19,13 @@ pub struct SensorData {
     /// The robot's centre of mass in world coordinates (m). In simulation this is ground
     /// truth; a real robot would get it from odometry or an external tracker.
     pub position: [f64; 3],
+    /// Each robot joint's angular speed (degrees/s).
+    pub joint_speeds: Vec<f64>,
+    /// Gravity's direction in the head link's frame (unit; zero where unknown, as on a
+    /// real robot without an inertial sensor).
+    pub gravity_head: [f64; 3],
+    /// The robot's tail-to-head heading in the ground plane (degrees from +x).
+    pub heading: f64,
 }
 
 impl SensorData {
@@ -29,6 +36,9 @@ impl SensorData {
             tactile_normals: vec![[0.0; 3]; tactile],
             laser: beams.iter().map(|n| vec![0.0; *n]).collect(),
             position: [0.0; 3],
+            joint_speeds: Vec::new(),
+            gravity_head: [0.0; 3],
+            heading: 0.0,
         }
     }
 

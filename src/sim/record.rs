@@ -103,6 +103,27 @@ pub fn heading(engine: &dyn PhysicsEngine, robot: &SimRobot) -> f64 {
     }
 }
 
+/// The world's gravity as a unit vector in the frame of the robot's head (its last link);
+/// straight down in world coordinates when the robot has no link or no gravity.
+pub fn gravity_in_head(engine: &dyn PhysicsEngine, robot: &SimRobot) -> [f64; 3] {
+    let g = engine.gravity();
+    let norm = crate::measure::norm(g);
+    let down = if norm > 0.0 {
+        g.map(|v| v / norm)
+    } else {
+        [0.0, 0.0, -1.0]
+    };
+    match robot.bodies.last().and_then(|(b, _)| engine.body(*b)) {
+        Some(state) => crate::config::transform::Pose {
+            translation: [0.0; 3],
+            rotation: state.pose.rotation,
+        }
+        .inverse()
+        .rotate(down),
+        None => down,
+    }
+}
+
 /// Samples every robot when the step is a multiple of the period.
 pub fn record(
     settings: Res<RecordSettings>,

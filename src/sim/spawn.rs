@@ -291,5 +291,7 @@ fn spawn_sensors(
             }
         }
     }
-    SensorData::new(parts.pads.len(), &beams)
+    let mut sensors = SensorData::new(parts.pads.len(), &beams);
+    sensors.joint_speeds = vec![0.0; sim.robot.joints.len()];
+    sensors
 }

@@ -7,7 +7,9 @@ use crate::config::actuation::{ActuationFile, ParamValue};
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::mask::JointMask;
 use crate::config::module_types::{ModuleDescriptor, ModuleTypes, ParamDescriptor};
+use crate::config::resolve::flatten::find_file;
 use crate::config::resolve::robot::RobotModel;
+use crate::config::source::FileSource;
 use crate::config::xml::read::Reader;
 
 /// A parameter value set in the actuation file, with its canonical name.
@@ -28,6 +30,9 @@ pub struct ModuleInstance {
     pub joints: JointMask,
     /// Values from the file; parameters not listed keep their defaults.
     pub params: Vec<ParamAssignment>,
+    /// The weights file of a module that runs a network, found relative to the actuation
+    /// file (read when the kernel is built).
+    pub weights: Option<PathBuf>,
 }
 
 /// The resolved actuation file.
@@ -82,6 +87,7 @@ pub(crate) fn lookup_parameter<'a>(
 
 /// Checks an actuation file against the robot and the registry.
 pub fn resolve_actuation(
+    src: &dyn FileSource,
     path: &Path,
     file: &ActuationFile,
     robot: &RobotModel,
@@ -163,10 +169,15 @@ pub fn resolve_actuation(
                 value: p.value.clone(),
             });
         }
+        let weights = match &m.weights {
+            Some((file, pos)) => Some(find_file(src, path, file, *pos, "weights")?),
+            None => None,
+        };
         modules.push(ModuleInstance {
             descriptor: descriptor.clone(),
             joints: m.joints.clone(),
             params,
+            weights,
         });
     }
     Ok(ActuationModel {

@@ -143,7 +143,7 @@ pub fn load_simulation_with(
         "actuation",
         parse_actuation_file,
     )?;
-    let actuation = actuation::resolve_actuation(&act_path, &act_file, &robot, registry)
+    let actuation = actuation::resolve_actuation(src, &act_path, &act_file, &robot, registry)
         .map_err(|e| e.included_from(&path, sim.actuation.pos))?;
 
     let (env_file, environment) = load_environment(src, &path, &sim)?;

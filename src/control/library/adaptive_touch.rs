@@ -320,7 +320,9 @@ mod tests {
             dt: 0.001,
             step: 0,
             angles: &angles,
+            robot_angles: &angles,
             sensors: &sensors,
+            phases: &[],
         };
         let mut out = vec![0.0; n];
         m.compute(&ctx, &mut out);

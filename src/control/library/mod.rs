@@ -4,6 +4,7 @@ pub mod adaptive_touch;
 pub mod cpg_matsuoka;
 pub mod cpg_phase;
 pub mod direct;
+pub mod learned;
 pub mod sinusoidal;
 
 use crate::control::registry::{ModuleRegistry, factory};
@@ -29,5 +30,9 @@ pub fn register(r: &mut ModuleRegistry) {
     r.register(
         cpg_matsuoka::descriptor(),
         factory(|n| Box::new(cpg_matsuoka::CpgMatsuoka::new(n))),
+    );
+    r.register(
+        learned::descriptor(),
+        factory(|n| Box::new(learned::Policy::new(n))),
     );
 }

@@ -324,6 +324,7 @@ impl SimSession {
                 descriptor,
                 joints: crate::config::mask::JointMask(bits),
                 params: Vec::new(),
+                weights: None,
             });
         let (simulator, kernel) =
             build(&sim, self.step_width, self.replay.as_ref(), &self.registry)?;

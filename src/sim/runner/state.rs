@@ -96,6 +96,12 @@ impl Simulator {
         Ok(heading(self.engine(), robot))
     }
 
+    /// Gravity's direction in the frame of robot `index`'s head (unit).
+    pub fn gravity_in_head(&self, index: usize) -> Result<[f64; 3], SimError> {
+        let robot = self.robot_component::<SimRobot>(index)?;
+        Ok(crate::sim::record::gravity_in_head(self.engine(), robot))
+    }
+
     /// The robot's mass (kg): the sum of its links'.
     pub fn mass(&self, index: usize) -> Result<f64, SimError> {
         let robot = self.robot_component::<SimRobot>(index)?;
@@ -130,6 +136,29 @@ impl Simulator {
                 .iter()
                 .map(|j| w.get::<JointState>(*j).copied().unwrap_or_default()),
         );
+        Ok(())
+    }
+
+    /// Each joint's angle and speed of robot `index` as the engine has them now (after the
+    /// last physics step: what the next step's sensing will read), degrees and degrees/s,
+    /// into `angles` and `speeds` (cleared first; no allocation once they have room).
+    pub fn joint_motion_into(
+        &self,
+        index: usize,
+        angles: &mut Vec<f64>,
+        speeds: &mut Vec<f64>,
+    ) -> Result<(), SimError> {
+        let robot = self.robot_component::<SimRobot>(index)?;
+        let (w, engine) = (self.world(), self.engine());
+        angles.clear();
+        speeds.clear();
+        for j in &robot.joints {
+            let r = w
+                .get::<crate::sim::servo::SimJoint>(*j)
+                .map(|s| engine.joint(s.id));
+            angles.push(r.as_ref().map_or(0.0, |r| r.angle));
+            speeds.push(r.as_ref().map_or(0.0, |r| r.velocity));
+        }
         Ok(())
     }
 
