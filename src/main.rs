@@ -95,6 +95,11 @@ enum Command {
         #[command(subcommand)]
         command: cli::plugin::PluginCommand,
     },
+    /// Learned policies' weights files: a new one over a simulation's gait, or one described.
+    Policy {
+        #[command(subcommand)]
+        command: cli::policy::PolicyCommand,
+    },
     /// Inspect recorded data files.
     Data {
         #[command(subcommand)]
@@ -517,6 +522,7 @@ fn main() -> ExitCode {
         },
         Command::Plugin { command } => printed(cli::plugin::run(command, &mut host, &plugins)),
         Command::Worker(args) => printed(cli::worker::run(&args, &registry)),
+        Command::Policy { command } => printed(cli::policy::run(&command, &registry)),
         Command::Robustness(args) => printed(cli::robustness::run(&args, &registry)),
         Command::Compare(args) => printed(cli::compare::run(&args, &registry)),
         Command::Robot(options) => printed(cli::robot::robot(&options, &registry)),

@@ -264,3 +264,71 @@ fn a_killed_map_elites_run_resumes_to_the_same_archive_and_maps_it() {
     ]);
     assert!(!ok && err.contains("--map"), "{err}");
 }
+
+#[test]
+fn a_killed_es_run_resumes_to_the_same_weights_and_improves_on_its_start() {
+    // OpenAI-ES over the 197 weights of the demo's Policy module: the start, then 3
+    // generations of 16; killed after 20 evaluations and resumed, the same best weights
+    // file as the uninterrupted run, and better than the sine alone.
+    let dir = common::scratch("cli_optimize_es");
+    let run = |extra: &[&str], name: &str| {
+        let store = dir.join(format!("{name}.sqlite")).display().to_string();
+        let out = dir
+            .join(format!("{name}.actuation.xml"))
+            .display()
+            .to_string();
+        let mut a = vec![
+            "optimize",
+            "configs/demo_policy_es.simulation.xml",
+            "--max-evals",
+            "49",
+            "--duration",
+            "2",
+            "--quiet",
+            "--store",
+            &store,
+            "--out",
+            &out,
+        ];
+        a.extend_from_slice(extra);
+        proleg(&a)
+    };
+    let (ok, full, err) = run(&[], "whole");
+    assert!(ok, "{err}");
+    assert!(full.contains("49 evaluations in 4 rounds"), "{full}");
+    let start: f64 = full
+        .lines()
+        .find_map(|l| l.strip_prefix("start score "))
+        .and_then(|l| l.split_whitespace().next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no start score in {full}"));
+    let best: f64 = full
+        .lines()
+        .find_map(|l| l.strip_prefix("best score "))
+        .and_then(|l| l.split_whitespace().next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no best score in {full}"));
+    assert!(
+        best > start,
+        "the strategy improved on its start: {start} -> {best}"
+    );
+    let weights = |name: &str| {
+        std::fs::read(dir.join(format!("{name}.Policy.safetensors"))).expect("best weights")
+    };
+    let (ok, _, _) = run(&["--crash-after", "20"], "killed");
+    assert!(!ok, "the crash aid aborts the process");
+    let (ok, resumed, err) = run(&["--resume"], "killed");
+    assert!(ok, "{err}");
+    assert_eq!(result_lines(&resumed), result_lines(&full));
+    assert_eq!(weights("killed"), weights("whole"));
+    // The best actuation file names its weights file and runs.
+    let (ok, shown, err) = proleg(&[
+        "policy",
+        "show",
+        dir.join("whole.Policy.safetensors").to_str().unwrap(),
+    ]);
+    assert!(
+        ok && shown.contains("18 -> 8 -> 5 (tanh), 197 weights"),
+        "{shown}{err}"
+    );
+}

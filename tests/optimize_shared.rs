@@ -254,6 +254,18 @@ fn a_robust_cma_es_run_scores_the_same_through_a_worker_as_in_one_process() {
 }
 
 #[test]
+fn an_es_run_trains_the_same_policy_through_a_worker_as_in_one_process() {
+    // OpenAI-ES over a Policy module's 197 weights through the queue: the worker has nothing
+    // but the URL, so the weights file comes from the store with the configuration; the
+    // same evaluations (every weight of every candidate, every score) as SQLite.
+    let (pg, url, reference) =
+        one_worker_against_sqlite("shared_es", "configs/demo_policy_es.simulation.xml", "33");
+    let shared = evaluations(&pg, &url, "shared_es_pg");
+    assert_eq!(shared.len(), 33);
+    assert_eq!(shared, evaluations(&pg, &reference, "shared_es_sqlite"));
+}
+
+#[test]
 fn a_co_design_run_builds_the_same_bodies_through_a_worker_as_in_one_process() {
     // MAP-Elites over bodies and gaits through the queue: the worker builds every body
     // from the files stored with the run (the part files of every body the space holds

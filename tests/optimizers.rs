@@ -30,6 +30,7 @@ fn space() -> SearchSpace {
                     inc: 0.25,
                     count: 161,
                 },
+                network: None,
             })
             .collect(),
     }

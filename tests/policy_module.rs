@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use proleg::config::Simulation;
 use proleg::config::actuation::ParamValue;
-use proleg::config::resolve::{ModuleInstance, ParamAssignment};
+use proleg::config::resolve::{ModuleInstance, ParamAssignment, WeightsFile};
 use proleg::config::simulation::EngineKind;
 use proleg::control::policy::{Activation, Layer, PolicyNet};
 use proleg::control::{ModuleRegistry, load_simulation};
@@ -71,7 +71,10 @@ fn with_policy(sim: &Simulation, weights: &Path, amplitude: &[f64]) -> Simulatio
             name: "Amplitude",
             value: ParamValue::PerJoint(amplitude.to_vec()),
         }],
-        weights: Some(weights.to_path_buf()),
+        weights: Some(WeightsFile {
+            path: weights.to_path_buf(),
+            bytes: std::fs::read(weights).expect("weights").into(),
+        }),
     });
     sim
 }
@@ -287,7 +290,10 @@ fn an_actuation_file_names_its_weights_file_relative_to_itself() {
     net.write(&dir.join("missing.safetensors")).expect("write");
     let sim = load_simulation(&sim_file).expect("the weights file is found now");
     assert_eq!(
-        sim.actuation.modules[1].weights.as_deref(),
+        sim.actuation.modules[1]
+            .weights
+            .as_ref()
+            .map(|w| w.path.as_path()),
         Some(dir.join("missing.safetensors").as_path())
     );
     let written = proleg::config::actuation::write_actuation_file(
@@ -300,5 +306,31 @@ fn an_actuation_file_names_its_weights_file_relative_to_itself() {
     assert!(
         written.contains(r#"weights="missing.safetensors""#),
         "{written}"
+    );
+}
+
+#[test]
+fn a_fresh_policy_runs_the_files_gait_unchanged() {
+    // `proleg policy init` writes an output layer of zeros: the demo with its Policy module
+    // walks exactly as the demo without it, on either engine's first seconds.
+    let with = load_simulation(common::root().join("configs/demo_policy_es.simulation.xml"))
+        .expect("demo with a policy");
+    let without = demo(EngineKind::Rapier);
+    let com = |sim: &Simulation| {
+        let mut world = Simulator::new(sim, &BuildOptions::default()).expect("world");
+        world.run_steps(1500);
+        world.com(0).expect("com")
+    };
+    assert_eq!(com(&with), com(&without));
+    let net = PolicyNet::read(&common::root().join("configs/policies/demo_start.safetensors"))
+        .expect("the shipped start");
+    // The file holds F32 values: the floor as F32 rounds it.
+    let floor = proleg::gym::statistics::MIN_STD as f32 as f64;
+    assert!(net.obs_std.iter().all(|s| *s >= floor), "{:?}", net.obs_std);
+    assert!(
+        net.layers[net.layers.len() - 1]
+            .weight
+            .iter()
+            .all(|w| *w == 0.0)
     );
 }

@@ -51,8 +51,12 @@ fn potential_energy_uses_the_world_gravity() {
 #[test]
 fn cost_of_transport_weighs_the_robot_with_the_world_gravity() {
     let sim = on_mars("configs/experiment1_ga.simulation.xml");
-    let space = SearchSpace::from_model(sim.optimizer.as_ref().unwrap());
     let reference = Simulator::new(&sim, &BuildOptions::default()).unwrap();
+    let space = SearchSpace::from_model(
+        sim.optimizer.as_ref().unwrap(),
+        reference.kernel(0).unwrap(),
+    )
+    .unwrap();
     let genome = space.encode_kernel(reference.kernel(0).unwrap());
     let evaluator = Evaluator::new(
         &sim,

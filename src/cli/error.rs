@@ -67,6 +67,12 @@ pub enum CliError {
     /// An import or export.
     #[error(transparent)]
     Interop(#[from] crate::interop::InteropError),
+    /// A weights file that cannot be read or written.
+    #[error(transparent)]
+    Policy(Box<crate::control::policy::PolicyError>),
+    /// An environment that cannot run.
+    #[error(transparent)]
+    Gym(#[from] crate::gym::GymError),
     /// A file that cannot be written.
     #[error("{}: cannot write: {source}", path.display())]
     Write {

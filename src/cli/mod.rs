@@ -23,6 +23,7 @@ pub mod error;
 pub mod interop;
 pub mod optimize;
 pub mod plugin;
+pub mod policy;
 pub mod results;
 pub mod robot;
 pub mod robustness;

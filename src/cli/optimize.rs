@@ -219,7 +219,7 @@ pub fn run_observed(
         .map(|r| r.best_engines)
         .unwrap_or_default();
     if let Some(p) = &o.out {
-        write_best(p, &sim, &space, &outcome.best)?;
+        write_best(p, &sim, (&space, registry), &outcome.best)?;
     }
     Ok(OptimizeReport {
         best_values: space
@@ -273,14 +273,38 @@ fn episodes_per_candidate(sim: &Simulation) -> u32 {
         .map_or(1, |r| r.episodes)
 }
 
-/// Writes the best candidate as an actuation file at `path`.
+/// Writes the best candidate as an actuation file at `path`; the networks whose weights it
+/// searched go to weights files beside it (`NAME.MODULE.safetensors`), which it names.
 fn write_best(
     path: &Path,
     sim: &Simulation,
-    space: &SearchSpace,
+    (space, registry): (&SearchSpace, &ModuleRegistry),
     best: &[u32],
 ) -> Result<(), CliError> {
-    let file = actuation_with(sim, space, best);
+    let mut file = actuation_with(sim, space, best);
+    for (module, net) in crate::optimize::result::networks_with(sim, space, best, registry)? {
+        let name = path.file_name().map_or_else(
+            || "best".to_string(),
+            |n| n.to_string_lossy().trim_end_matches(".xml").to_string(),
+        );
+        let weights = path.with_file_name(format!(
+            "{}.{module}.safetensors",
+            name.trim_end_matches(".actuation")
+        ));
+        net.write(&weights)
+            .map_err(|e| CliError::Policy(Box::new(e)))?;
+        let written = weights
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        for m in file
+            .modules
+            .iter_mut()
+            .filter(|m| crate::config::xml::read::same_name(&m.name, module))
+        {
+            m.weights = Some((written.clone(), crate::config::error::Pos::new(0, 0)));
+        }
+    }
     std::fs::write(path, write_actuation_file(&file)).map_err(CliError::write(path))
 }
 
@@ -565,8 +589,17 @@ impl fmt::Display for OptimizeReport {
         for (engine, score) in &self.best_engines {
             writeln!(out, "  on {engine:<8} {score:.4}")?;
         }
-        for (label, v) in &self.best_values {
+        // A network's weights are many: the first few stand for them (the file holds all).
+        const SHOWN: usize = 12;
+        for (label, v) in self.best_values.iter().take(SHOWN) {
             writeln!(out, "  {label:<40} {v}")?;
+        }
+        if self.best_values.len() > SHOWN {
+            writeln!(
+                out,
+                "  ... and {} more values",
+                self.best_values.len() - SHOWN
+            )?;
         }
         if let Some(p) = &self.actuation {
             writeln!(out, "best actuation written to {}", p.display())?;

@@ -117,8 +117,17 @@ fn describe(f: &mut std::fmt::Formatter<'_>, r: &RunRow) -> std::fmt::Result {
             [] => writeln!(f, "         best {s:.4}")?,
             _ => writeln!(f, "         best {s:.4} ({})", engines.join(", "))?,
         }
-        for (g, val) in r.info.genes.iter().zip(v.split_whitespace()) {
+        // A network's weights are many: the first few stand for them.
+        const SHOWN: usize = 12;
+        for (g, val) in r.info.genes.iter().zip(v.split_whitespace()).take(SHOWN) {
             writeln!(f, "           {g:<40} {val}")?;
+        }
+        if r.info.genes.len() > SHOWN {
+            writeln!(
+                f,
+                "           ... and {} more values",
+                r.info.genes.len() - SHOWN
+            )?;
         }
     }
     Ok(())

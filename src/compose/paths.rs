@@ -59,6 +59,14 @@ impl FileSource for OverlaySource {
     fn exists(&self, path: &Path) -> bool {
         self.unsaved.exists(path) || FsSource.exists(path)
     }
+
+    fn read_bytes(&self, path: &Path) -> io::Result<Vec<u8>> {
+        if self.unsaved.exists(path) {
+            self.unsaved.read_bytes(path)
+        } else {
+            FsSource.read_bytes(path)
+        }
+    }
 }
 
 #[cfg(test)]

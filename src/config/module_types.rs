@@ -45,7 +45,22 @@ pub struct ModuleDescriptor {
     pub series: &'static [&'static str],
     /// Whether the module reads sensors.
     pub sensing: bool,
+    /// Whether the module runs a network from a weights file, whose weights an optimizer
+    /// searches as the pseudo-parameter [`NETWORK_WEIGHTS`] (one gene per weight).
+    pub network: bool,
 }
+
+/// The pseudo-parameter an optimizer file registers to search a network's weights and
+/// biases: one gene per value, in the network's order (layer by layer, weights then bias).
+pub const NETWORK_WEIGHTS: ParamDescriptor = ParamDescriptor {
+    name: "Weights",
+    aliases: &["Network_Weights"],
+    unit: "",
+    default: 0.0,
+    min: -1.0e6,
+    max: 1.0e6,
+    help: "the network's weights and biases (searched by an optimizer, one gene each)",
+};
 
 impl ModuleDescriptor {
     /// The parameter answering to `name`.

@@ -34,6 +34,8 @@ pub enum Mode {
     CmaEs,
     /// Map designs with MAP-Elites.
     MapElites,
+    /// Optimize with OpenAI's evolution strategy (learned policies' weights).
+    EvolutionStrategy,
 }
 
 impl Mode {
@@ -46,11 +48,12 @@ impl Mode {
             Mode::GreatDeluge => "Great Deluge optimization",
             Mode::CmaEs => "CMA-ES optimization",
             Mode::MapElites => "MAP-Elites optimization",
+            Mode::EvolutionStrategy => "Evolution strategy optimization",
         }
     }
 
     /// Accepted spellings (compared ignoring case, spaces, `_` and `-`).
-    const ALIASES: [(Mode, &'static [&'static str]); 6] = [
+    const ALIASES: [(Mode, &'static [&'static str]); 7] = [
         (
             Mode::SingleRun,
             &["Single Run Simulation", "Single Run", "single"],
@@ -84,6 +87,15 @@ impl Mode {
             Mode::MapElites,
             &["MAP-Elites optimization", "MAP-Elites", "MAPElites"],
         ),
+        (
+            Mode::EvolutionStrategy,
+            &[
+                "Evolution strategy optimization",
+                "Evolution strategy",
+                "OpenAI-ES",
+                "ES",
+            ],
+        ),
     ];
 
     /// Reads a mode as files write it (other spellings accepted).
@@ -98,7 +110,11 @@ impl Mode {
     pub fn is_optimization(self) -> bool {
         matches!(
             self,
-            Mode::GeneticAlgorithm | Mode::GreatDeluge | Mode::CmaEs | Mode::MapElites
+            Mode::GeneticAlgorithm
+                | Mode::GreatDeluge
+                | Mode::CmaEs
+                | Mode::MapElites
+                | Mode::EvolutionStrategy
         )
     }
 }

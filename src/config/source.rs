@@ -15,6 +15,35 @@ pub trait FileSource {
     fn read(&self, path: &Path) -> io::Result<String>;
     /// Whether `path` exists.
     fn exists(&self, path: &Path) -> bool;
+    /// The bytes of a binary file (a policy's weights). In memory a binary file is text:
+    /// [`BINARY_PREFIX`] then its bytes in base64 ([`binary_as_text`]).
+    fn read_bytes(&self, path: &Path) -> io::Result<Vec<u8>> {
+        text_as_binary(&self.read(path)?)
+    }
+}
+
+/// How a binary file's in-memory text starts.
+pub const BINARY_PREFIX: &str = "proleg-binary-base64:";
+
+/// A binary file as in-memory text ([`BINARY_PREFIX`] and base64).
+pub fn binary_as_text(bytes: &[u8]) -> String {
+    use base64::Engine;
+    format!(
+        "{BINARY_PREFIX}{}",
+        base64::engine::general_purpose::STANDARD.encode(bytes)
+    )
+}
+
+/// The bytes of a file's in-memory text: decoded when [`binary_as_text`] wrote it, else
+/// the text's own bytes.
+pub fn text_as_binary(text: &str) -> io::Result<Vec<u8>> {
+    use base64::Engine;
+    match text.strip_prefix(BINARY_PREFIX) {
+        Some(encoded) => base64::engine::general_purpose::STANDARD
+            .decode(encoded.trim())
+            .map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e.to_string())),
+        None => Ok(text.as_bytes().to_vec()),
+    }
 }
 
 /// The real file system.
@@ -34,6 +63,10 @@ impl FileSource for FsSource {
 
     fn exists(&self, path: &Path) -> bool {
         path.is_file()
+    }
+
+    fn read_bytes(&self, path: &Path) -> io::Result<Vec<u8>> {
+        std::fs::read(path)
     }
 }
 
@@ -95,6 +128,14 @@ impl FileSource for Overlay<'_> {
     fn exists(&self, path: &Path) -> bool {
         self.top.exists(path) || self.base.exists(path)
     }
+
+    fn read_bytes(&self, path: &Path) -> io::Result<Vec<u8>> {
+        if self.top.exists(path) {
+            self.top.read_bytes(path)
+        } else {
+            self.base.read_bytes(path)
+        }
+    }
 }
 
 /// Another source that keeps a copy of every file read through it: the resolved
@@ -137,6 +178,14 @@ impl FileSource for RecordingSource<'_> {
 
     fn exists(&self, path: &Path) -> bool {
         self.inner.exists(path)
+    }
+
+    fn read_bytes(&self, path: &Path) -> io::Result<Vec<u8>> {
+        let bytes = self.inner.read_bytes(path)?;
+        if let Ok(mut m) = self.read.lock() {
+            m.insert(normalize(path), binary_as_text(&bytes));
+        }
+        Ok(bytes)
     }
 }
 

@@ -206,6 +206,16 @@ fn optimizer_part(s: &mut String, sim: &Simulation) {
                 g.confidence
             );
         }
+        Algorithm::Es(e) => {
+            let _ = writeln!(
+                s,
+                "  population {} (antithetic pairs), sigma {}, learning rate {}, weight decay {} (fractions of each gene's range)",
+                e.popsize,
+                num(e.sigma),
+                num(e.learning_rate),
+                num(e.weight_decay)
+            );
+        }
         Algorithm::MapElites(m) => {
             let axes: Vec<String> = m
                 .descriptors
@@ -255,8 +265,18 @@ fn optimizer_part(s: &mut String, sim: &Simulation) {
             g.active_joints,
             if g.uniform { "uniform" } else { "individual" },
             values,
-            p.genes,
-            if p.genes == 1 { "gene" } else { "genes" }
+            if p.network {
+                "one per network".to_string()
+            } else {
+                p.genes.to_string()
+            },
+            if p.network {
+                "weight"
+            } else if p.genes == 1 {
+                "gene"
+            } else {
+                "genes"
+            }
         );
     }
     let _ = writeln!(s, "  search space {:.4e} candidates", o.search_space());

@@ -151,6 +151,15 @@ fn load_network(
     file: &std::path::Path,
 ) -> Result<(), KernelError> {
     let net = PolicyNet::read(file).map_err(|e| KernelError::Policy(e.into()))?;
+    give_network(module, net, file)
+}
+
+/// Gives `net`, read from `file`, to `module`.
+fn give_network(
+    module: &mut dyn ActuationModule,
+    net: PolicyNet,
+    file: &std::path::Path,
+) -> Result<(), KernelError> {
     let tensor = format!("layers.{}.weight", net.layers.len().saturating_sub(1));
     module.set_network(net).map_err(|cause| {
         KernelError::Policy(
@@ -229,8 +238,10 @@ impl ControlKernel {
                     error,
                 })?;
             }
-            if let Some(file) = &m.weights {
-                load_network(module.as_mut(), file)?;
+            if let Some(w) = &m.weights {
+                let net = PolicyNet::from_bytes(&w.bytes, &w.path)
+                    .map_err(|e| KernelError::Policy(e.into()))?;
+                give_network(module.as_mut(), net, &w.path)?;
             }
             k.add(module, joints)?;
         }

@@ -319,13 +319,17 @@ impl PolicyNet {
             file: path.to_path_buf(),
             source,
         })?;
+        PolicyNet::from_bytes(&bytes, path)
+    }
+
+    /// Parses a weights file's bytes; `path` names it in errors.
+    pub fn from_bytes(bytes: &[u8], path: &Path) -> Result<PolicyNet, PolicyError> {
         let format = |cause: String| PolicyError::Format {
             file: path.to_path_buf(),
             cause,
         };
-        let (_, metadata) =
-            SafeTensors::read_metadata(&bytes).map_err(|e| format(e.to_string()))?;
-        let tensors = SafeTensors::deserialize(&bytes).map_err(|e| format(e.to_string()))?;
+        let (_, metadata) = SafeTensors::read_metadata(bytes).map_err(|e| format(e.to_string()))?;
+        let tensors = SafeTensors::deserialize(bytes).map_err(|e| format(e.to_string()))?;
         let reader = Reader {
             file: path,
             tensors: &tensors,

@@ -7,6 +7,7 @@
 //! | [`options`] | the environment's settings: engine, control period, alone or residual, reward |
 //! | [`observe`] | the observation's layout (a name per index) and its reading from the world |
 //! | [`env`] | one environment: the policy as one more module of the kernel, the reward from the optimizers' fitness, termination on the control window's rule |
+//! | [`statistics`] | a policy's starting point: observation statistics of the file's own gait, a network that outputs 0 |
 //! | [`vector`] | N environments on a thread pool, autoreset next-step, same-step or disabled |
 //! | [`error`] | [`GymError`] |
 //!
@@ -16,6 +17,7 @@ pub mod env;
 pub mod error;
 pub mod observe;
 pub mod options;
+pub mod statistics;
 pub mod vector;
 
 pub use crate::control::observation::ObsLayout;

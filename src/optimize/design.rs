@@ -212,6 +212,7 @@ impl DesignSpace {
                 inc: 1.0,
                 count: m.modules[1] - m.modules[0] + 1,
             },
+            network: None,
         }];
         for j in 0..m.orientation_genes() {
             genes.push(Gene {
@@ -219,6 +220,7 @@ impl DesignSpace {
                 parameter: "orientation",
                 joints: vec![j],
                 alleles: list(m.orientations.len()),
+                network: None,
             });
         }
         genes.push(Gene {
@@ -226,6 +228,7 @@ impl DesignSpace {
             parameter: "parts",
             joints: Vec::new(),
             alleles: list(m.parts.len()),
+            network: None,
         });
         for g in 0..m.orientations.len() {
             for (module, parameter, alleles) in &self.controls {
@@ -234,6 +237,7 @@ impl DesignSpace {
                     parameter,
                     joints: vec![g],
                     alleles: alleles.clone(),
+                    network: None,
                 });
             }
         }

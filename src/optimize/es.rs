@@ -6,9 +6,15 @@
 //! decay. Memory and work per generation are O(pairs · n) (CMA-ES's are O(n²) and O(n³)).
 //! Deterministic: the perturbations come from one seeded stream.
 //!
-//! This is the strategy's core over real vectors; it is not yet an [`super::Optimizer`]
-//! (whose genomes are allele indices) nor wired to the store (issue 48).
+//! [`OpenAiEs`] is the strategy over real vectors; [`EsOptimizer`] puts it behind the
+//! [`Optimizer`] interface (`<evolutionStrategy>` optimizer files): each gene's value in
+//! units of its range, so `sigma` and the learning rate are fractions of each range as in
+//! CMA-ES, the weight decay pulls every gene toward the value 0, and each candidate is the
+//! genome of its nearest alleles. The start candidate is evaluated first, alone.
 
+use crate::config::optimizer::EsSettings as EsFile;
+use crate::optimize::Optimizer;
+use crate::optimize::space::{Alleles, Genome, SearchSpace};
 use crate::rng::SimRng;
 
 /// The strategy's settings.
@@ -166,6 +172,123 @@ impl OpenAiEs {
             *v = B2 * *v + (1.0 - B2) * g * g;
             *x += lr * *m / (v.sqrt() + EPS);
         }
+    }
+}
+
+/// OpenAI-ES over a search space's genes.
+#[derive(Debug, Clone)]
+pub struct EsOptimizer {
+    es: OpenAiEs,
+    space: SearchSpace,
+    /// Each gene's range (value of its last allele minus its first).
+    spans: Vec<f64>,
+    start: Option<Genome>,
+    /// The last generation's points (in range units), for `tell`.
+    asked: Vec<Vec<f64>>,
+    best: Option<(Genome, f64)>,
+    evaluations: u64,
+    max_evaluations: u64,
+}
+
+fn span(a: &Alleles) -> f64 {
+    let top = a.count().saturating_sub(1);
+    let s = a.value(top) - a.value(0);
+    if s > 0.0 { s } else { 1.0 }
+}
+
+impl EsOptimizer {
+    /// The strategy from `start` with a file's settings, its perturbations drawn from
+    /// `seed`, stopping after `max_evaluations`.
+    pub fn new(
+        space: SearchSpace,
+        start: Genome,
+        settings: &EsFile,
+        seed: u64,
+        max_evaluations: u64,
+    ) -> EsOptimizer {
+        let spans: Vec<f64> = space.genes.iter().map(|g| span(&g.alleles)).collect();
+        let mean = space
+            .decode(&start)
+            .iter()
+            .zip(&spans)
+            .map(|(v, s)| v / s)
+            .collect();
+        let pairs = (settings.popsize as usize / 2).max(1);
+        let core = EsSettings {
+            pairs,
+            sigma: settings.sigma,
+            learning_rate: settings.learning_rate,
+            weight_decay: settings.weight_decay,
+            generations: usize::MAX,
+        };
+        EsOptimizer {
+            es: OpenAiEs::new(mean, core, seed),
+            space,
+            spans,
+            start: Some(start),
+            asked: Vec::new(),
+            best: None,
+            evaluations: 0,
+            max_evaluations,
+        }
+    }
+
+    /// The genome nearest to a point in range units.
+    fn genome(&self, x: &[f64]) -> Genome {
+        self.space
+            .genes
+            .iter()
+            .zip(x.iter().zip(&self.spans))
+            .map(|(g, (v, s))| g.alleles.nearest(v * s))
+            .collect()
+    }
+
+    /// The search's centre as a genome (the policy learned so far).
+    pub fn mean(&self) -> Genome {
+        self.genome(self.es.mean())
+    }
+
+    /// Generations told so far.
+    pub fn generation(&self) -> usize {
+        self.es.generation()
+    }
+}
+
+impl Optimizer for EsOptimizer {
+    fn ask(&mut self) -> Vec<Genome> {
+        if self.finished() {
+            return Vec::new();
+        }
+        if let Some(start) = &self.start {
+            return vec![start.clone()];
+        }
+        self.asked = self.es.ask();
+        self.asked.iter().map(|x| self.genome(x)).collect()
+    }
+
+    fn tell(&mut self, scores: &[f64]) {
+        let told: Vec<Genome> = match self.start.take() {
+            Some(start) => vec![start],
+            None => {
+                let points = std::mem::take(&mut self.asked);
+                self.es.tell(&points, scores);
+                points.iter().map(|x| self.genome(x)).collect()
+            }
+        };
+        self.evaluations += told.len() as u64;
+        for (g, s) in told.into_iter().zip(scores) {
+            if s.is_finite() && self.best.as_ref().is_none_or(|b| *s > b.1) {
+                self.best = Some((g, *s));
+            }
+        }
+    }
+
+    fn finished(&self) -> bool {
+        self.evaluations >= self.max_evaluations
+    }
+
+    fn best(&self) -> Option<(&Genome, f64)> {
+        self.best.as_ref().map(|(g, s)| (g, *s))
     }
 }
 

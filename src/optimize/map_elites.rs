@@ -341,6 +341,7 @@ mod tests {
                         inc: 0.05,
                         count: 21,
                     },
+                    network: None,
                 })
                 .collect(),
         }

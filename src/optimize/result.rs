@@ -1,16 +1,23 @@
 //! Turning a candidate back into configuration: the actuation file with the candidate's
-//! values written in, ready for `proleg run`.
+//! values written in, ready for `proleg run`, and the networks whose weights it holds
+//! (written as weights files the actuation file names).
 
 use crate::config::Simulation;
 use crate::config::actuation::{ActuationFile, ParamSetting, ParamValue};
 use crate::config::error::Pos;
 use crate::config::xml::read::same_name;
+use crate::control::kernel::KernelError;
+use crate::control::policy::PolicyNet;
+use crate::control::{ControlKernel, ModuleRegistry};
 use crate::optimize::space::SearchSpace;
 
 /// The simulation's actuation file with `genome`'s values set.
 pub fn actuation_with(sim: &Simulation, space: &SearchSpace, genome: &[u32]) -> ActuationFile {
     let mut file = sim.files.actuation.clone();
     for (gene, k) in space.genes.iter().zip(genome) {
+        if gene.network.is_some() {
+            continue;
+        }
         let value = gene.alleles.value(*k);
         let Some(m) = file
             .modules
@@ -67,4 +74,31 @@ pub fn actuation_with(sim: &Simulation, space: &SearchSpace, genome: &[u32]) -> 
         setting.value = ParamValue::PerJoint(values);
     }
     file
+}
+
+/// The networks `genome` gives the modules whose weights are genes: (module type, network),
+/// in gene order.
+pub fn networks_with(
+    sim: &Simulation,
+    space: &SearchSpace,
+    genome: &[u32],
+    registry: &ModuleRegistry,
+) -> Result<Vec<(&'static str, PolicyNet)>, KernelError> {
+    let modules: Vec<&'static str> = space.network_modules().collect();
+    if modules.is_empty() {
+        return Ok(Vec::new());
+    }
+    let limits = sim.robot.joints.iter().map(|j| j.limits_deg).collect();
+    let mut kernel = ControlKernel::from_actuation(&sim.actuation, registry, limits)?;
+    space.apply(genome, &mut kernel)?;
+    modules
+        .into_iter()
+        .map(|m| {
+            kernel
+                .find(m)
+                .and_then(|a| kernel.actuators()[a].module.network().cloned())
+                .map(|net| (m, net))
+                .ok_or(KernelError::NoNetwork { module: m })
+        })
+        .collect()
 }

@@ -11,6 +11,7 @@ use crate::optimize::Optimizer;
 use crate::optimize::cmaes::CmaOptimizer;
 use crate::optimize::deluge::GreatDeluge;
 use crate::optimize::error::{BadChoice, OptimizeError};
+use crate::optimize::es::EsOptimizer;
 use crate::optimize::evaluate::Evaluator;
 use crate::optimize::ga::GeneticAlgorithm;
 use crate::optimize::map_elites::{Descriptor, MapElites};
@@ -84,14 +85,14 @@ pub fn prepare(
         let start = space.genes.iter().map(|g| g.alleles.count() / 2).collect();
         return Ok((space, start));
     }
-    let space = SearchSpace::from_model(model);
+    let limits = sim.robot.joints.iter().map(|j| j.limits_deg).collect();
+    let kernel = ControlKernel::from_actuation(&sim.actuation, registry, limits)?;
+    let space = SearchSpace::from_model(model, &kernel)?;
     if space.genes.is_empty() {
         return Err(OptimizeError::NothingRegistered {
             file: model.file.clone(),
         });
     }
-    let limits = sim.robot.joints.iter().map(|j| j.limits_deg).collect();
-    let kernel = ControlKernel::from_actuation(&sim.actuation, registry, limits)?;
     let start = space.encode_kernel(&kernel);
     Ok((space, start))
 }
@@ -416,6 +417,13 @@ fn build_optimizer(
             start.clone(),
             settings.seed,
             settings.deluge_batch,
+            settings.max_evaluations,
+        )),
+        Algorithm::Es(e) => Box::new(EsOptimizer::new(
+            space.clone(),
+            start.clone(),
+            e,
+            settings.seed,
             settings.max_evaluations,
         )),
         Algorithm::MapElites(m) => Box::new(MapElites::new(

@@ -72,16 +72,20 @@ pub struct Gene {
     pub module: &'static str,
     /// The parameter's name.
     pub parameter: &'static str,
-    /// Robot joints this gene sets.
+    /// Robot joints this gene sets (none for a network weight).
     pub joints: Vec<usize>,
     /// The values it takes.
     pub alleles: Alleles,
+    /// For a weight of the module's network: its index in the network's parameters.
+    pub network: Option<usize>,
 }
 
 impl Gene {
     /// `Module.Parameter[j]` (or `[all]` for a uniform gene).
     pub fn label(&self) -> String {
-        if self.joints.len() == 1 {
+        if let Some(k) = self.network {
+            format!("{}.{}[{k}]", self.module, self.parameter)
+        } else if self.joints.len() == 1 {
             format!("{}.{}[{}]", self.module, self.parameter, self.joints[0])
         } else {
             format!("{}.{}[all]", self.module, self.parameter)
@@ -119,10 +123,26 @@ pub(crate) fn alleles_of(g: &GenomeConfig, i: usize) -> Alleles {
 }
 
 impl SearchSpace {
-    /// The genes of a resolved optimizer file.
-    pub fn from_model(model: &OptimizerModel) -> SearchSpace {
+    /// The genes of a resolved optimizer file; a network's weights get one gene each, as
+    /// many as the network `kernel`'s module of that type runs.
+    pub fn from_model(
+        model: &OptimizerModel,
+        kernel: &ControlKernel,
+    ) -> Result<SearchSpace, KernelError> {
         let mut genes = Vec::new();
         for p in &model.parameters {
+            if p.network {
+                let count = network_of(kernel, p.module)?.parameter_count();
+                let alleles = alleles_of(&p.genome, 0);
+                genes.extend((0..count).map(|k| Gene {
+                    module: p.module,
+                    parameter: p.parameter.name,
+                    joints: Vec::new(),
+                    alleles: alleles.clone(),
+                    network: Some(k),
+                }));
+                continue;
+            }
             let active: Vec<usize> = p.genome.active_joints.indices().collect();
             if p.genome.uniform {
                 genes.push(Gene {
@@ -130,6 +150,7 @@ impl SearchSpace {
                     parameter: p.parameter.name,
                     joints: active,
                     alleles: alleles_of(&p.genome, 0),
+                    network: None,
                 });
             } else {
                 for (i, j) in active.into_iter().enumerate() {
@@ -138,11 +159,12 @@ impl SearchSpace {
                         parameter: p.parameter.name,
                         joints: vec![j],
                         alleles: alleles_of(&p.genome, i),
+                        network: None,
                     });
                 }
             }
         }
-        SearchSpace { genes }
+        Ok(SearchSpace { genes })
     }
 
     /// Number of candidates (eq. 3.3; f64 because it overflows integers).
@@ -164,9 +186,21 @@ impl SearchSpace {
 
     /// The genome nearest to the values `kernel` holds now (the configured start).
     pub fn encode_kernel(&self, kernel: &ControlKernel) -> Genome {
+        let weights: Vec<(&'static str, Vec<f64>)> = self
+            .network_modules()
+            .filter_map(|m| network_of(kernel, m).ok().map(|n| (m, n.parameters())))
+            .collect();
         self.genes
             .iter()
             .map(|g| {
+                if let Some(k) = g.network {
+                    let v = weights
+                        .iter()
+                        .find(|(m, _)| *m == g.module)
+                        .and_then(|(_, w)| w.get(k).copied())
+                        .unwrap_or(0.0);
+                    return g.alleles.nearest(v);
+                }
                 let v = kernel
                     .find(g.module)
                     .and_then(|a| {
@@ -182,7 +216,22 @@ impl SearchSpace {
 
     /// Sets the genome's values in `kernel`.
     pub fn apply(&self, genome: &[u32], kernel: &mut ControlKernel) -> Result<(), KernelError> {
+        for module in self.network_modules() {
+            let values: Vec<f64> = self
+                .genes
+                .iter()
+                .zip(genome)
+                .filter(|(g, _)| g.network.is_some() && g.module == module)
+                .map(|(g, k)| g.alleles.value(*k))
+                .collect();
+            if let Some(a) = kernel.find(module) {
+                kernel.set_network_parameters(a, &values)?;
+            }
+        }
         for (g, k) in self.genes.iter().zip(genome) {
+            if g.network.is_some() {
+                continue;
+            }
             let value = g.alleles.value(*k);
             let Some(a) = kernel.find(g.module) else {
                 continue;
@@ -194,6 +243,20 @@ impl SearchSpace {
         Ok(())
     }
 
+    /// The module types whose network weights are genes, each once.
+    pub fn network_modules(&self) -> impl Iterator<Item = &'static str> + '_ {
+        self.genes
+            .iter()
+            .enumerate()
+            .filter(|(i, g)| {
+                g.network.is_some()
+                    && !self.genes[..*i]
+                        .iter()
+                        .any(|o| o.network.is_some() && o.module == g.module)
+            })
+            .map(|(_, g)| g.module)
+    }
+
     /// A uniformly random genome.
     pub fn random(&self, rng: &mut crate::rng::SimRng) -> Genome {
         self.genes
@@ -201,6 +264,17 @@ impl SearchSpace {
             .map(|g| (rng.next_u64() % u64::from(g.alleles.count().max(1))) as u32)
             .collect()
     }
+}
+
+/// The network of `kernel`'s first module of type `module`.
+fn network_of<'a>(
+    kernel: &'a ControlKernel,
+    module: &'static str,
+) -> Result<&'a crate::control::policy::PolicyNet, KernelError> {
+    kernel
+        .find(module)
+        .and_then(|a| kernel.actuators()[a].module.network())
+        .ok_or(KernelError::NoNetwork { module })
 }
 
 #[cfg(test)]

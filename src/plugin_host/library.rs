@@ -231,5 +231,6 @@ fn descriptor(raw: &RawDescriptor) -> Result<ModuleDescriptor, BadTable> {
         parameters: Box::leak(parameters.into_boxed_slice()),
         series: Box::leak(series.into_boxed_slice()),
         sensing: raw.sensing,
+        network: false,
     })
 }

@@ -138,6 +138,30 @@ pub struct CmaSettings {
     pub restarts: u32,
 }
 
+/// OpenAI-ES settings (our extension, for the thousands of weights of a policy network).
+#[derive(Debug, Clone, PartialEq)]
+pub struct EsSettings {
+    /// Candidates per generation: antithetic pairs, so an even number.
+    pub popsize: u32,
+    /// Perturbation scale, as a fraction of each gene's range.
+    pub sigma: f64,
+    /// Adam's step size, as a fraction of each gene's range.
+    pub learning_rate: f64,
+    /// L2 decay of the mean per step (a fraction of the learning rate).
+    pub weight_decay: f64,
+}
+
+impl Default for EsSettings {
+    fn default() -> Self {
+        EsSettings {
+            popsize: 32,
+            sigma: 0.005,
+            learning_rate: 0.002,
+            weight_decay: 0.005,
+        }
+    }
+}
+
 /// CMA-ES's initial step size unless the file gives one.
 pub const DEFAULT_CMA_SIGMA: f64 = 0.3;
 
@@ -220,6 +244,8 @@ pub enum Algorithm {
     CmaEs(CmaSettings),
     /// MAP-Elites: an archive of the best candidate per cell of two descriptors.
     MapElites(MapElitesSettings),
+    /// OpenAI's evolution strategy (antithetic sampling, rank shaping, Adam).
+    Es(EsSettings),
 }
 
 /// An optimizer file as written.
@@ -253,6 +279,7 @@ impl OptimizerFile {
             Algorithm::GreatDeluge(_) => "modified great deluge",
             Algorithm::CmaEs(_) => "CMA-ES",
             Algorithm::MapElites(_) => "MAP-Elites",
+            Algorithm::Es(_) => "OpenAI-ES",
         }
     }
 }
@@ -408,6 +435,32 @@ mod tests {
             let text = base.replace("<sigma>0.25</sigma>", bad);
             let e = parse_optimizer_file("x.cmaes.xml", &text).unwrap_err();
             assert!(e.to_string().starts_with("x.cmaes.xml:"), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn evolution_strategy_settings_are_read_written_and_checked() {
+        let base = include_str!("../../../configs/optimizer/demo_policy.es.xml");
+        let o = parse_optimizer_file("x.es.xml", base).unwrap();
+        assert_eq!(
+            o.algorithm,
+            Algorithm::Es(EsSettings {
+                popsize: 16,
+                sigma: 0.0125,
+                learning_rate: 0.005,
+                weight_decay: 0.005,
+            })
+        );
+        assert_eq!(o.label(), "OpenAI-ES");
+        let again = parse_optimizer_file("y.es.xml", &write_optimizer_file(&o)).unwrap();
+        assert_eq!(again.algorithm, o.algorithm);
+        for (good, bad) in [
+            ("<popsize>16</popsize>", "<popsize>15</popsize>"),
+            ("<sigma>0.0125</sigma>", "<sigma>0</sigma>"),
+            ("<sigma>0.0125</sigma>", "<sigma>2</sigma>"),
+        ] {
+            let e = parse_optimizer_file("x.es.xml", &base.replace(good, bad)).unwrap_err();
+            assert!(e.to_string().starts_with("x.es.xml:"), "{bad}: {e}");
         }
     }
 }

@@ -5,7 +5,7 @@ use crate::config::error::{ConfigResult, ErrorKind};
 use crate::config::fitness::Fitness;
 use crate::config::optimizer::genome::read_genomes;
 use crate::config::optimizer::{
-    Algorithm, CmaSettings, DEFAULT_CMA_SIGMA, DescriptorSpec, GaSettings, GdSettings,
+    Algorithm, CmaSettings, DEFAULT_CMA_SIGMA, DescriptorSpec, EsSettings, GaSettings, GdSettings,
     MapElitesSettings, Measured, OptimizerFile, Quantity, RegisteredParameter,
 };
 use crate::config::robustness::read_robustness;
@@ -173,6 +173,11 @@ fn read_algorithm(r: &Reader, root: &Element, props: &Element) -> ConfigResult<A
         allowed.extend(common);
         r.only_children(props, &allowed)?;
         Algorithm::CmaEs(read_cma(r, props)?)
+    } else if root.is("evolutionstrategy") {
+        let mut allowed = vec!["popsize", "sigma", "learningrate", "weightdecay"];
+        allowed.extend(common);
+        r.only_children(props, &allowed)?;
+        Algorithm::Es(read_es(r, props)?)
     } else if root.is("mapelites") {
         let mut allowed = vec!["initialsamples", "batch", "mutation", "descriptor"];
         allowed.extend(common);
@@ -183,7 +188,7 @@ fn read_algorithm(r: &Reader, root: &Element, props: &Element) -> ConfigResult<A
             root.pos,
             ErrorKind::UnknownElement,
             format!(
-                "an optimizer file starts with <geneticAlgorithm>, <greatDeluge>, <cmaEvolutionStrategy> or <mapElites>, not <{}>",
+                "an optimizer file starts with <geneticAlgorithm>, <greatDeluge>, <cmaEvolutionStrategy>, <evolutionStrategy> or <mapElites>, not <{}>",
                 root.name
             ),
         ));
@@ -296,6 +301,38 @@ fn measured_range(r: &Reader, d: &Element) -> ConfigResult<[f64; 2]> {
         ));
     }
     Ok(range)
+}
+
+/// OpenAI-ES's properties, with their defaults.
+fn read_es(r: &Reader, props: &Element) -> ConfigResult<EsSettings> {
+    let mut es = EsSettings::default();
+    if let Some(el) = r.at_most_one(props, "popsize")? {
+        es.popsize = r.u32(el)?;
+        if es.popsize < 2 || es.popsize % 2 == 1 {
+            return Err(r.err(
+                el.pos,
+                ErrorKind::InvalidValue,
+                "popsize must be an even number of at least 2 (antithetic pairs)",
+            ));
+        }
+    }
+    let fraction = |name: &str, default: f64| -> ConfigResult<f64> {
+        match r.at_most_one(props, name)? {
+            Some(el) if r.f64(el)? <= 0.0 => Err(r.err(
+                el.pos,
+                ErrorKind::InvalidValue,
+                format!("{name} must be > 0 (a fraction of each gene's range)"),
+            )),
+            Some(el) => r.f64_in(el, 0.0, 1.0),
+            None => Ok(default),
+        }
+    };
+    es.sigma = fraction("sigma", es.sigma)?;
+    es.learning_rate = fraction("learningrate", es.learning_rate)?;
+    if let Some(el) = r.at_most_one(props, "weightdecay")? {
+        es.weight_decay = r.f64_in(el, 0.0, 1.0)?;
+    }
+    Ok(es)
 }
 
 /// CMA-ES's properties, with their defaults.

@@ -14,6 +14,7 @@ pub fn write_optimizer_file(o: &OptimizerFile) -> String {
         Algorithm::GreatDeluge(_) => "greatDeluge",
         Algorithm::CmaEs(_) => "cmaEvolutionStrategy",
         Algorithm::MapElites(_) => "mapElites",
+        Algorithm::Es(_) => "evolutionStrategy",
     };
     w.open(root, &[]);
     w.open("properties", &[]);
@@ -100,6 +101,12 @@ fn write_algorithm(w: &mut XmlWriter, algorithm: &Algorithm) {
             w.num("initialWaterLevel", g.initial_water_level);
             w.num("rain", g.rain);
             w.leaf("confidence", &g.confidence.to_string());
+        }
+        Algorithm::Es(e) => {
+            w.leaf("popsize", &e.popsize.to_string());
+            w.num("sigma", e.sigma);
+            w.num("learningRate", e.learning_rate);
+            w.num("weightDecay", e.weight_decay);
         }
         Algorithm::CmaEs(c) => {
             w.leaf("popsize", &c.popsize.to_string());

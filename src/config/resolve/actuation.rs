@@ -31,8 +31,18 @@ pub struct ModuleInstance {
     /// Values from the file; parameters not listed keep their defaults.
     pub params: Vec<ParamAssignment>,
     /// The weights file of a module that runs a network, found relative to the actuation
-    /// file (read when the kernel is built).
-    pub weights: Option<PathBuf>,
+    /// file and read with the configuration (parsed when the kernel is built).
+    pub weights: Option<WeightsFile>,
+}
+
+/// A weights file's path and bytes, read with the configuration (so a run's stored files
+/// carry it to workers on other hosts).
+#[derive(Debug, Clone, PartialEq)]
+pub struct WeightsFile {
+    /// Where it was read.
+    pub path: PathBuf,
+    /// Its bytes (a safetensors file, parsed by `crate::control::policy`).
+    pub bytes: std::sync::Arc<[u8]>,
 }
 
 /// The resolved actuation file.
@@ -170,7 +180,20 @@ pub fn resolve_actuation(
             });
         }
         let weights = match &m.weights {
-            Some((file, pos)) => Some(find_file(src, path, file, *pos, "weights")?),
+            Some((file, pos)) => {
+                let found = find_file(src, path, file, *pos, "weights")?;
+                let bytes = src.read_bytes(&found).map_err(|e| {
+                    r.err(
+                        *pos,
+                        ErrorKind::MissingFile,
+                        format!("weights file {}: {e}", found.display()),
+                    )
+                })?;
+                Some(WeightsFile {
+                    path: found,
+                    bytes: bytes.into(),
+                })
+            }
             None => None,
         };
         modules.push(ModuleInstance {

@@ -20,7 +20,7 @@ use crate::config::robot::{RobotFile, parse_robot_file};
 use crate::config::simulation::{Mode, SimulationFile, parse_simulation_file};
 use crate::config::source::{FileSource, normalize};
 
-pub use actuation::{ActuationModel, ModuleInstance, ParamAssignment};
+pub use actuation::{ActuationModel, ModuleInstance, ParamAssignment, WeightsFile};
 pub use environment::{EnvBody, EnvironmentModel};
 pub use optimizer::{OptimizedParameter, OptimizerModel};
 pub use robot::{
@@ -226,6 +226,7 @@ fn load_optimizer(
         Mode::GreatDeluge => Some("modified great deluge"),
         Mode::CmaEs => Some("CMA-ES"),
         Mode::MapElites => Some("MAP-Elites"),
+        Mode::EvolutionStrategy => Some("OpenAI-ES"),
         _ => None,
     };
     if let Some(expected) = expected

@@ -6,7 +6,9 @@
 use std::path::{Path, PathBuf};
 
 use crate::config::error::{ConfigResult, ErrorKind};
-use crate::config::module_types::{ModuleDescriptor, ModuleTypes, ParamDescriptor};
+use crate::config::module_types::{
+    ModuleDescriptor, ModuleTypes, NETWORK_WEIGHTS, ParamDescriptor,
+};
 use crate::config::optimizer::{GenomeConfig, OptimizerFile, allele_count};
 use crate::config::resolve::actuation::{
     ActuationModel, ModuleInstance, lookup_module, lookup_parameter,
@@ -25,10 +27,15 @@ pub struct OptimizedParameter {
     pub parameter: ParamDescriptor,
     /// Its genome configuration.
     pub genome: GenomeConfig,
-    /// Number of genes: 1 when uniform, else one per active joint.
+    /// Number of genes: 1 when uniform, else one per active joint; for a network's
+    /// weights ([`OptimizedParameter::network`]) 0 here: one per weight, counted when the
+    /// weights file is read (`crate::optimize::SearchSpace`).
     pub genes: usize,
-    /// Allowed values per gene.
+    /// Allowed values per gene (for a network's weights, of every weight).
     pub alleles: Vec<u64>,
+    /// Whether this is the weights of the module's network (the pseudo-parameter
+    /// `Weights`).
+    pub network: bool,
 }
 
 /// The resolved optimizer file.
@@ -87,7 +94,22 @@ pub fn resolve_optimizer(
                 ),
             ));
         }
-        let param = lookup_parameter(&r, descriptor, &p.parameter, p.pos)?;
+        let network = descriptor.network && NETWORK_WEIGHTS.answers_to(&p.parameter);
+        let param = if network {
+            if !instances.iter().any(|m| m.weights.is_some()) {
+                return Err(r.err(
+                    p.pos,
+                    ErrorKind::Missing,
+                    format!(
+                        "parameter {} searches the weights of module {}, but the actuation file gives it no weights file (weights=\"...\"; `proleg policy init` writes one)",
+                        p.number, descriptor.type_name
+                    ),
+                ));
+            }
+            &NETWORK_WEIGHTS
+        } else {
+            lookup_parameter(&r, descriptor, &p.parameter, p.pos)?
+        };
         // parse_optimizer_file guarantees one genomeConfig per registered parameter.
         let Some(genome) = file.genome.iter().find(|g| g.number == p.number) else {
             return Err(r.err(
@@ -96,15 +118,20 @@ pub fn resolve_optimizer(
                 format!("parameter {} has no genomeConfig", p.number),
             ));
         };
-        check_active_joints(&r, genome, robot, &instances, descriptor)?;
-        let genes = if genome.uniform {
-            1
+        let (genes, alleles) = if network {
+            (0, vec![alleles_of(&r, genome, param, 0)?])
         } else {
-            genome.active_joints.count()
+            check_active_joints(&r, genome, robot, &instances, descriptor)?;
+            let genes = if genome.uniform {
+                1
+            } else {
+                genome.active_joints.count()
+            };
+            let alleles = (0..genes)
+                .map(|i| alleles_of(&r, genome, param, i))
+                .collect::<ConfigResult<Vec<u64>>>()?;
+            (genes, alleles)
         };
-        let alleles = (0..genes)
-            .map(|i| alleles_of(&r, genome, param, i))
-            .collect::<ConfigResult<Vec<u64>>>()?;
         parameters.push(OptimizedParameter {
             number: p.number,
             module: descriptor.type_name,
@@ -112,6 +139,7 @@ pub fn resolve_optimizer(
             genome: genome.clone(),
             genes,
             alleles,
+            network,
         });
     }
     Ok(OptimizerModel {

@@ -126,6 +126,7 @@ pub fn descriptor() -> ModuleDescriptor {
         parameters: PARAMETERS,
         series: &["desired_angle", "stuck"],
         sensing: true,
+        network: false,
     }
 }
 

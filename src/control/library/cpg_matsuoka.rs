@@ -81,6 +81,7 @@ pub fn descriptor() -> ModuleDescriptor {
         parameters: PARAMETERS,
         series: SERIES,
         sensing: false,
+        network: false,
     }
 }
 

@@ -22,6 +22,7 @@ pub fn descriptor() -> ModuleDescriptor {
         parameters: PARAMETERS,
         series: &["desired_angle"],
         sensing: false,
+        network: false,
     }
 }
 

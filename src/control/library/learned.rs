@@ -89,6 +89,7 @@ pub fn descriptor() -> ModuleDescriptor {
         parameters: PARAMETERS,
         series: &["Action"],
         sensing: true,
+        network: true,
     }
 }
 

@@ -34,6 +34,7 @@ pub fn descriptor() -> ModuleDescriptor {
         parameters: PARAMETERS,
         series: &["Angle", "Phase", "Frequency", "Phase_Difference"],
         sensing: false,
+        network: false,
     }
 }
 
