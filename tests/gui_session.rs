@@ -203,3 +203,87 @@ fn a_robot_that_falls_off_the_world_pauses_the_run() {
     assert!((-3.0..-1.0).contains(&z), "centre of mass at z {z}");
     assert!(num(&s, "sim_time") < 2.0, "{}", num(&s, "sim_time"));
 }
+
+#[test]
+fn a_policy_s_weights_file_loads_into_the_running_window_and_drives_the_robot() {
+    // The demo's sine with a Policy module (output 0 from its start file); the window's
+    // `weights` command (the assignment form's Load) gives it a network that bends the
+    // joints, and the robot goes elsewhere; a file that is no network is an error naming
+    // it (in the form; a script stops there).
+    use proleg::control::policy::{Activation, Layer, PolicyNet};
+    let dir = scratch("policy_weights");
+    let configs = common::root().join("configs");
+    let config = dir.join("policy.simulation.xml");
+    std::fs::write(
+        &config,
+        std::fs::read_to_string(configs.join("demo_policy_es.simulation.xml"))
+            .expect("demo policy")
+            .replace(
+                "robots/snake5p.robot.xml",
+                &configs
+                    .join("robots/snake5p.robot.xml")
+                    .display()
+                    .to_string(),
+            )
+            .replace(
+                "actuation/snake5p_sine40_policy.actuation.xml",
+                &configs
+                    .join("actuation/snake5p_sine40_policy.actuation.xml")
+                    .display()
+                    .to_string(),
+            )
+            .replace(
+                "environments/flat.env.xml",
+                &configs
+                    .join("environments/flat.env.xml")
+                    .display()
+                    .to_string(),
+            )
+            .replace("<optimizer>optimizer/demo_policy.es.xml</optimizer>", "")
+            .replace("Evolution strategy optimization", "Single Run Simulation"),
+    )
+    .expect("simulation");
+    let bent = dir.join("bent.safetensors");
+    let inputs = 18;
+    PolicyNet::new(
+        vec![Layer {
+            weight: vec![0.0; 5 * inputs],
+            bias: vec![0.8, -0.8, 0.8, -0.8, 0.8],
+        }],
+        Activation::Tanh,
+    )
+    .expect("net")
+    .write(&bent)
+    .expect("weights");
+    let junk = dir.join("junk.safetensors");
+    std::fs::write(&junk, "no tensors").expect("junk");
+    let (plain, loaded) = (dir.join("plain.txt"), dir.join("loaded.txt"));
+    let script = dir.join("weights.script");
+    std::fs::write(
+        &script,
+        format!(
+            "speed 0\nstep-to 1\nstate {}\nweights 1 {}\nstep-to 1\nstate {}\nweights 1 {}\nquit\n",
+            plain.display(),
+            bent.display(),
+            loaded.display(),
+            junk.display(),
+        ),
+    )
+    .expect("script");
+    let config = config.display().to_string();
+    let (ok, out) = common::window::run(&["gui", &config], &script);
+    assert!(!ok, "the junk file stops the script:\n{out}");
+    let (a, b) = (state(&plain), state(&loaded));
+    assert_eq!(num(&a, "sim_time"), 1.0);
+    assert_eq!(num(&b, "sim_time"), 1.0);
+    assert_ne!(
+        get(&a, "com"),
+        get(&b, "com"),
+        "the network moved the robot"
+    );
+    assert_eq!(get(&b, "module_failures"), "");
+    assert!(
+        out.contains("junk.safetensors"),
+        "the refusal names the file:\n{out}"
+    );
+}

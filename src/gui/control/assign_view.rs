@@ -1,6 +1,7 @@
 //! Assigning a module to joints in the running window: any registered type — standard
 //! or a plugin module compiled a moment ago in the module library — on the joints of a
 //! 0/1 mask. The world is rebuilt with the module added (the files stay as they are).
+//! A `Policy` actuator's weights file is loaded here too (the world is rebuilt with it).
 
 use bevy::prelude::*;
 use bevy_egui::egui;
@@ -15,6 +16,8 @@ pub struct AssignState {
     pub module: String,
     /// The joints it should drive, as a 0/1 mask.
     pub mask: String,
+    /// The weights file to load into a Policy actuator.
+    pub weights: String,
     /// The last assignment's outcome.
     pub message: Option<Result<String, String>>,
 }
@@ -27,6 +30,23 @@ impl AssignState {
             Ok(()) => Ok(format!(
                 "{} drives {} (world rebuilt)",
                 self.module, self.mask
+            )),
+            Err(e) => Err(e.to_string()),
+        });
+        result
+    }
+
+    /// Loads the weights file into actuator `actuator`; the outcome is kept for the form.
+    pub fn load_weights(
+        &mut self,
+        session: &mut SimSession,
+        actuator: usize,
+    ) -> Result<(), GuiError> {
+        let result = session.load_weights(actuator, std::path::Path::new(self.weights.trim()));
+        self.message = Some(match &result {
+            Ok(()) => Ok(format!(
+                "actuator {actuator} runs {} (world rebuilt)",
+                self.weights.trim()
             )),
             Err(e) => Err(e.to_string()),
         });
@@ -68,6 +88,25 @@ pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut AssignState
             let _ = state.assign(session);
         }
     });
+    let policies: Vec<usize> = session
+        .sim
+        .actuation
+        .modules
+        .iter()
+        .enumerate()
+        .filter(|(_, m)| m.descriptor.network)
+        .map(|(i, _)| i)
+        .collect();
+    for i in policies {
+        ui.horizontal(|ui| {
+            ui.label(format!("actuator {i} weights"));
+            ui.add(egui::TextEdit::singleline(&mut state.weights).desired_width(240.0))
+                .on_hover_text("a .safetensors file (proleg policy init, an optimizer's best, Python's proleg.policy)");
+            if ui.button("Load").clicked() {
+                let _ = state.load_weights(session, i);
+            }
+        });
+    }
     match &state.message {
         Some(Ok(m)) => {
             ui.label(m);

@@ -39,6 +39,7 @@
 //! remote-load F.remote.xml | remote-save F.remote.xml
 //! modules open | module-declare ... | module-compile   # see gui::module_editor::script
 //! assign MODULE 10101            # add a module on these joints (rebuilds the world)
+//! weights 1 FILE.safetensors     # actuator 1 (a Policy) runs this network (rebuilds)
 //! robot open|close               # the real-robot tab
 //! robot-connect PORT             # connect to the servos on PORT (e.g. an emulator's pty)
 //! robot-torque on|off | robot-drive on|off | robot-twin on|off | robot-disconnect
@@ -269,6 +270,13 @@ pub enum Command {
         module: String,
         /// Joint mask (`10101`).
         mask: String,
+    },
+    /// `weights ACTUATOR FILE`: a Policy actuator's weights file.
+    Weights {
+        /// The actuator (from 0, in the actuation file's order).
+        actuator: usize,
+        /// The weights file (.safetensors).
+        file: PathBuf,
     },
     /// `robot open|close`: the real-robot tab.
     Robot {

@@ -77,6 +77,7 @@ fn carry_out(
         | C::RobotDisconnect => robot_command(c, session, views),
         C::Module(_)
         | C::Assign { .. }
+        | C::Weights { .. }
         | C::Optimize { .. }
         | C::SaveBest { .. }
         | C::Attach { .. }
@@ -410,6 +411,11 @@ fn tool_command(
             views.assign.module = module;
             views.assign.mask = mask;
             views.assign.assign(session)?;
+            Flow::Next
+        }
+        Command::Weights { actuator, file } => {
+            views.assign.weights = file.display().to_string();
+            views.assign.load_weights(session, actuator)?;
             Flow::Next
         }
         Command::Attach {

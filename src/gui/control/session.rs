@@ -333,6 +333,32 @@ impl SimSession {
         Ok(())
     }
 
+    /// Gives actuator `actuator` (a `Policy`) the network of weights file `file` and
+    /// rebuilds the world (paused at 0). The configuration files are not changed.
+    pub fn load_weights(&mut self, actuator: usize, file: &Path) -> Result<(), GuiError> {
+        let bytes = std::fs::read(file).map_err(|source| GuiError::Io {
+            path: file.to_path_buf(),
+            source,
+        })?;
+        let mut sim = self.sim.clone();
+        let count = sim.actuation.modules.len();
+        let module = sim.actuation.modules.get_mut(actuator).ok_or(
+            crate::control::kernel::KernelError::NoSuchActuator {
+                index: actuator,
+                count,
+            },
+        )?;
+        module.weights = Some(crate::config::resolve::WeightsFile {
+            path: file.to_path_buf(),
+            bytes: bytes.into(),
+        });
+        let (simulator, kernel) =
+            build(&sim, self.step_width, self.replay.as_ref(), &self.registry)?;
+        self.sim = sim;
+        self.install(simulator, kernel);
+        Ok(())
+    }
+
     /// Simulated seconds so far.
     pub fn sim_time(&self) -> f64 {
         self.simulator.clock().time()
