@@ -2,6 +2,8 @@
 forward pass (the policy module's), matching a numpy network within float32 rounding; the
 file is a plain safetensors file both ways; bad networks and files raise."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from safetensors.numpy import load_file, save_file
@@ -137,3 +139,46 @@ def test_torch_modules_become_the_network_and_odd_ones_raise(tmp_path):
         torch_layers([Linear(w0, b0), Dropout(), Linear(w1, b1)])
     with pytest.raises(ValueError, match="without bias"):
         torch_layers([Linear(w0, None)])
+
+
+def test_a_network_saved_from_python_runs_in_proleg_as_it_ran_in_the_environment(
+    tmp_path, demo, engine
+):
+    """The Policy module in an actuation file, reading the weights Python wrote, writes
+    the observation the residual environment gives and scales its outputs as the
+    environment scales actions (22.5 deg: a quarter of the snake's 90 deg half range):
+    driven by proleg alone, the robot ends where the environment driven by Python ended."""
+    env = proleg.ProlegEnv(demo, engine=engine, mode="residual", duration=0.6)
+    obs, _ = env.reset(seed=4)
+    rng = np.random.default_rng(11)
+    layers = _layers(rng, [obs.shape[0], 16, 5])
+    mean, std = rng.normal(0, 0.1, obs.shape[0]), np.full(obs.shape[0], 1.5)
+    weights = tmp_path / "trained.safetensors"
+    save_policy(weights, layers, "tanh", mean, std)
+    net = load_policy(weights)  # the file's float32 values, as the module reads them
+    truncated = False
+    while not truncated:
+        action = net.forward(obs[None, :])[0]
+        obs, _, terminated, truncated, _ = env.step(action)
+        assert not terminated
+    through_env = env._env.com()
+    root = Path(demo).parent
+    (tmp_path / "policy.actuation.xml").write_text(
+        (root / "actuation/snake5p_sine40.actuation.xml")
+        .read_text()
+        .replace(
+            "</actuation>",
+            f'  <actuationModule name="Policy" weights="{weights}">\n'
+            '    <jointConfiguration joints="11111"/>\n'
+            "  </actuationModule>\n</actuation>",
+        )
+    )
+    text = (root / "demo.simulation.xml").read_text()
+    for part in ("robots/snake5p.robot.xml", "environments/flat.env.xml"):
+        text = text.replace(part, str(root / part))
+    text = text.replace("actuation/snake5p_sine40.actuation.xml", "policy.actuation.xml")
+    (tmp_path / "policy.simulation.xml").write_text(text)
+    sim = proleg.load(tmp_path / "policy.simulation.xml", engine=engine, seed=4)
+    sim.run(0.6)
+    assert np.max(np.abs(sim.com() - through_env)) < 1e-9
+    assert np.linalg.norm(sim.com()[:2] - proleg.load(demo, engine=engine, seed=4).com()[:2]) > 1e-3
