@@ -317,3 +317,65 @@ fn servo_maps_are_checked_against_the_robot() {
         assert!(e.contains("r.robot.xml:") && e.contains(needle), "{e}");
     }
 }
+
+#[test]
+fn a_policy_module_drives_the_emulated_servos_with_the_real_robot_s_senses() {
+    // The demo sine plus a Policy whose network reads the 18 inputs a real robot gives
+    // (angles and speeds from the servos' readings, gravity and velocity zero, the sine's
+    // phase): it runs (no failure, which would output 0) and its offsets reach the servos.
+    use proleg::config::actuation::ParamValue;
+    use proleg::config::resolve::{ModuleInstance, ParamAssignment, WeightsFile};
+    use proleg::control::policy::{Activation, Layer, PolicyNet};
+    let mut sim = sim();
+    let weights = common::scratch("real-mode-policy").join("offsets.safetensors");
+    let bias = [0.5, -0.5, 0.25, -0.25, 0.5];
+    PolicyNet::new(
+        vec![Layer {
+            weight: vec![0.0; 5 * 18],
+            bias: bias.to_vec(),
+        }],
+        Activation::Tanh,
+    )
+    .unwrap()
+    .write(&weights)
+    .unwrap();
+    let registry = ModuleRegistry::standard();
+    sim.actuation.modules.push(ModuleInstance {
+        descriptor: registry.get("Policy").unwrap().clone(),
+        joints: proleg::config::mask::JointMask(vec![true; 5]),
+        params: vec![ParamAssignment {
+            name: "Amplitude",
+            value: ParamValue::Uniform(20.0),
+        }],
+        weights: Some(WeightsFile {
+            path: weights.clone(),
+            bytes: std::fs::read(&weights).unwrap().into(),
+        }),
+    });
+    let bus = EmulatedBus::start(&[1, 2, 3, 4, 5], 600.0).unwrap();
+    let mut robot = chain(&bus, &sim);
+    let stop = AtomicBool::new(false);
+    let s = run(&sim, &registry, &mut robot, &options(0.5), None, &stop).unwrap();
+    assert_eq!(s.error, None);
+    // The goals are the sine's of the last step plus each joint's 20 deg x bias (the
+    // network's weights are zero: its output is its bias whatever it reads).
+    let mut sine = kernel_for(
+        &load_simulation(common::root().join(CONFIG)).unwrap(),
+        1,
+        &registry,
+    )
+    .unwrap();
+    let dt = sim.files.simulation.properties.step_width;
+    let mut last = Vec::new();
+    for step in 0..500u64 {
+        last = sine.compute(step as f64 * dt, dt, step, &[0.0; 5]).to_vec();
+    }
+    for ((servo, angle), b) in bus.servos().iter().zip(&last).zip(bias) {
+        assert_eq!(
+            servo.goal(),
+            position_raw(angle + 20.0 * b),
+            "servo {}",
+            servo.id
+        );
+    }
+}
