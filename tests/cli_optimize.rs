@@ -14,6 +14,15 @@ fn result_lines(out: &str) -> Vec<String> {
         .collect()
 }
 
+/// The first number on the line of `out` that starts with `prefix`.
+fn number_after(out: &str, prefix: &str) -> f64 {
+    out.lines()
+        .find_map(|l| l.strip_prefix(prefix))
+        .and_then(|l| l.split_whitespace().next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no {prefix:?} in {out}"))
+}
+
 #[test]
 fn a_killed_run_resumes_to_the_same_best() {
     let dir = common::scratch("cli_optimize");
@@ -121,12 +130,7 @@ fn a_killed_cma_es_run_resumes_to_the_same_best_and_improves_on_its_start() {
     // The start alone, then 6 generations of 10.
     assert!(full.contains("61 evaluations in 7 rounds"), "{full}");
     let expected = result_lines(&full);
-    let start: f64 = full
-        .lines()
-        .find_map(|l| l.strip_prefix("start score "))
-        .and_then(|l| l.split_whitespace().next())
-        .and_then(|v| v.parse().ok())
-        .unwrap_or_else(|| panic!("no start score in {full}"));
+    let start = number_after(&full, "start score ");
     let best: f64 = expected[0]
         .split_whitespace()
         .nth(2)
@@ -296,18 +300,8 @@ fn a_killed_es_run_resumes_to_the_same_weights_and_improves_on_its_start() {
     let (ok, full, err) = run(&[], "whole");
     assert!(ok, "{err}");
     assert!(full.contains("49 evaluations in 4 rounds"), "{full}");
-    let start: f64 = full
-        .lines()
-        .find_map(|l| l.strip_prefix("start score "))
-        .and_then(|l| l.split_whitespace().next())
-        .and_then(|v| v.parse().ok())
-        .unwrap_or_else(|| panic!("no start score in {full}"));
-    let best: f64 = full
-        .lines()
-        .find_map(|l| l.strip_prefix("best score "))
-        .and_then(|l| l.split_whitespace().next())
-        .and_then(|v| v.parse().ok())
-        .unwrap_or_else(|| panic!("no best score in {full}"));
+    let start = number_after(&full, "start score ");
+    let best = number_after(&full, "best score ");
     assert!(
         best > start,
         "the strategy improved on its start: {start} -> {best}"

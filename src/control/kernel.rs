@@ -254,12 +254,16 @@ impl ControlKernel {
         index: usize,
         file: &std::path::Path,
     ) -> Result<(), KernelError> {
-        let count = self.actuators.len();
-        let a = self
-            .actuators
-            .get_mut(index)
-            .ok_or(KernelError::NoSuchActuator { index, count })?;
+        let a = self.actuator_mut(index)?;
         load_network(a.module.as_mut(), file)
+    }
+
+    /// Actuator `index`, to change.
+    fn actuator_mut(&mut self, index: usize) -> Result<&mut Actuator, KernelError> {
+        let count = self.actuators.len();
+        self.actuators
+            .get_mut(index)
+            .ok_or(KernelError::NoSuchActuator { index, count })
     }
 
     /// Sets the flat parameters (see [`PolicyNet::parameters`]) of actuator `index`'s
@@ -269,11 +273,7 @@ impl ControlKernel {
         index: usize,
         values: &[f64],
     ) -> Result<(), KernelError> {
-        let count = self.actuators.len();
-        let a = self
-            .actuators
-            .get_mut(index)
-            .ok_or(KernelError::NoSuchActuator { index, count })?;
+        let a = self.actuator_mut(index)?;
         let module = a.module.descriptor().type_name;
         let mut net = a
             .module
