@@ -258,13 +258,6 @@ impl ControlKernel {
         load_network(a.module.as_mut(), file)
     }
 
-    /// Actuator `index`, to change.
-    fn actuator_mut(&mut self, index: usize) -> Result<&mut Actuator, KernelError> {
-        let count = self.actuators.len();
-        self.actuators
-            .get_mut(index)
-            .ok_or(KernelError::NoSuchActuator { index, count })
-    }
 
     /// Sets the flat parameters (see [`PolicyNet::parameters`]) of actuator `index`'s
     /// network.
