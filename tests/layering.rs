@@ -32,7 +32,9 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("interop", &["config", "sim"]),
     (
         "gym",
-        &["config", "control", "measure", "optimize", "rng", "sim"],
+        &[
+            "config", "control", "measure", "optimize", "rng", "sensing", "sim",
+        ],
     ),
     (
         "calibrate",
@@ -59,6 +61,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "bench",
             "interop",
             "calibrate",
+            "gym",
         ],
     ),
 ];

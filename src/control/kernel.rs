@@ -258,7 +258,6 @@ impl ControlKernel {
         load_network(a.module.as_mut(), file)
     }
 
-
     /// Sets the flat parameters (see [`PolicyNet::parameters`]) of actuator `index`'s
     /// network.
     pub fn set_network_parameters(
