@@ -328,9 +328,10 @@ struct ResultsArgs {
     /// descriptors) into this PNG.
     #[arg(long)]
     map: Option<PathBuf>,
-    /// Write a co-design run's evaluation N (or the best) as ordinary configuration
-    /// files (robot, actuation, simulation) into the folder -o names (inside the
-    /// configuration's folder, where its parts and environment are found).
+    /// Write the first run's evaluation N (or the best) as ordinary configuration files
+    /// into the folder -o names: a co-design run's robot, actuation and simulation (inside
+    /// the configuration's folder, where its parts and environment are found), any other
+    /// run's actuation file with its networks' weights files.
     #[arg(long, value_name = "N|best", requires = "out")]
     export_robot: Option<String>,
     /// The folder --export-robot writes.

@@ -315,7 +315,8 @@ fn a_killed_es_run_resumes_to_the_same_weights_and_improves_on_its_start() {
     assert!(ok, "{err}");
     assert_eq!(result_lines(&resumed), result_lines(&full));
     assert_eq!(weights("killed"), weights("whole"));
-    // The best actuation file names its weights file and runs.
+    // The best actuation file names its weights file, and a run of it scores what the
+    // optimizer stored (the weights are written as scored, F64).
     let (ok, shown, err) = proleg(&[
         "policy",
         "show",
@@ -324,5 +325,26 @@ fn a_killed_es_run_resumes_to_the_same_weights_and_improves_on_its_start() {
     assert!(
         ok && shown.contains("18 -> 8 -> 5 (tanh), 197 weights"),
         "{shown}{err}"
+    );
+    let configs = common::root().join("configs");
+    let sim = dir.join("best.simulation.xml");
+    let text = std::fs::read_to_string(configs.join("demo.simulation.xml"))
+        .unwrap()
+        .replace("robots/", &format!("{}/robots/", configs.display()))
+        .replace(
+            "environments/",
+            &format!("{}/environments/", configs.display()),
+        )
+        .replace(
+            "actuation/snake5p_sine40.actuation.xml",
+            dir.join("whole.actuation.xml").to_str().unwrap(),
+        );
+    std::fs::write(&sim, text).unwrap();
+    let (ok, ran, err) = proleg(&["run", sim.to_str().unwrap(), "--duration", "2"]);
+    assert!(ok, "{err}");
+    let displacement = number_after(&ran, "displacement    ");
+    assert!(
+        (displacement - best).abs() < 5e-5,
+        "{displacement} against {best}"
     );
 }

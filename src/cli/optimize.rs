@@ -15,7 +15,6 @@ use crate::config::actuation::write_actuation_file;
 use crate::config::{FsSource, RecordingSource, Simulation, load_simulation_with};
 use crate::control::ModuleRegistry;
 use crate::optimize::fitness::Fitness;
-use crate::optimize::result::actuation_with;
 use crate::optimize::robust::episode_records;
 use crate::optimize::run::{
     Evaluation, Recording, RunChoices, RunOutcome, RunSettings, check_workers, optimize, prepare,
@@ -274,37 +273,15 @@ fn episodes_per_candidate(sim: &Simulation) -> u32 {
 }
 
 /// Writes the best candidate as an actuation file at `path`; the networks whose weights it
-/// searched go to weights files beside it (`NAME.MODULE.safetensors`), which it names.
+/// searched go to weights files beside it (`NAME.MODULE.safetensors`, F64: the weights
+/// scored), which it names.
 fn write_best(
     path: &Path,
     sim: &Simulation,
     (space, registry): (&SearchSpace, &ModuleRegistry),
     best: &[u32],
 ) -> Result<(), CliError> {
-    let mut file = actuation_with(sim, space, best);
-    for (module, net) in crate::optimize::result::networks_with(sim, space, best, registry)? {
-        let name = path.file_name().map_or_else(
-            || "best".to_string(),
-            |n| n.to_string_lossy().trim_end_matches(".xml").to_string(),
-        );
-        let weights = path.with_file_name(format!(
-            "{}.{module}.safetensors",
-            name.trim_end_matches(".actuation")
-        ));
-        net.write(&weights)
-            .map_err(|e| CliError::Policy(Box::new(e)))?;
-        let written = weights
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        for m in file
-            .modules
-            .iter_mut()
-            .filter(|m| crate::config::xml::read::same_name(&m.name, module))
-        {
-            m.weights = Some((written.clone(), crate::config::error::Pos::new(0, 0)));
-        }
-    }
+    let file = crate::optimize::result::write_candidate(path, sim, (space, registry), best)?;
     std::fs::write(path, write_actuation_file(&file)).map_err(CliError::write(path))
 }
 

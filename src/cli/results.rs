@@ -29,8 +29,9 @@ pub struct ResultsOptions {
     pub export: Option<PathBuf>,
     /// Draw the first MAP-Elites run's archive as a heat map into this PNG.
     pub map: Option<PathBuf>,
-    /// Write a co-design evaluation (its number, or `None`: the best) of the first run as
-    /// configuration files into this folder.
+    /// Write an evaluation (its number, or `None`: the best) of the first run as
+    /// configuration files into this folder (a co-design run's body, any other run's
+    /// actuation file).
     pub export_robot: Option<(Option<u64>, PathBuf)>,
 }
 
@@ -47,7 +48,8 @@ pub struct ResultsReport {
     pub archives: Vec<StoredArchive>,
     /// The archive's heat map, if drawn.
     pub map: Option<PathBuf>,
-    /// The exported design's simulation file, if written.
+    /// The exported candidate's main file (a design's simulation file, else the
+    /// actuation file), if written.
     pub exported: Option<PathBuf>,
 }
 
@@ -74,7 +76,7 @@ impl std::fmt::Display for ResultsReport {
             writeln!(f, "archive map written to {}", png.display())?;
         }
         if let Some(sim) = &self.exported {
-            writeln!(f, "design written: {}", sim.display())?;
+            writeln!(f, "candidate written: {}", sim.display())?;
         }
         if let Some(tsv) = &self.export {
             writeln!(f, "evaluations written to {}", tsv.display())?;

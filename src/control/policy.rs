@@ -387,11 +387,22 @@ impl PolicyNet {
     /// Writes the network as a weights file (F32 values, as torch saves them; the
     /// activation in the metadata). Values beyond F32's precision are rounded.
     pub fn write(&self, path: &Path) -> Result<(), PolicyError> {
+        self.write_as(path, Dtype::F32)
+    }
+
+    /// Writes the network with F64 values: exactly the weights it runs (an optimizer's
+    /// best, whose score a run of the file must reproduce).
+    pub fn write_exact(&self, path: &Path) -> Result<(), PolicyError> {
+        self.write_as(path, Dtype::F64)
+    }
+
+    fn write_as(&self, path: &Path, dtype: Dtype) -> Result<(), PolicyError> {
         let mut named: Vec<(String, Vec<usize>, Vec<u8>)> = Vec::new();
         let bytes = |v: &[f64]| -> Vec<u8> {
-            v.iter()
-                .flat_map(|x| (*x as f32).to_le_bytes())
-                .collect::<Vec<u8>>()
+            match dtype {
+                Dtype::F64 => v.iter().flat_map(|x| x.to_le_bytes()).collect(),
+                _ => v.iter().flat_map(|x| (*x as f32).to_le_bytes()).collect(),
+            }
         };
         for (k, l) in self.layers.iter().enumerate() {
             named.push((
@@ -418,7 +429,7 @@ impl PolicyNet {
         let views = named
             .iter()
             .map(|(n, shape, data)| {
-                TensorView::new(Dtype::F32, shape.clone(), data)
+                TensorView::new(dtype, shape.clone(), data)
                     .map(|v| (n.clone(), v))
                     .map_err(|e| format(e.to_string()))
             })

@@ -148,9 +148,11 @@ pub fn plot_map(
     root.present().map_err(|e| draw(&e))
 }
 
-/// Writes evaluation `number` (or, with `None`, the best one) of co-design run `run` as
-/// ordinary configuration files in `dir` (`design.robot.xml`, `design.actuation.xml`,
-/// `design.simulation.xml`), checks that they load, and returns the simulation file.
+/// Writes evaluation `number` (or, with `None`, the best one) of run `run` as ordinary
+/// configuration files in `dir` and returns the main one: for a co-design run its body
+/// (`design.robot.xml`, `design.actuation.xml`, `design.simulation.xml`, checked to load;
+/// the simulation file), for any other run the candidate's actuation file
+/// (`candidate.actuation.xml`, with its networks' weights files beside it).
 pub fn export_design(
     store: &mut Store,
     (run, number): (i64, Option<u64>),
@@ -161,10 +163,7 @@ pub fn export_design(
     let design = crate::optimize::design::Design::of(
         &sim,
         std::sync::Arc::new(crate::config::source::FsSource),
-    )
-    .ok_or(OptimizeError::CoDesign(
-        "the run has no <morphology>: its robot is the configuration's own",
-    ))?;
+    );
     let evaluations = store.evaluations(run)?;
     let chosen = match number {
         Some(n) => evaluations.iter().find(|e| e.number == n),
@@ -187,6 +186,21 @@ pub fn export_design(
         path: dir.to_path_buf(),
         source,
     })?;
+    let Some(design) = design else {
+        let (space, _) = crate::optimize::run::prepare(&sim, registry)?;
+        let path = dir.join("candidate.actuation.xml");
+        let file = crate::optimize::result::write_candidate(
+            &path,
+            &sim,
+            (&space, registry),
+            &chosen.genome,
+        )?;
+        write(
+            &path,
+            &crate::config::actuation::write_actuation_file(&file),
+        )?;
+        return Ok(path);
+    };
     let files = design.files(&chosen.genome, dir);
     for (p, t) in &files {
         write(p, t)?;

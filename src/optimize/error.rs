@@ -65,6 +65,9 @@ pub enum OptimizeError {
         /// The system's error.
         source: std::io::Error,
     },
+    /// A candidate's network that cannot be written.
+    #[error(transparent)]
+    Policy(Box<crate::control::policy::PolicyError>),
     /// The optimizer ended without one evaluation.
     #[error("the optimizer evaluated nothing")]
     NothingEvaluated,

@@ -102,3 +102,41 @@ pub fn networks_with(
         })
         .collect()
 }
+
+/// The actuation file of `genome` for writing at `path`, the networks whose weights it
+/// holds written beside it as `NAME.MODULE.safetensors` (F64, exactly the weights scored)
+/// and named in it.
+pub fn write_candidate(
+    path: &std::path::Path,
+    sim: &Simulation,
+    (space, registry): (&SearchSpace, &ModuleRegistry),
+    genome: &[u32],
+) -> Result<ActuationFile, crate::optimize::error::OptimizeError> {
+    let mut file = actuation_with(sim, space, genome);
+    let name = path.file_name().map_or_else(
+        || "candidate".to_string(),
+        |n| {
+            n.to_string_lossy()
+                .trim_end_matches(".xml")
+                .trim_end_matches(".actuation")
+                .to_string()
+        },
+    );
+    for (module, net) in networks_with(sim, space, genome, registry)? {
+        let weights = path.with_file_name(format!("{name}.{module}.safetensors"));
+        net.write_exact(&weights)
+            .map_err(|e| crate::optimize::error::OptimizeError::Policy(Box::new(e)))?;
+        let written = weights
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        for m in file
+            .modules
+            .iter_mut()
+            .filter(|m| same_name(&m.name, module))
+        {
+            m.weights = Some((written.clone(), Pos::new(0, 0)));
+        }
+    }
+    Ok(file)
+}
