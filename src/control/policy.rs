@@ -5,8 +5,9 @@
 //! `layers.{i}.bias` (`[outputs]`), the observation statistics `obs.mean` and `obs.std`
 //! (`[inputs]`; the network sees `(x - mean) / std`), as F32 or F64, and in its metadata
 //! the hidden layers' `activation` (`tanh`, `relu` or `linear`; the output layer is
-//! linear). [`PolicyNet::forward`] allocates nothing: its buffers are sized when the file
-//! is read.
+//! linear). [`PolicyNet::write`] writes F32 (as torch saves), [`PolicyNet::write_exact`]
+//! F64 (an optimizer's best, to be run exactly as scored). [`PolicyNet::forward`]
+//! allocates nothing: its buffers are sized when the file is read.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
