@@ -93,6 +93,37 @@ pub fn descriptor() -> ModuleDescriptor {
     }
 }
 
+/// Why the module stopped (its [`ActuationModule::failure`] says it in words).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PolicyFailure {
+    /// The network reads another number of inputs than the observation holds.
+    #[error(
+        "the network reads {network} inputs but the observation has {observation} (the robot has {joints} joints, {pads} pads, {beams} laser beams and {generators} generators; the module's switches choose the parts observed)"
+    )]
+    Inputs {
+        /// The network's inputs.
+        network: usize,
+        /// The observation's values.
+        observation: usize,
+        /// Robot joints.
+        joints: usize,
+        /// Tactile pads.
+        pads: usize,
+        /// Laser beams.
+        beams: usize,
+        /// Generators.
+        generators: usize,
+    },
+    /// The network computed a NaN or infinite output.
+    #[error("the network's output {output} is {value}")]
+    NotFinite {
+        /// The output's index.
+        output: usize,
+        /// Its value.
+        value: f64,
+    },
+}
+
 /// The policy module.
 #[derive(Debug, Clone)]
 pub struct Policy {
@@ -152,7 +183,7 @@ impl Policy {
     }
 
     /// One evaluation of the network: the new held action, or why there is none.
-    fn evaluate(&mut self, ctx: &StepContext, period: f64) -> Result<(), String> {
+    fn evaluate(&mut self, ctx: &StepContext, period: f64) -> Result<(), PolicyFailure> {
         let position = ctx.sensors.position;
         let from = self.last_position.replace(position).unwrap_or(position);
         let velocity = heading_velocity(from, position, period, ctx.sensors.heading);
@@ -169,16 +200,14 @@ impl Policy {
             return Ok(());
         };
         if net.inputs() != layout.len() {
-            return Err(format!(
-                "the network reads {} inputs but the observation has {} ({} joints, {} pads, {} laser beams, {} generators, parts {:?})",
-                net.inputs(),
-                layout.len(),
-                layout.joints,
-                layout.pads,
-                layout.beams.iter().sum::<usize>(),
-                layout.phases,
-                layout.parts
-            ));
+            return Err(PolicyFailure::Inputs {
+                network: net.inputs(),
+                observation: layout.len(),
+                joints: layout.joints,
+                pads: layout.pads,
+                beams: layout.beams.iter().sum(),
+                generators: layout.phases,
+            });
         }
         let src = ObsSource {
             angles: ctx.robot_angles,
@@ -197,8 +226,8 @@ impl Policy {
             obs[..sensed].copy_from_slice(&net.obs_mean[..sensed]);
         }
         net.forward(obs, action);
-        if let Some((j, v)) = action.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(format!("the network's output {j} is {v}"));
+        if let Some((output, &value)) = action.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(PolicyFailure::NotFinite { output, value });
         }
         Ok(())
     }
@@ -229,7 +258,7 @@ impl ActuationModule for Policy {
         if self.steps.is_multiple_of(every)
             && let Err(cause) = self.evaluate(ctx, every as f64 * ctx.dt)
         {
-            self.failure = Some(cause);
+            self.failure = Some(cause.to_string());
             self.action.fill(0.0);
         }
         self.steps += 1;

@@ -102,8 +102,11 @@ pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut AssignState
             ui.label(format!("actuator {i} weights"));
             ui.add(egui::TextEdit::singleline(&mut state.weights).desired_width(240.0))
                 .on_hover_text("a .safetensors file (proleg policy init, an optimizer's best, Python's proleg.policy)");
-            if ui.button("Load").clicked() {
-                let _ = state.load_weights(session, i);
+            if ui.button("Load").clicked()
+                && let Err(e) = state.load_weights(session, i)
+            {
+                // The form shows it too.
+                bevy::log::warn!("weights not loaded: {e}");
             }
         });
     }
