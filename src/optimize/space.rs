@@ -188,7 +188,7 @@ impl SearchSpace {
     pub fn encode_kernel(&self, kernel: &ControlKernel) -> Genome {
         let weights: Vec<(&'static str, Vec<f64>)> = self
             .network_modules()
-            .filter_map(|m| network_of(kernel, m).ok().map(|n| (m, n.parameters())))
+            .filter_map(|m| network_in(kernel, m).map(|n| (m, n.parameters())))
             .collect();
         self.genes
             .iter()
@@ -266,15 +266,22 @@ impl SearchSpace {
     }
 }
 
-/// The network of `kernel`'s first module of type `module`.
+/// The network of `kernel`'s first module of type `module`, if it runs one.
+fn network_in<'a>(
+    kernel: &'a ControlKernel,
+    module: &str,
+) -> Option<&'a crate::control::policy::PolicyNet> {
+    kernel
+        .find(module)
+        .and_then(|a| kernel.actuators()[a].module.network())
+}
+
+/// The network of `kernel`'s first module of type `module`, or why there is none.
 fn network_of<'a>(
     kernel: &'a ControlKernel,
     module: &'static str,
 ) -> Result<&'a crate::control::policy::PolicyNet, KernelError> {
-    kernel
-        .find(module)
-        .and_then(|a| kernel.actuators()[a].module.network())
-        .ok_or(KernelError::NoNetwork { module })
+    network_in(kernel, module).ok_or(KernelError::NoNetwork { module })
 }
 
 #[cfg(test)]
