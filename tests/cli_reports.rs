@@ -38,7 +38,7 @@ fn a_run_report_holds_the_motion_and_the_data_file() {
     assert!((r.summary.sim_time - 3.0).abs() < 1e-9);
     assert!(r.summary.displacement > 0.1, "{:?}", r.summary);
     assert_eq!(r.robot, "snake5p");
-    assert!(!r.interrupted && r.failures.is_empty() && !r.real_robot_mode);
+    assert!(r.stopped.is_none() && r.failures.is_empty() && !r.real_robot_mode);
     let (written, rounds) = r.data.clone().unwrap();
     assert_eq!(written, file);
     assert!(rounds >= 1 && file.is_file());
@@ -139,4 +139,49 @@ fn an_optimize_report_counts_evaluations_and_keeps_the_best() {
     assert!(r.outcome.best_score >= start, "{r:?}");
     assert_eq!(r.best_values.len(), r.outcome.best.len());
     assert!(r.per_hour() > 0.0);
+}
+
+#[test]
+fn a_run_ends_where_its_robot_leaves_the_world_and_scores_as_an_evaluation_does() {
+    use proleg::cli::run::RunStop;
+    use proleg::config::simulation::EngineKind;
+    use proleg::optimize::evaluate::Evaluator;
+    use proleg::optimize::fitness::Fitness;
+    use proleg::optimize::space::SearchSpace;
+    use proleg::sim::WorldExit;
+    use proleg::sim::randomize::SensorNoise;
+    let dir = common::scratch("cli_reports_edge");
+    let sim = common::floor_ending_at(&dir, 0.8);
+    let registry = ModuleRegistry::standard();
+    let r = run(
+        &RunRequest {
+            config: sim.file.clone(),
+            ..request(15.0)
+        },
+        &registry,
+    )
+    .unwrap();
+    assert!(
+        matches!(r.stopped, Some(RunStop::Left(WorldExit::Left(_)))),
+        "{:?}",
+        r.stopped
+    );
+    assert!(
+        r.summary.sim_time < 12.0,
+        "it fell off at {} s",
+        r.summary.sim_time
+    );
+    assert!(r.to_string().contains("left the world"), "{r}");
+    // The same step as an optimizer's episode of the same world: the same distance.
+    let along =
+        proleg::measure::distance_along(r.summary.start_com, r.summary.end_com, r.heading.0);
+    let space = SearchSpace::default();
+    let scored = Evaluator::new(&sim, &registry, &space, Fitness::Distance, 15.0, 1)
+        .run_world(
+            &sim,
+            (1, SensorNoise::default(), Some(EngineKind::Rapier)),
+            &[vec![]],
+        )
+        .unwrap()[0];
+    assert_eq!(along, scored);
 }

@@ -262,3 +262,41 @@ fn scores_do_not_depend_on_workers_or_batching() {
         "40 deg crawls farther than 20 deg: {one:?}"
     );
 }
+
+#[test]
+fn an_episode_stops_scoring_when_its_robot_falls_off_the_floor_end() {
+    use proleg::config::simulation::EngineKind;
+    use proleg::sim::randomize::SensorNoise;
+    let dir = common::scratch("floor-end");
+    let mut engines = vec![EngineKind::Rapier];
+    if common::mujoco_here("an_episode_stops_scoring_when_its_robot_falls_off_the_floor_end") {
+        engines.push(EngineKind::Mujoco);
+    }
+    let registry = ModuleRegistry::standard();
+    let score = |sim: &proleg::config::Simulation, engine, seconds| {
+        let space = SearchSpace::default();
+        Evaluator::new(sim, &registry, &space, Fitness::Distance, seconds, 1)
+            .run_world(sim, (1, SensorNoise::default(), Some(engine)), &[vec![]])
+            .unwrap()[0]
+    };
+    let (short, long) = (
+        common::floor_ending_at(&dir, 0.8),
+        common::floor_ending_at(&dir, 20.0),
+    );
+    for engine in engines {
+        // On a long floor the gait goes on: farther at 15 s than at 12 s.
+        let (on_12, on_15) = (score(&long, engine, 12.0), score(&long, engine, 15.0));
+        assert!(
+            on_12 > 0.8 && on_15 > on_12 + 0.1,
+            "{engine:?}: the gait crawls on a long floor: {on_12} m at 12 s, {on_15} m at 15 s"
+        );
+        // Where the floor ends 0.8 m ahead it falls off before 12 s, and its score is
+        // where it left the world, whatever the episode's length.
+        let (off_12, off_15) = (score(&short, engine, 12.0), score(&short, engine, 15.0));
+        assert_eq!(off_12, off_15, "{engine:?}: the score stood once it fell");
+        assert!(
+            off_12 > 0.4 && off_12 < 1.2,
+            "{engine:?}: scored {off_12} m on a floor that ends 0.66 m ahead of its centre"
+        );
+    }
+}

@@ -1,6 +1,8 @@
 //! `proleg run`: one headless run of a simulation file, summarized in a [`RunReport`];
 //! with a data file, every data handler is recorded to a B.8 data file, closed well-formed
-//! also on Ctrl-C and SIGTERM (the run stops at the next chunk of steps).
+//! also on Ctrl-C and SIGTERM (the run stops at the next chunk of steps). A robot that
+//! leaves the world ([`Simulator::world_exit`]) ends the run there, as it ends an
+//! optimizer's episode: the summary is the robot's as it left.
 
 use std::fmt;
 use std::path::PathBuf;
@@ -14,7 +16,7 @@ use crate::config::simulation::Mode;
 use crate::control::{ModuleRegistry, load_simulation_in};
 use crate::sim::datalog::DataSettings;
 use crate::sim::engine::rapier::PhysicsSettings;
-use crate::sim::{BuildOptions, Pacing, RunSummary, Simulator};
+use crate::sim::{BuildOptions, EXIT_CHECK_SECONDS, Pacing, RunSummary, Simulator, WorldExit};
 
 /// What `proleg run` is asked to do (its command-line arguments).
 #[derive(Debug, Clone, PartialEq, clap::Args)]
@@ -77,12 +79,18 @@ pub struct RunReport {
     pub data: Option<(PathBuf, u64)>,
     /// Modules that failed during the run, with the cause.
     pub failures: Vec<(String, String)>,
-    /// A signal stopped the run early.
-    pub interrupted: bool,
+    /// How the run ended before its duration, if it did.
+    pub stopped: Option<RunStop>,
 }
 
-/// Simulated seconds between checks for Ctrl-C / SIGTERM.
-const CHUNK_SECONDS: f64 = 0.5;
+/// Why a run ended before its duration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RunStop {
+    /// Ctrl-C or SIGTERM.
+    Interrupted,
+    /// The robot left the world (or the physics diverged).
+    Left(WorldExit),
+}
 
 /// Loads, runs and summarizes; the error is the message to print.
 pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, CliError> {
@@ -142,7 +150,7 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Cli
     let heading0 = simulator.heading(0)?;
     let start_com = simulator.com(0)?;
     let wall = Instant::now();
-    let interrupted = run_in_chunks(&mut simulator, duration);
+    let stopped = run_in_chunks(&mut simulator, duration, start_com)?;
     let rounds = simulator.finish_data()?;
     let summary = RunSummary::new(
         simulator.clock().step,
@@ -168,29 +176,42 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Cli
                     .collect()
             })
             .unwrap_or_default(),
-        interrupted,
+        stopped,
     })
 }
 
-/// Runs `duration` seconds in chunks, stopping early on Ctrl-C / SIGTERM; returns whether
-/// a signal stopped it.
-fn run_in_chunks(simulator: &mut Simulator, duration: f64) -> bool {
+/// Runs `duration` seconds in chunks of [`EXIT_CHECK_SECONDS`], stopping early on Ctrl-C /
+/// SIGTERM or when the robot leaves the world; says which stopped it.
+fn run_in_chunks(
+    simulator: &mut Simulator,
+    duration: f64,
+    start_com: [f64; 3],
+) -> Result<Option<RunStop>, CliError> {
     let stop = Arc::new(AtomicBool::new(false));
     {
         let stop = stop.clone();
         // Only one handler per process; a second `run` in the same process keeps the first.
         let _ = ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst));
     }
-    let mut done = 0.0;
-    while done < duration - 1e-9 {
+    let dt = simulator.clock().dt;
+    let scenery = simulator.scenery_bounds();
+    let (steps, chunk) = (
+        (duration / dt).round() as u64,
+        (EXIT_CHECK_SECONDS / dt).round().max(1.0) as u64,
+    );
+    let mut done = 0;
+    while done < steps {
         if stop.load(Ordering::SeqCst) {
-            return true;
+            return Ok(Some(RunStop::Interrupted));
         }
-        let chunk = CHUNK_SECONDS.min(duration - done);
-        simulator.run_for(chunk);
-        done += chunk;
+        let k = chunk.min(steps - done);
+        simulator.run_for(k as f64 * dt);
+        done += k;
+        if let Some(exit) = simulator.world_exit(0, scenery, start_com)? {
+            return Ok(Some(RunStop::Left(exit)));
+        }
     }
-    false
+    Ok(None)
 }
 
 impl fmt::Display for RunReport {
@@ -224,11 +245,24 @@ impl fmt::Display for RunReport {
         for (module, cause) in &self.failures {
             writeln!(out, "module failed   {module}: {cause}")?;
         }
-        if self.interrupted {
-            writeln!(
+        match self.stopped {
+            Some(RunStop::Interrupted) => writeln!(
                 out,
                 "interrupted     stopped early by a signal; the data file is closed"
-            )?;
+            )?,
+            Some(RunStop::Left(WorldExit::Left(c))) => writeln!(
+                out,
+                "left the world  at {:.3} s: its centre of mass {} m is off the scenery; \
+                 the run ends there",
+                s.sim_time,
+                f3(c)
+            )?,
+            Some(RunStop::Left(WorldExit::Diverged)) => writeln!(
+                out,
+                "diverged        at {:.3} s: the physics blew up; the run ends there",
+                s.sim_time
+            )?,
+            None => {}
         }
         Ok(())
     }

@@ -2,6 +2,8 @@
 //! Candidates are batched, up to `batch` robots sharing one world (they do not touch each
 //! other), and the batches are spread over `workers` threads. A physics blow-up (a
 //! non-finite or far-flung centre of mass) scores the candidate `-inf` and the run goes on.
+//! A robot that leaves the world (falls off the floor's end) is scored as it was when it
+//! left, as the Python environment ends its episode there.
 //! With robust fitness ([`RobustEpisodes`]) a candidate is scored over its K randomized
 //! episodes, each a world of its own, one candidate per job. With cross-engine scores
 //! (`<engines>` in the optimizer file) every candidate runs on each engine, and its score
@@ -23,7 +25,7 @@ use crate::optimize::fitness::{Episode, Fitness};
 use crate::optimize::robust::RobustEpisodes;
 use crate::optimize::space::{Genome, SearchSpace};
 use crate::sim::randomize::SensorNoise;
-use crate::sim::{BuildOptions, Simulator};
+use crate::sim::{BuildOptions, Simulator, WorldExit};
 
 /// Why an episode could not be run or scored.
 #[derive(Debug, thiserror::Error)]
@@ -409,12 +411,16 @@ impl Evaluator {
         }
         let dt = s.clock().dt;
         let steps = (self.duration / dt).round() as u64;
-        let probes = self.run_probed(&mut s, genomes.len(), steps)?;
+        let (probes, left) = self.run_episode(&mut s, &start, steps)?;
         let time = steps as f64 * dt;
         let mut outcomes = Vec::with_capacity(genomes.len());
         for (i, start) in start.into_iter().enumerate() {
+            let score = match left[i] {
+                Some(score) => score,
+                None => robot_score(&s, i, start, time, self.fitness)?,
+            };
             outcomes.push(Outcome {
-                score: robot_score(&s, i, start, time, self.fitness)?,
+                score,
                 measures: probes
                     .get(i)
                     .map(|p| p.finish(&self.measures))
@@ -424,33 +430,51 @@ impl Evaluator {
         Ok(outcomes)
     }
 
-    /// Runs `steps` steps of `s`; with quantities to measure, in chunks between samples
-    /// of each of its `robots` (none measured: one run of steps, no probes).
-    fn run_probed(
+    /// Runs `steps` steps of `s` in chunks of [`SAMPLE_SECONDS`]; after each chunk a robot
+    /// that left the world ([`Simulator::world_exit`], the environment's and the control
+    /// window's rule) is scored as it is then, and that score stands: a robot falling off
+    /// the floor's end does not go on scoring as it falls. The episode ends early when every
+    /// robot has left. With quantities to measure ([`Evaluator::measures`]), each robot is
+    /// sampled after every chunk.
+    fn run_episode(
         &self,
         s: &mut Simulator,
-        robots: usize,
+        start: &[([f64; 3], f64)],
         steps: u64,
-    ) -> Result<Vec<Probe>, EvalError> {
-        if self.measures.is_empty() {
-            s.run_steps(steps);
-            return Ok(Vec::new());
+    ) -> Result<(Vec<Probe>, Vec<Option<f64>>), EvalError> {
+        let dt = s.clock().dt;
+        let chunk = (SAMPLE_SECONDS / dt).round().max(1.0) as u64;
+        let scenery = s.scenery_bounds();
+        let mut probes = Vec::new();
+        if !self.measures.is_empty() {
+            let samples = steps.div_ceil(chunk) as usize;
+            for i in 0..start.len() {
+                probes.push(Probe::start(s, i, samples)?);
+            }
         }
-        let chunk = (SAMPLE_SECONDS / s.clock().dt).round().max(1.0) as u64;
-        let samples = steps.div_ceil(chunk) as usize;
-        let mut probes = (0..robots)
-            .map(|i| Probe::start(s, i, samples))
-            .collect::<Result<Vec<_>, _>>()?;
+        let mut left: Vec<Option<f64>> = vec![None; start.len()];
         let mut done = 0;
-        while done < steps {
+        while done < steps && left.iter().any(Option::is_none) {
             let k = chunk.min(steps - done);
             s.run_steps(k);
             done += k;
             for p in &mut probes {
                 p.sample(s)?;
             }
+            for (i, score) in left.iter_mut().enumerate() {
+                if score.is_some() {
+                    continue;
+                }
+                *score = match s.world_exit(i, scenery, start[i].0)? {
+                    None => None,
+                    Some(WorldExit::Diverged) => Some(f64::NEG_INFINITY),
+                    Some(WorldExit::Left(_)) => {
+                        Some(robot_score(s, i, start[i], done as f64 * dt, self.fitness)?)
+                    }
+                };
+            }
         }
-        Ok(probes)
+        Ok((probes, left))
     }
 }
 

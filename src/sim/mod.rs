@@ -41,7 +41,7 @@ pub mod tactile;
 pub use driver::{SimDriverPlugin, StepsPerUpdate};
 pub use error::SimError;
 pub use pacing::{Pacer, Pacing};
-pub use runner::{RunSummary, Simulator, WORLD_MARGIN, WorldExit};
+pub use runner::{EXIT_CHECK_SECONDS, RunSummary, Simulator, WORLD_MARGIN, WorldExit};
 pub use schedule::{SimStep, SimSystems};
 pub use spawn::BuildOptions;
 pub use stages::{SimPlugins, StageTimerPlugin, StageTimes};

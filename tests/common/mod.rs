@@ -131,3 +131,53 @@ pub fn optimize(
     a.extend(extra);
     proleg(&a)
 }
+
+/// A simulation of the course-tuned sine (experiment 2) on a flat floor whose far edge is
+/// `edge` m ahead of the origin along the robot's heading (+y): it falls off the end.
+pub fn floor_ending_at(dir: &Path, edge: f64) -> proleg::config::Simulation {
+    let configs = root().join("configs");
+    let env = dir.join(format!("edge{edge}.env.xml"));
+    let half = (edge + 2.0) / 2.0;
+    std::fs::write(
+        &env,
+        format!(
+            r#"<Environment>
+  <KinBody name="floor">
+    <Body type="static">
+      <Translation>0 {} -0.003</Translation>
+      <Geom type="box"><extents>1 {half} 0.003</extents><friction>0.5</friction></Geom>
+    </Body>
+  </KinBody>
+</Environment>
+"#,
+            edge - half
+        ),
+    )
+    .unwrap();
+    let sim = dir.join(format!("edge{edge}.simulation.xml"));
+    std::fs::write(
+        &sim,
+        format!(
+            r#"<simulation>
+  <robot>{}</robot>
+  <actuation>{}</actuation>
+  <environment>{}</environment>
+  <simulationProperties>
+    <mode>Single Run Simulation</mode>
+    <accuracy>30</accuracy>
+    <stepWidth>0.001</stepWidth>
+    <duration>15</duration>
+    <seed>1</seed>
+  </simulationProperties>
+</simulation>
+"#,
+            configs.join("robots/tactile5p.robot.xml").display(),
+            configs
+                .join("actuation/tactile5p_sine_tuned.actuation.xml")
+                .display(),
+            env.display()
+        ),
+    )
+    .unwrap();
+    proleg::control::load_simulation(&sim).unwrap()
+}

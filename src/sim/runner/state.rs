@@ -46,6 +46,10 @@ pub struct PadReading {
 /// (m), and how far beyond the scenery's sides.
 pub const WORLD_MARGIN: (f64, f64) = (1.0, 2.0);
 
+/// Simulated seconds between a headless front's checks of [`Simulator::world_exit`]
+/// (`proleg run`, an optimizer's episode): the same cadence, so both stop at the same step.
+pub const EXIT_CHECK_SECONDS: f64 = 0.05;
+
 /// How a robot left the world ([`Simulator::world_exit`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum WorldExit {
