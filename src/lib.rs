@@ -29,6 +29,7 @@
 //!   emulated bus, the real-robot mode.
 //! - [`rng`]: the seeded random numbers of a run.
 //! - [`sensing`]: sensor readings as modules see them, touch debouncing.
+//! - [`signal`]: one process-wide Ctrl-C / SIGTERM handler handing out stop flags.
 //! - [`sim`]: the simulated world as ECS (rapier physics, servos, the fixed-step pipeline)
 //!   and the headless [`sim::Simulator`].
 //!
@@ -54,4 +55,5 @@ pub mod remote;
 pub mod rng;
 pub mod robot_io;
 pub mod sensing;
+pub mod signal;
 pub mod sim;

@@ -31,6 +31,9 @@ pub enum CliError {
     /// A name that is none of the accepted ones.
     #[error(transparent)]
     Name(#[from] crate::config::error::UnknownName),
+    /// Ctrl-C / SIGTERM cannot be handled.
+    #[error(transparent)]
+    Signal(#[from] crate::signal::SignalError),
     /// The experiment store.
     #[error(transparent)]
     Store(#[from] crate::optimize::store::StoreError),

@@ -3,8 +3,6 @@
 
 use std::fmt;
 use std::path::PathBuf;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::cli::error::CliError;
 use crate::control::{ModuleRegistry, load_simulation_in};
@@ -41,14 +39,6 @@ pub struct RobotOptions {
     pub seed: Option<u64>,
 }
 
-fn stop_flag() -> Arc<AtomicBool> {
-    let stop = Arc::new(AtomicBool::new(false));
-    let s = stop.clone();
-    // Only one handler per process; a second call keeps the first.
-    let _ = ctrlc::set_handler(move || s.store(true, Ordering::SeqCst));
-    stop
-}
-
 /// Runs the real-robot mode and summarizes it.
 pub fn robot(o: &RobotOptions, registry: &ModuleRegistry) -> Result<RobotReport, CliError> {
     if let Some(d) = o.duration
@@ -67,14 +57,21 @@ pub fn robot(o: &RobotOptions, registry: &ModuleRegistry) -> Result<RobotReport,
         sim.robot.servos.clone(),
         &sim.robot.pattern(),
     );
-    let stop = stop_flag();
+    let stop = crate::signal::subscribe()?;
     let opts = RealOptions {
         duration: o.duration,
         read_every: o.read_every,
         every: o.every,
         seed: o.seed.unwrap_or(sim.files.simulation.properties.seed),
     };
-    let summary = run(&sim, registry, &mut chain, &opts, o.data.as_deref(), &stop)?;
+    let summary = run(
+        &sim,
+        registry,
+        &mut chain,
+        &opts,
+        o.data.as_deref(),
+        &stop.flag(),
+    )?;
     let report = RobotReport {
         robot: sim.robot.name.clone(),
         port: o.port.clone(),
@@ -220,10 +217,14 @@ pub fn emulator(o: &EmulatorOptions) -> Result<String, CliError> {
         bus.path().display()
     );
     println!("Ctrl-C stops the emulator");
-    let stop = stop_flag();
-    while !stop.load(Ordering::SeqCst) {
-        std::thread::sleep(std::time::Duration::from_millis(100));
-    }
+    let (tx, rx) = std::sync::mpsc::channel();
+    let _signal = crate::signal::subscribe_with(move || {
+        if tx.send(()).is_err() {
+            // The emulator stopped already.
+        }
+    })?;
+    // Waits for the signal (the sender lives as long as the subscription).
+    rx.recv().unwrap_or(());
     let stats = bus.stats();
     Ok(format!(
         "stopped after {} packets ({} sync writes, {} sync reads)\n",

@@ -6,8 +6,6 @@
 
 use std::fmt;
 use std::path::PathBuf;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use crate::cli::error::CliError;
@@ -187,12 +185,7 @@ fn run_in_chunks(
     duration: f64,
     start_com: [f64; 3],
 ) -> Result<Option<RunStop>, CliError> {
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        // Only one handler per process; a second `run` in the same process keeps the first.
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst));
-    }
+    let stop = crate::signal::subscribe()?;
     let dt = simulator.clock().dt;
     let scenery = simulator.scenery_bounds();
     let (steps, chunk) = (
@@ -201,7 +194,7 @@ fn run_in_chunks(
     );
     let mut done = 0;
     while done < steps {
-        if stop.load(Ordering::SeqCst) {
+        if stop.is_raised() {
             return Ok(Some(RunStop::Interrupted));
         }
         let k = chunk.min(steps - done);

@@ -81,11 +81,9 @@ pub fn run(a: &WorkerArgs, registry: &ModuleRegistry) -> Result<WorkerRun, CliEr
         idle_exit: a.idle_exit.map(|v| seconds("--idle-exit", v)).transpose()?,
         only_run: None,
     };
-    let stop = StopFlag::default();
-    let flag = stop.clone();
-    // Ctrl-C / SIGTERM end the worker after its current episodes (a second handler cannot
-    // be set when the process has one already: then the default applies).
-    let _ = ctrlc::set_handler(move || flag.stop());
+    // Ctrl-C / SIGTERM end the worker after its current episodes.
+    let signal = crate::signal::subscribe()?;
+    let stop = StopFlag(signal.flag());
     let quiet = a.quiet;
     let report = run_pool(&target, registry, &options, &stop, None, &|m| {
         if !quiet {

@@ -15,8 +15,6 @@
 
 use std::path::Path;
 use std::process::Command;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use bevy::prelude::*;
@@ -31,9 +29,10 @@ const IDLE_WAKE: Duration = Duration::from_secs(60);
 #[derive(Resource, Debug, Default, Clone, Copy, PartialEq, Eq)]
 pub struct Busy(pub bool);
 
-/// Raised by the signal handler: the window should close.
-#[derive(Resource, Debug, Default, Clone)]
-struct Terminate(Arc<AtomicBool>);
+/// The window's subscription to Ctrl-C / SIGTERM ([`crate::signal`]): once raised, the
+/// window closes.
+#[derive(Resource, Default)]
+struct Terminate(Option<crate::signal::Subscription>);
 
 /// Reactive rendering, the signal handler and the exit on it.
 pub struct DesktopPlugin;
@@ -98,26 +97,28 @@ pub fn drop_unchanged_modifiers(
     }
 }
 
-/// Installs the SIGTERM / SIGINT handler: raise the flag, wake the event loop.
-fn install_signal_handler(proxy: Option<Res<EventLoopProxyWrapper>>, flag: Res<Terminate>) {
+/// Subscribes to SIGTERM / SIGINT: raise the flag, wake the event loop.
+fn install_signal_handler(
+    proxy: Option<Res<EventLoopProxyWrapper>>,
+    mut terminate: ResMut<Terminate>,
+) {
     let proxy = proxy.map(|p| (**p).clone());
-    let flag = flag.0.clone();
-    let installed = ctrlc::set_handler(move || {
-        flag.store(true, Ordering::SeqCst);
+    let subscribed = crate::signal::subscribe_with(move || {
         if let Some(p) = &proxy
             && p.send_event(WinitUserEvent::WakeUp).is_err()
         {
             // The event loop is gone: the window is closing already.
         }
     });
-    if let Err(e) = installed {
-        warn!("cannot handle SIGTERM and Ctrl+C ({e}); close the window from its title bar");
+    match subscribed {
+        Ok(s) => terminate.0 = Some(s),
+        Err(e) => warn!("{e}; close the window from its title bar"),
     }
 }
 
 /// Closes the window once a signal arrived.
-fn exit_on_signal(flag: Res<Terminate>, mut exit: MessageWriter<AppExit>) {
-    if flag.0.load(Ordering::SeqCst) {
+fn exit_on_signal(terminate: Res<Terminate>, mut exit: MessageWriter<AppExit>) {
+    if terminate.0.as_ref().is_some_and(|s| s.is_raised()) {
         exit.write(AppExit::Success);
     }
 }
