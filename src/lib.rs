@@ -8,6 +8,7 @@
 //! - [`calibrate`]: servo identification from real-robot recordings (`proleg calibrate`).
 //! - [`cli`]: the command line's logic (each `proleg` subcommand as a function returning a
 //!   typed report); `main.rs` only parses and prints.
+//! - [`commands`]: the parsed command line (clap) and its dispatch to [`cli`] or a window.
 //! - [`compose`]: composing configurations without XML — robot builder, behaviour
 //!   groups, environment editor model, the wizard's pages, the expert composition.
 //! - [`config`]: the XML configuration formats (simulation, robot, module parts, sensors,
@@ -40,6 +41,7 @@
 pub mod bench;
 pub mod calibrate;
 pub mod cli;
+pub mod commands;
 pub mod compose;
 pub mod config;
 pub mod control;

@@ -34,6 +34,21 @@ pub enum CliError {
     /// Ctrl-C / SIGTERM cannot be handled.
     #[error(transparent)]
     Signal(#[from] crate::signal::SignalError),
+    /// A URDF that cannot be imported.
+    #[error(transparent)]
+    Import(#[from] crate::cli::interop::ImportError),
+    /// A robot that cannot be run to let it settle.
+    #[error(transparent)]
+    Settle(#[from] crate::cli::interop::SettleError),
+    /// A benchmark that cannot run.
+    #[error(transparent)]
+    Bench(#[from] crate::bench::error::BenchError),
+    /// The stages' timing that cannot run.
+    #[error(transparent)]
+    Stages(#[from] crate::bench::stages::StagesError),
+    /// Physics checks that cannot run.
+    #[error(transparent)]
+    PhysicsCheck(#[from] crate::bench::physics_checks::PhysicsCheckError),
     /// The experiment store.
     #[error(transparent)]
     Store(#[from] crate::optimize::store::StoreError),

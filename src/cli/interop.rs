@@ -67,6 +67,67 @@ pub enum ImportError {
     Run(crate::sim::error::SimError),
 }
 
+/// `proleg import`: a URDF robot into configuration files.
+#[derive(clap::Args, Debug)]
+pub struct ImportArgs {
+    /// The `.urdf` file.
+    pub urdf: PathBuf,
+    /// Output folder (default: imported/NAME).
+    #[arg(short, long)]
+    pub out: Option<PathBuf>,
+    /// Import a robot without any collision geometry (it falls through the floor) with a
+    /// warning instead of refusing it.
+    #[arg(long)]
+    pub allow_no_collision: bool,
+    /// Where package NAME of `package://NAME/...` mesh paths is (repeatable); looked up
+    /// before the URDF's folders and `ROS_PACKAGE_PATH`.
+    #[arg(long = "package-path", value_name = "NAME=DIR", value_parser = crate::interop::urdf::package_arg)]
+    pub package_path: Vec<(String, PathBuf)>,
+}
+
+/// `proleg settle`: whether a robot comes to rest with its joints held.
+#[derive(clap::Args, Debug)]
+pub struct SettleArgs {
+    /// The simulation file (an import's NAME.simulation.xml).
+    pub config: PathBuf,
+    /// Simulated seconds.
+    #[arg(long, default_value_t = 2.0)]
+    pub seconds: f64,
+    /// The physics engine instead of the one the simulation file names (rapier, mujoco).
+    #[arg(long)]
+    pub engine: Option<EngineKind>,
+    /// rapier settings instead of the production ones (key=value,...; as `proleg bench
+    /// --physics`).
+    #[arg(long, default_value = "")]
+    pub physics: String,
+}
+
+/// `proleg import`: the URDF's robot, floor, gait and simulation files in `--out`
+/// (default: imported/NAME).
+pub fn import_command(
+    a: &ImportArgs,
+    registry: &ModuleRegistry,
+) -> Result<ImportReport, ImportError> {
+    let out = a.out.clone().unwrap_or_else(|| default_import_dir(&a.urdf));
+    let opts = ImportOptions {
+        allow_no_collision: a.allow_no_collision,
+        packages: a.package_path.clone(),
+        ..ImportOptions::from_env()
+    };
+    import_with(&a.urdf, &out, &opts, registry)
+}
+
+/// `proleg settle`: the report, or the report as the error ([`CliError::Failed`], exit
+/// status 1) when the robot did not settle.
+pub fn settle_command(a: &SettleArgs, registry: &ModuleRegistry) -> Result<String, CliError> {
+    let r = settle(&a.config, a.seconds, a.engine, &a.physics, registry)?;
+    if r.settled() {
+        Ok(format!("{r}\n"))
+    } else {
+        Err(CliError::Failed(r.to_string()))
+    }
+}
+
 /// Imports `urdf` into `out` and checks the simulation it wrote.
 pub fn import(
     urdf: &Path,

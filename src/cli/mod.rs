@@ -15,7 +15,12 @@
 //! | `proleg import`, `proleg export mjcf` | [`interop`] ([`interop::ImportReport`]) |
 //! | `proleg calibrate` | [`calibrate`] ([`calibrate::CalibrateReport`]) |
 //! | `proleg robot`, `proleg robot-emulator` | [`robot`] ([`robot::RobotReport`]; the emulator: its port) |
+//! | `proleg bench`, `proleg check-physics` | [`bench`] (the figures' text; failed checks: [`error::CliError::Failed`]) |
+//! | `proleg settle` | [`interop`] (the settle report) |
+//! | `proleg policy init / show` | [`policy`] |
+//! | `proleg robustness` | [`robustness`] |
 
+pub mod bench;
 pub mod calibrate;
 pub mod compare;
 pub mod data;
@@ -29,6 +34,9 @@ pub mod robot;
 pub mod robustness;
 pub mod run;
 pub mod worker;
+
+/// The simulation the control window and the benchmarks use when none is given.
+pub const DEMO_CONFIG: &str = "configs/demo.simulation.xml";
 
 /// `WIDTHxHEIGHT` in pixels (image and video sizes of `proleg data plot`, `proleg run
 /// --video`).

@@ -16,6 +16,73 @@ type GroupKey = (String, String);
 /// A run's id and its scores in evaluation order.
 type RunScores = (i64, Vec<f64>);
 
+/// `proleg results`: what the stores hold, drawn and exported.
+#[derive(clap::Args, Debug)]
+pub struct ResultsArgs {
+    /// Stores written by `proleg optimize`: SQLite files or postgres:// URLs (runs of all
+    /// are drawn together).
+    #[arg(required = true)]
+    pub stores: Vec<String>,
+    /// Only these runs (comma-separated ids).
+    #[arg(long, value_delimiter = ',')]
+    pub runs: Vec<i64>,
+    /// Draw the learning curves (best score so far per evaluation) into this PNG.
+    #[arg(long)]
+    pub curve: Option<PathBuf>,
+    /// Write every evaluation as TSV.
+    #[arg(long)]
+    pub export: Option<PathBuf>,
+    /// Draw the first MAP-Elites run's archive (best score per cell of its two
+    /// descriptors) into this PNG.
+    #[arg(long)]
+    pub map: Option<PathBuf>,
+    /// Write the first run's evaluation N (or the best) as ordinary configuration files
+    /// into the folder -o names: a co-design run's robot, actuation and simulation (inside
+    /// the configuration's folder, where its parts and environment are found), any other
+    /// run's actuation file with its networks' weights files.
+    #[arg(long, value_name = "N|best", requires = "out")]
+    pub export_robot: Option<String>,
+    /// The folder --export-robot writes.
+    #[arg(short, long)]
+    pub out: Option<PathBuf>,
+    /// Render a co-design run's best distinct bodies (the first run listed: choose it with
+    /// --runs) off-screen, each replayed with its gait, into this PNG as a captioned grid.
+    #[arg(long)]
+    pub gallery: Option<PathBuf>,
+    /// With --gallery: how many designs.
+    #[arg(long, default_value_t = 6, requires = "gallery")]
+    pub gallery_count: usize,
+    /// With --gallery: each picture's size in pixels, WIDTHxHEIGHT.
+    #[arg(long, default_value = "480x320", value_parser = crate::cli::parse_size, requires = "gallery")]
+    pub gallery_tile: (u32, u32),
+    /// With --gallery: the moment of each design's episode shown (simulated seconds).
+    #[arg(long, default_value_t = 3.0, requires = "gallery")]
+    pub gallery_at: f64,
+}
+
+impl ResultsArgs {
+    /// The options of [`run`] these arguments ask for (the gallery is drawn by a window).
+    pub fn options(&self) -> Result<ResultsOptions, CliError> {
+        let export_robot = match self.export_robot.as_deref() {
+            None => None,
+            Some("best") => Some(None),
+            Some(n) => Some(Some(n.parse().map_err(|_| CliError::Option {
+                option: "--export-robot",
+                value: n.to_string(),
+                want: "give an evaluation number or best",
+            })?)),
+        };
+        Ok(ResultsOptions {
+            stores: self.stores.clone(),
+            runs: self.runs.clone(),
+            curve: self.curve.clone(),
+            export: self.export.clone(),
+            map: self.map.clone(),
+            export_robot: export_robot.map(|n| (n, self.out.clone().unwrap_or_default())),
+        })
+    }
+}
+
 /// Options of `proleg results`.
 pub struct ResultsOptions {
     /// One or more stores (SQLite files or postgres:// URLs); their runs are listed and

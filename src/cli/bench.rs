@@ -1,0 +1,110 @@
+//! `proleg bench` (throughput figures, a module comparison, the accuracy gate, the stages'
+//! shares) and `proleg check-physics` (checks with known answers on each engine).
+
+use std::path::PathBuf;
+
+use crate::bench::physics_checks;
+use crate::cli::DEMO_CONFIG;
+use crate::cli::error::CliError;
+use crate::config::simulation::EngineKind;
+use crate::control::ModuleRegistry;
+
+/// `proleg bench`: throughput figures, a module comparison or the accuracy gate.
+#[derive(clap::Args, Debug)]
+pub struct BenchArgs {
+    /// The reference simulation.
+    #[arg(long, default_value = DEMO_CONFIG)]
+    pub config: PathBuf,
+    /// Simulated seconds per figure.
+    #[arg(long, default_value_t = 30.0)]
+    pub seconds: f64,
+    /// Batch sizes (robots sharing one world) to measure besides 1.
+    #[arg(long, value_delimiter = ',', default_values_t = vec![8, 31])]
+    pub batches: Vec<usize>,
+    /// Instead: compare this module (e.g. the plugin Plugin_sine) with the scenario's
+    /// --reference module it replaces, pipeline and control kernel alone.
+    #[arg(long)]
+    pub module: Option<String>,
+    /// The scenario's module that --module replaces.
+    #[arg(long, default_value = "PatternGenerator_sinusoidal")]
+    pub reference: String,
+    /// Instead: the accuracy gate on this simulation: its displacement, final heading
+    /// and joint tracking error at the production physics settings against a converged
+    /// reference (finer steps, more substeps), for --seconds.
+    #[arg(long, value_name = "CONFIG")]
+    pub convergence: Option<PathBuf>,
+    /// Instead: each stage's share of the step (Sense, Actuate, Kernel, Servo, Physics,
+    /// Record, Clock) on rapier and, where its library is, MuJoCo, for --seconds.
+    #[arg(long, conflicts_with_all = ["module", "convergence"])]
+    pub stages: bool,
+    /// Most refinements the reference ladder may take.
+    #[arg(long, default_value_t = 5)]
+    pub rungs: usize,
+    /// Physics settings to use instead of the robot's production ones, as
+    /// key=value,... (substeps, steps_per_step, length_unit, warmstart_joints,
+    /// contact_recycling, coulomb_friction, pgs_iterations, contact_hz, contact_damping,
+    /// halfspace_floor, multibody_joints).
+    #[arg(long, default_value = "")]
+    pub physics: String,
+    /// The physics engine instead of the one the simulation file names (rapier,
+    /// mujoco); on MuJoCo the figures end with MuJoCo's own rollout of the scenario.
+    #[arg(long)]
+    pub engine: Option<EngineKind>,
+}
+
+/// `proleg check-physics`: the module and the engines checked.
+#[derive(clap::Args, Debug)]
+pub struct CheckPhysicsArgs {
+    /// The simulation whose robot's first link is the module checked.
+    #[arg(long, default_value = DEMO_CONFIG)]
+    pub config: PathBuf,
+    /// Only this engine (default: rapier, and MuJoCo where its library is).
+    #[arg(long)]
+    pub engine: Option<EngineKind>,
+}
+
+/// `proleg bench`: a module against the one it replaces, the accuracy gate, the stages'
+/// shares or the throughput figures, as text.
+pub fn run(a: &BenchArgs, registry: &ModuleRegistry) -> Result<String, CliError> {
+    if a.stages {
+        let report = crate::bench::stages::report(&a.config, a.seconds, registry)?;
+        return Ok(report.to_string());
+    }
+    let figures = match (&a.module, &a.convergence) {
+        (Some(module), _) => {
+            crate::bench::modules::report(&a.config, a.seconds, &a.reference, module, registry)
+        }
+        (None, Some(config)) => crate::bench::convergence::run(
+            config, a.seconds, a.rungs, &a.physics, a.engine, registry,
+        ),
+        (None, None) => {
+            crate::bench::report(&a.config, a.seconds, &a.batches, &a.physics, a.engine)
+        }
+    };
+    Ok(figures?)
+}
+
+/// `proleg check-physics`: the checks on each engine asked for, as one report; a check
+/// that fails makes the report the error ([`CliError::Failed`], exit status 1).
+pub fn check_physics(a: &CheckPhysicsArgs, registry: &ModuleRegistry) -> Result<String, CliError> {
+    let base = crate::control::load_simulation_in(&a.config, registry)?;
+    let engines = match a.engine {
+        Some(e) => vec![e],
+        None if crate::sim::engine::mujoco::library::available() => {
+            vec![EngineKind::Rapier, EngineKind::Mujoco]
+        }
+        None => vec![EngineKind::Rapier],
+    };
+    let mut text = String::new();
+    let mut all_pass = true;
+    for e in engines {
+        let checks = physics_checks::run(&base, e, registry)?;
+        all_pass &= checks.iter().all(|c| c.pass);
+        text.push_str(&physics_checks::report(e, &checks));
+    }
+    if all_pass {
+        Ok(text)
+    } else {
+        Err(CliError::Failed(text))
+    }
+}
