@@ -1,7 +1,8 @@
 //! The command line's logic, as a library: each subcommand of `proleg` is a function here
 //! that takes its parsed options and returns a typed value (a report that prints itself, or
-//! the text to print) or the error message. `main.rs` only parses arguments and prints, so
-//! tests and other front ends (the GUI) call the same functions.
+//! the text to print) or its typed error. [`crate::commands`] dispatches the parsed command
+//! line to them and `main.rs` only prints, so tests and other front ends call the same
+//! functions.
 //!
 //! | command | module |
 //! |---|---|
