@@ -23,7 +23,6 @@ fn record(file: &Path, seconds: f64, round_frames: usize) -> Simulator {
             robots: 1,
             seed: 3,
             record: false,
-            physics: None,
             ..Default::default()
         },
     )

@@ -96,7 +96,6 @@ fn simulator(config: &Path, robots: usize, registry: &ModuleRegistry) -> Simulat
             robots,
             seed: 1,
             record: false,
-            physics: None,
             ..Default::default()
         },
         registry,

@@ -66,7 +66,7 @@ fn d_experiment2_is_within_the_gate() {
 fn the_reference_ladder_refines_the_production_settings() {
     let sim = load_simulation(common::root().join("configs/demo.simulation.xml")).unwrap();
     let production = PhysicsSettings::production_for(&sim);
-    let base = proleg::bench::convergence::reference_base(production);
+    let base = production.reference();
     assert!(base.steps_per_step > production.steps_per_step);
     assert!(base.substeps >= production.substeps);
     assert!(!base.contact_recycling && base.coulomb_friction);

@@ -29,7 +29,6 @@ fn run(config: &str, without_obstacle: bool) -> [f64; 3] {
             robots: 1,
             seed: 1,
             record: false,
-            physics: None,
             ..Default::default()
         },
     )

@@ -19,7 +19,6 @@ fn simulator(sim: &Simulation) -> Simulator {
             robots: 1,
             seed: 1,
             record: true,
-            physics: None,
             ..Default::default()
         },
     )
@@ -185,7 +184,6 @@ fn robots_of_a_batch_are_independent() {
             robots: 3,
             seed: 1,
             record: false,
-            physics: None,
             ..Default::default()
         },
     )

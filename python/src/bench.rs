@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use proleg::bench::pipeline;
 use proleg::control::{ModuleRegistry, load_simulation_in};
 use proleg::interop::mjcf::export_mjcf;
-use proleg::sim::engine::rapier::PhysicsSettings;
+use proleg::sim::engine::EngineSettings;
 use pyo3::prelude::*;
 
 use crate::errors::{config_error, other};
@@ -27,9 +27,9 @@ pub fn pipeline_rate(
     let sim = load_simulation_in(&path, &ModuleRegistry::standard())
         .map_err(|e| config_error(&e))?
         .with_engine(kind);
-    let physics = PhysicsSettings::production_with(&sim, "").map_err(other)?;
+    let settings = EngineSettings::production(&sim, sim.engine());
     let fig = py
-        .detach(|| pipeline(&sim, physics, 1, seconds))
+        .detach(|| pipeline(&sim, settings, 1, seconds))
         .map_err(other)?;
     Ok(fig.robot_steps_per_s())
 }

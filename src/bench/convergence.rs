@@ -18,16 +18,12 @@ use crate::config::simulation::EngineKind;
 use crate::control::ModuleRegistry;
 use crate::measure::ground_distance;
 use crate::sim::engine::EngineSettings;
-use crate::sim::engine::mujoco::MujocoSettings;
-use crate::sim::engine::rapier::PhysicsSettings;
 use crate::sim::{BuildOptions, Simulator};
 
 /// A refinement that changes the displacement by less than this fraction has converged.
 pub const CONVERGED: f64 = 0.01;
 /// The gate: production displacement within this fraction of the converged reference.
 pub const GATE: f64 = 0.05;
-/// Solver substeps of every rung of the reference ladder.
-pub const REFERENCE_SUBSTEPS: usize = 8;
 
 /// What one run of a scenario did.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -71,17 +67,13 @@ pub fn episode(
     seconds: f64,
     registry: &ModuleRegistry,
 ) -> Result<RungOutcome, BenchError> {
-    let mut opts = BuildOptions {
+    let opts = BuildOptions {
         robots: 1,
         seed: sim.files.simulation.properties.seed,
         record: false,
-        engine: Some(settings.kind()),
+        settings: Some(settings),
         ..Default::default()
     };
-    match settings {
-        EngineSettings::Rapier(s) => opts.physics = Some(s),
-        EngineSettings::Mujoco(s) => opts.mujoco = Some(s),
-    }
     let mut s = Simulator::with_registry(sim, &opts, registry)?;
     let steps = (seconds / s.clock().dt).round().max(1.0) as u64;
     let start = s.com(0)?;
@@ -107,38 +99,6 @@ pub fn episode(
         wall,
         seconds: steps as f64 * s.clock().dt,
     })
-}
-
-/// The first rung of the reference ladder for a production setting: on rapier
-/// [`reference_base`], on MuJoCo two steps per simulation step with the elliptic cone and
-/// more solver iterations ([`MujocoSettings::reference`]).
-pub fn reference_of(production: EngineSettings) -> EngineSettings {
-    match production {
-        EngineSettings::Rapier(p) => EngineSettings::Rapier(reference_base(p)),
-        EngineSettings::Mujoco(p) => {
-            EngineSettings::Mujoco(MujocoSettings::reference(2 * p.steps_per_step))
-        }
-    }
-}
-
-/// The first rung of rapier's reference ladder for a production setting: two physics steps
-/// per simulation step, [`REFERENCE_SUBSTEPS`] substeps each, exact friction, fresh
-/// contacts, rapier's widest tolerances (`length_unit` 1 m: speculative contacts from
-/// 2 cm). Only the model (contact stiffness, the floor's shape) is the production's.
-pub fn reference_base(production: PhysicsSettings) -> PhysicsSettings {
-    PhysicsSettings {
-        substeps: REFERENCE_SUBSTEPS.max(production.substeps),
-        steps_per_step: production.steps_per_step * 2,
-        length_unit: 1.0,
-        warmstart_joints: true,
-        contact_recycling: false,
-        coulomb_friction: true,
-        pgs_iterations: production.pgs_iterations.max(1),
-        contact_hz: production.contact_hz,
-        contact_damping: production.contact_damping,
-        halfspace_floor: production.halfspace_floor,
-        multibody_joints: production.multibody_joints,
-    }
 }
 
 /// A production run and its reference ladder.
@@ -183,7 +143,7 @@ pub fn check(
 ) -> Result<Convergence, BenchError> {
     let production_run = episode(sim, production, seconds, registry)?;
     let mut ladder: Vec<RungOutcome> = Vec::new();
-    let mut settings = reference_of(production);
+    let mut settings = production.reference();
     let mut converged = false;
     while ladder.len() < max_rungs.max(2) {
         let run = episode(sim, settings, seconds, registry)?;
@@ -268,20 +228,7 @@ pub fn run(
     registry: &ModuleRegistry,
 ) -> Result<String, BenchError> {
     let sim = crate::control::load_simulation_in(config, registry)?.with_engine(engine);
-    let production = match sim.engine() {
-        EngineKind::Rapier => {
-            EngineSettings::Rapier(PhysicsSettings::production_with(&sim, overrides)?)
-        }
-        EngineKind::Mujoco if overrides.is_empty() => {
-            EngineSettings::Mujoco(MujocoSettings::default())
-        }
-        EngineKind::Mujoco => {
-            return Err(BenchError::PhysicsOnOtherEngine {
-                what: "check",
-                engine: EngineKind::Mujoco,
-            });
-        }
-    };
+    let production = EngineSettings::of(&sim, overrides)?;
     let c = check(
         &config.display().to_string(),
         &sim,

@@ -3,9 +3,8 @@
 use std::path::PathBuf;
 
 use crate::config::ConfigError;
-use crate::config::simulation::EngineKind;
 use crate::sim::SimError;
-use crate::sim::engine::rapier::SettingsError;
+use crate::sim::engine::EngineSettingsError;
 
 /// A benchmark that could not run, or a gate that failed.
 #[derive(Debug, thiserror::Error)]
@@ -16,17 +15,9 @@ pub enum BenchError {
     /// Its world cannot be built or read.
     #[error(transparent)]
     Sim(#[from] SimError),
-    /// A `--physics` override that cannot be applied.
+    /// A `--physics` override that cannot be applied (or is for another engine).
     #[error(transparent)]
-    Settings(#[from] SettingsError),
-    /// `--physics` (rapier's settings) given for a run on another engine.
-    #[error("--physics sets rapier's settings; this {what} is on {engine}")]
-    PhysicsOnOtherEngine {
-        /// "bench" or "check".
-        what: &'static str,
-        /// The engine of the run.
-        engine: EngineKind,
-    },
+    Settings(#[from] EngineSettingsError),
     /// A run whose positions became non-finite.
     #[error("the run with {settings} blew up (non-finite positions)")]
     BlewUp {

@@ -27,7 +27,7 @@ use crate::config::simulation::EngineKind;
 use crate::control::{ModuleRegistry, load_simulation};
 use crate::data::store::DataStore;
 use crate::sim::datalog::DataSettings;
-use crate::sim::engine::rapier::PhysicsSettings;
+use crate::sim::engine::EngineSettings;
 use crate::sim::physics::SimPhysics;
 use crate::sim::{BuildOptions, Simulator};
 
@@ -63,13 +63,13 @@ impl Figure {
     }
 }
 
-/// A world of `robots` copies of `sim`'s robot, modules made by `registry`, physics as
-/// `physics` (`None`: the production settings).
+/// A world of `robots` copies of `sim`'s robot, modules made by `registry`, on the engine
+/// and settings given (`None`: the simulation's engine, production settings).
 pub(crate) fn world_of(
     sim: &Simulation,
     robots: usize,
     registry: &ModuleRegistry,
-    physics: Option<PhysicsSettings>,
+    settings: Option<EngineSettings>,
 ) -> Result<Simulator, BenchError> {
     Ok(Simulator::with_registry(
         sim,
@@ -77,7 +77,8 @@ pub(crate) fn world_of(
             robots,
             seed: 1,
             record: false,
-            physics,
+            engine: Some(sim.engine()),
+            settings,
             ..Default::default()
         },
         registry,
@@ -89,7 +90,7 @@ pub(crate) fn world_of(
 /// time.
 fn best(
     sim: &Simulation,
-    physics: PhysicsSettings,
+    settings: EngineSettings,
     robots: usize,
     seconds: f64,
     label: &str,
@@ -97,7 +98,7 @@ fn best(
 ) -> Result<Figure, BenchError> {
     let mut fastest: Option<Figure> = None;
     for _ in 0..REPEATS {
-        let mut s = world_of(sim, robots, &ModuleRegistry::standard(), Some(physics))?;
+        let mut s = world_of(sim, robots, &ModuleRegistry::standard(), Some(settings))?;
         let dt = s.clock().dt;
         s.run_steps((1.0 / dt).round() as u64);
         let steps = (seconds / dt).round() as u64;
@@ -118,13 +119,13 @@ fn best(
 /// The full pipeline with `robots` robots in one world.
 pub fn pipeline(
     sim: &Simulation,
-    physics: PhysicsSettings,
+    settings: EngineSettings,
     robots: usize,
     seconds: f64,
 ) -> Result<Figure, BenchError> {
     best(
         sim,
-        physics,
+        settings,
         robots,
         seconds,
         &format!("pipeline, {robots} robot(s)/world"),
@@ -141,12 +142,12 @@ pub fn pipeline(
 /// not the same motion as the pipeline's rows.
 pub fn physics_only(
     sim: &Simulation,
-    physics: PhysicsSettings,
+    settings: EngineSettings,
     seconds: f64,
 ) -> Result<Figure, BenchError> {
     best(
         sim,
-        physics,
+        settings,
         1,
         seconds,
         &format!("{} step, motors held, 1 robot", sim.engine()),
@@ -166,14 +167,14 @@ pub fn physics_only(
 /// Returns the figure and the file size in bytes.
 pub fn recording(
     sim: &Simulation,
-    physics: PhysicsSettings,
+    settings: EngineSettings,
     seconds: f64,
 ) -> Result<(Figure, u64), BenchError> {
     let file = std::env::temp_dir().join(format!("proleg-bench-{}.data.xml", std::process::id()));
     let size = std::cell::Cell::new(0);
     let fig = best(
         sim,
-        physics,
+        settings,
         1,
         seconds,
         "pipeline + data file, 1 robot",
@@ -203,7 +204,7 @@ pub fn recording(
 }
 
 /// Every figure, formatted for the terminal; `overrides` change the robot's production
-/// physics settings (`key=value,...`, see [`PhysicsSettings::parse_overrides`]).
+/// physics settings (rapier's `key=value,...`, see [`EngineSettings::of`]).
 pub fn report(
     config: &Path,
     seconds: f64,
@@ -212,19 +213,13 @@ pub fn report(
     engine: Option<EngineKind>,
 ) -> Result<String, BenchError> {
     let sim = load_simulation(config)?.with_engine(engine);
-    if sim.engine() != EngineKind::Rapier && !overrides.is_empty() {
-        return Err(BenchError::PhysicsOnOtherEngine {
-            what: "bench",
-            engine: sim.engine(),
-        });
-    }
-    let physics = PhysicsSettings::production_with(&sim, overrides)?;
-    let raw = physics_only(&sim, physics, seconds)?;
-    let (rec, size) = recording(&sim, physics, seconds)?;
-    let mut figs = vec![pipeline(&sim, physics, 1, seconds)?, rec.clone()];
+    let settings = EngineSettings::of(&sim, overrides)?;
+    let raw = physics_only(&sim, settings, seconds)?;
+    let (rec, size) = recording(&sim, settings, seconds)?;
+    let mut figs = vec![pipeline(&sim, settings, 1, seconds)?, rec.clone()];
     let most = crate::sim::engine::max_robots(sim.engine());
     for b in batches.iter().filter(|b| **b > 1) {
-        figs.push(pipeline(&sim, physics, (*b).min(most), seconds)?);
+        figs.push(pipeline(&sim, settings, (*b).min(most), seconds)?);
     }
     let mut out = String::new();
     let _ = writeln!(
@@ -232,10 +227,10 @@ pub fn report(
         "reference scenario: {}, {seconds} s simulated per figure (best of {REPEATS}), 1 core",
         config.display()
     );
-    let settings = world_of(&sim, 1, &ModuleRegistry::standard(), Some(physics))?
+    let engine_settings = world_of(&sim, 1, &ModuleRegistry::standard(), Some(settings))?
         .engine()
         .settings();
-    let _ = writeln!(out, "physics: {settings}");
+    let _ = writeln!(out, "physics: {engine_settings}");
     let _ = writeln!(
         out,
         "{:<34} {:>16} {:>12} {:>16}",

@@ -13,8 +13,7 @@ use std::process::Command;
 
 use crate::config::Simulation;
 use crate::control::ModuleRegistry;
-use crate::sim::engine::mujoco::MujocoSettings;
-use crate::sim::engine::mujoco::mjcf::{MjcfOptions, Servos, mjcf};
+use crate::sim::engine::mjcf_export;
 
 use super::world_of;
 
@@ -116,12 +115,7 @@ fn rollout_rate(model: &str, controls: &str) -> Result<f64, RolloutError> {
 
 /// The export of `sim` (position servos).
 fn export(sim: &Simulation) -> Result<String, RolloutError> {
-    let opts = MjcfOptions {
-        robots: 1,
-        servos: Servos::Position,
-        settings: MujocoSettings::default(),
-    };
-    mjcf(sim, &opts)
+    mjcf_export(sim)
         .map(|m| m.xml)
         .map_err(|e| RolloutError::Scenario(e.to_string()))
 }

@@ -10,7 +10,6 @@ use bevy::app::PluginGroup;
 
 use crate::config::simulation::EngineKind;
 use crate::control::{ModuleRegistry, load_simulation_in};
-use crate::sim::engine::mujoco::library;
 use crate::sim::{BuildOptions, SimError, SimPlugins, SimSystems, Simulator, StageTimerPlugin};
 
 /// Why the stage figures could not be made.
@@ -67,10 +66,7 @@ pub fn report(
 ) -> Result<StagesReport, StagesError> {
     let sim = load_simulation_in(config, registry)?;
     let mut engines = Vec::new();
-    for engine in [EngineKind::Rapier, EngineKind::Mujoco] {
-        if engine == EngineKind::Mujoco && !library::available() {
-            continue;
-        }
+    for engine in crate::sim::engine::ready_engines() {
         engines.push(time_stages(&sim, engine, seconds, registry)?);
     }
     Ok(StagesReport {

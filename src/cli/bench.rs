@@ -90,10 +90,7 @@ pub fn check_physics(a: &CheckPhysicsArgs, registry: &ModuleRegistry) -> Result<
     let base = crate::control::load_simulation_in(&a.config, registry)?;
     let engines = match a.engine {
         Some(e) => vec![e],
-        None if crate::sim::engine::mujoco::library::available() => {
-            vec![EngineKind::Rapier, EngineKind::Mujoco]
-        }
-        None => vec![EngineKind::Rapier],
+        None => crate::sim::engine::ready_engines(),
     };
     let mut text = String::new();
     let mut all_pass = true;

@@ -69,7 +69,7 @@ pub enum CliError {
     Replay(#[from] crate::optimize::replay::ReplayError),
     /// Physics settings that cannot be used.
     #[error(transparent)]
-    Physics(#[from] crate::sim::engine::rapier::settings::SettingsError),
+    Physics(#[from] crate::sim::engine::EngineSettingsError),
     /// A kernel that cannot be built.
     #[error(transparent)]
     Kernel(#[from] crate::control::kernel::KernelError),

@@ -10,6 +10,7 @@ use crate::config::environment::Articulation;
 use crate::config::simulation::EngineKind;
 use crate::control::{ModuleRegistry, load_simulation_in};
 use crate::interop::urdf::{ImportOptions, UrdfImport, import_urdf_with, set_articulation};
+use crate::sim::engine::EngineSettings;
 use crate::sim::settle::SettleReport;
 
 /// An import and the check of what it wrote.
@@ -370,7 +371,7 @@ pub enum SettleError {
     Config(#[from] crate::config::error::ConfigError),
     /// A `--physics` setting that is not one.
     #[error("--physics: {0}")]
-    Physics(crate::sim::engine::rapier::SettingsError),
+    Physics(crate::sim::engine::EngineSettingsError),
     /// The world could not be built or run.
     #[error(transparent)]
     Sim(#[from] crate::sim::error::SimError),
@@ -388,20 +389,12 @@ pub fn settle(
     if !(seconds > 0.0 && seconds.is_finite()) {
         return Err(SettleError::Seconds(seconds));
     }
-    let sim = load_simulation_in(config, registry)?;
-    let physics = if physics.is_empty() {
-        None
-    } else {
-        Some(
-            crate::sim::engine::rapier::PhysicsSettings::production_with(&sim, physics)
-                .map_err(SettleError::Physics)?,
-        )
-    };
+    let sim = load_simulation_in(config, registry)?.with_engine(engine);
+    let settings = EngineSettings::of(&sim, physics).map_err(SettleError::Physics)?;
     let opts = crate::sim::BuildOptions {
         robots: 1,
         record: false,
-        engine,
-        physics,
+        settings: Some(settings),
         ..Default::default()
     };
     Ok(crate::sim::settle::settle(&sim, seconds, &opts, registry)?)

@@ -13,7 +13,7 @@ use crate::config::simulation::EngineKind;
 use crate::config::simulation::Mode;
 use crate::control::{ModuleRegistry, load_simulation_in};
 use crate::sim::datalog::DataSettings;
-use crate::sim::engine::rapier::PhysicsSettings;
+use crate::sim::engine::EngineSettings;
 use crate::sim::{BuildOptions, EXIT_CHECK_SECONDS, Pacing, RunSummary, Simulator, WorldExit};
 
 /// What `proleg run` is asked to do (its command-line arguments).
@@ -110,19 +110,12 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Cli
         });
     }
     let seed = req.seed.unwrap_or(props.seed);
-    if sim.engine() != EngineKind::Rapier && !req.physics.is_empty() {
-        return Err(CliError::Option {
-            option: "--physics",
-            value: req.physics.clone(),
-            want: "sets rapier's settings; this run is on MuJoCo",
-        });
-    }
-    let physics = PhysicsSettings::production_with(&sim, &req.physics)?;
+    let settings = EngineSettings::of(&sim, &req.physics)?;
     let opts = BuildOptions {
         robots: 1,
         seed,
         record: false,
-        physics: Some(physics),
+        settings: Some(settings),
         ..Default::default()
     };
     let mut simulator = Simulator::with_registry(&sim, &opts, registry)?;

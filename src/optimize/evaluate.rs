@@ -392,9 +392,8 @@ impl Evaluator {
             robots: genomes.len(),
             seed,
             record: false,
-            physics: None,
             engine,
-            mujoco: None,
+            settings: None,
             noise,
         };
         let mut s = Simulator::with_registry(sim, &opts, &self.registry)?;

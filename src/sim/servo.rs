@@ -14,8 +14,6 @@ use crate::sim::physics::SimPhysics;
 /// Default proportional gain (1/s): a 1 Hz, 40° sine is followed within a few degrees.
 pub const DEFAULT_SERVO_GAIN: f64 = 60.0;
 
-pub use crate::sim::engine::rapier::MOTOR_DAMPING;
-
 /// A hinge of a simulated robot and its joint in the physics engine.
 #[derive(Component, Debug, Clone)]
 pub struct SimJoint {

@@ -14,7 +14,7 @@ use crate::rng::SimRng;
 use crate::sensing::{Debounce, SensorData};
 use crate::sim::clock::SimClock;
 use crate::sim::energy::Energy;
-use crate::sim::engine::{self, BodyId, EngineBuild, RobotLayout};
+use crate::sim::engine::{self, BodyId, EngineBuild, EngineSettings, RobotLayout};
 use crate::sim::error::SimError;
 use crate::sim::kernel::Kernel;
 use crate::sim::laser::Laser2dSensor;
@@ -25,8 +25,6 @@ use crate::sim::robot::SimRobot;
 use crate::sim::servo::{DEFAULT_SERVO_GAIN, JointState, Servo, SimJoint, TargetDelay};
 use crate::sim::tactile::{RobotSensors, SimPad};
 
-pub use crate::sim::engine::mujoco::MujocoSettings;
-pub use crate::sim::engine::rapier::PhysicsSettings;
 pub use crate::sim::engine::{DEFAULT_FRICTION, LINK_FRICTION};
 
 /// How to build the world.
@@ -38,13 +36,12 @@ pub struct BuildOptions {
     pub seed: u64,
     /// Record trajectories (off for throughput runs).
     pub record: bool,
-    /// The physics engine instead of the one the simulation file names.
+    /// The physics engine instead of the one the simulation file names (its production
+    /// settings).
     pub engine: Option<EngineKind>,
-    /// rapier's settings instead of the robot's production ones (converged references,
-    /// lever measurements).
-    pub physics: Option<PhysicsSettings>,
-    /// MuJoCo's settings instead of the production ones (converged references).
-    pub mujoco: Option<MujocoSettings>,
+    /// An engine with settings instead of the production ones (`--physics`, converged
+    /// references); it names the engine too, so it wins over `engine`.
+    pub settings: Option<EngineSettings>,
     /// Noise on what modules read (randomized episodes; none by default).
     pub noise: SensorNoise,
 }
@@ -56,8 +53,7 @@ impl Default for BuildOptions {
             seed: 1,
             record: true,
             engine: None,
-            physics: None,
-            mujoco: None,
+            settings: None,
             noise: SensorNoise::default(),
         }
     }
@@ -91,10 +87,22 @@ pub struct SimLink {
 pub struct LoadedSimulation(pub Simulation);
 
 impl BuildOptions {
-    /// The engine these options build `sim` on: the override, else the file's.
+    /// The engine these options build `sim` on: the settings' engine, else the override,
+    /// else the file's.
     pub fn engine_for(&self, sim: &Simulation) -> EngineKind {
-        self.engine
-            .unwrap_or(sim.files.simulation.properties.engine)
+        match self.settings {
+            Some(s) => s.kind(),
+            None => self
+                .engine
+                .unwrap_or(sim.files.simulation.properties.engine),
+        }
+    }
+
+    /// The engine and settings these options build `sim` with: the settings given, else
+    /// [`engine_for`](Self::engine_for)'s production settings.
+    pub fn settings_for(&self, sim: &Simulation) -> EngineSettings {
+        self.settings
+            .unwrap_or_else(|| EngineSettings::production(sim, self.engine_for(sim)))
     }
 }
 
@@ -113,10 +121,8 @@ pub fn build_world(
     let (physics, layout) = engine::build(
         sim,
         &EngineBuild {
-            kind: opts.engine_for(sim),
+            settings: opts.settings_for(sim),
             robots: opts.robots,
-            rapier: opts.physics,
-            mujoco: opts.mujoco,
         },
     )?;
     for (index, body) in layout.environment.iter().enumerate() {

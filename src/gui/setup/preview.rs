@@ -78,7 +78,6 @@ pub fn run_preview(w: &Wizard, seconds: f64) -> Result<PreviewRun, GuiError> {
         robots: 1,
         seed: sim.files.simulation.properties.seed,
         record: false,
-        physics: None,
         ..Default::default()
     };
     let mut s = Simulator::with_registry(&sim, &opts, &w.registry)?;

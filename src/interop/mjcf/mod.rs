@@ -1,6 +1,6 @@
 //! MuJoCo export (`proleg export mjcf`): a loaded simulation as one MJCF document, for a
 //! cross-engine check of a gait or to carry a robot into MuJoCo-based tools. The mapping is
-//! the MuJoCo engine's own ([`crate::sim::engine::mujoco::mjcf`]); an export differs only in
+//! the MuJoCo engine's own ([`crate::sim::engine::mjcf_export`]); an export differs only in
 //! its servos, written as `<position>` actuators that approximate proleg's servo without
 //! proleg's servo stage.
 
@@ -8,8 +8,7 @@ use std::path::Path;
 
 use crate::config::Simulation;
 use crate::interop::{InteropError, write_text};
-use crate::sim::engine::mujoco::mjcf::{MjcfOptions, Servos, mjcf};
-use crate::sim::engine::mujoco::{MujocoSettings, check_mjcf_file};
+use crate::sim::engine::{mjcf_check, mjcf_export};
 
 /// What an export wrote.
 #[derive(Debug, Clone, PartialEq)]
@@ -29,17 +28,9 @@ pub struct MjcfExport {
 /// Writes `sim` as MJCF to `out` and, where MuJoCo's library is installed, loads it there:
 /// a file MuJoCo refuses is an error with MuJoCo's message.
 pub fn export_mjcf(sim: &Simulation, out: &Path) -> Result<MjcfExport, InteropError> {
-    let opts = MjcfOptions {
-        robots: 1,
-        servos: Servos::Position,
-        settings: MujocoSettings::default(),
-    };
-    let doc = mjcf(sim, &opts).map_err(|e| InteropError::new(&sim.file, e.to_string()))?;
+    let doc = mjcf_export(sim).map_err(|e| InteropError::new(&sim.file, e.to_string()))?;
     write_text(out, &doc.xml)?;
-    let loaded_by_mujoco = crate::sim::engine::mujoco::library::available();
-    if loaded_by_mujoco {
-        check_mjcf_file(out).map_err(|e| InteropError::new(out, e.to_string()))?;
-    }
+    let loaded_by_mujoco = mjcf_check(out).map_err(|e| InteropError::new(out, e.to_string()))?;
     Ok(MjcfExport {
         bodies: doc.bodies,
         joints: doc.joints,

@@ -96,7 +96,7 @@ pub fn run_evaluator(
     }
     let sim = stored_simulation(spec, registry)?;
     if scoring_engines(&sim).contains(&EngineKind::Mujoco)
-        && let Err(e) = crate::sim::engine::mujoco::library::library()
+        && let Err(e) = crate::sim::engine::ready(EngineKind::Mujoco)
     {
         return Err(UnevaluableRun::NoMujoco(e.to_string()));
     }

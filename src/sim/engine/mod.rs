@@ -27,6 +27,7 @@ use crate::config::simulation::EngineKind;
 use crate::config::transform::Pose;
 use crate::sim::error::SimError;
 
+pub use mujoco::mjcf::Mjcf;
 pub use pad::PadArea;
 
 /// Most robots one world can hold (one collision group each, besides the environment).
@@ -169,14 +170,10 @@ pub struct Layout {
 /// How to build an engine's world.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EngineBuild {
-    /// Which engine.
-    pub kind: EngineKind,
+    /// The engine and its settings.
+    pub settings: EngineSettings,
     /// Copies of the robot (1 ..= [`MAX_ROBOTS_PER_WORLD`]).
     pub robots: usize,
-    /// rapier's settings (substeps, tolerances), when not the robot's production ones.
-    pub rapier: Option<rapier::PhysicsSettings>,
-    /// MuJoCo's settings (solver, cone, refinement), when not the production ones.
-    pub mujoco: Option<mujoco::MujocoSettings>,
 }
 
 /// The speed (m/s) above which a simulated body has blown up: no robot link moves at 1 km/s.
@@ -249,28 +246,66 @@ impl LaserSpec {
     }
 }
 
+/// Whether engine `kind` can run here: rapier always; MuJoCo when its library loads (why
+/// not, as [`SimError::Mujoco`], otherwise).
+pub fn ready(kind: EngineKind) -> Result<(), SimError> {
+    match kind {
+        EngineKind::Rapier => Ok(()),
+        EngineKind::Mujoco => mujoco::library::library()
+            .map(|_| ())
+            .map_err(SimError::from),
+    }
+}
+
+/// The engines that can run here, rapier first.
+pub fn ready_engines() -> Vec<EngineKind> {
+    EngineKind::ALL
+        .into_iter()
+        .filter(|k| ready(*k).is_ok())
+        .collect()
+}
+
+/// MuJoCo's model of `sim` as an MJCF document for other tools (`proleg export mjcf`, the
+/// rollout baseline): the engine's own mapping of one robot, its servos written as
+/// `<position>` actuators (MuJoCo's engine drives them through proleg's servo stage
+/// instead).
+pub fn mjcf_export(sim: &Simulation) -> Result<Mjcf, SimError> {
+    let opts = mujoco::mjcf::MjcfOptions {
+        robots: 1,
+        servos: mujoco::mjcf::Servos::Position,
+        settings: mujoco::MujocoSettings::default(),
+    };
+    Ok(mujoco::mjcf::mjcf(sim, &opts)?)
+}
+
+/// Whether MuJoCo accepts the MJCF file `path`: `Ok(false)` when its library is not
+/// installed here (not checked), an error with MuJoCo's message when it refuses the file.
+pub fn mjcf_check(path: &std::path::Path) -> Result<bool, SimError> {
+    if ready(EngineKind::Mujoco).is_err() {
+        return Ok(false);
+    }
+    mujoco::check_mjcf_file(path)?;
+    Ok(true)
+}
+
 /// Builds `sim`'s world on the engine `opts` names.
 pub fn build(
     sim: &Simulation,
     opts: &EngineBuild,
 ) -> Result<(Box<dyn PhysicsEngine>, Layout), SimError> {
-    let max = max_robots(opts.kind);
+    let max = max_robots(opts.settings.kind());
     if opts.robots == 0 || opts.robots > max {
         return Err(SimError::TooManyRobots {
             requested: opts.robots,
             max,
         });
     }
-    match opts.kind {
-        EngineKind::Rapier => {
-            let settings = opts
-                .rapier
-                .unwrap_or_else(|| rapier::PhysicsSettings::production_for(sim));
+    match opts.settings {
+        EngineSettings::Rapier(settings) => {
             let (engine, layout) = rapier::RapierEngine::build(sim, opts.robots, settings)?;
             Ok((Box::new(engine), layout))
         }
-        EngineKind::Mujoco => {
-            let settings = opts.mujoco.unwrap_or_default();
+        EngineSettings::Mujoco(settings) => {
             let (engine, layout) = mujoco::MujocoEngine::build(sim, opts.robots, settings)?;
             Ok((Box::new(engine), layout))
         }
@@ -330,7 +365,10 @@ pub fn sensor_parts(sim: &Simulation) -> Vec<SensorPart> {
         .collect()
 }
 
-/// An engine with its settings: what a converged-reference ladder refines.
+/// An engine with its settings: what a world is built with ([`EngineBuild`],
+/// `BuildOptions::settings`) and what a converged-reference ladder refines. Chosen in one
+/// place, [`EngineSettings::of`], from the simulation (its file's engine or `--engine`) and
+/// the command line's overrides.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum EngineSettings {
     /// rapier with these settings.
@@ -339,7 +377,52 @@ pub enum EngineSettings {
     Mujoco(mujoco::MujocoSettings),
 }
 
+/// Settings that cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum EngineSettingsError {
+    /// rapier's overrides that do not parse.
+    #[error(transparent)]
+    Rapier(#[from] rapier::SettingsError),
+    /// Overrides (rapier's `key=value` list) for a run on another engine.
+    #[error("--physics sets rapier's settings; this run is on {0}")]
+    NotRapier(EngineKind),
+}
+
 impl EngineSettings {
+    /// `kind`'s production settings for `sim`'s robot.
+    pub fn production(sim: &Simulation, kind: EngineKind) -> EngineSettings {
+        match kind {
+            EngineKind::Rapier => {
+                EngineSettings::Rapier(rapier::PhysicsSettings::production_for(sim))
+            }
+            EngineKind::Mujoco => EngineSettings::Mujoco(mujoco::MujocoSettings::default()),
+        }
+    }
+
+    /// The engine `sim` runs on ([`Simulation::engine`]: its file's, or the one
+    /// `with_engine` chose) with its production settings and `overrides` (rapier's
+    /// `key=value,...`; none on MuJoCo).
+    pub fn of(sim: &Simulation, overrides: &str) -> Result<EngineSettings, EngineSettingsError> {
+        match EngineSettings::production(sim, sim.engine()) {
+            EngineSettings::Rapier(p) => Ok(EngineSettings::Rapier(p.parse_overrides(overrides)?)),
+            mujoco if overrides.trim().is_empty() => Ok(mujoco),
+            other => Err(EngineSettingsError::NotRapier(other.kind())),
+        }
+    }
+
+    /// The first rung of the converged reference ladder for these production settings: on
+    /// rapier [`rapier::PhysicsSettings::reference`], on MuJoCo two steps per simulation
+    /// step with the elliptic cone and more solver iterations
+    /// ([`mujoco::MujocoSettings::reference`]).
+    pub fn reference(self) -> EngineSettings {
+        match self {
+            EngineSettings::Rapier(p) => EngineSettings::Rapier(p.reference()),
+            EngineSettings::Mujoco(p) => {
+                EngineSettings::Mujoco(mujoco::MujocoSettings::reference(2 * p.steps_per_step))
+            }
+        }
+    }
+
     /// Which engine.
     pub fn kind(&self) -> EngineKind {
         match self {

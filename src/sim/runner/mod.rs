@@ -196,15 +196,17 @@ impl Simulator {
 
     /// Runs `n` steps as fast as possible.
     pub fn run_steps(&mut self, n: u64) {
-        let world = &mut self.world;
-        // Taking the schedule out once saves its lookup on every step.
-        let Some(mut schedule) = world.resource_mut::<Schedules>().remove(SimStep) else {
-            return;
-        };
-        for _ in 0..n {
-            schedule.run(world);
-        }
-        world.resource_mut::<Schedules>().insert(schedule);
+        // One scope for all `n` steps saves the schedule's lookup on every step; a world
+        // without the step schedule (never built by `Simulator`) does not step.
+        let stepped = self.world.try_schedule_scope(SimStep, |world, schedule| {
+            for _ in 0..n {
+                schedule.run(world);
+            }
+        });
+        debug_assert!(
+            stepped.is_ok(),
+            "a Simulator's world has the SimStep schedule"
+        );
     }
 
     /// One step.

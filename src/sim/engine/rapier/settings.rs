@@ -97,6 +97,9 @@ pub const OVERRIDE_KEYS: [&str; 11] = [
 /// rapier's tolerances are tuned for objects of about this size (m).
 pub const RAPIER_REFERENCE_SIZE: f64 = 1.0;
 
+/// Solver substeps of every rung of the reference ladder ([`PhysicsSettings::reference`]).
+pub const REFERENCE_SUBSTEPS: usize = 8;
+
 impl PhysicsSettings {
     /// rapier's own defaults, one physics step per simulation step, with the default
     /// contact model's spring ([`crate::config::contact::ContactModel::default`]); not
@@ -138,6 +141,24 @@ impl PhysicsSettings {
     pub fn scaled_to(self, size: f64) -> Self {
         PhysicsSettings {
             length_unit: size / RAPIER_REFERENCE_SIZE,
+            ..self
+        }
+    }
+
+    /// The first rung of rapier's reference ladder for these production settings: two
+    /// physics steps per simulation step, [`REFERENCE_SUBSTEPS`] substeps each, exact
+    /// friction, fresh contacts, rapier's widest tolerances (`length_unit` 1 m: speculative
+    /// contacts from 2 cm). Only the model (contact stiffness, the floor's shape) is the
+    /// production's.
+    pub fn reference(self) -> Self {
+        PhysicsSettings {
+            substeps: REFERENCE_SUBSTEPS.max(self.substeps),
+            steps_per_step: self.steps_per_step * 2,
+            length_unit: 1.0,
+            warmstart_joints: true,
+            contact_recycling: false,
+            coulomb_friction: true,
+            pgs_iterations: self.pgs_iterations.max(1),
             ..self
         }
     }
