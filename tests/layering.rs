@@ -4,7 +4,9 @@
 
 use std::path::Path;
 
-/// Module -> the modules it may use. Leaves first; each layer may use those above it.
+/// Module -> the modules it may use. Leaves first; each layer may use those above it. The
+/// windows (`gui`) use no command line (`cli`, `commands`): the dispatcher `commands`
+/// uses both.
 const ALLOWED: &[(&str, &[&str])] = &[
     ("measure", &[]),
     ("rng", &[]),
@@ -46,6 +48,25 @@ const ALLOWED: &[(&str, &[&str])] = &[
     (
         "bench",
         &["config", "control", "data", "measure", "rng", "sim"],
+    ),
+    (
+        "gui",
+        &[
+            "calibrate",
+            "compose",
+            "config",
+            "control",
+            "data",
+            "measure",
+            "optimize",
+            "plugin_host",
+            "remote",
+            "robot_io",
+            "rng",
+            "sensing",
+            "signal",
+            "sim",
+        ],
     ),
     (
         "cli",
@@ -181,4 +202,220 @@ fn engine_types_stay_in_their_engine_module() {
         "engine types leaked:\n{}",
         wrong.join("\n")
     );
+}
+
+/// The module path (`["optimize", "store", "pg"]`) of a source file under `src`.
+fn module_of(src: &Path, file: &Path) -> Vec<String> {
+    let rel = file.strip_prefix(src).unwrap().with_extension("");
+    let mut parts: Vec<String> = rel
+        .components()
+        .map(|c| c.as_os_str().to_string_lossy().into_owned())
+        .collect();
+    if parts.last().is_some_and(|p| p == "mod" || p == "lib") {
+        parts.pop();
+    }
+    parts
+}
+
+/// The source file of the longest prefix of `path` that is a file under `src`.
+fn file_of(src: &Path, path: &[String]) -> Option<std::path::PathBuf> {
+    (1..=path.len()).rev().find_map(|k| {
+        let base = path[..k].iter().fold(src.to_path_buf(), |p, s| p.join(s));
+        let file = base.with_extension("rs");
+        let module = base.join("mod.rs");
+        [file, module].into_iter().find(|f| f.is_file())
+    })
+}
+
+/// The paths of a `use` tree (`a::{b, c::{d, e}}` -> `a::b`, `a::c::d`, `a::c::e`).
+fn expand_use(tree: &str) -> Vec<String> {
+    let tree = tree.trim();
+    let Some(open) = tree.find('{') else {
+        return vec![tree.split(" as ").next().unwrap_or("").trim().to_string()];
+    };
+    let close = tree.rfind('}').filter(|c| *c > open).unwrap_or(tree.len());
+    let (prefix, inner) = (&tree[..open], &tree[open + 1..close]);
+    let (mut parts, mut depth, mut current) = (Vec::new(), 0, String::new());
+    for c in inner.chars() {
+        match c {
+            '{' => depth += 1,
+            '}' => depth -= 1,
+            _ => {}
+        }
+        if c == ',' && depth == 0 {
+            parts.push(std::mem::take(&mut current));
+        } else {
+            current.push(c);
+        }
+    }
+    parts.push(current);
+    parts
+        .iter()
+        .filter(|p| !p.trim().is_empty())
+        .flat_map(|p| expand_use(p))
+        .map(|p| format!("{prefix}{p}"))
+        .collect()
+}
+
+/// The files of `src` that `file` imports (`use` trees and `crate::`/`super::` paths in its
+/// code, tests left out).
+fn imports_of(src: &Path, file: &Path) -> Vec<std::path::PathBuf> {
+    let text = std::fs::read_to_string(file).unwrap();
+    let code: String = text
+        .split("#[cfg(test)]")
+        .next()
+        .unwrap_or("")
+        .lines()
+        .map(|l| l.split("//").next().unwrap_or(""))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let mut paths = Vec::new();
+    for statement in code.split(';') {
+        // A `use` item: only visibility words before it, only a path tree after it.
+        if let Some(at) = statement.find("use ")
+            && statement[..at]
+                .trim()
+                .chars()
+                .all(|c| c.is_alphanumeric() || "()_ ".contains(c))
+            && statement[at + 4..]
+                .chars()
+                .all(|c| c.is_alphanumeric() || "_:{},* \n\t".contains(c))
+        {
+            paths.extend(expand_use(&statement[at + 4..]));
+        }
+    }
+    for start in ["crate::", "super::"] {
+        for (at, _) in code.match_indices(start) {
+            if at > 0 && code[..at].ends_with(|c: char| c.is_alphanumeric() || c == '_' || c == ':')
+            {
+                continue;
+            }
+            let path: String = code[at..]
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_' || *c == ':')
+                .collect();
+            paths.push(path);
+        }
+    }
+    let me = module_of(src, file);
+    let mut out = Vec::new();
+    for p in paths {
+        let segments: Vec<String> = p.split("::").map(|s| s.trim().to_string()).collect();
+        let full: Vec<String> = match segments.first().map(String::as_str) {
+            Some("crate") => segments[1..].to_vec(),
+            Some("super") => {
+                let ups = segments.iter().take_while(|s| *s == "super").count();
+                let mut base = me[..me.len().saturating_sub(ups)].to_vec();
+                base.extend(segments[ups..].iter().cloned());
+                base
+            }
+            Some("self") => me
+                .iter()
+                .cloned()
+                .chain(segments[1..].iter().cloned())
+                .collect(),
+            _ => continue,
+        };
+        if let Some(f) = file_of(src, &full)
+            && f != file
+        {
+            out.push(f);
+        }
+    }
+    out.sort();
+    out.dedup();
+    out
+}
+
+/// The strongly connected components (Tarjan) of more than `most` files in `graph`.
+fn circles(graph: &[(std::path::PathBuf, Vec<usize>)], most: usize) -> Vec<Vec<usize>> {
+    struct T<'a> {
+        g: &'a [(std::path::PathBuf, Vec<usize>)],
+        index: Vec<Option<usize>>,
+        low: Vec<usize>,
+        stack: Vec<usize>,
+        on: Vec<bool>,
+        next: usize,
+        out: Vec<Vec<usize>>,
+    }
+    fn visit(t: &mut T<'_>, v: usize) {
+        t.index[v] = Some(t.next);
+        t.low[v] = t.next;
+        t.next += 1;
+        t.stack.push(v);
+        t.on[v] = true;
+        for &w in &t.g[v].1 {
+            match t.index[w] {
+                None => {
+                    visit(t, w);
+                    t.low[v] = t.low[v].min(t.low[w]);
+                }
+                Some(i) if t.on[w] => t.low[v] = t.low[v].min(i),
+                Some(_) => {}
+            }
+        }
+        if Some(t.low[v]) == t.index[v] {
+            let mut component = Vec::new();
+            while let Some(w) = t.stack.pop() {
+                t.on[w] = false;
+                component.push(w);
+                if w == v {
+                    break;
+                }
+            }
+            t.out.push(component);
+        }
+    }
+    let n = graph.len();
+    let mut t = T {
+        g: graph,
+        index: vec![None; n],
+        low: vec![0; n],
+        stack: Vec::new(),
+        on: vec![false; n],
+        next: 0,
+        out: Vec::new(),
+    };
+    for v in 0..n {
+        if t.index[v].is_none() {
+            visit(&mut t, v);
+        }
+    }
+    t.out.into_iter().filter(|c| c.len() > most).collect()
+}
+
+/// Inside `optimize/`, `sim/` and `gui/` no files import each other in a circle of more
+/// than two (a pair that shares types is tolerated): each folder's files go one way, so a
+/// newcomer can read them leaves first.
+#[test]
+fn no_import_circle_inside_a_folder() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut found = Vec::new();
+    for folder in ["optimize", "sim", "gui"] {
+        let mut files = Vec::new();
+        rust_files(&src.join(folder), &mut files);
+        files.sort();
+        let graph: Vec<(std::path::PathBuf, Vec<usize>)> = files
+            .iter()
+            .map(|f| {
+                let edges = imports_of(&src, f)
+                    .iter()
+                    .filter_map(|t| files.iter().position(|g| g == t))
+                    .collect();
+                (f.clone(), edges)
+            })
+            .collect();
+        assert!(
+            graph.iter().any(|(_, e)| !e.is_empty()),
+            "no imports found in {folder}: the reader is broken"
+        );
+        for c in circles(&graph, 2) {
+            let names: Vec<String> = c
+                .iter()
+                .map(|&i| graph[i].0.strip_prefix(&src).unwrap().display().to_string())
+                .collect();
+            found.push(format!("{folder}: {}", names.join(" -> ")));
+        }
+    }
+    assert!(found.is_empty(), "import circles:\n{}", found.join("\n"));
 }

@@ -300,3 +300,64 @@ fn an_episode_stops_scoring_when_its_robot_falls_off_the_floor_end() {
         );
     }
 }
+
+#[test]
+fn a_stopped_experiment_stays_unfinished_and_resumes_to_the_uninterrupted_result() {
+    use proleg::optimize::experiment::{Experiment, ExperimentRequest};
+    use proleg::optimize::settings::{RunChoices, StopFlag};
+    use proleg::optimize::store::{Store, StoreLocation};
+    let dir = common::scratch("stopped-experiment");
+    let registry = ModuleRegistry::standard();
+    let request = |store: &str, stop: StopFlag, resume: bool| ExperimentRequest {
+        config: common::root().join("configs/experiment1_gd.simulation.xml"),
+        choices: RunChoices {
+            workers: Some(2),
+            max_evaluations: Some(24),
+            duration: Some(1.0),
+            ..RunChoices::default()
+        },
+        store: Some(dir.join(store).display().to_string()),
+        resume,
+        stop,
+        ..ExperimentRequest::default()
+    };
+    let whole = Experiment::open(
+        &request("whole.sqlite", StopFlag::default(), false),
+        &registry,
+    )
+    .unwrap()
+    .run(&registry, |_| {})
+    .unwrap();
+    assert!(!whole.outcome.stopped && whole.outcome.evaluations == 24);
+    // Stopped during the run: its round ends, the run stays unfinished.
+    let stop = StopFlag::default();
+    let flag = stop.clone();
+    let first = Experiment::open(&request("parts.sqlite", stop, false), &registry)
+        .unwrap()
+        .run(&registry, |e| {
+            if e.number == 5 {
+                flag.stop();
+            }
+        })
+        .unwrap();
+    assert!(first.outcome.stopped, "{:?}", first.outcome);
+    assert!(first.outcome.evaluations < 24);
+    let location = StoreLocation::parse(&dir.join("parts.sqlite").display().to_string()).unwrap();
+    let mut store = Store::open_existing(&location).unwrap();
+    assert!(!store.run_finished(first.store.1).unwrap());
+    drop(store);
+    // Resumed, it reuses what was stored and ends where the whole run ended.
+    let rest = Experiment::open(
+        &request("parts.sqlite", StopFlag::default(), true),
+        &registry,
+    )
+    .unwrap()
+    .run(&registry, |_| {})
+    .unwrap();
+    assert_eq!(rest.store.1, first.store.1, "the same run continued");
+    assert_eq!(rest.outcome.simulated, 24 - first.outcome.evaluations);
+    assert_eq!(
+        (rest.outcome.best.clone(), rest.outcome.best_score),
+        (whole.outcome.best.clone(), whole.outcome.best_score)
+    );
+}

@@ -112,22 +112,6 @@ pub enum CliError {
     /// Options that do not go together.
     #[error("{0}")]
     Options(&'static str),
-    /// `--resume` without an unfinished run of the same configuration.
-    #[error(
-        "--resume: {store} holds no unfinished run of {config} with seed {seed}, fitness {fitness} and {duration} s episodes"
-    )]
-    NothingToResume {
-        /// The store, without password.
-        store: String,
-        /// The configuration.
-        config: String,
-        /// The seed.
-        seed: u64,
-        /// The fitness.
-        fitness: String,
-        /// The episode duration (s).
-        duration: f64,
-    },
     /// A check that did not pass: its report, printed as the error (exit status 1).
     #[error("{0}")]
     Failed(String),

@@ -11,16 +11,15 @@ use std::time::Instant;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::cli::error::CliError;
-use crate::config::actuation::write_actuation_file;
-use crate::config::{FsSource, RecordingSource, Simulation, load_simulation_with};
+use crate::config::Simulation;
 use crate::control::ModuleRegistry;
+use crate::optimize::experiment::{Experiment, ExperimentReport, ExperimentRequest};
 use crate::optimize::fitness::Fitness;
-use crate::optimize::robust::episode_records;
-use crate::optimize::run::{
-    Evaluation, Recording, RunChoices, RunOutcome, RunSettings, check_workers, optimize, prepare,
-};
+use crate::optimize::session::Evaluation;
+use crate::optimize::settings::{RunChoices, RunSettings, StopFlag};
 use crate::optimize::space::SearchSpace;
-use crate::optimize::store::{EpisodeRecord, RunInfo, Store, StoreLocation, StoredEval};
+
+pub use crate::optimize::experiment::default_store_path;
 
 /// Command-line options of `proleg optimize`.
 #[derive(clap::Args)]
@@ -96,38 +95,7 @@ impl OptimizeOptions {
 }
 
 /// What an optimization run found and how fast it went.
-#[derive(Debug, Clone, PartialEq)]
-pub struct OptimizeReport {
-    /// The optimizer's outcome (best candidate, scores, evaluations, batching).
-    pub outcome: RunOutcome,
-    /// Wall seconds of the run.
-    pub wall: f64,
-    /// Simulated seconds per episode.
-    pub duration: f64,
-    /// Episodes per evaluation (robust fitness; else 1).
-    pub episodes: u32,
-    /// Worker threads.
-    pub workers: usize,
-    /// Candidates in the search space (eq. 3.3 / 3.5).
-    pub space_size: f64,
-    /// The best candidate's parameter values, by gene label.
-    pub best_values: Vec<(String, f64)>,
-    /// The experiment store (as it may be shown: no password) and the run's id in it.
-    pub store: (String, i64),
-    /// Where the best candidate was written as an actuation file.
-    pub actuation: Option<PathBuf>,
-    /// The physics engine the candidates ran on.
-    pub engine: crate::config::simulation::EngineKind,
-    /// The best candidate's score on each engine (runs with `<engines>`; else empty).
-    pub best_engines: Vec<(crate::config::simulation::EngineKind, f64)>,
-}
-
-impl OptimizeReport {
-    /// Evaluations simulated per wall hour (0 when everything came from the store).
-    pub fn per_hour(&self) -> f64 {
-        self.outcome.simulated as f64 / self.wall.max(1e-9) * 3600.0
-    }
-}
+pub type OptimizeReport = ExperimentReport;
 
 /// Runs the optimization the options ask for; progress goes to stderr unless quiet.
 pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeReport, CliError> {
@@ -145,158 +113,70 @@ pub fn run(o: &OptimizeOptions, registry: &ModuleRegistry) -> Result<OptimizeRep
 }
 
 /// [`run`], telling `on_eval` of every evaluation (with the run's evaluation budget, if
-/// any) instead of drawing a progress bar: the control window's optimization view runs
-/// its optimizations through here, so they are stored like the command line's.
+/// any) instead of drawing a progress bar; the evaluations table and the header on stderr
+/// are the command line's own.
 pub fn run_observed(
     o: &OptimizeOptions,
     registry: &ModuleRegistry,
     on_eval: &mut dyn FnMut(&Evaluation, Option<u64>),
 ) -> Result<OptimizeReport, CliError> {
-    // Every file the configuration reads is kept: the store holds it with the run, so a
-    // worker on another host needs nothing but the store.
-    let source = RecordingSource::new(&FsSource);
-    let sim = load_simulation_with(&source, &o.config, registry)?.with_engine(o.engine);
-    record_design_parts(&source, &sim);
     let fitness = o.fitness.as_deref().map(Fitness::parse).transpose()?;
-    let settings = RunSettings::of(&sim, &o.choices(fitness))?;
-    let (space, _) = prepare(&sim, registry)?;
-    let location = match &o.store {
-        Some(text) => StoreLocation::parse(text)?,
-        None => StoreLocation::sqlite(default_store_path(&o.config)),
-    };
-    let shared = matches!(location, StoreLocation::Postgres(_));
-    // Bad choices are refused before the store is touched.
-    check_workers(&settings, shared)?;
-    let mut store = Store::open(&location)?;
-    if !o.quiet {
-        eprint!("{}", header(&sim, &space, &settings));
-    }
-    let mut table = open_table(o.evaluations.as_deref(), &space)?;
-    let info = run_info(&sim, &space, &settings);
-    let episodes = episode_records(&sim, settings.seed);
-    let run_files = (stored_files(&source, &o.config, &sim), episodes);
-    let (run, known) = open_run(&mut store, &info, &run_files, o.resume, o.quiet)?;
-    let shown = store.describe();
-    let recording = Recording {
-        store: &mut store,
-        run,
-        known,
+    // Ctrl-C / SIGTERM end the run after its current round; `--resume` continues it.
+    let signal = crate::signal::subscribe()?;
+    let request = ExperimentRequest {
+        config: o.config.clone(),
+        engine: o.engine,
+        choices: o.choices(fitness),
+        store: o.store.clone(),
+        resume: o.resume,
+        out: o.out.clone(),
+        stop: StopFlag(signal.flag()),
         crash_after: o.crash_after,
     };
-    let t = Instant::now();
-    let budget = Some(settings.max_evaluations).filter(|m| *m != u64::MAX);
+    let experiment = Experiment::open(&request, registry)?;
+    let (sim, session) = (experiment.simulation(), experiment.session());
+    if !o.quiet {
+        for w in &experiment.warnings {
+            eprintln!("warning: {w}");
+        }
+        eprint!("{}", header(sim, session.space(), session.settings()));
+        if o.resume {
+            let (store, run) = experiment.run_id();
+            eprintln!(
+                "resuming run {run} of {store}: {} evaluations stored",
+                experiment.stored()
+            );
+        }
+    }
+    let space = session.space().clone();
+    let mut table = open_table(o.evaluations.as_deref(), &space)?;
+    let max = session.settings().max_evaluations;
+    let budget = Some(max).filter(|m| *m != u64::MAX);
     let mut table_error = None;
-    let outcome = optimize(
-        &sim,
-        &settings,
-        registry,
-        Some(recording),
-        |e: &Evaluation| {
-            if let Some(w) = table.as_mut()
-                && let Err(err) = write_row(w, &space, e)
-            {
-                table_error.get_or_insert(err);
-            }
-            on_eval(e, budget);
-        },
-    );
-    let outcome = outcome?;
+    let report = experiment.run(registry, |e: &Evaluation| {
+        if let Some(w) = table.as_mut()
+            && let Err(err) = write_row(w, e)
+        {
+            table_error.get_or_insert(err);
+        }
+        on_eval(e, budget);
+    })?;
     let table_path = o.evaluations.as_deref().unwrap_or(Path::new(""));
     if let Some(mut w) = table
         && let Err(e) = w.flush()
     {
         table_error.get_or_insert(e);
     }
-    if let Some(e) = table_error {
-        return Err(CliError::write(table_path)(e));
+    match table_error {
+        Some(e) => Err(CliError::write(table_path)(e)),
+        None => Ok(report),
     }
-    let wall = t.elapsed().as_secs_f64();
-    let best_engines = store
-        .runs()?
-        .into_iter()
-        .find(|r| r.id == run)
-        .map(|r| r.best_engines)
-        .unwrap_or_default();
-    if let Some(p) = &o.out {
-        write_best(p, &sim, (&space, registry), &outcome.best)?;
-    }
-    Ok(OptimizeReport {
-        best_values: space
-            .genes
-            .iter()
-            .zip(space.decode(&outcome.best))
-            .map(|(g, v)| (g.label(), v))
-            .collect(),
-        outcome,
-        wall,
-        duration: settings.duration,
-        episodes: episodes_per_candidate(&sim),
-        workers: settings.workers,
-        space_size: space.size(),
-        store: (shown, run),
-        actuation: o.out.clone(),
-        engine: sim.engine(),
-        best_engines,
-    })
-}
-
-/// What identifies the run in the store; a run on another engine than rapier, or on
-/// several, says so in its algorithm ("genetic algorithm on mujoco", "CMA-ES on
-/// rapier+mujoco (min)"), so `results` tells the runs apart and `--resume` does not
-/// continue a run of other engines.
-fn run_info(sim: &Simulation, space: &SearchSpace, settings: &RunSettings) -> RunInfo {
-    let cross = sim
-        .optimizer
-        .as_ref()
-        .and_then(|m| m.spec.cross_engine.as_ref());
-    let algorithm = match (cross, sim.engine()) {
-        (Some(c), _) => format!("{} on {}", algorithm_label(sim), c.describe()),
-        (None, crate::config::simulation::EngineKind::Rapier) => algorithm_label(sim).to_string(),
-        (None, other) => format!("{} on {other}", algorithm_label(sim)),
-    };
-    RunInfo {
-        config: sim.file.display().to_string(),
-        algorithm,
-        seed: settings.seed,
-        fitness: settings.fitness.name().to_string(),
-        duration: settings.duration,
-        genes: space.genes.iter().map(|g| g.label()).collect(),
-    }
-}
-
-/// Episodes per evaluation: the optimizer file's robust fitness K, else 1.
-fn episodes_per_candidate(sim: &Simulation) -> u32 {
-    sim.optimizer
-        .as_ref()
-        .and_then(|m| m.spec.robustness)
-        .map_or(1, |r| r.episodes)
-}
-
-/// Writes the best candidate as an actuation file at `path`; the networks whose weights it
-/// searched go to weights files beside it (`NAME.MODULE.safetensors`, F64: the weights
-/// scored), which it names.
-fn write_best(
-    path: &Path,
-    sim: &Simulation,
-    (space, registry): (&SearchSpace, &ModuleRegistry),
-    best: &[u32],
-) -> Result<(), CliError> {
-    let file = crate::optimize::result::write_candidate(path, sim, (space, registry), best)?;
-    std::fs::write(path, write_actuation_file(&file)).map_err(CliError::write(path))
-}
-
-/// The optimizer's name as its file gives it.
-fn algorithm_label(sim: &Simulation) -> &'static str {
-    sim.optimizer
-        .as_ref()
-        .map(|m| m.spec.label())
-        .unwrap_or("?")
 }
 
 /// What is optimized: the genes, the problem size, the episode and the workers.
 fn header(sim: &Simulation, space: &SearchSpace, settings: &RunSettings) -> String {
     let mut head = String::new();
-    let label = algorithm_label(sim);
+    let label = crate::optimize::experiment::algorithm_label(sim);
     let cross = sim
         .optimizer
         .as_ref()
@@ -356,12 +236,8 @@ fn open_table(
 }
 
 /// One evaluation as a table row.
-fn write_row(w: &mut BufWriter<File>, space: &SearchSpace, e: &Evaluation) -> std::io::Result<()> {
-    let values: Vec<String> = space
-        .decode(&e.genome)
-        .iter()
-        .map(|v| v.to_string())
-        .collect();
+fn write_row(w: &mut BufWriter<File>, e: &Evaluation) -> std::io::Result<()> {
+    let values: Vec<String> = e.values.iter().map(|v| v.to_string()).collect();
     writeln!(
         w,
         "{}\t{}\t{}\t{}\t{}",
@@ -371,82 +247,6 @@ fn write_row(w: &mut BufWriter<File>, space: &SearchSpace, e: &Evaluation) -> st
         e.best,
         values.join("\t")
     )
-}
-
-/// The files to store with the run: as read, but the simulation file as `sim` has it when
-/// `--engine` changed its engine (workers and replays then build the same world).
-fn stored_files(
-    source: &RecordingSource,
-    config: &Path,
-    sim: &Simulation,
-) -> Vec<(String, String)> {
-    let mut files = source.files();
-    let top = crate::config::source::normalize(config)
-        .display()
-        .to_string();
-    for (path, text) in files.iter_mut().filter(|(path, _)| *path == top) {
-        let written = crate::config::simulation::parse_simulation_file(path, text)
-            .map(|f| f.properties.engine);
-        if written.is_ok_and(|e| e != sim.engine()) {
-            *text = crate::config::simulation::write_simulation_file(&sim.files.simulation);
-        }
-    }
-    files
-}
-
-/// A co-design run's part files (and the sensors and meshes they include), read through
-/// `source` so that they are stored with the run (its bodies use parts the configuration's
-/// own robot may not): a worker builds the bodies from the store alone. Parts that do not
-/// load are a warning naming the file; the first body that needs them fails the run.
-fn record_design_parts(source: &RecordingSource, sim: &Simulation) {
-    // Resolving the sample bodies reads, and so records, every file they use.
-    if let Err(e) = crate::optimize::design::body_files(sim, source) {
-        eprintln!("warning: co-design parts: {e}");
-    }
-}
-
-/// The store of `proleg optimize CONFIG` without `--store`: `CONFIG-STEM.results.sqlite`
-/// in the working folder.
-pub fn default_store_path(config: &Path) -> PathBuf {
-    let stem = config
-        .file_name()
-        .and_then(|n| n.to_str())
-        .map(|n| n.trim_end_matches(".xml").trim_end_matches(".simulation"))
-        .unwrap_or("optimize");
-    PathBuf::from(format!("{stem}.results.sqlite"))
-}
-
-/// A new run in the store (with its configuration `files` and randomized `episodes`), or with `resume` the last
-/// unfinished one of the same configuration, seed, fitness and duration with its stored
-/// evaluations.
-fn open_run(
-    store: &mut Store,
-    info: &RunInfo,
-    (files, episodes): &(Vec<(String, String)>, Vec<EpisodeRecord>),
-    resume: bool,
-    quiet: bool,
-) -> Result<(i64, Vec<StoredEval>), CliError> {
-    if !resume {
-        return Ok((store.start_run(info, files, episodes)?, Vec::new()));
-    }
-    let Some(id) = store.find_unfinished(info)? else {
-        return Err(CliError::NothingToResume {
-            store: store.describe(),
-            config: info.config.clone(),
-            seed: info.seed,
-            fitness: info.fitness.clone(),
-            duration: info.duration,
-        });
-    };
-    let known = store.evaluations(id)?;
-    if !quiet {
-        eprintln!(
-            "resuming run {id} of {}: {} evaluations stored",
-            store.describe(),
-            known.len()
-        );
-    }
-    Ok((id, known))
 }
 
 /// Progress on stderr: a bar on a terminal, else a line every 10 s (for logs).
@@ -496,7 +296,7 @@ impl Progress {
     }
 }
 
-impl fmt::Display for OptimizeReport {
+impl fmt::Display for ExperimentReport {
     fn fmt(&self, out: &mut fmt::Formatter<'_>) -> fmt::Result {
         let o = &self.outcome;
         writeln!(
@@ -580,6 +380,12 @@ impl fmt::Display for OptimizeReport {
         }
         if let Some(p) = &self.actuation {
             writeln!(out, "best actuation written to {}", p.display())?;
+        }
+        if o.stopped {
+            writeln!(
+                out,
+                "stopped         by a signal before the optimizer finished; the run stays unfinished (--resume continues it)"
+            )?;
         }
         Ok(())
     }

@@ -44,6 +44,17 @@ pub struct Laser2d {
     pub power: bool,
 }
 
+impl Laser2d {
+    /// The beam angles (degrees): from `min_angle` to `max_angle` in steps of
+    /// `resolution`.
+    pub fn beam_angles(&self) -> Vec<f64> {
+        let n = ((self.max_angle - self.min_angle) / self.resolution + 1e-9).floor() as usize + 1;
+        (0..n)
+            .map(|i| self.min_angle + i as f64 * self.resolution)
+            .collect()
+    }
+}
+
 /// The kinds of sensor.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Sensor {

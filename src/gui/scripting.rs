@@ -10,6 +10,8 @@ use std::path::PathBuf;
 use bevy::prelude::*;
 use bevy::render::view::screenshot::{Screenshot, save_to_disk};
 
+pub use crate::gui::error::{CommandError, NotFinite, ScriptError};
+
 /// Frames to wait for a screenshot file before giving up.
 pub const SHOT_FRAMES: u32 = 600;
 
@@ -186,11 +188,6 @@ pub fn finite(text: &str) -> Result<f64, NotFinite> {
         .ok_or_else(|| NotFinite(text.to_string()))
 }
 
-/// A word that is not a finite number.
-#[derive(Debug, Clone, thiserror::Error)]
-#[error("{0:?} is not a finite number")]
-pub struct NotFinite(String);
-
 /// Three finite numbers: a position or a displacement (metres, z up).
 #[derive(clap::Args, Debug, Clone, Copy, PartialEq)]
 pub struct Xyz {
@@ -242,112 +239,6 @@ impl OpenClose {
     pub fn open(self) -> bool {
         self == OpenClose::Open
     }
-}
-
-/// Why a script cannot run: it cannot be read, a line does not parse, or a command failed
-/// (its file and line).
-#[derive(Debug, thiserror::Error)]
-pub enum ScriptError {
-    /// The script file cannot be read.
-    #[error("{}: {source}", path.display())]
-    Read {
-        /// The script.
-        path: PathBuf,
-        /// The system's error.
-        source: std::io::Error,
-    },
-    /// A line that is no command of the window.
-    #[error("{}:{line}: {why}", file.display())]
-    Parse {
-        /// The script.
-        file: PathBuf,
-        /// The line (from 1).
-        line: usize,
-        /// The parser's message.
-        why: String,
-    },
-    /// A command that failed.
-    #[error("{}:{line}: {source}", file.display())]
-    Command {
-        /// The script.
-        file: PathBuf,
-        /// The command's line (from 1); 0 for a screenshot never written.
-        line: usize,
-        /// Why.
-        source: Box<CommandError>,
-    },
-}
-
-/// Why a script command failed.
-#[derive(Debug, thiserror::Error)]
-pub enum CommandError {
-    /// A screenshot that was never written.
-    #[error("screenshot {} was not written", .0.display())]
-    NoScreenshot(PathBuf),
-    /// A `wait-for` whose condition did not come.
-    #[error("waited {frames} frames for {what}")]
-    Timeout {
-        /// The frames waited.
-        frames: u32,
-        /// The condition.
-        what: String,
-    },
-    /// A file the command writes.
-    #[error("{}: {source}", path.display())]
-    Write {
-        /// The file.
-        path: PathBuf,
-        /// The system's error.
-        source: std::io::Error,
-    },
-    /// Something the command names that the window does not have (a module, a link, a tab).
-    #[error("no {what} {name}")]
-    Missing {
-        /// What kind of thing.
-        what: &'static str,
-        /// Its name or number.
-        name: String,
-    },
-    /// A command that needs what is not there now (a selection, a paused run, an
-    /// optimization).
-    #[error("{0}")]
-    NotNow(&'static str),
-    /// The window refused the command and shows why (its status or error line).
-    #[error("{0}")]
-    Refused(String),
-    /// A word that is not a finite number.
-    #[error(transparent)]
-    Number(#[from] NotFinite),
-    /// A command routed to the wrong group of its window (a programming error).
-    #[error("internal: {0} reached the wrong command group")]
-    Misrouted(String),
-    /// The module library.
-    #[error(transparent)]
-    Plugin(#[from] crate::plugin_host::error::PluginError),
-    /// A view or device of the window.
-    #[error(transparent)]
-    Gui(#[from] crate::gui::error::GuiError),
-    /// The optimization view's Save best.
-    #[error(transparent)]
-    SaveBest(#[from] crate::gui::control::optimizer_view::SaveBestError),
-    /// The simulation.
-    #[error(transparent)]
-    Sim(#[from] crate::sim::SimError),
-    /// A module parameter.
-    #[error(transparent)]
-    Kernel(#[from] crate::control::kernel::KernelError),
-    /// A series selection.
-    #[error(transparent)]
-    Select(#[from] crate::data::export::SelectError),
-    /// The optimization.
-    #[error(transparent)]
-    Optimize(#[from] crate::optimize::error::OptimizeError),
-    /// A composition (wizard, expert dialog).
-    #[error(transparent)]
-    Compose(#[from] crate::compose::error::ComposeError),
-    /// The environment editor.
-    #[error(transparent)]
-    Edit(#[from] crate::compose::env_edit::EditError),
 }
 
 /// What a command leaves the script to do.

@@ -9,7 +9,8 @@ use plotters::prelude::*;
 use crate::control::ModuleRegistry;
 use crate::optimize::error::OptimizeError;
 use crate::optimize::map_elites::Archive;
-use crate::optimize::run::{map_axes, prepare};
+use crate::optimize::map_elites::map_axes;
+use crate::optimize::prepare::prepare;
 use crate::optimize::shared::stored_simulation;
 use crate::optimize::store::Store;
 
@@ -187,7 +188,7 @@ pub fn export_design(
         source,
     })?;
     let Some(design) = design else {
-        let (space, _) = crate::optimize::run::prepare(&sim, registry)?;
+        let (space, _) = prepare(&sim, registry)?;
         let path = dir.join("candidate.actuation.xml");
         let file = crate::optimize::result::write_candidate(
             &path,

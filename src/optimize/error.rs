@@ -3,8 +3,7 @@
 
 use std::path::PathBuf;
 
-use crate::optimize::shared::UnevaluableRun;
-use crate::optimize::store::StoreError;
+use crate::optimize::store::error::StoreError;
 
 /// An optimization that cannot be set up or run.
 #[derive(Debug, thiserror::Error)]
@@ -68,6 +67,25 @@ pub enum OptimizeError {
     /// A candidate's network that cannot be written.
     #[error(transparent)]
     Policy(Box<crate::control::policy::PolicyError>),
+    /// The configuration does not load.
+    #[error(transparent)]
+    Config(Box<crate::config::ConfigError>),
+    /// `--resume` without an unfinished run of the same configuration.
+    #[error(
+        "--resume: {store} holds no unfinished run of {config} with seed {seed}, fitness {fitness} and {duration} s episodes"
+    )]
+    NothingToResume {
+        /// The store, without password.
+        store: String,
+        /// The configuration.
+        config: String,
+        /// The seed.
+        seed: u64,
+        /// The fitness.
+        fitness: String,
+        /// The episode duration (s).
+        duration: f64,
+    },
     /// The optimizer ended without one evaluation.
     #[error("the optimizer evaluated nothing")]
     NothingEvaluated,
@@ -138,4 +156,39 @@ impl OptimizeError {
             message: e.to_string(),
         }
     }
+}
+
+/// Why this host cannot evaluate a stored run.
+#[derive(Debug, thiserror::Error)]
+pub enum UnevaluableRun {
+    /// Its stored configuration does not load with this host's module types.
+    #[error("its configuration does not load on this host: {0}")]
+    Config(#[from] crate::config::ConfigError),
+    /// Another program version started it (its scores could differ).
+    #[error(
+        "started by {started}, this host runs {here}: its scores could differ, so it is left to workers of the same version"
+    )]
+    Version {
+        /// The program that started the run.
+        started: String,
+        /// This program.
+        here: String,
+    },
+    /// It scores on MuJoCo, whose library this host lacks.
+    #[error("it runs on MuJoCo, which this host lacks: {0}")]
+    NoMujoco(String),
+    /// This host reads other genes from the configuration than the run stored.
+    #[error("this host reads other genes from its configuration ({here} instead of {stored})")]
+    Genes {
+        /// The genes read here.
+        here: String,
+        /// The run's genes.
+        stored: String,
+    },
+    /// Its search space cannot be set up (the optimizer file).
+    #[error("{0}")]
+    Setup(Box<OptimizeError>),
+    /// Its fitness is not one this host knows.
+    #[error(transparent)]
+    Fitness(#[from] crate::config::error::UnknownName),
 }

@@ -20,9 +20,10 @@ use crate::config::simulation::EngineKind;
 use crate::control::ModuleRegistry;
 use crate::measure::ground_distance;
 use crate::optimize::behaviour::{Probe, SAMPLE_SECONDS, measured_quantities};
-use crate::optimize::design::{Candidate, Design, Rejection};
+use crate::optimize::design::{Candidate, Design};
 use crate::optimize::fitness::{Episode, Fitness};
 use crate::optimize::robust::RobustEpisodes;
+pub use crate::optimize::scores::CandidateScore;
 use crate::optimize::space::{Genome, SearchSpace};
 use crate::sim::randomize::SensorNoise;
 use crate::sim::{BuildOptions, Simulator, WorldExit};
@@ -76,31 +77,7 @@ pub struct Evaluator {
     pub measures: Vec<Quantity>,
 }
 
-/// One candidate's score, and with cross-engine scores its score on each engine.
-#[derive(Debug, Clone, PartialEq)]
-pub struct CandidateScore {
-    /// The score the optimizer sees (the engines' scores combined).
-    pub score: f64,
-    /// Each engine's score, in the optimizer file's order (empty on one engine).
-    pub engines: Vec<(EngineKind, f64)>,
-    /// Why a co-design candidate's body was not run (its score is then `-inf`).
-    pub rejected: Option<Rejection>,
-    /// The quantities measured in its episode (MAP-Elites' measured descriptors; of the
-    /// first engine with cross-engine scores, averaged over robust fitness's episodes).
-    pub measures: Vec<f64>,
-}
-
 impl CandidateScore {
-    /// A score on the simulation's one engine.
-    pub fn single(score: f64) -> CandidateScore {
-        CandidateScore {
-            score,
-            engines: Vec::new(),
-            rejected: None,
-            measures: Vec::new(),
-        }
-    }
-
     /// An outcome on the simulation's one engine.
     fn of(outcome: Outcome) -> CandidateScore {
         CandidateScore {
@@ -122,16 +99,6 @@ impl CandidateScore {
                 .unwrap_or_default(),
             engines: row.into_iter().map(|(k, o)| (k, o.score)).collect(),
             rejected: None,
-        }
-    }
-
-    /// A body rejected unrun: `-inf`, with its reason.
-    pub fn rejected(why: Rejection) -> CandidateScore {
-        CandidateScore {
-            score: f64::NEG_INFINITY,
-            engines: Vec::new(),
-            rejected: Some(why),
-            measures: Vec::new(),
         }
     }
 }

@@ -15,6 +15,7 @@
 use crate::config::optimizer::{DescriptorSpec, MapElitesSettings, Quantity};
 use crate::optimize::Optimizer;
 use crate::optimize::design::DesignSpace;
+use crate::optimize::error::OptimizeError;
 use crate::optimize::space::{Genome, SearchSpace};
 use crate::rng::SimRng;
 
@@ -323,6 +324,32 @@ impl Optimizer for MapElites {
     }
 }
 
+/// The archive's two axes of a MAP-Elites file in `space`; a descriptor naming a gene the
+/// space does not have is an error naming both.
+pub fn map_axes(
+    m: &crate::config::optimizer::MapElitesSettings,
+    space: &SearchSpace,
+    design: Option<DesignSpace>,
+) -> Result<[Descriptor; 2], OptimizeError> {
+    let design = design.map(std::sync::Arc::new);
+    let axis = |k: usize| {
+        let spec = m.descriptors.get(k).ok_or(OptimizeError::Descriptor {
+            gene: 0,
+            genes: space.genes.len(),
+        })?;
+        // Measured descriptors read the evaluation's measures in descriptor order.
+        let index = m.descriptors[..k]
+            .iter()
+            .filter(|d| d.measured.is_some())
+            .count();
+        Descriptor::of(spec, space, design.as_ref(), index).ok_or(OptimizeError::Descriptor {
+            gene: spec.gene,
+            genes: space.genes.len(),
+        })
+    };
+    Ok([axis(0)?, axis(1)?])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -464,7 +491,7 @@ mod tests {
                 },
             ],
         };
-        let e = crate::optimize::run::map_axes(&settings, &space(), None).unwrap_err();
+        let e = map_axes(&settings, &space(), None).unwrap_err();
         assert!(
             matches!(
                 e,

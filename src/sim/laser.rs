@@ -6,7 +6,6 @@
 
 use bevy::prelude::*;
 
-use crate::config::sensor::Laser2d;
 use crate::sim::clock::SimClock;
 use crate::sim::engine::LaserId;
 use crate::sim::physics::SimPhysics;
@@ -26,15 +25,6 @@ pub struct Laser2dSensor {
     pub max_range: f64,
     /// Scan period in steps.
     pub period: u64,
-}
-
-/// The beam angles (degrees) of a laser: from `min_angle` to `max_angle` in steps of
-/// `resolution`.
-pub fn beam_angles(l: &Laser2d) -> Vec<f64> {
-    let n = ((l.max_angle - l.min_angle) / l.resolution + 1e-9).floor() as usize + 1;
-    (0..n)
-        .map(|i| l.min_angle + i as f64 * l.resolution)
-        .collect()
 }
 
 /// Casts every laser whose scan is due (part of the `Sense` set).

@@ -10,8 +10,8 @@ use crate::config::Simulation;
 use crate::config::robustness::Robustness;
 use crate::config::transform::{Pose, quat_mul};
 use crate::rng::SimRng;
+use crate::sim::engine::DEFAULT_FRICTION;
 use crate::sim::servo::DEFAULT_SERVO_GAIN;
-use crate::sim::spawn::DEFAULT_FRICTION;
 
 /// Gaussian noise on what a robot's modules read, added every step.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

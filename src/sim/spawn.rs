@@ -266,7 +266,7 @@ fn spawn_sensors(
                 let Some(id) = lasers.next() else {
                     continue;
                 };
-                beams.push(crate::sim::laser::beam_angles(l).len());
+                beams.push(l.beam_angles().len());
                 let laser = Laser2dSensor {
                     robot,
                     index: beams.len() - 1,

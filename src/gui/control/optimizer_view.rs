@@ -1,6 +1,6 @@
 //! The optimization view, docked on the window's left: when the simulation's mode is an
 //! optimization, run it on headless workers in the background exactly as `proleg optimize
-//! CONFIG` does ([`crate::cli::optimize::run_observed`]: the configuration file as saved,
+//! CONFIG` does ([`crate::optimize::experiment::Experiment`]: the configuration file as saved,
 //! every evaluation stored in a SQLite store, by default the command line's
 //! `CONFIG-STEM.results.sqlite`, shown and editable), show its progress, evaluations per
 //! second, a live learning curve with the score's name and unit, the best candidate's
@@ -18,37 +18,28 @@ use bevy::prelude::*;
 use bevy_egui::egui;
 use egui_plot::{Legend, Line, Plot, PlotPoints, Points};
 
-use crate::cli::optimize::{OptimizeOptions, OptimizeReport, default_store_path};
 use crate::config::actuation::write_actuation_file;
 use crate::gui::control::results_view::{self, StoredResults};
 use crate::gui::control::session::SimSession;
+use crate::optimize::error::OptimizeError;
+use crate::optimize::experiment::{
+    Experiment, ExperimentReport, ExperimentRequest, default_store_path,
+};
 use crate::optimize::fitness::Fitness;
+use crate::optimize::prepare::prepare;
 use crate::optimize::result::actuation_with;
-use crate::optimize::run::{Evaluation, StopFlag, prepare};
+use crate::optimize::session::Evaluation;
+use crate::optimize::settings::{RunChoices, StopFlag};
 use crate::optimize::shared::follow::{FOLLOW_POLL, Followed, follow_run};
 use crate::optimize::space::{Genome, SearchSpace};
 use crate::optimize::store::StoreLocation;
 
-/// Why "Save best" wrote nothing.
-#[derive(Debug, thiserror::Error)]
-pub enum SaveBestError {
-    /// No evaluation has finished yet.
-    #[error("no candidate evaluated yet")]
-    NoCandidate,
-    /// The file could not be written.
-    #[error("{}: cannot write: {source}", path.display())]
-    Write {
-        /// The actuation file.
-        path: std::path::PathBuf,
-        /// Why.
-        source: std::io::Error,
-    },
-}
+pub use crate::gui::error::SaveBestError;
 
 /// A message from the optimization thread.
 enum Report {
     Eval(Evaluation),
-    Done(Box<Result<OptimizeReport, crate::cli::error::CliError>>),
+    Done(Box<Result<ExperimentReport, OptimizeError>>),
     Detached(Result<Followed, crate::optimize::store::StoreError>),
 }
 
@@ -127,24 +118,19 @@ impl OptimizerView {
             return;
         }
         self.default_paths(session);
-        let options = OptimizeOptions {
-            config: session.path.clone(),
-            seed: None,
-            workers: Some(self.workers.max(1)),
-            batch: crate::optimize::settings::DEFAULT_BATCH,
-            max_evaluations: (self.max_evals > 0).then_some(self.max_evals),
-            duration: None,
-            fitness: None,
-            out: None,
-            evaluations: None,
-            store: Some(self.store.trim().to_string()),
-            resume: false,
-            lease: None,
-            quiet: true,
-            engine: Some(session.simulator.engine_kind()),
-            crash_after: None,
-        };
         self.stop = StopFlag::default();
+        let request = ExperimentRequest {
+            config: session.path.clone(),
+            engine: Some(session.simulator.engine_kind()),
+            choices: RunChoices {
+                workers: Some(self.workers.max(1)),
+                max_evaluations: (self.max_evals > 0).then_some(self.max_evals),
+                ..RunChoices::default()
+            },
+            store: Some(self.store.trim().to_string()),
+            stop: self.stop.clone(),
+            ..ExperimentRequest::default()
+        };
         self.curve.clear();
         self.best = None;
         self.started = Some(Instant::now());
@@ -155,10 +141,12 @@ impl OptimizerView {
             let eval_tx = tx.clone();
             // The view closing drops the receiver; the run goes on to its end and is
             // stored like any other (`proleg results` lists it).
-            let result = crate::cli::optimize::run_observed(&options, &registry, &mut |e, _| {
-                if eval_tx.send(Report::Eval(e.clone())).is_err() {
-                    bevy::log::debug!("evaluation {} not shown: the view is closed", e.number);
-                }
+            let result = Experiment::open(&request, &registry).and_then(|x| {
+                x.run(&registry, |e| {
+                    if eval_tx.send(Report::Eval(e.clone())).is_err() {
+                        bevy::log::debug!("evaluation {} not shown: the view is closed", e.number);
+                    }
+                })
             });
             if tx.send(Report::Done(Box::new(result))).is_err() {
                 bevy::log::info!("the optimization ended after its view closed; it is stored");

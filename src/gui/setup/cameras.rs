@@ -11,7 +11,7 @@ use bevy_egui::PrimaryEguiContext;
 
 use crate::compose::env_edit::Selected;
 use crate::gui::control::camera::{OrbitCamera, to_bevy};
-use crate::gui::setup::picking::EditorDrag;
+use crate::gui::setup::state::EditorDrag;
 use crate::gui::setup::state::SetupState;
 
 /// An orthographic view of the editor.

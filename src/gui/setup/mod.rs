@@ -28,9 +28,9 @@ use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiGlobalSettings, EguiPrimaryContextPass, egui};
 
 use crate::compose::wizard::Page;
-use crate::gui::setup::picking::EditorDrag;
 use crate::gui::setup::scene::SceneCache;
 use crate::gui::setup::script::SetupScript;
+use crate::gui::setup::state::EditorDrag;
 use crate::gui::setup::state::{SetupState, Status, Tool};
 
 /// How `proleg wizard` starts.

@@ -10,18 +10,7 @@ use crate::compose::env_edit::Selected;
 use crate::gui::pointer::PointerRouting;
 use crate::gui::setup::cameras::OrthoView;
 use crate::gui::setup::scene::ItemVisual;
-use crate::gui::setup::state::SetupState;
-
-/// The drag in progress.
-#[derive(Resource, Debug, Default)]
-pub struct EditorDrag {
-    /// Whether a drag is in progress.
-    pub dragging: bool,
-    /// The camera the drag started in.
-    camera: Option<Entity>,
-    /// Item position minus the pointer's point on the drag plane at the start (m, z up).
-    offset: [f64; 3],
-}
+use crate::gui::setup::state::{EditorDrag, SetupState};
 
 /// The scene item an entity belongs to (itself or an ancestor).
 fn item_of(e: Entity, parents: &Query<&ChildOf>, items: &Query<&ItemVisual>) -> Option<Selected> {

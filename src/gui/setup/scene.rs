@@ -17,8 +17,8 @@ use crate::config::source::{FsSource, resolve_include};
 use crate::config::transform::Pose;
 use crate::gui::control::camera::to_bevy;
 use crate::gui::control::scene::{geom_material, geom_mesh, to_transform};
-use crate::gui::setup::picking::EditorDrag;
 use crate::gui::setup::preview::{robot_file_model, robot_key, robot_model};
+use crate::gui::setup::state::EditorDrag;
 use crate::gui::setup::state::{SetupState, Tool};
 
 /// The root of the scene (configuration frame, z up -> Bevy's y up).

@@ -176,3 +176,14 @@ impl SetupState {
         }
     }
 }
+
+/// The drag in progress.
+#[derive(Resource, Debug, Default)]
+pub struct EditorDrag {
+    /// Whether a drag is in progress.
+    pub dragging: bool,
+    /// The camera the drag started in.
+    pub(super) camera: Option<Entity>,
+    /// Item position minus the pointer's point on the drag plane at the start (m, z up).
+    pub(super) offset: [f64; 3],
+}

@@ -31,6 +31,8 @@ use crate::gui::control::scene::{self, SceneBuilt};
 use crate::gui::control::session::SimSession;
 use sink::{Frame, VideoSink, Written};
 
+pub use crate::gui::error::VideoError;
+
 /// What to render.
 #[derive(Debug, Clone, PartialEq)]
 pub struct VideoRequest {
@@ -97,71 +99,6 @@ impl std::fmt::Display for VideoReport {
 struct Captured {
     frames: BTreeMap<u64, Frame>,
     error: Option<VideoError>,
-}
-
-/// Why a video could not be recorded.
-#[derive(Debug, thiserror::Error)]
-pub enum VideoError {
-    /// An option out of its range.
-    #[error("{option} {value}: {want}")]
-    Option {
-        /// The option.
-        option: &'static str,
-        /// Its value.
-        value: String,
-        /// What it must be.
-        want: &'static str,
-    },
-    /// The simulation cannot be opened.
-    #[error(transparent)]
-    Session(Box<crate::gui::error::GuiError>),
-    /// The world cannot be read.
-    #[error(transparent)]
-    Sim(#[from] crate::sim::SimError),
-    /// The renderer failed or gave no frames back.
-    #[error("{0}")]
-    Renderer(String),
-    /// A file or folder cannot be written.
-    #[error("{}: cannot {what}: {source}", path.display())]
-    Io {
-        /// What was being done.
-        what: &'static str,
-        /// The file or folder.
-        path: std::path::PathBuf,
-        /// The system's error.
-        source: std::io::Error,
-    },
-    /// ffmpeg failed.
-    #[error("ffmpeg: {0}")]
-    Ffmpeg(String),
-    /// A gallery's store or run cannot give its designs.
-    #[error(transparent)]
-    Replay(Box<crate::optimize::replay::ReplayError>),
-    /// A gallery's run holds no co-design, or its designs cannot be listed.
-    #[error(transparent)]
-    Designs(Box<crate::optimize::error::OptimizeError>),
-    /// A gallery's run has no design that ran.
-    #[error("run {run} has no design that ran yet")]
-    NoDesigns {
-        /// The run.
-        run: i64,
-    },
-    /// A gallery's captions cannot be drawn.
-    #[error("{}: the captions cannot be drawn: {message}", file.display())]
-    Caption {
-        /// The gallery.
-        file: std::path::PathBuf,
-        /// The drawing library's message.
-        message: String,
-    },
-    /// A frame of another size than the video's.
-    #[error("frame of {}x{} for a {}x{} video", got.0, got.1, want.0, want.1)]
-    FrameSize {
-        /// The frame's size.
-        got: (u32, u32),
-        /// The video's.
-        want: (u32, u32),
-    },
 }
 
 /// The camera of the video (follows robot 0).

@@ -8,6 +8,7 @@ use std::thread::JoinHandle;
 use crate::control::ModuleRegistry;
 use crate::optimize::error::OptimizeError;
 use crate::optimize::evaluate::Evaluator;
+use crate::optimize::scores::CandidateScore;
 use crate::optimize::settings::StopFlag;
 use std::time::Duration;
 
@@ -16,14 +17,14 @@ use crate::optimize::store::PgStore;
 use crate::optimize::store::pg_queue::Pending;
 
 /// Queues `pending` (candidates of `run`) and waits for their scores and measured
-/// quantities, in the same order; a failed episode scores NaN. The wait ends with an error if the local workers fail.
+/// quantities, in the same order; a failed episode scores `-inf`. The wait ends with an error if the local workers fail.
 pub fn evaluate_round(
     store: &mut PgStore,
     run: i64,
     seed: u64,
     pending: &[Pending],
     local: &mut LocalWorkers,
-) -> Result<Vec<(f64, Vec<f64>)>, OptimizeError> {
+) -> Result<Vec<CandidateScore>, OptimizeError> {
     store.enqueue(run, seed, pending)?;
     let numbers: Vec<u64> = pending.iter().map(|p| p.number).collect();
     store.wait_scores(run, &numbers, |_| local.check())

@@ -4,7 +4,8 @@
 
 use std::time::Duration;
 
-use crate::optimize::run::Evaluation;
+use crate::optimize::scores::finite_or_worst;
+use crate::optimize::session::Evaluation;
 use crate::optimize::settings::StopFlag;
 use crate::optimize::store::{Store, StoreLocation};
 
@@ -61,16 +62,13 @@ pub fn follow_run(
             if e.number != next {
                 break;
             }
-            let score = if e.score.is_nan() {
-                f64::NEG_INFINITY
-            } else {
-                e.score
-            };
+            let score = finite_or_worst(e.score);
             best = best.max(score);
             on_eval(&Evaluation {
                 number: e.number,
                 round: e.round,
                 genome: e.genome,
+                values: e.values,
                 score,
                 best,
             });

@@ -16,6 +16,7 @@
 
 pub mod driver;
 pub mod follow;
+pub mod queue;
 pub mod worker;
 
 use std::path::Path;
@@ -23,46 +24,12 @@ use std::path::Path;
 use crate::config::simulation::EngineKind;
 use crate::config::{MemSource, Simulation, load_simulation_with};
 use crate::control::ModuleRegistry;
+use crate::optimize::error::UnevaluableRun;
 use crate::optimize::evaluate::{Evaluator, scoring_engines};
 use crate::optimize::fitness::Fitness;
-use crate::optimize::run::prepare;
+use crate::optimize::prepare::prepare;
 use crate::optimize::space::SearchSpace;
 use crate::optimize::store::{RunSpec, program_version};
-
-/// Why this host cannot evaluate a stored run.
-#[derive(Debug, thiserror::Error)]
-pub enum UnevaluableRun {
-    /// Its stored configuration does not load with this host's module types.
-    #[error("its configuration does not load on this host: {0}")]
-    Config(#[from] crate::config::ConfigError),
-    /// Another program version started it (its scores could differ).
-    #[error(
-        "started by {started}, this host runs {here}: its scores could differ, so it is left to workers of the same version"
-    )]
-    Version {
-        /// The program that started the run.
-        started: String,
-        /// This program.
-        here: String,
-    },
-    /// It scores on MuJoCo, whose library this host lacks.
-    #[error("it runs on MuJoCo, which this host lacks: {0}")]
-    NoMujoco(String),
-    /// This host reads other genes from the configuration than the run stored.
-    #[error("this host reads other genes from its configuration ({here} instead of {stored})")]
-    Genes {
-        /// The genes read here.
-        here: String,
-        /// The run's genes.
-        stored: String,
-    },
-    /// Its search space cannot be set up (the optimizer file).
-    #[error("{0}")]
-    Setup(Box<crate::optimize::error::OptimizeError>),
-    /// Its fitness is not one this host knows.
-    #[error(transparent)]
-    Fitness(#[from] crate::config::error::UnknownName),
-}
 
 /// A stored run's simulation, loaded from its stored files with this host's module types.
 pub fn stored_simulation(

@@ -23,7 +23,6 @@ pub mod sqlite;
 pub mod table;
 
 use crate::config::simulation::EngineKind;
-use crate::optimize::space::Genome;
 
 pub use error::StoreError;
 pub use location::{PgTarget, StoreLocation};
@@ -108,29 +107,7 @@ pub struct EpisodeRecord {
     pub draws: String,
 }
 
-/// One stored evaluation.
-#[derive(Debug, Clone, PartialEq)]
-pub struct StoredEval {
-    /// 0-based evaluation number.
-    pub number: u64,
-    /// Round it belonged to.
-    pub round: u64,
-    /// The candidate.
-    pub genome: Genome,
-    /// Its parameter values.
-    pub values: Vec<f64>,
-    /// Its score.
-    pub score: f64,
-    /// Its score on each engine, when the run scores on several (`<engines>`).
-    pub engines: Vec<(EngineKind, f64)>,
-    /// Why its body was rejected unrun (a co-design candidate; its score is then `-inf`).
-    pub rejected: Option<String>,
-    /// The quantities measured in its episode (MAP-Elites' measured descriptors; else
-    /// empty).
-    pub measures: Vec<f64>,
-    /// Wall seconds of its evaluation (a batch's shared by its candidates).
-    pub wall: f64,
-}
+pub use crate::optimize::scores::StoredEval;
 
 /// What both stores do, with the same semantics (`tests/store_conformance.rs` runs one
 /// suite against each). A run's identity is [`RunInfo`]; evaluations are stored once, by number.
@@ -174,23 +151,25 @@ pub trait ExperimentStore {
 
     /// Every run with its best evaluation.
     fn runs(&mut self) -> Result<Vec<RunRow>, StoreError>;
-
-    /// The shared store, when this is one (its queue of shared evaluations).
-    fn shared(&mut self) -> Option<&mut PgStore> {
-        None
-    }
 }
 
-/// An open store of either kind: reached through [`ExperimentStore`]'s methods.
-pub struct Store(Box<dyn ExperimentStore>);
+/// An open store of either kind: reached through [`ExperimentStore`]'s methods; a
+/// run's scorer ([`crate::optimize::scorer`]) tells them apart to use the shared store's
+/// queue.
+pub enum Store {
+    /// A results file of one host.
+    Sqlite(SqliteStore),
+    /// A shared PostgreSQL store with its queue (boxed: a client and its statements).
+    Postgres(Box<PgStore>),
+}
 
 impl Store {
     /// Opens the store at `location`, creating its tables when there are none.
     pub fn open(location: &StoreLocation) -> Result<Store, StoreError> {
-        Ok(Store(match location {
-            StoreLocation::Sqlite(p) => Box::new(SqliteStore::open(p)?),
-            StoreLocation::Postgres(t) => Box::new(PgStore::open(t, true)?),
-        }))
+        Ok(match location {
+            StoreLocation::Sqlite(p) => Store::Sqlite(SqliteStore::open(p)?),
+            StoreLocation::Postgres(t) => Store::Postgres(Box::new(PgStore::open(t, true)?)),
+        })
     }
 
     /// Opens a store that must exist already (reading results, workers).
@@ -199,8 +178,8 @@ impl Store {
             StoreLocation::Sqlite(p) if !p.is_file() => {
                 Err(StoreError::Missing { path: p.clone() })
             }
-            StoreLocation::Sqlite(p) => Ok(Store(Box::new(SqliteStore::open(p)?))),
-            StoreLocation::Postgres(t) => Ok(Store(Box::new(PgStore::open(t, false)?))),
+            StoreLocation::Sqlite(p) => Ok(Store::Sqlite(SqliteStore::open(p)?)),
+            StoreLocation::Postgres(t) => Ok(Store::Postgres(Box::new(PgStore::open(t, false)?))),
         }
     }
 
@@ -211,20 +190,26 @@ impl Store {
         files: &[(String, String)],
         episodes: &[EpisodeRecord],
     ) -> Result<i64, StoreError> {
-        self.0.start_run(info, &program_version(), files, episodes)
+        (**self).start_run(info, &program_version(), files, episodes)
     }
 }
 
 impl std::ops::Deref for Store {
     type Target = dyn ExperimentStore;
     fn deref(&self) -> &Self::Target {
-        self.0.as_ref()
+        match self {
+            Store::Sqlite(s) => s,
+            Store::Postgres(s) => s.as_ref(),
+        }
     }
 }
 
 impl std::ops::DerefMut for Store {
     fn deref_mut(&mut self) -> &mut Self::Target {
-        self.0.as_mut()
+        match self {
+            Store::Sqlite(s) => s,
+            Store::Postgres(s) => s.as_mut(),
+        }
     }
 }
 

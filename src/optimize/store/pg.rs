@@ -201,10 +201,6 @@ impl ExperimentStore for PgStore {
         self.target.to_string()
     }
 
-    fn shared(&mut self) -> Option<&mut PgStore> {
-        Some(self)
-    }
-
     /// Registers a new run with its configuration files; returns its id.
     fn start_run(
         &mut self,

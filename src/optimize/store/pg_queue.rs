@@ -13,7 +13,8 @@ use std::time::{Duration, Instant};
 
 use postgres::fallible_iterator::FallibleIterator;
 
-use crate::optimize::evaluate::CandidateScore;
+use crate::optimize::scores::CandidateScore;
+use crate::optimize::scores::finite_or_worst;
 use crate::optimize::space::Genome;
 use crate::optimize::store::pg::PgStore;
 use crate::optimize::store::{Place, StoreError, engine_scores_text, join, score_of};
@@ -231,7 +232,7 @@ impl PgStore {
         run: i64,
         numbers: &[u64],
         mut on_wait: impl FnMut(f64) -> Result<(), E>,
-    ) -> Result<Vec<(f64, Vec<f64>)>, E> {
+    ) -> Result<Vec<CandidateScore>, E> {
         let (Some(first), Some(last)) = (numbers.iter().min(), numbers.iter().max()) else {
             return Ok(Vec::new());
         };
@@ -241,7 +242,7 @@ impl PgStore {
             let rows = self
                 .client
                 .query(
-                    "SELECT number, score, measures FROM evaluations
+                    "SELECT number, score, measures, engine_scores FROM evaluations
                      WHERE run = $1 AND number BETWEEN $2 AND $3 AND state = 'done'",
                     &[&run, &(*first as i64), &(*last as i64)],
                 )
@@ -256,13 +257,25 @@ impl PgStore {
                     run,
                     evaluation: Some(number as u64),
                 };
-                let measures = place.list("measures", &text)?;
-                found.insert(number as u64, (score.unwrap_or(f64::NAN), measures));
+                let engines: String = r.try_get(3).map_err(&fail)?;
+                found.insert(
+                    number as u64,
+                    CandidateScore {
+                        score: finite_or_worst(score.unwrap_or(f64::NAN)),
+                        engines: place.engines(&engines)?,
+                        rejected: None,
+                        measures: place.list("measures", &text)?,
+                    },
+                );
             }
             if numbers.iter().all(|n| found.contains_key(n)) {
                 return Ok(numbers
                     .iter()
-                    .map(|n| found.remove(n).unwrap_or((f64::NAN, Vec::new())))
+                    .map(|n| {
+                        found
+                            .remove(n)
+                            .unwrap_or_else(|| CandidateScore::single(f64::NEG_INFINITY))
+                    })
                     .collect());
             }
             if !self.wait_notification(Duration::from_secs(2))? {

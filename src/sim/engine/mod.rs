@@ -347,10 +347,7 @@ pub fn sensor_parts(sim: &Simulation) -> Vec<SensorPart> {
             Sensor::Laser2d(l) => SensorPart::Laser {
                 link: s.link,
                 pose: s.pose,
-                angles: crate::sim::laser::beam_angles(l)
-                    .iter()
-                    .map(|a| a.to_radians())
-                    .collect(),
+                angles: l.beam_angles().iter().map(|a| a.to_radians()).collect(),
                 max_range: l.max_range,
             },
             Sensor::Tactile(t) => SensorPart::Pad {
