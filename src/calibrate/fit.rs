@@ -106,8 +106,9 @@ pub fn group_rms(rec: &Recording, joints: &[usize], model: &ServoModel) -> f64 {
     (sum / joints.len().max(1) as f64).sqrt()
 }
 
-/// Fits one model for `joints` from `runs` seeds starting at `seed`.
-pub fn fit_group(rec: &Recording, joints: &[usize], runs: u32, seed: u64) -> GroupFit {
+/// The best model of each of `runs` CMA-ES searches (seeds from `seed`) for `joints`, with
+/// its RMS error.
+fn fit_runs(rec: &Recording, joints: &[usize], runs: u32, seed: u64) -> Vec<(f64, ServoModel)> {
     let objective = |x: &[f64]| group_rms(rec, joints, &model_of(x));
     let mut fits: Vec<(f64, ServoModel)> = Vec::with_capacity(runs as usize);
     for r in 0..runs.max(1) {
@@ -128,6 +129,13 @@ pub fn fit_group(rec: &Recording, joints: &[usize], runs: u32, seed: u64) -> Gro
         }
         fits.push(best);
     }
+    fits
+}
+
+/// Fits one model for `joints` from `runs` seeds starting at `seed`; each parameter is
+/// identified when moving it changes the fit significantly (a likelihood ratio).
+pub fn fit_group(rec: &Recording, joints: &[usize], runs: u32, seed: u64) -> GroupFit {
+    let fits = fit_runs(rec, joints, runs, seed);
     let (best_rms, model) = fits
         .iter()
         .copied()

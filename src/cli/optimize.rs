@@ -309,37 +309,7 @@ impl fmt::Display for ExperimentReport {
             self.wall
         )?;
         if o.simulated > 0 {
-            let per_hour = self.per_hour();
-            let engines: Vec<&str> = self.best_engines.iter().map(|(k, _)| k.name()).collect();
-            let (on, worlds) = match engines.len() {
-                0 => (self.engine.name().to_string(), 1.0),
-                n => (engines.join("+"), n as f64),
-            };
-            writeln!(
-                out,
-                "throughput      {per_hour:.0} evaluations/h of {} on {} ({}); 6000 such evaluations (the thesis's experiment-2 budget, eq. 3.6) take {:.2} h",
-                match self.episodes {
-                    1 => format!("{} s", self.duration),
-                    k => format!("{k} episodes of {} s", self.duration),
-                },
-                on,
-                match self.workers {
-                    0 => "all by workers of the shared store".to_string(),
-                    w => format!(
-                        "{:.1}x real time per local worker",
-                        o.simulated as f64 * f64::from(self.episodes) * self.duration * worlds
-                            / self.wall
-                            / w as f64
-                    ),
-                },
-                6000.0 / per_hour
-            )?;
-            writeln!(
-                out,
-                "brute force     {:.3e} candidates at this rate (eq. 3.4) take {:.3e} years",
-                self.space_size,
-                self.space_size / per_hour / (24.0 * 365.25)
-            )?;
+            throughput(self, out)?;
         }
         writeln!(out, "evaluation      {}", o.batching)?;
         let (store, run) = &self.store;
@@ -389,4 +359,42 @@ impl fmt::Display for ExperimentReport {
         }
         Ok(())
     }
+}
+
+/// The report's throughput lines: evaluations per hour, real time per worker, the thesis's
+/// budget and brute force at this rate.
+fn throughput(r: &ExperimentReport, out: &mut fmt::Formatter<'_>) -> fmt::Result {
+    let o = &r.outcome;
+    let per_hour = r.per_hour();
+    let engines: Vec<&str> = r.best_engines.iter().map(|(k, _)| k.name()).collect();
+    let (on, worlds) = match engines.len() {
+        0 => (r.engine.name().to_string(), 1.0),
+        n => (engines.join("+"), n as f64),
+    };
+    writeln!(
+        out,
+        "throughput      {per_hour:.0} evaluations/h of {} on {} ({}); 6000 such evaluations (the thesis's experiment-2 budget, eq. 3.6) take {:.2} h",
+        match r.episodes {
+            1 => format!("{} s", r.duration),
+            k => format!("{k} episodes of {} s", r.duration),
+        },
+        on,
+        match r.workers {
+            0 => "all by workers of the shared store".to_string(),
+            w => format!(
+                "{:.1}x real time per local worker",
+                o.simulated as f64 * f64::from(r.episodes) * r.duration * worlds
+                    / r.wall
+                    / w as f64
+            ),
+        },
+        6000.0 / per_hour
+    )?;
+    writeln!(
+        out,
+        "brute force     {:.3e} candidates at this rate (eq. 3.4) take {:.3e} years",
+        r.space_size,
+        r.space_size / per_hour / (24.0 * 365.25)
+    )?;
+    Ok(())
 }

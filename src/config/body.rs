@@ -173,66 +173,7 @@ impl Geom {
     pub fn read(r: &Reader, el: &Element) -> ConfigResult<Geom> {
         r.only_children(el, &GEOM_CHILDREN)?;
         r.only_attrs(el, &["type", "render"])?;
-        let ty = r.required_attr(el, "type")?;
-        let positive = |name: &str| r.positive(r.required(el, name)?);
-        let shape = match ty.value.to_ascii_lowercase().as_str() {
-            "box" => {
-                let c = r.required(el, "extents")?;
-                let e = r.array::<3>(c)?;
-                if e.iter().any(|v| *v <= 0.0) {
-                    return Err(r.err(
-                        c.text_pos,
-                        ErrorKind::OutOfRange,
-                        "box <extents> must all be > 0 (half-extents in m)",
-                    ));
-                }
-                Shape::Box { extents: e }
-            }
-            "sphere" => Shape::Sphere {
-                radius: positive("radius")?,
-            },
-            "cylinder" => Shape::Cylinder {
-                radius: positive("radius")?,
-                height: positive("height")?,
-            },
-            kind @ ("trimesh" | "heightfield" | "convexhull") => {
-                let c = r.required(el, "data")?;
-                let text = r.text(c)?;
-                let mut words = text.split_whitespace();
-                let file = words.next().unwrap_or_default().to_string();
-                let scale = match words.next() {
-                    Some(s) => {
-                        let v = r.number(s, c.text_pos, "<data> scale")?;
-                        if v <= 0.0 {
-                            return Err(r.err(
-                                c.text_pos,
-                                ErrorKind::OutOfRange,
-                                format!("<data> scale is {v}; it must be > 0"),
-                            ));
-                        }
-                        v
-                    }
-                    None => 1.0,
-                };
-                let collision = match kind {
-                    "heightfield" => MeshCollision::HeightField,
-                    "convexhull" => MeshCollision::ConvexHull,
-                    _ => MeshCollision::Triangles,
-                };
-                Shape::Trimesh {
-                    file,
-                    scale,
-                    collision,
-                }
-            }
-            other => {
-                return Err(r.err(
-                    ty.pos,
-                    ErrorKind::InvalidValue,
-                    format!("unknown geometry type \"{other}\"; expected one of: box, sphere, cylinder, trimesh, heightfield, convexhull"),
-                ));
-            }
-        };
+        let shape = read_shape(r, el)?;
         let color = |name: &str| -> ConfigResult<Option<[f64; 3]>> {
             match r.at_most_one(el, name)? {
                 None => Ok(None),
@@ -320,6 +261,74 @@ impl Geom {
         }
         w.close();
     }
+}
+
+/// A geometry's shape from its `type` and the children that type needs.
+fn read_shape(r: &Reader, el: &Element) -> ConfigResult<Shape> {
+    let ty = r.required_attr(el, "type")?;
+    let positive = |name: &str| r.positive(r.required(el, name)?);
+    Ok(match ty.value.to_ascii_lowercase().as_str() {
+        "box" => {
+            let c = r.required(el, "extents")?;
+            let e = r.array::<3>(c)?;
+            if e.iter().any(|v| *v <= 0.0) {
+                return Err(r.err(
+                    c.text_pos,
+                    ErrorKind::OutOfRange,
+                    "box <extents> must all be > 0 (half-extents in m)",
+                ));
+            }
+            Shape::Box { extents: e }
+        }
+        "sphere" => Shape::Sphere {
+            radius: positive("radius")?,
+        },
+        "cylinder" => Shape::Cylinder {
+            radius: positive("radius")?,
+            height: positive("height")?,
+        },
+        kind @ ("trimesh" | "heightfield" | "convexhull") => read_mesh(r, el, kind)?,
+        other => {
+            return Err(r.err(
+                ty.pos,
+                ErrorKind::InvalidValue,
+                format!("unknown geometry type \"{other}\"; expected one of: box, sphere, cylinder, trimesh, heightfield, convexhull"),
+            ));
+        }
+    })
+}
+
+/// A mesh geometry's shape (`trimesh`, `heightfield`, `convexhull`): its `<data>` file and
+/// scale.
+fn read_mesh(r: &Reader, el: &Element, kind: &str) -> ConfigResult<Shape> {
+    let c = r.required(el, "data")?;
+    let text = r.text(c)?;
+    let mut words = text.split_whitespace();
+    let file = words.next().unwrap_or_default().to_string();
+    let scale = match words.next() {
+        Some(s) => {
+            let v = r.number(s, c.text_pos, "<data> scale")?;
+            if v <= 0.0 {
+                return Err(r.err(
+                    c.text_pos,
+                    ErrorKind::OutOfRange,
+                    format!("<data> scale is {v}; it must be > 0"),
+                ));
+            }
+            v
+        }
+        None => 1.0,
+    };
+    let collision = match kind {
+        "heightfield" => MeshCollision::HeightField,
+        "convexhull" => MeshCollision::ConvexHull,
+        _ => MeshCollision::Triangles,
+    };
+    Ok(Shape::Trimesh {
+        file,
+        scale,
+        collision,
+    })
 }
 
 impl Mass {

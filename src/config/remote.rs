@@ -192,76 +192,7 @@ pub fn parse_remote_file(file: &str, text: &str) -> ConfigResult<RemoteFile> {
     r.only_attrs(root, &["name"])?;
     let mut bindings = Vec::new();
     for b in &root.children {
-        r.only_children(b, &["target"])?;
-        r.only_attrs(b, &["element", "mode", "deadzone", "action"])?;
-        let element = r.required_attr(b, "element")?;
-        if element.value.trim().is_empty() {
-            return Err(r.err(
-                element.pos,
-                ErrorKind::InvalidValue,
-                "element=\"\": name the remote's element",
-            ));
-        }
-        let action = match b.attr("action") {
-            None => None,
-            Some(a) => Some(match a.value.trim().to_ascii_lowercase().as_str() {
-                "reset" => RemoteAction::Reset,
-                "pause" => RemoteAction::Pause,
-                other => {
-                    return Err(r.err(
-                        a.pos,
-                        ErrorKind::InvalidValue,
-                        format!("action \"{other}\": expected reset or pause"),
-                    ));
-                }
-            }),
-        };
-        let mode = match b.attr("mode") {
-            Some(m) => BindMode::parse(&m.value).ok_or_else(|| {
-                r.err(
-                    m.pos,
-                    ErrorKind::InvalidValue,
-                    format!(
-                        "mode \"{}\": expected one of {}",
-                        m.value,
-                        BindMode::ALL.map(|m| m.name()).join(", ")
-                    ),
-                )
-            })?,
-            None if action.is_some() => BindMode::Increment,
-            None => BindMode::Rate,
-        };
-        let dead_zone = match b.attr("deadzone") {
-            Some(d) => {
-                let v = r.number(&d.value, d.pos, "deadZone=")?;
-                r.check_range(v, 0.0, 0.95, d.pos, "deadZone=")?;
-                v
-            }
-            None => DEFAULT_DEAD_ZONE,
-        };
-        let targets = b
-            .children
-            .iter()
-            .map(|t| read_target(&r, t))
-            .collect::<ConfigResult<Vec<_>>>()?;
-        if targets.is_empty() && action.is_none() {
-            return Err(r.err(
-                b.pos,
-                ErrorKind::Missing,
-                format!(
-                    "binding of {}: give <target> elements or action=\"reset|pause\"",
-                    element.value
-                ),
-            ));
-        }
-        bindings.push(Binding {
-            element: element.value.trim().to_string(),
-            mode,
-            dead_zone,
-            action,
-            targets,
-            pos: b.pos,
-        });
+        bindings.push(read_binding(&r, b)?);
     }
     Ok(RemoteFile {
         name: root
@@ -269,6 +200,80 @@ pub fn parse_remote_file(file: &str, text: &str) -> ConfigResult<RemoteFile> {
             .map(|a| a.value.clone())
             .unwrap_or_default(),
         bindings,
+    })
+}
+
+/// One `<binding>`: the remote's element, its mode, dead zone, action and targets.
+fn read_binding(r: &Reader, b: &Element) -> ConfigResult<Binding> {
+    r.only_children(b, &["target"])?;
+    r.only_attrs(b, &["element", "mode", "deadzone", "action"])?;
+    let element = r.required_attr(b, "element")?;
+    if element.value.trim().is_empty() {
+        return Err(r.err(
+            element.pos,
+            ErrorKind::InvalidValue,
+            "element=\"\": name the remote's element",
+        ));
+    }
+    let action = match b.attr("action") {
+        None => None,
+        Some(a) => Some(match a.value.trim().to_ascii_lowercase().as_str() {
+            "reset" => RemoteAction::Reset,
+            "pause" => RemoteAction::Pause,
+            other => {
+                return Err(r.err(
+                    a.pos,
+                    ErrorKind::InvalidValue,
+                    format!("action \"{other}\": expected reset or pause"),
+                ));
+            }
+        }),
+    };
+    let mode = match b.attr("mode") {
+        Some(m) => BindMode::parse(&m.value).ok_or_else(|| {
+            r.err(
+                m.pos,
+                ErrorKind::InvalidValue,
+                format!(
+                    "mode \"{}\": expected one of {}",
+                    m.value,
+                    BindMode::ALL.map(|m| m.name()).join(", ")
+                ),
+            )
+        })?,
+        None if action.is_some() => BindMode::Increment,
+        None => BindMode::Rate,
+    };
+    let dead_zone = match b.attr("deadzone") {
+        Some(d) => {
+            let v = r.number(&d.value, d.pos, "deadZone=")?;
+            r.check_range(v, 0.0, 0.95, d.pos, "deadZone=")?;
+            v
+        }
+        None => DEFAULT_DEAD_ZONE,
+    };
+    let targets = b
+        .children
+        .iter()
+        .map(|t| read_target(r, t))
+        .collect::<ConfigResult<Vec<_>>>()?;
+    if targets.is_empty() && action.is_none() {
+        return Err(r.err(
+            b.pos,
+            ErrorKind::Missing,
+            format!(
+                "binding of {}: give <target> elements or action=\"reset|pause\"",
+                element.value
+            ),
+        ));
+    }
+    Ok(Binding {
+        element: element.value.trim().to_string(),
+        mode,
+        dead_zone,
+        action,
+        targets,
+        pos: b.pos,
     })
 }
 

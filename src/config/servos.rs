@@ -55,6 +55,48 @@ pub struct ServoSection {
     pub pos: Pos,
 }
 
+impl ServoBinding {
+    /// Reads one `<servo joint=".." id=".." offset=".." direction=".."/>`.
+    fn read(r: &Reader, s: &Element) -> ConfigResult<ServoBinding> {
+        r.only_attrs(s, &["joint", "id", "offset", "direction"])?;
+        let joint = r.required_attr(s, "joint")?.value.trim().to_string();
+        let id_attr = r.required_attr(s, "id")?;
+        let id = r.u32_str(&id_attr.value, id_attr.pos, "id")?;
+        if id > 252 {
+            return Err(r.err(
+                id_attr.pos,
+                ErrorKind::OutOfRange,
+                format!("servo id {id}: Dynamixel ids are 0..252"),
+            ));
+        }
+        let offset = match s.attr("offset") {
+            Some(a) => r.number(&a.value, a.pos, "offset")?,
+            None => 0.0,
+        };
+        let direction = match s.attr("direction") {
+            Some(a) => match a.value.trim() {
+                "1" | "+1" => 1,
+                "-1" => -1,
+                other => {
+                    return Err(r.err(
+                        a.pos,
+                        ErrorKind::InvalidValue,
+                        format!("direction \"{other}\": write 1 or -1"),
+                    ));
+                }
+            },
+            None => 1,
+        };
+        Ok(ServoBinding {
+            joint,
+            id: id as u8,
+            offset,
+            direction,
+            pos: s.pos,
+        })
+    }
+}
+
 impl ServoSection {
     /// Reads `<Servos>`.
     pub fn read(r: &Reader, el: &Element) -> ConfigResult<ServoSection> {
@@ -94,45 +136,10 @@ impl ServoSection {
                 }
             }
         };
-        let mut servos = Vec::new();
-        for s in el.children_named("servo") {
-            r.only_attrs(s, &["joint", "id", "offset", "direction"])?;
-            let joint = r.required_attr(s, "joint")?.value.trim().to_string();
-            let id_attr = r.required_attr(s, "id")?;
-            let id = r.u32_str(&id_attr.value, id_attr.pos, "id")?;
-            if id > 252 {
-                return Err(r.err(
-                    id_attr.pos,
-                    ErrorKind::OutOfRange,
-                    format!("servo id {id}: Dynamixel ids are 0..252"),
-                ));
-            }
-            let offset = match s.attr("offset") {
-                Some(a) => r.number(&a.value, a.pos, "offset")?,
-                None => 0.0,
-            };
-            let direction = match s.attr("direction") {
-                Some(a) => match a.value.trim() {
-                    "1" | "+1" => 1,
-                    "-1" => -1,
-                    other => {
-                        return Err(r.err(
-                            a.pos,
-                            ErrorKind::InvalidValue,
-                            format!("direction \"{other}\": write 1 or -1"),
-                        ));
-                    }
-                },
-                None => 1,
-            };
-            servos.push(ServoBinding {
-                joint,
-                id: id as u8,
-                offset,
-                direction,
-                pos: s.pos,
-            });
-        }
+        let servos = el
+            .children_named("servo")
+            .map(|s| ServoBinding::read(r, s))
+            .collect::<ConfigResult<Vec<_>>>()?;
         Ok(ServoSection {
             driver,
             baud: whole("baud", DEFAULT_BAUD, 1)?,

@@ -281,6 +281,41 @@ fn read_properties(r: &Reader, el: &Element) -> ConfigResult<SimulationPropertie
     flag("showviewer", &mut p.show_viewer)?;
     flag("parallelcomputing", &mut p.parallel_computing)?;
     flag("storingdata", &mut p.storing_data)?;
+    read_timing(r, el, &mut p)?;
+    if let Some(c) = r.at_most_one(el, "duration")? {
+        p.duration = r.f64_in(c, 0.0, 1e7)?;
+    }
+    if let Some(c) = r.at_most_one(el, "seed")? {
+        let t = r.text(c)?;
+        p.seed = t.trim().parse().map_err(|_| {
+            r.err(
+                c.text_pos,
+                ErrorKind::InvalidValue,
+                format!("<seed>: expected a whole number >= 0, found \"{t}\""),
+            )
+        })?;
+    }
+    if let Some(c) = r.at_most_one(el, "delay")? {
+        p.delay_ms = r.f64_in(c, 0.0, 60_000.0)?;
+    }
+    if let Some(c) = r.at_most_one(el, "realtimefactor")? {
+        p.realtime_factor = r.f64_in(c, 0.0, 1000.0)?;
+    }
+    if let Some(c) = r.at_most_one(el, "physicsengine")? {
+        let t = r.text(c)?;
+        p.engine = EngineKind::parse(t).ok_or_else(|| {
+            r.err(
+                c.text_pos,
+                ErrorKind::InvalidValue,
+                format!("unknown physics engine \"{t}\"; expected one of: rapier, mujoco"),
+            )
+        })?;
+    }
+    Ok(p)
+}
+
+/// The mode, the sampling period and the step width of `<simulationProperties>`.
+fn read_timing(r: &Reader, el: &Element, p: &mut SimulationProperties) -> ConfigResult<()> {
     if let Some(c) = r.at_most_one(el, "mode")? {
         let t = r.text(c)?;
         p.mode = Mode::parse(t).ok_or_else(|| {
@@ -317,36 +352,7 @@ fn read_properties(r: &Reader, el: &Element) -> ConfigResult<SimulationPropertie
         r.check_range(v, 1e-6, MAX_STEP_WIDTH, c.text_pos, "<stepWidth> (s)")?;
         p.step_width = v;
     }
-    if let Some(c) = r.at_most_one(el, "duration")? {
-        p.duration = r.f64_in(c, 0.0, 1e7)?;
-    }
-    if let Some(c) = r.at_most_one(el, "seed")? {
-        let t = r.text(c)?;
-        p.seed = t.trim().parse().map_err(|_| {
-            r.err(
-                c.text_pos,
-                ErrorKind::InvalidValue,
-                format!("<seed>: expected a whole number >= 0, found \"{t}\""),
-            )
-        })?;
-    }
-    if let Some(c) = r.at_most_one(el, "delay")? {
-        p.delay_ms = r.f64_in(c, 0.0, 60_000.0)?;
-    }
-    if let Some(c) = r.at_most_one(el, "realtimefactor")? {
-        p.realtime_factor = r.f64_in(c, 0.0, 1000.0)?;
-    }
-    if let Some(c) = r.at_most_one(el, "physicsengine")? {
-        let t = r.text(c)?;
-        p.engine = EngineKind::parse(t).ok_or_else(|| {
-            r.err(
-                c.text_pos,
-                ErrorKind::InvalidValue,
-                format!("unknown physics engine \"{t}\"; expected one of: rapier, mujoco"),
-            )
-        })?;
-    }
-    Ok(p)
+    Ok(())
 }
 
 /// Reads a simulation file's text.

@@ -183,7 +183,44 @@ fn optimizer_part(s: &mut String, sim: &Simulation) {
         return;
     };
     let _ = writeln!(s, "optimizer   {} ({})", o.spec.label(), o.file.display());
-    match &o.spec.algorithm {
+    algorithm_line(s, &o.spec.algorithm);
+    for p in &o.parameters {
+        let g = &p.genome;
+        let values = if g.value_space == 0 {
+            format!("values {}", nums(&g.values))
+        } else {
+            let pick = |v: &Vec<f64>| v[0];
+            describe_range(pick(&g.lower), pick(&g.upper), pick(&g.increments))
+        };
+        let _ = writeln!(
+            s,
+            "  p{} {}.{} joints {} {} {} ({} {})",
+            p.number,
+            p.module,
+            p.parameter.name,
+            g.active_joints,
+            if g.uniform { "uniform" } else { "individual" },
+            values,
+            if p.network {
+                "one per network".to_string()
+            } else {
+                p.genes.to_string()
+            },
+            if p.network {
+                "weight"
+            } else if p.genes == 1 {
+                "gene"
+            } else {
+                "genes"
+            }
+        );
+    }
+    let _ = writeln!(s, "  search space {:.4e} candidates", o.search_space());
+}
+
+/// The optimizer's settings, one line.
+fn algorithm_line(s: &mut String, algorithm: &Algorithm) {
+    match algorithm {
         Algorithm::Genetic(g) => {
             let _ = writeln!(
                 s,
@@ -248,36 +285,4 @@ fn optimizer_part(s: &mut String, sim: &Simulation) {
             );
         }
     }
-    for p in &o.parameters {
-        let g = &p.genome;
-        let values = if g.value_space == 0 {
-            format!("values {}", nums(&g.values))
-        } else {
-            let pick = |v: &Vec<f64>| v[0];
-            describe_range(pick(&g.lower), pick(&g.upper), pick(&g.increments))
-        };
-        let _ = writeln!(
-            s,
-            "  p{} {}.{} joints {} {} {} ({} {})",
-            p.number,
-            p.module,
-            p.parameter.name,
-            g.active_joints,
-            if g.uniform { "uniform" } else { "individual" },
-            values,
-            if p.network {
-                "one per network".to_string()
-            } else {
-                p.genes.to_string()
-            },
-            if p.network {
-                "weight"
-            } else if p.genes == 1 {
-                "gene"
-            } else {
-                "genes"
-            }
-        );
-    }
-    let _ = writeln!(s, "  search space {:.4e} candidates", o.search_space());
 }

@@ -79,18 +79,7 @@ pub fn plot(
     let finite = |v: &&f64| v.is_finite();
     let (x0, x1) = bounds(xs.iter().filter(finite));
     let (y0, y1) = bounds(ys.iter().flatten().filter(finite));
-    let units: Vec<&str> = wanted.iter().map(|w| unit_of(&w.series)).collect();
-    let y_unit = if units.iter().all(|u| *u == units[0]) && !units[0].is_empty() {
-        format!("value ({})", units[0])
-    } else {
-        "value".to_string()
-    };
-    let x_label = match x {
-        XAxis::SimTime => "simulated time (s)",
-        XAxis::RealTime => "real time since start (s)",
-        XAxis::StepCount => "step",
-        XAxis::Index => "frame index",
-    };
+    let (x_label, y_unit) = axis_labels(x, wanted);
     let root = BitMapBackend::new(output, size).into_drawing_area();
     let draw = |e: &dyn std::fmt::Display| fail(format!("cannot draw: {e}"));
     root.fill(&WHITE).map_err(|e| draw(&e))?;
@@ -137,6 +126,24 @@ pub fn plot(
         series: cols.len(),
         points_drawn,
     })
+}
+
+/// The axes' descriptions: the x axis's quantity, and the y axis's unit when every series
+/// shares one.
+fn axis_labels(x: XAxis, wanted: &[SeriesSelector]) -> (&'static str, String) {
+    let units: Vec<&str> = wanted.iter().map(|w| unit_of(&w.series)).collect();
+    let y_unit = if units.iter().all(|u| *u == units[0]) && !units[0].is_empty() {
+        format!("value ({})", units[0])
+    } else {
+        "value".to_string()
+    };
+    let x_label = match x {
+        XAxis::SimTime => "simulated time (s)",
+        XAxis::RealTime => "real time since start (s)",
+        XAxis::StepCount => "step",
+        XAxis::Index => "frame index",
+    };
+    (x_label, y_unit)
 }
 
 /// Range of the values, widened a little (and made non-empty).

@@ -14,7 +14,7 @@ use crate::optimize::robust::{RobustEpisodes, combine};
 use crate::optimize::run::prepare;
 use crate::optimize::shared::{stored_evaluator, stored_simulation};
 use crate::optimize::space::{Genome, SearchSpace};
-use crate::optimize::store::{Store, StoreError, program_version};
+use crate::optimize::store::{RunSpec, Store, StoreError, program_version};
 use crate::sim::randomize::SensorNoise;
 use crate::sim::{BuildOptions, SimError, Simulator};
 
@@ -167,39 +167,16 @@ pub fn load_replay(
         }
         None => sim.engine(),
     };
-    let (world, seed, noise) = match (&evaluator.robust, episode) {
-        (None, Some(k)) => {
-            return Err(ReplayError::NoEpisodes { run, episode: k });
-        }
-        // A co-design candidate's world is its own body, built from the stored files.
-        (None, None) => match &evaluator.design {
-            Some(d) => (
-                d.simulation(&eval.genome, registry)
-                    .map_err(UnevaluableRun::Config)?,
-                spec.info.seed,
-                SensorNoise::default(),
-            ),
-            None => (sim.clone(), spec.info.seed, SensorNoise::default()),
-        },
-        (Some(r), k) => {
-            let (mut world, seed, noise) = episode_of(r, k.unwrap_or(0))?;
-            // A co-design body draws the episode with its own links and joints.
-            if let Some(d) = &evaluator.design {
-                let body = d
-                    .simulation(&eval.genome, registry)
-                    .map_err(UnevaluableRun::Config)?;
-                if let Some(e) = r.of_body(k.unwrap_or(0) as usize, &body) {
-                    world = e.sim;
-                }
-            }
-            label.push_str(&format!(
-                ", episode {} of {}",
-                k.unwrap_or(0),
-                r.episodes.len()
-            ));
-            (world, seed, noise)
-        }
-    };
+    let (world, seed, noise, which) = replay_world(
+        &evaluator,
+        &sim,
+        &spec,
+        &eval.genome,
+        run,
+        episode,
+        registry,
+    )?;
+    label.push_str(&which);
     Ok(Replay {
         sim: world,
         space,
@@ -214,6 +191,55 @@ pub fn load_replay(
         stored_engines: eval.engines,
         engine,
         evaluator,
+    })
+}
+
+/// The world a replay runs, its seed and noise: the stored configuration, a co-design
+/// candidate's own body, or with robust fitness the randomized episode asked for (then
+/// named in the text returned, for the replay's label).
+fn replay_world(
+    evaluator: &Evaluator,
+    sim: &Simulation,
+    spec: &RunSpec,
+    genome: &Genome,
+    run: i64,
+    episode: Option<u32>,
+    registry: &ModuleRegistry,
+) -> Result<(Simulation, u64, SensorNoise, String), ReplayError> {
+    Ok(match (&evaluator.robust, episode) {
+        (None, Some(k)) => {
+            return Err(ReplayError::NoEpisodes { run, episode: k });
+        }
+        // A co-design candidate's world is its own body, built from the stored files.
+        (None, None) => match &evaluator.design {
+            Some(d) => (
+                d.simulation(genome, registry)
+                    .map_err(UnevaluableRun::Config)?,
+                spec.info.seed,
+                SensorNoise::default(),
+                String::new(),
+            ),
+            None => (
+                sim.clone(),
+                spec.info.seed,
+                SensorNoise::default(),
+                String::new(),
+            ),
+        },
+        (Some(r), k) => {
+            let (mut world, seed, noise) = episode_of(r, k.unwrap_or(0))?;
+            // A co-design body draws the episode with its own links and joints.
+            if let Some(d) = &evaluator.design {
+                let body = d
+                    .simulation(genome, registry)
+                    .map_err(UnevaluableRun::Config)?;
+                if let Some(e) = r.of_body(k.unwrap_or(0) as usize, &body) {
+                    world = e.sim;
+                }
+            }
+            let which = format!(", episode {} of {}", k.unwrap_or(0), r.episodes.len());
+            (world, seed, noise, which)
+        }
     })
 }
 

@@ -4,7 +4,7 @@
 //! [`ControlKernel::set_parameter`], clamped to each parameter's range. Reset and pause
 //! buttons come back as [`RemoteAction`]s for the application to carry out.
 
-use crate::config::remote::{BindMode, JointSelection, RemoteAction, RemoteFile};
+use crate::config::remote::{BindMode, BindTarget, JointSelection, RemoteAction, RemoteFile};
 use crate::config::resolve::robot::JointOrientation;
 use crate::control::ControlKernel;
 use crate::remote::device::RemoteData;
@@ -124,59 +124,7 @@ impl RemoteMapper {
                         fault,
                     })
                 };
-                if let JointSelection::Mask(m) = &t.joints
-                    && m.len() != kernel.joints()
-                {
-                    return Err(at(BindingFault::MaskLength {
-                        mask: t.joints.to_text(),
-                        joints: kernel.joints(),
-                    }));
-                }
-                let mut found_module = false;
-                for (ai, a) in kernel.actuators().iter().enumerate() {
-                    let d = a.module.descriptor();
-                    if !crate::config::xml::read::same_name(d.type_name, &t.module) {
-                        continue;
-                    }
-                    found_module = true;
-                    let p = d.parameter(&t.parameter).ok_or_else(|| {
-                        at(BindingFault::NoParameter {
-                            parameter: t.parameter.clone(),
-                            known: d.parameter_names().join(", "),
-                        })
-                    })?;
-                    let joints: Vec<usize> = a
-                        .joints
-                        .iter()
-                        .copied()
-                        .filter(|j| match &t.joints {
-                            JointSelection::All => true,
-                            JointSelection::Pitch => {
-                                orientations.get(*j) == Some(&JointOrientation::Pitch)
-                            }
-                            JointSelection::Yaw => {
-                                orientations.get(*j) == Some(&JointOrientation::Yaw)
-                            }
-                            JointSelection::Mask(m) => m.get(*j).copied().unwrap_or(false),
-                        })
-                        .collect();
-                    if joints.is_empty() {
-                        continue;
-                    }
-                    targets.push(Target {
-                        actuator: ai,
-                        param: p.name,
-                        joints,
-                        min: p.min,
-                        max: p.max,
-                        scale: t.scale,
-                        base: Vec::new(),
-                        toggled: false,
-                    });
-                }
-                if !found_module {
-                    return Err(at(BindingFault::NoModule));
-                }
+                targets.extend(targets_of(t, kernel, orientations, &at)?);
                 if !targets.iter().any(|x| {
                     crate::config::xml::read::same_name(
                         kernel.actuators()[x.actuator].module.descriptor().type_name,
@@ -315,6 +263,67 @@ impl RemoteMapper {
         }
         Ok(actions)
     }
+}
+
+/// The targets one `<target>` of a binding resolves to: each actuator of its module type
+/// with its parameter, on the joints its selection keeps (none kept: no target).
+fn targets_of(
+    t: &BindTarget,
+    kernel: &ControlKernel,
+    orientations: &[JointOrientation],
+    at: &dyn Fn(BindingFault) -> Box<BindingError>,
+) -> Result<Vec<Target>, Box<BindingError>> {
+    let mut targets = Vec::new();
+    if let JointSelection::Mask(m) = &t.joints
+        && m.len() != kernel.joints()
+    {
+        return Err(at(BindingFault::MaskLength {
+            mask: t.joints.to_text(),
+            joints: kernel.joints(),
+        }));
+    }
+    let mut found_module = false;
+    for (ai, a) in kernel.actuators().iter().enumerate() {
+        let d = a.module.descriptor();
+        if !crate::config::xml::read::same_name(d.type_name, &t.module) {
+            continue;
+        }
+        found_module = true;
+        let p = d.parameter(&t.parameter).ok_or_else(|| {
+            at(BindingFault::NoParameter {
+                parameter: t.parameter.clone(),
+                known: d.parameter_names().join(", "),
+            })
+        })?;
+        let joints: Vec<usize> = a
+            .joints
+            .iter()
+            .copied()
+            .filter(|j| match &t.joints {
+                JointSelection::All => true,
+                JointSelection::Pitch => orientations.get(*j) == Some(&JointOrientation::Pitch),
+                JointSelection::Yaw => orientations.get(*j) == Some(&JointOrientation::Yaw),
+                JointSelection::Mask(m) => m.get(*j).copied().unwrap_or(false),
+            })
+            .collect();
+        if joints.is_empty() {
+            continue;
+        }
+        targets.push(Target {
+            actuator: ai,
+            param: p.name,
+            joints,
+            min: p.min,
+            max: p.max,
+            scale: t.scale,
+            base: Vec::new(),
+            toggled: false,
+        });
+    }
+    if !found_module {
+        return Err(at(BindingFault::NoModule));
+    }
+    Ok(targets)
 }
 
 #[cfg(test)]

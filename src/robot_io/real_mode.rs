@@ -161,6 +161,47 @@ pub fn kernel_for(
     Ok(k)
 }
 
+/// The data file's recorder, if a file is asked for.
+fn recorder_for(
+    data: Option<&Path>,
+    kernel: &ControlKernel,
+) -> Result<Option<Recorder>, RealModeError> {
+    data.map(|path| -> Result<Recorder, RealModeError> {
+        let handlers = handlers_for(kernel, &SensorData::default());
+        let round = handlers
+            .iter()
+            .map(|h| HandlerFrames {
+                meta: Vec::with_capacity(ROUND),
+                values: Vec::with_capacity(ROUND * h.width()),
+            })
+            .collect();
+        Ok(Recorder {
+            store: DataStore::create(path, handlers)?,
+            round,
+            samples: 0,
+        })
+    })
+    .transpose()
+}
+
+impl RealSummary {
+    /// Nothing done yet, on `joints` joints.
+    fn new(joints: usize) -> RealSummary {
+        RealSummary {
+            steps: 0,
+            reads: 0,
+            failed_reads: 0,
+            last_read_error: None,
+            wall: 0.0,
+            late_steps: 0,
+            readings: Readings::new(joints),
+            samples: 0,
+            error: None,
+            shutdown_error: None,
+        }
+    }
+}
+
 /// Runs `sim`'s kernel on `robot` until the duration or `stop`; records into `data`.
 /// The robot is connected and its servos enabled here; torque is off again at the end.
 pub fn run(
@@ -181,59 +222,27 @@ pub fn run(
             joints,
         });
     }
-    let read_every = u64::from(
-        opts.read_every
-            .unwrap_or(sim.robot.servos.read_every)
-            .max(1),
-    );
-    let every = u64::from(opts.every.unwrap_or(props.accuracy).max(1));
+    let plan = LoopPlan {
+        dt,
+        read_every: u64::from(
+            opts.read_every
+                .unwrap_or(sim.robot.servos.read_every)
+                .max(1),
+        ),
+        every: u64::from(opts.every.unwrap_or(props.accuracy).max(1)),
+        steps: opts.duration.map(|d| (d / dt).round() as u64),
+    };
     robot.connect()?;
-    let recorder = data.map(|path| -> Result<Recorder, RealModeError> {
-        let handlers = handlers_for(&kernel, &SensorData::default());
-        let round = handlers
-            .iter()
-            .map(|h| HandlerFrames {
-                meta: Vec::with_capacity(ROUND),
-                values: Vec::with_capacity(ROUND * h.width()),
-            })
-            .collect();
-        Ok(Recorder {
-            store: DataStore::create(path, handlers)?,
-            round,
-            samples: 0,
-        })
-    });
-    let mut recorder = match recorder.transpose() {
+    let mut recorder = match recorder_for(data, &kernel) {
         Ok(r) => r,
         Err(e) => {
             robot.disconnect();
             return Err(e);
         }
     };
-    let mut summary = RealSummary {
-        steps: 0,
-        reads: 0,
-        failed_reads: 0,
-        last_read_error: None,
-        wall: 0.0,
-        late_steps: 0,
-        readings: Readings::new(joints),
-        samples: 0,
-        error: None,
-        shutdown_error: None,
-    };
+    let mut summary = RealSummary::new(joints);
     let started = Instant::now();
-    let result = control_loop(
-        &mut kernel,
-        robot,
-        dt,
-        read_every,
-        every,
-        opts.duration,
-        stop,
-        &mut recorder,
-        &mut summary,
-    );
+    let result = control_loop(&mut kernel, robot, &plan, stop, &mut recorder, &mut summary);
     // Also when an error ended the loop.
     summary.wall = started.elapsed().as_secs_f64();
     if let Err(e) = &result {
@@ -256,14 +265,22 @@ pub fn run(
     Ok(summary)
 }
 
-#[allow(clippy::too_many_arguments)]
-fn control_loop(
-    kernel: &mut ControlKernel,
-    robot: &mut dyn RobotControl,
+/// The real-time loop's timing: the step, how often servos are read and frames sampled,
+/// and the steps to run (none: until stopped).
+#[derive(Clone, Copy)]
+struct LoopPlan {
     dt: f64,
     read_every: u64,
     every: u64,
-    duration: Option<f64>,
+    steps: Option<u64>,
+}
+
+/// Steps the kernel in real time on `robot` as `plan` says, reading the servos back and
+/// sampling into `recorder`, until the steps are done, `stop` is raised or the servos fail.
+fn control_loop(
+    kernel: &mut ControlKernel,
+    robot: &mut dyn RobotControl,
+    plan: &LoopPlan,
     stop: &AtomicBool,
     recorder: &mut Option<Recorder>,
     summary: &mut RealSummary,
@@ -272,7 +289,12 @@ fn control_loop(
     summary.reads += 1;
     robot.set_joint_angles(&summary.readings.positions.clone())?;
     robot.enable_servos(true)?;
-    let steps = duration.map(|d| (d / dt).round() as u64);
+    let LoopPlan {
+        dt,
+        read_every,
+        every,
+        steps,
+    } = *plan;
     let pacer = Pacer::new(Pacing::REAL_TIME, dt);
     let start = Instant::now();
     let mut step = 0u64;

@@ -202,60 +202,7 @@ fn read_map_elites(r: &Reader, props: &Element) -> ConfigResult<MapElitesSetting
     let mutation = r.f64_in(mutation, 0.0, 1.0)?;
     let mut descriptors = Vec::new();
     for d in props.children_named("descriptor") {
-        r.only_attrs(d, &["gene", "name", "bins", "min", "max"])?;
-        let bins = r.required_attr(d, "bins")?;
-        let bins = r.u32_str(&bins.value, bins.pos, "bins=")?;
-        let spec = match d.attr("name") {
-            Some(n) if n.value == "yaw-share" => DescriptorSpec {
-                gene: 0,
-                bins,
-                yaw_share: true,
-                measured: None,
-            },
-            Some(n) => {
-                let quantity = match n.value.as_str() {
-                    "height" => Quantity::Height,
-                    "curvature" => Quantity::Curvature,
-                    _ => {
-                        return Err(r.err(
-                            n.pos,
-                            ErrorKind::InvalidValue,
-                            format!(
-                                "descriptor name={:?}: the named descriptors are yaw-share, height and curvature",
-                                n.value
-                            ),
-                        ));
-                    }
-                };
-                DescriptorSpec {
-                    gene: 0,
-                    bins,
-                    yaw_share: false,
-                    measured: Some(Measured {
-                        quantity,
-                        range: measured_range(r, d)?,
-                    }),
-                }
-            }
-            None => {
-                let gene = r.required_attr(d, "gene")?;
-                DescriptorSpec {
-                    gene: r.u32_str(&gene.value, gene.pos, "gene=")?,
-                    bins,
-                    yaw_share: false,
-                    measured: None,
-                }
-            }
-        };
-        let named = spec.yaw_share || spec.measured.is_some();
-        if (spec.gene == 0 && !named) || spec.bins == 0 || spec.bins > 1000 {
-            return Err(r.err(
-                d.pos,
-                ErrorKind::OutOfRange,
-                "a descriptor's gene counts from 1 and its bins lie in 1..=1000",
-            ));
-        }
-        descriptors.push(spec);
+        descriptors.push(read_descriptor(r, d)?);
     }
     if descriptors.len() != 2 {
         return Err(r.err(
@@ -280,6 +227,65 @@ fn read_map_elites(r: &Reader, props: &Element) -> ConfigResult<MapElitesSetting
         mutation,
         descriptors,
     })
+}
+
+/// One MAP-Elites `<descriptor>`: a gene's place in its range, the body's yaw share, or a
+/// quantity measured in the episode (with its range).
+fn read_descriptor(r: &Reader, d: &Element) -> ConfigResult<DescriptorSpec> {
+    r.only_attrs(d, &["gene", "name", "bins", "min", "max"])?;
+    let bins = r.required_attr(d, "bins")?;
+    let bins = r.u32_str(&bins.value, bins.pos, "bins=")?;
+    let spec = match d.attr("name") {
+        Some(n) if n.value == "yaw-share" => DescriptorSpec {
+            gene: 0,
+            bins,
+            yaw_share: true,
+            measured: None,
+        },
+        Some(n) => {
+            let quantity = match n.value.as_str() {
+                "height" => Quantity::Height,
+                "curvature" => Quantity::Curvature,
+                _ => {
+                    return Err(r.err(
+                        n.pos,
+                        ErrorKind::InvalidValue,
+                        format!(
+                            "descriptor name={:?}: the named descriptors are yaw-share, height and curvature",
+                            n.value
+                        ),
+                    ));
+                }
+            };
+            DescriptorSpec {
+                gene: 0,
+                bins,
+                yaw_share: false,
+                measured: Some(Measured {
+                    quantity,
+                    range: measured_range(r, d)?,
+                }),
+            }
+        }
+        None => {
+            let gene = r.required_attr(d, "gene")?;
+            DescriptorSpec {
+                gene: r.u32_str(&gene.value, gene.pos, "gene=")?,
+                bins,
+                yaw_share: false,
+                measured: None,
+            }
+        }
+    };
+    let named = spec.yaw_share || spec.measured.is_some();
+    if (spec.gene == 0 && !named) || spec.bins == 0 || spec.bins > 1000 {
+        return Err(r.err(
+            d.pos,
+            ErrorKind::OutOfRange,
+            "a descriptor's gene counts from 1 and its bins lie in 1..=1000",
+        ));
+    }
+    Ok(spec)
 }
 
 /// A measured descriptor's `min` and `max`: numbers, min below max.

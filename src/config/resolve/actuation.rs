@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::config::actuation::{ActuationFile, ParamValue};
+use crate::config::actuation::{ActuationFile, ModuleAssignment, ParamValue};
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::mask::JointMask;
 use crate::config::module_types::{ModuleDescriptor, ModuleTypes, ParamDescriptor};
@@ -136,66 +136,8 @@ pub fn resolve_actuation(
                 m.joints
             ));
         }
-        let mut params: Vec<ParamAssignment> = Vec::new();
-        for p in &m.params {
-            let d = lookup_parameter(&r, descriptor, &p.name, p.pos)?;
-            if params.iter().any(|o| o.name == d.name) {
-                return Err(r.err(
-                    p.pos,
-                    ErrorKind::InvalidValue,
-                    format!("parameter {} is set twice", d.name),
-                ));
-            }
-            let values: &[f64] = match &p.value {
-                ParamValue::Uniform(v) => std::slice::from_ref(v),
-                ParamValue::PerJoint(v) => {
-                    if v.len() != m.joints.count() {
-                        return Err(r.err(
-                            p.pos,
-                            ErrorKind::InvalidValue,
-                            format!(
-                                "parameter {} has {} values but the module drives {} joints (mask {}); give one per driven joint",
-                                d.name,
-                                v.len(),
-                                m.joints.count(),
-                                m.joints
-                            ),
-                        ));
-                    }
-                    v
-                }
-            };
-            for v in values {
-                r.check_range(
-                    *v,
-                    d.min,
-                    d.max,
-                    p.pos,
-                    &format!("{} {} ({})", descriptor.type_name, d.name, d.unit),
-                )?;
-            }
-            params.push(ParamAssignment {
-                name: d.name,
-                value: p.value.clone(),
-            });
-        }
-        let weights = match &m.weights {
-            Some((file, pos)) => {
-                let found = find_file(src, path, file, *pos, "weights")?;
-                let bytes = src.read_bytes(&found).map_err(|e| {
-                    r.err(
-                        *pos,
-                        ErrorKind::MissingFile,
-                        format!("weights file {}: {e}", found.display()),
-                    )
-                })?;
-                Some(WeightsFile {
-                    path: found,
-                    bytes: bytes.into(),
-                })
-            }
-            None => None,
-        };
+        let params = resolve_params(&r, descriptor, m)?;
+        let weights = read_weights(src, path, &r, m.weights.as_ref())?;
         modules.push(ModuleInstance {
             descriptor: descriptor.clone(),
             joints: m.joints.clone(),
@@ -207,5 +149,85 @@ pub fn resolve_actuation(
         file: path.to_path_buf(),
         modules,
         warnings,
+    })
+}
+
+/// A module's parameter settings, each a parameter of its type, set once, with one value
+/// or one per driven joint, in its range.
+fn resolve_params(
+    r: &Reader,
+    descriptor: &ModuleDescriptor,
+    m: &ModuleAssignment,
+) -> ConfigResult<Vec<ParamAssignment>> {
+    let mut params: Vec<ParamAssignment> = Vec::new();
+    for p in &m.params {
+        let d = lookup_parameter(r, descriptor, &p.name, p.pos)?;
+        if params.iter().any(|o| o.name == d.name) {
+            return Err(r.err(
+                p.pos,
+                ErrorKind::InvalidValue,
+                format!("parameter {} is set twice", d.name),
+            ));
+        }
+        let values: &[f64] = match &p.value {
+            ParamValue::Uniform(v) => std::slice::from_ref(v),
+            ParamValue::PerJoint(v) => {
+                if v.len() != m.joints.count() {
+                    return Err(r.err(
+                        p.pos,
+                        ErrorKind::InvalidValue,
+                        format!(
+                            "parameter {} has {} values but the module drives {} joints (mask {}); give one per driven joint",
+                            d.name,
+                            v.len(),
+                            m.joints.count(),
+                            m.joints
+                        ),
+                    ));
+                }
+                v
+            }
+        };
+        for v in values {
+            r.check_range(
+                *v,
+                d.min,
+                d.max,
+                p.pos,
+                &format!("{} {} ({})", descriptor.type_name, d.name, d.unit),
+            )?;
+        }
+        params.push(ParamAssignment {
+            name: d.name,
+            value: p.value.clone(),
+        });
+    }
+    Ok(params)
+}
+
+/// A module's weights file (`weights="..."`), found like an include and read with the
+/// configuration.
+fn read_weights(
+    src: &dyn FileSource,
+    path: &Path,
+    r: &Reader,
+    weights: Option<&(String, Pos)>,
+) -> ConfigResult<Option<WeightsFile>> {
+    Ok(match weights {
+        Some((file, pos)) => {
+            let found = find_file(src, path, file, *pos, "weights")?;
+            let bytes = src.read_bytes(&found).map_err(|e| {
+                r.err(
+                    *pos,
+                    ErrorKind::MissingFile,
+                    format!("weights file {}: {e}", found.display()),
+                )
+            })?;
+            Some(WeightsFile {
+                path: found,
+                bytes: bytes.into(),
+            })
+        }
+        None => None,
     })
 }

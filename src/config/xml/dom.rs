@@ -138,26 +138,13 @@ pub fn parse(file: &str, text: &str) -> Result<Document, ConfigError> {
             }
         };
         match event {
-            Event::Start(start) | Event::Empty(start) if root.is_some() && stack.is_empty() => {
-                let name = start.name().as_ref().to_string();
-                return Err(err(
-                    before,
-                    ErrorKind::Syntax,
-                    format!("second root element <{name}>: a file holds exactly one root element"),
-                ));
-            }
             Event::Start(start) => {
-                if stack.len() >= MAX_DEPTH {
-                    return Err(err(
-                        before,
-                        ErrorKind::Syntax,
-                        format!("elements nested deeper than {MAX_DEPTH} levels"),
-                    ));
-                }
+                may_open(&start, &stack, root.is_some(), before, &err)?;
                 let el = open_element(&start, before, text, &index, file)?;
                 stack.push(el);
             }
             Event::Empty(start) => {
+                may_open(&start, &stack, root.is_some(), before, &err)?;
                 let el = open_element(&start, before, text, &index, file)?;
                 match stack.last_mut() {
                     Some(parent) => parent.children.push(el),
@@ -190,6 +177,43 @@ pub fn parse(file: &str, text: &str) -> Result<Document, ConfigError> {
             Event::Eof => break,
         }
     }
+    finish(stack, root, outer_comments, file, &err)
+}
+
+/// Whether element `start` may open here: not a second root, not nested too deep.
+fn may_open(
+    start: &BytesStart,
+    stack: &[Element],
+    has_root: bool,
+    before: usize,
+    err: &dyn Fn(usize, ErrorKind, String) -> ConfigError,
+) -> Result<(), ConfigError> {
+    if has_root && stack.is_empty() {
+        let name = start.name().as_ref().to_string();
+        return Err(err(
+            before,
+            ErrorKind::Syntax,
+            format!("second root element <{name}>: a file holds exactly one root element"),
+        ));
+    }
+    if stack.len() >= MAX_DEPTH {
+        return Err(err(
+            before,
+            ErrorKind::Syntax,
+            format!("elements nested deeper than {MAX_DEPTH} levels"),
+        ));
+    }
+    Ok(())
+}
+
+/// The document once the text ended: every element closed, one root.
+fn finish(
+    stack: Vec<Element>,
+    root: Option<Element>,
+    outer_comments: Vec<(String, Pos)>,
+    file: &str,
+    err: &dyn Fn(usize, ErrorKind, String) -> ConfigError,
+) -> Result<Document, ConfigError> {
     if let Some(open) = stack.last() {
         return Err(ConfigError::new(
             file,

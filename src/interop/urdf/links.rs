@@ -94,41 +94,7 @@ pub fn body(
     warn: &mut Vec<String>,
 ) -> Result<Body, InteropError> {
     let stand_in = &ctx.stand_in;
-    let mut geoms = Vec::new();
-    for l in tree.members(head) {
-        let link = &robot.links[l];
-        let colour = link_colour(robot, link);
-        if link.collision.is_empty() && !link.visual.is_empty() {
-            warn.push(format!(
-                "link {}: it has <visual> but no <collision> geometry; proleg draws what collides, so it is not imported",
-                link.name
-            ));
-        }
-        for (ci, c) in link.collision.iter().enumerate() {
-            let at = tree.in_body(l) * origin(&c.origin);
-            let g = geom(&link.name, &c.geometry, &at, meshes, warn).map_err(|e| {
-                // The URDF's place first, then what the mesh file says.
-                InteropError::new(
-                    meshes.urdf(),
-                    format!("{}link {}: <collision> {e}", ctx.at(&link.name), link.name),
-                )
-            })?;
-            if let Some(mut g) = g {
-                if let Shape::Trimesh { file, .. } = &g.shape
-                    && let Some(size) = meshes.mesh(file).map(diagonal)
-                {
-                    warn.extend(misplaced_collision(
-                        link,
-                        ctx.lines.get(&link.name),
-                        ci,
-                        size,
-                    ));
-                }
-                g.diffuse_color = colour;
-                geoms.push(g);
-            }
-        }
-    }
+    let geoms = body_geoms(robot, tree, head, meshes, ctx, warn)?;
     let mut mass = mass(
         robot,
         tree,
@@ -183,6 +149,54 @@ pub fn body(
         mass,
         pos: Pos::default(),
     })
+}
+
+/// The collision geometry of every link merged into the body headed by `head`, coloured as
+/// each link's visual; a link with a visual but no collision is named in `warn`.
+fn body_geoms(
+    robot: &urdf_rs::Robot,
+    tree: &Tree,
+    head: usize,
+    meshes: &mut MeshWriter,
+    ctx: &Context,
+    warn: &mut Vec<String>,
+) -> Result<Vec<Geom>, InteropError> {
+    let mut geoms = Vec::new();
+    for l in tree.members(head) {
+        let link = &robot.links[l];
+        let colour = link_colour(robot, link);
+        if link.collision.is_empty() && !link.visual.is_empty() {
+            warn.push(format!(
+                "link {}: it has <visual> but no <collision> geometry; proleg draws what collides, so it is not imported",
+                link.name
+            ));
+        }
+        for (ci, c) in link.collision.iter().enumerate() {
+            let at = tree.in_body(l) * origin(&c.origin);
+            let g = geom(&link.name, &c.geometry, &at, meshes, warn).map_err(|e| {
+                // The URDF's place first, then what the mesh file says.
+                InteropError::new(
+                    meshes.urdf(),
+                    format!("{}link {}: <collision> {e}", ctx.at(&link.name), link.name),
+                )
+            })?;
+            if let Some(mut g) = g {
+                if let Shape::Trimesh { file, .. } = &g.shape
+                    && let Some(size) = meshes.mesh(file).map(diagonal)
+                {
+                    warn.extend(misplaced_collision(
+                        link,
+                        ctx.lines.get(&link.name),
+                        ci,
+                        size,
+                    ));
+                }
+                g.diffuse_color = colour;
+                geoms.push(g);
+            }
+        }
+    }
+    Ok(geoms)
 }
 
 /// The diagonal of `mesh`'s bounding box (m).

@@ -39,15 +39,19 @@ pub fn write_run_files(
     offsets: &[f64],
     lowest: f64,
 ) -> Result<std::path::PathBuf, InteropError> {
-    let joints = offsets.len();
-    let offset = if offsets.iter().all(|o| *o == 0.0) {
-        r#"value="0""#.to_string()
-    } else {
-        let v: Vec<String> = offsets.iter().map(|o| format!("{o:.4}")).collect();
-        format!(r#"values="{}""#, v.join(" "))
-    };
-    let lift = CLEARANCE - lowest;
-    let env = format!(
+    let env = env_text(name, CLEARANCE - lowest);
+    let actuation = actuation_text(name, offsets);
+    let simulation = simulation_text(name);
+    write_text(&dir.join(format!("{name}.env.xml")), &env)?;
+    write_text(&dir.join(format!("{name}.actuation.xml")), &actuation)?;
+    let sim = dir.join(format!("{name}.simulation.xml"));
+    write_text(&sim, &simulation)?;
+    Ok(sim)
+}
+
+/// The import's floor, the robot `lift` m up so it starts [`CLEARANCE`] above it.
+fn env_text(name: &str, lift: f64) -> String {
+    format!(
         r#"<?xml version="1.0" encoding="utf-8"?>
 <!-- A flat floor for the imported robot {name}; it starts {clear} mm above it. -->
 <Environment>
@@ -73,8 +77,19 @@ pub fn write_run_files(
 </Environment>
 "#,
         clear = CLEARANCE * 1000.0
-    );
-    let actuation = format!(
+    )
+}
+
+/// A gentle travelling sine on every joint, centred at `offsets` (deg, one per joint).
+fn actuation_text(name: &str, offsets: &[f64]) -> String {
+    let joints = offsets.len();
+    let offset = if offsets.iter().all(|o| *o == 0.0) {
+        r#"value="0""#.to_string()
+    } else {
+        let v: Vec<String> = offsets.iter().map(|o| format!("{o:.4}")).collect();
+        format!(r#"values="{}""#, v.join(" "))
+    };
+    format!(
         r#"<?xml version="1.0" encoding="utf-8"?>
 <!-- A gentle travelling sine on every joint of the imported robot {name}. -->
 <actuation>
@@ -96,8 +111,12 @@ pub fn write_run_files(
                 mask = "1".repeat(joints)
             )
         }
-    );
-    let simulation = format!(
+    )
+}
+
+/// The simulation of the import on its floor with its sine.
+fn simulation_text(name: &str) -> String {
+    format!(
         r#"<?xml version="1.0" encoding="utf-8"?>
 <simulation>
   <description>{name}, imported from URDF, on a flat floor with a sine on every joint.</description>
@@ -114,12 +133,7 @@ pub fn write_run_files(
   </simulationProperties>
 </simulation>
 "#
-    );
-    write_text(&dir.join(format!("{name}.env.xml")), &env)?;
-    write_text(&dir.join(format!("{name}.actuation.xml")), &actuation)?;
-    let sim = dir.join(format!("{name}.simulation.xml"));
-    write_text(&sim, &simulation)?;
-    Ok(sim)
+    )
 }
 
 /// Rewrites the environment file of an import (`NAME.env.xml` in `dir`, written by

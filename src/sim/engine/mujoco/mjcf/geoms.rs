@@ -196,6 +196,40 @@ pub fn pose_attrs(p: &Pose) -> Vec<(&'static str, String)> {
     vec![("pos", mj(&p.translation)), ("quat", mj(&p.rotation))]
 }
 
+/// A geom's contact attributes: friction, priority and its collision bits. Terrain is
+/// collision bit 1, robot r of a batch bit 1 << (r + 1): MuJoCo pairs two geoms when one's
+/// contype meets the other's conaffinity, so every robot meets the terrain, none meets
+/// another robot, and a robot meets itself only with self-collision.
+fn contact_attrs(
+    sim: &Simulation,
+    collision: Collision,
+) -> Result<Vec<(&'static str, String)>, MujocoError> {
+    let model = sim.environment.physics.contact_model();
+    let (friction, priority, contype, conaffinity) = match collision {
+        Collision::Terrain { friction } => {
+            (friction, contact::priority(&model, Some(friction))?, 1, 1)
+        }
+        Collision::Link {
+            robot,
+            self_collision,
+        } => {
+            let bit = 1u32 << (robot + 1);
+            (
+                LINK_FRICTION,
+                contact::priority(&model, None)?,
+                bit,
+                if self_collision { 1 | bit } else { 1 },
+            )
+        }
+    };
+    Ok(vec![
+        ("friction", mj(&[friction, 0.005, 0.0001])),
+        ("priority", priority.to_string()),
+        ("contype", contype.to_string()),
+        ("conaffinity", conaffinity.to_string()),
+    ])
+}
+
 /// The attributes of one geom; `mass` when the body's mass is spread over its geometry.
 pub fn geom_attrs(
     g: &Geom,
@@ -257,31 +291,7 @@ pub fn geom_attrs(
         }
     }
     a.extend(pose_attrs(&at));
-    // Terrain is collision bit 1, robot r of a batch bit 1 << (r + 1): MuJoCo pairs two
-    // geoms when one's contype meets the other's conaffinity, so every robot meets the
-    // terrain, none meets another robot, and a robot meets itself only with self-collision.
-    let model = sim.environment.physics.contact_model();
-    let (friction, priority, contype, conaffinity) = match collision {
-        Collision::Terrain { friction } => {
-            (friction, contact::priority(&model, Some(friction))?, 1, 1)
-        }
-        Collision::Link {
-            robot,
-            self_collision,
-        } => {
-            let bit = 1u32 << (robot + 1);
-            (
-                LINK_FRICTION,
-                contact::priority(&model, None)?,
-                bit,
-                if self_collision { 1 | bit } else { 1 },
-            )
-        }
-    };
-    a.push(("friction", mj(&[friction, 0.005, 0.0001])));
-    a.push(("priority", priority.to_string()));
-    a.push(("contype", contype.to_string()));
-    a.push(("conaffinity", conaffinity.to_string()));
+    a.extend(contact_attrs(sim, collision)?);
     if let Some(m) = mass {
         a.push(("mass", mj(&[m])));
     }
