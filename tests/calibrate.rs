@@ -56,6 +56,10 @@ fn record(sim: &proleg::config::Simulation, seconds: f64, data: &Path) {
 }
 
 #[test]
+#[expect(
+    clippy::too_many_lines,
+    reason = "one scenario, read top to bottom (tests may run past 80 lines)"
+)]
 fn hidden_servo_dynamics_are_recovered_from_a_recording() {
     let dir = common::scratch("calibrate");
     let sim = load_simulation(common::root().join(SWEEP)).unwrap();

@@ -142,6 +142,10 @@ fn the_record_button_records_what_the_window_shows() {
 }
 
 #[test]
+#[expect(
+    clippy::too_many_lines,
+    reason = "one scenario, read top to bottom (tests may run past 80 lines)"
+)]
 fn a_co_design_gallery_shows_each_best_body_rendered_and_captioned() {
     let dir = scratch("gallery");
     let store = dir.join("codesign.sqlite");

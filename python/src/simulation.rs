@@ -362,7 +362,6 @@ impl Simulation {
 }
 
 /// Environment options from the keyword arguments.
-#[allow(clippy::too_many_arguments)]
 pub fn options(
     engine_name: Option<&str>,
     control_period: f64,
@@ -435,7 +434,10 @@ impl Env {
 impl Env {
     #[new]
     #[pyo3(signature = (path, engine=None, control_period=0.02, mode="alone", action_scale=None, fitness="distance", energy_weight=0.0, duration=None))]
-    #[allow(clippy::too_many_arguments)]
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "a Python constructor: one parameter per keyword argument of its signature"
+    )]
     fn new(
         py: Python<'_>,
         path: PathBuf,

@@ -61,7 +61,10 @@ fn column<'py, T: numpy::Element + Copy>(
 impl VecEnv {
     #[new]
     #[pyo3(signature = (path, num_envs, threads=1, autoreset="next_step", engine=None, control_period=0.02, mode="alone", action_scale=None, fitness="distance", energy_weight=0.0, duration=None))]
-    #[allow(clippy::too_many_arguments)]
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "a Python constructor: one parameter per keyword argument of its signature"
+    )]
     fn new(
         py: Python<'_>,
         path: PathBuf,

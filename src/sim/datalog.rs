@@ -254,7 +254,12 @@ pub fn log_data(
         let meta = meta_of(log.samples);
         let mut h = fill_module_frames(log, &kernel.0);
         h += fill_sensor_frames(log, h, &sensors.0);
-        fill_robot_frame(log, h, robot, &kernel.0, energy, &physics, &clock, &states);
+        let parts = RobotParts {
+            robot,
+            kernel: &kernel.0,
+            energy,
+        };
+        fill_robot_frame(log, h, &parts, &physics, &clock, &states);
         let storing = robot.index == 0 && sink.is_some();
         for i in 0..log.handlers.len() {
             log.rings[i].push(meta, &log.frame[i]);
@@ -311,20 +316,30 @@ fn fill_sensor_frames(log: &mut DataLog, mut h: usize, sensors: &SensorData) -> 
     h - first
 }
 
+/// What `Robot_Data` reads of one robot: the robot, its kernel and its energy.
+#[derive(Clone, Copy)]
+struct RobotParts<'a> {
+    robot: &'a SimRobot,
+    kernel: &'a ControlKernel,
+    energy: &'a Energy,
+}
+
 /// The `Robot_Data` frame (handler `h`): speed, centre of mass, head orientation, potential
 /// energy under the world's gravity, average speed, power and energy, then per joint the
 /// desired and real angles, torques and speeds.
-#[allow(clippy::too_many_arguments)]
 fn fill_robot_frame(
     log: &mut DataLog,
     h: usize,
-    robot: &SimRobot,
-    kernel: &ControlKernel,
-    energy: &Energy,
+    parts: &RobotParts<'_>,
     physics: &SimPhysics,
     clock: &SimClock,
     states: &Query<&JointState>,
 ) {
+    let RobotParts {
+        robot,
+        kernel,
+        energy,
+    } = *parts;
     let engine = physics.engine.as_ref();
     let gravity = engine.gravity();
     let com = centre_of_mass(engine, robot);

@@ -100,36 +100,46 @@ pub fn to_bevy(p: [f64; 3]) -> Vec3 {
     Vec3::new(p[0] as f32, p[2] as f32, -p[1] as f32)
 }
 
+/// The mouse as the camera reads it: its buttons, the window's cursor, the wheel, and
+/// whether the pointer is over the scene.
+#[derive(bevy::ecs::system::SystemParam)]
+pub struct Mouse<'w, 's> {
+    buttons: Res<'w, ButtonInput<MouseButton>>,
+    windows: Query<'w, 's, &'static Window, With<bevy::window::PrimaryWindow>>,
+    scroll: Res<'w, AccumulatedMouseScroll>,
+    routing: Res<'w, PointerRouting>,
+}
+
 /// Mouse orbit / pan / zoom and follow mode. A drag is the cursor's motion over the window
 /// since the last frame (not the device's raw motion, which synthetic and remote input
 /// lack).
-#[allow(clippy::too_many_arguments)]
 pub fn orbit_camera(
-    buttons: Res<ButtonInput<MouseButton>>,
-    windows: Query<&Window, With<bevy::window::PrimaryWindow>>,
+    mouse: Mouse,
     mut last_cursor: Local<Option<Vec2>>,
-    scroll: Res<AccumulatedMouseScroll>,
-    routing: Res<PointerRouting>,
     session: NonSend<SimSession>,
     selection: Res<crate::gui::control::picking::Selection>,
     mut cameras: Query<(&mut OrbitCamera, &mut Transform)>,
     mut readout: ResMut<CameraReadout>,
 ) {
-    let cursor = windows.iter().next().and_then(Window::cursor_position);
+    let cursor = mouse
+        .windows
+        .iter()
+        .next()
+        .and_then(Window::cursor_position);
     let moved = match (*last_cursor, cursor) {
         (Some(a), Some(b)) => b - a,
         _ => Vec2::ZERO,
     };
     *last_cursor = cursor;
     for (mut orbit, mut t) in &mut cameras {
-        if routing.scene_gets_pointer() {
+        if mouse.routing.scene_gets_pointer() {
             // A left drag on a body moves the body (see picking), not the camera.
-            let drag = if selection.dragging && buttons.pressed(MouseButton::Left) {
+            let drag = if selection.dragging && mouse.buttons.pressed(MouseButton::Left) {
                 Vec2::ZERO
             } else {
                 moved
             };
-            if orbit.steer(&t, &buttons, drag, scroll.delta.y) {
+            if orbit.steer(&t, &mouse.buttons, drag, mouse.scroll.delta.y) {
                 orbit.follow = false;
             }
         }

@@ -352,23 +352,6 @@ fn draw_ui(
     visuals: Query<(&BodyVisual, &Name)>,
     mut routing: ResMut<crate::gui::pointer::PointerRouting>,
 ) -> Result {
-    let Views {
-        toolbar,
-        params,
-        plots,
-        panels,
-        inspect,
-        optimizer,
-        debug,
-        selection,
-        remote,
-        gamepad,
-        modules,
-        assign,
-        robot,
-        recorder,
-        camera: _,
-    } = &mut views;
     let ctx = contexts.ctx_mut()?.clone();
     let mut root = egui::Ui::new(
         ctx.clone(),
@@ -377,65 +360,79 @@ fn draw_ui(
             .layer_id(egui::LayerId::background())
             .max_rect(ctx.viewport_rect()),
     );
-    egui::Panel::top("toolbar").show(&mut root, |ui| {
-        toolbar::show(ui, &mut session, toolbar);
-        // Wrapped: the recording's path after the Record button is not cut off.
-        ui.horizontal_wrapped(|ui| {
-            ui.toggle_value(&mut panels.params, "Control algorithm properties");
-            ui.toggle_value(&mut panels.plots, "Live plots");
-            ui.toggle_value(&mut inspect.open, "Data file inspection");
-            if session.sim.optimizer.is_some() {
-                ui.toggle_value(&mut optimizer.open, "Optimization");
-            }
-            ui.toggle_value(&mut debug.0, "Physics debug view");
-            ui.toggle_value(&mut remote.open, "Remote control");
-            ui.toggle_value(&mut modules.open, "Module library");
-            ui.toggle_value(&mut robot.open, "Real robot");
-            ui.separator();
-            recorder::button(ui, recorder, &session.path);
-        });
-    });
-    if panels.plots {
-        let now = session.sim_time();
-        plots.refresh(session.simulator.data(0).ok(), now);
-        egui::Panel::bottom("plots")
-            .resizable(true)
-            .default_size(270.0)
-            .show(&mut root, |ui| plots::show(ui, &mut session, plots));
-    }
-    if optimizer.open && session.sim.optimizer.is_some() {
-        optimizer_view::show(&mut root, &mut session, optimizer);
-    } else {
-        optimizer.poll();
-    }
-    if panels.params {
-        egui::Panel::right("params")
-            .resizable(true)
-            .default_size(330.0)
-            .show(&mut root, |ui| {
-                assign_view::show(ui, &mut session, assign);
-                ui.separator();
-                params::show(ui, &mut session, params);
-            });
-    }
+    egui::Panel::top("toolbar").show(&mut root, |ui| show_toolbar(ui, &mut session, &mut views));
+    show_docked(&mut root, &mut session, &mut views);
     // What the panels left is the viewer: the pointer there belongs to the scene.
     let viewer = root.available_rect_before_wrap();
     routing.set_viewer(viewer);
     let mut follow = cameras.iter().next().is_some_and(|c| c.follow);
-    overlay::show(&ctx, &overlay, toolbar, &mut follow, viewer);
-    picking::show(&ctx, &session, selection, &visuals);
-    if inspect.open {
-        inspect::show(&ctx, inspect);
-    }
-    if remote.open {
-        remote_view::show(&ctx, remote, gamepad, &session);
-    }
-    crate::gui::module_editor::view::show(&ctx, modules);
-    if robot.open {
-        robot_view::show(&ctx, robot, &mut session);
-    }
+    overlay::show(&ctx, &overlay, &views.toolbar, &mut follow, viewer);
+    picking::show(&ctx, &session, &mut views.selection, &visuals);
+    show_floating(&ctx, &mut session, &mut views);
     for mut c in &mut cameras {
         c.follow = follow;
     }
     Ok(())
+}
+
+/// The toolbar's run controls, then the switches of every view and the Record button.
+fn show_toolbar(ui: &mut egui::Ui, session: &mut SimSession, views: &mut Views) {
+    toolbar::show(ui, session, &mut views.toolbar);
+    // Wrapped: the recording's path after the Record button is not cut off.
+    ui.horizontal_wrapped(|ui| {
+        ui.toggle_value(&mut views.panels.params, "Control algorithm properties");
+        ui.toggle_value(&mut views.panels.plots, "Live plots");
+        ui.toggle_value(&mut views.inspect.open, "Data file inspection");
+        if session.sim.optimizer.is_some() {
+            ui.toggle_value(&mut views.optimizer.open, "Optimization");
+        }
+        ui.toggle_value(&mut views.debug.0, "Physics debug view");
+        ui.toggle_value(&mut views.remote.open, "Remote control");
+        ui.toggle_value(&mut views.modules.open, "Module library");
+        ui.toggle_value(&mut views.robot.open, "Real robot");
+        ui.separator();
+        recorder::button(ui, &mut views.recorder, &session.path);
+    });
+}
+
+/// The docked views: live plots below, the optimization on the left, the control
+/// algorithms' properties on the right (an optimization not shown is still polled).
+fn show_docked(root: &mut egui::Ui, session: &mut SimSession, views: &mut Views) {
+    if views.panels.plots {
+        let now = session.sim_time();
+        views.plots.refresh(session.simulator.data(0).ok(), now);
+        egui::Panel::bottom("plots")
+            .resizable(true)
+            .default_size(270.0)
+            .show(root, |ui| plots::show(ui, session, &mut views.plots));
+    }
+    if views.optimizer.open && session.sim.optimizer.is_some() {
+        optimizer_view::show(root, session, &mut views.optimizer);
+    } else {
+        views.optimizer.poll();
+    }
+    if views.panels.params {
+        egui::Panel::right("params")
+            .resizable(true)
+            .default_size(330.0)
+            .show(root, |ui| {
+                assign_view::show(ui, session, &mut views.assign);
+                ui.separator();
+                params::show(ui, session, &mut views.params);
+            });
+    }
+}
+
+/// The floating windows: data file inspection, remote control, module library, real robot.
+fn show_floating(ctx: &egui::Context, session: &mut SimSession, views: &mut Views) {
+    if views.inspect.open {
+        inspect::show(ctx, &mut views.inspect);
+    }
+    if views.remote.open {
+        remote_view::show(ctx, &mut views.remote, &mut views.gamepad, session);
+    }
+    crate::gui::module_editor::view::show(ctx, &mut views.modules);
+    if views.robot.open {
+        robot_view::show(ctx, &mut views.robot, session);
+    }
 }

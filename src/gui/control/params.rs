@@ -10,6 +10,8 @@ use std::collections::HashSet;
 use bevy::prelude::*;
 use bevy_egui::egui;
 
+use crate::config::module_types::ParamDescriptor;
+use crate::control::kernel::Actuator;
 use crate::gui::control::session::SimSession;
 
 /// The dialog's state: the selected module and which parameters are shown per joint.
@@ -60,58 +62,8 @@ pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut ParamsState
     let mut changes = Vec::new();
     let mut reset = false;
     egui::ScrollArea::vertical().show(ui, |ui| {
-        let p = a.module.parameters();
         for (pi, desc) in d.parameters.iter().enumerate() {
-            let key = (state.tab, pi);
-            let mut individual = state.individual.contains(&key);
-            ui.horizontal(|ui| {
-                ui.strong(desc.name).on_hover_text(desc.help);
-                if !desc.unit.is_empty() {
-                    ui.label(format!("[{}]", desc.unit));
-                }
-                if ui.checkbox(&mut individual, "per joint").changed() {
-                    if individual {
-                        state.individual.insert(key);
-                    } else {
-                        state.individual.remove(&key);
-                    }
-                }
-            });
-            let (lo, hi) = slider_range(desc.min, desc.max, p.row(pi));
-            if individual {
-                for (local, joint) in a.joints.iter().enumerate() {
-                    let mut v = p.get(pi, local);
-                    let r =
-                        ui.add(egui::Slider::new(&mut v, lo..=hi).text(format!("J{}", joint + 1)));
-                    if r.changed() {
-                        changes.push(Change {
-                            actuator: state.tab,
-                            name: desc.name,
-                            joint: Some(*joint),
-                            value: v,
-                        });
-                    }
-                }
-            } else {
-                let mut v = p.get(pi, 0);
-                let uniform = p.row(pi).iter().all(|x| *x == v);
-                let text = if uniform {
-                    "all joints"
-                } else {
-                    "all joints (differ)"
-                };
-                if ui
-                    .add(egui::Slider::new(&mut v, lo..=hi).text(text))
-                    .changed()
-                {
-                    changes.push(Change {
-                        actuator: state.tab,
-                        name: desc.name,
-                        joint: None,
-                        value: v,
-                    });
-                }
-            }
+            parameter_row(ui, state, a, pi, desc, &mut changes);
         }
         ui.separator();
         reset = ui
@@ -120,6 +72,68 @@ pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut ParamsState
             .clicked();
     });
     apply(session, changes, reset.then_some(state.tab));
+}
+
+/// One parameter's row: its name, unit and per-joint switch, then one slider for all the
+/// module's joints or one per joint; a slider moved is a change.
+fn parameter_row(
+    ui: &mut egui::Ui,
+    state: &mut ParamsState,
+    a: &Actuator,
+    pi: usize,
+    desc: &ParamDescriptor,
+    changes: &mut Vec<Change>,
+) {
+    let p = a.module.parameters();
+    let key = (state.tab, pi);
+    let mut individual = state.individual.contains(&key);
+    ui.horizontal(|ui| {
+        ui.strong(desc.name).on_hover_text(desc.help);
+        if !desc.unit.is_empty() {
+            ui.label(format!("[{}]", desc.unit));
+        }
+        if ui.checkbox(&mut individual, "per joint").changed() {
+            if individual {
+                state.individual.insert(key);
+            } else {
+                state.individual.remove(&key);
+            }
+        }
+    });
+    let (lo, hi) = slider_range(desc.min, desc.max, p.row(pi));
+    if individual {
+        for (local, joint) in a.joints.iter().enumerate() {
+            let mut v = p.get(pi, local);
+            let r = ui.add(egui::Slider::new(&mut v, lo..=hi).text(format!("J{}", joint + 1)));
+            if r.changed() {
+                changes.push(Change {
+                    actuator: state.tab,
+                    name: desc.name,
+                    joint: Some(*joint),
+                    value: v,
+                });
+            }
+        }
+    } else {
+        let mut v = p.get(pi, 0);
+        let uniform = p.row(pi).iter().all(|x| *x == v);
+        let text = if uniform {
+            "all joints"
+        } else {
+            "all joints (differ)"
+        };
+        if ui
+            .add(egui::Slider::new(&mut v, lo..=hi).text(text))
+            .changed()
+        {
+            changes.push(Change {
+                actuator: state.tab,
+                name: desc.name,
+                joint: None,
+                value: v,
+            });
+        }
+    }
 }
 
 /// A slider range: the descriptor's, narrowed to something draggable when it is unbounded.

@@ -389,32 +389,16 @@ fn bindings(ui: &mut egui::Ui, view: &mut RemoteView) {
             }
         });
     if let Some(i) = remove {
-        let _ = view.remove(i);
+        if let Err(e) = view.remove(i) {
+            view.error = Some(e.to_string());
+        }
     } else if changed {
         view.edited();
     }
 }
 
-fn add_form(ui: &mut egui::Ui, view: &mut RemoteView, session: &SimSession) {
-    ui.strong("Add a binding");
-    let f = &mut view.form;
-    ui.horizontal(|ui| {
-        egui::ComboBox::from_id_salt("remote element")
-            .selected_text(f.element.clone())
-            .show_ui(ui, |ui| {
-                for e in gamepad_elements() {
-                    let name = e.name.clone();
-                    ui.selectable_value(&mut f.element, name.clone(), name);
-                }
-            });
-        egui::ComboBox::from_id_salt("remote mode")
-            .selected_text(f.mode.name())
-            .show_ui(ui, |ui| {
-                for m in BindMode::ALL {
-                    ui.selectable_value(&mut f.mode, m, m.name());
-                }
-            });
-    });
+/// The binding's target: a module of the robot's kernel and one of its parameters.
+fn target_pickers(ui: &mut egui::Ui, f: &mut Form, session: &SimSession) {
     let modules: Vec<&'static str> = session
         .simulator
         .kernel(0)
@@ -452,6 +436,31 @@ fn add_form(ui: &mut egui::Ui, view: &mut RemoteView, session: &SimSession) {
                 }
             });
     });
+}
+
+/// The form that adds a binding: the gamepad element and mode, the target, the joints and
+/// the scale.
+fn add_form(ui: &mut egui::Ui, view: &mut RemoteView, session: &SimSession) {
+    ui.strong("Add a binding");
+    let f = &mut view.form;
+    ui.horizontal(|ui| {
+        egui::ComboBox::from_id_salt("remote element")
+            .selected_text(f.element.clone())
+            .show_ui(ui, |ui| {
+                for e in gamepad_elements() {
+                    let name = e.name.clone();
+                    ui.selectable_value(&mut f.element, name.clone(), name);
+                }
+            });
+        egui::ComboBox::from_id_salt("remote mode")
+            .selected_text(f.mode.name())
+            .show_ui(ui, |ui| {
+                for m in BindMode::ALL {
+                    ui.selectable_value(&mut f.mode, m, m.name());
+                }
+            });
+    });
+    target_pickers(ui, f, session);
     let mut add = false;
     ui.horizontal(|ui| {
         ui.label("joints");

@@ -48,13 +48,13 @@ fn carry_out(
         | C::Restart
         | C::Load { .. }
         | C::Engine { .. }
-        | C::RunUntil { .. }
+        | C::Continue
+        | C::KeepTuned => simulation_command(c, script, session),
+        C::RunUntil { .. }
         | C::StepTo { .. }
         | C::Speed { .. }
         | C::SlowFrames { .. }
-        | C::Continue
-        | C::KeepTuned
-        | C::Set { .. } => simulation_command(c, script, session),
+        | C::Set { .. } => pace_command(c, script, session),
         C::Plot { .. }
         | C::Panel { .. }
         | C::PerJoint { .. }
@@ -75,15 +75,13 @@ fn carry_out(
         | C::RobotTwin { .. }
         | C::RobotCalibrate { .. }
         | C::RobotDisconnect => robot_command(c, session, views),
-        C::Module(_)
-        | C::Assign { .. }
-        | C::Weights { .. }
-        | C::Optimize { .. }
+        C::Module(_) | C::Assign { .. } | C::Weights { .. } => tool_command(c, session, views),
+        C::Optimize { .. }
         | C::SaveBest { .. }
         | C::Attach { .. }
         | C::ReplayBest
         | C::Results { .. }
-        | C::Replay { .. } => tool_command(c, session, views),
+        | C::Replay { .. } => optimizer_command(c, session, views),
         C::Screenshot { .. } | C::State { .. } | C::Record(_) | C::WaitFor(_) | C::Quit => {
             output_command(c, commands, script, session, views)
         }
@@ -98,7 +96,7 @@ fn misrouted(c: &Command) -> CommandError {
     CommandError::Misrouted(format!("{c:?}"))
 }
 
-/// Running, pausing, pacing and parameters.
+/// Running, pausing, restarting, loading and the engine.
 fn simulation_command(
     c: Command,
     script: &mut crate::gui::control::script::Script,
@@ -147,6 +145,17 @@ fn simulation_command(
             session.set_engine(kind);
             Flow::Next
         }
+        other => return Err(misrouted(&other)),
+    })
+}
+
+/// Running to a time, pacing and parameters.
+fn pace_command(
+    c: Command,
+    script: &mut crate::gui::control::script::Script,
+    session: &mut SimSession,
+) -> Result<Flow, CommandError> {
+    Ok(match c {
         Command::RunUntil { seconds } if session.sim_time() + 1e-9 < seconds => {
             // Paced as the toolbar says, pausing exactly at t.
             session.pause_at = Some(seconds);
@@ -393,7 +402,7 @@ fn robot_command(
     })
 }
 
-/// The module library, module assignment and the optimizer.
+/// The module library, module assignment and weights files.
 fn tool_command(
     c: Command,
     session: &mut SimSession,
@@ -418,6 +427,17 @@ fn tool_command(
             views.assign.load_weights(session, actuator)?;
             Flow::Next
         }
+        other => return Err(misrouted(&other)),
+    })
+}
+
+/// The optimization view: attaching, optimizing, the best candidate, stored results.
+fn optimizer_command(
+    c: Command,
+    session: &mut SimSession,
+    views: &mut Views,
+) -> Result<Flow, CommandError> {
+    Ok(match c {
         Command::Attach {
             store,
             evaluations: n,

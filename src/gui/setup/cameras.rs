@@ -152,20 +152,26 @@ pub fn layout_views(
     }
 }
 
+/// The mouse as the editor's cameras read it: buttons, motion, wheel, and whether the
+/// pointer is over the scene.
+#[derive(bevy::ecs::system::SystemParam)]
+pub struct Mouse<'w> {
+    buttons: Res<'w, ButtonInput<MouseButton>>,
+    motion: Res<'w, AccumulatedMouseMotion>,
+    scroll: Res<'w, AccumulatedMouseScroll>,
+    routing: Res<'w, crate::gui::pointer::PointerRouting>,
+}
+
 /// Mouse orbit (left drag on empty space), pan (right / middle drag), zoom (wheel) of the
 /// perspective view; the wheel over a side or top view zooms both.
-#[allow(clippy::too_many_arguments)]
 pub fn orbit_camera(
-    buttons: Res<ButtonInput<MouseButton>>,
-    motion: Res<AccumulatedMouseMotion>,
-    scroll: Res<AccumulatedMouseScroll>,
-    routing: Res<crate::gui::pointer::PointerRouting>,
+    mouse: Mouse,
     drag: Res<EditorDrag>,
     window: Single<&Window>,
     mut state: ResMut<SetupState>,
     mut cameras: Query<(&Camera, &mut OrbitCamera, &mut Transform)>,
 ) {
-    if !routing.scene_gets_pointer() {
+    if !mouse.routing.scene_gets_pointer() {
         return;
     }
     let cursor = window.cursor_position();
@@ -176,10 +182,11 @@ pub fn orbit_camera(
                 .is_some_and(|r| r.contains(c))
         });
         if inside && !drag.dragging {
-            orbit.steer(&t, &buttons, motion.delta, scroll.delta.y);
-        } else if !inside && cursor.is_some() && scroll.delta.y != 0.0 && state.editing_env() {
+            orbit.steer(&t, &mouse.buttons, mouse.motion.delta, mouse.scroll.delta.y);
+        } else if !inside && cursor.is_some() && mouse.scroll.delta.y != 0.0 && state.editing_env()
+        {
             state.ortho_height =
-                (state.ortho_height * (1.0 - 0.1 * scroll.delta.y)).clamp(0.05, 40.0);
+                (state.ortho_height * (1.0 - 0.1 * mouse.scroll.delta.y)).clamp(0.05, 40.0);
         }
         *t = orbit.transform();
     }

@@ -68,6 +68,20 @@ pub fn show_library(ui: &mut egui::Ui, state: &mut SetupState, overlaps: &[Strin
             env.redo();
         }
     });
+    scene_list(ui, state);
+    ui.separator();
+    ui.label("Top and side views: mouse wheel over them zooms.");
+    ui.add(
+        egui::Slider::new(&mut state.ortho_height, 0.1..=20.0)
+            .text("view height (m)")
+            .logarithmic(true),
+    );
+    ui.separator();
+    file_buttons(ui, state);
+}
+
+/// The scene's list: the robot's start pose and every object, a click selects.
+fn scene_list(ui: &mut egui::Ui, state: &mut SetupState) {
     ui.heading("Scene");
     let env = state.env_mut();
     let mut pick = None;
@@ -89,18 +103,11 @@ pub fn show_library(ui: &mut egui::Ui, state: &mut SetupState, overlaps: &[Strin
                 }
             }
         });
-    if let Some(p) = pick {
-        let _ = env.select(Some(p));
+    if let Some(p) = pick
+        && let Err(e) = env.select(Some(p))
+    {
+        state.status = Some(Status::Error(e.to_string()));
     }
-    ui.separator();
-    ui.label("Top and side views: mouse wheel over them zooms.");
-    ui.add(
-        egui::Slider::new(&mut state.ortho_height, 0.1..=20.0)
-            .text("view height (m)")
-            .logarithmic(true),
-    );
-    ui.separator();
-    file_buttons(ui, state);
 }
 
 /// Load / Save (standalone editor) and Preview.

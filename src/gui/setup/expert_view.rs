@@ -117,53 +117,7 @@ pub fn show(ui: &mut egui::Ui, state: &mut SetupState) {
         ui.add(egui::TextEdit::singleline(&mut state.expert.path).desired_width(420.0));
     });
     let path = PathBuf::from(state.expert.path.trim());
-    ui.horizontal(|ui| {
-        if ui
-            .button("Open")
-            .on_hover_text("Load the composition of this simulation file")
-            .clicked()
-        {
-            open(state, &path);
-        }
-        if ui.button("Check").clicked() {
-            state.expert.check = Some(
-                state
-                    .expert
-                    .composition
-                    .check(&path, &state.wizard.registry)
-                    .map_err(|e| e.to_string()),
-            );
-        }
-        if ui.button("Save").clicked() {
-            let r = state.expert.composition.save(&path, &state.wizard.registry);
-            state.report(r, |_| format!("saved {}", path.display()));
-        }
-        if ui.button("Open in control window").clicked() {
-            match state.expert.composition.save(&path, &state.wizard.registry) {
-                Ok(()) => crate::gui::setup::open_control_window(state, &path),
-                Err(e) => state.expert.check = Some(Err(e.to_string())),
-            }
-        }
-        if ui
-            .button("Edit in the wizard")
-            .on_hover_text(
-                "The wizard takes this robot, its actuation groups, environment and properties",
-            )
-            .clicked()
-        {
-            edit_in_wizard(state);
-        }
-        if let Some(env) = state.expert.composition.environment.clone()
-            && ui.button("Edit environment").clicked()
-        {
-            let r = EnvEditor::load(&env);
-            if let Some(e) = state.report(r, |_| format!("editing {}", env.display())) {
-                state.editor = e;
-                state.editor_path = env.display().to_string();
-                state.tool = Tool::Editor;
-            }
-        }
-    });
+    ui.horizontal(|ui| action_buttons(ui, state, &path));
     match &state.expert.check {
         Some(Ok(s)) => {
             ui.colored_label(egui::Color32::DARK_GREEN, format!("✔ {s}"));
@@ -172,5 +126,54 @@ pub fn show(ui: &mut egui::Ui, state: &mut SetupState) {
             ui.colored_label(egui::Color32::RED, e);
         }
         None => {}
+    }
+}
+
+/// Open, Check, Save, Open in the control window, Edit in the wizard, Edit environment.
+fn action_buttons(ui: &mut egui::Ui, state: &mut SetupState, path: &Path) {
+    if ui
+        .button("Open")
+        .on_hover_text("Load the composition of this simulation file")
+        .clicked()
+    {
+        open(state, path);
+    }
+    if ui.button("Check").clicked() {
+        state.expert.check = Some(
+            state
+                .expert
+                .composition
+                .check(path, &state.wizard.registry)
+                .map_err(|e| e.to_string()),
+        );
+    }
+    if ui.button("Save").clicked() {
+        let r = state.expert.composition.save(path, &state.wizard.registry);
+        state.report(r, |_| format!("saved {}", path.display()));
+    }
+    if ui.button("Open in control window").clicked() {
+        match state.expert.composition.save(path, &state.wizard.registry) {
+            Ok(()) => crate::gui::setup::open_control_window(state, path),
+            Err(e) => state.expert.check = Some(Err(e.to_string())),
+        }
+    }
+    if ui
+        .button("Edit in the wizard")
+        .on_hover_text(
+            "The wizard takes this robot, its actuation groups, environment and properties",
+        )
+        .clicked()
+    {
+        edit_in_wizard(state);
+    }
+    if let Some(env) = state.expert.composition.environment.clone()
+        && ui.button("Edit environment").clicked()
+    {
+        let r = EnvEditor::load(&env);
+        if let Some(e) = state.report(r, |_| format!("editing {}", env.display())) {
+            state.editor = e;
+            state.editor_path = env.display().to_string();
+            state.tool = Tool::Editor;
+        }
     }
 }

@@ -56,8 +56,14 @@ fn shape_key(s: &Shape) -> String {
     format!("{s:?}")
 }
 
+/// The asset stores a scene is built into.
+#[derive(bevy::ecs::system::SystemParam)]
+pub struct SceneAssets<'w> {
+    meshes: ResMut<'w, Assets<Mesh>>,
+    materials: ResMut<'w, Assets<StandardMaterial>>,
+}
+
 /// Keeps the robot preview up to date and rebuilds the scene when it changed.
-#[allow(clippy::too_many_arguments)]
 pub fn sync_scene(
     mut commands: Commands,
     state: Res<SetupState>,
@@ -65,8 +71,7 @@ pub fn sync_scene(
     mut cache: ResMut<SceneCache>,
     roots: Query<Entity, With<SetupSceneRoot>>,
     mut items: Query<(&ItemVisual, &mut Transform)>,
-    mut meshes: ResMut<Assets<Mesh>>,
-    mut materials: ResMut<Assets<StandardMaterial>>,
+    mut assets: SceneAssets,
 ) {
     let rk = refresh_models(&state, &mut cache);
     let editing = state.editing_env();
@@ -129,8 +134,8 @@ pub fn sync_scene(
     let cache = &mut *cache;
     let mut spawner = Spawner {
         commands: &mut commands,
-        meshes: &mut meshes,
-        materials: &mut materials,
+        meshes: &mut assets.meshes,
+        materials: &mut assets.materials,
         cache: &mut cache.meshes,
     };
     let robot_pose = shown_env.as_ref().map_or(Pose::IDENTITY, |e| e.robot_pose);

@@ -217,7 +217,8 @@ fn value_set(words: &[String]) -> Result<ValueSet, CommandError> {
     })
 }
 
-/// The environment editor's commands (the editor tool, or the wizard's environment page).
+/// The environment editor's commands (the editor tool, or the wizard's environment page):
+/// adding, dropping and selecting here, the rest in [`edit_command`].
 fn editor_command(c: Command, state: &mut SetupState) -> Result<Flow, CommandError> {
     let env_only = |state: &SetupState| {
         if state.editing_env() {
@@ -263,6 +264,14 @@ fn editor_command(c: Command, state: &mut SetupState) -> Result<Flow, CommandErr
             };
             state.env_mut().select(sel)?;
         }
+        other => edit_command(other, state)?,
+    }
+    Ok(Flow::Next)
+}
+
+/// The editor's commands on the selection, undo and redo, saving and loading.
+fn edit_command(c: Command, state: &mut SetupState) -> Result<(), CommandError> {
+    match c {
         Command::MoveTo(p) => state.env_mut().move_to(p.array())?,
         Command::MoveBy(d) => state.env_mut().move_by(d.array())?,
         Command::DragTo { x, y } => {
@@ -301,7 +310,7 @@ fn editor_command(c: Command, state: &mut SetupState) -> Result<Flow, CommandErr
         }
         other => return Err(CommandError::Misrouted(format!("{other:?}"))),
     }
-    Ok(Flow::Next)
+    Ok(())
 }
 
 /// The expert composition's commands.
@@ -415,7 +424,15 @@ fn state_lines(state: &mut SetupState, modules: &ModuleEditor) -> String {
             },
         ),
     ];
-    let env = state.env_mut();
+    editor_pairs(state.env_mut(), &mut pairs);
+    pairs.extend(crate::gui::module_editor::script::state_pairs(modules));
+    pairs.push(("registry_modules", state.wizard.registry.names().join(",")));
+    state_report(&pairs)
+}
+
+/// The environment editor's part of the state: objects, undo, the selection and its
+/// properties, the robot's pose.
+fn editor_pairs(env: &mut EnvEditor, pairs: &mut Vec<(&str, String)>) {
     pairs.push(("env_objects", env.objects.len().to_string()));
     pairs.push(("env_undo", env.can_undo().to_string()));
     let sel = env.selected;
@@ -448,7 +465,4 @@ fn state_lines(state: &mut SetupState, modules: &ModuleEditor) -> String {
         "robot_pose",
         format!("{:.4} {:.4} {:.4}", rp[0], rp[1], rp[2]),
     ));
-    pairs.extend(crate::gui::module_editor::script::state_pairs(modules));
-    pairs.push(("registry_modules", state.wizard.registry.names().join(",")));
-    state_report(&pairs)
 }

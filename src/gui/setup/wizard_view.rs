@@ -243,6 +243,15 @@ fn behaviour_page(ui: &mut egui::Ui, w: &mut Wizard) {
         }
     });
     ui.data_mut(|d| d.insert_temp(selection_id(), sel));
+    groups_view(ui, w, &names);
+    if let Err(e) = w.behaviour.validate(&w.registry, joints) {
+        ui.colored_label(egui::Color32::RED, e.to_string());
+    }
+}
+
+/// The behaviour's groups, each with its modules and their parameters, a module picker
+/// and its remove buttons.
+fn groups_view(ui: &mut egui::Ui, w: &mut Wizard, names: &[&str]) {
     let mut remove_group = None;
     for (gi, g) in w.behaviour.groups.iter_mut().enumerate() {
         egui::CollapsingHeader::new(format!(
@@ -275,7 +284,7 @@ fn behaviour_page(ui: &mut egui::Ui, w: &mut Wizard) {
                 egui::ComboBox::from_id_salt(("add module", gi))
                     .selected_text("add a module…")
                     .show_ui(ui, |ui| {
-                        for n in &names {
+                        for n in names {
                             if ui.selectable_label(false, *n).clicked()
                                 && let Some(m) = ModuleChoice::with_defaults(&w.registry, n)
                             {
@@ -291,9 +300,6 @@ fn behaviour_page(ui: &mut egui::Ui, w: &mut Wizard) {
     }
     if let Some(gi) = remove_group {
         w.behaviour.groups.remove(gi);
-    }
-    if let Err(e) = w.behaviour.validate(&w.registry, joints) {
-        ui.colored_label(egui::Color32::RED, e.to_string());
     }
 }
 
