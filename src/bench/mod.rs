@@ -28,7 +28,6 @@ use crate::control::{ModuleRegistry, load_simulation};
 use crate::data::store::DataStore;
 use crate::sim::datalog::DataSettings;
 use crate::sim::engine::EngineSettings;
-use crate::sim::physics::SimPhysics;
 use crate::sim::{BuildOptions, Simulator};
 
 pub use error::BenchError;
@@ -152,11 +151,8 @@ pub fn physics_only(
         seconds,
         &format!("{} step, motors held, 1 robot", sim.engine()),
         |s, steps| {
-            let mut physics = s.world_mut().resource_mut::<SimPhysics>();
             let t = Instant::now();
-            for _ in 0..steps {
-                physics.engine.step();
-            }
+            s.step_engine_only(steps);
             t.elapsed().as_secs_f64()
         },
     )

@@ -34,8 +34,11 @@ pub enum PhysicsCheckError {
     Scene(&'static str),
 }
 
-/// Standard gravity (m/s²).
-const G: f64 = 9.81;
+/// The strength of `base`'s gravity (m/s²): the checks keep it and choose its direction
+/// (down, or tilted for a slope), and the answers they expect use it.
+fn g(base: &Simulation) -> f64 {
+    crate::measure::norm(base.environment.physics.gravity)
+}
 
 /// One check: what was measured against what physics says.
 #[derive(Debug, Clone, PartialEq)]
@@ -109,7 +112,7 @@ pub fn module_scene(base: &Simulation, engine: EngineKind, mu: f64) -> Simulatio
             g.friction = Some(mu);
         }
     }
-    sim.environment.physics.gravity = [0.0, 0.0, -G];
+    sim.environment.physics.gravity = [0.0, 0.0, -g(base)];
     sim
 }
 
@@ -161,7 +164,7 @@ fn friction_onset(
     for theta in friction_probe_angles(expected) {
         let mut sim = module_scene(base, engine, mu);
         let t = theta.to_radians();
-        sim.environment.physics.gravity = [0.0, -G * t.sin(), -G * t.cos()];
+        sim.environment.physics.gravity = [0.0, -g(base) * t.sin(), -g(base) * t.cos()];
         let mut s = world(&sim, registry)?;
         let start = com(&s)?;
         s.run_steps(steps(&s, 1.0));
@@ -200,7 +203,7 @@ fn sliding(
     s.set_link_velocity(0, 0, [0.0, v, 0.0])?;
     s.run_steps(steps(&s, 1.0));
     let end = com(&s)?;
-    let expected = v * v / (2.0 * mu * G);
+    let expected = v * v / (2.0 * mu * g(base));
     Ok(Check::within(
         format!("sliding to rest from 0.5 m/s, mu {mu}"),
         end[1] - start[1],
@@ -430,7 +433,8 @@ fn pendulum(
 ) -> Result<Check, PhysicsCheckError> {
     let (mut sim, h) = hinge_scene(base, engine, (-85.0, None, 0.03))?;
     sim.robot.joints[0].max_torque = 0.0;
-    let expected = 2.0 * std::f64::consts::PI * (h.inertia / (h.mass * G * h.distance)).sqrt();
+    let expected =
+        2.0 * std::f64::consts::PI * (h.inertia / (h.mass * g(base) * h.distance)).sqrt();
     // Measured: the mean time between upward zero crossings of the angle about its mean.
     let mut s = world(&sim, registry)?;
     let dt = s.clock().dt;
@@ -477,7 +481,7 @@ fn servo_stall(
         .map(|j| j.max_torque)
         .ok_or(PhysicsCheckError::Scene("a robot with a hinge"))?;
     let (_, level) = hinge_scene(base, engine, (0.0, None, 0.03))?;
-    let mass = 2.0 * limit / (G * level.distance);
+    let mass = 2.0 * limit / (g(base) * level.distance);
     let (sim, _) = hinge_scene(base, engine, (0.0, Some(mass), 0.03))?;
     let mut s = world(&sim, registry)?;
     s.set_joint_override(0, Some(vec![0.0]))?;

@@ -209,6 +209,15 @@ impl Simulator {
         );
     }
 
+    /// Steps the physics engine alone `n` times, no stage of the pipeline around it (the
+    /// servos hold their last command): the benchmarks' floor for the physics cost.
+    pub fn step_engine_only(&mut self, n: u64) {
+        let mut physics = self.world.resource_mut::<crate::sim::physics::SimPhysics>();
+        for _ in 0..n {
+            physics.engine.step();
+        }
+    }
+
     /// One step.
     pub fn step(&mut self) {
         self.run_steps(1);
