@@ -145,11 +145,11 @@ fn an_optimize_report_counts_evaluations_and_keeps_the_best() {
 fn a_run_ends_where_its_robot_leaves_the_world_and_scores_as_an_evaluation_does() {
     use proleg::cli::run::RunStop;
     use proleg::config::simulation::EngineKind;
+    use proleg::optimize::evaluate::EpisodeWorld;
     use proleg::optimize::evaluate::Evaluator;
     use proleg::optimize::fitness::Fitness;
     use proleg::optimize::space::SearchSpace;
     use proleg::sim::WorldExit;
-    use proleg::sim::randomize::SensorNoise;
     let dir = common::scratch("cli_reports_edge");
     let sim = common::floor_ending_at(&dir, 0.8);
     let registry = ModuleRegistry::standard();
@@ -179,7 +179,7 @@ fn a_run_ends_where_its_robot_leaves_the_world_and_scores_as_an_evaluation_does(
     let scored = Evaluator::new(&sim, &registry, &space, Fitness::Distance, 15.0, 1)
         .run_world(
             &sim,
-            (1, SensorNoise::default(), Some(EngineKind::Rapier)),
+            EpisodeWorld::nominal(1, Some(EngineKind::Rapier)),
             &[vec![]],
         )
         .unwrap()[0];

@@ -126,7 +126,7 @@ fn cma_es_restarts_with_a_doubled_population_after_converging() {
         CmaOptimizer::new(s.clone(), vec![160; 5], 0.3, 0, 1, 5_000),
         &s,
     );
-    let o = CmaOptimizer::with_restarts(s.clone(), vec![160; 5], (0.3, 0), 1, 5_000, 2);
+    let o = CmaOptimizer::with_restarts(s.clone(), vec![160; 5], 0.3, 0, 1, 5_000, 2);
     let (best, asked) = drive(o, &s);
     assert_eq!(best, 0.0);
     // Without restarts it stops at convergence; with two it goes on, with 8 then 16 then
@@ -137,7 +137,7 @@ fn cma_es_restarts_with_a_doubled_population_after_converging() {
         asked.len(),
         alone.1.len()
     );
-    let mut o = CmaOptimizer::with_restarts(s.clone(), vec![160; 5], (0.3, 0), 1, 5_000, 2);
+    let mut o = CmaOptimizer::with_restarts(s.clone(), vec![160; 5], 0.3, 0, 1, 5_000, 2);
     let mut sizes = Vec::new();
     while !o.finished() {
         let c = o.ask();
@@ -266,7 +266,7 @@ fn scores_do_not_depend_on_workers_or_batching() {
 #[test]
 fn an_episode_stops_scoring_when_its_robot_falls_off_the_floor_end() {
     use proleg::config::simulation::EngineKind;
-    use proleg::sim::randomize::SensorNoise;
+    use proleg::optimize::evaluate::EpisodeWorld;
     let dir = common::scratch("floor-end");
     let mut engines = vec![EngineKind::Rapier];
     if common::mujoco_here("an_episode_stops_scoring_when_its_robot_falls_off_the_floor_end") {
@@ -276,7 +276,7 @@ fn an_episode_stops_scoring_when_its_robot_falls_off_the_floor_end() {
     let score = |sim: &proleg::config::Simulation, engine, seconds| {
         let space = SearchSpace::default();
         Evaluator::new(sim, &registry, &space, Fitness::Distance, seconds, 1)
-            .run_world(sim, (1, SensorNoise::default(), Some(engine)), &[vec![]])
+            .run_world(sim, EpisodeWorld::nominal(1, Some(engine)), &[vec![]])
             .unwrap()[0]
     };
     let (short, long) = (

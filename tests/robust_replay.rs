@@ -187,9 +187,10 @@ fn the_robustness_check_reevaluates_on_fresh_episodes() {
     let check = |seed| {
         randomized_check(
             &store,
-            (1, Which::Best),
+            1,
+            Which::Best,
             &ranges,
-            (5, seed),
+            proleg::optimize::replay::FreshEpisodes { count: 5, seed },
             None,
             &registry,
         )

@@ -342,6 +342,15 @@ struct Hanging {
     inertia: f64,
 }
 
+/// How the hinge scene is set: the second link's angle `phi` (degrees), its mass (`None`:
+/// its own) and the ledge's `gap` short of the hinge (m).
+#[derive(Debug, Clone, Copy)]
+struct HingePose {
+    phi: f64,
+    mass: Option<f64>,
+    gap: f64,
+}
+
 /// The first two links of `base`'s robot on `engine`: the first made 1 t and resting on a
 /// ledge (a static box whose edge stops `gap` m short of the hinge), the second turned
 /// about the hinge by `phi` degrees (-90: hanging straight down; 0: level, as built) and
@@ -349,8 +358,9 @@ struct Hanging {
 fn hinge_scene(
     base: &Simulation,
     engine: EngineKind,
-    (phi, mass, gap): (f64, Option<f64>, f64),
+    pose: HingePose,
 ) -> Result<(Simulation, Hanging), PhysicsCheckError> {
+    let HingePose { phi, mass, gap } = pose;
     use crate::config::body::BodyKind;
     use crate::config::transform::Pose;
     let mut sim = module_scene(base, engine, 0.5);
@@ -431,7 +441,15 @@ fn pendulum(
     engine: EngineKind,
     registry: &ModuleRegistry,
 ) -> Result<Check, PhysicsCheckError> {
-    let (mut sim, h) = hinge_scene(base, engine, (-85.0, None, 0.03))?;
+    let (mut sim, h) = hinge_scene(
+        base,
+        engine,
+        HingePose {
+            phi: -85.0,
+            mass: None,
+            gap: 0.03,
+        },
+    )?;
     sim.robot.joints[0].max_torque = 0.0;
     let expected =
         2.0 * std::f64::consts::PI * (h.inertia / (h.mass * g(base) * h.distance)).sqrt();
@@ -480,9 +498,25 @@ fn servo_stall(
         .first()
         .map(|j| j.max_torque)
         .ok_or(PhysicsCheckError::Scene("a robot with a hinge"))?;
-    let (_, level) = hinge_scene(base, engine, (0.0, None, 0.03))?;
+    let (_, level) = hinge_scene(
+        base,
+        engine,
+        HingePose {
+            phi: 0.0,
+            mass: None,
+            gap: 0.03,
+        },
+    )?;
     let mass = 2.0 * limit / (g(base) * level.distance);
-    let (sim, _) = hinge_scene(base, engine, (0.0, Some(mass), 0.03))?;
+    let (sim, _) = hinge_scene(
+        base,
+        engine,
+        HingePose {
+            phi: 0.0,
+            mass: Some(mass),
+            gap: 0.03,
+        },
+    )?;
     let mut s = world(&sim, registry)?;
     s.set_joint_override(0, Some(vec![0.0]))?;
     // While the link sinks through its first 30° the load stays above 1.7 x maxtorque.

@@ -89,14 +89,28 @@ fn slope_grid(theta_deg: f64, bump: f64, slab: bool) -> TriMesh {
     TriMesh::new(vertices, triangles)
 }
 
+/// A slope checked: the module's friction on it, its angle (degrees) and the height of the
+/// bumps on it (m).
+#[derive(Debug, Clone, Copy)]
+struct Slope {
+    mu: f64,
+    theta_deg: f64,
+    bump: f64,
+}
+
 /// The module of `base` with friction `mu` on a slope of `theta` degrees made as `terrain`,
 /// laid on it 1 mm above its surface (bottom parallel to it), gravity straight down.
 fn slope_scene(
     base: &Simulation,
     engine: EngineKind,
-    (mu, theta_deg, bump): (f64, f64, f64),
+    slope: Slope,
     terrain: Terrain,
 ) -> Result<Simulation, PhysicsCheckError> {
+    let Slope {
+        mu,
+        theta_deg,
+        bump,
+    } = slope;
     let mut sim = module_scene(base, engine, mu);
     let name = format!("proleg-check:{}:{theta_deg}", terrain.name());
     sim.environment.meshes.insert(
@@ -157,7 +171,16 @@ pub fn slope_onset(
     let expected = mu.atan().to_degrees();
     let mut onset = f64::NAN;
     for theta in friction_probe_angles(expected) {
-        let sim = slope_scene(base, engine, (mu, theta, 0.0), terrain)?;
+        let sim = slope_scene(
+            base,
+            engine,
+            Slope {
+                mu,
+                theta_deg: theta,
+                bump: 0.0,
+            },
+            terrain,
+        )?;
         let mut s = world(&sim, registry)?;
         let settle = (0.2 / s.clock().dt).round() as u64;
         s.run_steps(settle);
@@ -186,7 +209,16 @@ pub fn resting_on_height_field(
     engine: EngineKind,
     registry: &ModuleRegistry,
 ) -> Result<Vec<Check>, PhysicsCheckError> {
-    let sim = slope_scene(base, engine, (0.5, 0.0, 0.05), Terrain::HeightField)?;
+    let sim = slope_scene(
+        base,
+        engine,
+        Slope {
+            mu: 0.5,
+            theta_deg: 0.0,
+            bump: 0.05,
+        },
+        Terrain::HeightField,
+    )?;
     let h = half_height(&sim);
     let s = world(&sim, registry)?;
     rest_figures(s, h, "resting on a height field")

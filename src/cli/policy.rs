@@ -109,7 +109,7 @@ pub fn run(command: &PolicyCommand, registry: &ModuleRegistry) -> Result<PolicyR
             })?;
             let sim = Arc::new(crate::control::load_simulation_in(&a.simulation, registry)?);
             let (mean, std, joints) =
-                observation_statistics(&sim, registry, (a.episodes, a.seconds, a.seed), a.period)?;
+                observation_statistics(&sim, registry, a.episodes, a.seconds, a.seed, a.period)?;
             let net = initial_network((mean, std), &a.hidden, joints, activation, a.seed).ok_or(
                 CliError::Options("--hidden: every layer needs a width above 0"),
             )?;

@@ -244,7 +244,7 @@ pub fn run(o: &ResultsOptions, registry: &ModuleRegistry) -> Result<ResultsRepor
         Some((number, dir)) => {
             let (store, runs) = opened.first_mut().ok_or(CliError::NoRun(0))?;
             let run = runs.first().ok_or(CliError::NoRun(0))?.id;
-            Some(export_design(store, (run, *number), dir, registry)?)
+            Some(export_design(store, run, *number, dir, registry)?)
         }
         None => None,
     };

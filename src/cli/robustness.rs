@@ -6,7 +6,7 @@ use std::fmt;
 
 use crate::config::robustness::Robustness;
 use crate::control::ModuleRegistry;
-use crate::optimize::replay::{RandomizedCheck, Which, randomized_check};
+use crate::optimize::replay::{FreshEpisodes, RandomizedCheck, Which, randomized_check};
 
 /// Command-line options of `proleg robustness`.
 #[derive(clap::Args)]
@@ -52,9 +52,13 @@ pub fn run(
     for engine in engines {
         checks.push(randomized_check(
             &a.store,
-            (a.run, which),
+            a.run,
+            which,
             &Robustness::typical(),
-            (a.episodes, a.seed),
+            FreshEpisodes {
+                count: a.episodes,
+                seed: a.seed,
+            },
             engine,
             registry,
         )?);

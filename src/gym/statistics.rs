@@ -24,7 +24,9 @@ pub const MIN_STD: f64 = 0.01;
 pub fn observation_statistics(
     sim: &Arc<Simulation>,
     registry: &ModuleRegistry,
-    (episodes, seconds, seed): (u32, f64, u64),
+    episodes: u32,
+    seconds: f64,
+    seed: u64,
     control_period: f64,
 ) -> Result<(Vec<f64>, Vec<f64>, usize), GymError> {
     let opts = EnvOptions {

@@ -156,7 +156,8 @@ pub fn plot_map(
 /// (`candidate.actuation.xml`, with its networks' weights files beside it).
 pub fn export_design(
     store: &mut Store,
-    (run, number): (i64, Option<u64>),
+    run: i64,
+    number: Option<u64>,
     dir: &Path,
     registry: &ModuleRegistry,
 ) -> Result<std::path::PathBuf, OptimizeError> {
@@ -193,7 +194,8 @@ pub fn export_design(
         let file = crate::optimize::result::write_candidate(
             &path,
             &sim,
-            (&space, registry),
+            &space,
+            registry,
             &chosen.genome,
         )?;
         write(

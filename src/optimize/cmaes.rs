@@ -221,7 +221,7 @@ impl CmaOptimizer {
         seed: u64,
         max_evaluations: u64,
     ) -> CmaOptimizer {
-        Self::with_restarts(space, start, (sigma, lambda), seed, max_evaluations, 0)
+        Self::with_restarts(space, start, sigma, lambda, seed, max_evaluations, 0)
     }
 
     /// As [`CmaOptimizer::new`], restarting up to `restarts` times when the search has
@@ -229,7 +229,8 @@ impl CmaOptimizer {
     pub fn with_restarts(
         space: SearchSpace,
         start: Genome,
-        (sigma, lambda): (f64, usize),
+        sigma: f64,
+        lambda: usize,
         seed: u64,
         max_evaluations: u64,
         restarts: u32,

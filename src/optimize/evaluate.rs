@@ -48,6 +48,29 @@ pub enum EvalError {
 /// Farther than this from the start (m) counts as a blow-up.
 const BLOW_UP_DISTANCE: f64 = 1000.0;
 
+/// How an episode's world is drawn: its seed, the noise on what its modules read, and the
+/// engine (`None`: the simulation's).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EpisodeWorld {
+    /// The world's seed.
+    pub seed: u64,
+    /// Noise on what modules read (randomized episodes; none in the nominal world).
+    pub noise: SensorNoise,
+    /// The engine, when not the simulation's.
+    pub engine: Option<EngineKind>,
+}
+
+impl EpisodeWorld {
+    /// The nominal world of `seed` (no noise) on `engine`.
+    pub fn nominal(seed: u64, engine: Option<EngineKind>) -> EpisodeWorld {
+        EpisodeWorld {
+            seed,
+            noise: SensorNoise::default(),
+            engine,
+        }
+    }
+}
+
 /// Runs candidates.
 #[derive(Clone)]
 pub struct Evaluator {
@@ -297,13 +320,17 @@ impl Evaluator {
     ) -> Result<Outcome, EvalError> {
         let one = std::slice::from_ref(genome);
         let Some(robust) = &self.robust else {
-            let world = (self.seed, SensorNoise::default(), engine);
+            let world = EpisodeWorld::nominal(self.seed, engine);
             return first(self.run_world_measured(body, world, one)?);
         };
         let mut episodes = Vec::with_capacity(robust.episodes.len());
         for k in 0..robust.episodes.len() {
             if let Some(e) = robust.of_body(k, body) {
-                let world = (e.seed, e.noise, engine);
+                let world = EpisodeWorld {
+                    seed: e.seed,
+                    noise: e.noise,
+                    engine,
+                };
                 episodes.extend(self.run_world_measured(&e.sim, world, one)?);
             }
         }
@@ -319,7 +346,7 @@ impl Evaluator {
         genomes: &[Genome],
     ) -> Result<Vec<Outcome>, EvalError> {
         let Some(robust) = &self.robust else {
-            let world = (self.seed, SensorNoise::default(), engine);
+            let world = EpisodeWorld::nominal(self.seed, engine);
             return self.run_world_measured(&self.sim, world, genomes);
         };
         let mut outcomes = Vec::with_capacity(genomes.len());
@@ -327,7 +354,11 @@ impl Evaluator {
         for g in genomes {
             episodes.clear();
             for e in &robust.episodes {
-                let world = (e.seed, e.noise, engine);
+                let world = EpisodeWorld {
+                    seed: e.seed,
+                    noise: e.noise,
+                    engine,
+                };
                 episodes.extend(self.run_world_measured(&e.sim, world, std::slice::from_ref(g))?);
             }
             outcomes.push(Outcome::over_episodes(robust, &episodes));
@@ -340,7 +371,7 @@ impl Evaluator {
     pub fn run_world(
         &self,
         sim: &Simulation,
-        world: (u64, SensorNoise, Option<EngineKind>),
+        world: EpisodeWorld,
         genomes: &[Genome],
     ) -> Result<Vec<f64>, EvalError> {
         let outcomes = self.run_world_measured(sim, world, genomes)?;
@@ -352,16 +383,16 @@ impl Evaluator {
     pub fn run_world_measured(
         &self,
         sim: &Simulation,
-        (seed, noise, engine): (u64, SensorNoise, Option<EngineKind>),
+        world: EpisodeWorld,
         genomes: &[Genome],
     ) -> Result<Vec<Outcome>, EvalError> {
         let opts = BuildOptions {
             robots: genomes.len(),
-            seed,
+            seed: world.seed,
             record: false,
-            engine,
+            engine: world.engine,
             settings: None,
-            noise,
+            noise: world.noise,
         };
         let mut s = Simulator::with_registry(sim, &opts, &self.registry)?;
         // A co-design candidate's values are in its generated actuation file.

@@ -170,7 +170,7 @@ impl Experiment {
         let wall = t.elapsed().as_secs_f64();
         let space = self.session.space();
         if let Some(p) = &self.out {
-            write_best(p, &self.sim, (space, registry), &outcome.best)?;
+            write_best(p, &self.sim, space, registry, &outcome.best)?;
         }
         let settings = self.session.settings();
         Ok(ExperimentReport {
@@ -251,10 +251,11 @@ fn episodes_per_candidate(sim: &Simulation) -> u32 {
 fn write_best(
     path: &Path,
     sim: &Simulation,
-    (space, registry): (&SearchSpace, &ModuleRegistry),
+    space: &SearchSpace,
+    registry: &ModuleRegistry,
     best: &[u32],
 ) -> Result<(), OptimizeError> {
-    let file = crate::optimize::result::write_candidate(path, sim, (space, registry), best)?;
+    let file = crate::optimize::result::write_candidate(path, sim, space, registry, best)?;
     std::fs::write(path, write_actuation_file(&file)).map_err(|source| OptimizeError::Write {
         path: path.to_path_buf(),
         source,

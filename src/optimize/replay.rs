@@ -8,7 +8,7 @@ use crate::config::robustness::Robustness;
 use crate::config::simulation::EngineKind;
 use crate::control::ModuleRegistry;
 use crate::optimize::error::UnevaluableRun;
-use crate::optimize::evaluate::{EvalError, Evaluator};
+use crate::optimize::evaluate::{EpisodeWorld, EvalError, Evaluator};
 use crate::optimize::fitness::Fitness;
 use crate::optimize::robust::{RobustEpisodes, combine};
 use crate::optimize::run::prepare;
@@ -298,7 +298,11 @@ impl Replay {
     pub fn score(&self) -> Result<f64, ReplayError> {
         let scores = self.evaluator.run_world(
             &self.sim,
-            (self.seed, self.noise, Some(self.engine)),
+            EpisodeWorld {
+                seed: self.seed,
+                noise: self.noise,
+                engine: Some(self.engine),
+            },
             std::slice::from_ref(&self.genome),
         )?;
         scores.first().copied().ok_or(ReplayError::NothingScored)
@@ -394,14 +398,25 @@ impl RandomizedCheck {
     }
 }
 
-/// Re-evaluates `which` evaluation of `run` in the store at `location` on `episodes`
-/// episodes drawn from `ranges` with `seed` (fresh seeds, not the run's own episodes):
+/// Episodes drawn afresh for a robustness check: how many, and the seed they are drawn
+/// from (not the run's own).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FreshEpisodes {
+    /// How many.
+    pub count: u32,
+    /// Their seed.
+    pub seed: u64,
+}
+
+/// Re-evaluates `which` evaluation of `run` in the store at `location` on `fresh`
+/// episodes drawn from `ranges` (fresh seeds, not the run's own episodes):
 /// how much of its score a gait keeps when the world is not the one it was tuned in.
 pub fn randomized_check(
     location: &str,
-    (run, which): (i64, Which),
+    run: i64,
+    which: Which,
     ranges: &Robustness,
-    (episodes, seed): (u32, u64),
+    fresh: FreshEpisodes,
     engine: Option<EngineKind>,
     registry: &ModuleRegistry,
 ) -> Result<RandomizedCheck, ReplayError> {
@@ -414,15 +429,20 @@ pub fn randomized_check(
     let nominal_sim = &replay.nominal.clone().with_engine(Some(engine));
     let e = &replay.evaluator;
     let genome = std::slice::from_ref(&replay.genome);
-    let world = (e.seed, SensorNoise::default(), None);
+    let world = EpisodeWorld::nominal(e.seed, None);
     let episode = |sim, world| e.run_world(sim, world, genome);
     let nominal = episode(nominal_sim, world)?[0];
     let mut ranges = *ranges;
-    ranges.episodes = episodes.max(1);
-    let drawn = RobustEpisodes::new(nominal_sim, &ranges, seed);
+    ranges.episodes = fresh.count.max(1);
+    let drawn = RobustEpisodes::new(nominal_sim, &ranges, fresh.seed);
     let mut scores = Vec::with_capacity(drawn.episodes.len());
     for ep in &drawn.episodes {
-        scores.extend(episode(&ep.sim, (ep.seed, ep.noise, None))?);
+        let world = EpisodeWorld {
+            seed: ep.seed,
+            noise: ep.noise,
+            engine: None,
+        };
+        scores.extend(episode(&ep.sim, world)?);
     }
     Ok(RandomizedCheck {
         label: format!(

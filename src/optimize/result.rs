@@ -109,7 +109,8 @@ pub fn networks_with(
 pub fn write_candidate(
     path: &std::path::Path,
     sim: &Simulation,
-    (space, registry): (&SearchSpace, &ModuleRegistry),
+    space: &SearchSpace,
+    registry: &ModuleRegistry,
     genome: &[u32],
 ) -> Result<ActuationFile, crate::optimize::error::OptimizeError> {
     let mut file = actuation_with(sim, space, genome);

@@ -137,7 +137,8 @@ impl Session {
         let design = DesignSpace::from_model(&self.model);
         let mut optimizer = build_optimizer(
             &self.model.spec.algorithm,
-            (&self.space, design),
+            &self.space,
+            design,
             &self.start,
             settings,
         )?;
@@ -232,7 +233,8 @@ pub fn check_workers(settings: &RunSettings, shared: bool) -> Result<(), BadChoi
 /// The optimizer an optimizer file names, starting from `start`.
 fn build_optimizer(
     algorithm: &Algorithm,
-    (space, design): (&SearchSpace, Option<crate::optimize::design::DesignSpace>),
+    space: &SearchSpace,
+    design: Option<DesignSpace>,
     start: &Genome,
     settings: &RunSettings,
 ) -> Result<Box<dyn Optimizer>, OptimizeError> {
@@ -247,7 +249,8 @@ fn build_optimizer(
         Algorithm::CmaEs(c) => Box::new(CmaOptimizer::with_restarts(
             space.clone(),
             start.clone(),
-            (c.sigma, c.popsize as usize),
+            c.sigma,
+            c.popsize as usize,
             settings.seed,
             settings.max_evaluations,
             c.restarts,
@@ -297,11 +300,7 @@ fn scorer_for<'a>(
     };
     Ok(match store {
         Store::Postgres(pg) => Box::new(QueueScorer::start(
-            pg,
-            (run, known),
-            evaluator,
-            settings,
-            registry,
+            pg, run, known, evaluator, settings, registry,
         )?),
         store => Box::new(LocalScorer::new(
             evaluator,

@@ -106,7 +106,7 @@ pub fn render_gallery(
     })?;
     rendered?;
     let grid = grid_of(designs.len());
-    compose(req, (&designs, &fitness), &pictures, grid)?;
+    compose(req, &designs, &fitness, &pictures, grid)?;
     Ok(GalleryReport {
         out: req.out.clone(),
         designs,
@@ -240,7 +240,8 @@ fn frame_robot(app: &mut App) -> Result<(), VideoError> {
 /// Lays the pictures out in `grid` with their captions and writes the PNG.
 fn compose(
     req: &GalleryRequest,
-    designs: (&[GalleryEntry], &str),
+    designs: &[GalleryEntry],
+    fitness: &str,
     pictures: &[Frame],
     (cols, rows): (u32, u32),
 ) -> Result<(), VideoError> {
@@ -257,7 +258,7 @@ fn compose(
             }
         }
     }
-    caption(&mut rgb, (w, h), req, designs, cols)?;
+    caption(&mut rgb, (w, h), req, designs, fitness, cols)?;
     write_png(&req.out, &rgb, (w, h))
 }
 
@@ -266,7 +267,8 @@ fn caption(
     rgb: &mut [u8],
     size: (u32, u32),
     req: &GalleryRequest,
-    (designs, fitness): (&[GalleryEntry], &str),
+    designs: &[GalleryEntry],
+    fitness: &str,
     cols: u32,
 ) -> Result<(), VideoError> {
     let (tw, th) = req.tile;

@@ -43,7 +43,8 @@ impl LocalWorkers {
         store: &PgStore,
         registry: &ModuleRegistry,
         evaluator: Evaluator,
-        (run, threads): (i64, usize),
+        run: i64,
+        threads: usize,
         lease: Duration,
     ) -> LocalWorkers {
         let stop = StopFlag::default();

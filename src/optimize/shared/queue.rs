@@ -33,7 +33,8 @@ impl<'a> QueueScorer<'a> {
     /// with `evaluator`.
     pub fn start(
         store: &'a mut PgStore,
-        (run, known): (i64, Vec<StoredEval>),
+        run: i64,
+        known: Vec<StoredEval>,
         evaluator: Evaluator,
         settings: &RunSettings,
         registry: &ModuleRegistry,
@@ -47,7 +48,8 @@ impl<'a> QueueScorer<'a> {
                 workers: 1,
                 ..evaluator
             },
-            (run, settings.workers),
+            run,
+            settings.workers,
             settings.lease,
         );
         Ok(QueueScorer {
