@@ -19,6 +19,7 @@ pub mod error;
 pub mod location;
 pub mod pg;
 pub mod pg_queue;
+pub mod schema;
 pub mod sqlite;
 pub mod table;
 

@@ -8,6 +8,7 @@ use std::time::{Duration, Instant};
 use postgres::{Client, Transaction};
 
 use crate::optimize::store::location::PgTarget;
+use crate::optimize::store::schema::{Dialect, create_tables};
 use crate::optimize::store::{
     EVAL_COLUMNS, EpisodeRecord, EvalRow, ExperimentStore, RUNS_WITH_BEST, RunInfo, RunRow,
     RunSpec, SCHEMA_VERSION, StoreError, StoredEval, best_engines, engine_scores_text, join,
@@ -24,31 +25,6 @@ pub struct PgStore {
 
 /// Advisory-lock key under which the first driver creates the tables.
 const SCHEMA_LOCK: i64 = 0x7072_6f6c_6567;
-
-const CREATE: &str = "
-CREATE TABLE proleg_meta (schema_version INTEGER NOT NULL);
-CREATE TABLE runs (
-    id BIGSERIAL PRIMARY KEY,
-    config TEXT NOT NULL, algorithm TEXT NOT NULL, seed BIGINT NOT NULL,
-    fitness TEXT NOT NULL, duration DOUBLE PRECISION NOT NULL, genes TEXT NOT NULL,
-    started TEXT NOT NULL DEFAULT to_char(now() AT TIME ZONE 'UTC', 'YYYY-MM-DD HH24:MI:SS'),
-    finished INTEGER NOT NULL DEFAULT 0,
-    program TEXT NOT NULL DEFAULT '');
-CREATE TABLE run_files (
-    run BIGINT NOT NULL REFERENCES runs(id), path TEXT NOT NULL, content TEXT NOT NULL,
-    PRIMARY KEY (run, path));
-CREATE TABLE run_episodes (
-    run BIGINT NOT NULL REFERENCES runs(id), episode INTEGER NOT NULL, seed BIGINT NOT NULL,
-    draws TEXT NOT NULL, PRIMARY KEY (run, episode));
-CREATE TABLE evaluations (
-    run BIGINT NOT NULL REFERENCES runs(id), number BIGINT NOT NULL,
-    round BIGINT NOT NULL, genome TEXT NOT NULL, vals TEXT NOT NULL,
-    score DOUBLE PRECISION, engine_scores TEXT NOT NULL DEFAULT '', rejected TEXT, measures TEXT NOT NULL DEFAULT '',
-    seed BIGINT NOT NULL, wall DOUBLE PRECISION NOT NULL DEFAULT 0,
-    state TEXT NOT NULL DEFAULT 'done' CHECK (state IN ('pending', 'running', 'done')),
-    worker TEXT, attempt INTEGER NOT NULL DEFAULT 0, lease_until TIMESTAMPTZ,
-    PRIMARY KEY (run, number));
-CREATE INDEX evaluations_open ON evaluations (run, number) WHERE state <> 'done';";
 
 /// Version 2 to 3: the episodes of robust fitness.
 const FROM_V2: &str = "
@@ -123,7 +99,8 @@ impl PgStore {
                         store: target.to_string(),
                     });
                 }
-                tx.batch_execute(CREATE).map_err(&fail)?;
+                tx.batch_execute(&create_tables(Dialect::Postgres))
+                    .map_err(&fail)?;
                 tx.execute(
                     "INSERT INTO proleg_meta (schema_version) VALUES ($1)",
                     &[&(SCHEMA_VERSION as i32)],

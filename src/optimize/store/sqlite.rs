@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use rusqlite::{Connection, OptionalExtension, params};
 
+use crate::optimize::store::schema::{Dialect, create_tables};
 use crate::optimize::store::{
     EVAL_COLUMNS, EpisodeRecord, EvalRow, ExperimentStore, RUNS_WITH_BEST, RunInfo, RunRow,
     RunSpec, SCHEMA_VERSION, StoreError, StoredEval, best_engines, engine_scores_text, join,
@@ -17,29 +18,6 @@ pub struct SqliteStore {
     conn: Connection,
     path: PathBuf,
 }
-
-const CREATE: &str = "
-CREATE TABLE IF NOT EXISTS proleg_meta (schema_version INTEGER NOT NULL);
-CREATE TABLE IF NOT EXISTS runs (
-    id INTEGER PRIMARY KEY,
-    config TEXT NOT NULL, algorithm TEXT NOT NULL, seed INTEGER NOT NULL,
-    fitness TEXT NOT NULL, duration REAL NOT NULL, genes TEXT NOT NULL,
-    started TEXT NOT NULL DEFAULT (datetime('now')),
-    finished INTEGER NOT NULL DEFAULT 0,
-    program TEXT NOT NULL DEFAULT '');
-CREATE TABLE IF NOT EXISTS run_files (
-    run INTEGER NOT NULL REFERENCES runs(id), path TEXT NOT NULL, content TEXT NOT NULL,
-    PRIMARY KEY (run, path));
-CREATE TABLE IF NOT EXISTS run_episodes (
-    run INTEGER NOT NULL REFERENCES runs(id), episode INTEGER NOT NULL, seed INTEGER NOT NULL,
-    draws TEXT NOT NULL, PRIMARY KEY (run, episode));
-CREATE TABLE IF NOT EXISTS evaluations (
-    run INTEGER NOT NULL REFERENCES runs(id), number INTEGER NOT NULL,
-    round INTEGER NOT NULL, genome TEXT NOT NULL, vals TEXT NOT NULL,
-    score REAL, engine_scores TEXT NOT NULL DEFAULT '', rejected TEXT, measures TEXT NOT NULL DEFAULT '', seed INTEGER NOT NULL,
-    wall REAL NOT NULL DEFAULT 0, state TEXT NOT NULL DEFAULT 'done', worker TEXT, attempt INTEGER NOT NULL DEFAULT 0,
-    lease_until REAL,
-    PRIMARY KEY (run, number));";
 
 /// Version 1 (no `proleg_meta`) to 2: the columns of shared evaluation and the run's files.
 const FROM_V1: &str = "
@@ -116,7 +94,9 @@ impl SqliteStore {
                 if old.is_some() {
                     self.conn.execute_batch(TO_V5).map_err(|e| self.fail(e))?;
                 }
-                self.conn.execute_batch(CREATE).map_err(|e| self.fail(e))?;
+                self.conn
+                    .execute_batch(&create_tables(Dialect::Sqlite))
+                    .map_err(|e| self.fail(e))?;
                 self.conn
                     .execute("DELETE FROM proleg_meta", [])
                     .and_then(|_| {
