@@ -25,6 +25,11 @@ use bevy_egui::{EguiInput, EguiPreUpdateSet, egui};
 /// repaint requests wake it at once).
 const IDLE_WAKE: Duration = Duration::from_secs(60);
 
+/// Whether a window's script still has commands to play (set by its script runner each
+/// frame; never, in a build without the `scripts` feature).
+#[derive(Resource, Debug, Default, Clone, Copy, PartialEq, Eq)]
+pub struct ScriptPending(pub bool);
+
 /// Whether the window must draw continuously this frame (set by each window every frame).
 #[derive(Resource, Debug, Default, Clone, Copy, PartialEq, Eq)]
 pub struct Busy(pub bool);
@@ -41,6 +46,7 @@ impl Plugin for DesktopPlugin {
     fn build(&self, app: &mut App) {
         app.insert_resource(idle_settings())
             .init_resource::<Busy>()
+            .init_resource::<ScriptPending>()
             .init_resource::<Terminate>()
             .add_systems(Startup, install_signal_handler)
             .add_systems(First, exit_on_signal)

@@ -68,6 +68,12 @@ pub enum GuiError {
     /// A step width that is not positive.
     #[error("step width {0} s: give a positive number")]
     StepWidth(f64),
+    /// `--script` in a build without the script interpreters.
+    #[error(
+        "{}: this proleg was built without the `scripts` feature, so its windows run no scripts (the GUI tests and scripts/screenshots build with --features scripts)",
+        .0.display()
+    )]
+    NoScripts(PathBuf),
     /// The window's event loop ended with a failure status.
     #[error("the {window} closed with status {code}")]
     Closed {

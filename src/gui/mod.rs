@@ -19,6 +19,7 @@ pub mod keyboard;
 pub mod meter;
 pub mod module_editor;
 pub mod pointer;
+#[cfg(feature = "scripts")]
 pub mod scripting;
 pub mod setup;
 pub mod video;

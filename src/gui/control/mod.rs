@@ -29,7 +29,9 @@ pub mod remote_view;
 pub mod results_view;
 pub mod robot_view;
 pub mod scene;
+#[cfg(feature = "scripts")]
 pub mod script;
+#[cfg(feature = "scripts")]
 pub mod script_run;
 pub mod session;
 pub mod toolbar;
@@ -55,6 +57,7 @@ use crate::gui::control::remote_view::RemoteView;
 use crate::gui::control::robot_view::RobotView;
 use crate::gui::control::scene::BodyVisual;
 use crate::gui::control::scene::SceneBuilt;
+#[cfg(feature = "scripts")]
 use crate::gui::control::script::ScriptRunner;
 use crate::gui::control::session::SimSession;
 use crate::gui::control::toolbar::ToolbarState;
@@ -105,6 +108,8 @@ pub struct Views<'w> {
     pub recorder: ResMut<'w, Recorder>,
     /// The camera's orbit.
     pub camera: Res<'w, camera::CameraReadout>,
+    /// Whether a script still plays.
+    pub script: ResMut<'w, crate::gui::desktop::ScriptPending>,
 }
 
 /// Ordering of the window's per-frame work.
@@ -139,10 +144,15 @@ pub fn run(
     if let Some(r) = remote {
         remote_view.load(r)?;
     }
+    #[cfg(feature = "scripts")]
     let runner = match script {
         Some(p) => ScriptRunner::new(script::load(p)?),
         None => ScriptRunner::default(),
     };
+    #[cfg(not(feature = "scripts"))]
+    if let Some(p) = script {
+        return Err(GuiError::NoScripts(p.to_path_buf()));
+    }
     let title = window_title(&session);
     // A real-robot configuration opens with the real-robot tab.
     let mut robot_view = RobotView::default();
@@ -150,8 +160,14 @@ pub fn run(
         session.sim.files.simulation.properties.mode == crate::config::simulation::Mode::RealRobot;
     let mut app = App::new();
     crate::gui::desktop::add_window_plugins(&mut app, title);
+    #[cfg(feature = "scripts")]
+    app.insert_resource(runner).add_systems(
+        Update,
+        script_run::run_script
+            .after(sync_modules)
+            .in_set(GuiSystems::Script),
+    );
     app.insert_resource(ToolbarState::new(&typed))
-        .insert_resource(runner)
         .insert_non_send(session)
         .insert_resource(remote_view)
         .insert_resource(robot_view)
@@ -247,12 +263,7 @@ impl Plugin for ControlWindowPlugin {
                 .chain(),
         )
         .add_systems(Startup, (camera::spawn_camera, scene::spawn_lights))
-        .add_systems(
-            Update,
-            (sync_modules, script_run::run_script)
-                .chain()
-                .in_set(GuiSystems::Script),
-        )
+        .add_systems(Update, sync_modules.in_set(GuiSystems::Script))
         .add_systems(
             Update,
             (
@@ -309,7 +320,6 @@ fn window_title(session: &SimSession) -> String {
 /// recording, a real robot or a gamepad (polled each frame) is at work.
 fn busy(
     session: NonSend<SimSession>,
-    runner: Res<ScriptRunner>,
     views: Views,
     gamepads: Query<(), With<Gamepad>>,
     busy: Option<ResMut<crate::gui::desktop::Busy>>,
@@ -317,9 +327,8 @@ fn busy(
     let Some(mut busy) = busy else {
         return;
     };
-    let script = runner.0.as_ref().is_some_and(|s| s.next < s.commands.len());
     let now = session.running
-        || script
+        || views.script.0
         || views.optimizer.running()
         || views.recorder.recording()
         || views.robot.connected()

@@ -29,6 +29,10 @@ pub fn run_script(
     run_commands(&mut runner.0, &mut exit, |c, script| {
         carry_out(c, &mut commands, script, &mut session, &mut views, &visuals)
     });
+    let pending = runner.0.as_ref().is_some_and(|s| s.next < s.commands.len());
+    views
+        .script
+        .set_if_neq(crate::gui::desktop::ScriptPending(pending));
 }
 
 /// One command, carried out by the function of its group.

@@ -10,6 +10,7 @@
 //!   script commands both windows share
 
 pub mod highlight;
+#[cfg(feature = "scripts")]
 pub mod script;
 pub mod view;
 

@@ -17,7 +17,9 @@ pub mod picking;
 pub mod preview;
 pub mod properties_view;
 pub mod scene;
+#[cfg(feature = "scripts")]
 pub mod script;
+#[cfg(feature = "scripts")]
 pub mod script_run;
 pub mod state;
 pub mod wizard_view;
@@ -29,6 +31,7 @@ use bevy_egui::{EguiContexts, EguiGlobalSettings, EguiPrimaryContextPass, egui};
 
 use crate::compose::wizard::Page;
 use crate::gui::setup::scene::SceneCache;
+#[cfg(feature = "scripts")]
 use crate::gui::setup::script::SetupScript;
 use crate::gui::setup::state::EditorDrag;
 use crate::gui::setup::state::{SetupState, Status, Tool};
@@ -64,10 +67,15 @@ pub fn run(
     opts: &SetupOptions,
     plugins: crate::plugin_host::PluginHost,
 ) -> Result<(), crate::gui::error::GuiError> {
+    #[cfg(feature = "scripts")]
     let script = match &opts.script {
         Some(p) => SetupScript(Some(script::load(p)?)),
         None => SetupScript::default(),
     };
+    #[cfg(not(feature = "scripts"))]
+    if let Some(p) = &opts.script {
+        return Err(crate::gui::error::GuiError::NoScripts(p.clone()));
+    }
     let mut state = SetupState::new(
         &opts.configs,
         &opts.out,
@@ -86,8 +94,10 @@ pub fn run(
     }
     let mut app = App::new();
     crate::gui::desktop::add_window_plugins(&mut app, "proleg — new / edit configuration".into());
+    #[cfg(feature = "scripts")]
+    app.insert_resource(script)
+        .add_systems(Update, script_run::run_script.in_set(SetupSystems::Script));
     app.insert_resource(state)
-        .insert_resource(script)
         .insert_resource(crate::gui::module_editor::ModuleEditor::new(plugins))
         .add_plugins(SetupWindowPlugin);
     match app.run() {
@@ -129,7 +139,6 @@ impl Plugin for SetupWindowPlugin {
                     crate::gui::control::scene::spawn_lights,
                 ),
             )
-            .add_systems(Update, script_run::run_script.in_set(SetupSystems::Script))
             .add_systems(
                 Update,
                 (
@@ -154,10 +163,12 @@ impl Plugin for SetupWindowPlugin {
 
 /// Whether the window must keep drawing: only while a script plays (everything else
 /// happens in answer to input).
-fn busy(script: Res<SetupScript>, busy: Option<ResMut<crate::gui::desktop::Busy>>) {
+fn busy(
+    script: Res<crate::gui::desktop::ScriptPending>,
+    busy: Option<ResMut<crate::gui::desktop::Busy>>,
+) {
     if let Some(mut busy) = busy {
-        let now = script.0.as_ref().is_some_and(|s| s.next < s.commands.len());
-        busy.set_if_neq(crate::gui::desktop::Busy(now));
+        busy.set_if_neq(crate::gui::desktop::Busy(script.0));
     }
 }
 

@@ -27,10 +27,13 @@ pub fn run_script(
     mut state: ResMut<SetupState>,
     mut modules: ResMut<ModuleEditor>,
     mut exit: MessageWriter<AppExit>,
+    mut pending: ResMut<crate::gui::desktop::ScriptPending>,
 ) {
     run_commands(&mut runner.0, &mut exit, |c, script| {
         carry_out(c, &mut commands, script, &mut state, &mut modules)
     });
+    let playing = runner.0.as_ref().is_some_and(|s| s.next < s.commands.len());
+    pending.set_if_neq(crate::gui::desktop::ScriptPending(playing));
 }
 
 fn item(state: &SetupState, name: &str) -> Result<LibraryItem, CommandError> {
