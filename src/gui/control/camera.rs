@@ -157,3 +157,17 @@ pub fn orbit_camera(
         };
     }
 }
+
+/// The viewer's camera: spawned at start, steered by the mouse after the scene moved.
+pub struct CameraPlugin;
+
+impl Plugin for CameraPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<CameraReadout>()
+            .add_systems(Startup, spawn_camera)
+            .add_systems(
+                Update,
+                orbit_camera.in_set(crate::gui::control::schedule::GuiSystems::Camera),
+            );
+    }
+}

@@ -72,3 +72,15 @@ pub fn draw_debug(view: Res<DebugView>, session: NonSend<SimSession>, mut gizmos
         gizmos.line(at, at + n * 0.02, colour);
     }
 }
+
+/// The physics debug view: collider outlines and contacts, drawn after the camera moved.
+pub struct DebugViewPlugin;
+
+impl Plugin for DebugViewPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<DebugView>().add_systems(
+            Update,
+            draw_debug.in_set(crate::gui::control::schedule::GuiSystems::Debug),
+        );
+    }
+}

@@ -280,6 +280,15 @@ fn graphs(ui: &mut egui::Ui, state: &mut InspectState) {
     }
 }
 
+/// The data file inspection's state.
+pub struct InspectPlugin;
+
+impl Plugin for InspectPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<InspectState>();
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

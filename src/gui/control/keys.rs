@@ -63,6 +63,18 @@ pub fn shortcuts(
     }
 }
 
+/// The window's keyboard shortcuts.
+pub struct KeysPlugin;
+
+impl Plugin for KeysPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_systems(
+            Update,
+            shortcuts.in_set(crate::gui::control::schedule::GuiSystems::Keys),
+        );
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -29,6 +29,7 @@ pub mod remote_view;
 pub mod results_view;
 pub mod robot_view;
 pub mod scene;
+pub mod schedule;
 #[cfg(feature = "scripts")]
 pub mod script;
 #[cfg(feature = "scripts")]
@@ -56,7 +57,6 @@ use crate::gui::control::recorder::Recorder;
 use crate::gui::control::remote_view::RemoteView;
 use crate::gui::control::robot_view::RobotView;
 use crate::gui::control::scene::BodyVisual;
-use crate::gui::control::scene::SceneBuilt;
 #[cfg(feature = "scripts")]
 use crate::gui::control::script::ScriptRunner;
 use crate::gui::control::session::SimSession;
@@ -64,7 +64,7 @@ use crate::gui::control::toolbar::ToolbarState;
 use crate::gui::error::GuiError;
 use crate::gui::module_editor::ModuleEditor;
 use crate::optimize::replay::Replay;
-use crate::remote::gamepad::{GamepadRemote, GamepadRemotePlugin};
+use crate::remote::gamepad::GamepadRemote;
 
 /// Which of the docked views are open.
 #[derive(Resource, Debug, Clone, Copy, PartialEq, Eq)]
@@ -112,16 +112,7 @@ pub struct Views<'w> {
     pub script: ResMut<'w, crate::gui::desktop::ScriptPending>,
 }
 
-/// Ordering of the window's per-frame work.
-#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum GuiSystems {
-    /// Script commands (tests, screenshots).
-    Script,
-    /// Simulation steps of this frame.
-    Simulate,
-    /// Scene and camera follow the new state.
-    Present,
-}
+pub use crate::gui::control::schedule::GuiSystems;
 
 /// Opens the control window on `config`, or on the stored evaluation `replay` (`proleg gui
 /// --replay`); with `script`, runs it (see [`script`]); with `remote`, binds the gamepad as
@@ -225,70 +216,34 @@ pub struct ControlWindowPlugin;
 
 impl Plugin for ControlWindowPlugin {
     fn build(&self, app: &mut App) {
+        // One plugin per view, each with its state and systems in the sets of
+        // `schedule`; the layout of the egui views is `draw_ui`'s.
         app.add_plugins((
-            GamepadRemotePlugin,
+            schedule::SchedulePlugin,
             crate::gui::pointer::PointerRoutingPlugin,
+            keys::KeysPlugin,
+            picking::PickingPlugin,
+            camera::CameraPlugin,
+            scene::ScenePlugin,
+            overlay::OverlayPlugin,
+            debug_view::DebugViewPlugin,
+            recorder::RecorderPlugin,
         ))
-        .init_resource::<RemoteView>()
+        .add_plugins((
+            plots::PlotsPlugin,
+            params::ParamsPlugin,
+            inspect::InspectPlugin,
+            optimizer_view::OptimizerViewPlugin,
+            remote_view::RemoteViewPlugin,
+            robot_view::RobotViewPlugin,
+        ))
         .init_resource::<ModuleEditor>()
-        .init_resource::<AssignState>()
-        .init_resource::<RobotView>()
-        .init_resource::<ParamsState>()
-        .init_resource::<InspectState>()
-        .init_resource::<DebugView>()
-        .init_resource::<Selection>()
-        .init_resource::<camera::CameraReadout>()
-        .init_resource::<Recorder>()
-        .add_observer(picking::on_click)
-        .add_observer(picking::on_drag_start)
-        .add_observer(picking::on_drag)
-        .add_observer(picking::on_drag_end)
-        .insert_resource(OptimizerView::new(
-            std::thread::available_parallelism().map_or(1, |n| n.get()),
-        ))
-        .init_resource::<PlotsState>()
-        .init_resource::<SceneBuilt>()
-        .init_resource::<RobotOverlay>()
         .insert_resource(Panels {
             params: true,
             plots: true,
         })
-        .configure_sets(
-            Update,
-            (
-                GuiSystems::Script,
-                GuiSystems::Simulate,
-                GuiSystems::Present,
-            )
-                .chain(),
-        )
-        .add_systems(Startup, (camera::spawn_camera, scene::spawn_lights))
         .add_systems(Update, sync_modules.in_set(GuiSystems::Script))
-        .add_systems(
-            Update,
-            (
-                keys::shortcuts,
-                picking::apply_moves,
-                remote_view::apply_remote,
-                robot_view::exchange,
-                simulate,
-            )
-                .chain()
-                .in_set(GuiSystems::Simulate),
-        )
-        .add_systems(
-            Update,
-            (
-                scene::build_scene,
-                scene::follow_bodies,
-                scene::colour_pads,
-                camera::orbit_camera,
-                debug_view::draw_debug,
-                recorder::capture,
-            )
-                .chain()
-                .in_set(GuiSystems::Present),
-        )
+        .add_systems(Update, simulate.in_set(GuiSystems::Simulate))
         .add_systems(EguiPrimaryContextPass, draw_ui)
         .add_systems(PostUpdate, (busy, title));
     }

@@ -486,3 +486,14 @@ fn learning_curve(ui: &mut egui::Ui, view: &OptimizerView) {
             p.line(Line::new("best so far", PlotPoints::from(bests)));
         });
 }
+
+/// The optimization view, its workers as many as the cores.
+pub struct OptimizerViewPlugin;
+
+impl Plugin for OptimizerViewPlugin {
+    fn build(&self, app: &mut App) {
+        app.insert_resource(OptimizerView::new(
+            std::thread::available_parallelism().map_or(1, |n| n.get()),
+        ));
+    }
+}

@@ -81,3 +81,12 @@ pub fn show(
             ui.checkbox(follow, "follow robot");
         });
 }
+
+/// The robot overlay's state.
+pub struct OverlayPlugin;
+
+impl Plugin for OverlayPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<RobotOverlay>();
+    }
+}

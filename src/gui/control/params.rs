@@ -190,6 +190,16 @@ pub fn reset_actuator(
     Ok(())
 }
 
+/// The control algorithms' properties and the module assignment form.
+pub struct ParamsPlugin;
+
+impl Plugin for ParamsPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<ParamsState>()
+            .init_resource::<crate::gui::control::assign_view::AssignState>();
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use std::path::Path;

@@ -205,3 +205,21 @@ pub fn show(
         sel.body = None;
     }
 }
+
+/// Selecting and dragging bodies with the pointer: the selection, the picking observers,
+/// the drags applied each frame (after the shortcuts).
+pub struct PickingPlugin;
+
+impl Plugin for PickingPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<Selection>()
+            .add_observer(on_click)
+            .add_observer(on_drag_start)
+            .add_observer(on_drag)
+            .add_observer(on_drag_end)
+            .add_systems(
+                Update,
+                apply_moves.in_set(crate::gui::control::schedule::GuiSystems::Pointer),
+            );
+    }
+}

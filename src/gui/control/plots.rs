@@ -323,3 +323,12 @@ fn selector(ui: &mut egui::Ui, log: &[crate::data::handler::HandlerSpec], state:
         }
     });
 }
+
+/// The live plots' state.
+pub struct PlotsPlugin;
+
+impl Plugin for PlotsPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<PlotsState>();
+    }
+}

@@ -196,3 +196,15 @@ pub fn button(ui: &mut egui::Ui, recorder: &mut Recorder, config: &Path) {
         ui.label(s);
     }
 }
+
+/// The Record button's capture of each frame.
+pub struct RecorderPlugin;
+
+impl Plugin for RecorderPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<Recorder>().add_systems(
+            Update,
+            capture.in_set(crate::gui::control::schedule::GuiSystems::Capture),
+        );
+    }
+}

@@ -496,3 +496,17 @@ fn add_form(ui: &mut egui::Ui, view: &mut RemoteView, session: &SimSession) {
         }
     }
 }
+
+/// The remote-control dialog and the gamepad's bindings applied each frame.
+pub struct RemoteViewPlugin;
+
+impl Plugin for RemoteViewPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_plugins(crate::remote::gamepad::GamepadRemotePlugin)
+            .init_resource::<RemoteView>()
+            .add_systems(
+                Update,
+                apply_remote.in_set(crate::gui::control::schedule::GuiSystems::Gamepad),
+            );
+    }
+}

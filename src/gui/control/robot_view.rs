@@ -393,3 +393,16 @@ fn servo_table(ui: &mut egui::Ui, view: &RobotView, session: &SimSession) {
             }
         });
 }
+
+/// The real-robot tab: its state and the exchange with the servos each frame (after the
+/// gamepad).
+pub struct RobotViewPlugin;
+
+impl Plugin for RobotViewPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<RobotView>().add_systems(
+            Update,
+            exchange.in_set(crate::gui::control::schedule::GuiSystems::Robot),
+        );
+    }
+}

@@ -306,3 +306,20 @@ pub fn spawn_lights(mut commands: Commands) {
         Transform::from_xyz(2.0, 6.0, 3.0).looking_at(Vec3::ZERO, Vec3::Y),
     ));
 }
+
+/// The 3D scene: lights, meshes built for the session's bodies, following them, pads
+/// coloured by touch.
+pub struct ScenePlugin;
+
+impl Plugin for ScenePlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<SceneBuilt>()
+            .add_systems(Startup, spawn_lights)
+            .add_systems(
+                Update,
+                (build_scene, follow_bodies, colour_pads)
+                    .chain()
+                    .in_set(crate::gui::control::schedule::GuiSystems::Scene),
+            );
+    }
+}
