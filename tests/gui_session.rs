@@ -30,31 +30,15 @@ fn demo_variant(dir: &Path, duration: f64, env: Option<&Path>) -> PathBuf {
         || configs.join("environments/flat.env.xml"),
         Path::to_path_buf,
     );
-    let text = format!(
-        r#"<?xml version="1.0" encoding="utf-8"?>
-<simulation>
-  <robot>{}</robot>
-  <actuation>{}</actuation>
-  <environment>{}</environment>
-  <simulationProperties>
-    <mode>Single Run Simulation</mode>
-    <accuracy>30</accuracy>
-    <stepWidth>0.001</stepWidth>
-    <duration>{duration}</duration>
-    <seed>1</seed>
-    <realtimeFactor>1</realtimeFactor>
-  </simulationProperties>
-</simulation>
-"#,
-        configs.join("robots/snake5p.robot.xml").display(),
-        configs
-            .join("actuation/snake5p_sine40.actuation.xml")
-            .display(),
-        env.display()
-    );
-    let path = dir.join("variant.simulation.xml");
-    std::fs::write(&path, text).expect("simulation file");
-    path
+    common::simulation_file(
+        &dir.join("variant.simulation.xml"),
+        [
+            &configs.join("robots/snake5p.robot.xml"),
+            &configs.join("actuation/snake5p_sine40.actuation.xml"),
+            &env,
+        ],
+        duration,
+    )
 }
 
 #[test]

@@ -154,11 +154,24 @@ pub fn floor_ending_at(dir: &Path, edge: f64) -> proleg::config::Simulation {
         ),
     )
     .unwrap();
-    let sim = dir.join(format!("edge{edge}.simulation.xml"));
-    std::fs::write(
-        &sim,
-        format!(
-            r#"<simulation>
+    let sim = simulation_file(
+        &dir.join(format!("edge{edge}.simulation.xml")),
+        [
+            &configs.join("robots/tactile5p.robot.xml"),
+            &configs.join("actuation/tactile5p_sine_tuned.actuation.xml"),
+            &env,
+        ],
+        15.0,
+    );
+    proleg::control::load_simulation(&sim).unwrap()
+}
+
+/// Writes a single-run simulation file at `path` of `[robot, actuation, environment]` for
+/// `duration` s (1 ms steps, seed 1, paced at real time in a window); returns `path`.
+pub fn simulation_file(path: &Path, [robot, actuation, env]: [&Path; 3], duration: f64) -> PathBuf {
+    let text = format!(
+        r#"<?xml version="1.0" encoding="utf-8"?>
+<simulation>
   <robot>{}</robot>
   <actuation>{}</actuation>
   <environment>{}</environment>
@@ -166,18 +179,16 @@ pub fn floor_ending_at(dir: &Path, edge: f64) -> proleg::config::Simulation {
     <mode>Single Run Simulation</mode>
     <accuracy>30</accuracy>
     <stepWidth>0.001</stepWidth>
-    <duration>15</duration>
+    <duration>{duration}</duration>
     <seed>1</seed>
+    <realtimeFactor>1</realtimeFactor>
   </simulationProperties>
 </simulation>
 "#,
-            configs.join("robots/tactile5p.robot.xml").display(),
-            configs
-                .join("actuation/tactile5p_sine_tuned.actuation.xml")
-                .display(),
-            env.display()
-        ),
-    )
-    .unwrap();
-    proleg::control::load_simulation(&sim).unwrap()
+        robot.display(),
+        actuation.display(),
+        env.display()
+    );
+    std::fs::write(path, text).expect("simulation file");
+    path.to_path_buf()
 }
