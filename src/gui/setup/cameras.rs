@@ -191,3 +191,18 @@ pub fn orbit_camera(
         *t = orbit.transform();
     }
 }
+
+/// The perspective, top and side cameras: spawned at start, steered by the mouse, laid out
+/// in the space the panels leave.
+pub struct SetupCamerasPlugin;
+
+impl Plugin for SetupCamerasPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_systems(Startup, spawn_cameras).add_systems(
+            Update,
+            (orbit_camera, layout_views)
+                .chain()
+                .in_set(crate::gui::setup::schedule::SetupSystems::Views),
+        );
+    }
+}

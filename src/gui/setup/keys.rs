@@ -29,3 +29,15 @@ pub fn shortcuts(
         state.env_mut().undo();
     }
 }
+
+/// The configuration window's keyboard shortcuts.
+pub struct SetupKeysPlugin;
+
+impl Plugin for SetupKeysPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_systems(
+            Update,
+            shortcuts.in_set(crate::gui::setup::schedule::SetupSystems::Keys),
+        );
+    }
+}

@@ -17,6 +17,7 @@ pub mod picking;
 pub mod preview;
 pub mod properties_view;
 pub mod scene;
+pub mod schedule;
 #[cfg(feature = "scripts")]
 pub mod script;
 #[cfg(feature = "scripts")]
@@ -33,7 +34,6 @@ use crate::compose::wizard::Page;
 use crate::gui::setup::scene::SceneCache;
 #[cfg(feature = "scripts")]
 use crate::gui::setup::script::SetupScript;
-use crate::gui::setup::state::EditorDrag;
 use crate::gui::setup::state::{SetupState, Status, Tool};
 
 /// How `proleg wizard` starts.
@@ -51,16 +51,7 @@ pub struct SetupOptions {
     pub script: Option<PathBuf>,
 }
 
-/// Ordering of the window's per-frame work.
-#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum SetupSystems {
-    /// Script commands.
-    Script,
-    /// Drops and the scene follow the models.
-    Scene,
-    /// Cameras and viewports.
-    Views,
-}
+pub use crate::gui::setup::schedule::SetupSystems;
 
 /// Opens the configuration window.
 pub fn run(
@@ -114,50 +105,21 @@ pub struct SetupWindowPlugin;
 
 impl Plugin for SetupWindowPlugin {
     fn build(&self, app: &mut App) {
-        app.add_plugins(crate::gui::pointer::PointerRoutingPlugin)
-            .init_resource::<EditorDrag>()
-            .init_resource::<crate::gui::module_editor::ModuleEditor>()
-            .init_resource::<SceneCache>()
-            .add_observer(picking::on_click)
-            .add_observer(picking::on_drag_start)
-            .add_observer(picking::on_drag)
-            .add_observer(picking::on_drag_end)
-            .configure_sets(
-                Update,
-                (
-                    SetupSystems::Script,
-                    SetupSystems::Scene,
-                    SetupSystems::Views,
-                )
-                    .chain(),
-            )
-            .add_systems(
-                Startup,
-                (
-                    manual_egui_context,
-                    cameras::spawn_cameras,
-                    crate::gui::control::scene::spawn_lights,
-                ),
-            )
-            .add_systems(
-                Update,
-                (
-                    keys::shortcuts,
-                    picking::apply_drop,
-                    scene::sync_scene,
-                    scene::draw_selection,
-                )
-                    .chain()
-                    .in_set(SetupSystems::Scene),
-            )
-            .add_systems(
-                Update,
-                (cameras::orbit_camera, cameras::layout_views)
-                    .chain()
-                    .in_set(SetupSystems::Views),
-            )
-            .add_systems(EguiPrimaryContextPass, draw_ui)
-            .add_systems(PostUpdate, busy);
+        // One plugin per part, each with its state and systems in the sets of `schedule`;
+        // the layout of the egui views (tools, wizard pages, expert dialog, editor) is
+        // `draw_ui`'s.
+        app.add_plugins((
+            schedule::SetupSchedulePlugin,
+            crate::gui::pointer::PointerRoutingPlugin,
+            keys::SetupKeysPlugin,
+            picking::SetupPickingPlugin,
+            scene::SetupScenePlugin,
+            cameras::SetupCamerasPlugin,
+        ))
+        .init_resource::<crate::gui::module_editor::ModuleEditor>()
+        .add_systems(Startup, manual_egui_context)
+        .add_systems(EguiPrimaryContextPass, draw_ui)
+        .add_systems(PostUpdate, busy);
     }
 }
 

@@ -220,3 +220,21 @@ pub fn apply_drop(mut state: ResMut<SetupState>, cameras: CameraQuery) {
         }
     }
 }
+
+/// Mouse editing of the environment: the picking observers and library items dropped on a
+/// view.
+pub struct SetupPickingPlugin;
+
+impl Plugin for SetupPickingPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<EditorDrag>()
+            .add_observer(on_click)
+            .add_observer(on_drag_start)
+            .add_observer(on_drag)
+            .add_observer(on_drag_end)
+            .add_systems(
+                Update,
+                apply_drop.in_set(crate::gui::setup::schedule::SetupSystems::Drop),
+            );
+    }
+}

@@ -394,3 +394,20 @@ pub fn draw_selection(state: Res<SetupState>, mut gizmos: Gizmos) {
         );
     }
 }
+
+/// The 3D scene of the models: lights, the scene rebuilt when the models change, the
+/// selection drawn.
+pub struct SetupScenePlugin;
+
+impl Plugin for SetupScenePlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<SceneCache>()
+            .add_systems(Startup, crate::gui::control::scene::spawn_lights)
+            .add_systems(
+                Update,
+                (sync_scene, draw_selection)
+                    .chain()
+                    .in_set(crate::gui::setup::schedule::SetupSystems::Scene),
+            );
+    }
+}
