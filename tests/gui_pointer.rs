@@ -3,7 +3,8 @@
 //! drag leaves it (the Amplitude slider dragged into the viewer changes Amplitude and moves
 //! no floor); a click on Start selects nothing behind the toolbar; a left drag on the
 //! ground orbits the camera instead of moving the floor; on the wizard's environment page,
-//! a click in the Selection panel keeps the selection and the value typed there takes. Input is sent step by step, each
+//! a click in the Selection panel keeps the selection and the value typed there takes; a
+//! click after a drag still selects. Input is sent step by step, each
 //! step acknowledged by the window two frames after the test said it was sent, so a drag
 //! spans several frames at any frame rate and nothing depends on timing.
 #![cfg(feature = "gui")]
@@ -93,6 +94,23 @@ fn start_selects_nothing_and_a_left_drag_on_the_ground_orbits() {
         .parse()
         .unwrap();
     assert!((yaw - (-0.9)).abs() > 0.05, "the camera orbited: yaw {yaw}");
+}
+
+#[test]
+fn a_click_after_a_drag_still_selects() {
+    let x = Xvfb::start();
+    let mut w = Driven::open(&x, "pointer-click-after-drag", &DEMO, "", 6);
+    // A left drag on the ground orbits; the click after it selects the floor (a press
+    // starts a new gesture: the drag before it does not turn the click into one).
+    w.input(&x, ("250", "450"), &["mousedown", "1"]);
+    for px in ["300", "350", "400"] {
+        w.input(&x, (px, "450"), &[]);
+    }
+    w.input(&x, ("400", "450"), &["mouseup", "1"]);
+    w.input(&x, ("400", "450"), &["click", "1"]);
+    let s = w.finish();
+    assert_eq!(get(&s, "selected"), "true", "the click selected the floor");
+    assert!(floor_stays(&s), "the floor moved: {:?}", floor_in(&s));
 }
 
 #[test]

@@ -11,6 +11,8 @@
 //! - [`setup`]: the configuration window (thesis 4.4) — beginner wizard, expert
 //!   composition, 3D environment editor.
 //! - [`video`]: videos of a run rendered off-screen (`proleg run --video`)
+//! - [`view3d`]: what every 3D view shares: orbit camera, pointer motion, geometry meshes,
+//!   the pointer's gestures on scene objects
 
 pub mod control;
 pub mod desktop;
@@ -23,5 +25,6 @@ pub mod pointer;
 pub mod scripting;
 pub mod setup;
 pub mod video;
+pub mod view3d;
 
 pub use control::run;

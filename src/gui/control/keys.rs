@@ -11,10 +11,10 @@
 use bevy::prelude::*;
 use bevy_egui::input::EguiWantsInput;
 
-use crate::gui::control::camera::OrbitCamera;
 use crate::gui::control::debug_view::DebugView;
 use crate::gui::control::recorder::Recorder;
 use crate::gui::control::session::SimSession;
+use crate::gui::view3d::orbit::OrbitCamera;
 
 /// Carries out this frame's shortcuts.
 pub fn shortcuts(

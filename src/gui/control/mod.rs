@@ -45,7 +45,6 @@ use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 
 use crate::gui::control::assign_view::AssignState;
-use crate::gui::control::camera::OrbitCamera;
 use crate::gui::control::debug_view::DebugView;
 use crate::gui::control::inspect::InspectState;
 use crate::gui::control::optimizer_view::OptimizerView;
@@ -63,6 +62,7 @@ use crate::gui::control::session::SimSession;
 use crate::gui::control::toolbar::ToolbarState;
 use crate::gui::error::GuiError;
 use crate::gui::module_editor::ModuleEditor;
+use crate::gui::view3d::orbit::OrbitCamera;
 use crate::optimize::replay::Replay;
 use crate::remote::gamepad::GamepadRemote;
 
@@ -221,6 +221,7 @@ impl Plugin for ControlWindowPlugin {
         app.add_plugins((
             schedule::SchedulePlugin,
             crate::gui::pointer::PointerRoutingPlugin,
+            crate::gui::view3d::PointerMotionPlugin,
             keys::KeysPlugin,
             picking::PickingPlugin,
             camera::CameraPlugin,

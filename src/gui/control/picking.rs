@@ -3,16 +3,17 @@
 //! over the ground plane — the static scenery only with Shift held, so that a left drag on
 //! the ground orbits the camera — and the "Selected body" window shows and sets its
 //! position. Nothing here reacts while the pointer belongs to the panels
-//! ([`crate::gui::pointer`]). Picking observers only record what the pointer did; a system
-//! applies it to the simulator through [`crate::sim::Simulator::translate_bodies`].
+//! ([`crate::gui::pointer`]). The shared gestures ([`crate::gui::view3d::picking`]) say what
+//! the pointer did; systems here apply it to the simulator through
+//! [`crate::sim::Simulator::translate_bodies`].
 
 use bevy::prelude::*;
 use bevy_egui::egui;
 
-use crate::gui::control::camera::OrbitCamera;
 use crate::gui::control::scene::BodyVisual;
 use crate::gui::control::session::SimSession;
-use crate::gui::pointer::PointerRouting;
+use crate::gui::view3d::orbit::OrbitCamera;
+use crate::gui::view3d::picking::{Gesture, GesturesPlugin, Grab};
 
 /// The selected body and the drag in progress.
 #[derive(Resource, Debug, Default)]
@@ -40,74 +41,38 @@ impl Selection {
     }
 }
 
-/// The body visual an entity belongs to (itself or an ancestor).
-fn body_of(e: Entity, parents: &Query<&ChildOf>, visuals: &Query<&BodyVisual>) -> Option<Entity> {
-    let mut cur = e;
-    for _ in 0..8 {
-        if visuals.contains(cur) {
-            return Some(cur);
+/// Reads the pointer's gestures in order: a click selects the body under the pointer (or
+/// clears the selection on empty space), unless the pointer was dragged since its press; a
+/// primary drag on a movable body (or any body with Shift held) selects it and takes the
+/// left button from the camera; the drag's motion is collected for [`apply_moves`].
+pub fn read_gestures(
+    mut gestures: MessageReader<Gesture>,
+    visuals: Query<&BodyVisual>,
+    mut sel: ResMut<Selection>,
+) {
+    for g in gestures.read() {
+        match *g {
+            Gesture::Press => sel.dragged = false,
+            Gesture::Click { target } if !sel.dragged => sel.body = target,
+            Gesture::Click { .. } => {}
+            Gesture::DragStart(grab) => {
+                sel.dragged = true;
+                if let Some(Grab {
+                    target: Some(b),
+                    shift,
+                    ..
+                }) = grab
+                    && (shift || visuals.get(b).is_ok_and(|v| v.movable))
+                {
+                    sel.body = Some(b);
+                    sel.dragging = true;
+                }
+            }
+            Gesture::Drag { delta, .. } if sel.dragging => sel.drag_pixels += delta,
+            Gesture::Drag { .. } => {}
+            Gesture::DragEnd => sel.dragging = false,
         }
-        cur = parents.get(cur).ok()?.parent();
     }
-    None
-}
-
-/// Click: select the body under the pointer (or clear the selection on empty space).
-pub fn on_click(
-    mut click: On<Pointer<Click>>,
-    parents: Query<&ChildOf>,
-    visuals: Query<&BodyVisual>,
-    routing: Res<PointerRouting>,
-    mut sel: ResMut<Selection>,
-) {
-    click.propagate(false);
-    if click.button == PointerButton::Primary && routing.scene_gets_pointer() && !sel.dragged {
-        sel.body = body_of(click.original_event_target(), &parents, &visuals);
-    }
-}
-
-/// A press: what follows is a click unless the pointer is dragged.
-pub fn on_press(mut ev: On<Pointer<Press>>, mut sel: ResMut<Selection>) {
-    ev.propagate(false);
-    sel.dragged = false;
-}
-
-/// Drag start on a movable body (or any body with Shift held): select it and take the
-/// left button from the camera.
-pub fn on_drag_start(
-    mut ev: On<Pointer<DragStart>>,
-    parents: Query<&ChildOf>,
-    visuals: Query<&BodyVisual>,
-    keys: Res<ButtonInput<KeyCode>>,
-    routing: Res<PointerRouting>,
-    mut sel: ResMut<Selection>,
-) {
-    ev.propagate(false);
-    sel.dragged = true;
-    if ev.button != PointerButton::Primary || !routing.scene_gets_pointer() {
-        return;
-    }
-    let shift = keys.any_pressed([KeyCode::ShiftLeft, KeyCode::ShiftRight]);
-    if let Some(b) = body_of(ev.original_event_target(), &parents, &visuals)
-        && (shift || visuals.get(b).is_ok_and(|v| v.movable))
-    {
-        sel.body = Some(b);
-        sel.dragging = true;
-    }
-}
-
-/// Drag: collect the pointer's motion.
-pub fn on_drag(mut ev: On<Pointer<Drag>>, mut sel: ResMut<Selection>) {
-    ev.propagate(false);
-    if sel.dragging {
-        sel.drag_pixels += ev.delta;
-    }
-}
-
-/// Drag end.
-pub fn on_drag_end(mut ev: On<Pointer<DragEnd>>, mut sel: ResMut<Selection>) {
-    ev.propagate(false);
-    sel.dragging = false;
 }
 
 /// The bodies that move with body visual `v`: the whole robot for a link, else the body.
@@ -206,20 +171,20 @@ pub fn show(
     }
 }
 
-/// Selecting and dragging bodies with the pointer: the selection, the picking observers,
-/// the drags applied each frame (after the shortcuts).
+/// Selecting and dragging bodies with the pointer: the selection, the shared gestures
+/// ([`crate::gui::view3d::picking`]) read and the drags applied each frame (after the
+/// shortcuts).
 pub struct PickingPlugin;
 
 impl Plugin for PickingPlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<Selection>()
-            .add_observer(on_click)
-            .add_observer(on_drag_start)
-            .add_observer(on_drag)
-            .add_observer(on_drag_end)
+            .add_plugins(GesturesPlugin::<BodyVisual>::default())
             .add_systems(
                 Update,
-                apply_moves.in_set(crate::gui::control::schedule::GuiSystems::Pointer),
+                (read_gestures, apply_moves)
+                    .chain()
+                    .in_set(crate::gui::control::schedule::GuiSystems::Pointer),
             );
     }
 }

@@ -5,14 +5,13 @@
 
 use bevy::camera::visibility::RenderLayers;
 use bevy::camera::{ClearColorConfig, Viewport};
-use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
 use bevy::prelude::*;
 use bevy_egui::PrimaryEguiContext;
 
 use crate::compose::env_edit::Selected;
-use crate::gui::control::camera::{OrbitCamera, to_bevy};
 use crate::gui::setup::state::EditorDrag;
 use crate::gui::setup::state::SetupState;
+use crate::gui::view3d::orbit::{OrbitCamera, PointerMotion, to_bevy};
 
 /// An orthographic view of the editor.
 #[derive(Component, Debug, Clone, Copy, PartialEq, Eq)]
@@ -152,29 +151,20 @@ pub fn layout_views(
     }
 }
 
-/// The mouse as the editor's cameras read it: buttons, motion, wheel, and whether the
-/// pointer is over the scene.
-#[derive(bevy::ecs::system::SystemParam)]
-pub struct Mouse<'w> {
-    buttons: Res<'w, ButtonInput<MouseButton>>,
-    motion: Res<'w, AccumulatedMouseMotion>,
-    scroll: Res<'w, AccumulatedMouseScroll>,
-    routing: Res<'w, crate::gui::pointer::PointerRouting>,
-}
-
 /// Mouse orbit (left drag on empty space), pan (right / middle drag), zoom (wheel) of the
-/// perspective view; the wheel over a side or top view zooms both.
+/// perspective view ([`PointerMotion`]); the wheel over a side or top view zooms both.
 pub fn orbit_camera(
-    mouse: Mouse,
+    motion: Res<PointerMotion>,
+    buttons: Res<ButtonInput<MouseButton>>,
+    routing: Res<crate::gui::pointer::PointerRouting>,
     drag: Res<EditorDrag>,
-    window: Single<&Window>,
     mut state: ResMut<SetupState>,
     mut cameras: Query<(&Camera, &mut OrbitCamera, &mut Transform)>,
 ) {
-    if !mouse.routing.scene_gets_pointer() {
+    if !routing.scene_gets_pointer() {
         return;
     }
-    let cursor = window.cursor_position();
+    let cursor = motion.cursor;
     for (camera, mut orbit, mut t) in &mut cameras {
         let inside = cursor.is_some_and(|c| {
             camera
@@ -182,11 +172,10 @@ pub fn orbit_camera(
                 .is_some_and(|r| r.contains(c))
         });
         if inside && !drag.dragging {
-            orbit.steer(&t, &mouse.buttons, mouse.motion.delta, mouse.scroll.delta.y);
-        } else if !inside && cursor.is_some() && mouse.scroll.delta.y != 0.0 && state.editing_env()
-        {
+            orbit.steer(&t, &buttons, motion.delta, motion.wheel);
+        } else if !inside && cursor.is_some() && motion.wheel != 0.0 && state.editing_env() {
             state.ortho_height =
-                (state.ortho_height * (1.0 - 0.1 * mouse.scroll.delta.y)).clamp(0.05, 40.0);
+                (state.ortho_height * (1.0 - 0.1 * motion.wheel)).clamp(0.05, 40.0);
         }
         *t = orbit.transform();
     }

@@ -3,17 +3,16 @@
 //! [`crate::compose`]. Everything it writes is the ordinary XML of configs/.
 //!
 //! - [`state`]: what the window shows and edits; [`preview`]: robot preview, preview runs
-//! - [`wizard_view`], [`expert_view`], [`editor_view`], [`properties_view`]: the egui views
+//! - [`wizard`] (a file per page), [`expert_view`], [`properties_view`]: the egui views
+//! - [`editor`]: the environment editor (its panels, keys, mouse and drops)
 //! - [`scene`]: the 3D scene; [`cameras`]: perspective, top and side views
-//! - [`picking`]: select, drag and drop with the mouse
 //! - [`script`], [`script_run`]: scripted driving for tests and screenshots
 
 pub mod cameras;
 pub mod codesign_view;
-pub mod editor_view;
+pub mod editor;
 pub mod expert_view;
 pub mod keys;
-pub mod picking;
 pub mod preview;
 pub mod properties_view;
 pub mod scene;
@@ -23,7 +22,7 @@ pub mod script;
 #[cfg(feature = "scripts")]
 pub mod script_run;
 pub mod state;
-pub mod wizard_view;
+pub mod wizard;
 
 use std::path::{Path, PathBuf};
 
@@ -111,8 +110,9 @@ impl Plugin for SetupWindowPlugin {
         app.add_plugins((
             schedule::SetupSchedulePlugin,
             crate::gui::pointer::PointerRoutingPlugin,
+            crate::gui::view3d::PointerMotionPlugin,
             keys::SetupKeysPlugin,
-            picking::SetupPickingPlugin,
+            editor::EditorPlugin,
             scene::SetupScenePlugin,
             cameras::SetupCamerasPlugin,
         ))
@@ -155,7 +155,7 @@ pub fn open_control_window(state: &mut SetupState, sim: &Path) {
 
 /// The panels of the current tool; records the area left to the 3D views and turns a
 /// library item released over it into a drop.
-fn draw_ui(
+pub(crate) fn draw_ui(
     mut contexts: EguiContexts,
     mut state: ResMut<SetupState>,
     mut modules: ResMut<crate::gui::module_editor::ModuleEditor>,
@@ -200,7 +200,7 @@ fn draw_ui(
             .resizable(true)
             .default_size(250.0)
             .show(&mut root, |ui| {
-                editor_view::show_library(ui, state, &cache.overlaps)
+                editor::view::show_library(ui, state, &cache.overlaps)
             });
     }
     right_panel(&mut root, state, editing);
@@ -209,7 +209,7 @@ fn draw_ui(
     // What the panels left holds the 3D views: the pointer there belongs to the scene.
     routing.set_viewer(central);
     if editing {
-        editor_view::label_views(&ctx, state);
+        editor::view::label_views(&ctx, state);
     } else if state.tool == Tool::Wizard
         && matches!(state.wizard.page, Page::Robot | Page::Behaviour)
         && let Some(Err(e)) = &cache.robot
@@ -219,10 +219,6 @@ fn draw_ui(
             .show(&ctx, |ui| {
                 ui.colored_label(egui::Color32::RED, format!("robot preview: {e}"));
             });
-    }
-    if editing {
-        editor_keys(&ctx, state);
-        library_drop(&ctx, state, central);
     }
     Ok(())
 }
@@ -240,11 +236,10 @@ fn right_panel(root: &mut egui::Ui, state: &mut SetupState, editing: bool) {
                 .default_size(if editing { 330.0 } else { 470.0 })
                 .show(root, |ui| {
                     if editing {
-                        egui::Panel::bottom("wizard nav")
-                            .show(ui, |ui| wizard_view::show(ui, state));
-                        editor_view::show_selection(ui, state);
+                        egui::Panel::bottom("wizard nav").show(ui, |ui| wizard::show(ui, state));
+                        editor::view::show_selection(ui, state);
                     } else {
-                        wizard_view::show(ui, state);
+                        wizard::show(ui, state);
                     }
                 });
         }
@@ -258,49 +253,7 @@ fn right_panel(root: &mut egui::Ui, state: &mut SetupState, editing: bool) {
             egui::Panel::right("selection")
                 .resizable(true)
                 .default_size(330.0)
-                .show(root, |ui| editor_view::show_selection(ui, state));
+                .show(root, |ui| editor::view::show_selection(ui, state));
         }
-    }
-}
-
-/// The environment editor's keys: Ctrl+Z undo, Ctrl+Y / Ctrl+Shift+Z redo, Delete removes
-/// the selection.
-fn editor_keys(ctx: &egui::Context, state: &mut SetupState) {
-    if ctx.egui_wants_keyboard_input() {
-        return;
-    }
-    let (undo, redo, delete) = ctx.input(|i| {
-        let cmd = i.modifiers.command;
-        (
-            cmd && !i.modifiers.shift && i.key_pressed(egui::Key::Z),
-            cmd && (i.key_pressed(egui::Key::Y)
-                || (i.modifiers.shift && i.key_pressed(egui::Key::Z))),
-            i.key_pressed(egui::Key::Delete),
-        )
-    });
-    let env = state.env_mut();
-    if undo {
-        env.undo();
-    }
-    if redo {
-        env.redo();
-    }
-    if delete && env.selected.is_some() {
-        let r = env.delete();
-        state.report(r, |_| "deleted".into());
-    }
-}
-
-/// A library item released over the 3D views is dropped there.
-fn library_drop(ctx: &egui::Context, state: &mut SetupState, central: egui::Rect) {
-    if let Some(i) = egui::DragAndDrop::payload::<usize>(ctx)
-        && ctx.input(|inp| inp.pointer.any_released())
-        && let Some(pos) = ctx.input(|inp| inp.pointer.interact_pos())
-        && central.contains(pos)
-    {
-        if let Some(item) = state.library.get(*i).cloned() {
-            state.drop = Some((item, Vec2::new(pos.x, pos.y)));
-        }
-        egui::DragAndDrop::clear_payload(ctx);
     }
 }

@@ -15,11 +15,11 @@ use crate::config::kinbody::parse_kinbody_file;
 use crate::config::resolve::robot::RobotModel;
 use crate::config::source::{FsSource, resolve_include};
 use crate::config::transform::Pose;
-use crate::gui::control::camera::to_bevy;
-use crate::gui::control::scene::{geom_material, geom_mesh, to_transform};
 use crate::gui::setup::preview::{robot_file_model, robot_key, robot_model};
 use crate::gui::setup::state::EditorDrag;
 use crate::gui::setup::state::{SetupState, Tool};
+use crate::gui::view3d::meshes::{geom_material, geom_mesh, to_transform};
+use crate::gui::view3d::orbit::to_bevy;
 
 /// The root of the scene (configuration frame, z up -> Bevy's y up).
 #[derive(Component)]
@@ -402,7 +402,7 @@ pub struct SetupScenePlugin;
 impl Plugin for SetupScenePlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<SceneCache>()
-            .add_systems(Startup, crate::gui::control::scene::spawn_lights)
+            .add_systems(Startup, crate::gui::view3d::meshes::spawn_lights)
             .add_systems(
                 Update,
                 (sync_scene, draw_selection)

@@ -10,6 +10,8 @@ pub enum SetupSystems {
     Script,
     /// The keyboard's shortcuts.
     Keys,
+    /// The pointer's clicks and drags on the scene.
+    Pointer,
     /// A library item dropped on a view lands.
     Drop,
     /// The scene follows the models.
@@ -28,6 +30,7 @@ impl Plugin for SetupSchedulePlugin {
             (
                 SetupSystems::Script,
                 SetupSystems::Keys,
+                SetupSystems::Pointer,
                 SetupSystems::Drop,
                 SetupSystems::Scene,
                 SetupSystems::Views,

@@ -14,7 +14,7 @@ use crate::compose::wizard::{RegisterSpec, Wizard};
 use crate::gui::control::script::state_report;
 use crate::gui::module_editor::ModuleEditor;
 use crate::gui::scripting::{CommandError, Flow, run_commands};
-use crate::gui::setup::editor_view::preview;
+use crate::gui::setup::editor::view::preview;
 use crate::gui::setup::script::{
     Command, Script, SetupScript, Sharing, ToolName, WaitFor, WizardField,
 };

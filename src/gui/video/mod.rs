@@ -26,9 +26,9 @@ use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
 use bevy::window::ExitCondition;
 use bevy::winit::WinitPlugin;
 
-use crate::gui::control::camera::{OrbitCamera, to_bevy};
 use crate::gui::control::scene::{self, SceneBuilt};
 use crate::gui::control::session::SimSession;
+use crate::gui::view3d::orbit::{OrbitCamera, to_bevy};
 use sink::{Frame, VideoSink, Written};
 
 pub use crate::gui::error::VideoError;
@@ -245,7 +245,7 @@ fn video_app(session: SimSession) -> App {
     .insert_resource(ClearColor(Color::srgb(0.62, 0.74, 0.86)))
     .insert_non_send(session)
     .init_resource::<SceneBuilt>()
-    .add_systems(Startup, scene::spawn_lights)
+    .add_systems(Startup, crate::gui::view3d::meshes::spawn_lights)
     .add_systems(
         Update,
         (

@@ -1,5 +1,6 @@
-//! Mouse editing of the environment (Bevy's mesh picking): a click selects the object or
-//! robot under the pointer, a left drag moves it — over the ground in the perspective and
+//! Mouse editing of the environment, read from the shared gestures
+//! ([`crate::gui::view3d::picking`]): a click selects the object or robot under the
+//! pointer, a left drag moves it — over the ground in the perspective and
 //! top views (it rests on what lies below), in the y-z plane in the side view — as one
 //! undo step; a library item dropped on a view lands where the pointer's ray meets the
 //! ground. Rays come from the camera whose viewport holds the pointer.
@@ -7,22 +8,10 @@
 use bevy::prelude::*;
 
 use crate::compose::env_edit::Selected;
-use crate::gui::pointer::PointerRouting;
 use crate::gui::setup::cameras::OrthoView;
 use crate::gui::setup::scene::ItemVisual;
 use crate::gui::setup::state::{EditorDrag, SetupState};
-
-/// The scene item an entity belongs to (itself or an ancestor).
-fn item_of(e: Entity, parents: &Query<&ChildOf>, items: &Query<&ItemVisual>) -> Option<Selected> {
-    let mut cur = e;
-    for _ in 0..8 {
-        if let Ok(i) = items.get(cur) {
-            return Some(i.0);
-        }
-        cur = parents.get(cur).ok()?.parent();
-    }
-    None
-}
+use crate::gui::view3d::picking::{Gesture, Grab};
 
 /// A Bevy world point in configuration coordinates (z up).
 fn to_config(p: Vec3) -> [f64; 3] {
@@ -66,42 +55,42 @@ pub fn camera_at(cameras: &CameraQuery, pos: Vec2) -> Option<Entity> {
         .map(|(e, ..)| e)
 }
 
-/// Click: select what is under the pointer (empty space clears the selection).
-pub fn on_click(
-    mut click: On<Pointer<Click>>,
-    parents: Query<&ChildOf>,
-    items: Query<&ItemVisual>,
-    routing: Res<PointerRouting>,
-    mut state: ResMut<SetupState>,
-) {
-    click.propagate(false);
-    // A click on a panel (the Selection panel's fields) is the panel's, not "empty space".
-    if click.button != PointerButton::Primary
-        || !state.editing_env()
-        || !routing.scene_gets_pointer()
-    {
-        return;
-    }
-    let sel = item_of(click.original_event_target(), &parents, &items);
-    let _ = state.env_mut().select(sel);
-}
-
-/// Drag start on an item: select it, start one undo step, remember the grip offset.
-pub fn on_drag_start(
-    mut ev: On<Pointer<DragStart>>,
-    parents: Query<&ChildOf>,
+/// Reads the pointer's gestures in order while an environment is edited: a click selects
+/// what is under it (empty space clears the selection), a drag moves the selection.
+pub fn read_gestures(
+    mut gestures: MessageReader<Gesture>,
     items: Query<&ItemVisual>,
     cameras: CameraQuery,
-    routing: Res<PointerRouting>,
     mut state: ResMut<SetupState>,
     mut drag: ResMut<EditorDrag>,
 ) {
-    ev.propagate(false);
-    if ev.button != PointerButton::Primary || !state.editing_env() || !routing.scene_gets_pointer()
-    {
-        return;
+    for g in gestures.read() {
+        match *g {
+            Gesture::Click { target } if state.editing_env() => {
+                let sel = target.and_then(|e| items.get(e).ok()).map(|i| i.0);
+                if let Err(e) = state.env_mut().select(sel) {
+                    state.status = Some(crate::gui::setup::state::Status::Error(e.to_string()));
+                }
+            }
+            Gesture::DragStart(Some(grab)) if state.editing_env() => {
+                start_drag(&grab, &items, &cameras, &mut state, &mut drag);
+            }
+            Gesture::Drag { at, .. } => drag_to(at, &cameras, &mut state, &drag),
+            Gesture::DragEnd => end_drag(&mut state, &mut drag),
+            _ => {}
+        }
     }
-    let Some(sel) = item_of(ev.original_event_target(), &parents, &items) else {
+}
+
+/// A drag starts on an item: select it, start one undo step, remember the grip offset.
+fn start_drag(
+    grab: &Grab,
+    items: &Query<&ItemVisual>,
+    cameras: &CameraQuery,
+    state: &mut SetupState,
+    drag: &mut EditorDrag,
+) {
+    let Some(sel) = grab.target.and_then(|e| items.get(e).ok()).map(|i| i.0) else {
         return;
     };
     let env = state.env_mut();
@@ -111,27 +100,20 @@ pub fn on_drag_start(
     let Some(at) = env.pose(sel).map(|p| p.translation) else {
         return;
     };
-    let cam = ev.hit.camera;
-    let Ok((_, c, gt, view)) = cameras.get(cam) else {
+    let Ok((_, c, gt, view)) = cameras.get(grab.camera) else {
         return;
     };
-    let Some(p) = plane_point((c, gt, view), ev.pointer_location.position, at[0]) else {
+    let Some(p) = plane_point((c, gt, view), grab.at, at[0]) else {
         return;
     };
     env.begin_drag();
     drag.dragging = true;
-    drag.camera = Some(cam);
+    drag.camera = Some(grab.camera);
     drag.offset = [at[0] - p[0], at[1] - p[1], at[2] - p[2]];
 }
 
-/// Drag: move the selection to the pointer.
-pub fn on_drag(
-    mut ev: On<Pointer<Drag>>,
-    cameras: CameraQuery,
-    mut state: ResMut<SetupState>,
-    drag: Res<EditorDrag>,
-) {
-    ev.propagate(false);
+/// The drag moves the selection to the pointer at `at`.
+fn drag_to(at: Vec2, cameras: &CameraQuery, state: &mut SetupState, drag: &EditorDrag) {
     let (true, Some(cam)) = (drag.dragging, drag.camera) else {
         return;
     };
@@ -139,19 +121,19 @@ pub fn on_drag(
         return;
     };
     let env = state.env_mut();
-    let Some(at) = env
+    let Some(now) = env
         .selected
         .and_then(|s| env.pose(s))
         .map(|p| p.translation)
     else {
         return;
     };
-    let Some(p) = plane_point((c, gt, view), ev.pointer_location.position, at[0]) else {
+    let Some(p) = plane_point((c, gt, view), at, now[0]) else {
         return;
     };
     let o = drag.offset;
     let r = match view {
-        Some(OrthoView::Side) => env.move_to([at[0], p[1] + o[1], (p[2] + o[2]).max(-10.0)]),
+        Some(OrthoView::Side) => env.move_to([now[0], p[1] + o[1], (p[2] + o[2]).max(-10.0)]),
         _ => env.drag_to(p[0] + o[0], p[1] + o[1]),
     };
     if let Err(e) = r {
@@ -159,16 +141,10 @@ pub fn on_drag(
     }
 }
 
-/// Drag end: the undo step is complete.
-pub fn on_drag_end(
-    mut ev: On<Pointer<DragEnd>>,
-    mut state: ResMut<SetupState>,
-    mut drag: ResMut<EditorDrag>,
-) {
-    ev.propagate(false);
+/// The drag ends: the undo step is complete, the status line says where the object went.
+fn end_drag(state: &mut SetupState, drag: &mut EditorDrag) {
     if drag.dragging {
         state.env_mut().end_drag();
-        // The status line follows the object (it said where it was placed).
         let moved = state.env().selected.and_then(|sel| {
             let at = state.env().pose(sel)?.translation;
             let name = match sel {
@@ -218,23 +194,5 @@ pub fn apply_drop(mut state: ResMut<SetupState>, cameras: CameraQuery) {
                 "drop the object on one of the 3D views".into(),
             ));
         }
-    }
-}
-
-/// Mouse editing of the environment: the picking observers and library items dropped on a
-/// view.
-pub struct SetupPickingPlugin;
-
-impl Plugin for SetupPickingPlugin {
-    fn build(&self, app: &mut App) {
-        app.init_resource::<EditorDrag>()
-            .add_observer(on_click)
-            .add_observer(on_drag_start)
-            .add_observer(on_drag)
-            .add_observer(on_drag_end)
-            .add_systems(
-                Update,
-                apply_drop.in_set(crate::gui::setup::schedule::SetupSystems::Drop),
-            );
     }
 }

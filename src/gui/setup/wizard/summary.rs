@@ -1,0 +1,39 @@
+//! The wizard's summary page (thesis fig. 4.14): the files to be written, saved and opened
+//! in the control window.
+
+use crate::gui::setup::state::SetupState;
+use bevy_egui::egui;
+
+pub(super) fn summary_page(ui: &mut egui::Ui, state: &mut SetupState) {
+    let files = state.wizard.files();
+    for p in [
+        files.robot.clone(),
+        Some(files.actuation.clone()),
+        Some(files.environment.clone()),
+        files.optimizer.clone(),
+        Some(files.simulation.clone()),
+    ]
+    .into_iter()
+    .flatten()
+    {
+        ui.monospace(p.display().to_string());
+    }
+    match state.wizard.compose() {
+        Ok(_) => ui.colored_label(
+            egui::Color32::DARK_GREEN,
+            "✔ the configuration checks (as proleg check)",
+        ),
+        Err(e) => ui.colored_label(egui::Color32::RED, e.to_string()),
+    };
+    ui.horizontal(|ui| {
+        if ui.button("Save").clicked() {
+            let r = state.wizard.save();
+            state.report(r, |p| format!("saved {}", p.display()));
+        }
+        if let Some(sim) = state.wizard.saved.clone()
+            && ui.button("Open in control window").clicked()
+        {
+            crate::gui::setup::open_control_window(state, &sim);
+        }
+    });
+}
