@@ -10,6 +10,9 @@ use std::process::Child;
 use std::time::Duration;
 
 use common::pg::{Pg, output, server, spawn, text};
+use common::shared_run::{
+    GA, HAS_STORE, evaluations, ga_args, result_lines, sqlite_run, worker_counts,
+};
 use proleg::config::{FsSource, RecordingSource, load_simulation_with};
 use proleg::control::ModuleRegistry;
 use proleg::optimize::evaluate::CandidateScore;
@@ -18,44 +21,6 @@ use proleg::optimize::shared::worker::{WorkerOptions, run_pool};
 use proleg::optimize::store::pg_queue::Pending;
 use proleg::optimize::store::{ExperimentStore, RunInfo, SCHEMA_VERSION, program_version};
 
-const GA: &str = "configs/experiment1_ga.simulation.xml";
-
-/// The lines that state the result: best score and best values.
-fn result_lines(out: &str) -> Vec<String> {
-    out.lines()
-        .skip_while(|l| !l.starts_with("best score"))
-        .map(str::to_string)
-        .collect()
-}
-
-/// `optimize` arguments of the GA runs below.
-fn ga_args<'a>(evals: &'a str, duration: &'a str, store: &'a str) -> Vec<&'a str> {
-    vec![
-        "optimize",
-        GA,
-        "--max-evals",
-        evals,
-        "--duration",
-        duration,
-        "--quiet",
-        "--store",
-        store,
-    ]
-}
-
-/// The same run on a SQLite store, in one process: its best and its store.
-fn sqlite_run(name: &str, evals: &str, duration: &str) -> (Vec<String>, String) {
-    let dir = common::scratch(name);
-    let path = dir.join("reference.sqlite").display().to_string();
-    let (ok, out, err) = common::proleg(&ga_args(evals, duration, &path));
-    assert!(ok, "{err}");
-    let lines = result_lines(&out);
-    assert_eq!(lines.len(), 6, "{out}");
-    (lines, path)
-}
-
-/// Every evaluation of a store's runs as (number, round, score, genome, engine scores), by
-/// `proleg results --export` (store name and wall seconds left out).
 /// Runs `config` for `evals` evaluations of 1 s on SQLite, then as a driver without
 /// local workers on database `name` with one least-privilege worker that has nothing but
 /// the URL; both must succeed. Returns the server, the database's URL and the SQLite store.
@@ -109,32 +74,6 @@ fn one_worker_against_sqlite(name: &str, config: &str, evals: &str) -> (Pg, Stri
     (pg, url, reference)
 }
 
-fn evaluations(pg: &Pg, store: &str, name: &str) -> Vec<String> {
-    let tsv = common::scratch(name).join("evaluations.tsv");
-    let out = output(pg.proleg(&["results", store, "--export", tsv.to_str().unwrap()]));
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    let all = std::fs::read_to_string(&tsv).unwrap();
-    let rows: Vec<String> = all
-        .lines()
-        .skip(1)
-        .map(|l| {
-            let f: Vec<&str> = l.split('\t').collect();
-            format!(
-                "{} {} {} {} {}",
-                f[2],
-                f[3],
-                f[4],
-                f[6],
-                f.get(8).copied().unwrap_or_default()
-            )
-        })
-        .collect();
-    assert!(!rows.is_empty());
-    rows
-}
-
-const HAS_STORE: &str = "SELECT to_regclass('evaluations') IS NOT NULL";
-
 /// The least-privilege worker role of the README, on database `db`.
 fn worker_role(pg: &Pg, db: &str, role: &str, password: &str) {
     let mut c = pg.connect(db);
@@ -147,21 +86,6 @@ fn worker_role(pg: &Pg, db: &str, role: &str, password: &str) {
          GRANT SELECT, UPDATE (state, worker, attempt, lease_until, score, wall, engine_scores, rejected, measures) ON evaluations TO {role};"
     ))
     .expect("worker role");
-}
-
-/// (written, discarded) of a worker's report.
-fn worker_counts(out: &str) -> (u64, u64) {
-    let number_before = |marker: &str| -> u64 {
-        out.split(marker)
-            .next()
-            .and_then(|head| head.split_whitespace().last())
-            .and_then(|n| n.parse().ok())
-            .unwrap_or_else(|| panic!("no '{marker}' in {out}"))
-    };
-    (
-        number_before(" evaluations written"),
-        number_before(" late results discarded"),
-    )
 }
 
 #[test]
@@ -374,6 +298,70 @@ fn a_killed_worker_s_evaluation_is_claimed_again_and_nothing_is_lost() {
 }
 
 #[test]
+fn a_worker_started_before_its_driver_waits_for_the_store_and_evaluates_the_run() {
+    let (expected, reference) = sqlite_run("optimize_shared_worker_first", "30", "1");
+    let pg = server();
+    let url = pg.database("shared_worker_first");
+    let mut worker = spawn(pg.proleg(&[
+        "worker",
+        "--store",
+        &url,
+        "--threads",
+        "2",
+        "--idle-exit",
+        "20",
+    ]));
+    // The worker says it waits (the database holds no store yet) before the driver starts.
+    let stderr = worker.stderr.take().expect("piped");
+    let (said, lines) = std::sync::mpsc::channel();
+    let reader = std::thread::spawn(move || {
+        use std::io::BufRead;
+        let mut all = String::new();
+        for line in std::io::BufReader::new(stderr)
+            .lines()
+            .map_while(Result::ok)
+        {
+            let _ = said.send(line.clone());
+            all.push_str(&line);
+            all.push('\n');
+        }
+        all
+    });
+    let first = lines
+        .recv_timeout(Duration::from_secs(60))
+        .expect("the worker says something");
+    assert!(
+        first.contains("waiting for the store to appear") && first.contains("no proleg store"),
+        "{first}"
+    );
+    let mut args = ga_args("30", "1", &url);
+    args.extend(["--workers", "0"]);
+    let out = output(pg.proleg(&args));
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(result_lines(&text(&out.stdout)), expected);
+    let w = worker.wait_with_output().expect("worker");
+    assert!(w.status.success(), "{}", reader.join().unwrap_or_default());
+    let (written, _) = worker_counts(&text(&w.stdout));
+    assert_eq!(written, 30, "the driver evaluated nothing itself");
+    assert_eq!(
+        evaluations(&pg, &url, "optimize_shared_worker_first_pg"),
+        evaluations(&pg, &reference, "optimize_shared_worker_first_sqlite")
+    );
+}
+
+#[test]
+fn a_worker_waiting_for_a_store_that_never_comes_gives_up_after_idle_exit() {
+    let pg = server();
+    let url = pg.database("shared_no_driver");
+    let out = output(pg.proleg(&["worker", "--store", &url, "--idle-exit", "2"]));
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("waiting for the store to appear"), "{err}");
+    assert!(err.contains("no proleg store in this database"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
 fn a_killed_driver_resumes_to_the_same_best() {
     let (expected, reference) = sqlite_run("optimize_shared_kill_driver", "75", "1");
     let pg = server();
@@ -459,6 +447,13 @@ fn bad_stores_are_one_line_errors_that_never_show_the_password() {
         "error connecting to server",
         &pg.password,
     );
+    // With --idle-exit a worker waits that long for a server to come up, then says why not.
+    let out = output(pg.proleg(&["worker", "--store", &closed, "--idle-exit", "1"]));
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("waiting for the store to appear"), "{err}");
+    assert!(err.contains("no server answers"), "{err}");
+    assert!(!err.contains("panicked") && !err.contains(&pg.password), "{err}");
     // Typos in the URL.
     let typo = url.replace("postgres://", "postgress://");
     refused(
@@ -933,4 +928,49 @@ fn a_cross_engine_run_through_least_privileged_workers_stores_what_one_process_s
         let out = w.wait_with_output().expect("worker");
         assert!(out.status.success(), "{}", text(&out.stderr));
     }
+}
+
+#[test]
+fn the_coordinator_benchmark_hands_out_and_takes_back_every_evaluation_once() {
+    let pg = server();
+    let url = pg.database("shared_ceiling");
+    let out = output(pg.proleg(&[
+        "bench",
+        "--store",
+        &url,
+        "--clients",
+        "3",
+        "--evaluations",
+        "500",
+        "--round",
+        "120",
+        "--claim-batch",
+        "16",
+    ]));
+    let report = text(&out.stdout);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(
+        report.contains("500 evaluations in") && report.contains("evaluations/s"),
+        "{report}"
+    );
+    let mut c = pg.connect("shared_ceiling");
+    let row = c
+        .query_one(
+            "SELECT COUNT(*), COUNT(DISTINCT number), COUNT(*) FILTER (WHERE state = 'done'),
+                    COUNT(DISTINCT round), bool_and(attempt = 1)
+             FROM evaluations",
+            &[],
+        )
+        .unwrap();
+    assert_eq!(
+        (
+            row.get::<_, i64>(0),
+            row.get::<_, i64>(1),
+            row.get::<_, i64>(2),
+            row.get::<_, i64>(3)
+        ),
+        (500, 500, 500, 5),
+        "every evaluation once, in rounds of 120"
+    );
+    assert!(row.get::<_, bool>(4), "each claimed once");
 }

@@ -50,6 +50,24 @@ pub struct BenchArgs {
     /// mujoco); on MuJoCo the figures end with MuJoCo's own rollout of the scenario.
     #[arg(long)]
     pub engine: Option<EngineKind>,
+    /// Instead: the shared store's coordinator ceiling on this PostgreSQL store (a new
+    /// run in it): evaluations per second handed out and taken back when evaluating costs
+    /// nothing (postgres://USER@HOST/DB; password from PGPASSWORD or ~/.pgpass).
+    #[arg(long, value_name = "URL", conflicts_with_all = ["module", "convergence", "stages"])]
+    pub store: Option<String>,
+    /// With --store: client threads claiming, each standing in for a worker host.
+    #[arg(long, default_value_t = 8)]
+    pub clients: usize,
+    /// With --store: evaluations in all.
+    #[arg(long, default_value_t = 20_000)]
+    pub evaluations: u64,
+    /// With --store: evaluations per round (the driver waits for each round).
+    #[arg(long, default_value_t = 2_000)]
+    pub round: u64,
+    /// With --store: evaluations a client claims at once (1: one claim and one write per
+    /// evaluation).
+    #[arg(long, default_value_t = 64)]
+    pub claim_batch: i64,
 }
 
 /// `proleg check-physics`: the module and the engines checked.
@@ -70,6 +88,9 @@ pub fn run(a: &BenchArgs, registry: &ModuleRegistry) -> Result<String, CliError>
         let report = crate::bench::stages::report(&a.config, a.seconds, registry)?;
         return Ok(report.to_string());
     }
+    if let Some(url) = &a.store {
+        return ceiling(a, url);
+    }
     let figures = match (&a.module, &a.convergence) {
         (Some(module), _) => {
             crate::bench::modules::report(&a.config, a.seconds, &a.reference, module, registry)
@@ -82,6 +103,47 @@ pub fn run(a: &BenchArgs, registry: &ModuleRegistry) -> Result<String, CliError>
         }
     };
     Ok(figures?)
+}
+
+/// `proleg bench --store`: the coordinator's ceiling on the store at `url`.
+fn ceiling(a: &BenchArgs, url: &str) -> Result<String, CliError> {
+    use crate::optimize::shared::ceiling::{CeilingSetup, measure_ceiling};
+    use crate::optimize::store::StoreLocation;
+    let StoreLocation::Postgres(target) = StoreLocation::parse(url)? else {
+        return Err(CliError::Option {
+            option: "--store",
+            value: url.into(),
+            want: "a postgres:// store (the coordinator of a SQLite store is the optimizing process)",
+        });
+    };
+    if a.claim_batch < 1 || a.clients == 0 || a.evaluations == 0 || a.round == 0 {
+        return Err(CliError::Option {
+            option: "--claim-batch / --clients / --evaluations / --round",
+            value: format!(
+                "{} / {} / {} / {}",
+                a.claim_batch, a.clients, a.evaluations, a.round
+            ),
+            want: "give each at least 1",
+        });
+    }
+    let setup = CeilingSetup {
+        evaluations: a.evaluations,
+        round: a.round,
+        clients: a.clients,
+        batch: a.claim_batch,
+    };
+    let r = measure_ceiling(&target, setup)?;
+    Ok(format!(
+        "coordinator on {target}: {} evaluations in {:.2} s by {} clients claiming {} at once, rounds of {}\n\
+         ceiling         {:.0} evaluations/s ({:.3} ms of store per evaluation)\n",
+        r.evaluations,
+        r.seconds,
+        setup.clients,
+        setup.batch,
+        setup.round,
+        r.per_second(),
+        1000.0 / r.per_second()
+    ))
 }
 
 /// `proleg check-physics`: the checks on each engine asked for, as one report; a check

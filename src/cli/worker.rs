@@ -25,6 +25,9 @@ pub struct WorkerArgs {
     #[arg(long, default_value_t = crate::optimize::settings::DEFAULT_LEASE_S)]
     pub lease: f64,
     /// Exit after this many seconds with nothing to claim (default: run until stopped).
+    /// A worker started before its driver waits for the store to appear, up to this long
+    /// (without it, until stopped); with it, it also waits this long for a server that
+    /// does not answer yet.
     #[arg(long)]
     pub idle_exit: Option<f64>,
     /// No messages on stderr (refused runs, failed episodes).

@@ -98,6 +98,12 @@ pub enum OptimizeError {
     /// A worker thread panicked.
     #[error("a worker thread panicked")]
     Panicked,
+    /// A round's scores did not come (the coordinator benchmark's clients stopped).
+    #[error("no score arrived for {seconds:.0} s")]
+    Stalled {
+        /// How long it was waited.
+        seconds: f64,
+    },
     /// A stored run this host cannot evaluate.
     #[error("run {run}: {why}")]
     Unevaluable {

@@ -2,7 +2,9 @@
 #![allow(dead_code)]
 
 pub mod driven;
+pub mod hosts;
 pub mod pg;
+pub mod shared_run;
 pub mod window;
 
 use std::path::{Path, PathBuf};

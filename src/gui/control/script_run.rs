@@ -628,6 +628,7 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
         ("config_field", views.toolbar.path.clone()),
         ("tuned_aside", session.tuned.is_some().to_string()),
         ("running", session.running.to_string()),
+        ("generation", session.generation.to_string()),
         ("steps", session.steps().to_string()),
         ("sim_time", format!("{:.6}", session.sim_time())),
         ("real_time", format!("{:.6}", session.real_time)),

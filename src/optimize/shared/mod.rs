@@ -8,12 +8,14 @@
 //! score: the driver's own threads, and `proleg worker --store URL` on any host, which needs
 //! nothing but the URL: the run's configuration files are in the store ([`run_evaluator`]).
 //!
-//! The control window follows a run read-only as it goes ([`follow`]).
+//! The control window follows a run read-only as it goes ([`follow`]); [`ceiling`]
+//! measures how many evaluations per second the store itself can coordinate.
 //!
 //! Each episode is a pure function of the stored configuration, the run's seed and the
 //! candidate, so the scores, and therefore every later candidate, are the same whoever
 //! evaluates them.
 
+pub mod ceiling;
 pub mod driver;
 pub mod follow;
 pub mod queue;

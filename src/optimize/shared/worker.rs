@@ -2,7 +2,7 @@
 //! in a world of its own and write the score, and a heartbeat that renews their leases.
 //! `proleg worker` runs one such pool; the driver runs another on its own cores.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, VecDeque};
 use std::sync::mpsc::{RecvTimeoutError, TryRecvError, channel};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -12,12 +12,15 @@ use crate::optimize::error::OptimizeError;
 use crate::optimize::evaluate::{CandidateScore, Evaluator};
 use crate::optimize::settings::StopFlag;
 use crate::optimize::shared::run_evaluator;
-use crate::optimize::store::pg_queue::{Claim, PENDING};
-use crate::optimize::store::{ExperimentStore, PgStore, PgTarget};
+use crate::optimize::store::pg_queue::{Claim, ClaimResult, PENDING};
+use crate::optimize::store::{ExperimentStore, PgStore, PgTarget, StoreError};
 
 /// Longest wait between two looks for work when no notification comes (an expired lease
 /// announces itself to no one).
 const IDLE_POLL: Duration = Duration::from_secs(1);
+
+/// How often a worker looks again for a store that is not there yet.
+const STORE_POLL: Duration = Duration::from_secs(1);
 
 /// How a pool of workers runs.
 #[derive(Debug, Clone)]
@@ -79,7 +82,6 @@ struct Unsent {
     claim: Claim,
     score: CandidateScore,
     wall: f64,
-    claim_seconds: f64,
 }
 
 /// What one evaluating thread keeps between claims.
@@ -88,9 +90,33 @@ struct ThreadState {
     evaluators: HashMap<i64, Arc<Evaluator>>,
     /// Since when there was nothing to claim.
     idle_since: Instant,
-    /// A result the store could not take (its connection was lost).
-    unsent: Option<Unsent>,
+    /// Claims taken and not evaluated yet (one batch).
+    claimed: VecDeque<Claim>,
+    /// Results not written yet: the batch's, or those the store could not take (its
+    /// connection was lost).
+    unsent: Vec<Unsent>,
+    /// Mean wall seconds of an episode here, once one ran (sizes the claim batches).
+    episode_seconds: Option<f64>,
 }
+
+impl ThreadState {
+    /// How many evaluations to claim at once: about [`BATCH_SECONDS`] of work at this
+    /// thread's measured speed (one until it has measured one), at most [`MAX_BATCH`].
+    fn batch(&self) -> i64 {
+        match self.episode_seconds {
+            Some(s) if s > 0.0 => ((BATCH_SECONDS / s).floor() as i64).clamp(1, MAX_BATCH),
+            _ => 1,
+        }
+    }
+}
+
+/// Seconds of work a thread claims at once: short episodes go in batches (one claim and
+/// one write per batch instead of per evaluation), long ones one by one, so that a round's
+/// last evaluations are not held by one thread while others wait.
+const BATCH_SECONDS: f64 = 0.25;
+
+/// Most evaluations claimed at once.
+const MAX_BATCH: i64 = 64;
 
 /// What the threads of a pool share.
 struct Pool<'a> {
@@ -128,7 +154,10 @@ pub fn run_pool(
         report: Mutex::new(WorkerReport::default()),
         on_message,
     };
-    let mut heartbeat_store = PgStore::open(target, false)?;
+    let Some(mut heartbeat_store) = open_when_ready(target, options.idle_exit, stop, on_message)?
+    else {
+        return Ok(WorkerReport::default());
+    };
     let encrypted = heartbeat_store.encrypted()?;
     let (alive, beats) = channel::<()>();
     // The heartbeat hears nothing but the close of this channel when the last thread ends.
@@ -159,6 +188,52 @@ pub fn run_pool(
     match results.into_iter().find_map(Result::err) {
         Some(e) => Err(e),
         None => Ok(report),
+    }
+}
+
+/// Opens the store, waiting while it is not there yet — the database holds no store because
+/// no driver has created it (a worker started before its driver), or, within `idle_exit`,
+/// no server answers (a host that boots first) — and saying once that it waits. Gives up
+/// with the last error after `idle_exit`; `None` when stopped while waiting.
+fn open_when_ready(
+    target: &PgTarget,
+    idle_exit: Option<Duration>,
+    stop: &StopFlag,
+    on_message: &(dyn Fn(&str) + Sync),
+) -> Result<Option<PgStore>, OptimizeError> {
+    let started = Instant::now();
+    let mut said = false;
+    loop {
+        match PgStore::open(target, false) {
+            Ok(store) => {
+                if said {
+                    on_message("the store is there: starting");
+                }
+                return Ok(Some(store));
+            }
+            // No server at all is waited for only within `--idle-exit` (a host that boots
+            // first); without it, a wrong address is said at once.
+            Err(e @ StoreError::NoServer { .. }) if idle_exit.is_none() => {
+                return Err(e.into());
+            }
+            Err(e @ (StoreError::NotAStore { .. } | StoreError::NoServer { .. })) => {
+                if idle_exit.is_some_and(|limit| started.elapsed() >= limit) {
+                    return Err(e.into());
+                }
+                if !said {
+                    on_message(&format!("waiting for the store to appear ({e})"));
+                    said = true;
+                }
+            }
+            Err(e) => return Err(e.into()),
+        }
+        let again = Instant::now() + STORE_POLL;
+        while Instant::now() < again {
+            if stop.is_set() {
+                return Ok(None);
+            }
+            std::thread::sleep(Duration::from_millis(100));
+        }
     }
 }
 
@@ -198,7 +273,9 @@ impl Pool<'_> {
         let mut thread = ThreadState {
             evaluators: HashMap::new(),
             idle_since: Instant::now(),
-            unsent: None,
+            claimed: VecDeque::new(),
+            unsent: Vec::new(),
+            episode_seconds: None,
         };
         if let Some((run, e)) = &self.preloaded {
             thread.evaluators.insert(*run, e.clone());
@@ -206,7 +283,7 @@ impl Pool<'_> {
         while !self.stop.is_set() {
             match self.step(&mut store, &mut thread) {
                 Ok(true) => {}
-                Ok(false) => return Ok(()),
+                Ok(false) => return self.finish(&mut store, &mut thread),
                 Err(e) if store.is_closed() => {
                     (self.on_message)(&format!("lost the store ({e}); connecting again"));
                     store.reconnect(OUTAGE, &|| self.stop.is_set())?;
@@ -215,26 +292,38 @@ impl Pool<'_> {
                 Err(e) => return Err(e),
             }
         }
+        self.finish(&mut store, &mut thread)
+    }
+
+    /// Leaving: the results written, the claims not evaluated given back.
+    fn finish(&self, store: &mut PgStore, thread: &mut ThreadState) -> Result<(), OptimizeError> {
+        self.flush(store, thread)?;
+        for claim in thread.claimed.drain(..) {
+            store.release(&self.id, &claim)?;
+        }
         Ok(())
     }
 
-    /// One claim and its evaluation (or a wait for work); `false` when idle long enough.
+    /// One evaluation of the batch claimed (claiming the next batch, after writing the last
+    /// one's results, when it is done), or a wait for work; `false` when idle long enough.
     fn step(&self, store: &mut PgStore, thread: &mut ThreadState) -> Result<bool, OptimizeError> {
-        if let Some(u) = &thread.unsent {
-            self.submit(store, u)?;
-            thread.unsent = None;
+        if thread.claimed.is_empty() {
+            self.flush(store, thread)?;
+            let refused = self.refused.lock().map(|r| r.clone()).unwrap_or_default();
+            let t = Instant::now();
+            let claims = store.claim(
+                &self.id,
+                self.options.lease,
+                self.options.only_run,
+                &refused,
+                thread.batch(),
+            )?;
+            if !claims.is_empty() {
+                self.count_coordination(t.elapsed().as_secs_f64());
+            }
+            thread.claimed.extend(claims);
         }
-        let refused = self.refused.lock().map(|r| r.clone()).unwrap_or_default();
-        let t = Instant::now();
-        let claims = store.claim(
-            &self.id,
-            self.options.lease,
-            self.options.only_run,
-            &refused,
-            1,
-        )?;
-        let claim_seconds = t.elapsed().as_secs_f64();
-        let Some(claim) = claims.into_iter().next() else {
+        let Some(claim) = thread.claimed.pop_front() else {
             if self
                 .options
                 .idle_exit
@@ -247,25 +336,76 @@ impl Pool<'_> {
         };
         let evaluator = match self.evaluator(store, &mut thread.evaluators, claim.run) {
             Ok(e) => e,
-            Err(e) if store.is_closed() => return Err(e),
+            Err(e) if store.is_closed() => {
+                thread.claimed.push_front(claim);
+                return Err(e);
+            }
             Err(why) => {
                 self.refuse(claim.run, &why);
-                store.release(&self.id, &claim)?;
+                let (theirs, rest): (VecDeque<Claim>, VecDeque<Claim>) =
+                    std::mem::take(&mut thread.claimed)
+                        .into_iter()
+                        .partition(|c| c.run == claim.run);
+                thread.claimed = rest;
+                for c in std::iter::once(claim).chain(theirs) {
+                    store.release(&self.id, &c)?;
+                }
                 return Ok(true);
             }
         };
-        let result = self.evaluate(&evaluator, claim, claim_seconds);
-        let sent = self.submit(store, &result);
-        if sent.is_err() {
-            thread.unsent = Some(result);
-        }
-        sent?;
+        let result = self.evaluate(&evaluator, claim);
+        thread.episode_seconds = Some(match thread.episode_seconds {
+            Some(mean) => 0.8 * mean + 0.2 * result.wall,
+            None => result.wall,
+        });
+        thread.unsent.push(result);
         thread.idle_since = Instant::now();
         Ok(true)
     }
 
+    /// Writes the results not written yet, in one statement, and counts them; kept for
+    /// the next try when the store cannot take them.
+    fn flush(&self, store: &mut PgStore, thread: &mut ThreadState) -> Result<(), OptimizeError> {
+        if thread.unsent.is_empty() {
+            return Ok(());
+        }
+        let t = Instant::now();
+        let results: Vec<ClaimResult> = thread
+            .unsent
+            .iter()
+            .map(|u| ClaimResult {
+                claim: &u.claim,
+                score: &u.score,
+                wall: u.wall,
+            })
+            .collect();
+        let accepted = store.submit_many(&self.id, &results)?;
+        self.count_coordination(t.elapsed().as_secs_f64());
+        if let Ok(mut r) = self.report.lock() {
+            for (u, taken) in thread.unsent.iter().zip(accepted) {
+                if !taken {
+                    r.discarded += 1;
+                } else {
+                    r.evaluated += 1;
+                    if u.score.score.is_nan() {
+                        r.failed += 1;
+                    }
+                }
+            }
+        }
+        thread.unsent.clear();
+        Ok(())
+    }
+
+    /// Adds seconds spent claiming or writing to the report.
+    fn count_coordination(&self, seconds: f64) {
+        if let Ok(mut r) = self.report.lock() {
+            r.coordination += seconds;
+        }
+    }
+
     /// Runs one claimed episode.
-    fn evaluate(&self, evaluator: &Evaluator, claim: Claim, claim_seconds: f64) -> Unsent {
+    fn evaluate(&self, evaluator: &Evaluator, claim: Claim) -> Unsent {
         let t = Instant::now();
         let failed = CandidateScore::single(f64::NAN);
         let score = match evaluator.run_batch_scored(std::slice::from_ref(&claim.genome)) {
@@ -282,27 +422,7 @@ impl Pool<'_> {
             claim,
             score,
             wall: t.elapsed().as_secs_f64(),
-            claim_seconds,
         }
-    }
-
-    /// Writes an evaluated claim's score, and counts it.
-    fn submit(&self, store: &mut PgStore, u: &Unsent) -> Result<(), OptimizeError> {
-        let t = Instant::now();
-        let accepted = store.submit(&self.id, &u.claim, &u.score, u.wall)?;
-        let submit_seconds = t.elapsed().as_secs_f64();
-        if let Ok(mut r) = self.report.lock() {
-            r.coordination += u.claim_seconds + submit_seconds;
-            if !accepted {
-                r.discarded += 1;
-            } else {
-                r.evaluated += 1;
-                if u.score.score.is_nan() {
-                    r.failed += 1;
-                }
-            }
-        }
-        Ok(())
     }
 
     /// The evaluator of `run`, built from the store on its first claim.

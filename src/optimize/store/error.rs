@@ -32,6 +32,15 @@ pub enum StoreError {
         /// The cause.
         message: String,
     },
+    /// No PostgreSQL server answered at the store's address (refused, unreachable, timed
+    /// out): one that may yet come up, unlike a refused password.
+    #[error("{store}: no server answers: {message}")]
+    NoServer {
+        /// The store, without password.
+        store: String,
+        /// The connection's chain of causes.
+        message: String,
+    },
     /// TLS could not be set up for a PostgreSQL connection.
     #[error("{store}: cannot set up TLS: {message}")]
     Tls {

@@ -17,6 +17,16 @@ use crate::optimize::error::BadChoice;
 /// Seconds to wait for a server that does not answer, unless the URL sets `connect_timeout`.
 const CONNECT_TIMEOUT_S: u64 = 10;
 
+/// Seconds a sent request may go unacknowledged before the connection counts as lost (a
+/// cut link), unless the URL sets `tcp_user_timeout`; then the worker or driver connects
+/// again instead of waiting on a dead socket for the kernel's ~15 minutes.
+const TCP_USER_TIMEOUT_S: u64 = 20;
+
+/// Keepalive probes of an idle connection (idle seconds, seconds between probes, probes),
+/// unless the URL sets `keepalives_idle`: a link cut while nothing is sent is found in
+/// ~25 s.
+const KEEPALIVES: (u64, u64, u32) = (10, 5, 3);
+
 /// An experiment store's location.
 #[derive(Debug, Clone)]
 pub enum StoreLocation {
@@ -63,6 +73,17 @@ impl StoreLocation {
         }
         if config.get_connect_timeout().is_none() {
             config.connect_timeout(Duration::from_secs(CONNECT_TIMEOUT_S));
+        }
+        if config.get_tcp_user_timeout().is_none() {
+            config.tcp_user_timeout(Duration::from_secs(TCP_USER_TIMEOUT_S));
+        }
+        if !text.contains("keepalives_idle") {
+            let (idle, interval, retries) = KEEPALIVES;
+            config
+                .keepalives(true)
+                .keepalives_idle(Duration::from_secs(idle))
+                .keepalives_interval(Duration::from_secs(interval))
+                .keepalives_retries(retries);
         }
         config.application_name("proleg");
         let mut target = PgTarget { config };

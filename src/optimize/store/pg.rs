@@ -21,6 +21,8 @@ pub struct PgStore {
     pub(super) target: PgTarget,
     /// The notification channels this connection listens to (again after a reconnect).
     pub(super) listening: Vec<&'static str>,
+    /// The statements of the queue, prepared once per connection (by their text).
+    pub(super) statements: std::collections::HashMap<&'static str, postgres::Statement>,
 }
 
 /// Advisory-lock key under which the first driver creates the tables.
@@ -54,6 +56,7 @@ impl PgStore {
             client,
             target: target.clone(),
             listening: Vec::new(),
+            statements: std::collections::HashMap::new(),
         };
         let fail = store.failer();
         let mut tx = store.client.transaction().map_err(&fail)?;
@@ -130,6 +133,7 @@ impl PgStore {
         loop {
             let attempt = connect(&self.target).and_then(|client| {
                 self.client = client;
+                self.statements.clear();
                 let channels = self.listening.clone();
                 channels.iter().try_for_each(|c| self.listen(c))
             });
@@ -147,6 +151,19 @@ impl PgStore {
                 }
             }
         }
+    }
+
+    /// Statement `sql`, prepared on this connection at its first use.
+    pub(super) fn prepared(
+        &mut self,
+        sql: &'static str,
+    ) -> Result<postgres::Statement, StoreError> {
+        if let Some(st) = self.statements.get(sql) {
+            return Ok(st.clone());
+        }
+        let st = self.client.prepare(sql).map_err(self.failer())?;
+        self.statements.insert(sql, st.clone());
+        Ok(st)
     }
 
     /// Whether this connection is encrypted (TLS).
@@ -457,7 +474,29 @@ pub fn connect(target: &PgTarget) -> Result<Client, StoreError> {
     target
         .config
         .connect(postgres_native_tls::MakeTlsConnector::new(tls))
-        .map_err(|e| describe_error(&target.to_string(), &e))
+        .map_err(|e| match describe_error(&target.to_string(), &e) {
+            StoreError::Postgres { store, message } if no_server(&e) => {
+                StoreError::NoServer { store, message }
+            }
+            other => other,
+        })
+}
+
+/// Whether a connection failed because no server answered (a socket error or a timeout
+/// before any message of the server's), not because the server refused it.
+fn no_server(e: &postgres::Error) -> bool {
+    if e.as_db_error().is_some() {
+        return false;
+    }
+    let mut source = std::error::Error::source(e);
+    while let Some(s) = source {
+        if s.is::<std::io::Error>() {
+            return true;
+        }
+        source = s.source();
+    }
+    // The driver reports a connect timeout with no source.
+    e.to_string().contains("timed out")
 }
 
 /// The store and the cause (the server's message when it sent one, else the driver's

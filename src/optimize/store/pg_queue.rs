@@ -37,6 +37,17 @@ pub struct Claim {
     pub genome: Genome,
 }
 
+/// A claim's result on its way to the store.
+#[derive(Debug, Clone, Copy)]
+pub struct ClaimResult<'a> {
+    /// The claim it answers.
+    pub claim: &'a Claim,
+    /// Its score.
+    pub score: &'a CandidateScore,
+    /// Wall seconds of the episode.
+    pub wall: f64,
+}
+
 /// A candidate the driver puts in the queue.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Pending {
@@ -49,6 +60,64 @@ pub struct Pending {
     /// Its parameter values.
     pub values: Vec<f64>,
 }
+
+/// A round's candidates as pending rows (kept when a row already holds the same candidate).
+const ENQUEUE: &str = "WITH queued AS (
+     INSERT INTO evaluations (run, number, round, genome, vals, seed, state)
+     SELECT $1, q.number, q.round, q.genome, q.vals, $6, 'pending'
+     FROM unnest($2::BIGINT[], $3::BIGINT[], $4::TEXT[], $5::TEXT[]) AS q(number, round, genome, vals)
+     ON CONFLICT (run, number) DO UPDATE SET round = EXCLUDED.round,
+       genome = EXCLUDED.genome, vals = EXCLUDED.vals, seed = EXCLUDED.seed,
+       score = NULL, state = 'pending', worker = NULL, lease_until = NULL
+     WHERE evaluations.genome <> EXCLUDED.genome
+     RETURNING 1)
+ SELECT pg_notify('proleg_pending', '')";
+
+/// Up to `$4` pending (or lease-expired) evaluations of any run but those of `$3`, claimed
+/// for worker `$1` with a lease of `$2` s (lowest run and number first).
+const CLAIM_ANY: &str =
+    "UPDATE evaluations e SET state = 'running', worker = $1, attempt = e.attempt + 1,
+        lease_until = now() + make_interval(secs => $2)
+ WHERE (e.run, e.number) IN (
+     SELECT run, number FROM evaluations
+     WHERE state <> 'done' AND (state = 'pending' OR lease_until < now())
+       AND NOT (run = ANY($3))
+     ORDER BY run, number
+     LIMIT $4
+     FOR UPDATE SKIP LOCKED)
+ RETURNING e.run, e.number, e.attempt, e.genome";
+
+/// The same for run `$3` only (the driver's own threads): its own statement, so that the
+/// plan looks up that run alone.
+const CLAIM_RUN: &str =
+    "UPDATE evaluations e SET state = 'running', worker = $1, attempt = e.attempt + 1,
+        lease_until = now() + make_interval(secs => $2)
+ WHERE (e.run, e.number) IN (
+     SELECT run, number FROM evaluations
+     WHERE run = $3 AND state <> 'done' AND (state = 'pending' OR lease_until < now())
+     ORDER BY number
+     LIMIT $4
+     FOR UPDATE SKIP LOCKED)
+ RETURNING e.run, e.number, e.attempt, e.genome";
+
+/// Results written where their claim still holds; the rows taken, and the drivers woken.
+const SUBMIT: &str = "WITH r AS (
+     SELECT * FROM unnest($2::BIGINT[], $3::BIGINT[], $4::INT[], $5::FLOAT8[], $6::FLOAT8[],
+                          $7::TEXT[], $8::TEXT[], $9::TEXT[])
+       AS r(run, number, attempt, score, wall, engines, rejected, measures)),
+ done AS (
+     UPDATE evaluations e SET state = 'done', score = r.score, wall = r.wall, lease_until = NULL,
+       engine_scores = r.engines, rejected = r.rejected, measures = r.measures
+     FROM r
+     WHERE e.run = r.run AND e.number = r.number AND e.attempt = r.attempt AND e.worker = $1
+       AND e.state = 'running' AND e.lease_until >= now()
+     RETURNING e.run, e.number),
+ woken AS (SELECT pg_notify('proleg_done', run::TEXT) FROM (SELECT DISTINCT run FROM done) d)
+ SELECT run, number FROM done, (SELECT COUNT(*) FROM woken) w";
+
+/// The scores of those of `$2` (numbers of run `$1`) that are done.
+const DONE_SCORES: &str = "SELECT number, score, measures, engine_scores FROM evaluations
+ WHERE run = $1 AND number = ANY($2) AND state = 'done'";
 
 impl PgStore {
     /// Subscribes this connection to `channel` ([`PENDING`] or [`DONE`]).
@@ -76,36 +145,22 @@ impl PgStore {
     }
 
     /// Writes candidates of `run` as pending (a row already holding the same candidate,
-    /// e.g. left by a killed driver, is kept as it is) and wakes the workers.
+    /// e.g. left by a killed driver, is kept as it is) and wakes the workers: one statement
+    /// for the whole round.
     pub fn enqueue(&mut self, run: i64, seed: u64, items: &[Pending]) -> Result<(), StoreError> {
         let fail = self.failer();
-        let mut tx = self.client.transaction().map_err(&fail)?;
-        let st = tx
-            .prepare(
-                "INSERT INTO evaluations (run, number, round, genome, vals, seed, state)
-                 VALUES ($1, $2, $3, $4, $5, $6, 'pending')
-                 ON CONFLICT (run, number) DO UPDATE SET round = EXCLUDED.round,
-                   genome = EXCLUDED.genome, vals = EXCLUDED.vals, seed = EXCLUDED.seed,
-                   score = NULL, state = 'pending', worker = NULL, lease_until = NULL
-                 WHERE evaluations.genome <> EXCLUDED.genome",
-            )
-            .map_err(&fail)?;
-        for p in items {
-            tx.execute(
+        let numbers: Vec<i64> = items.iter().map(|p| p.number as i64).collect();
+        let rounds: Vec<i64> = items.iter().map(|p| p.round as i64).collect();
+        let genomes: Vec<String> = items.iter().map(|p| join(&p.genome)).collect();
+        let values: Vec<String> = items.iter().map(|p| join(&p.values)).collect();
+        let st = self.prepared(ENQUEUE)?;
+        self.client
+            .execute(
                 &st,
-                &[
-                    &run,
-                    &(p.number as i64),
-                    &(p.round as i64),
-                    &join(&p.genome),
-                    &join(&p.values),
-                    &(seed as i64),
-                ],
+                &[&run, &numbers, &rounds, &genomes, &values, &(seed as i64)],
             )
             .map_err(&fail)?;
-        }
-        tx.batch_execute("NOTIFY proleg_pending").map_err(&fail)?;
-        tx.commit().map_err(&fail)
+        Ok(())
     }
 
     /// Wakes every waiting worker (to look for work, or for its stop flag).
@@ -127,22 +182,18 @@ impl PgStore {
         n: i64,
     ) -> Result<Vec<Claim>, StoreError> {
         let fail = self.failer();
-        let rows = self
-            .client
-            .query(
-                "UPDATE evaluations e SET state = 'running', worker = $1, attempt = e.attempt + 1,
-                        lease_until = now() + make_interval(secs => $2)
-                 WHERE (e.run, e.number) IN (
-                     SELECT run, number FROM evaluations
-                     WHERE (state = 'pending' OR (state = 'running' AND lease_until < now()))
-                       AND ($3::BIGINT IS NULL OR run = $3) AND NOT (run = ANY($4))
-                     ORDER BY run, number
-                     LIMIT $5
-                     FOR UPDATE SKIP LOCKED)
-                 RETURNING e.run, e.number, e.attempt, e.genome",
-                &[&worker, &lease.as_secs_f64(), &only_run, &refused, &n],
-            )
-            .map_err(&fail)?;
+        let lease = lease.as_secs_f64();
+        let rows = match only_run {
+            Some(run) => {
+                let st = self.prepared(CLAIM_RUN)?;
+                self.client.query(&st, &[&worker, &lease, &run, &n])
+            }
+            None => {
+                let st = self.prepared(CLAIM_ANY)?;
+                self.client.query(&st, &[&worker, &lease, &refused, &n])
+            }
+        }
+        .map_err(&fail)?;
         let store = self.target().to_string();
         rows.iter()
             .map(|r| {
@@ -184,31 +235,58 @@ impl PgStore {
         score: &CandidateScore,
         wall: f64,
     ) -> Result<bool, StoreError> {
+        let accepted = self.submit_many(worker, &[ClaimResult { claim, score, wall }])?;
+        Ok(accepted.first().copied().unwrap_or(false))
+    }
+
+    /// Writes the scores of several claims in one statement, each only if its claim still
+    /// holds (its attempt, with a live lease); says for each whether it was taken, and wakes
+    /// the driver of each run written to.
+    pub fn submit_many(
+        &mut self,
+        worker: &str,
+        results: &[ClaimResult<'_>],
+    ) -> Result<Vec<bool>, StoreError> {
+        if results.is_empty() {
+            return Ok(Vec::new());
+        }
         let fail = self.failer();
+        let runs: Vec<i64> = results.iter().map(|r| r.claim.run).collect();
+        let numbers: Vec<i64> = results.iter().map(|r| r.claim.number as i64).collect();
+        let attempts: Vec<i32> = results.iter().map(|r| r.claim.attempt).collect();
+        let scores: Vec<Option<f64>> = results.iter().map(|r| score_of(r.score.score)).collect();
+        let walls: Vec<f64> = results.iter().map(|r| r.wall).collect();
+        let engines: Vec<String> = results
+            .iter()
+            .map(|r| engine_scores_text(&r.score.engines))
+            .collect();
+        let rejected: Vec<Option<String>> = results
+            .iter()
+            .map(|r| r.score.rejected.as_ref().map(ToString::to_string))
+            .collect();
+        let measures: Vec<String> = results.iter().map(|r| join(&r.score.measures)).collect();
+        let st = self.prepared(SUBMIT)?;
         let rows = self
             .client
             .query(
-                "WITH done AS (
-                     UPDATE evaluations SET state = 'done', score = $1, wall = $2, lease_until = NULL,
-                       engine_scores = $7, rejected = $8, measures = $9
-                     WHERE run = $3 AND number = $4 AND attempt = $5 AND worker = $6
-                       AND state = 'running' AND lease_until >= now()
-                     RETURNING run)
-                 SELECT pg_notify('proleg_done', run::TEXT) FROM done",
+                &st,
                 &[
-                    &score_of(score.score),
-                    &wall,
-                    &claim.run,
-                    &(claim.number as i64),
-                    &claim.attempt,
-                    &worker,
-                    &engine_scores_text(&score.engines),
-                    &score.rejected.as_ref().map(ToString::to_string),
-                    &join(&score.measures),
+                    &worker, &runs, &numbers, &attempts, &scores, &walls, &engines, &rejected,
+                    &measures,
                 ],
             )
             .map_err(&fail)?;
-        Ok(!rows.is_empty())
+        let mut taken = std::collections::HashSet::with_capacity(rows.len());
+        for r in &rows {
+            let run: i64 = r.try_get(0).map_err(&fail)?;
+            let number: i64 = r.try_get(1).map_err(&fail)?;
+            taken.insert((run, number));
+        }
+        Ok(runs
+            .iter()
+            .zip(&numbers)
+            .map(|(r, n)| taken.contains(&(*r, *n)))
+            .collect())
     }
 
     /// Gives a claim back untouched (a worker that cannot evaluate its run).
@@ -233,55 +311,50 @@ impl PgStore {
         numbers: &[u64],
         mut on_wait: impl FnMut(f64) -> Result<(), E>,
     ) -> Result<Vec<CandidateScore>, E> {
-        let (Some(first), Some(last)) = (numbers.iter().min(), numbers.iter().max()) else {
-            return Ok(Vec::new());
-        };
         let fail = self.failer();
         let started = Instant::now();
-        loop {
-            let rows = self
-                .client
-                .query(
-                    "SELECT number, score, measures, engine_scores FROM evaluations
-                     WHERE run = $1 AND number BETWEEN $2 AND $3 AND state = 'done'",
-                    &[&run, &(*first as i64), &(*last as i64)],
-                )
-                .map_err(&fail)?;
-            let mut found = std::collections::HashMap::with_capacity(rows.len());
+        let mut found = std::collections::HashMap::with_capacity(numbers.len());
+        let mut missing: Vec<i64> = numbers.iter().map(|n| *n as i64).collect();
+        while !missing.is_empty() {
+            let st = self.prepared(DONE_SCORES)?;
+            let rows = self.client.query(&st, &[&run, &missing]).map_err(&fail)?;
             for r in &rows {
                 let number: i64 = r.try_get(0).map_err(&fail)?;
-                let score: Option<f64> = r.try_get(1).map_err(&fail)?;
-                let text: String = r.try_get(2).map_err(&fail)?;
-                let place = Place {
-                    store: &self.target().to_string(),
-                    run,
-                    evaluation: Some(number as u64),
-                };
-                let engines: String = r.try_get(3).map_err(&fail)?;
-                found.insert(
-                    number as u64,
-                    CandidateScore {
-                        score: finite_or_worst(score.unwrap_or(f64::NAN)),
-                        engines: place.engines(&engines)?,
-                        rejected: None,
-                        measures: place.list("measures", &text)?,
-                    },
-                );
+                found.insert(number as u64, self.read_score(run, r)?);
             }
-            if numbers.iter().all(|n| found.contains_key(n)) {
-                return Ok(numbers
-                    .iter()
-                    .map(|n| {
-                        found
-                            .remove(n)
-                            .unwrap_or_else(|| CandidateScore::single(f64::NEG_INFINITY))
-                    })
-                    .collect());
-            }
-            if !self.wait_notification(Duration::from_secs(2))? {
+            missing.retain(|n| !found.contains_key(&(*n as u64)));
+            if !missing.is_empty() && !self.wait_notification(Duration::from_secs(2))? {
                 on_wait(started.elapsed().as_secs_f64())?;
             }
         }
+        Ok(numbers
+            .iter()
+            .map(|n| {
+                found
+                    .remove(n)
+                    .unwrap_or_else(|| CandidateScore::single(f64::NEG_INFINITY))
+            })
+            .collect())
+    }
+
+    /// The score of a row of [`DONE_SCORES`].
+    fn read_score(&self, run: i64, r: &postgres::Row) -> Result<CandidateScore, StoreError> {
+        let fail = self.failer();
+        let number: i64 = r.try_get(0).map_err(&fail)?;
+        let score: Option<f64> = r.try_get(1).map_err(&fail)?;
+        let text: String = r.try_get(2).map_err(&fail)?;
+        let engines: String = r.try_get(3).map_err(&fail)?;
+        let place = Place {
+            store: &self.target().to_string(),
+            run,
+            evaluation: Some(number as u64),
+        };
+        Ok(CandidateScore {
+            score: finite_or_worst(score.unwrap_or(f64::NAN)),
+            engines: place.engines(&engines)?,
+            rejected: None,
+            measures: place.list("measures", &text)?,
+        })
     }
 
     /// Counts of `run`'s evaluations by state: (pending, running, done).
