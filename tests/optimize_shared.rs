@@ -453,7 +453,10 @@ fn bad_stores_are_one_line_errors_that_never_show_the_password() {
     assert_eq!(out.status.code(), Some(1), "{err}");
     assert!(err.contains("waiting for the store to appear"), "{err}");
     assert!(err.contains("no server answers"), "{err}");
-    assert!(!err.contains("panicked") && !err.contains(&pg.password), "{err}");
+    assert!(
+        !err.contains("panicked") && !err.contains(&pg.password),
+        "{err}"
+    );
     // Typos in the URL.
     let typo = url.replace("postgres://", "postgress://");
     refused(

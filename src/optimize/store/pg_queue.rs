@@ -21,7 +21,8 @@ use crate::optimize::store::{Place, StoreError, engine_scores_text, join, score_
 
 /// Channel on which the driver announces pending evaluations.
 pub const PENDING: &str = "proleg_pending";
-/// Channel on which workers announce results (payload: the run id).
+/// Channel on which workers announce results (payload: `RUN:COUNT`, the run and how many
+/// of its results one statement wrote).
 pub const DONE: &str = "proleg_done";
 
 /// An evaluation a worker has claimed.
@@ -112,8 +113,12 @@ const SUBMIT: &str = "WITH r AS (
      WHERE e.run = r.run AND e.number = r.number AND e.attempt = r.attempt AND e.worker = $1
        AND e.state = 'running' AND e.lease_until >= now()
      RETURNING e.run, e.number),
- woken AS (SELECT pg_notify('proleg_done', run::TEXT) FROM (SELECT DISTINCT run FROM done) d)
+ woken AS (SELECT pg_notify('proleg_done', run::TEXT || ':' || n::TEXT)
+            FROM (SELECT run, COUNT(*) AS n FROM done GROUP BY run) d)
  SELECT run, number FROM done, (SELECT COUNT(*) FROM woken) w";
+
+/// The driver looks in the store at least this often while it waits for a round.
+const LOOK_AT_LEAST: Duration = Duration::from_secs(2);
 
 /// The scores of those of `$2` (numbers of run `$1`) that are done.
 const DONE_SCORES: &str = "SELECT number, score, measures, engine_scores FROM evaluations
@@ -142,6 +147,33 @@ impl PgStore {
         // Several results may have been announced at once: take them all.
         while n.iter().next().map_err(&fail)?.is_some() {}
         Ok(got.is_some())
+    }
+
+    /// Waits up to `timeout` for results of `run` announced on [`DONE`]; how many arrived
+    /// (`None`: a notification that did not say, or none came — then look in the store).
+    fn wait_done(&mut self, run: i64, timeout: Duration) -> Result<Option<u64>, StoreError> {
+        let fail = self.failer();
+        let mut n = self.client.notifications();
+        let Some(first) = n.timeout_iter(timeout).next().map_err(&fail)? else {
+            return Ok(None);
+        };
+        let mut count = Some(0u64);
+        let mut add = |payload: &str| {
+            let said = payload
+                .split_once(':')
+                .and_then(|(r, k)| Some((r.parse::<i64>().ok()?, k.parse::<u64>().ok()?)));
+            count = match (count, said) {
+                (Some(c), Some((r, k))) if r == run => Some(c + k),
+                (c, Some(_)) => c,
+                (_, None) => None,
+            };
+        };
+        add(first.payload());
+        // Several results may have been announced at once: take them all.
+        while let Some(more) = n.iter().next().map_err(&fail)? {
+            add(more.payload());
+        }
+        Ok(count)
     }
 
     /// Writes candidates of `run` as pending (a row already holding the same candidate,
@@ -315,16 +347,32 @@ impl PgStore {
         let started = Instant::now();
         let mut found = std::collections::HashMap::with_capacity(numbers.len());
         let mut missing: Vec<i64> = numbers.iter().map(|n| *n as i64).collect();
+        // Look in the store first, then each time the results announced for this run
+        // could complete the round, or a notification did not say how many, or
+        // [`LOOK_AT_LEAST`] has passed: one look per round rather than one per batch written.
+        let mut announced = u64::MAX;
+        let mut last_look = Instant::now();
         while !missing.is_empty() {
-            let st = self.prepared(DONE_SCORES)?;
-            let rows = self.client.query(&st, &[&run, &missing]).map_err(&fail)?;
-            for r in &rows {
-                let number: i64 = r.try_get(0).map_err(&fail)?;
-                found.insert(number as u64, self.read_score(run, r)?);
+            if announced >= missing.len() as u64 || last_look.elapsed() >= LOOK_AT_LEAST {
+                last_look = Instant::now();
+                let st = self.prepared(DONE_SCORES)?;
+                let rows = self.client.query(&st, &[&run, &missing]).map_err(&fail)?;
+                for r in &rows {
+                    let number: i64 = r.try_get(0).map_err(&fail)?;
+                    found.insert(number as u64, self.read_score(run, r)?);
+                }
+                missing.retain(|n| !found.contains_key(&(*n as u64)));
+                announced = 0;
+                if missing.is_empty() {
+                    break;
+                }
             }
-            missing.retain(|n| !found.contains_key(&(*n as u64)));
-            if !missing.is_empty() && !self.wait_notification(Duration::from_secs(2))? {
-                on_wait(started.elapsed().as_secs_f64())?;
+            match self.wait_done(run, LOOK_AT_LEAST)? {
+                Some(k) => announced = announced.saturating_add(k),
+                None => {
+                    announced = u64::MAX;
+                    on_wait(started.elapsed().as_secs_f64())?;
+                }
             }
         }
         Ok(numbers
