@@ -1,7 +1,8 @@
 //! The shared PostgreSQL store with real processes on a real server (`scripts/test` starts a
 //! private one): a driver and worker processes find what one process finds on SQLite; a
 //! worker or the driver killed with SIGKILL loses and duplicates nothing; bad stores are
-//! one-line errors that never show the password.
+//! one-line errors that never show the password. The faults across a network (a server
+//! restarted, links cut or lossy) are `tests/shared_hosts.rs`.
 
 mod common;
 
@@ -691,103 +692,6 @@ fn a_worker_refuses_runs_it_cannot_evaluate_and_leaves_them_pending() {
             "left pending for others"
         );
     }
-}
-
-/// A private server of one test's own (stopped when dropped), for what the shared one
-/// must not see: a restart.
-struct OwnServer {
-    dir: std::path::PathBuf,
-    pg: Pg,
-}
-
-impl OwnServer {
-    fn start(name: &str) -> OwnServer {
-        // Under the temporary folder: the server's user (`postgres` when the tests run as
-        // root) must reach it, which a checkout under /root would not allow.
-        let dir = std::env::temp_dir().join(format!("proleg-{name}-{}", std::process::id()));
-        let out = std::process::Command::new("scripts/pg-test-server")
-            .arg("start")
-            .arg(&dir)
-            .current_dir(common::root())
-            .output()
-            .expect("scripts/pg-test-server");
-        assert!(out.status.success(), "{}", text(&out.stderr));
-        let lines = text(&out.stdout);
-        let value = |key: &str| {
-            lines
-                .lines()
-                .find_map(|l| l.strip_prefix(&format!("export {key}=")))
-                .unwrap_or_else(|| panic!("no {key}"))
-                .to_string()
-        };
-        OwnServer {
-            pg: Pg {
-                url: value("PROLEG_TEST_PG_URL"),
-                password: value("PROLEG_TEST_PG_PASSWORD"),
-            },
-            dir,
-        }
-    }
-
-    fn run(&self, what: &str) {
-        let out = std::process::Command::new("scripts/pg-test-server")
-            .arg(what)
-            .arg(&self.dir)
-            .current_dir(common::root())
-            .output()
-            .expect("scripts/pg-test-server");
-        assert!(out.status.success(), "{}", text(&out.stderr));
-    }
-}
-
-impl Drop for OwnServer {
-    fn drop(&mut self) {
-        self.run("stop");
-    }
-}
-
-#[test]
-fn a_server_restart_in_the_middle_of_a_run_costs_nothing() {
-    let (expected, reference) = sqlite_run("optimize_shared_restart", "90", "2");
-    let server = OwnServer::start("optimize_shared_restart_server");
-    let pg = &server.pg;
-    let url = pg.database("shared_restart");
-    let mut args = ga_args("90", "2", &url);
-    args.extend(["--workers", "0", "--lease", "5"]);
-    let mut driver = spawn(pg.proleg(&args));
-    pg.wait_until("shared_restart", HAS_STORE, &mut driver);
-    let mut worker = spawn(pg.proleg(&[
-        "worker",
-        "--store",
-        &url,
-        "--threads",
-        "1",
-        "--lease",
-        "5",
-        "--idle-exit",
-        "8",
-    ]));
-    pg.wait_until(
-        "shared_restart",
-        "SELECT COUNT(*) >= 20 FROM evaluations WHERE state = 'done'",
-        &mut worker,
-    );
-    // Every connection is cut; the server is back a moment later.
-    server.run("restart");
-    let out = driver.wait_with_output().expect("driver");
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    assert_eq!(result_lines(&text(&out.stdout)), expected);
-    let out = worker.wait_with_output().expect("worker");
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    assert!(
-        text(&out.stderr).contains("connected again"),
-        "{}",
-        text(&out.stderr)
-    );
-    assert_eq!(
-        evaluations(pg, &url, "optimize_shared_restart_pg"),
-        evaluations(pg, &reference, "optimize_shared_restart_sqlite")
-    );
 }
 
 #[test]

@@ -38,6 +38,26 @@ fn worker(hosts: &Hosts, pg: &Pg, i: usize, url: &str, idle: &str) -> Child {
     ))
 }
 
+/// A set `name` of `n` hosts with the server on host 0, a database `hosts_NAME` and the
+/// driver of experiment 1's GA (`evals` evaluations of `duration` s, no threads of its own,
+/// `--lease LEASE`) running on host 1 once the store exists: (hosts, server, database URL,
+/// driver).
+fn driven(
+    name: &str,
+    n: usize,
+    (evals, duration, lease): (&str, &str, &str),
+) -> (Hosts, Pg, String, Child) {
+    let mut hosts = Hosts::up(name, n, SHARE);
+    let pg = hosts.postgres(0);
+    let db = format!("hosts_{name}");
+    let url = pg.database(&db);
+    let mut args = ga_args(evals, duration, &url);
+    args.extend(["--workers", "0", "--lease", lease]);
+    let mut driver = spawn(hosts.proleg(1, &pg, &args));
+    pg.wait_until(&db, HAS_STORE, &mut driver);
+    (hosts, pg, url, driver)
+}
+
 /// One number from the store.
 fn count(pg: &Pg, db: &str, query: &str) -> i64 {
     pg.connect(db)
@@ -61,13 +81,7 @@ fn stored_once(pg: &Pg, db: &str, n: i64) {
 #[test]
 fn a_worker_host_cut_off_mid_run_loses_nothing_and_goes_on_when_its_link_returns() {
     let (expected, reference) = sqlite_run("hosts_cut", "90", "3");
-    let mut hosts = Hosts::up("cut", 4, SHARE);
-    let pg = hosts.postgres(0);
-    let url = pg.database("hosts_cut");
-    let mut args = ga_args("90", "3", &url);
-    args.extend(["--workers", "0", "--lease", "3"]);
-    let mut driver = spawn(hosts.proleg(1, &pg, &args));
-    pg.wait_until("hosts_cut", HAS_STORE, &mut driver);
+    let (hosts, pg, url, driver) = driven("cut", 4, ("90", "3", "3"));
     let mut cut = worker(&hosts, &pg, 2, &url, "30");
     let mine = format!("worker LIKE '%/{}/%'", cut.id());
     pg.wait_until(
@@ -127,13 +141,7 @@ fn a_worker_host_cut_off_mid_run_loses_nothing_and_goes_on_when_its_link_returns
 #[test]
 fn the_database_host_restarted_mid_run_costs_nothing() {
     let (expected, reference) = sqlite_run("hosts_restart", "90", "2");
-    let mut hosts = Hosts::up("restart", 3, SHARE);
-    let pg = hosts.postgres(0);
-    let url = pg.database("hosts_restart");
-    let mut args = ga_args("90", "2", &url);
-    args.extend(["--workers", "0", "--lease", "5"]);
-    let mut driver = spawn(hosts.proleg(1, &pg, &args));
-    pg.wait_until("hosts_restart", HAS_STORE, &mut driver);
+    let (hosts, pg, url, driver) = driven("restart", 3, ("90", "2", "5"));
     let mut w = worker(&hosts, &pg, 2, &url, "10");
     pg.wait_until(
         "hosts_restart",
@@ -161,13 +169,7 @@ fn the_database_host_restarted_mid_run_costs_nothing() {
 #[test]
 fn a_killed_driver_host_s_run_is_resumed_from_another_host() {
     let (expected, reference) = sqlite_run("hosts_driver", "75", "1");
-    let mut hosts = Hosts::up("driver", 4, SHARE);
-    let pg = hosts.postgres(0);
-    let url = pg.database("hosts_driver");
-    let mut args = ga_args("75", "1", &url);
-    args.extend(["--workers", "0", "--lease", "3"]);
-    let mut driver = spawn(hosts.proleg(1, &pg, &args));
-    pg.wait_until("hosts_driver", HAS_STORE, &mut driver);
+    let (hosts, pg, url, mut driver) = driven("driver", 4, ("75", "1", "3"));
     let w = worker(&hosts, &pg, 2, &url, "20");
     pg.wait_until(
         "hosts_driver",
