@@ -35,8 +35,9 @@ HEADLESS_PACKAGES=(pkg-config gcc libfontconfig1-dev libfreetype-dev fonts-dejav
 # The tests of the shared store run a private PostgreSQL server (scripts/pg-test-server),
 # with a throw-away certificate made by openssl; xdotool types on the control window;
 # Debian's old MuJoCo 2.2.2 is the "wrong version" proleg must refuse; iproute2 and iptables
-# make the hosts of the network tests (scripts/hosts: namespaces, cut links, lost packets).
-TEST_PACKAGES=(postgresql openssl python3 python3-venv xdotool libmujoco2.2.2 iproute2 iptables)
+# make the hosts of the network tests (scripts/hosts: namespaces, cut links, lost packets);
+# the dashboard's tests drive Chromium through chromedriver.
+TEST_PACKAGES=(postgresql openssl python3 python3-venv xdotool libmujoco2.2.2 iproute2 iptables chromium chromium-driver)
 
 # From the Python registry: peer checks (URDFs we did not write, pybullet's pybullet_data,
 # for the import tests; MuJoCo for the cross-engine check of an exported gait and the

@@ -16,6 +16,7 @@
 //!   located errors, writing back, and the `proleg check` summary.
 //! - [`control`]: the actuation-module interface, the registry of module types, the
 //!   standard module library and the control kernel.
+//! - [`dashboard`]: `proleg dashboard`, a live read-only web page over any experiment store.
 //! - `gui` (feature `gui`): the control window, a Bevy 3D viewer with egui views on the
 //!   same core.
 //! - [`gym`]: reinforcement-learning environments over any simulation file (the
@@ -45,6 +46,7 @@ pub mod commands;
 pub mod compose;
 pub mod config;
 pub mod control;
+pub mod dashboard;
 pub mod data;
 #[cfg(feature = "gui")]
 pub mod gui;

@@ -49,6 +49,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
         "bench",
         &["config", "control", "data", "measure", "rng", "sim"],
     ),
+    ("dashboard", &["config", "control", "optimize", "signal"]),
     (
         "gui",
         &[
@@ -85,6 +86,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "interop",
             "calibrate",
             "gym",
+            "dashboard",
         ],
     ),
 ];

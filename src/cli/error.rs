@@ -34,6 +34,9 @@ pub enum CliError {
     /// Ctrl-C / SIGTERM cannot be handled.
     #[error(transparent)]
     Signal(#[from] crate::signal::SignalError),
+    /// `proleg dashboard` could not serve.
+    #[error(transparent)]
+    Dashboard(crate::dashboard::DashboardError),
     /// A URDF that cannot be imported.
     #[error(transparent)]
     Import(#[from] crate::cli::interop::ImportError),

@@ -24,6 +24,7 @@
 pub mod bench;
 pub mod calibrate;
 pub mod compare;
+pub mod dashboard;
 pub mod data;
 pub mod error;
 pub mod interop;

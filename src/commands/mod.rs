@@ -80,6 +80,9 @@ pub enum Command {
     /// Evaluate the pending candidates of a shared postgres:// store (runs of `proleg
     /// optimize --store URL` on any host), until stopped or idle.
     Worker(cli::worker::WorkerArgs),
+    /// Serve a live web page over a store (SQLite or postgres://), read-only: runs,
+    /// learning curves, evaluations; for runs on hosts without a display.
+    Dashboard(cli::dashboard::DashboardArgs),
     /// Real-robot mode: the simulation's control kernel drives Dynamixel servos on a port.
     Robot(cli::robot::RobotOptions),
     /// An emulated Dynamixel bus on a pseudo-terminal (try `proleg robot` without hardware).
@@ -217,6 +220,7 @@ impl Commands {
             }
             Command::Data { command } => data(command),
             Command::Worker(args) => printed(cli::worker::run(&args, registry)),
+            Command::Dashboard(args) => printed(cli::dashboard::run(&args, registry)),
             Command::Policy { command } => printed(cli::policy::run(&command, registry)),
             Command::Robustness(args) => printed(cli::robustness::run(&args, registry)),
             Command::Compare(args) => printed(cli::compare::run(&args, registry)),

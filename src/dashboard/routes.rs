@@ -1,0 +1,255 @@
+//! The dashboard's routes: the page and its assets (built into the binary), the JSON of the
+//! runs and of a run's evaluations, a run's evaluations as CSV, and the event stream that
+//! tells the page when the store changed (server-sent events). A remote bind requires the
+//! token ([`guard`]); a bad request gets its status and a one-line message.
+
+use std::convert::Infallible;
+use std::sync::Arc;
+use std::time::Duration;
+
+use axum::Router;
+use axum::extract::{Path, Query, Request, State};
+use axum::http::{HeaderValue, StatusCode, header};
+use axum::middleware::Next;
+use axum::response::sse::{Event, KeepAlive, Sse};
+use axum::response::{IntoResponse, Json, Response};
+use axum::routing::get;
+use tokio_stream::StreamExt;
+use tokio_stream::wrappers::WatchStream;
+
+use crate::dashboard::snapshot::Shared;
+use crate::dashboard::views::{
+    EvaluationView, EvaluationsView, RunView, RunsView, evaluations_csv,
+};
+
+/// What every request may read.
+#[derive(Clone)]
+pub struct App {
+    /// The store as last read.
+    pub shared: Shared,
+    /// The token a request must present (None: a loopback bind, no token).
+    pub token: Option<Arc<str>>,
+    /// The snapshot's version, announced when it changes.
+    pub versions: tokio::sync::watch::Receiver<u64>,
+}
+
+/// The name of the cookie that carries the token once the page was opened with it.
+const COOKIE: &str = "proleg_token";
+
+/// The router.
+pub fn router(app: App) -> Router {
+    Router::new()
+        .route("/", get(page))
+        .route("/app.js", get(|| asset("text/javascript", APP_JS)))
+        .route("/style.css", get(|| asset("text/css", STYLE_CSS)))
+        .route(
+            "/vendor/uPlot.iife.min.js",
+            get(|| asset("text/javascript", UPLOT_JS)),
+        )
+        .route(
+            "/vendor/uPlot.min.css",
+            get(|| asset("text/css", UPLOT_CSS)),
+        )
+        .route("/api/runs", get(runs))
+        .route("/api/runs/{id}", get(run))
+        .route("/api/runs/{id}/evaluations.csv", get(run_csv))
+        .route("/api/runs/{id}/map", get(run_map))
+        .route("/api/events", get(events))
+        .fallback(|| async { (StatusCode::NOT_FOUND, "no such page") })
+        .layer(axum::middleware::from_fn_with_state(app.clone(), guard))
+        .with_state(app)
+}
+
+const INDEX_HTML: &str = include_str!("../../assets/dashboard/index.html");
+const APP_JS: &str = include_str!("../../assets/dashboard/app.js");
+const STYLE_CSS: &str = include_str!("../../assets/dashboard/style.css");
+const UPLOT_JS: &str = include_str!("../../assets/dashboard/vendor/uPlot.iife.min.js");
+const UPLOT_CSS: &str = include_str!("../../assets/dashboard/vendor/uPlot.min.css");
+
+/// The page, with a policy that lets it load nothing but this server's own files.
+async fn page() -> Response {
+    let mut r = asset("text/html; charset=utf-8", INDEX_HTML).await;
+    r.headers_mut().insert(
+        header::CONTENT_SECURITY_POLICY,
+        HeaderValue::from_static(
+            "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data:",
+        ),
+    );
+    r
+}
+
+async fn asset(kind: &'static str, body: &'static str) -> Response {
+    ([(header::CONTENT_TYPE, kind)], body).into_response()
+}
+
+/// The token a request presents: `?token=`, `Authorization: Bearer`, or the cookie.
+fn presented(req: &Request) -> Option<String> {
+    let query = req.uri().query().unwrap_or("");
+    let from_query = query
+        .split('&')
+        .find_map(|kv| kv.strip_prefix("token="))
+        .map(str::to_string);
+    let header_text = |name| req.headers().get(name).and_then(|v| v.to_str().ok());
+    let from_bearer = header_text(header::AUTHORIZATION)
+        .and_then(|v| v.strip_prefix("Bearer "))
+        .map(str::to_string);
+    let from_cookie = header_text(header::COOKIE).and_then(|c| {
+        c.split(';').find_map(|kv| {
+            kv.trim()
+                .strip_prefix(&format!("{COOKIE}="))
+                .map(str::to_string)
+        })
+    });
+    from_query.or(from_bearer).or(from_cookie)
+}
+
+/// Lets a request through when no token is needed or it presents the token (a page opened
+/// with `?token=` gets it as a cookie, so its own requests need not repeat it); else 401.
+async fn guard(State(app): State<App>, req: Request, next: Next) -> Response {
+    let Some(token) = app.token.clone() else {
+        return next.run(req).await;
+    };
+    let given = presented(&req);
+    if given
+        .as_deref()
+        .is_some_and(|g| constant_time_eq(g, &token))
+    {
+        let mut r = next.run(req).await;
+        if let Ok(v) = HeaderValue::from_str(&format!(
+            "{COOKIE}={token}; HttpOnly; SameSite=Strict; Path=/"
+        )) {
+            r.headers_mut().insert(header::SET_COOKIE, v);
+        }
+        return r;
+    }
+    (
+        StatusCode::UNAUTHORIZED,
+        "this dashboard needs its token: open the address `proleg dashboard` printed at start",
+    )
+        .into_response()
+}
+
+/// Equality that takes as long whatever the first difference.
+fn constant_time_eq(a: &str, b: &str) -> bool {
+    a.len() == b.len() && a.bytes().zip(b.bytes()).fold(0u8, |d, (x, y)| d | (x ^ y)) == 0
+}
+
+async fn runs(State(app): State<App>) -> Result<Response, ApiError> {
+    let s = app.shared.read().map_err(|_| ApiError::Unavailable)?;
+    Ok(Json(RunsView {
+        store: s.store.clone(),
+        version: s.version,
+        reconnecting: s.reconnecting.clone(),
+        runs: s.runs.iter().rev().map(RunView::of).collect(),
+    })
+    .into_response())
+}
+
+/// A request the dashboard cannot answer: its status and a one-line message.
+#[derive(Debug, thiserror::Error)]
+pub enum ApiError {
+    /// The snapshot's lock was poisoned (a reader panicked).
+    #[error("the store's snapshot is not readable")]
+    Unavailable,
+    /// A run id that is not a number.
+    #[error("run id {0:?} is not a number")]
+    BadId(String),
+    /// `from` that is not a number.
+    #[error("from must be a number of evaluations")]
+    BadFrom,
+    /// A run the store does not hold.
+    #[error("the store holds no run {0}")]
+    NoRun(i64),
+    /// A run without a MAP-Elites archive (or one that cannot be rebuilt here).
+    #[error("{0}")]
+    NoMap(String),
+}
+
+impl IntoResponse for ApiError {
+    fn into_response(self) -> Response {
+        let status = match self {
+            ApiError::Unavailable => StatusCode::SERVICE_UNAVAILABLE,
+            ApiError::BadId(_) | ApiError::BadFrom => StatusCode::BAD_REQUEST,
+            ApiError::NoRun(_) | ApiError::NoMap(_) => StatusCode::NOT_FOUND,
+        };
+        (status, self.to_string()).into_response()
+    }
+}
+
+fn run_id(text: &str) -> Result<i64, ApiError> {
+    text.parse().map_err(|_| ApiError::BadId(text.to_string()))
+}
+
+/// `?from=N`.
+#[derive(serde::Deserialize)]
+struct From {
+    from: Option<u64>,
+}
+
+async fn run(
+    State(app): State<App>,
+    Path(id): Path<String>,
+    query: Result<Query<From>, axum::extract::rejection::QueryRejection>,
+) -> Result<Response, ApiError> {
+    let id = run_id(&id)?;
+    let Query(From { from }) = query.map_err(|_| ApiError::BadFrom)?;
+    let s = app.shared.read().map_err(|_| ApiError::Unavailable)?;
+    let row = s
+        .runs
+        .iter()
+        .find(|r| r.id == id)
+        .ok_or(ApiError::NoRun(id))?;
+    let all = s.evaluations.get(&id).map_or(&[][..], Vec::as_slice);
+    let first = (from.unwrap_or(0) as usize).min(all.len());
+    Ok(Json(EvaluationsView {
+        run: RunView::of(row),
+        read: all.len() as u64,
+        evaluations: all[first..].iter().map(EvaluationView::of).collect(),
+    })
+    .into_response())
+}
+
+async fn run_csv(State(app): State<App>, Path(id): Path<String>) -> Result<Response, ApiError> {
+    let id = run_id(&id)?;
+    let s = app.shared.read().map_err(|_| ApiError::Unavailable)?;
+    let row = s
+        .runs
+        .iter()
+        .find(|r| r.id == id)
+        .ok_or(ApiError::NoRun(id))?;
+    let all = s.evaluations.get(&id).map_or(&[][..], Vec::as_slice);
+    let disposition = format!("attachment; filename=\"run{id}_evaluations.csv\"");
+    Ok((
+        [
+            (header::CONTENT_TYPE, "text/csv; charset=utf-8".to_string()),
+            (header::CONTENT_DISPOSITION, disposition),
+        ],
+        evaluations_csv(row, all),
+    )
+        .into_response())
+}
+
+async fn run_map(State(app): State<App>, Path(id): Path<String>) -> Result<Response, ApiError> {
+    let id = run_id(&id)?;
+    let s = app.shared.read().map_err(|_| ApiError::Unavailable)?;
+    if !s.runs.iter().any(|r| r.id == id) {
+        return Err(ApiError::NoRun(id));
+    }
+    match s.maps.get(&id) {
+        Some(Ok(map)) => Ok(Json(map).into_response()),
+        Some(Err(why)) => Err(ApiError::NoMap(why.clone())),
+        None => Err(ApiError::NoMap(format!(
+            "run {id} is not a MAP-Elites run: it keeps no archive"
+        ))),
+    }
+}
+
+/// The event stream: the snapshot's version now and at every change (the page then reads
+/// what it shows again), with a keep-alive comment every 15 s.
+async fn events(
+    State(app): State<App>,
+) -> Sse<impl tokio_stream::Stream<Item = Result<Event, Infallible>>> {
+    let stream = WatchStream::new(app.versions.clone())
+        .map(|v| Ok(Event::default().event("changed").data(v.to_string())));
+    Sse::new(stream).keep_alive(KeepAlive::new().interval(Duration::from_secs(15)))
+}

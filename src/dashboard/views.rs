@@ -1,0 +1,216 @@
+//! The dashboard's JSON: the runs and a run's evaluations as the page reads them. Numbers
+//! that are not finite (a failed episode's `-inf`) are `null`; names are data, never markup
+//! (the page puts them into text nodes).
+
+use serde::Serialize;
+
+use crate::optimize::archive::StoredArchive;
+use crate::optimize::store::{RunRow, StoredEval};
+
+/// `GET /api/runs`.
+#[derive(Debug, Serialize)]
+pub struct RunsView {
+    /// The store, as it may be shown (no password).
+    pub store: String,
+    /// The snapshot's version (what the event stream announced).
+    pub version: u64,
+    /// Why the store cannot be read right now, while it is opened again.
+    pub reconnecting: Option<String>,
+    /// The runs, newest first.
+    pub runs: Vec<RunView>,
+}
+
+/// One run in the runs table.
+#[derive(Debug, Serialize)]
+pub struct RunView {
+    /// The run's id.
+    pub id: i64,
+    /// The simulation file.
+    pub config: String,
+    /// The optimizer.
+    pub algorithm: String,
+    /// The run's seed.
+    pub seed: u64,
+    /// The fitness.
+    pub fitness: String,
+    /// Simulated seconds per episode.
+    pub duration: f64,
+    /// When it started (UTC).
+    pub started: String,
+    /// Finished, or still running (or stopped).
+    pub finished: bool,
+    /// Evaluations stored.
+    pub evaluations: u64,
+    /// The best score so far.
+    pub best: Option<f64>,
+    /// The best candidate's values, gene by gene.
+    pub best_values: Vec<(String, String)>,
+    /// The best candidate's score on each engine.
+    pub best_engines: Vec<(String, f64)>,
+    /// Co-design bodies rejected unrun.
+    pub rejected: u64,
+}
+
+impl RunView {
+    /// The view of a stored run.
+    pub fn of(r: &RunRow) -> RunView {
+        let values: Vec<String> = r
+            .best_values
+            .as_deref()
+            .unwrap_or("")
+            .split_whitespace()
+            .map(str::to_string)
+            .collect();
+        RunView {
+            id: r.id,
+            config: r.info.config.clone(),
+            algorithm: r.info.algorithm.clone(),
+            seed: r.info.seed,
+            fitness: r.info.fitness.clone(),
+            duration: r.info.duration,
+            started: r.started.clone(),
+            finished: r.finished,
+            evaluations: r.evaluations,
+            best: r.best_score.filter(|s| s.is_finite()),
+            best_values: r.info.genes.iter().cloned().zip(values).collect(),
+            best_engines: r
+                .best_engines
+                .iter()
+                .map(|(k, s)| (k.to_string(), *s))
+                .collect(),
+            rejected: r.rejected,
+        }
+    }
+}
+
+/// `GET /api/runs/{id}?from=N`: the run's evaluations from number N on.
+#[derive(Debug, Serialize)]
+pub struct EvaluationsView {
+    /// The run.
+    pub run: RunView,
+    /// Evaluations read in all (the next `from`).
+    pub read: u64,
+    /// Those from `from` on.
+    pub evaluations: Vec<EvaluationView>,
+}
+
+/// One evaluation.
+#[derive(Debug, Serialize)]
+pub struct EvaluationView {
+    /// Its number.
+    pub number: u64,
+    /// Its round.
+    pub round: u64,
+    /// Its score (`null`: a failed episode or a rejected body).
+    pub score: Option<f64>,
+    /// Its parameter values.
+    pub values: Vec<f64>,
+    /// Its score on each engine.
+    pub engines: Vec<(String, f64)>,
+    /// Why its body was rejected unrun.
+    pub rejected: Option<String>,
+    /// Measured descriptors (MAP-Elites).
+    pub measures: Vec<f64>,
+    /// Wall seconds of its evaluation.
+    pub wall: f64,
+}
+
+impl EvaluationView {
+    /// The view of a stored evaluation.
+    pub fn of(e: &StoredEval) -> EvaluationView {
+        EvaluationView {
+            number: e.number,
+            round: e.round,
+            score: Some(e.score).filter(|s| s.is_finite()),
+            values: e.values.clone(),
+            engines: e.engines.iter().map(|(k, s)| (k.to_string(), *s)).collect(),
+            rejected: e.rejected.clone(),
+            measures: e.measures.clone(),
+            wall: e.wall,
+        }
+    }
+}
+
+/// A run's evaluations as CSV: number, round, score, wall, then one column per gene.
+pub fn evaluations_csv(run: &RunRow, evals: &[StoredEval]) -> String {
+    let field = |t: &str| {
+        if t.contains([',', '"', '\n']) {
+            format!("\"{}\"", t.replace('"', "\"\""))
+        } else {
+            t.to_string()
+        }
+    };
+    let mut out = String::from("number,round,score,wall_s");
+    for g in &run.info.genes {
+        out.push(',');
+        out.push_str(&field(g));
+    }
+    out.push('\n');
+    for e in evals {
+        out.push_str(&format!("{},{},{},{}", e.number, e.round, e.score, e.wall));
+        for v in &e.values {
+            out.push_str(&format!(",{v}"));
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// `GET /api/runs/{id}/map`: a MAP-Elites run's archive, as `proleg results` reads it.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct MapView {
+    /// The two descriptors (x, y).
+    pub labels: [String; 2],
+    /// Cells along x and along y.
+    pub bins: [usize; 2],
+    /// The filled cells: x, y, the elite's score and its values.
+    pub cells: Vec<MapCell>,
+    /// Cells in all.
+    pub total: usize,
+    /// The best elite's score.
+    pub best: Option<f64>,
+    /// `proleg results`' line on it (coverage, QD-score, best body).
+    pub summary: String,
+}
+
+/// A filled cell.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct MapCell {
+    /// Column.
+    pub x: usize,
+    /// Row.
+    pub y: usize,
+    /// The elite's score.
+    pub score: f64,
+    /// The elite's genome (allele indices).
+    pub genome: Vec<u32>,
+}
+
+impl MapView {
+    /// The view of a stored archive.
+    pub fn of(a: &StoredArchive) -> MapView {
+        let nx = a.archive.axes[0].bins;
+        let cells = a
+            .archive
+            .cells
+            .iter()
+            .enumerate()
+            .filter_map(|(i, c)| {
+                c.as_ref().map(|(g, score)| MapCell {
+                    x: i % nx,
+                    y: i / nx,
+                    score: *score,
+                    genome: g.clone(),
+                })
+            })
+            .collect();
+        MapView {
+            labels: a.labels.clone(),
+            bins: [nx, a.archive.axes[1].bins],
+            cells,
+            total: a.archive.cells.len(),
+            best: a.archive.best().map(|(_, s)| s).filter(|s| s.is_finite()),
+            summary: a.summary(),
+        }
+    }
+}

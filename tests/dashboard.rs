@@ -1,0 +1,428 @@
+//! `proleg dashboard` for real: the program serving a real store, read over HTTP and in
+//! Debian's Chromium (headless, driven through chromedriver). The page follows a live
+//! PostgreSQL run without reloading, shows a run named with markup as text, and a remote
+//! bind refuses requests without its token; bad requests get 400/404 with a message.
+
+mod common;
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::pg::{server, spawn, text};
+use common::shared_run::{HAS_STORE, ga_args};
+use proleg::optimize::store::{RunInfo, Store, StoreLocation, StoredEval};
+
+/// A running `proleg dashboard`, stopped when dropped.
+struct Dashboard {
+    child: Child,
+    /// The address it printed (with the token for a remote bind).
+    url: String,
+}
+
+impl Dashboard {
+    fn start(store: &str, bind: &str, password: Option<&str>) -> Dashboard {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_proleg"));
+        c.args(["dashboard", store, "--bind", bind])
+            .current_dir(common::root())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .env_remove("PGPASSFILE");
+        if let Some(p) = password {
+            c.env("PGPASSWORD", p);
+        }
+        let mut child = c.spawn().expect("proleg dashboard starts");
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().expect("piped"))
+            .read_line(&mut line)
+            .expect("the dashboard says where it listens");
+        let url = line
+            .split_whitespace()
+            .find(|w| w.starts_with("http://"))
+            .unwrap_or_else(|| panic!("no address in: {line}"))
+            .to_string();
+        Dashboard { child, url }
+    }
+
+    /// `http://ADDR` without path or token.
+    fn base(&self) -> String {
+        let rest = self.url.trim_start_matches("http://");
+        format!("http://{}", rest.split('/').next().unwrap_or(rest))
+    }
+}
+
+impl Drop for Dashboard {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// `GET url` (plain HTTP/1.1): status and body.
+fn get(url: &str) -> (u16, String) {
+    let rest = url.trim_start_matches("http://");
+    let (host, path) = rest.split_once('/').unwrap_or((rest, ""));
+    let mut s = TcpStream::connect(host).expect("the dashboard answers");
+    write!(
+        s,
+        "GET /{path} HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n"
+    )
+    .expect("request");
+    let mut all = String::new();
+    s.read_to_string(&mut all).expect("response");
+    let status = all
+        .split_whitespace()
+        .nth(1)
+        .and_then(|c| c.parse().ok())
+        .unwrap_or(0);
+    let body = all
+        .split_once("\r\n\r\n")
+        .map_or("", |(_, b)| b)
+        .to_string();
+    (status, body)
+}
+
+/// The name of the run the page must show as text.
+const MARKUP: &str =
+    "<img src=x onerror=\"document.title='owned'\"><script>document.title='owned'</script>";
+
+/// A SQLite store with a finished GA run and a run named with markup.
+fn sqlite_store(name: &str) -> String {
+    let dir = common::scratch(name);
+    let path = dir.join("runs.sqlite").display().to_string();
+    let (ok, _, err) = common::proleg(&[
+        "optimize",
+        "configs/experiment1_ga.simulation.xml",
+        "--max-evals",
+        "30",
+        "--duration",
+        "0.5",
+        "--quiet",
+        "--store",
+        &path,
+    ]);
+    assert!(ok, "{err}");
+    let mut store = Store::open(&StoreLocation::sqlite(&path)).expect("store");
+    let info = RunInfo {
+        config: MARKUP.into(),
+        algorithm: "<b>bold</b>".into(),
+        seed: 1,
+        fitness: "displacement".into(),
+        duration: 1.0,
+        genes: vec!["<i>gene</i>".into()],
+    };
+    let run = store.start_run(&info, &[], &[]).expect("run");
+    let eval = StoredEval {
+        number: 0,
+        round: 0,
+        genome: vec![1],
+        values: vec![1.0],
+        score: 0.5,
+        engines: Vec::new(),
+        rejected: None,
+        measures: Vec::new(),
+        wall: 0.1,
+    };
+    store.record(run, 1, &[eval]).expect("record");
+    path
+}
+
+#[test]
+fn the_api_answers_bad_requests_with_their_status_and_a_remote_bind_needs_its_token() {
+    let store = sqlite_store("dashboard_http");
+    let d = Dashboard::start(&store, "127.0.0.1:0", None);
+    assert!(!d.url.contains("token"), "loopback: no token: {}", d.url);
+    let (status, body) = get(&format!("{}/api/runs", d.base()));
+    assert_eq!(status, 200, "{body}");
+    let runs: serde_json::Value = serde_json::from_str(&body).expect("JSON");
+    assert_eq!(runs["runs"].as_array().map(Vec::len), Some(2));
+    assert_eq!(runs["runs"][0]["config"], MARKUP, "names come as data");
+    assert_eq!(runs["runs"][1]["evaluations"], 30);
+    let (status, body) = get(&format!("{}/api/runs/x1", d.base()));
+    assert_eq!(
+        (status, body.as_str()),
+        (400, "run id \"x1\" is not a number")
+    );
+    let (status, body) = get(&format!("{}/api/runs/99", d.base()));
+    assert_eq!((status, body.as_str()), (404, "the store holds no run 99"));
+    let (status, body) = get(&format!("{}/api/runs/1?from=minus", d.base()));
+    assert_eq!(status, 400, "{body}");
+    let (status, body) = get(&format!("{}/api/runs/1/evaluations.csv", d.base()));
+    assert_eq!(status, 200);
+    assert_eq!(body.lines().count(), 31, "a header and 30 evaluations");
+    assert!(body.starts_with("number,round,score,wall_s,PatternGenerator_sinusoidal"));
+    let (status, _) = get(&format!("{}/no/such/page", d.base()));
+    assert_eq!(status, 404);
+
+    // Any address but loopback: a token, printed once, that every request must present.
+    let remote = Dashboard::start(&store, "0.0.0.0:0", None);
+    let port = remote.base().rsplit(':').next().unwrap_or("").to_string();
+    let token = remote
+        .url
+        .split("token=")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no token in {}", remote.url))
+        .to_string();
+    assert!(token.len() >= 32, "{token}");
+    let local = format!("http://127.0.0.1:{port}");
+    assert_eq!(get(&format!("{local}/api/runs")).0, 401);
+    assert_eq!(get(&format!("{local}/")).0, 401);
+    assert_eq!(get(&format!("{local}/api/runs?token=wrong{token}")).0, 401);
+    assert_eq!(get(&format!("{local}/api/runs?token={token}")).0, 200);
+}
+
+/// chromedriver and a headless Chromium session, ended when dropped.
+struct Browser {
+    driver: Child,
+    runtime: tokio::runtime::Runtime,
+    client: Option<fantoccini::Client>,
+}
+
+impl Browser {
+    fn start(name: &str) -> Browser {
+        let port = {
+            let l = std::net::TcpListener::bind("127.0.0.1:0").expect("a free port");
+            l.local_addr().expect("port").port()
+        };
+        let driver = Command::new("chromedriver")
+            .arg(format!("--port={port}"))
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("chromedriver (Debian's chromium-driver; scripts/test installs it)");
+        let profile = common::scratch(&format!("{name}_chromium"));
+        let caps: serde_json::Map<String, serde_json::Value> =
+            serde_json::from_value(serde_json::json!({ "goog:chromeOptions": {
+                "binary": "/usr/bin/chromium",
+                "args": ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
+                         "--no-first-run", "--disable-background-networking",
+                         "--disable-component-update", "--disable-sync",
+                         "--window-size=1300,900",
+                         format!("--user-data-dir={}", profile.display())]
+            }}))
+            .expect("capabilities");
+        let runtime = tokio::runtime::Runtime::new().expect("runtime");
+        let url = format!("http://127.0.0.1:{port}");
+        let client = runtime.block_on(async {
+            // chromedriver takes a moment to listen.
+            for _ in 0..100 {
+                let c = fantoccini::ClientBuilder::native()
+                    .capabilities(caps.clone())
+                    .connect(&url)
+                    .await;
+                match c {
+                    Ok(c) => return c,
+                    Err(_) => tokio::time::sleep(Duration::from_millis(100)).await,
+                }
+            }
+            panic!("chromedriver did not answer at {url}");
+        });
+        Browser {
+            driver,
+            runtime,
+            client: Some(client),
+        }
+    }
+
+    fn goto(&self, url: &str) {
+        let c = self.client.as_ref().expect("a session");
+        self.runtime.block_on(c.goto(url)).expect("the page loads");
+    }
+
+    /// The value of the JavaScript expression `js` in the page.
+    fn eval(&self, js: &str) -> serde_json::Value {
+        let c = self.client.as_ref().expect("a session");
+        self.runtime
+            .block_on(c.execute(&format!("return {js};"), vec![]))
+            .unwrap_or_else(|e| panic!("{js}: {e}"))
+    }
+
+    /// A PNG of the window, written to `path` (for docs/; looked at before committing).
+    fn screenshot(&self, path: &std::path::Path) {
+        let c = self.client.as_ref().expect("a session");
+        let png = self.runtime.block_on(c.screenshot()).expect("a screenshot");
+        std::fs::write(path, png).expect("screenshot written");
+    }
+
+    /// Waits (up to 20 s) until `js` is true in the page.
+    fn wait_for(&self, js: &str) {
+        let deadline = Instant::now() + Duration::from_secs(20);
+        while self.eval(js) != serde_json::Value::Bool(true) {
+            assert!(Instant::now() < deadline, "timed out waiting for: {js}");
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+}
+
+impl Drop for Browser {
+    fn drop(&mut self) {
+        if let Some(c) = self.client.take() {
+            let _ = self.runtime.block_on(c.close());
+        }
+        let _ = self.driver.kill();
+        let _ = self.driver.wait();
+    }
+}
+
+#[test]
+fn a_run_named_with_markup_shows_as_text_in_the_browser() {
+    let store = sqlite_store("dashboard_markup");
+    let d = Dashboard::start(&store, "127.0.0.1:0", None);
+    let b = Browser::start("dashboard_markup");
+    b.goto(&d.url);
+    b.wait_for("document.querySelectorAll('#runs tbody tr').length === 2");
+    let first = b.eval("document.querySelector('#runs tbody tr td:nth-child(3)').textContent");
+    assert_eq!(first, MARKUP, "the name is text");
+    assert_eq!(
+        b.eval("document.querySelectorAll('main img, main b, main i').length"),
+        0
+    );
+    assert_eq!(
+        b.eval("document.scripts.length"),
+        2,
+        "only the page's own scripts"
+    );
+    assert_eq!(b.eval("document.title"), "proleg dashboard");
+    // The finished run, opened: its 30 evaluations in the curve and the table.
+    b.goto(&format!("{}#run=1", d.base()));
+    b.wait_for("window.proleg.evaluations.length === 30");
+    assert_eq!(
+        b.eval("window.proleg.evaluations.every((e, i) => e.number === i)"),
+        true,
+        "each evaluation once, in order"
+    );
+    assert_eq!(b.eval("window.proleg.curve.data[0].length"), 30);
+    assert_eq!(
+        b.eval("document.querySelectorAll('#evaluations tbody tr').length"),
+        30
+    );
+}
+
+/// The evaluations of run 1 done in order (those the page can show).
+fn done_in_order(pg: &common::pg::Pg, db: &str) -> i64 {
+    pg.connect(db)
+        .query_one(
+            "SELECT COALESCE((SELECT MIN(number) FROM evaluations WHERE run = 1 AND state <> 'done'),
+                             (SELECT COUNT(*) FROM evaluations WHERE run = 1))",
+            &[],
+        )
+        .map(|r| r.get::<_, i64>(0))
+        .expect("count")
+}
+
+#[test]
+fn the_page_follows_a_live_postgres_run_within_two_seconds_without_reloading() {
+    let pg = server();
+    let url = pg.database("dashboard_live");
+    let mut args = ga_args("300", "2", &url);
+    args.extend(["--workers", "0"]);
+    let mut driver = spawn(pg.proleg(&args));
+    pg.wait_until("dashboard_live", HAS_STORE, &mut driver);
+    let worker = spawn(pg.proleg(&[
+        "worker",
+        "--store",
+        &url,
+        "--threads",
+        "1",
+        "--idle-exit",
+        "3",
+    ]));
+    let d = Dashboard::start(&url, "127.0.0.1:0", Some(&pg.password));
+    let b = Browser::start("dashboard_live");
+    b.goto(&format!("{}#run=1", d.base()));
+    b.wait_for("window.proleg.version > 0 && window.proleg.run === 1");
+    b.eval("(window.loadedOnce = window.loadedOnce || 'first load', true)");
+    let mut seen = Vec::new();
+    for _ in 0..4 {
+        let in_store = done_in_order(&pg, "dashboard_live");
+        let asked = Instant::now();
+        b.wait_for(&format!("window.proleg.evaluations.length >= {in_store}"));
+        let lag = asked.elapsed();
+        assert!(
+            lag < Duration::from_secs(2),
+            "the page showed {in_store} evaluations {lag:?} after the store had them"
+        );
+        seen.push(in_store);
+        // The next sample once the store has grown.
+        pg.wait_until(
+            "dashboard_live",
+            &format!(
+                "SELECT COALESCE((SELECT MIN(number) FROM evaluations WHERE run = 1 AND state <> 'done'), 300) > {in_store}"
+            ),
+            &mut driver,
+        );
+    }
+    assert!(
+        seen.windows(2).any(|w| w[1] > w[0]),
+        "the run grew: {seen:?}"
+    );
+    assert_eq!(b.eval("window.loadedOnce"), "first load", "no reload");
+    assert_eq!(
+        b.eval("window.proleg.evaluations.every((e, i) => e.number === i)"),
+        true,
+        "each evaluation once, in order"
+    );
+    assert_eq!(
+        b.eval("window.proleg.curve.data[0].length === window.proleg.evaluations.length"),
+        true
+    );
+    let out = driver.wait_with_output().expect("driver");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let w = worker.wait_with_output().expect("worker");
+    assert!(w.status.success(), "{}", text(&w.stderr));
+    b.wait_for("window.proleg.evaluations.length === 300");
+    // The password never reached the page.
+    let page = b.eval("document.documentElement.outerHTML");
+    assert!(!page.to_string().contains(&pg.password));
+}
+
+#[test]
+fn a_map_elites_run_shows_the_archive_proleg_results_shows() {
+    let dir = common::scratch("dashboard_map");
+    let store = dir.join("map.sqlite");
+    let (ok, _, err) = common::optimize(
+        "configs/experiment1_mapelites.simulation.xml",
+        ("60", "1"),
+        &store,
+        &[],
+    );
+    assert!(ok, "{err}");
+    let line = common::archive_line(&store);
+    let d = Dashboard::start(store.to_str().unwrap(), "127.0.0.1:0", None);
+    let (status, body) = get(&format!("{}/api/runs/1/map", d.base()));
+    assert_eq!(status, 200, "{body}");
+    let map: serde_json::Value = serde_json::from_str(&body).expect("JSON");
+    assert_eq!(
+        map["summary"],
+        line.trim(),
+        "the page's archive is `proleg results`' archive"
+    );
+    let filled: usize = line
+        .split(" archive: ")
+        .nth(1)
+        .and_then(|l| l.split_whitespace().next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no cell count in {line}"));
+    assert_eq!(map["cells"].as_array().map(Vec::len), Some(filled));
+    let (status, _) = get(&format!("{}/api/runs/7/map", d.base()));
+    assert_eq!(status, 404);
+    let b = Browser::start("dashboard_map");
+    b.goto(&format!("{}#run=1", d.base()));
+    b.wait_for("window.proleg.map !== null && !document.querySelector('#map-box').hidden");
+    assert_eq!(
+        b.eval("window.proleg.map.cells.length"),
+        serde_json::json!(filled)
+    );
+    let summary = b.eval("document.querySelector('#map-summary').textContent");
+    assert!(
+        summary.as_str().is_some_and(|s| s.starts_with(line.trim())),
+        "{summary}"
+    );
+    assert_eq!(
+        b.eval("window.proleg.evaluations.length === 60 && window.proleg.evaluations.every((e, i) => e.number === i)"),
+        true,
+        "each evaluation once, in order"
+    );
+    b.screenshot(&dir.join("dashboard_map.png"));
+}
