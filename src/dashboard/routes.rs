@@ -17,10 +17,11 @@ use axum::routing::get;
 use tokio_stream::StreamExt;
 use tokio_stream::wrappers::WatchStream;
 
-use crate::dashboard::snapshot::Shared;
+use crate::dashboard::snapshot::{Shared, Snapshot};
 use crate::dashboard::views::{
     EvaluationView, EvaluationsView, RunView, RunsView, evaluations_csv,
 };
+use crate::optimize::store::{RunRow, StoredEval};
 
 /// What every request may read.
 #[derive(Clone)]
@@ -176,6 +177,16 @@ impl IntoResponse for ApiError {
     }
 }
 
+/// Run `id` of the snapshot and its evaluations read so far.
+fn run_in(s: &Snapshot, id: i64) -> Result<(&RunRow, &[StoredEval]), ApiError> {
+    let row = s
+        .runs
+        .iter()
+        .find(|r| r.id == id)
+        .ok_or(ApiError::NoRun(id))?;
+    Ok((row, s.evaluations.get(&id).map_or(&[][..], Vec::as_slice)))
+}
+
 fn run_id(text: &str) -> Result<i64, ApiError> {
     text.parse().map_err(|_| ApiError::BadId(text.to_string()))
 }
@@ -194,12 +205,7 @@ async fn run(
     let id = run_id(&id)?;
     let Query(From { from }) = query.map_err(|_| ApiError::BadFrom)?;
     let s = app.shared.read().map_err(|_| ApiError::Unavailable)?;
-    let row = s
-        .runs
-        .iter()
-        .find(|r| r.id == id)
-        .ok_or(ApiError::NoRun(id))?;
-    let all = s.evaluations.get(&id).map_or(&[][..], Vec::as_slice);
+    let (row, all) = run_in(&s, id)?;
     let first = (from.unwrap_or(0) as usize).min(all.len());
     Ok(Json(EvaluationsView {
         run: RunView::of(row),
@@ -212,12 +218,7 @@ async fn run(
 async fn run_csv(State(app): State<App>, Path(id): Path<String>) -> Result<Response, ApiError> {
     let id = run_id(&id)?;
     let s = app.shared.read().map_err(|_| ApiError::Unavailable)?;
-    let row = s
-        .runs
-        .iter()
-        .find(|r| r.id == id)
-        .ok_or(ApiError::NoRun(id))?;
-    let all = s.evaluations.get(&id).map_or(&[][..], Vec::as_slice);
+    let (row, all) = run_in(&s, id)?;
     let disposition = format!("attachment; filename=\"run{id}_evaluations.csv\"");
     Ok((
         [
