@@ -162,8 +162,8 @@ pub enum ApiError {
     #[error("the store holds no run {0}")]
     NoRun(i64),
     /// A run without a MAP-Elites archive (or one that cannot be rebuilt here).
-    #[error("{0}")]
-    NoMap(String),
+    #[error(transparent)]
+    NoMap(#[from] crate::dashboard::snapshot::NoArchive),
 }
 
 impl IntoResponse for ApiError {
@@ -239,9 +239,9 @@ async fn run_map(State(app): State<App>, Path(id): Path<String>) -> Result<Respo
     match s.maps.get(&id) {
         Some(Ok(map)) => Ok(Json(map).into_response()),
         Some(Err(why)) => Err(ApiError::NoMap(why.clone())),
-        None => Err(ApiError::NoMap(format!(
-            "run {id} is not a MAP-Elites run: it keeps no archive"
-        ))),
+        None => Err(ApiError::NoMap(
+            crate::dashboard::snapshot::NoArchive::NotKept(id),
+        )),
     }
 }
 

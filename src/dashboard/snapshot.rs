@@ -29,7 +29,7 @@ pub struct Snapshot {
     pub evaluations: HashMap<i64, Vec<StoredEval>>,
     /// MAP-Elites runs' archives (`Err`: why it cannot be rebuilt here), kept up to date
     /// as their runs grow; runs of other algorithms have none.
-    pub maps: HashMap<i64, Result<MapView, String>>,
+    pub maps: HashMap<i64, Result<MapView, NoArchive>>,
     /// Bumped whenever anything above changed (what the event stream announces).
     pub version: u64,
     /// Why the store cannot be read right now (it is being opened again).
@@ -44,7 +44,7 @@ pub type Shared = Arc<RwLock<Snapshot>>;
 struct Read {
     runs: Vec<RunRow>,
     new: HashMap<i64, Vec<StoredEval>>,
-    maps: HashMap<i64, Result<MapView, String>>,
+    maps: HashMap<i64, Result<MapView, NoArchive>>,
 }
 
 /// Opens the store (an error here is the dashboard's start failing) and reads it once.
@@ -177,10 +177,34 @@ fn is_map_elites(r: &RunRow) -> bool {
 
 /// A MAP-Elites run's archive, rebuilt from its stored evaluations as `proleg results`
 /// does; why not, when its configuration does not load here.
-fn archive_of(store: &mut Store, run: i64, registry: &ModuleRegistry) -> Result<MapView, String> {
+fn archive_of(
+    store: &mut Store,
+    run: i64,
+    registry: &ModuleRegistry,
+) -> Result<MapView, NoArchive> {
     match crate::optimize::archive::stored_archive(store, run, registry) {
         Ok(Some(a)) => Ok(MapView::of(&a)),
-        Ok(None) => Err(format!("run {run} keeps no MAP-Elites archive")),
-        Err(e) => Err(e.to_string()),
+        Ok(None) => Err(NoArchive::NotKept(run)),
+        Err(e) => Err(NoArchive::Unbuildable {
+            run,
+            cause: e.to_string(),
+        }),
     }
+}
+
+/// Why a MAP-Elites run shows no archive. Kept in the snapshot (and compared between
+/// reads), so the optimizer's error is kept as its message.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum NoArchive {
+    /// The run's configuration names no MAP-Elites optimizer.
+    #[error("run {0} keeps no MAP-Elites archive")]
+    NotKept(i64),
+    /// Its configuration does not load here (a plugin module missing, say).
+    #[error("run {run}: its archive cannot be rebuilt here: {cause}")]
+    Unbuildable {
+        /// The run.
+        run: i64,
+        /// The optimizer's error, as it reads.
+        cause: String,
+    },
 }
