@@ -11,7 +11,7 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use common::pg::{server, spawn, text};
-use common::shared_run::{HAS_STORE, ga_args};
+use common::shared_run::driver_on_fresh_database;
 use proleg::optimize::store::{RunInfo, Store, StoreLocation, StoredEval};
 
 /// A running `proleg dashboard`, stopped when dropped.
@@ -314,11 +314,7 @@ fn done_in_order(pg: &common::pg::Pg, db: &str) -> i64 {
 #[test]
 fn the_page_follows_a_live_postgres_run_within_two_seconds_without_reloading() {
     let pg = server();
-    let url = pg.database("dashboard_live");
-    let mut args = ga_args("300", "2", &url);
-    args.extend(["--workers", "0"]);
-    let mut driver = spawn(pg.proleg(&args));
-    pg.wait_until("dashboard_live", HAS_STORE, &mut driver);
+    let (url, mut driver) = driver_on_fresh_database(&pg, "dashboard_live", "300", "2");
     let worker = spawn(pg.proleg(&[
         "worker",
         "--store",

@@ -12,7 +12,8 @@ use std::time::Duration;
 
 use common::pg::{Pg, output, server, spawn, text};
 use common::shared_run::{
-    GA, HAS_STORE, evaluations, ga_args, result_lines, sqlite_run, worker_counts,
+    GA, HAS_STORE, driver_on_fresh_database, evaluations, ga_args, result_lines, sqlite_run,
+    worker_counts,
 };
 use proleg::config::{FsSource, RecordingSource, load_simulation_with};
 use proleg::control::ModuleRegistry;
@@ -93,11 +94,7 @@ fn worker_role(pg: &Pg, db: &str, role: &str, password: &str) {
 fn a_driver_and_three_workers_store_each_evaluation_once_and_find_the_sqlite_best() {
     let (expected, reference) = sqlite_run("optimize_shared_three", "75", "1");
     let pg = server();
-    let url = pg.database("shared_three");
-    let mut args = ga_args("75", "1", &url);
-    args.extend(["--workers", "0"]);
-    let mut driver = spawn(pg.proleg(&args));
-    pg.wait_until("shared_three", HAS_STORE, &mut driver);
+    let (url, driver) = driver_on_fresh_database(&pg, "shared_three", "75", "1");
     worker_role(&pg, "shared_three", "proleg_worker_three", "w-three");
     let worker_url = url.replace("proleg_admin@", "proleg_worker_three@");
     let workers: Vec<Child> = (0..3)

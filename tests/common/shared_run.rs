@@ -1,7 +1,7 @@
 //! What the shared-store tests share: the GA run they compare, its one-process SQLite
 //! reference, and the stored evaluations and worker reports they read back.
 
-use super::pg::{Pg, output, text};
+use super::pg::{Pg, output, spawn, text};
 
 /// The configuration the runs optimize.
 pub const GA: &str = "configs/experiment1_ga.simulation.xml";
@@ -82,4 +82,20 @@ pub fn worker_counts(out: &str) -> (u64, u64) {
         number_before(" evaluations written"),
         number_before(" late results discarded"),
     )
+}
+
+/// A driver of the GA (`evals` evaluations of `duration` s, no threads of its own) on a
+/// fresh database `db` of `pg`, once it has made the store: its URL and the driver.
+pub fn driver_on_fresh_database(
+    pg: &Pg,
+    db: &str,
+    evals: &str,
+    duration: &str,
+) -> (String, std::process::Child) {
+    let url = pg.database(db);
+    let mut args = ga_args(evals, duration, &url);
+    args.extend(["--workers", "0"]);
+    let mut driver = spawn(pg.proleg(&args));
+    pg.wait_until(db, HAS_STORE, &mut driver);
+    (url, driver)
 }
