@@ -23,8 +23,15 @@ struct Dashboard {
 
 impl Dashboard {
     fn start(store: &str, bind: &str, password: Option<&str>) -> Dashboard {
+        // Each dashboard of this process its own cache folder.
+        static STARTED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+        let cache = common::scratch(&format!(
+            "dashboard_cache_{}",
+            STARTED.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+        ));
         let mut c = Command::new(env!("CARGO_BIN_EXE_proleg"));
-        c.args(["dashboard", store, "--bind", bind])
+        c.args(["dashboard", store, "--bind", bind, "--cache"])
+            .arg(&cache)
             .current_dir(common::root())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
@@ -61,12 +68,17 @@ impl Drop for Dashboard {
 
 /// `GET url` (plain HTTP/1.1): status and body.
 fn get(url: &str) -> (u16, String) {
+    request("GET", url, "")
+}
+
+/// `METHOD url` with `headers` (each ending in CRLF): status and body.
+fn request(method: &str, url: &str, headers: &str) -> (u16, String) {
     let rest = url.trim_start_matches("http://");
     let (host, path) = rest.split_once('/').unwrap_or((rest, ""));
     let mut s = TcpStream::connect(host).expect("the dashboard answers");
     write!(
         s,
-        "GET /{path} HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n"
+        "{method} /{path} HTTP/1.1\r\nHost: {host}\r\n{headers}Content-Length: 0\r\nConnection: close\r\n\r\n"
     )
     .expect("request");
     let mut all = String::new();
@@ -247,7 +259,12 @@ impl Browser {
 
     /// Waits (up to 20 s) until `js` is true in the page.
     fn wait_for(&self, js: &str) {
-        let deadline = Instant::now() + Duration::from_secs(20);
+        self.wait_up_to(js, Duration::from_secs(20));
+    }
+
+    /// Waits up to `limit` until `js` is true in the page.
+    fn wait_up_to(&self, js: &str, limit: Duration) {
+        let deadline = Instant::now() + limit;
         while self.eval(js) != serde_json::Value::Bool(true) {
             assert!(Instant::now() < deadline, "timed out waiting for: {js}");
             std::thread::sleep(Duration::from_millis(50));
@@ -354,6 +371,17 @@ fn the_page_follows_a_live_postgres_run_within_two_seconds_without_reloading() {
         "the run grew: {seen:?}"
     );
     assert_eq!(b.eval("window.loadedOnce"), "first load", "no reload");
+    // The run's queue and its worker, live while it holds evaluations.
+    b.wait_for(
+        "!document.querySelector('#workers-box').hidden && \
+         [...document.querySelectorAll('#workers tbody tr')].some((r) => r.lastChild.textContent === 'live')",
+    );
+    let counts = b.eval("document.querySelector('#runs tbody tr td.evaluations').textContent");
+    assert!(
+        counts.as_str().is_some_and(|c| c.contains(" pending, ") && c.contains(" claimed")),
+        "{counts}"
+    );
+    b.screenshot(&common::scratch("dashboard_live_shot").join("dashboard_live.png"));
     assert_eq!(
         b.eval("window.proleg.evaluations.every((e, i) => e.number === i)"),
         true,
@@ -421,4 +449,156 @@ fn a_map_elites_run_shows_the_archive_proleg_results_shows() {
         "each evaluation once, in order"
     );
     b.screenshot(&dir.join("dashboard_map.png"));
+}
+
+/// A picture of the page's video now, 160x90 RGBA, kept in the page as `window[name]`;
+/// returns the share of its pixels that are the robot's blue modules.
+const GRAB: &str = "((name) => { const v = document.querySelector('#eval-video'); \
+    const c = document.createElement('canvas'); c.width = 160; c.height = 90; \
+    const g = c.getContext('2d'); g.drawImage(v, 0, 0, 160, 90); \
+    const d = g.getImageData(0, 0, 160, 90).data; window[name] = d; let blue = 0; \
+    for (let i = 0; i < d.length; i += 4) if (d[i + 2] > d[i] + 40 && d[i + 2] > d[i + 1] + 20) blue++; \
+    let r = 0, gr = 0, bl = 0; for (let i = 0; i < d.length; i += 4) { r += d[i]; gr += d[i + 1]; bl += d[i + 2]; } \
+    window[name + 'Mean'] = [r, gr, bl].map((x) => x / (d.length / 4)); \
+    return blue / (d.length / 4); })";
+
+/// The elements that reach past the window's right edge (the page must fit a laptop's
+/// window without scrolling sideways).
+const FITS: &str = "[...document.querySelectorAll('body *')].filter((e) => \
+    e.getBoundingClientRect().right > document.documentElement.clientWidth + 1 && e.offsetParent !== null) \
+    .map((e) => `${e.tagName}#${e.id}.${e.className} ${Math.round(e.getBoundingClientRect().right)}`) \
+    .concat(document.documentElement.scrollWidth > document.documentElement.clientWidth \
+        ? [`page ${document.documentElement.scrollWidth} > ${document.documentElement.clientWidth}`] : [])";
+
+#[test]
+fn an_evaluation_replays_in_the_page_as_a_video_of_the_robot_with_its_data_plots() {
+    let dir = common::scratch("dashboard_video");
+    let store = dir.join("runs.sqlite");
+    let (ok, _, err) = common::optimize(
+        "configs/experiment1_ga.simulation.xml",
+        ("12", "2"),
+        &store,
+        &[],
+    );
+    assert!(ok, "{err}");
+    let d = Dashboard::start(store.to_str().unwrap(), "127.0.0.1:0", None);
+    let media = |n: u32| format!("{}/api/runs/1/evaluations/{n}/media", d.base());
+    let (status, _) = get(&format!("{}/api/runs/1/evaluations/3/video.webm", d.base()));
+    assert_eq!(status, 404, "no video before it is asked for");
+    // Asked for without the page's header (another site's form): refused, nothing queued.
+    let (status, body) = request("POST", &media(3), "");
+    assert_eq!(status, 400, "{body}");
+    assert_eq!(
+        get(&media(3)).1,
+        r#"{"video":{"state":"absent"},"data":{"state":"absent"}}"#
+    );
+    let b = Browser::start("dashboard_video");
+    b.goto(&format!("{}#run=1", d.base()));
+    b.wait_for("document.querySelector('#evaluations button.replay[data-number=\"3\"]') !== null");
+    b.eval(
+        "(document.querySelector('#evaluations button.replay[data-number=\"3\"]').click(), true)",
+    );
+    // The data file comes first (a headless replay), then the video (the renderer).
+    b.wait_up_to(
+        "window.proleg.data !== null && window.proleg.dataPlot !== null",
+        Duration::from_secs(120),
+    );
+    assert_eq!(
+        b.eval("window.proleg.data.titles.length > 0 && window.proleg.data.time.length > 10"),
+        true
+    );
+    let video = "document.querySelector('#eval-video')";
+    b.wait_up_to(
+        &format!("!{video}.hidden && !{video}.paused && {video}.readyState >= 3"),
+        Duration::from_secs(300),
+    );
+    // A frame is shown a moment after the video starts playing.
+    b.wait_for(&format!("{GRAB}('frameA') > 0.002"));
+    let first = b.eval(&format!("{GRAB}('frameA')"));
+    assert!(
+        first.as_f64().is_some_and(|share| share > 0.002),
+        "the robot's blue modules in the picture: {first} (mean colour {})",
+        b.eval("window.frameAMean")
+    );
+    let t0 = b
+        .eval(&format!("{video}.currentTime"))
+        .as_f64()
+        .unwrap_or(0.0);
+    b.wait_for(&format!("Math.abs({video}.currentTime - {t0}) > 0.6"));
+    b.eval(&format!("{GRAB}('frameB')"));
+    let changed = b.eval(
+        "(() => { let n = 0; for (let i = 0; i < window.frameA.length; i += 4) \
+         if (Math.abs(window.frameA[i] - window.frameB[i]) + Math.abs(window.frameA[i + 1] - window.frameB[i + 1]) \
+             + Math.abs(window.frameA[i + 2] - window.frameB[i + 2]) > 30) n++; return n; })()",
+    );
+    assert!(
+        changed.as_u64().is_some_and(|n| n > 20),
+        "pixels that changed between two moments of the video: {changed}"
+    );
+    b.screenshot(&dir.join("dashboard_video.png"));
+    assert_eq!(
+        b.eval(FITS),
+        serde_json::json!([]),
+        "elements wider than the window"
+    );
+    // Made once: asked again, it is ready at once, from the cache.
+    let (status, body) = request("POST", &media(3), "X-Proleg: 1\r\n");
+    assert_eq!(status, 200);
+    assert_eq!(
+        body,
+        r#"{"video":{"state":"ready"},"data":{"state":"ready"}}"#
+    );
+    let (status, body) = request("POST", &media(30), "X-Proleg: 1\r\n");
+    assert_eq!(status, 404, "{body}");
+}
+
+#[test]
+fn a_store_that_goes_away_shows_reconnecting_and_the_page_recovers_with_it() {
+    // The server on host 0 of a set of the test's own: its link cut is the store gone.
+    let mut hosts = common::hosts::Hosts::up("dashre", 2, 0.5);
+    let pg = hosts.postgres(0);
+    let db = "dashboard_reconnect";
+    let url = pg.database(db);
+    let out =
+        common::pg::output(hosts.proleg(1, &pg, &common::shared_run::ga_args("30", "0.5", &url)));
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let d = Dashboard::start(&url, "127.0.0.1:0", Some(&pg.password));
+    let b = Browser::start("dashboard_reconnect");
+    b.goto(&format!("{}#run=1", d.base()));
+    b.wait_for("window.proleg.evaluations.length === 30");
+    let status = "document.querySelector('#status').textContent";
+    hosts.link(0, false);
+    // A query on a cut link fails after the connection's 20-s user timeout.
+    b.wait_up_to(
+        &format!("{status}.startsWith('reconnecting to the store')"),
+        Duration::from_secs(90),
+    );
+    assert_eq!(
+        b.eval("window.proleg.evaluations.length === 30 && window.proleg.runs.length === 1"),
+        true,
+        "what was read stays shown"
+    );
+    let shown = b.eval(status);
+    assert!(
+        !shown.to_string().contains(&pg.password),
+        "no password in: {shown}"
+    );
+    hosts.link(0, true);
+    // A run started while the page was reconnecting appears once the store is back.
+    let mut store = pg.open_store(db);
+    let info = RunInfo {
+        config: "after the outage".into(),
+        algorithm: "genetic algorithm".into(),
+        seed: 2,
+        fitness: "displacement".into(),
+        duration: 1.0,
+        genes: vec!["g".into()],
+    };
+    proleg::optimize::store::ExperimentStore::start_run(&mut store, &info, "test", &[], &[])
+        .expect("a second run");
+    b.wait_up_to(
+        &format!("{status}.startsWith('live') && window.proleg.runs.length === 2"),
+        Duration::from_secs(90),
+    );
+    assert_eq!(b.eval("window.proleg.evaluations.length"), 30);
 }

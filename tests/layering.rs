@@ -27,7 +27,10 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "config", "control", "data", "measure", "rng", "sensing", "sim",
         ],
     ),
-    ("optimize", &["config", "control", "measure", "rng", "sim"]),
+    (
+        "optimize",
+        &["config", "control", "data", "measure", "rng", "sim"],
+    ),
     (
         "compose",
         &["config", "control", "measure", "optimize", "sim"],
@@ -49,7 +52,10 @@ const ALLOWED: &[(&str, &[&str])] = &[
         "bench",
         &["config", "control", "data", "measure", "rng", "sim"],
     ),
-    ("dashboard", &["config", "control", "optimize", "signal"]),
+    (
+        "dashboard",
+        &["config", "control", "data", "optimize", "signal"],
+    ),
     (
         "gui",
         &[

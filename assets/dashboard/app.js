@@ -13,6 +13,11 @@ const state = {
   curve: null,
   comparePlot: null,
   map: null,          // the open run's MAP-Elites archive, when it keeps one
+  mapCursor: null,    // the cell the keyboard points at
+  evaluation: null,   // the evaluation replayed (video, data file), when one is
+  media: null,        // where its video and data file are
+  dataPlot: null,
+  data: null,         // its data file's series
 };
 // For tests and the curious: what the page shows now.
 window.proleg = state;
@@ -92,14 +97,28 @@ function renderRuns() {
     cell(tr, String(r.id), "num");
     cell(tr, r.config);
     cell(tr, r.algorithm);
+    cell(tr, r.engines.join(", ") || "—");
     cell(tr, r.finished ? "finished" : "running or stopped");
-    cell(tr, String(r.evaluations), "num evaluations");
+    cell(tr, evaluationCount(r), "num evaluations");
+    cell(tr, r.pending === null ? "—" : String(liveWorkers(r).length), "num");
     cell(tr, fmt(r.best), "num");
     cell(tr, r.started);
     tr.addEventListener("click", () => openRun(r.id));
     tr.addEventListener("keydown", (ev) => { if (ev.key === "Enter") openRun(r.id); });
     body.appendChild(tr);
   }
+}
+
+// "done", and for a shared run what its queue holds.
+function evaluationCount(r) {
+  if (r.pending === null) return String(r.evaluations);
+  return `${r.evaluations} done, ${r.pending} pending, ${r.running} claimed`;
+}
+
+// Workers whose lease still holds (by this browser's clock against the database's).
+function liveWorkers(r) {
+  const now = Date.now() / 1000;
+  return r.workers.filter((w) => w.lease_until !== null && w.lease_until > now);
 }
 
 async function openRun(id) {
@@ -109,6 +128,7 @@ async function openRun(id) {
   if (state.curve) { state.curve.destroy(); state.curve = null; }
   state.map = null;
   $("#map-box").hidden = true;
+  closeEvaluation();
   $("#run").hidden = false;
   renderRuns();
   await loadRun();
@@ -129,8 +149,9 @@ async function loadRun() {
   const r = data.run;
   $("#run-title").textContent = `Run ${r.id}: ${r.config}`;
   const summary = $("#run-summary");
-  summary.textContent = `${r.algorithm}, seed ${r.seed}, ${r.fitness} over ${r.duration} s episodes; ` +
-    `${state.evaluations.length} evaluations, best ${fmt(r.best)}` +
+  summary.textContent = `${r.algorithm} on ${r.engines.join(", ") || "an engine not known here"}, ` +
+    `seed ${r.seed}, ${r.fitness} over ${r.duration} s episodes; ` +
+    `${evaluationCount(r)} evaluations (${fmt(r.episode_seconds, 1)} s of episodes), best ${fmt(r.best)}` +
     (r.best_engines.length ? ` (${r.best_engines.map(([k, s]) => `${k} ${fmt(s)}`).join(", ")})` : "") +
     (r.rejected ? `; ${r.rejected} bodies rejected` : "") + (r.finished ? "; finished" : "");
   summary.dataset.evaluations = String(state.evaluations.length);
@@ -138,6 +159,9 @@ async function loadRun() {
   renderBest(r);
   renderCurve();
   renderEvaluations();
+  renderWorkers(r);
+  renderRejected();
+  renderEpisodes(data.episodes);
   if (r.algorithm.includes("MAP-Elites")) await loadMap(id);
 }
 
@@ -157,6 +181,11 @@ async function loadMap(id) {
     return;
   }
   state.map = map;
+  drawMap(map);
+}
+
+// The archive as a coloured grid; the mouse or the keyboard's cursor names a cell's elite.
+function drawMap(map) {
   $("#map-box").hidden = false;
   $("#map-summary").textContent = `${map.summary}; x: ${map.labels[0]}, y: ${map.labels[1]}`;
   const canvas = $("#map");
@@ -172,15 +201,36 @@ async function loadMap(id) {
     ctx.fillStyle = heat(hi > lo ? (c.score - lo) / (hi - lo) : 1);
     ctx.fillRect(c.x * w, (ny - 1 - c.y) * h, w, h);
   }
-  canvas.onmousemove = (ev) => {
-    const r = canvas.getBoundingClientRect();
-    const x = Math.floor(((ev.clientX - r.left) / r.width) * nx);
-    const y = ny - 1 - Math.floor(((ev.clientY - r.top) / r.height) * ny);
+  const describe = (x, y) => {
     const c = map.cells.find((k) => k.x === x && k.y === y);
     $("#map-hover").textContent = c
       ? `cell (${x}, ${y}): score ${fmt(c.score)}, genome ${c.genome.join(" ")}`
       : `cell (${x}, ${y}): empty`;
   };
+  canvas.onmousemove = (ev) => {
+    const r = canvas.getBoundingClientRect();
+    const x = Math.floor(((ev.clientX - r.left) / r.width) * nx);
+    const y = ny - 1 - Math.floor(((ev.clientY - r.top) / r.height) * ny);
+    describe(x, y);
+  };
+  // The keyboard's way over the map: arrows move a cursor from cell to cell.
+  const cursor = state.mapCursor || { x: 0, y: 0 };
+  canvas.onkeydown = (ev) => {
+    const step = { ArrowLeft: [-1, 0], ArrowRight: [1, 0], ArrowUp: [0, 1], ArrowDown: [0, -1] }[ev.key];
+    if (!step) return;
+    ev.preventDefault();
+    cursor.x = Math.min(nx - 1, Math.max(0, cursor.x + step[0]));
+    cursor.y = Math.min(ny - 1, Math.max(0, cursor.y + step[1]));
+    state.mapCursor = cursor;
+    drawMap(map);
+  };
+  if (state.mapCursor) {
+    ctx.strokeStyle = getComputedStyle(document.body).color;
+    ctx.lineWidth = 2;
+    ctx.strokeRect(cursor.x * w + 1, (ny - 1 - cursor.y) * h + 1, w - 2, h - 2);
+    ctx.lineWidth = 1;
+    describe(cursor.x, cursor.y);
+  }
 }
 
 function renderBest(r) {
@@ -206,8 +256,16 @@ function curveData(evals) {
   return [x, best, every];
 }
 
+// Axes drawn in the page's text colour (readable in the light and the dark scheme).
+function axes(x, y) {
+  const fg = getComputedStyle(document.body).color;
+  const grid = { stroke: "rgba(128,128,128,0.25)" };
+  return [{ label: x, stroke: fg, grid }, { label: y, stroke: fg, grid }];
+}
+
 function plotWidth(el) {
-  return Math.max(300, el.clientWidth || 800);
+  // A few pixels short of the box: uPlot rounds its canvas up.
+  return Math.max(300, (el.clientWidth || 800) - 4);
 }
 
 function renderCurve() {
@@ -218,7 +276,7 @@ function renderCurve() {
       title: "Learning curve",
       width: plotWidth(el), height: 280,
       scales: { x: { time: false } },
-      axes: [{ label: "evaluation" }, { label: "score" }],
+      axes: axes("evaluation", "score"),
       series: [
         { label: "evaluation" },
         { label: "best so far", stroke: "#0b61c4", width: 2 },
@@ -249,8 +307,178 @@ function renderEvaluations() {
     cell(tr, String(e.round), "num");
     cell(tr, e.rejected ? `rejected: ${e.rejected}` : fmt(e.score), "num");
     cell(tr, e.values.map((v) => fmt(v, 3)).join("  "));
+    const play = document.createElement("td");
+    if (!e.rejected) {
+      const b = document.createElement("button");
+      b.textContent = "video & data";
+      b.className = "replay";
+      b.dataset.number = e.number;
+      b.setAttribute("aria-label", `replay evaluation ${e.number}: video and data file`);
+      b.addEventListener("click", () => openEvaluation(e.number));
+      play.appendChild(b);
+    }
+    tr.appendChild(play);
     body.appendChild(tr);
   }
+}
+
+function renderWorkers(r) {
+  const box = $("#workers-box");
+  box.hidden = r.pending === null;
+  const body = $("#workers tbody");
+  body.replaceChildren();
+  const now = Date.now() / 1000;
+  for (const w of r.workers) {
+    const tr = document.createElement("tr");
+    cell(tr, w.worker);
+    cell(tr, String(w.running), "num");
+    cell(tr, String(w.done), "num");
+    const left = w.lease_until === null ? null : w.lease_until - now;
+    cell(tr, left === null ? "—" : left >= 0 ? `in ${left.toFixed(0)} s` : `${(-left).toFixed(0)} s ago`, "num");
+    cell(tr, left === null ? "idle on this run" : left >= 0 ? "live" : "lease ran out");
+    body.appendChild(tr);
+  }
+}
+
+// Rejected bodies grouped by their reason, most frequent first.
+function renderRejected() {
+  const groups = new Map();
+  for (const e of state.evaluations) {
+    if (!e.rejected) continue;
+    const g = groups.get(e.rejected) || { count: 0, first: e.number };
+    g.count += 1;
+    groups.set(e.rejected, g);
+  }
+  $("#rejected-box").hidden = groups.size === 0;
+  const body = $("#rejected tbody");
+  body.replaceChildren();
+  for (const [reason, g] of [...groups].sort((a, b) => b[1].count - a[1].count)) {
+    const tr = document.createElement("tr");
+    cell(tr, reason);
+    cell(tr, String(g.count), "num");
+    cell(tr, String(g.first), "num");
+    body.appendChild(tr);
+  }
+}
+
+function renderEpisodes(episodes) {
+  $("#episodes-box").hidden = episodes.length === 0;
+  const body = $("#episodes tbody");
+  body.replaceChildren();
+  for (const e of episodes) {
+    const tr = document.createElement("tr");
+    cell(tr, String(e.episode), "num");
+    cell(tr, String(e.seed), "num");
+    cell(tr, e.draws);
+    body.appendChild(tr);
+  }
+}
+
+// An evaluation replayed: asks the server for its video and data file (made once, in a
+// queue) and shows each when it is ready.
+async function openEvaluation(number) {
+  const id = state.run;
+  state.evaluation = number;
+  state.media = null;
+  state.data = null;
+  if (state.dataPlot) { state.dataPlot.destroy(); state.dataPlot = null; }
+  const video = $("#eval-video");
+  video.removeAttribute("src");
+  video.hidden = true;
+  $("#eval-data").hidden = true;
+  $("#eval").hidden = false;
+  $("#eval-title").textContent = `Run ${id}, evaluation ${number}, replayed`;
+  $("#eval-status").textContent = "asking for its video and data file…";
+  $("#eval").scrollIntoView({ block: "nearest" });
+  const r = await fetch(mediaUrl(id, number), { method: "POST", headers: { "X-Proleg": "1" }, credentials: "same-origin" });
+  if (!r.ok) { $("#eval-status").textContent = `${r.status} ${await r.text()}`; return; }
+  await followMedia(id, number, await r.json());
+}
+
+function mediaUrl(id, number, file = "media") {
+  return `api/runs/${id}/evaluations/${number}/${file}`;
+}
+
+function closeEvaluation() {
+  state.evaluation = null;
+  $("#eval").hidden = true;
+  const video = $("#eval-video");
+  video.pause();
+  video.removeAttribute("src");
+}
+
+function describeMedium(what, m) {
+  switch (m.state) {
+    case "queued": return `${what}: queued (${m.ahead} before it)`;
+    case "making": return `${what}: being made`;
+    case "ready": return `${what}: ready`;
+    case "failed": return `${what} failed: ${m.error}`;
+    case "unavailable": return `no ${what}: ${m.error}`;
+    default: return `${what}: not asked for`;
+  }
+}
+
+const pending = (m) => m.state === "queued" || m.state === "making";
+
+// Shows what is ready; asks again every second while something is still being made.
+async function followMedia(id, number, media) {
+  while (state.run === id && state.evaluation === number) {
+    state.media = media;
+    $("#eval-status").textContent = `${describeMedium("data file", media.data)} · ${describeMedium("video", media.video)}`;
+    if (media.data.state === "ready" && state.data === null) await showData(id, number);
+    const video = $("#eval-video");
+    if (media.video.state === "ready" && !video.getAttribute("src")) {
+      video.src = mediaUrl(id, number, "video.webm");
+      video.hidden = false;
+      video.play().catch(() => {});
+    }
+    if (!pending(media.data) && !pending(media.video)) return;
+    await new Promise((done) => setTimeout(done, 1000));
+    try {
+      media = await getJson(mediaUrl(id, number));
+    } catch (e) {
+      $("#eval-status").textContent = e.message;
+      return;
+    }
+  }
+}
+
+async function showData(id, number) {
+  const data = await getJson(mediaUrl(id, number, "data.json"));
+  if (state.run !== id || state.evaluation !== number) return;
+  state.data = data;
+  $("#eval-data").hidden = false;
+  $("#eval-data-file").href = mediaUrl(id, number, "data.xml");
+  const select = $("#eval-series");
+  select.replaceChildren();
+  data.titles.forEach((t, i) => {
+    const o = document.createElement("option");
+    o.value = String(i);
+    o.textContent = t;
+    o.selected = i < 4;
+    select.appendChild(o);
+  });
+  select.onchange = renderData;
+  renderData();
+}
+
+function renderData() {
+  const data = state.data;
+  if (!data) return;
+  const picked = [...$("#eval-series").selectedOptions].map((o) => Number(o.value));
+  const colours = ["#0b61c4", "#d1242f", "#1a7f37", "#8250df", "#bf8700", "#57606a"];
+  const series = [{ label: "time (s)" }];
+  const values = [data.time];
+  picked.forEach((i, k) => {
+    series.push({ label: data.titles[i], stroke: colours[k % colours.length], width: 1.5 });
+    values.push(data.values[i]);
+  });
+  if (state.dataPlot) state.dataPlot.destroy();
+  const el = $("#eval-plot");
+  state.dataPlot = new uPlot({
+    width: plotWidth(el), height: 240, scales: { x: { time: false } },
+    axes: axes("simulated time (s)", "value"), series,
+  }, values, el);
 }
 
 async function renderCompare() {
@@ -277,7 +505,7 @@ async function renderCompare() {
   const el = $("#compare-plot");
   state.comparePlot = new uPlot({
     width: plotWidth(el), height: 260, scales: { x: { time: false } },
-    axes: [{ label: "evaluation" }, { label: "best score" }], series,
+    axes: axes("evaluation", "best score"), series,
   }, data, el);
 }
 

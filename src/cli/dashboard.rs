@@ -18,6 +18,10 @@ pub struct DashboardArgs {
     /// token, printed once at start, that every request must present.
     #[arg(long, default_value = "127.0.0.1:8080")]
     pub bind: String,
+    /// Where evaluations' videos and data files are kept once made (default:
+    /// ~/.cache/proleg/dashboard, or $XDG_CACHE_HOME/proleg/dashboard).
+    #[arg(long)]
+    pub cache: Option<std::path::PathBuf>,
 }
 
 /// What a dashboard did.
@@ -33,8 +37,13 @@ impl std::fmt::Display for DashboardRun {
     }
 }
 
-/// Serves the dashboard the options ask for until stopped.
-pub fn run(a: &DashboardArgs, registry: &ModuleRegistry) -> Result<DashboardRun, CliError> {
+/// Serves the dashboard the options ask for until stopped, its videos rendered by
+/// `renderer` (none: a build without renderer).
+pub fn run(
+    a: &DashboardArgs,
+    renderer: Option<std::sync::Arc<dyn crate::dashboard::media::VideoRenderer>>,
+    registry: &ModuleRegistry,
+) -> Result<DashboardRun, CliError> {
     let bind: SocketAddr = a.bind.parse().map_err(|_| {
         CliError::Dashboard(DashboardError::BadBind {
             given: a.bind.clone(),
@@ -45,7 +54,15 @@ pub fn run(a: &DashboardArgs, registry: &ModuleRegistry) -> Result<DashboardRun,
     let stop = signal.flag();
     let mut store = String::new();
     serve(
-        &DashboardOptions { location, bind },
+        &DashboardOptions {
+            location,
+            bind,
+            cache: a
+                .cache
+                .clone()
+                .unwrap_or_else(crate::dashboard::media::default_cache),
+            renderer,
+        },
         registry,
         &stop,
         |ready| {

@@ -220,7 +220,11 @@ impl Commands {
             }
             Command::Data { command } => data(command),
             Command::Worker(args) => printed(cli::worker::run(&args, registry)),
-            Command::Dashboard(args) => printed(cli::dashboard::run(&args, registry)),
+            Command::Dashboard(args) => printed(cli::dashboard::run(
+                &args,
+                windows::video_renderer(),
+                registry,
+            )),
             Command::Policy { command } => printed(cli::policy::run(&command, registry)),
             Command::Robustness(args) => printed(cli::robustness::run(&args, registry)),
             Command::Compare(args) => printed(cli::compare::run(&args, registry)),

@@ -202,3 +202,39 @@ pub fn results(args: &cli::results::ResultsArgs, registry: &ModuleRegistry) -> P
         Err(Box::new(CliError::Options(NO_WINDOWS)))
     }
 }
+
+/// What renders the dashboard's videos: the off-screen renderer of `proleg run --video`
+/// (none in a build without the `gui` feature; the page then says why).
+pub fn video_renderer() -> Option<std::sync::Arc<dyn crate::dashboard::media::VideoRenderer>> {
+    #[cfg(feature = "gui")]
+    {
+        Some(std::sync::Arc::new(OffscreenRenderer))
+    }
+    #[cfg(not(feature = "gui"))]
+    {
+        None
+    }
+}
+
+/// The dashboard's videos, rendered off-screen and encoded by ffmpeg.
+#[cfg(feature = "gui")]
+struct OffscreenRenderer;
+
+#[cfg(feature = "gui")]
+impl crate::dashboard::media::VideoRenderer for OffscreenRenderer {
+    fn render(
+        &self,
+        replay: crate::optimize::replay::Replay,
+        out: &std::path::Path,
+        registry: &ModuleRegistry,
+    ) -> Result<(), crate::dashboard::media::RenderFailure> {
+        use crate::dashboard::media::{VIDEO_FPS, VIDEO_SIZE};
+        if !crate::gui::video::sink::have_ffmpeg() {
+            return Err(Box::new(crate::gui::video::VideoError::Ffmpeg(
+                "no ffmpeg installed (Debian: apt install ffmpeg), so no videos".into(),
+            )));
+        }
+        crate::gui::video::record_replay_video(replay, out, VIDEO_FPS, VIDEO_SIZE, registry)?;
+        Ok(())
+    }
+}

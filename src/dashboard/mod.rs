@@ -6,11 +6,13 @@
 //! bind to another address requires a token, printed once at start and never logged.
 //!
 //! - [`snapshot`]: the store as last read, and the thread that reads it
+//! - [`media`]: evaluations' videos and data files, made on demand by one thread in turn
 //! - [`routes`]: the page, its assets, the JSON, the CSV and the event stream
 //! - [`views`]: the JSON shapes
 //! - [`error`]: why it could not serve
 
 pub mod error;
+pub mod media;
 pub mod routes;
 pub mod snapshot;
 pub mod views;
@@ -26,12 +28,16 @@ use crate::control::ModuleRegistry;
 use crate::optimize::store::StoreLocation;
 
 /// How `proleg dashboard` serves.
-#[derive(Debug, Clone)]
+#[derive(Clone)]
 pub struct DashboardOptions {
     /// The store to show.
     pub location: StoreLocation,
     /// The address to listen on.
     pub bind: SocketAddr,
+    /// Where evaluations' videos and data files are kept once made.
+    pub cache: std::path::PathBuf,
+    /// What renders videos (`None`: a build without renderer, which makes none).
+    pub renderer: Option<Arc<dyn media::VideoRenderer>>,
 }
 
 /// Where the dashboard listens, once it does.
@@ -90,10 +96,16 @@ pub fn serve(
             source,
         })?;
     let addr = listener.local_addr().map_err(DashboardError::Server)?;
+    let media = Arc::new(media::Media::new(
+        &options.cache,
+        &store_name,
+        options.renderer.clone(),
+    ));
     let app = routes::App {
         shared: shared.clone(),
         token: token.as_deref().map(Arc::from),
         versions,
+        media: media.clone(),
     };
     on_ready(&Ready {
         addr,
@@ -109,6 +121,7 @@ pub fn serve(
                 versions_tx.send_replace(v);
             })
         });
+        s.spawn(|| media.work(&options.location, registry, stop));
         let stopping = stop.clone();
         let served = runtime.block_on(async {
             axum::serve(listener, routes::router(app))

@@ -14,12 +14,14 @@ use axum::middleware::Next;
 use axum::response::sse::{Event, KeepAlive, Sse};
 use axum::response::{IntoResponse, Json, Response};
 use axum::routing::get;
+
+use crate::dashboard::media::{Job, Kind, Media, MediaState};
 use tokio_stream::StreamExt;
 use tokio_stream::wrappers::WatchStream;
 
 use crate::dashboard::snapshot::{Shared, Snapshot};
 use crate::dashboard::views::{
-    EvaluationView, EvaluationsView, RunView, RunsView, evaluations_csv,
+    EpisodeView, EvaluationView, EvaluationsView, RunView, RunsView, data_plot, evaluations_csv,
 };
 use crate::optimize::store::{RunRow, StoredEval};
 
@@ -32,6 +34,8 @@ pub struct App {
     pub token: Option<Arc<str>>,
     /// The snapshot's version, announced when it changes.
     pub versions: tokio::sync::watch::Receiver<u64>,
+    /// Evaluations' videos and data files, made on demand.
+    pub media: Arc<Media>,
 }
 
 /// The name of the cookie that carries the token once the page was opened with it.
@@ -55,6 +59,13 @@ pub fn router(app: App) -> Router {
         .route("/api/runs/{id}", get(run))
         .route("/api/runs/{id}/evaluations.csv", get(run_csv))
         .route("/api/runs/{id}/map", get(run_map))
+        .route(
+            "/api/runs/{id}/evaluations/{n}/media",
+            get(media_state).post(media_request),
+        )
+        .route("/api/runs/{id}/evaluations/{n}/video.webm", get(video))
+        .route("/api/runs/{id}/evaluations/{n}/data.xml", get(data_file))
+        .route("/api/runs/{id}/evaluations/{n}/data.json", get(data_json))
         .route("/api/events", get(events))
         .fallback(|| async { (StatusCode::NOT_FOUND, "no such page") })
         .layer(axum::middleware::from_fn_with_state(app.clone(), guard))
@@ -141,7 +152,7 @@ async fn runs(State(app): State<App>) -> Result<Response, ApiError> {
         store: s.store.clone(),
         version: s.version,
         reconnecting: s.reconnecting.clone(),
-        runs: s.runs.iter().rev().map(RunView::of).collect(),
+        runs: s.runs.iter().rev().map(|r| RunView::of(&s, r)).collect(),
     })
     .into_response())
 }
@@ -164,14 +175,61 @@ pub enum ApiError {
     /// A run without a MAP-Elites archive (or one that cannot be rebuilt here).
     #[error(transparent)]
     NoMap(#[from] crate::dashboard::snapshot::NoArchive),
+    /// An evaluation number that is not a number.
+    #[error("evaluation {0:?} is not a number")]
+    BadNumber(String),
+    /// An evaluation the run has not finished (or does not have).
+    #[error("run {run} has no finished evaluation {number}")]
+    NoEvaluation {
+        /// The run.
+        run: i64,
+        /// The evaluation.
+        number: u64,
+    },
+    /// A medium that is not made (yet).
+    #[error("evaluation {number} of run {run} has no {what} yet: ask for it first")]
+    NotMade {
+        /// The run.
+        run: i64,
+        /// The evaluation.
+        number: u64,
+        /// Video or data file.
+        what: &'static str,
+    },
+    /// A request to make media without the page's header (another site's form).
+    #[error("ask for media from the dashboard's page (the X-Proleg header is missing)")]
+    NotFromPage,
+    /// A made file that cannot be read.
+    #[error("{}: {source}", path.display())]
+    Unreadable {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The system's error.
+        source: std::io::Error,
+    },
+    /// A made data file that does not parse.
+    #[error(transparent)]
+    DataFile(#[from] crate::data::read::DataError),
+    /// The task reading a file ended without an answer.
+    #[error("reading the file stopped: {0}")]
+    Task(#[from] tokio::task::JoinError),
 }
 
 impl IntoResponse for ApiError {
     fn into_response(self) -> Response {
         let status = match self {
             ApiError::Unavailable => StatusCode::SERVICE_UNAVAILABLE,
-            ApiError::BadId(_) | ApiError::BadFrom => StatusCode::BAD_REQUEST,
-            ApiError::NoRun(_) | ApiError::NoMap(_) => StatusCode::NOT_FOUND,
+            ApiError::BadId(_)
+            | ApiError::BadFrom
+            | ApiError::BadNumber(_)
+            | ApiError::NotFromPage => StatusCode::BAD_REQUEST,
+            ApiError::NoRun(_)
+            | ApiError::NoMap(_)
+            | ApiError::NoEvaluation { .. }
+            | ApiError::NotMade { .. } => StatusCode::NOT_FOUND,
+            ApiError::Unreadable { .. } | ApiError::DataFile(_) | ApiError::Task(_) => {
+                StatusCode::INTERNAL_SERVER_ERROR
+            }
         };
         (status, self.to_string()).into_response()
     }
@@ -207,9 +265,14 @@ async fn run(
     let s = app.shared.read().map_err(|_| ApiError::Unavailable)?;
     let (row, all) = run_in(&s, id)?;
     let first = (from.unwrap_or(0) as usize).min(all.len());
+    let details = s.details.get(&id);
     Ok(Json(EvaluationsView {
-        run: RunView::of(row),
+        run: RunView::of(&s, row),
         read: all.len() as u64,
+        episodes: details.map_or_else(Vec::new, |d| {
+            d.episodes.iter().map(EpisodeView::of).collect()
+        }),
+        unloadable: details.and_then(|d| d.unloadable.clone()),
         evaluations: all[first..].iter().map(EvaluationView::of).collect(),
     })
     .into_response())
@@ -253,4 +316,118 @@ async fn events(
     let stream = WatchStream::new(app.versions.clone())
         .map(|v| Ok(Event::default().event("changed").data(v.to_string())));
     Sse::new(stream).keep_alive(KeepAlive::new().interval(Duration::from_secs(15)))
+}
+
+/// Evaluation `n` of run `id` as a medium `kind`'s job, when the snapshot holds it done.
+fn job_of(app: &App, (id, n): (String, String), kind: Kind) -> Result<Job, ApiError> {
+    let run = run_id(&id)?;
+    let number: u64 = n.parse().map_err(|_| ApiError::BadNumber(n.clone()))?;
+    let s = app.shared.read().map_err(|_| ApiError::Unavailable)?;
+    let (row, all) = run_in(&s, run)?;
+    if number >= all.len() as u64 {
+        return Err(ApiError::NoEvaluation { run, number });
+    }
+    Ok(Job {
+        run,
+        started: row.started.clone(),
+        number,
+        kind,
+    })
+}
+
+/// An evaluation's video and data file: where each is.
+#[derive(serde::Serialize)]
+struct MediaView {
+    video: MediaState,
+    data: MediaState,
+}
+
+fn media_view(app: &App, at: (String, String)) -> Result<MediaView, ApiError> {
+    Ok(MediaView {
+        video: app.media.state(&job_of(app, at.clone(), Kind::Video)?),
+        data: app.media.state(&job_of(app, at, Kind::Data)?),
+    })
+}
+
+async fn media_state(
+    State(app): State<App>,
+    Path(at): Path<(String, String)>,
+) -> Result<Response, ApiError> {
+    Ok(Json(media_view(&app, at)?).into_response())
+}
+
+/// Asks for an evaluation's data file and video (a request from the page: it carries the
+/// `X-Proleg` header, which another site's form cannot send).
+async fn media_request(
+    State(app): State<App>,
+    Path(at): Path<(String, String)>,
+    headers: axum::http::HeaderMap,
+) -> Result<Response, ApiError> {
+    if !headers.contains_key("x-proleg") {
+        return Err(ApiError::NotFromPage);
+    }
+    app.media.request(job_of(&app, at.clone(), Kind::Data)?);
+    app.media.request(job_of(&app, at.clone(), Kind::Video)?);
+    Ok(Json(media_view(&app, at)?).into_response())
+}
+
+/// A made medium's file (404 until it is made).
+fn made(app: &App, at: (String, String), kind: Kind) -> Result<std::path::PathBuf, ApiError> {
+    let job = job_of(app, at, kind)?;
+    if app.media.state(&job) != MediaState::Ready {
+        return Err(ApiError::NotMade {
+            run: job.run,
+            number: job.number,
+            what: match kind {
+                Kind::Video => "video",
+                Kind::Data => "data file",
+            },
+        });
+    }
+    Ok(app.media.file(&job))
+}
+
+/// A made medium's bytes.
+async fn bytes(app: &App, at: (String, String), kind: Kind) -> Result<Vec<u8>, ApiError> {
+    let path = made(app, at, kind)?;
+    tokio::task::spawn_blocking(move || {
+        std::fs::read(&path).map_err(|source| ApiError::Unreadable { path, source })
+    })
+    .await?
+}
+
+async fn video(
+    State(app): State<App>,
+    Path(at): Path<(String, String)>,
+) -> Result<Response, ApiError> {
+    let bytes = bytes(&app, at, Kind::Video).await?;
+    Ok(([(header::CONTENT_TYPE, "video/webm")], bytes).into_response())
+}
+
+async fn data_file(
+    State(app): State<App>,
+    Path(at): Path<(String, String)>,
+) -> Result<Response, ApiError> {
+    let name = format!("run{}_eval{}.data.xml", at.0, at.1);
+    let bytes = bytes(&app, at, Kind::Data).await?;
+    Ok((
+        [
+            (header::CONTENT_TYPE, "application/xml".to_string()),
+            (
+                header::CONTENT_DISPOSITION,
+                format!("attachment; filename=\"{name}\""),
+            ),
+        ],
+        bytes,
+    )
+        .into_response())
+}
+
+async fn data_json(
+    State(app): State<App>,
+    Path(at): Path<(String, String)>,
+) -> Result<Response, ApiError> {
+    let file = made(&app, at, Kind::Data)?;
+    let plot = tokio::task::spawn_blocking(move || data_plot(&file)).await??;
+    Ok(Json(plot).into_response())
 }

@@ -13,7 +13,8 @@ use std::time::Duration;
 
 use crate::control::ModuleRegistry;
 use crate::dashboard::views::MapView;
-use crate::optimize::store::{RunRow, Store, StoreError, StoreLocation, StoredEval};
+use crate::optimize::store::pg_queue::QueueState;
+use crate::optimize::store::{EpisodeRecord, RunRow, Store, StoreError, StoreLocation, StoredEval};
 
 /// How often the store is read.
 pub const POLL: Duration = Duration::from_millis(500);
@@ -30,6 +31,10 @@ pub struct Snapshot {
     /// MAP-Elites runs' archives (`Err`: why it cannot be rebuilt here), kept up to date
     /// as their runs grow; runs of other algorithms have none.
     pub maps: HashMap<i64, Result<MapView, NoArchive>>,
+    /// What each run is, read once: its engines and randomized episodes.
+    pub details: HashMap<i64, RunDetails>,
+    /// Unfinished shared runs' queues and workers, as last read.
+    pub queues: HashMap<i64, QueueState>,
     /// Bumped whenever anything above changed (what the event stream announces).
     pub version: u64,
     /// Why the store cannot be read right now (it is being opened again).
@@ -45,6 +50,19 @@ struct Read {
     runs: Vec<RunRow>,
     new: HashMap<i64, Vec<StoredEval>>,
     maps: HashMap<i64, Result<MapView, NoArchive>>,
+    details: HashMap<i64, RunDetails>,
+    queues: HashMap<i64, QueueState>,
+}
+
+/// What a run is, beyond its row: read once, from its stored configuration.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct RunDetails {
+    /// The engines its candidates are scored on (`<engines>`: each; else the file's).
+    pub engines: Vec<String>,
+    /// Why the engines are not known (its configuration does not load here).
+    pub unloadable: Option<String>,
+    /// Its randomized episodes (robust fitness; empty without).
+    pub episodes: Vec<EpisodeRecord>,
 }
 
 /// Opens the store (an error here is the dashboard's start failing) and reads it once.
@@ -59,6 +77,8 @@ pub fn first_read(
         runs: read.runs,
         evaluations: read.new,
         maps: read.maps,
+        details: read.details,
+        queues: read.queues,
         version: 1,
         reconnecting: None,
     };
@@ -119,6 +139,14 @@ fn publish(shared: &Shared, found: Option<Read>, reconnecting: Option<String>) -
             }
         }
         s.runs = found.runs;
+        if !found.details.is_empty() {
+            changed = true;
+            s.details.extend(found.details);
+        }
+        if s.queues != found.queues {
+            changed = true;
+            s.queues = found.queues;
+        }
         for (run, map) in found.maps {
             if s.maps.get(&run) != Some(&map) {
                 changed = true;
@@ -147,7 +175,21 @@ fn read(store: &mut Store, held: &Snapshot, registry: &ModuleRegistry) -> Result
     let runs = store.runs()?;
     let mut new = HashMap::new();
     let mut maps = HashMap::new();
+    let mut details = HashMap::new();
+    let mut queues = HashMap::new();
     for r in &runs {
+        let engines_known = held
+            .details
+            .get(&r.id)
+            .is_some_and(|d| r.best_engines.is_empty() || d.engines.len() == r.best_engines.len());
+        if !engines_known {
+            details.insert(r.id, details_of(store, r, registry)?);
+        }
+        if !r.finished
+            && let Some(q) = store.queue_state(r.id)?
+        {
+            queues.insert(r.id, q);
+        }
         let have = held.evaluations.get(&r.id).map_or(0, |v| v.len() as u64);
         let known = before.get(&r.id).copied();
         if known != Some((r.finished, r.evaluations)) && is_map_elites(r) {
@@ -167,7 +209,38 @@ fn read(store: &mut Store, held: &Snapshot, registry: &ModuleRegistry) -> Result
         });
         new.insert(r.id, found);
     }
-    Ok(Read { runs, new, maps })
+    Ok(Read {
+        runs,
+        new,
+        maps,
+        details,
+        queues,
+    })
+}
+
+/// A run's engines and episodes, from its stored configuration.
+fn details_of(
+    store: &mut Store,
+    r: &RunRow,
+    registry: &ModuleRegistry,
+) -> Result<RunDetails, StoreError> {
+    let spec = store.run_spec(r.id)?;
+    let (engines, unloadable) = if r.best_engines.is_empty() {
+        match crate::optimize::shared::stored_simulation(&spec, registry) {
+            Ok(sim) => (vec![sim.engine().to_string()], None),
+            Err(e) => (Vec::new(), Some(e.to_string())),
+        }
+    } else {
+        (
+            r.best_engines.iter().map(|(k, _)| k.to_string()).collect(),
+            None,
+        )
+    };
+    Ok(RunDetails {
+        engines,
+        unloadable,
+        episodes: spec.episodes,
+    })
 }
 
 /// Whether `r` is a MAP-Elites run (its archive is worth rebuilding).

@@ -4,8 +4,9 @@
 
 use serde::Serialize;
 
+use crate::dashboard::snapshot::Snapshot;
 use crate::optimize::archive::StoredArchive;
-use crate::optimize::store::{RunRow, StoredEval};
+use crate::optimize::store::{EpisodeRecord, RunRow, StoredEval};
 
 /// `GET /api/runs`.
 #[derive(Debug, Serialize)]
@@ -49,11 +50,37 @@ pub struct RunView {
     pub best_engines: Vec<(String, f64)>,
     /// Co-design bodies rejected unrun.
     pub rejected: u64,
+    /// The engines its candidates are scored on.
+    pub engines: Vec<String>,
+    /// Seconds of episodes its evaluations took, summed (the compute it used).
+    pub episode_seconds: f64,
+    /// A shared run's evaluations waiting for a worker.
+    pub pending: Option<u64>,
+    /// A shared run's evaluations claimed by workers.
+    pub running: Option<u64>,
+    /// A shared run's workers.
+    pub workers: Vec<WorkerView>,
+}
+
+/// A worker of a shared run.
+#[derive(Debug, Serialize)]
+pub struct WorkerView {
+    /// Its name.
+    pub worker: String,
+    /// Evaluations it holds now.
+    pub running: u64,
+    /// Evaluations of the run it wrote.
+    pub done: u64,
+    /// When its lease ends (seconds since 1970, the database's clock; `null`: it holds
+    /// nothing). Its heartbeat moves this on every third of a lease.
+    pub lease_until: Option<f64>,
 }
 
 impl RunView {
-    /// The view of a stored run.
-    pub fn of(r: &RunRow) -> RunView {
+    /// The view of run `r` of snapshot `s`.
+    pub fn of(s: &Snapshot, r: &RunRow) -> RunView {
+        let details = s.details.get(&r.id);
+        let queue = s.queues.get(&r.id);
         let values: Vec<String> = r
             .best_values
             .as_deref()
@@ -79,6 +106,24 @@ impl RunView {
                 .map(|(k, s)| (k.to_string(), *s))
                 .collect(),
             rejected: r.rejected,
+            engines: details.map(|d| d.engines.clone()).unwrap_or_default(),
+            episode_seconds: s
+                .evaluations
+                .get(&r.id)
+                .map_or(0.0, |e| e.iter().map(|e| e.wall).sum()),
+            pending: queue.map(|q| q.pending),
+            running: queue.map(|q| q.running),
+            workers: queue.map_or_else(Vec::new, |q| {
+                q.workers
+                    .iter()
+                    .map(|w| WorkerView {
+                        worker: w.worker.clone(),
+                        running: w.running,
+                        done: w.done,
+                        lease_until: w.lease_until,
+                    })
+                    .collect()
+            }),
         }
     }
 }
@@ -90,8 +135,34 @@ pub struct EvaluationsView {
     pub run: RunView,
     /// Evaluations read in all (the next `from`).
     pub read: u64,
+    /// Its randomized episodes (robust fitness), what each drew.
+    pub episodes: Vec<EpisodeView>,
+    /// Why its configuration does not load here, if it does not (no replays then).
+    pub unloadable: Option<String>,
     /// Those from `from` on.
     pub evaluations: Vec<EvaluationView>,
+}
+
+/// A randomized episode of a robust run.
+#[derive(Debug, Serialize)]
+pub struct EpisodeView {
+    /// Its number.
+    pub episode: u32,
+    /// Its seed.
+    pub seed: u64,
+    /// What it drew (friction, masses, start pose).
+    pub draws: String,
+}
+
+impl EpisodeView {
+    /// The view of a stored episode.
+    pub fn of(e: &EpisodeRecord) -> EpisodeView {
+        EpisodeView {
+            episode: e.episode,
+            seed: e.seed,
+            draws: e.draws.clone(),
+        }
+    }
 }
 
 /// One evaluation.
@@ -213,4 +284,53 @@ impl MapView {
             summary: a.summary(),
         }
     }
+}
+
+/// `GET /api/runs/{id}/evaluations/{n}/data.json`: every series of a replay's data file
+/// against simulated time, for the page's plots.
+#[derive(Debug, Serialize)]
+pub struct DataPlotView {
+    /// Series titles (`Handler/series[part]`), one per column of `values`.
+    pub titles: Vec<String>,
+    /// Simulated seconds of each sample.
+    pub time: Vec<f64>,
+    /// Per series, its value at each sample (`null`: not sampled then, or not finite).
+    pub values: Vec<Vec<Option<f64>>>,
+}
+
+/// The plot of data file `path`: every series of every handler against simulated time.
+pub fn data_plot(path: &std::path::Path) -> Result<DataPlotView, crate::data::read::DataError> {
+    use crate::data::export::{SeriesSelector, XAxis, for_each_row};
+    let header = crate::data::read::info(path)?;
+    let wanted: Vec<SeriesSelector> = header
+        .handlers
+        .iter()
+        .flat_map(|h| {
+            h.series.iter().map(|s| SeriesSelector {
+                handler: h.name.clone(),
+                series: s.clone(),
+                parts: None,
+            })
+        })
+        .collect();
+    let mut time = Vec::new();
+    let mut values: Vec<Vec<Option<f64>>> = Vec::new();
+    let (_, _, columns) = for_each_row(path, XAxis::SimTime, &wanted, |cols, t, row| {
+        if values.is_empty() {
+            values = vec![Vec::new(); cols.len()];
+        }
+        time.push(t);
+        for (series, v) in values.iter_mut().zip(row) {
+            series.push(Some(*v).filter(|v| v.is_finite()));
+        }
+        Ok(())
+    })?;
+    if values.is_empty() {
+        values = vec![Vec::new(); columns.len()];
+    }
+    Ok(DataPlotView {
+        titles: columns.into_iter().map(|c| c.title).collect(),
+        time,
+        values,
+    })
 }

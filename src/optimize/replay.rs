@@ -78,6 +78,15 @@ pub enum ReplayError {
     /// The replay scored nothing.
     #[error("the replay scored nothing")]
     NothingScored,
+    /// The replayed world could not be built or read.
+    #[error(transparent)]
+    Sim(#[from] SimError),
+    /// Its data file could not be opened.
+    #[error(transparent)]
+    Record(#[from] crate::sim::runner::RecordError),
+    /// Its data file could not be completed.
+    #[error(transparent)]
+    Data(#[from] crate::data::store::DataStoreError),
 }
 
 /// A stored evaluation, ready to run again.
@@ -306,6 +315,29 @@ impl Replay {
             std::slice::from_ref(&self.genome),
         )?;
         scores.first().copied().ok_or(ReplayError::NothingScored)
+    }
+
+    /// Replays the episode headless in the world [`Replay::build_options`] builds (the one
+    /// the windows and videos show), recording every data handler into the B.8 data file
+    /// `file` every `accuracy` steps of the simulation file; returns the rounds written.
+    pub fn record_data(
+        &self,
+        file: &std::path::Path,
+        registry: &ModuleRegistry,
+    ) -> Result<u64, ReplayError> {
+        let mut simulator =
+            Simulator::with_registry(&self.sim, &self.build_options(false), registry)?;
+        self.apply(&mut simulator)?;
+        let every = self.sim.files.simulation.properties.accuracy.max(1);
+        simulator.record_to(
+            file,
+            crate::sim::datalog::DataSettings {
+                every,
+                ..Default::default()
+            },
+        )?;
+        simulator.run_for(self.duration);
+        Ok(simulator.finish_data()?)
     }
 }
 

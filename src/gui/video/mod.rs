@@ -29,6 +29,7 @@ use bevy::winit::WinitPlugin;
 use crate::gui::control::scene::{self, SceneBuilt};
 use crate::gui::control::session::SimSession;
 use crate::gui::view3d::orbit::{OrbitCamera, to_bevy};
+use crate::optimize::replay::Replay;
 use sink::{Frame, VideoSink, Written};
 
 pub use crate::gui::error::VideoError;
@@ -113,6 +114,34 @@ pub fn record_video(
     check(req)?;
     let session = SimSession::open(&req.config, req.engine, registry)
         .map_err(|e| VideoError::Session(Box::new(e)))?;
+    record_session(session, req)
+}
+
+/// Renders a stored evaluation replayed as the optimization scored it (the dashboard's
+/// videos) into `out`: `fps` frames per simulated second of its episode, `size` pixels.
+pub fn record_replay_video(
+    replay: Replay,
+    out: &std::path::Path,
+    fps: u32,
+    size: (u32, u32),
+    registry: &crate::control::ModuleRegistry,
+) -> Result<VideoReport, VideoError> {
+    let req = VideoRequest {
+        config: PathBuf::from(&replay.config),
+        out: out.to_path_buf(),
+        fps,
+        size,
+        seconds: Some(replay.duration),
+        engine: Some(replay.engine),
+    };
+    check(&req)?;
+    let session =
+        SimSession::open_replay(replay, registry).map_err(|e| VideoError::Session(Box::new(e)))?;
+    record_session(session, &req)
+}
+
+/// Renders an open session for `req`'s seconds (default: its file's duration) into `req.out`.
+fn record_session(session: SimSession, req: &VideoRequest) -> Result<VideoReport, VideoError> {
     let seconds = req
         .seconds
         .unwrap_or(session.sim.files.simulation.properties.duration);

@@ -184,6 +184,14 @@ impl Store {
         }
     }
 
+    /// A shared run's queue and workers (`None` for a SQLite store, which has no queue).
+    pub fn queue_state(&mut self, run: i64) -> Result<Option<pg_queue::QueueState>, StoreError> {
+        match self {
+            Store::Sqlite(_) => Ok(None),
+            Store::Postgres(pg) => pg.queue_state(run).map(Some),
+        }
+    }
+
     /// Registers a new run started by this program ([`program_version`]); returns its id.
     pub fn start_run(
         &mut self,

@@ -25,6 +25,31 @@ pub const PENDING: &str = "proleg_pending";
 /// of its results one statement wrote).
 pub const DONE: &str = "proleg_done";
 
+/// A run's queue: evaluations waiting, evaluations claimed, and the workers.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct QueueState {
+    /// Evaluations no worker holds.
+    pub pending: u64,
+    /// Evaluations claimed and not written yet.
+    pub running: u64,
+    /// Every worker that claimed one of the run's evaluations.
+    pub workers: Vec<WorkerLease>,
+}
+
+/// A worker of one run, as its rows in the queue show it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WorkerLease {
+    /// Its name (host, process).
+    pub worker: String,
+    /// Evaluations it holds now.
+    pub running: u64,
+    /// Evaluations of the run it wrote.
+    pub done: u64,
+    /// When its lease on what it holds ends, in seconds since 1970 by the database's clock
+    /// (its heartbeat moves it on; `None`: it holds nothing).
+    pub lease_until: Option<f64>,
+}
+
 /// An evaluation a worker has claimed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Claim {
@@ -419,5 +444,40 @@ impl PgStore {
             .map_err(&fail)?;
         let get = |i: usize| row.try_get::<_, i64>(i).map(|v| v as u64).map_err(&fail);
         Ok((get(0)?, get(1)?, get(2)?))
+    }
+
+    /// Where `run`'s queue stands: evaluations pending and running, and every worker that
+    /// claimed one of them, with what it runs and when its lease (renewed by its heartbeat
+    /// every third of a lease) ends.
+    pub fn queue_state(&mut self, run: i64) -> Result<QueueState, StoreError> {
+        let fail = self.failer();
+        let rows = self
+            .client
+            .query(
+                "SELECT worker, COUNT(*) FILTER (WHERE state = 'running'),
+                        COUNT(*) FILTER (WHERE state = 'done'),
+                        EXTRACT(EPOCH FROM MAX(lease_until) FILTER (WHERE state = 'running'))::float8
+                 FROM evaluations WHERE run = $1 AND worker IS NOT NULL
+                 GROUP BY worker ORDER BY worker",
+                &[&run],
+            )
+            .map_err(&fail)?;
+        let workers = rows
+            .iter()
+            .map(|r| {
+                Ok(WorkerLease {
+                    worker: r.try_get(0).map_err(&fail)?,
+                    running: r.try_get::<_, i64>(1).map_err(&fail)? as u64,
+                    done: r.try_get::<_, i64>(2).map_err(&fail)? as u64,
+                    lease_until: r.try_get(3).map_err(&fail)?,
+                })
+            })
+            .collect::<Result<Vec<_>, StoreError>>()?;
+        let (pending, running, _) = self.queue_counts(run)?;
+        Ok(QueueState {
+            pending,
+            running,
+            workers,
+        })
     }
 }
