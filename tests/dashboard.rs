@@ -193,6 +193,15 @@ struct Browser {
 
 impl Browser {
     fn start(name: &str) -> Browser {
+        Browser::with_args(name, &[])
+    }
+
+    /// A browser whose pages prefer the dark colour scheme.
+    fn dark(name: &str) -> Browser {
+        Browser::with_args(name, &["--force-dark-mode"])
+    }
+
+    fn with_args(name: &str, extra: &[&str]) -> Browser {
         let port = {
             let l = std::net::TcpListener::bind("127.0.0.1:0").expect("a free port");
             l.local_addr().expect("port").port()
@@ -204,14 +213,26 @@ impl Browser {
             .spawn()
             .expect("chromedriver (Debian's chromium-driver; scripts/test installs it)");
         let profile = common::scratch(&format!("{name}_chromium"));
+        let mut args: Vec<String> = [
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-quic",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--window-size=1300,900",
+        ]
+        .iter()
+        .chain(extra)
+        .map(|a| a.to_string())
+        .collect();
+        args.push(format!("--user-data-dir={}", profile.display()));
         let caps: serde_json::Map<String, serde_json::Value> =
             serde_json::from_value(serde_json::json!({ "goog:chromeOptions": {
                 "binary": "/usr/bin/chromium",
-                "args": ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
-                         "--no-first-run", "--disable-background-networking",
-                         "--disable-component-update", "--disable-sync",
-                         "--window-size=1300,900",
-                         format!("--user-data-dir={}", profile.display())]
+                "args": args
             }}))
             .expect("capabilities");
         let runtime = tokio::runtime::Runtime::new().expect("runtime");
@@ -254,6 +275,26 @@ impl Browser {
     fn screenshot(&self, path: &std::path::Path) {
         let c = self.client.as_ref().expect("a session");
         let png = self.runtime.block_on(c.screenshot()).expect("a screenshot");
+        std::fs::write(path, png).expect("screenshot written");
+    }
+
+    /// A PNG of the element `selector` selects, written to `path` (the window made tall
+    /// enough to hold it whole).
+    fn screenshot_of(&self, selector: &str, path: &std::path::Path) {
+        let c = self.client.as_ref().expect("a session");
+        let png = self
+            .runtime
+            .block_on(async {
+                c.set_window_size(1300, 1600).await?;
+                let e = c.find(fantoccini::Locator::Css(selector)).await?;
+                c.execute(
+                    "arguments[0].scrollIntoView(true);",
+                    vec![serde_json::to_value(&e)?],
+                )
+                .await?;
+                e.screenshot().await
+            })
+            .unwrap_or_else(|e| panic!("a screenshot of {selector}: {e}"));
         std::fs::write(path, png).expect("screenshot written");
     }
 
@@ -314,7 +355,37 @@ fn a_run_named_with_markup_shows_as_text_in_the_browser() {
         b.eval("document.querySelectorAll('#evaluations tbody tr').length"),
         30
     );
+    // Readable in both schemes: text against its background, and the plots' axes.
+    let light = b.eval(CONTRAST).as_f64().unwrap_or(0.0);
+    assert!(light >= 7.0, "light scheme contrast {light}");
+    // Two runs compared on one plot.
+    b.eval("(document.querySelectorAll('#runs tbody input[type=checkbox]').forEach((c) => c.click()), true)");
+    b.wait_for("window.proleg.comparePlot !== null && !document.querySelector('#compare').hidden");
+    assert_eq!(b.eval("window.proleg.comparePlot.series.length"), 3);
+    let dark = Browser::dark("dashboard_dark");
+    dark.goto(&format!("{}#run=1", d.base()));
+    dark.wait_for("window.proleg.evaluations.length === 30");
+    assert_eq!(
+        dark.eval("matchMedia('(prefers-color-scheme: dark)').matches"),
+        true
+    );
+    let contrast = dark.eval(CONTRAST).as_f64().unwrap_or(0.0);
+    assert!(contrast >= 7.0, "dark scheme contrast {contrast}");
+    dark.screenshot(&common::scratch("dashboard_dark_shot").join("dashboard_dark.png"));
 }
+
+/// The contrast ratio (WCAG) of the page's text against its background, and of the
+/// learning curve's axis labels against it: the smaller.
+const CONTRAST: &str = "(() => { \
+    const rgb = (c) => c.match(/[0-9.]+/g).slice(0, 3).map(Number); \
+    const lum = (c) => { const [r, g, b] = rgb(c).map((v) => { v /= 255; \
+        return v <= 0.03928 ? v / 12.92 : Math.pow((v + 0.055) / 1.055, 2.4); }); \
+        return 0.2126 * r + 0.7152 * g + 0.0722 * b; }; \
+    const ratio = (a, b) => { const [x, y] = [lum(a), lum(b)].sort((p, q) => q - p); return (x + 0.05) / (y + 0.05); }; \
+    const bg = getComputedStyle(document.body).backgroundColor; \
+    const text = getComputedStyle(document.body).color; \
+    const axis = window.proleg.curve.axes[1].stroke(window.proleg.curve, 1); \
+    return Math.min(ratio(text, bg), ratio(axis, bg)); })()";
 
 /// The evaluations of run 1 done in order (those the page can show).
 fn done_in_order(pg: &common::pg::Pg, db: &str) -> i64 {
@@ -378,7 +449,9 @@ fn the_page_follows_a_live_postgres_run_within_two_seconds_without_reloading() {
     );
     let counts = b.eval("document.querySelector('#runs tbody tr td.evaluations').textContent");
     assert!(
-        counts.as_str().is_some_and(|c| c.contains(" pending, ") && c.contains(" claimed")),
+        counts
+            .as_str()
+            .is_some_and(|c| c.contains(" pending, ") && c.contains(" claimed")),
         "{counts}"
     );
     b.screenshot(&common::scratch("dashboard_live_shot").join("dashboard_live.png"));
@@ -448,7 +521,7 @@ fn a_map_elites_run_shows_the_archive_proleg_results_shows() {
         true,
         "each evaluation once, in order"
     );
-    b.screenshot(&dir.join("dashboard_map.png"));
+    b.screenshot_of("#map-box", &dir.join("dashboard_map.png"));
 }
 
 /// A picture of the page's video now, 160x90 RGBA, kept in the page as `window[name]`;
@@ -535,7 +608,7 @@ fn an_evaluation_replays_in_the_page_as_a_video_of_the_robot_with_its_data_plots
         changed.as_u64().is_some_and(|n| n > 20),
         "pixels that changed between two moments of the video: {changed}"
     );
-    b.screenshot(&dir.join("dashboard_video.png"));
+    b.screenshot_of("#eval", &dir.join("dashboard_video.png"));
     assert_eq!(
         b.eval(FITS),
         serde_json::json!([]),

@@ -187,7 +187,9 @@ async function loadMap(id) {
 // The archive as a coloured grid; the mouse or the keyboard's cursor names a cell's elite.
 function drawMap(map) {
   $("#map-box").hidden = false;
-  $("#map-summary").textContent = `${map.summary}; x: ${map.labels[0]}, y: ${map.labels[1]}`;
+  const finite = map.cells.map((c) => c.score).filter(Number.isFinite);
+  $("#map-summary").textContent = `${map.summary}; x (left to right): ${map.labels[0]}, ` +
+    `y (bottom to top): ${map.labels[1]}; colour: blue ${fmt(Math.min(...finite))} to red ${fmt(Math.max(...finite))}`;
   const canvas = $("#map");
   const ctx = canvas.getContext("2d");
   const [nx, ny] = map.bins;
