@@ -6,8 +6,9 @@ use std::path::{Path, PathBuf};
 
 use crate::cli::error::CliError;
 use crate::control::ModuleRegistry;
-use crate::optimize::archive::{StoredArchive, export_design, plot_map, stored_archive};
+use crate::optimize::archive::{StoredArchive, plot_map, stored_archive};
 use crate::optimize::curve::{CurveGroup, plot_curves};
+use crate::optimize::export::export_candidate;
 use crate::optimize::store::table::{self, evaluation_rows};
 use crate::optimize::store::{RunRow, Store, StoreLocation};
 
@@ -36,10 +37,11 @@ pub struct ResultsArgs {
     /// descriptors) into this PNG.
     #[arg(long)]
     pub map: Option<PathBuf>,
-    /// Write the first run's evaluation N (or the best) as ordinary configuration files
-    /// into the folder -o names: a co-design run's robot, actuation and simulation (inside
-    /// the configuration's folder, where its parts and environment are found), any other
-    /// run's actuation file with its networks' weights files.
+    /// Write the first run's evaluation N (or the best) into the folder -o names, a folder
+    /// that runs on its own anywhere: the run's configuration files as stored, and a
+    /// simulation file that runs the candidate with the run's seed and duration (a co-design
+    /// run's design.simulation.xml with its robot and actuation, any other run's
+    /// candidate.simulation.xml with its actuation and networks' weights files).
     #[arg(long, value_name = "N|best", requires = "out")]
     pub export_robot: Option<String>,
     /// The folder --export-robot writes.
@@ -244,7 +246,7 @@ pub fn run(o: &ResultsOptions, registry: &ModuleRegistry) -> Result<ResultsRepor
         Some((number, dir)) => {
             let (store, runs) = opened.first_mut().ok_or(CliError::NoRun(0))?;
             let run = runs.first().ok_or(CliError::NoRun(0))?.id;
-            Some(export_design(store, run, *number, dir, registry)?)
+            Some(export_candidate(store, run, *number, dir, registry)?)
         }
         None => None,
     };

@@ -16,6 +16,7 @@ pub mod error;
 pub mod es;
 pub mod evaluate;
 pub mod experiment;
+pub mod export;
 pub mod fitness;
 pub mod ga;
 pub mod gallery;
