@@ -1,6 +1,7 @@
-//! `proleg optimize`: a headless optimization run of a simulation whose mode is the genetic
-//! algorithm or the great deluge, with progress, a table of every evaluation, and the
-//! best candidate written back as an actuation file.
+//! `proleg optimize`: a headless optimization run of a simulation in an optimization mode
+//! (GA, great deluge, CMA-ES, OpenAI-ES or MAP-Elites, as its optimizer file names), with
+//! progress, a table of every evaluation, and the best candidate written back as an
+//! actuation file.
 
 use std::fmt::{self, Write as _};
 use std::fs::File;
@@ -24,7 +25,8 @@ pub use crate::optimize::experiment::default_store_path;
 /// Command-line options of `proleg optimize`.
 #[derive(clap::Args)]
 pub struct OptimizeOptions {
-    /// A `*.simulation.xml` file whose mode is "Genetic Algorithm" or "Great Deluge".
+    /// A `*.simulation.xml` file in an optimization mode, naming its optimizer file (GA,
+    /// great deluge, CMA-ES, OpenAI-ES or MAP-Elites; see docs/formats.md).
     pub config: PathBuf,
     /// Random seed (default: the file's seed).
     #[arg(long)]

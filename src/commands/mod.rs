@@ -66,7 +66,8 @@ pub enum Command {
     },
     /// Run one simulation headless and print what the robot did.
     Run(cli::run::RunRequest),
-    /// Optimize the registered parameters of a GA / great-deluge simulation, headless.
+    /// Optimize a simulation's registered parameters (and a co-design run's body), headless:
+    /// GA, great deluge, CMA-ES, OpenAI-ES or MAP-Elites, as its optimizer file names.
     Optimize(cli::optimize::OptimizeOptions),
     /// Runs and best candidates of an experiment store; learning curves and TSV export.
     Results(cli::results::ResultsArgs),

@@ -102,6 +102,11 @@ impl Driven {
         self.await_ack();
     }
 
+    /// The window's state as it acknowledged the current step.
+    pub fn now(&self) -> Vec<(String, String)> {
+        state(&self.dir.join(format!("ack{}", self.step)))
+    }
+
     /// The window's state once it closed.
     pub fn finish(self) -> Vec<(String, String)> {
         let out = self.window.wait_with_output().expect("the window");

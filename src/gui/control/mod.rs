@@ -325,11 +325,17 @@ fn draw_ui(
             .layer_id(egui::LayerId::background())
             .max_rect(ctx.viewport_rect()),
     );
-    egui::Panel::top("toolbar").show(&mut root, |ui| show_toolbar(ui, &mut session, &mut views));
+    let bar = egui::Panel::top("toolbar")
+        .show(&mut root, |ui| show_toolbar(ui, &mut session, &mut views))
+        .response
+        .rect;
     show_docked(&mut root, &mut session, &mut views);
     // What the panels left is the viewer: the pointer there belongs to the scene.
     let viewer = root.available_rect_before_wrap();
+    views.toolbar.layout.insert("toolbar", bar);
+    views.toolbar.layout.insert("viewer", viewer);
     routing.set_viewer(viewer);
+    toolbar::notices(&ctx, viewer, &mut session);
     let mut follow = cameras.iter().next().is_some_and(|c| c.follow);
     overlay::show(&ctx, &overlay, &views.toolbar, &mut follow, viewer);
     picking::show(&ctx, &session, &mut views.selection, &visuals);
@@ -366,10 +372,13 @@ fn show_docked(root: &mut egui::Ui, session: &mut SimSession, views: &mut Views)
     if views.panels.plots {
         let now = session.sim_time();
         views.plots.refresh(session.simulator.data(0).ok(), now);
-        egui::Panel::bottom("plots")
+        let rect = egui::Panel::bottom("plots")
             .resizable(true)
             .default_size(270.0)
-            .show(root, |ui| plots::show(ui, session, &mut views.plots));
+            .show(root, |ui| plots::show(ui, session, &mut views.plots))
+            .response
+            .rect;
+        views.toolbar.layout.insert("plots", rect);
     }
     if views.optimizer.open && session.sim.optimizer.is_some() {
         optimizer_view::show(root, session, &mut views.optimizer);
@@ -377,14 +386,17 @@ fn show_docked(root: &mut egui::Ui, session: &mut SimSession, views: &mut Views)
         views.optimizer.poll();
     }
     if views.panels.params {
-        egui::Panel::right("params")
+        let rect = egui::Panel::right("params")
             .resizable(true)
             .default_size(330.0)
             .show(root, |ui| {
                 assign_view::show(ui, session, &mut views.assign);
                 ui.separator();
                 params::show(ui, session, &mut views.params);
-            });
+            })
+            .response
+            .rect;
+        views.toolbar.layout.insert("params", rect);
     }
 }
 

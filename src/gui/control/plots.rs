@@ -60,6 +60,10 @@ pub struct PlotsState {
     frame: u64,
     /// Distortion frame: actuator, joint (None: all its joints), degrees.
     pub distortion: (usize, Option<usize>, f64),
+    /// Where "Add plot" was drawn last frame (for the GUI tests' real clicks).
+    pub add_plot_rect: Option<egui::Rect>,
+    /// Where the shown tab's first series check box was drawn last frame.
+    pub first_series_rect: Option<egui::Rect>,
 }
 
 impl Default for PlotsState {
@@ -75,6 +79,8 @@ impl Default for PlotsState {
             window_s: 10.0,
             frame: 0,
             distortion: (0, None, 0.0),
+            add_plot_rect: None,
+            first_series_rect: None,
         }
     }
 }
@@ -290,6 +296,7 @@ fn selector(ui: &mut egui::Ui, log: &[crate::data::handler::HandlerSpec], state:
         }
     });
     let h = &log[state.tab];
+    state.first_series_rect = None;
     egui::ScrollArea::vertical()
         .max_height(ui.available_height() - 30.0)
         .show(ui, |ui| {
@@ -304,22 +311,27 @@ fn selector(ui: &mut egui::Ui, log: &[crate::data::handler::HandlerSpec], state:
                         } else {
                             String::new()
                         };
-                        set_checkbox(ui, &mut state.checked, key, text);
+                        let rect = set_checkbox(ui, &mut state.checked, key, text);
+                        state.first_series_rect.get_or_insert(rect);
                     }
                 });
             }
         });
+    // The buttons first, the count after them: a count that appears or grows moves no
+    // button from under the pointer.
     ui.horizontal(|ui| {
         let any = !state.checked.is_empty();
-        if any {
-            ui.label(format!("{} series ticked:", state.checked.len()));
-        }
-        if ui.add_enabled(any, egui::Button::new("Add plot")).clicked() {
+        let add = ui.add_enabled(any, egui::Button::new("Add plot"));
+        state.add_plot_rect = Some(add.rect);
+        if add.clicked() {
             let series = live_series(log, std::mem::take(&mut state.checked));
             state.add(series);
         }
         if ui.button("Clear").clicked() {
             state.checked.clear();
+        }
+        if any {
+            ui.label(format!("{} series ticked", state.checked.len()));
         }
     });
 }

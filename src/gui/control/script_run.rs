@@ -597,6 +597,33 @@ fn optimizer_pairs(pairs: &mut Vec<(&str, String)>, session: &SimSession, views:
     }
 }
 
+/// Where the toolbar, the docked panels, the viewer and "Add plot" were drawn, as
+/// `NAME_rect = LEFT TOP RIGHT BOTTOM` in points.
+fn layout_pairs(pairs: &mut Vec<(&str, String)>, views: &Views) {
+    let text = |r: &bevy_egui::egui::Rect| {
+        format!(
+            "{:.0} {:.0} {:.0} {:.0}",
+            r.min.x, r.min.y, r.max.x, r.max.y
+        )
+    };
+    for (name, r) in &views.toolbar.layout {
+        let key: &'static str = match *name {
+            "toolbar" => "toolbar_rect",
+            "viewer" => "viewer_rect",
+            "plots" => "plots_rect",
+            "params" => "params_rect",
+            _ => continue,
+        };
+        pairs.push((key, text(r)));
+    }
+    if let Some(r) = &views.plots.add_plot_rect {
+        pairs.push(("add_plot_rect", text(r)));
+    }
+    if let Some(r) = &views.plots.first_series_rect {
+        pairs.push(("first_series_rect", text(r)));
+    }
+}
+
 /// The state a GUI test checks.
 /// The real-robot tab's calibration: running, its error, the mean RMS before and after.
 fn calibration_pairs(pairs: &mut Vec<(&str, String)>, views: &Views) {
@@ -629,6 +656,8 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
         ("tuned_aside", session.tuned.is_some().to_string()),
         ("running", session.running.to_string()),
         ("generation", session.generation.to_string()),
+        ("plots_shown", views.plots.plots.len().to_string()),
+        ("series_ticked", views.plots.checked.len().to_string()),
         ("steps", session.steps().to_string()),
         ("sim_time", format!("{:.6}", session.sim_time())),
         ("real_time", format!("{:.6}", session.real_time)),
@@ -662,6 +691,7 @@ fn state_lines(session: &SimSession, views: &Views) -> String {
         ("inspect_graphs", views.inspect.graphs.len().to_string()),
     ];
     optimizer_pairs(&mut pairs, session, views);
+    layout_pairs(&mut pairs, views);
     pairs.push(("recording", views.recorder.recording().to_string()));
     calibration_pairs(&mut pairs, views);
     // One line per key: an error's "included from" lines are joined by \n.

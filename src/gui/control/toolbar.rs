@@ -19,6 +19,9 @@ pub struct ToolbarState {
     pub known: Vec<PathBuf>,
     /// Frames per second and real-time factor achieved over the last wall second.
     pub meter: SpeedMeter,
+    /// Where the toolbar, the docked panels and the viewer were drawn last frame, by name
+    /// (the GUI tests check that they hold still when notices come and go).
+    pub layout: std::collections::BTreeMap<&'static str, egui::Rect>,
 }
 
 impl ToolbarState {
@@ -28,6 +31,7 @@ impl ToolbarState {
             path: current.display().to_string(),
             known: simulation_files(Path::new("configs")),
             meter: SpeedMeter::default(),
+            layout: std::collections::BTreeMap::new(),
         }
     }
 }
@@ -60,7 +64,6 @@ pub fn show(ui: &mut egui::Ui, session: &mut SimSession, state: &mut ToolbarStat
         pacing(ui, session);
     });
     ui.horizontal(|ui| readout(ui, session, state));
-    notices(ui, session);
 }
 
 /// The configuration field, Load, the known configurations and the configuration window.
@@ -132,7 +135,14 @@ fn pacing(ui: &mut egui::Ui, session: &mut SimSession) {
                 .speed(0.05),
         );
     } else {
-        ui.label("as fast as possible");
+        // The same field, disabled, as narrow as the number it stands for: the row wraps
+        // and measures as it did (a wider text here pushed the rest of the row down).
+        let mut zero = 0.0;
+        ui.add_enabled(
+            false,
+            egui::DragValue::new(&mut zero).custom_formatter(|_, _| "max".into()),
+        )
+        .on_disabled_hover_text("as fast as possible");
     }
     if ui
         .selectable_label(session.pacing.realtime_factor == 1.0, "sync 1x")
@@ -185,8 +195,24 @@ fn readout(ui: &mut egui::Ui, session: &SimSession, state: &ToolbarState) {
     ));
 }
 
-/// The rows under the toolbar: kept tuned values, a halted run, a failed load.
-fn notices(ui: &mut egui::Ui, session: &mut SimSession) {
+/// The notices (kept tuned values, a halted run, a failed load), floating over the top of
+/// the viewer `viewer`: they come and go without moving the toolbar or the panels, so a
+/// click aimed at a control lands on it.
+pub fn notices(ctx: &egui::Context, viewer: egui::Rect, session: &mut SimSession) {
+    if session.tuned.is_none() && session.halt.is_none() && session.error.is_none() {
+        return;
+    }
+    egui::Area::new(egui::Id::new("notices"))
+        .order(egui::Order::Foreground)
+        .fixed_pos(viewer.left_top() + egui::vec2(8.0, 8.0))
+        .show(ctx, |ui| {
+            ui.set_max_width((viewer.width() - 16.0).max(200.0));
+            egui::Frame::popup(ui.style()).show(ui, |ui| notice_rows(ui, session));
+        });
+}
+
+/// The notices' rows.
+fn notice_rows(ui: &mut egui::Ui, session: &mut SimSession) {
     if session.tuned.is_some() {
         ui.horizontal(|ui| {
             ui.label(

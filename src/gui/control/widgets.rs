@@ -5,15 +5,22 @@ use std::collections::BTreeSet;
 use bevy_egui::egui;
 
 /// A check box that adds `key` to or removes it from `set`.
-pub fn set_checkbox<K: Ord>(ui: &mut egui::Ui, set: &mut BTreeSet<K>, key: K, label: String) {
+pub fn set_checkbox<K: Ord>(
+    ui: &mut egui::Ui,
+    set: &mut BTreeSet<K>,
+    key: K,
+    label: String,
+) -> egui::Rect {
     let mut on = set.contains(&key);
-    if ui.checkbox(&mut on, label).changed() {
+    let response = ui.checkbox(&mut on, label);
+    if response.changed() {
         if on {
             set.insert(key);
         } else {
             set.remove(&key);
         }
     }
+    response.rect
 }
 
 /// A file's parent folder created (best effort: writing the file reports the error).
