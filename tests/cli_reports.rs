@@ -20,6 +20,7 @@ fn request(duration: f64) -> RunRequest {
         video: None,
         fps: 30,
         size: (1280, 720),
+        no_grid: false,
         engine: None,
     }
 }

@@ -95,6 +95,57 @@ fn a_run_renders_off_screen_into_a_video_with_one_frame_per_tick() {
     assert!(colours > 20, "the last frame has only {colours} colours");
 }
 
+/// The first PNG frame of the demo rendered into `dir` (320x180), with `extra` options.
+fn first_frame(dir: &Path, extra: &[&str]) -> (Vec<u8>, usize) {
+    let mut args = vec![
+        "run",
+        "configs/demo.simulation.xml",
+        "--video",
+        dir.to_str().unwrap(),
+        "--duration",
+        "0.5",
+        "--fps",
+        "4",
+        "--size",
+        "320x180",
+    ];
+    args.extend(extra);
+    run_offscreen(&args);
+    let pngs = common::files_ending(dir, ".png");
+    assert_eq!(pngs.len(), 2, "{pngs:?}");
+    let (pixels, _, _, bpp) = common::window::png_pixels(&pngs[0]);
+    (pixels, bpp)
+}
+
+#[test]
+fn the_first_frame_shows_the_scene_and_the_ground_carries_a_metre_grid_unless_turned_off() {
+    let dir = scratch("video-grid");
+    let (grid, bpp) = first_frame(&dir.join("grid"), &[]);
+    let (plain, _) = first_frame(&dir.join("plain"), &["--no-grid"]);
+    let pixels = grid.len() / bpp;
+    // Frame 0 is the scene at time 0, not a black or empty picture.
+    let mean_green = grid.chunks(bpp).map(|p| f64::from(p[1])).sum::<f64>() / pixels as f64;
+    assert!(
+        mean_green > 120.0,
+        "mean green {mean_green}: the ground is shown"
+    );
+    // The grid's lines: pixels darker with the grid than without it, the rest alike.
+    let (mut darker, mut other) = (0usize, 0usize);
+    for (a, b) in grid.chunks(bpp).zip(plain.chunks(bpp)) {
+        let sum = |p: &[u8]| p[..3].iter().map(|&c| i32::from(c)).sum::<i32>();
+        match sum(a) - sum(b) {
+            d if d < -30 => darker += 1,
+            d if d > 30 => other += 1,
+            _ => {}
+        }
+    }
+    assert!(
+        darker > pixels / 200,
+        "{darker} of {pixels} pixels darkened by grid lines"
+    );
+    assert!(other < darker / 10, "{other} pixels brighter with the grid");
+}
+
 #[test]
 fn bad_video_requests_are_refused_with_the_reason() {
     let out = Command::new(env!("CARGO_BIN_EXE_proleg"))

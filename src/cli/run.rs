@@ -54,6 +54,9 @@ pub struct RunRequest {
     /// Video size, WIDTHxHEIGHT.
     #[arg(long, default_value = "1280x720", value_parser = crate::cli::parse_size)]
     pub size: (u32, u32),
+    /// A video without the ground's metre grid.
+    #[arg(long)]
+    pub no_grid: bool,
 }
 
 /// What a run did.

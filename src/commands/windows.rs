@@ -161,6 +161,7 @@ pub fn video(req: &cli::run::RunRequest, registry: &ModuleRegistry) -> Printed {
             size: req.size,
             seconds: req.duration,
             engine: req.engine,
+            grid: !req.no_grid,
         };
         crate::gui::video::record_video(&request, registry)
             .map(|r| r.to_string())

@@ -110,6 +110,8 @@ pub struct Views<'w> {
     pub camera: Res<'w, camera::CameraReadout>,
     /// Whether a script still plays.
     pub script: ResMut<'w, crate::gui::desktop::ScriptPending>,
+    /// Whether the ground's metre grid is shown.
+    pub grid: ResMut<'w, crate::gui::view3d::meshes::ShowGrid>,
 }
 
 pub use crate::gui::control::schedule::GuiSystems;
@@ -358,6 +360,11 @@ fn show_toolbar(ui: &mut egui::Ui, session: &mut SimSession, views: &mut Views) 
             ui.toggle_value(&mut views.optimizer.open, "Optimization");
         }
         ui.toggle_value(&mut views.debug.0, "Physics debug view");
+        // Changed only when clicked: the grid's visibility is applied on a change.
+        let mut grid = views.grid.0;
+        if ui.toggle_value(&mut grid, "Ground grid").changed() {
+            views.grid.0 = grid;
+        }
         ui.toggle_value(&mut views.remote.open, "Remote control");
         ui.toggle_value(&mut views.modules.open, "Module library");
         ui.toggle_value(&mut views.robot.open, "Real robot");

@@ -9,7 +9,9 @@ use bevy::prelude::*;
 use crate::config::Simulation;
 use crate::config::body::{Geom, Shape};
 use crate::gui::control::session::SimSession;
-use crate::gui::view3d::meshes::{geom_material, geom_mesh, spawn_lights, to_transform};
+use crate::gui::view3d::meshes::{
+    ShowGrid, apply_show_grid, geom_material, geom_mesh, spawn_grid, spawn_lights, to_transform,
+};
 use crate::sim::engine::BodyId;
 
 /// The root of the scene (configuration frame -> Bevy frame).
@@ -51,7 +53,9 @@ pub fn build_scene(
     roots: Query<Entity, With<SceneRoot>>,
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<StandardMaterial>>,
+    show: Option<Res<ShowGrid>>,
 ) {
+    let show = show.map_or_else(ShowGrid::default, |s| *s);
     if built.0 == Some(session.generation) {
         return;
     }
@@ -93,14 +97,15 @@ pub fn build_scene(
     let mut link_entities = vec![None; sim.robot.links.len()];
     for (name, visual, geoms) in bodies {
         let (handle, link) = (visual.body, visual.link);
+        // The scenery's fixed bodies carry the metre grid.
+        let grid = (link.is_none() && !visual.movable).then_some(show);
         let e = spawn_body(
             &mut commands,
-            &mut meshes,
-            &mut materials,
+            (&mut meshes, &mut materials),
             sim,
-            name,
-            visual,
+            (name, visual),
             geoms,
+            grid,
         );
         commands.entity(root).add_child(e);
         if let Some(slot) = link.and_then(|i| link_entities.get_mut(i)) {
@@ -157,15 +162,15 @@ fn spawn_pads(
     }
 }
 
-/// A body entity with one child mesh per geometry.
+/// A body entity with one child mesh per geometry (with `grid`, a floor's metre lines on
+/// those that get them).
 fn spawn_body(
     commands: &mut Commands,
-    meshes: &mut Assets<Mesh>,
-    materials: &mut Assets<StandardMaterial>,
+    (meshes, materials): (&mut Assets<Mesh>, &mut Assets<StandardMaterial>),
     sim: &Simulation,
-    name: String,
-    visual: BodyVisual,
+    (name, visual): (String, BodyVisual),
     geoms: &[Geom],
+    grid: Option<ShowGrid>,
 ) -> Entity {
     let parent = commands
         .spawn((
@@ -192,6 +197,9 @@ fn spawn_body(
                 to_transform(&g.pose),
             ))
             .id();
+        if let Some(show) = grid {
+            spawn_grid(commands, meshes, materials, child, &g.shape, show);
+        }
         commands.entity(parent).add_child(child);
     }
     parent
@@ -234,10 +242,11 @@ pub struct ScenePlugin;
 impl Plugin for ScenePlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<SceneBuilt>()
+            .init_resource::<ShowGrid>()
             .add_systems(Startup, spawn_lights)
             .add_systems(
                 Update,
-                (build_scene, follow_bodies, colour_pads)
+                (build_scene, apply_show_grid, follow_bodies, colour_pads)
                     .chain()
                     .in_set(crate::gui::control::schedule::GuiSystems::Scene),
             );

@@ -204,7 +204,9 @@ pub fn notices(ctx: &egui::Context, viewer: egui::Rect, session: &mut SimSession
     }
     egui::Area::new(egui::Id::new("notices"))
         .order(egui::Order::Foreground)
-        .fixed_pos(viewer.left_top() + egui::vec2(8.0, 8.0))
+        // Top right: the robot's readout holds the viewer's top left.
+        .pivot(egui::Align2::RIGHT_TOP)
+        .fixed_pos(viewer.right_top() + egui::vec2(-8.0, 8.0))
         .show(ctx, |ui| {
             ui.set_max_width((viewer.width() - 16.0).max(200.0));
             egui::Frame::popup(ui.style()).show(ui, |ui| notice_rows(ui, session));

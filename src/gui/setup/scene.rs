@@ -18,7 +18,9 @@ use crate::config::transform::Pose;
 use crate::gui::setup::preview::{robot_file_model, robot_key, robot_model};
 use crate::gui::setup::state::EditorDrag;
 use crate::gui::setup::state::{SetupState, Tool};
-use crate::gui::view3d::meshes::{geom_material, geom_mesh, to_transform};
+use crate::gui::view3d::meshes::{
+    GroundGrid, geom_material, geom_mesh, grid_material, ground_grid, to_transform,
+};
 use crate::gui::view3d::orbit::to_bevy;
 
 /// The root of the scene (configuration frame, z up -> Bevy's y up).
@@ -256,7 +258,11 @@ impl Spawner<'_, '_, '_> {
             );
             if let Some(kb) = kb {
                 for b in &kb.bodies {
-                    self.body(e, &b.name, &b.pose, &b.geoms, MeshFrom::Scene(env));
+                    let fixed = b.kind == crate::config::body::BodyKind::Static;
+                    let e_body = self.body(e, &b.name, &b.pose, &b.geoms, MeshFrom::Scene(env));
+                    if fixed {
+                        self.grids(e_body, &b.geoms);
+                    }
                 }
             }
             self.commands.entity(root).add_child(e);
@@ -274,8 +280,36 @@ impl Spawner<'_, '_, '_> {
             .id()
     }
 
+    /// The metre grid on a fixed body's floor-sized boxes (the windows' one grid).
+    fn grids(&mut self, body: Entity, geoms: &[Geom]) {
+        for g in geoms.iter().filter(|g| g.visible) {
+            let Some(mesh) = ground_grid(&g.shape) else {
+                continue;
+            };
+            let grid = self
+                .commands
+                .spawn((
+                    Name::new("ground grid"),
+                    GroundGrid,
+                    Mesh3d(self.meshes.add(mesh)),
+                    MeshMaterial3d(self.materials.add(grid_material())),
+                    to_transform(&g.pose),
+                ))
+                .id();
+            self.commands.entity(body).add_child(grid);
+        }
+    }
+
     /// A body under `parent` with a mesh per geometry; mesh files resolve from `env`'s file.
-    fn body(&mut self, parent: Entity, name: &str, pose: &Pose, geoms: &[Geom], from: MeshFrom) {
+    /// Returns the body's entity.
+    fn body(
+        &mut self,
+        parent: Entity,
+        name: &str,
+        pose: &Pose,
+        geoms: &[Geom],
+        from: MeshFrom,
+    ) -> Entity {
         let body = self
             .commands
             .spawn((
@@ -322,6 +356,7 @@ impl Spawner<'_, '_, '_> {
                 .id();
             self.commands.entity(body).add_child(child);
         }
+        body
     }
 }
 

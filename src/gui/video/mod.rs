@@ -49,6 +49,8 @@ pub struct VideoRequest {
     pub seconds: Option<f64>,
     /// The physics engine instead of the file's.
     pub engine: Option<crate::config::simulation::EngineKind>,
+    /// Draw the ground's metre grid.
+    pub grid: bool,
 }
 
 /// What was rendered.
@@ -133,6 +135,7 @@ pub fn record_replay_video(
         size,
         seconds: Some(replay.duration),
         engine: Some(replay.engine),
+        grid: true,
     };
     check(&req)?;
     let session =
@@ -210,6 +213,12 @@ fn render(
     sink: &mut VideoSink,
 ) -> Result<[f64; 3], VideoError> {
     let (mut app, target) = following_app(session, req.size);
+    app.insert_resource(crate::gui::view3d::meshes::ShowGrid(req.grid));
+    // The scene is built on the first update and reaches the render world updates later:
+    // without these, the first frames were black or empty sky.
+    for _ in 0..WARM_UP {
+        update(&mut app)?;
+    }
     let mut next = 0;
     for k in 0..frames {
         let t = k as f64 / f64::from(req.fps);

@@ -1,5 +1,6 @@
 //! Drawing configuration geometry in Bevy, for every 3D view (control window, configuration
-//! window, videos): a geometry's mesh and material, a pose as a transform, the lights.
+//! window, videos): a geometry's mesh and material, a pose as a transform, the lights, and
+//! the metre grid on the ground (so that a crawling robot is seen to move over it).
 
 use bevy::asset::RenderAssetUsages;
 use bevy::mesh::{Indices, PrimitiveTopology};
@@ -84,4 +85,125 @@ pub fn spawn_lights(mut commands: Commands) {
         },
         Transform::from_xyz(2.0, 6.0, 3.0).looking_at(Vec3::ZERO, Vec3::Y),
     ));
+}
+
+/// Marks the metre lines drawn on a ground geometry ([`ground_grid`]); [`ShowGrid`] shows
+/// or hides them all.
+#[derive(Component)]
+pub struct GroundGrid;
+
+/// Whether the ground's metre grid is shown (default: yes).
+#[derive(Resource, Clone, Copy, PartialEq, Eq)]
+pub struct ShowGrid(pub bool);
+
+impl Default for ShowGrid {
+    fn default() -> Self {
+        ShowGrid(true)
+    }
+}
+
+/// Smallest side (m) of a box that gets a grid: a floor or a slope, not a step or a wall.
+const GRID_MIN_SIDE: f64 = 2.0;
+
+/// Lines every metre on the top face of a box at least [`GRID_MIN_SIDE`] long on both
+/// horizontal sides, in the geometry's own frame (a slope's grid lies on the slope): the
+/// mesh, or `None` for any other geometry.
+pub fn ground_grid(shape: &Shape) -> Option<Mesh> {
+    let Shape::Box { extents: [x, y, z] } = *shape else {
+        return None;
+    };
+    if 2.0 * x < GRID_MIN_SIDE || 2.0 * y < GRID_MIN_SIDE {
+        return None;
+    }
+    // Just above the face, so the depth test does not hide the lines in it.
+    let top = (z + 0.002) as f32;
+    let mut positions: Vec<[f32; 3]> = Vec::new();
+    let lines = |half: f64| (-(half.floor() as i64)..=(half.floor() as i64)).map(|k| k as f32);
+    for k in lines(x) {
+        positions.push([k, -y as f32, top]);
+        positions.push([k, y as f32, top]);
+    }
+    for k in lines(y) {
+        positions.push([-x as f32, k, top]);
+        positions.push([x as f32, k, top]);
+    }
+    Some(
+        Mesh::new(PrimitiveTopology::LineList, RenderAssetUsages::default())
+            .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions),
+    )
+}
+
+/// The grid's material: thin dark lines, unlit, half transparent.
+pub fn grid_material() -> StandardMaterial {
+    StandardMaterial {
+        base_color: Color::srgba(0.05, 0.12, 0.05, 0.45),
+        unlit: true,
+        alpha_mode: AlphaMode::Blend,
+        ..default()
+    }
+}
+
+/// Spawns `shape`'s grid (if it gets one) as a child of `geom`, shown as [`ShowGrid`] says.
+pub fn spawn_grid(
+    commands: &mut Commands,
+    meshes: &mut Assets<Mesh>,
+    materials: &mut Assets<StandardMaterial>,
+    geom: Entity,
+    shape: &Shape,
+    show: ShowGrid,
+) {
+    let Some(mesh) = ground_grid(shape) else {
+        return;
+    };
+    let grid = commands
+        .spawn((
+            Name::new("ground grid"),
+            GroundGrid,
+            Mesh3d(meshes.add(mesh)),
+            MeshMaterial3d(materials.add(grid_material())),
+            Transform::default(),
+            if show.0 {
+                Visibility::Inherited
+            } else {
+                Visibility::Hidden
+            },
+        ))
+        .id();
+    commands.entity(geom).add_child(grid);
+}
+
+/// Shows or hides every grid when [`ShowGrid`] changes.
+pub fn apply_show_grid(show: Res<ShowGrid>, mut grids: Query<&mut Visibility, With<GroundGrid>>) {
+    if !show.is_changed() {
+        return;
+    }
+    for mut v in &mut grids {
+        *v = if show.0 {
+            Visibility::Inherited
+        } else {
+            Visibility::Hidden
+        };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_floor_gets_a_line_every_metre_and_a_step_none() {
+        let floor = ground_grid(&Shape::Box {
+            extents: [5.0, 2.5, 0.05],
+        })
+        .expect("a grid");
+        // x: -5..=5 (11 lines), y: -2..=2 (5 lines), two points each.
+        assert_eq!(floor.count_vertices(), 2 * (11 + 5));
+        assert!(
+            ground_grid(&Shape::Box {
+                extents: [0.3, 2.0, 0.1]
+            })
+            .is_none()
+        );
+        assert!(ground_grid(&Shape::Sphere { radius: 3.0 }).is_none());
+    }
 }
