@@ -272,3 +272,12 @@ fn data(command: DataCommand) -> Printed {
         )),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    /// clap's own checks of every command's arguments.
+    #[test]
+    fn the_command_line_passes_claps_checks() {
+        <super::Cli as clap::CommandFactory>::command().debug_assert();
+    }
+}

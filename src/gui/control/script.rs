@@ -445,6 +445,14 @@ impl ScriptRunner {
 mod tests {
     use super::*;
 
+    /// clap's own checks of the commands' arguments (which only debug builds run when a
+    /// line is parsed: a positional list before another one failed there, not in release).
+    #[test]
+    fn the_command_definitions_pass_claps_checks() {
+        <Command as clap::Subcommand>::augment_subcommands(clap::Command::new("script"))
+            .debug_assert();
+    }
+
     #[test]
     fn parses_every_command_and_locates_errors() {
         let s = parse(

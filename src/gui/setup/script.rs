@@ -409,11 +409,12 @@ pub enum WizardField {
         min: u32,
         /// Most modules.
         max: u32,
-        /// The joint orientations allowed, comma-separated.
-        #[arg(value_delimiter = ',', value_parser = orientation)]
+        /// The joint orientations allowed, comma-separated (one word: a list after it would
+        /// take the part sets too).
+        #[arg(required = true, num_args = 1, value_delimiter = ',', value_parser = orientation)]
         orientations: Vec<crate::config::robot_builder::Orientation>,
         /// The part sets allowed, comma-separated.
-        #[arg(value_delimiter = ',', value_parser = part_set)]
+        #[arg(required = true, num_args = 1, value_delimiter = ',', value_parser = part_set)]
         parts: Vec<crate::compose::robot_builder::PartSet>,
         /// Repeat a motif of K orientations along the chain.
         #[arg(long)]
@@ -513,6 +514,14 @@ pub fn parse(path: &Path, text: &str) -> Result<Script, ScriptError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// clap's own checks of the commands' arguments (which only debug builds run when a
+    /// line is parsed: a positional list before another one failed there, not in release).
+    #[test]
+    fn the_command_definitions_pass_claps_checks() {
+        <Command as clap::Subcommand>::augment_subcommands(clap::Command::new("script"))
+            .debug_assert();
+    }
 
     #[test]
     fn parses_commands_and_locates_errors() {
