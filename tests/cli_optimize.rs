@@ -203,6 +203,22 @@ fn optimize_refuses_a_single_run_configuration() {
 }
 
 #[test]
+fn a_new_store_in_a_folder_not_made_yet_gets_its_folder() {
+    let dir = common::scratch("cli_optimize_new_folder");
+    let store = dir.join("out").join("runs.sqlite");
+    let (ok, _, err) = common::optimize(
+        "configs/experiment1_ga.simulation.xml",
+        ("30", "0.5"),
+        &store,
+        &[],
+    );
+    assert!(ok, "{err}");
+    let (ok, out, err) = proleg(&["results", store.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    assert!(out.contains("30 evaluations"), "{out}");
+}
+
+#[test]
 fn a_killed_map_elites_run_resumes_to_the_same_archive_and_maps_it() {
     let dir = common::scratch("cli_optimize_map");
     let run = |extra: &[&str], store: &std::path::Path| {

@@ -14,6 +14,15 @@ pub enum StoreError {
         /// The file asked for.
         path: PathBuf,
     },
+    /// The folder of a new SQLite store could not be made.
+    #[error("{}: cannot make the store's folder: {source}", path.display())]
+    Folder {
+        /// The folder.
+        path: PathBuf,
+        /// The system's error.
+        #[source]
+        source: std::io::Error,
+    },
     /// The SQLite driver failed.
     #[error("{}: {source}", path.display())]
     Sqlite {

@@ -35,12 +35,20 @@ const TO_V5: &str = "ALTER TABLE evaluations ADD COLUMN rejected TEXT;
 ALTER TABLE evaluations ADD COLUMN measures TEXT NOT NULL DEFAULT '';";
 
 impl SqliteStore {
-    /// Opens (creating if needed) the store at `path`.
+    /// Opens (creating if needed, with its folder) the store at `path`.
     pub fn open(path: &Path) -> Result<SqliteStore, StoreError> {
         let fail = |source| StoreError::Sqlite {
             path: path.to_path_buf(),
             source,
         };
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty())
+            && !dir.is_dir()
+        {
+            std::fs::create_dir_all(dir).map_err(|source| StoreError::Folder {
+                path: dir.to_path_buf(),
+                source,
+            })?;
+        }
         let conn = Connection::open(path).map_err(fail)?;
         conn.pragma_update(None, "journal_mode", "WAL")
             .map_err(fail)?;
