@@ -18,9 +18,7 @@ use crate::config::transform::Pose;
 use crate::gui::setup::preview::{robot_file_model, robot_key, robot_model};
 use crate::gui::setup::state::EditorDrag;
 use crate::gui::setup::state::{SetupState, Tool};
-use crate::gui::view3d::meshes::{
-    GroundGrid, geom_material, geom_mesh, grid_material, ground_grid, to_transform,
-};
+use crate::gui::view3d::meshes::{ShowGrid, geom_material, geom_mesh, spawn_grid, to_transform};
 use crate::gui::view3d::orbit::to_bevy;
 
 /// The root of the scene (configuration frame, z up -> Bevy's y up).
@@ -211,7 +209,13 @@ impl Spawner<'_, '_, '_> {
             Some(model) => {
                 for link in &model.links {
                     let from = MeshFrom::Robot(model);
-                    self.body(robot_entity, &link.name, &link.pose, &link.geoms, from);
+                    self.body(
+                        robot_entity,
+                        (&link.name, &link.pose),
+                        &link.geoms,
+                        from,
+                        false,
+                    );
                 }
             }
             None => {
@@ -219,10 +223,10 @@ impl Spawner<'_, '_, '_> {
                 let g = placeholder();
                 self.body(
                     robot_entity,
-                    "robot placeholder",
-                    &Pose::IDENTITY,
+                    ("robot placeholder", &Pose::IDENTITY),
                     &[g],
                     MeshFrom::Nowhere,
+                    false,
                 );
             }
         }
@@ -258,11 +262,9 @@ impl Spawner<'_, '_, '_> {
             );
             if let Some(kb) = kb {
                 for b in &kb.bodies {
-                    let fixed = b.kind == crate::config::body::BodyKind::Static;
-                    let e_body = self.body(e, &b.name, &b.pose, &b.geoms, MeshFrom::Scene(env));
-                    if fixed {
-                        self.grids(e_body, &b.geoms);
-                    }
+                    // A fixed body's floor-sized boxes carry the metre grid.
+                    let grid = b.kind == crate::config::body::BodyKind::Static;
+                    self.body(e, (&b.name, &b.pose), &b.geoms, MeshFrom::Scene(env), grid);
                 }
             }
             self.commands.entity(root).add_child(e);
@@ -280,36 +282,16 @@ impl Spawner<'_, '_, '_> {
             .id()
     }
 
-    /// The metre grid on a fixed body's floor-sized boxes (the windows' one grid).
-    fn grids(&mut self, body: Entity, geoms: &[Geom]) {
-        for g in geoms.iter().filter(|g| g.visible) {
-            let Some(mesh) = ground_grid(&g.shape) else {
-                continue;
-            };
-            let grid = self
-                .commands
-                .spawn((
-                    Name::new("ground grid"),
-                    GroundGrid,
-                    Mesh3d(self.meshes.add(mesh)),
-                    MeshMaterial3d(self.materials.add(grid_material())),
-                    to_transform(&g.pose),
-                ))
-                .id();
-            self.commands.entity(body).add_child(grid);
-        }
-    }
-
-    /// A body under `parent` with a mesh per geometry; mesh files resolve from `env`'s file.
-    /// Returns the body's entity.
+    /// A body under `parent` with a mesh per geometry (with `grid`, the ground's metre grid
+    /// on those that get one); mesh files resolve from `env`'s file.
     fn body(
         &mut self,
         parent: Entity,
-        name: &str,
-        pose: &Pose,
+        (name, pose): (&str, &Pose),
         geoms: &[Geom],
         from: MeshFrom,
-    ) -> Entity {
+        grid: bool,
+    ) {
         let body = self
             .commands
             .spawn((
@@ -354,9 +336,18 @@ impl Spawner<'_, '_, '_> {
                     to_transform(&g.pose),
                 ))
                 .id();
+            if grid {
+                spawn_grid(
+                    self.commands,
+                    self.meshes,
+                    self.materials,
+                    child,
+                    &g.shape,
+                    ShowGrid::default(),
+                );
+            }
             self.commands.entity(body).add_child(child);
         }
-        body
     }
 }
 
