@@ -1,7 +1,9 @@
 //! Servo identification against a known truth: an emulated Dynamixel chain whose servos
 //! hide their gain, top speed, dead band and latency is driven by the real-robot mode for
 //! 20 s; `calibrate` recovers them from the recording, and the replay then tracks the
-//! recording several times better than the robot file's servo model did. A 3-s recording
+//! recording several times better than the robot file's servo model did. Written with
+//! `-o` into a folder far from `configs/` and moved, its simulation runs the calibrated
+//! robot. A 3-s recording
 //! is too short for the latency, and a recording of another robot is refused. On a gait
 //! recorded on the same chain, the simulation with the calibrated servos tracks the
 //! recording several times closer than with the robot file's.
@@ -71,7 +73,27 @@ fn hidden_servo_dynamics_are_recovered_from_a_recording() {
         runs: 3,
         seed: 1,
     };
-    let report = calibrate(&rec, &sim, &options).unwrap();
+    // `proleg calibrate DATA --config SWEEP -o FAR`, FAR where no folder above holds the
+    // shipped parts: a folder that stands alone.
+    let far = std::env::temp_dir().join(format!("proleg-calibrated-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&far);
+    let written = proleg::cli::calibrate::run(
+        &proleg::cli::calibrate::CalibrateArgs {
+            data: data.clone(),
+            config: common::root().join(SWEEP),
+            out: Some(far.join("calibrated")),
+            per_joint: options.per_joint,
+            runs: options.runs,
+            seed: options.seed,
+            check: None,
+            check_data: None,
+            port: None,
+            check_seconds: None,
+        },
+        &ModuleRegistry::standard(),
+    )
+    .unwrap();
+    let report = written.report.clone();
     let g = &report.groups[0];
     let within = |id: &Identified, truth: f64, tol: f64, what: &str| {
         let v = id
@@ -109,21 +131,22 @@ fn hidden_servo_dynamics_are_recovered_from_a_recording() {
         );
     }
 
-    // The calibrated robot file loads, its joints carrying the fitted values.
-    let robot = dir.join("snake5p.calibrated.robot.xml");
-    let text = proleg::calibrate::calibrated_robot_file(&sim, &report, &dir).unwrap();
-    std::fs::write(&robot, text).unwrap();
-    let configs = common::root().join("configs");
-    let sim_text = std::fs::read_to_string(common::root().join(SWEEP))
-        .unwrap()
-        .replace("robots/snake5p.robot.xml", robot.to_str().unwrap())
-        .replace("actuation/", &format!("{}/actuation/", configs.display()))
-        .replace(
-            "environments/",
-            &format!("{}/environments/", configs.display()),
-        );
-    std::fs::write(dir.join("calibrated.simulation.xml"), sim_text).unwrap();
-    let calibrated = load_simulation(dir.join("calibrated.simulation.xml")).unwrap();
+    // The folder moved elsewhere, its simulation runs the calibrated robot: its joints
+    // carry the fitted values.
+    let calibrated = far.join("calibrated");
+    let moved = far.join("moved elsewhere");
+    std::fs::rename(&calibrated, &moved).unwrap();
+    let simulation = written.simulation.as_ref().expect("a simulation with -o");
+    let simulation = moved.join(simulation.strip_prefix(&calibrated).unwrap());
+    let (ok, text, err) = common::proleg(&["run", simulation.to_str().unwrap()]);
+    assert!(ok && text.contains("displacement"), "{err}");
+    let source = proleg::config::RecordingSource::new(&proleg::config::FsSource);
+    let calibrated =
+        proleg::config::load_simulation_with(&source, &simulation, &ModuleRegistry::standard())
+            .unwrap();
+    for (path, _) in source.files() {
+        assert!(Path::new(&path).starts_with(&moved), "{path} is outside");
+    }
     let j = &calibrated.robot.joints[2];
     assert_eq!(
         j.servo_gain,
@@ -131,6 +154,7 @@ fn hidden_servo_dynamics_are_recovered_from_a_recording() {
     );
     assert!((j.latency_s - g.latency_s.value().unwrap()).abs() < 1e-4);
     assert!((j.dead_band_deg - g.dead_band_deg.value().unwrap()).abs() < 1e-4);
+    std::fs::remove_dir_all(&far).unwrap();
 
     // What it buys on a gait: the demo sine recorded on the same chain against its
     // simulation on the floor, with the robot file's servos and with the calibrated ones.

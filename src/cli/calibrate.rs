@@ -1,5 +1,6 @@
 //! `proleg calibrate`: a recording's servo identification (`calibrate`), the calibrated
-//! robot file beside the original (its part files found as before) or in `-o DIR`, the
+//! robot file beside the original (its part files found as before) or, with `-o DIR`, in
+//! a folder that stands alone with a simulation on the calibrated robot, the
 //! before/after picture, and with `--check GAIT` the gap between a gait on the robot
 //! (recorded now on `--port`, or earlier in `--check-data`) and its simulation before and
 //! after.
@@ -13,6 +14,10 @@ use crate::calibrate::{
     CalibrateError, CalibrateOptions, CalibrationReport, calibrate, calibrated_robot_file,
 };
 use crate::cli::error::CliError;
+use crate::config::bundle::{write_bundle, write_file};
+use crate::config::simulation::write_simulation_file;
+use crate::config::source::relative_path;
+use crate::config::{FsSource, RecordingSource, load_simulation_with};
 use crate::control::{ModuleRegistry, load_simulation_in};
 
 /// `proleg calibrate`'s arguments.
@@ -23,8 +28,9 @@ pub struct CalibrateArgs {
     /// The simulation whose robot the recording drove.
     #[arg(long)]
     pub config: PathBuf,
-    /// Where the calibrated robot file and the picture go (default: beside the robot
-    /// file, so its part files are found as before).
+    /// A folder for the calibrated robot, the picture and a simulation on the calibrated
+    /// robot, with a copy of every file they need so the folder can be moved (default:
+    /// only the calibrated robot file and the picture, beside the robot file).
     #[arg(short, long)]
     pub out: Option<PathBuf>,
     /// One servo model per joint instead of one for all.
@@ -58,6 +64,9 @@ pub struct CalibrateReport {
     pub report: CalibrationReport,
     /// The calibrated robot file.
     pub robot: PathBuf,
+    /// With `-o`: the simulation on the calibrated robot, in a folder that also holds
+    /// every file it needs (a copy of the configuration in its own layout).
+    pub simulation: Option<PathBuf>,
     /// The before/after picture.
     pub plot: PathBuf,
     /// The gap on a gait, when checked.
@@ -68,6 +77,9 @@ impl std::fmt::Display for CalibrateReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "{}", self.report)?;
         writeln!(f, "calibrated robot file: {}", self.robot.display())?;
+        if let Some(s) = &self.simulation {
+            writeln!(f, "on the calibrated robot: {}", s.display())?;
+        }
         writeln!(
             f,
             "recorded against replayed angles: {}",
@@ -82,7 +94,8 @@ impl std::fmt::Display for CalibrateReport {
 
 /// Calibrates `a.config`'s servos on `a.data`.
 pub fn run(a: &CalibrateArgs, registry: &ModuleRegistry) -> Result<CalibrateReport, CliError> {
-    let sim = load_simulation_in(&a.config, registry)?;
+    let source = RecordingSource::new(&FsSource);
+    let sim = load_simulation_with(&source, &a.config, registry)?;
     let rec = read_recording(&a.data)?;
     let options = CalibrateOptions {
         per_joint: a.per_joint,
@@ -92,16 +105,37 @@ pub fn run(a: &CalibrateArgs, registry: &ModuleRegistry) -> Result<CalibrateRepo
     let report = calibrate(&rec, &sim, &options)?;
     let robot_file = &sim.robot.file;
     let beside = robot_file.parent().unwrap_or(Path::new("")).to_path_buf();
-    let dir = a.out.clone().unwrap_or(beside);
+    let stem = file_stem(robot_file, ".robot", "robot");
+    // The file's includes are written relative to the robot file's own folder, so they
+    // resolve beside the original and, with `-o`, beside its copy in the same layout.
+    let text = calibrated_robot_file(&sim, &report, &beside)?;
+    let (dir, robot, simulation) = match &a.out {
+        None => {
+            let robot = beside.join(format!("{stem}.calibrated.robot.xml"));
+            (beside, robot, None)
+        }
+        Some(out) => {
+            let layout = write_bundle(&source.files(), out)?;
+            let copy = layout.place(robot_file);
+            let robot = copy
+                .parent()
+                .unwrap_or(out)
+                .join(format!("{stem}.calibrated.robot.xml"));
+            let sim_file = layout.place(&a.config);
+            let sim_stem = file_stem(&sim_file, ".simulation", "calibrated");
+            let sim_dir = sim_file.parent().unwrap_or(out).to_path_buf();
+            let runs_it = sim_dir.join(format!("{sim_stem}.calibrated.simulation.xml"));
+            let mut file = sim.files.simulation.clone();
+            file.robot.path = relative_path(&sim_dir, &robot);
+            write_file(&runs_it, &write_simulation_file(&file))?;
+            (out.clone(), robot, Some(runs_it))
+        }
+    };
     std::fs::create_dir_all(&dir).map_err(CliError::write(&dir))?;
-    let stem = robot_file
-        .file_name()
-        .and_then(|n| n.to_str())
-        .map(|n| n.trim_end_matches(".xml").trim_end_matches(".robot"))
-        .unwrap_or("robot");
-    let robot = dir.join(format!("{stem}.calibrated.robot.xml"));
-    let text = calibrated_robot_file(&sim, &report, &dir)?;
     std::fs::write(&robot, text).map_err(CliError::write(&robot))?;
+    if let Some(s) = &simulation {
+        load_simulation_in(s, registry)?;
+    }
     let plot = dir.join(format!("{stem}.calibration.png"));
     plot_calibration(&rec, &report, &plot)?;
     let gait = match &a.check {
@@ -111,9 +145,22 @@ pub fn run(a: &CalibrateArgs, registry: &ModuleRegistry) -> Result<CalibrateRepo
     Ok(CalibrateReport {
         report,
         robot,
+        simulation,
         plot,
         gait,
     })
+}
+
+/// `path`'s file name without `.xml` and `kind` (`.robot`), or `fallback`.
+fn file_stem(path: &Path, kind: &str, fallback: &str) -> String {
+    path.file_name()
+        .and_then(|n| n.to_str())
+        .map(|n| {
+            n.trim_end_matches(".xml")
+                .trim_end_matches(kind)
+                .to_string()
+        })
+        .unwrap_or_else(|| fallback.to_string())
 }
 
 /// The gap on the gait `gait`: its recording (given, or made now on the port) against

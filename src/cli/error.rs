@@ -10,6 +10,9 @@ pub enum CliError {
     /// A configuration that does not load or check.
     #[error(transparent)]
     Config(#[from] crate::config::ConfigError),
+    /// A configuration's files that cannot be copied into a folder of their own.
+    #[error(transparent)]
+    Bundle(#[from] crate::config::bundle::BundleError),
     /// A world that cannot be built or read.
     #[error(transparent)]
     Sim(#[from] crate::sim::SimError),

@@ -30,7 +30,7 @@ pub struct InitArgs {
     /// The simulation whose modules the policy will run beside (without the policy).
     pub simulation: PathBuf,
     /// Where to write the weights file.
-    #[arg(long)]
+    #[arg(short, long)]
     pub out: PathBuf,
     /// Hidden layer widths, comma-separated (none: a linear policy).
     #[arg(long, value_delimiter = ',', default_value = "16")]

@@ -18,6 +18,9 @@ pub enum ComposeError {
         /// The system's error.
         source: std::io::Error,
     },
+    /// A file that cannot be written with its folder.
+    #[error(transparent)]
+    Bundle(#[from] crate::config::bundle::BundleError),
     /// A simulation file's include that is not found.
     #[error("{}:{line}: cannot find {include}", file.display())]
     Include {

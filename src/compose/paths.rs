@@ -1,13 +1,14 @@
 //! Paths of composed configurations: the relative path one written file uses to name
 //! another, time-stamped file names (thesis 4.4.1: the wizard names files itself), and a
 //! [`FileSource`] that sees unsaved files over the disk so a composition is checked
-//! before anything is written.
+//! before anything is written, and one that sees the configuration folder's files where
+//! their copies will be ([`MirrorSource`]), so a composition's folder stands alone.
 
 use std::io;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
 
-use crate::config::source::{FileSource, FsSource, MemSource};
+use crate::config::source::{FileSource, FsSource, MemSource, normalize};
 
 pub use crate::config::source::relative_path;
 
@@ -66,6 +67,51 @@ impl FileSource for OverlaySource {
         } else {
             FsSource.read_bytes(path)
         }
+    }
+}
+
+/// A source that also shows the files of `from` as if they were in `at`: a composition
+/// that copies the configuration folder's files it uses (parts, their sensors, a chosen
+/// robot, a library mesh) into its own folder is checked with them there, and learns
+/// which they are, before anything is written. A file really at a path is read from there;
+/// else `at/REST` is the first of `from/REST`, `from/../REST`, ... that exists (the include
+/// search from inside `from`).
+pub struct MirrorSource<'a> {
+    /// Where the files are read.
+    pub base: &'a dyn FileSource,
+    /// The folder the copies will be in.
+    pub at: PathBuf,
+    /// The folder they are copied from.
+    pub from: PathBuf,
+}
+
+impl MirrorSource<'_> {
+    /// `path` itself when it is there or not in `at`, else its original.
+    fn found(&self, path: &Path) -> PathBuf {
+        let norm = normalize(path);
+        let rest = match norm.strip_prefix(normalize(&self.at)) {
+            Ok(rest) if !self.base.exists(path) => rest,
+            _ => return path.to_path_buf(),
+        };
+        self.from
+            .ancestors()
+            .map(|d| d.join(rest))
+            .find(|p| self.base.exists(p))
+            .unwrap_or_else(|| path.to_path_buf())
+    }
+}
+
+impl FileSource for MirrorSource<'_> {
+    fn read(&self, path: &Path) -> io::Result<String> {
+        self.base.read(&self.found(path))
+    }
+
+    fn exists(&self, path: &Path) -> bool {
+        self.base.exists(&self.found(path))
+    }
+
+    fn read_bytes(&self, path: &Path) -> io::Result<Vec<u8>> {
+        self.base.read_bytes(&self.found(path))
     }
 }
 

@@ -1,8 +1,9 @@
 //! The beginner wizard (thesis 4.4.1): pages in order — robot, behaviour, environment,
 //! simulation properties, optimization (only for the GA and great-deluge modes), summary —
 //! each validated before the next; optional pages may be skipped. It writes ordinary
-//! configuration files with time-stamped names into the user folder, and checks them the
-//! way `proleg check` does before anything reaches the disk.
+//! configuration files with time-stamped names into the user folder, with copies of the
+//! parts (and a chosen robot) they use so the folder can be moved or shared, and checks
+//! them the way `proleg check` does before anything reaches the disk.
 //!
 //! Fields with rules have typed setters ([`Wizard::set_topology`], [`Wizard::add_group`],
 //! [`Wizard::register`], ...); the GUI's pages, its script and the tests call them.
@@ -13,19 +14,20 @@ use crate::compose::behaviour::{BehaviourSpec, Group, ModuleChoice};
 use crate::compose::env_edit::EnvEditor;
 use crate::compose::error::{ComposeError, GroupProblem};
 use crate::compose::optimization::{Method, OptimizationSpec, Registration, ValueSet};
-use crate::compose::paths::{OverlaySource, relative_path};
+use crate::compose::paths::{MirrorSource, OverlaySource, relative_path};
 use crate::compose::robot_builder::{PartSet, RobotSpec, check_name, parse_topology};
 use crate::config::actuation::{ParamValue, write_actuation_file};
+use crate::config::bundle::write_file;
 use crate::config::environment::write_environment_file;
 use crate::config::error::Pos;
 use crate::config::optimizer::write_optimizer_file;
+use crate::config::resolve::load_simulation_with;
 use crate::config::resolve::robot::resolve_robot;
-use crate::config::resolve::{Simulation, load_simulation_with};
 use crate::config::robot::{parse_robot_file, write_robot_file};
 use crate::config::simulation::{
     FileRef, Mode, SimulationFile, SimulationProperties, write_simulation_file,
 };
-use crate::config::source::FsSource;
+use crate::config::source::{FsSource, RecordingSource, normalize};
 use crate::control::registry::ModuleRegistry;
 
 /// A wizard page.
@@ -367,11 +369,11 @@ impl Wizard {
         let robot_path = match &self.robot {
             RobotChoice::Build(spec) => {
                 let path = files.robot.clone().unwrap_or_default();
-                let parts = relative_path(&self.out_dir, &self.configs_dir.join("parts"));
-                out.push((path.clone(), write_robot_file(&spec.to_robot_file(&parts))));
+                // The parts are copied beside it (see `copies`).
+                out.push((path.clone(), write_robot_file(&spec.to_robot_file("parts"))));
                 path
             }
-            RobotChoice::Existing(p) => p.clone(),
+            RobotChoice::Existing(p) => self.in_out_dir(p),
         };
         let robot_ref = relative_path(&self.out_dir, &robot_path);
         out.push((
@@ -414,17 +416,52 @@ impl Wizard {
             properties: self.props.clone(),
         };
         out.push((files.simulation.clone(), write_simulation_file(&sim)));
-        self.check(&out, &files.simulation)?;
+        let copies = self.check(&out, &files.simulation)?;
+        out.extend(copies);
         Ok(out)
     }
 
-    /// Loads the composed files as a simulation, the way `proleg check` does.
-    fn check(&self, files: &[(PathBuf, String)], sim: &Path) -> Result<Simulation, ComposeError> {
-        let mut src = OverlaySource::default();
-        for (p, t) in files {
-            src.unsaved.insert(p, t.clone());
+    /// Where a robot file of the configuration folder is copied (in the same layout under
+    /// the output folder, so its parts come along); any other stays where it is.
+    fn in_out_dir(&self, robot: &Path) -> PathBuf {
+        let (robot, configs) = (normalize(robot), normalize(&self.configs_dir));
+        match robot.strip_prefix(&configs) {
+            Ok(rest) => self.out_dir.join(rest),
+            Err(_) => robot,
         }
-        Ok(load_simulation_with(&src, sim, &self.registry)?)
+    }
+
+    /// Loads the composed files as a simulation, the way `proleg check` does, with the
+    /// configuration folder's files seen in the output folder; returns the ones it used
+    /// there that are not composed (parts, their sensors, a chosen robot) as copies to
+    /// write (with the parts of every body a co-design run may build), so the folder
+    /// stands alone.
+    fn check(
+        &self,
+        files: &[(PathBuf, String)],
+        sim: &Path,
+    ) -> Result<Vec<(PathBuf, String)>, ComposeError> {
+        let mut overlay = OverlaySource::default();
+        for (p, t) in files {
+            overlay.unsaved.insert(p, t.clone());
+        }
+        let mirror = MirrorSource {
+            base: &overlay,
+            at: self.out_dir.clone(),
+            from: self.configs_dir.clone(),
+        };
+        let src = RecordingSource::new(&mirror);
+        let sim = load_simulation_with(&src, sim, &self.registry)?;
+        // A co-design run's bodies may use parts its first robot does not.
+        crate::optimize::design::body_files(&sim, &src)?;
+        let out_dir = normalize(&self.out_dir);
+        let composed: Vec<PathBuf> = files.iter().map(|(p, _)| normalize(p)).collect();
+        Ok(src
+            .files()
+            .into_iter()
+            .map(|(p, t)| (PathBuf::from(p), t))
+            .filter(|(p, _)| p.starts_with(&out_dir) && !composed.contains(p))
+            .collect())
     }
 
     /// Writes every file; returns the simulation file.
@@ -432,7 +469,7 @@ impl Wizard {
         let files = self.compose()?;
         std::fs::create_dir_all(&self.out_dir).map_err(ComposeError::io(&self.out_dir))?;
         for (p, t) in &files {
-            std::fs::write(p, t).map_err(ComposeError::io(p))?;
+            write_file(p, t)?;
         }
         let sim = self.files().simulation;
         self.saved = Some(sim.clone());

@@ -12,6 +12,7 @@
 //! - [`remote`]: remote (gamepad) bindings to module parameters (our extension)
 //! - [`resolve`]: loading a simulation with all its includes into checked models
 //! - [`start_clearance`]: whether a robot's start pose is free of itself and the scenery
+//! - [`bundle`]: a configuration's files written into a folder that stands alone
 //!
 //! Every error names the file, line and column and says what was expected
 //! ([`ConfigError`]). Each `parse_*_file` / `write_*_file` pair round-trips: writing a
@@ -19,6 +20,7 @@
 
 pub mod actuation;
 pub mod body;
+pub mod bundle;
 pub mod contact;
 pub mod cross_engine;
 pub mod environment;

@@ -10,7 +10,7 @@ use crate::optimize::store::error::StoreError;
 pub enum OptimizeError {
     /// The simulation's mode is not an optimization (no optimizer file).
     #[error(
-        "{}: mode {mode:?} has no optimizer file; optimization needs mode \"Genetic Algorithm\" or \"Great Deluge\" with an <optimizer>",
+        "{}: mode {mode:?} has no optimizer file; optimization needs an optimization mode (\"GA optimization\", \"Great Deluge optimization\", \"CMA-ES optimization\", \"MAP-Elites optimization\", \"Evolution strategy optimization\") with an <optimizer>",
         file.display()
     )]
     NoOptimizer {
@@ -64,6 +64,9 @@ pub enum OptimizeError {
         /// The system's error.
         source: std::io::Error,
     },
+    /// A configuration's files that cannot be written into a folder of their own.
+    #[error(transparent)]
+    Bundle(#[from] crate::config::bundle::BundleError),
     /// A candidate's network that cannot be written.
     #[error(transparent)]
     Policy(Box<crate::control::policy::PolicyError>),

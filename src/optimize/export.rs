@@ -4,11 +4,12 @@
 //! own files and a simulation file that runs it. Nothing in the folder names a file outside
 //! it, so it can be moved, shared or kept with a paper and still runs.
 
-use std::path::{Component, Path, PathBuf};
+use std::path::{Path, PathBuf};
 
 use crate::config::actuation::write_actuation_file;
+use crate::config::bundle::write_bundle;
 use crate::config::simulation::{FileRef, Mode, write_simulation_file};
-use crate::config::source::{FsSource, normalize};
+use crate::config::source::FsSource;
 use crate::control::ModuleRegistry;
 use crate::optimize::error::OptimizeError;
 use crate::optimize::prepare::prepare;
@@ -93,49 +94,12 @@ pub fn export_candidate(
     Ok(main)
 }
 
-/// Writes the run's stored files under `dir` in their own layout (relative to the folder
-/// that holds them all) and returns where its simulation file went. The stored simulation
-/// file is written as it was run (single-run mode is set only in the candidate's own file).
+/// Writes the run's stored files under `dir` in their own layout and returns where its
+/// simulation file went. The stored simulation file is written as it was run (single-run
+/// mode is set only in the candidate's own file).
 fn write_configuration(spec: &RunSpec, dir: &Path) -> Result<PathBuf, OptimizeError> {
-    let paths: Vec<PathBuf> = spec
-        .files
-        .iter()
-        .map(|(p, _)| normalize(Path::new(p)))
-        .collect();
-    let root = common_folder(&paths);
-    let inside = |p: &Path| dir.join(p.strip_prefix(&root).unwrap_or(p));
-    for (path, (_, text)) in paths.iter().zip(&spec.files) {
-        let to = inside(path);
-        if let Some(parent) = to.parent() {
-            std::fs::create_dir_all(parent).map_err(|source| OptimizeError::Write {
-                path: parent.to_path_buf(),
-                source,
-            })?;
-        }
-        write(&to, text)?;
-    }
-    Ok(inside(&normalize(Path::new(&spec.info.config))))
-}
-
-/// The deepest folder holding every one of `paths` (lexically; empty for none).
-fn common_folder(paths: &[PathBuf]) -> PathBuf {
-    let mut common: Option<Vec<Component<'_>>> = None;
-    for p in paths {
-        let folder: Vec<Component<'_>> = p
-            .parent()
-            .map(|d| d.components().collect())
-            .unwrap_or_default();
-        common = Some(match common {
-            None => folder,
-            Some(c) => c
-                .into_iter()
-                .zip(folder)
-                .take_while(|(a, b)| a == b)
-                .map(|(a, _)| a)
-                .collect(),
-        });
-    }
-    common.unwrap_or_default().iter().collect()
+    let layout = write_bundle(&spec.files, dir)?;
+    Ok(layout.place(Path::new(&spec.info.config)))
 }
 
 fn write(path: &Path, text: &str) -> Result<(), OptimizeError> {
@@ -143,24 +107,4 @@ fn write(path: &Path, text: &str) -> Result<(), OptimizeError> {
         path: path.to_path_buf(),
         source,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_common_folder_is_the_deepest_that_holds_every_file() {
-        let p = |s: &str| PathBuf::from(s);
-        assert_eq!(
-            common_folder(&[
-                p("configs/a.simulation.xml"),
-                p("configs/environments/flat.env.xml"),
-                p("configs/parts/x.kinbody.xml"),
-            ]),
-            p("configs")
-        );
-        assert_eq!(common_folder(&[p("/w/c/a.xml"), p("/w/d/b.xml")]), p("/w"));
-        assert_eq!(common_folder(&[p("a.xml")]), p(""));
-    }
 }

@@ -132,7 +132,11 @@ pub fn run(
         Some(r) => SimSession::open_replay(r, &registry)?,
         None => open_or_fall_back(config, engine, &registry)?,
     };
-    let typed = config.to_path_buf();
+    // A replay shows the configuration it was scored with (the one `Load` would reload).
+    let typed = match &session.replay {
+        Some(_) => session.path.clone(),
+        None => config.to_path_buf(),
+    };
     let mut remote_view = RemoteView::default();
     if let Some(r) = remote {
         remote_view.load(r)?;

@@ -76,13 +76,7 @@ pub fn sync_scene(
     let rk = refresh_models(&state, &mut cache);
     let editing = state.editing_env();
     // The wizard's pages after the terrain show the robot in it.
-    let wizard_scene = state.tool == Tool::Wizard
-        && matches!(
-            state.wizard.page,
-            crate::compose::wizard::Page::Simulation
-                | crate::compose::wizard::Page::Optimization
-                | crate::compose::wizard::Page::Summary
-        );
+    let wizard_scene = state.wizard_shows_terrain();
     if drag.dragging {
         // Only the dragged item moves: keep its entity (the drag's target) alive.
         let env = state.env();
@@ -354,8 +348,9 @@ impl Spawner<'_, '_, '_> {
 /// Outlines the selection's bounding box and marks the robot's heading.
 pub fn draw_selection(state: Res<SetupState>, mut gizmos: Gizmos) {
     if !state.editing_env() {
-        if state.tool == Tool::Wizard {
-            // A 10 cm grid on the ground under the robot preview.
+        if state.tool == Tool::Wizard && !state.wizard_shows_terrain() {
+            // A 10 cm grid on the ground under the robot preview (the terrain, once shown,
+            // has its own metre grid).
             gizmos.grid(
                 Isometry3d::new(
                     Vec3::new(0.0, 0.0, -0.15),

@@ -134,6 +134,15 @@ impl SetupState {
         }
     }
 
+    /// Whether the wizard is on a page after the terrain's, which show the robot in it.
+    pub fn wizard_shows_terrain(&self) -> bool {
+        self.tool == Tool::Wizard
+            && matches!(
+                self.wizard.page,
+                Page::Simulation | Page::Optimization | Page::Summary
+            )
+    }
+
     /// Whether the environment editor is on screen (its 3D views, library, side panel).
     pub fn editing_env(&self) -> bool {
         self.tool == Tool::Editor
