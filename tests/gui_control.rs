@@ -319,6 +319,23 @@ fn optimization_view_attaches_to_a_shared_run_and_draws_its_curve() {
         .expect("the run's evaluations")
         .get(0);
     assert!((best - stored).abs() < 1e-6, "view {best}, store {stored}");
+    assert!(
+        get(&s, "optimizer_followed").ends_with("experiment1_ga.simulation.xml this"),
+        "{s:?}"
+    );
+    // A window of another configuration (4 genes, not the run's 5) follows the same run
+    // but does not read its candidate as its own values.
+    let (ok, out) = common::window::run_env(
+        &["gui", "configs/gait_from_scratch_cmaes.simulation.xml"],
+        &script,
+        &[("PGPASSWORD", pg.password.as_str())],
+    );
+    assert!(ok, "the window failed:\n{out}");
+    let s = state(&st);
+    assert!(
+        get(&s, "optimizer_followed").ends_with("experiment1_ga.simulation.xml other"),
+        "{s:?}"
+    );
 }
 
 #[test]

@@ -38,6 +38,7 @@ pub use crate::gui::error::SaveBestError;
 
 /// A message from the optimization thread.
 enum Report {
+    Run(Box<crate::optimize::store::RunRow>),
     Eval(Evaluation),
     Done(Box<Result<ExperimentReport, OptimizeError>>),
     Detached(Result<Followed, crate::optimize::store::StoreError>),
@@ -70,6 +71,8 @@ pub struct OptimizerView {
     pub attach_to: String,
     /// Whether the view follows a run elsewhere (read-only) rather than running its own.
     pub attached: bool,
+    /// The run being followed (attached), once the store said which.
+    pub followed: Option<crate::optimize::store::RunRow>,
     /// The stored runs listed, with their Replay action.
     pub results: StoredResults,
     /// What the last "Save best" did.
@@ -170,15 +173,21 @@ impl OptimizerView {
         self.stop = StopFlag::default();
         self.curve.clear();
         self.best = None;
+        self.followed = None;
         self.started = Some(Instant::now());
         self.attached = true;
         self.status.clear();
         let stop = self.stop.clone();
         let (tx, rx) = channel();
         std::thread::spawn(move || {
-            let eval_tx = tx.clone();
+            let (run_tx, eval_tx) = (tx.clone(), tx.clone());
             // The view closing drops the receiver: following stops.
-            let result = follow_run(&location, None, &stop, FOLLOW_POLL, |e| {
+            let on_run = |r: &crate::optimize::store::RunRow| {
+                if run_tx.send(Report::Run(Box::new(r.clone()))).is_err() {
+                    stop.stop();
+                }
+            };
+            let result = follow_run(&location, None, &stop, FOLLOW_POLL, on_run, |e| {
                 if eval_tx.send(Report::Eval(e.clone())).is_err() {
                     stop.stop();
                 }
@@ -188,6 +197,21 @@ impl OptimizerView {
             }
         });
         self.rx = Some(std::sync::Mutex::new(rx));
+    }
+
+    /// The run followed, as `RUN CONFIG this|other`: whether it searched this window's
+    /// genes (its best candidate is then shown as this window's values), for a script's
+    /// state file.
+    pub fn followed_text(&self) -> String {
+        let Some(r) = &self.followed else {
+            return "none".into();
+        };
+        let ours = match &self.space {
+            Some((_, Some(space))) => same_genes(r, space),
+            _ => false,
+        };
+        let which = if ours { "this" } else { "other" };
+        format!("{} {} {which}", r.id, r.info.config)
     }
 
     /// Asks the run to end after its current round (detaches from a followed run).
@@ -203,6 +227,7 @@ impl OptimizerView {
         {
             while let Ok(r) = rx.try_recv() {
                 match r {
+                    Report::Run(row) => self.followed = Some(*row),
                     Report::Eval(e) => {
                         let score = if e.score.is_finite() {
                             e.score
@@ -334,6 +359,16 @@ pub fn replay(session: &mut SimSession, genome: &Genome) {
     }
 }
 
+/// Whether run `r` searched the genes of `space` (the window's configuration).
+fn same_genes(r: &crate::optimize::store::RunRow, space: &SearchSpace) -> bool {
+    r.info.genes.len() == space.genes.len()
+        && r.info
+            .genes
+            .iter()
+            .zip(&space.genes)
+            .all(|(a, g)| *a == g.label())
+}
+
 /// The best candidate's values and its Replay button.
 fn best_candidate(
     ui: &mut egui::Ui,
@@ -347,6 +382,21 @@ fn best_candidate(
     };
     let (genome, score) = (&genome, &score);
     ui.label(format!("best candidate ({}):", view.score_text(*score)));
+    // A followed run of another configuration: its genes are not this window's.
+    if let Some(run) = view.followed.as_ref().filter(|r| !same_genes(r, space)) {
+        ui.label(format!(
+            "run {} is of {} ({}), not this window's configuration:",
+            run.id, run.info.config, run.info.algorithm
+        ));
+        for line in run.best_values.as_deref().unwrap_or_default().lines() {
+            ui.monospace(format!("  {}", line.trim()));
+        }
+        ui.label(format!(
+            "replay it with proleg gui --replay STORE --run {}",
+            run.id
+        ));
+        return;
+    }
     for (g, v) in space.genes.iter().zip(space.decode(genome)) {
         ui.monospace(format!("  {} = {v}", g.label()));
     }

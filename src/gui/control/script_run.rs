@@ -415,6 +415,9 @@ fn tool_command(
     Ok(match c {
         Command::Module(m) => {
             if crate::gui::module_editor::script::run(&mut views.modules, m)? {
+                // A module just built is known to the next command (`assign`) at once,
+                // not only after the next frame's `sync_modules`.
+                session.sync_modules(views.modules.host.registry());
                 Flow::Next
             } else {
                 Flow::Again
@@ -579,6 +582,7 @@ fn optimizer_pairs(pairs: &mut Vec<(&str, String)>, session: &SimSession, views:
             .map_or("none".into(), |b| format!("{:.6}", b.1)),
     ));
     pairs.push(("stored_runs", o.results.runs.len().to_string()));
+    pairs.push(("optimizer_followed", o.followed_text()));
     pairs.push(("optimizer_status", o.status_line()));
     if let Some(r) = o.panel {
         pairs.push((

@@ -7,7 +7,7 @@ use std::time::Duration;
 use crate::optimize::scores::finite_or_worst;
 use crate::optimize::session::Evaluation;
 use crate::optimize::settings::StopFlag;
-use crate::optimize::store::{Store, StoreLocation};
+use crate::optimize::store::{RunRow, Store, StoreLocation};
 
 /// How often a followed run's store is read.
 pub const FOLLOW_POLL: Duration = Duration::from_millis(500);
@@ -24,7 +24,8 @@ pub struct Followed {
 }
 
 /// Reads `run` of the store at `location` (default: its latest unfinished run, else its
-/// latest run), calling `on_eval` for each finished evaluation in number order — an
+/// latest run), calling `on_run` with the run chosen, then `on_eval` for each finished
+/// evaluation in number order — an
 /// evaluation is passed on once all before it are done, so "best so far" is the run's —
 /// every `poll`, until the run has finished and everything is read, or `stop` is set.
 pub fn follow_run(
@@ -32,6 +33,7 @@ pub fn follow_run(
     run: Option<i64>,
     stop: &StopFlag,
     poll: Duration,
+    on_run: impl FnOnce(&RunRow),
     mut on_eval: impl FnMut(&Evaluation),
 ) -> Result<Followed, crate::optimize::store::StoreError> {
     let mut store = Store::open_existing(location)?;
@@ -53,6 +55,7 @@ pub fn follow_run(
             store: store.describe(),
         },
     })?;
+    on_run(chosen);
     let id = chosen.id;
     let (mut next, mut best) = (0u64, f64::NEG_INFINITY);
     loop {
