@@ -422,9 +422,13 @@ impl Wizard {
     }
 
     /// Where a robot file of the configuration folder is copied (in the same layout under
-    /// the output folder, so its parts come along); any other stays where it is.
+    /// the output folder, so its parts come along); one already in the output folder (a
+    /// robot the wizard built before), or outside the configuration folder, stays.
     fn in_out_dir(&self, robot: &Path) -> PathBuf {
         let (robot, configs) = (normalize(robot), normalize(&self.configs_dir));
+        if robot.starts_with(normalize(&self.out_dir)) {
+            return robot;
+        }
         match robot.strip_prefix(&configs) {
             Ok(rest) => self.out_dir.join(rest),
             Err(_) => robot,
@@ -613,8 +617,22 @@ fn module_choice(registry: &ModuleRegistry, name: &str) -> Result<ModuleChoice, 
 
 #[cfg(test)]
 mod tests {
+
     use super::*;
     use crate::config::robot_builder::BuildError;
+
+    #[test]
+    fn a_shipped_robot_is_copied_into_the_output_folder_and_a_built_one_stays() {
+        let w = Wizard::new(Path::new("configs"), Path::new("configs/user"), "t");
+        assert_eq!(
+            w.in_out_dir(Path::new("configs/robots/snake5p.robot.xml")),
+            PathBuf::from("configs/user/robots/snake5p.robot.xml")
+        );
+        assert_eq!(
+            w.in_out_dir(Path::new("configs/user/mine.robot.xml")),
+            PathBuf::from("configs/user/mine.robot.xml")
+        );
+    }
 
     fn wizard(tag: &str) -> (Wizard, PathBuf) {
         let out = std::env::temp_dir().join(format!("proleg_wizard_{tag}_{}", std::process::id()));
