@@ -3,7 +3,7 @@
 //! Design, simulate, optimize and drive the locomotion of chain-like modular robots
 //! (snake and caterpillar robots built from modules joined by pitch/yaw hinge servos).
 //!
-//! ## Contents
+//! ## Contents (the files of `src/`)
 //! - [`bench`]: throughput figures of the reference scenario.
 //! - [`calibrate`]: servo identification from real-robot recordings (`proleg calibrate`).
 //! - [`cli`]: the command line's logic (each `proleg` subcommand as a function returning a
@@ -15,8 +15,10 @@
 //!   actuation, environment, optimizer), loading with includes, validation with
 //!   located errors, writing back, and the `proleg check` summary.
 //! - [`control`]: the actuation-module interface, the registry of module types, the
-//!   standard module library and the control kernel.
+//!   standard module library, the control kernel, learned policies and what they observe.
 //! - [`dashboard`]: `proleg dashboard`, a live read-only web page over any experiment store.
+//! - [`data`]: recorded data: data handlers, ring buffers for live plots, the B.8 data file
+//!   written and read back, exported and plotted.
 //! - `gui` (feature `gui`): the control window, a Bevy 3D viewer with egui views on the
 //!   same core.
 //! - [`gym`]: reinforcement-learning environments over any simulation file (the
@@ -24,6 +26,9 @@
 //! - [`interop`]: other robotics formats: URDF robots in, MuJoCo MJCF out.
 //! - [`measure`]: formulas on positions shared by every layer (displacement, potential
 //!   energy).
+//! - [`optimize`]: parameter optimization: the search space, the optimizers (GA, great
+//!   deluge, CMA-ES, OpenAI-ES, MAP-Elites), the evaluator, the experiment store (SQLite or
+//!   a PostgreSQL store shared by workers on many hosts), replays and results.
 //! - [`plugin_host`]: user actuation modules in runtime-loaded libraries (the
 //!   `proleg-plugin-api` C ABI), their building and templates.
 //! - [`remote`]: remote controls (gamepads) bound to module parameters.
@@ -32,8 +37,12 @@
 //! - [`rng`]: the seeded random numbers of a run.
 //! - [`sensing`]: sensor readings as modules see them, touch debouncing.
 //! - [`signal`]: one process-wide Ctrl-C / SIGTERM handler handing out stop flags.
-//! - [`sim`]: the simulated world as ECS (rapier physics, servos, the fixed-step pipeline)
-//!   and the headless [`sim::Simulator`].
+//! - [`sim`]: the simulated world as ECS (a physics engine, rapier or MuJoCo, behind one
+//!   interface; servos; the fixed-step pipeline), the headless [`sim::Simulator`] and the
+//!   one episode runner ([`sim::episode`]).
+//!
+//! Each folder's `//!` header is the one description of its files (`tests/module_map.rs`
+//! fails when a `pub mod` is missing from it): read down from here.
 //!
 //! Pure logic stays free of rendering, so everything here runs and tests headless.
 

@@ -1,5 +1,6 @@
 //! The `proleg` command line: parses the arguments, runs the command
-//! ([`proleg::commands`]) and prints what it returns, or its error.
+//! ([`proleg::commands`]) and prints what it returns, or its error. A command that Ctrl-C
+//! or SIGTERM stopped exits with the shell's status for it (130, 143).
 
 use std::process::ExitCode;
 
@@ -14,14 +15,18 @@ fn main() -> ExitCode {
     for message in commands.warnings(&cli) {
         eprintln!("warning: {message}");
     }
-    match commands.execute(cli) {
-        Ok(text) => {
-            print!("{text}");
-            ExitCode::SUCCESS
-        }
+    let result = commands.execute(cli);
+    let stopped_by = proleg::signal::received();
+    match result {
+        Ok(text) => print!("{text}"),
+        Err(e) if stopped_by.is_some() => eprintln!("stopped: {e}"),
         Err(e) => {
             eprintln!("error: {e}");
-            ExitCode::FAILURE
+            return ExitCode::FAILURE;
         }
+    }
+    match stopped_by {
+        Some(signal) => ExitCode::from(proleg::signal::exit_status(signal)),
+        None => ExitCode::SUCCESS,
     }
 }

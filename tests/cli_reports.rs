@@ -145,10 +145,10 @@ fn an_optimize_report_counts_evaluations_and_keeps_the_best() {
 #[test]
 fn a_run_ends_where_its_robot_leaves_the_world_and_scores_as_an_evaluation_does() {
     use proleg::cli::run::RunStop;
+    use proleg::config::fitness::Fitness;
     use proleg::config::simulation::EngineKind;
     use proleg::optimize::evaluate::EpisodeWorld;
     use proleg::optimize::evaluate::Evaluator;
-    use proleg::optimize::fitness::Fitness;
     use proleg::optimize::space::SearchSpace;
     use proleg::sim::WorldExit;
     let dir = common::scratch("cli_reports_edge");

@@ -8,12 +8,12 @@ mod common;
 
 use std::sync::Arc;
 
+use proleg::config::fitness::Fitness;
 use proleg::config::resolve::robot::JointOrientation;
 use proleg::config::source::FsSource;
 use proleg::control::{ModuleRegistry, load_simulation_in};
 use proleg::optimize::design::{Design, DesignSpace};
 use proleg::optimize::evaluate::Evaluator;
-use proleg::optimize::fitness::Fitness;
 use proleg::optimize::replay::{Which, replay_from};
 use proleg::optimize::run::prepare;
 

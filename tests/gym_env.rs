@@ -9,7 +9,7 @@ use std::sync::Arc;
 use proleg::config::fitness::Fitness;
 use proleg::control::{ModuleRegistry, load_simulation};
 use proleg::gym::{ActionMode, Autoreset, Env, EnvOptions, VecEnv};
-use proleg::optimize::evaluate::robot_score;
+use proleg::sim::episode::{RobotStart, robot_score};
 use proleg::sim::{BuildOptions, Simulator};
 
 fn demo() -> Arc<proleg::config::Simulation> {
@@ -73,10 +73,7 @@ fn a_residual_with_zero_action_runs_the_files_gait_and_returns_its_score() {
         }
     }
     let mut plain = Simulator::new(&sim, &BuildOptions::default()).expect("world");
-    let start = (
-        plain.com(0).expect("com"),
-        plain.heading(0).expect("heading"),
-    );
+    let start = RobotStart::of(&plain, 0).expect("start");
     plain.run_steps(1000);
     assert_eq!(env.world().com(0).expect("com"), plain.com(0).expect("com"));
     let score = robot_score(&plain, 0, start, 1.0, Fitness::Distance).expect("score");

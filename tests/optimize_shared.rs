@@ -18,10 +18,10 @@ use common::shared_run::{
 use proleg::config::{FsSource, RecordingSource, load_simulation_with};
 use proleg::control::ModuleRegistry;
 use proleg::optimize::evaluate::CandidateScore;
-use proleg::optimize::settings::StopFlag;
 use proleg::optimize::shared::worker::{WorkerOptions, run_pool};
 use proleg::optimize::store::pg_queue::Pending;
 use proleg::optimize::store::{ExperimentStore, RunInfo, SCHEMA_VERSION, program_version};
+use proleg::signal::StopFlag;
 
 /// Runs `config` for `evals` evaluations of 1 s on SQLite, then as a driver without
 /// local workers on database `name` with one least-privilege worker that has nothing but

@@ -3,6 +3,7 @@
 
 mod common;
 
+use proleg::config::fitness::Fitness;
 use proleg::config::optimizer::{GaSettings, GdSettings};
 use proleg::control::ModuleRegistry;
 use proleg::control::load_simulation;
@@ -10,7 +11,6 @@ use proleg::optimize::Optimizer;
 use proleg::optimize::cmaes::CmaOptimizer;
 use proleg::optimize::deluge::GreatDeluge;
 use proleg::optimize::evaluate::Evaluator;
-use proleg::optimize::fitness::Fitness;
 use proleg::optimize::ga::GeneticAlgorithm;
 use proleg::optimize::run::prepare;
 use proleg::optimize::space::{Alleles, Gene, Genome, SearchSpace};
@@ -304,8 +304,9 @@ fn an_episode_stops_scoring_when_its_robot_falls_off_the_floor_end() {
 #[test]
 fn a_stopped_experiment_stays_unfinished_and_resumes_to_the_uninterrupted_result() {
     use proleg::optimize::experiment::{Experiment, ExperimentRequest};
-    use proleg::optimize::settings::{RunChoices, StopFlag};
+    use proleg::optimize::settings::RunChoices;
     use proleg::optimize::store::{Store, StoreLocation};
+    use proleg::signal::StopFlag;
     let dir = common::scratch("stopped-experiment");
     let registry = ModuleRegistry::standard();
     let request = |store: &str, stop: StopFlag, resume: bool| ExperimentRequest {

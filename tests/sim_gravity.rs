@@ -2,10 +2,10 @@
 //! logged potential energy and the cost-of-transport fitness use 3.71.
 
 use proleg::config::Simulation;
+use proleg::config::fitness::Fitness;
 use proleg::control::ModuleRegistry;
 use proleg::control::load_simulation;
 use proleg::optimize::evaluate::Evaluator;
-use proleg::optimize::fitness::Fitness;
 use proleg::optimize::space::SearchSpace;
 use proleg::sim::datalog::{DataSettings, ROBOT_HANDLER};
 use proleg::sim::{BuildOptions, Simulator};

@@ -7,6 +7,15 @@
 //! `mujoco.rollout` on the exported scenario in the same run ([`rollout`]). Each figure is
 //! the best of [`REPEATS`] fresh worlds after one simulated second of warm-up: the machines
 //! here are shared VMs whose speed varies from run to run.
+//! - [`compare`]: `proleg compare`, one configuration on both engines; [`compare_plot`]: its
+//!   picture
+//! - [`convergence`]: the accuracy gate, a configuration's distance from a converged reference
+//! - [`error`]: why a benchmark, the gate or a comparison gave no figures
+//! - [`modules`]: the overhead of one module type in the kernel (`--module NAME`)
+//! - [`physics_checks`]: physical checks with known answers (`proleg check-physics`);
+//!   [`terrain_checks`]: the same on terrain made of meshes and height fields
+//! - [`rollout`]: MuJoCo's own `mujoco.rollout` on the exported scenario
+//! - [`stages`]: each stage's share of a step (`--stages`)
 
 use std::fmt::Write as _;
 use std::path::Path;

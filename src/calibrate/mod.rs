@@ -7,6 +7,8 @@
 //! recording cannot tell is reported as such. The calibrated robot file is the robot file
 //! with the fitted values set on its joints; [`check`] shows what the calibration buys on a
 //! recorded gait.
+//! [`recording`] reads the recording to calibrate against; [`plot`] draws the calibration's
+//! picture.
 
 pub mod check;
 pub mod fit;

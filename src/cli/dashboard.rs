@@ -51,7 +51,7 @@ pub fn run(
     })?;
     let location = StoreLocation::parse(&a.store)?;
     let signal = crate::signal::subscribe()?;
-    let stop = signal.flag();
+    let stop = signal.flag().0;
     let mut store = String::new();
     serve(
         &DashboardOptions {

@@ -20,6 +20,7 @@
 //! | `proleg settle` | [`interop`] (the settle report) |
 //! | `proleg policy init / show` | [`policy`] |
 //! | `proleg robustness` | [`robustness`] |
+//! | `proleg dashboard` | [`dashboard`] |
 
 pub mod bench;
 pub mod calibrate;

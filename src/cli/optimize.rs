@@ -7,17 +7,18 @@ use std::fmt::{self, Write as _};
 use std::fs::File;
 use std::io::{BufWriter, Write as _};
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::cli::error::CliError;
 use crate::config::Simulation;
+use crate::config::fitness::Fitness;
 use crate::control::ModuleRegistry;
 use crate::optimize::experiment::{Experiment, ExperimentReport, ExperimentRequest};
-use crate::optimize::fitness::Fitness;
 use crate::optimize::session::Evaluation;
-use crate::optimize::settings::{RunChoices, RunSettings, StopFlag};
+use crate::optimize::settings::{RunChoices, RunSettings};
 use crate::optimize::space::SearchSpace;
 
 pub use crate::optimize::experiment::default_store_path;
@@ -123,8 +124,17 @@ pub fn run_observed(
     on_eval: &mut dyn FnMut(&Evaluation, Option<u64>),
 ) -> Result<OptimizeReport, CliError> {
     let fitness = o.fitness.as_deref().map(Fitness::parse).transpose()?;
-    // Ctrl-C / SIGTERM end the run after its current round; `--resume` continues it.
-    let signal = crate::signal::subscribe()?;
+    // Ctrl-C / SIGTERM abandon the episodes in flight at once (the episode runner sees the
+    // flag between chunks); what finished is stored and `--resume` runs the rest. The
+    // signal thread says so the moment it arrives.
+    let keeps = Arc::new(Mutex::new(String::from("nothing is stored yet")));
+    let said = keeps.clone();
+    let signal = crate::signal::subscribe_with(move || {
+        let keeps = said.lock().map(|k| k.clone()).unwrap_or_default();
+        eprintln!(
+            "\nstopping: the episodes in flight are abandoned; {keeps} (Ctrl-C again quits at once)"
+        );
+    })?;
     let request = ExperimentRequest {
         config: o.config.clone(),
         engine: o.engine,
@@ -132,10 +142,16 @@ pub fn run_observed(
         store: o.store.clone(),
         resume: o.resume,
         out: o.out.clone(),
-        stop: StopFlag(signal.flag()),
+        stop: signal.flag(),
         crash_after: o.crash_after,
     };
     let experiment = Experiment::open(&request, registry)?;
+    let (store, run) = experiment.run_id();
+    if let Ok(mut k) = keeps.lock() {
+        *k = format!(
+            "every finished evaluation is kept in {store} (run {run}); --resume runs the rest"
+        );
+    }
     let (sim, session) = (experiment.simulation(), experiment.session());
     if !o.quiet {
         for w in &experiment.warnings {

@@ -70,7 +70,7 @@ pub fn robot(o: &RobotOptions, registry: &ModuleRegistry) -> Result<RobotReport,
         &mut chain,
         &opts,
         o.data.as_deref(),
-        &stop.flag(),
+        &stop.flag().0,
     )?;
     let report = RobotReport {
         robot: sim.robot.name.clone(),

@@ -1,20 +1,25 @@
 //! `proleg run`: one headless run of a simulation file, summarized in a [`RunReport`];
 //! with a data file, every data handler is recorded to a B.8 data file, closed well-formed
-//! also on Ctrl-C and SIGTERM (the run stops at the next chunk of steps). A robot that
-//! leaves the world ([`Simulator::world_exit`]) ends the run there, as it ends an
-//! optimizer's episode: the summary is the robot's as it left.
+//! also on Ctrl-C and SIGTERM (the run stops at the next chunk of steps). The run is one
+//! episode of the episode runner ([`Episode`]): a robot that leaves the world ends it
+//! there, as it ends an optimizer's episode, and the summary is the robot's as it left.
 
 use std::fmt;
 use std::path::PathBuf;
 use std::time::Instant;
 
 use crate::cli::error::CliError;
+use crate::config::fitness::Fitness;
 use crate::config::simulation::EngineKind;
 use crate::config::simulation::Mode;
 use crate::control::{ModuleRegistry, load_simulation_in};
+use crate::signal::StopFlag;
 use crate::sim::datalog::DataSettings;
 use crate::sim::engine::EngineSettings;
-use crate::sim::{BuildOptions, EXIT_CHECK_SECONDS, Pacing, RunSummary, Simulator, WorldExit};
+use crate::sim::{
+    BuildOptions, Episode, EpisodeEnd, EpisodeSettings, Pacer, Pacing, RunSummary, Simulator,
+    WorldExit,
+};
 
 /// What `proleg run` is asked to do (its command-line arguments).
 #[derive(Debug, Clone, PartialEq, clap::Args)]
@@ -144,7 +149,7 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Cli
     let heading0 = simulator.heading(0)?;
     let start_com = simulator.com(0)?;
     let wall = Instant::now();
-    let stopped = run_in_chunks(&mut simulator, duration, start_com)?;
+    let stopped = run_in_chunks(&mut simulator, duration)?;
     let rounds = simulator.finish_data()?;
     let summary = RunSummary::new(
         simulator.clock().step,
@@ -174,33 +179,44 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Cli
     })
 }
 
-/// Runs `duration` seconds in chunks of [`EXIT_CHECK_SECONDS`], stopping early on Ctrl-C /
-/// SIGTERM or when the robot leaves the world; says which stopped it.
-fn run_in_chunks(
+/// Runs `duration` seconds as one episode, stopping early on Ctrl-C / SIGTERM or when the
+/// robot leaves the world; says which stopped it. A paced run paces each chunk.
+fn run_in_chunks(simulator: &mut Simulator, duration: f64) -> Result<Option<RunStop>, CliError> {
+    let stop = crate::signal::subscribe()?.flag();
+    // `proleg run` reports displacement; the fitness only scores, and nothing reads it here.
+    let settings = EpisodeSettings::new(simulator, duration, Fitness::Displacement);
+    let mut episode = Episode::begin(simulator, settings)?;
+    let pacer = Pacer::new(simulator.pacing(), simulator.clock().dt);
+    let end = if pacer.is_paced() {
+        paced(simulator, &mut episode, &pacer, &stop)?
+    } else {
+        episode.run(simulator, Some(&stop), |_| Ok::<(), CliError>(()))?
+    };
+    Ok(match end {
+        EpisodeEnd::Duration => None,
+        EpisodeEnd::Stopped => Some(RunStop::Interrupted),
+        EpisodeEnd::Left(exit) => Some(RunStop::Left(exit)),
+    })
+}
+
+/// [`Episode::advance`] one step at a time against the wall clock (the exit rule still
+/// reads the world at the cadence's steps only).
+fn paced(
     simulator: &mut Simulator,
-    duration: f64,
-    start_com: [f64; 3],
-) -> Result<Option<RunStop>, CliError> {
-    let stop = crate::signal::subscribe()?;
-    let dt = simulator.clock().dt;
-    let scenery = simulator.scenery_bounds();
-    let (steps, chunk) = (
-        (duration / dt).round() as u64,
-        (EXIT_CHECK_SECONDS / dt).round().max(1.0) as u64,
-    );
-    let mut done = 0;
-    while done < steps {
-        if stop.is_raised() {
-            return Ok(Some(RunStop::Interrupted));
+    episode: &mut Episode,
+    pacer: &Pacer,
+    stop: &StopFlag,
+) -> Result<EpisodeEnd, CliError> {
+    let wall = Instant::now();
+    loop {
+        if let Some(end) = episode.advance(simulator, 1, Some(stop))? {
+            return Ok(end);
         }
-        let k = chunk.min(steps - done);
-        simulator.run_for(k as f64 * dt);
-        done += k;
-        if let Some(exit) = simulator.world_exit(0, scenery, start_com)? {
-            return Ok(Some(RunStop::Left(exit)));
+        let k = episode.steps(simulator);
+        if let Some(wait) = pacer.due(k).checked_sub(wall.elapsed()) {
+            std::thread::sleep(wait);
         }
     }
-    Ok(None)
 }
 
 impl fmt::Display for RunReport {

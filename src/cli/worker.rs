@@ -6,7 +6,6 @@ use std::time::Duration;
 
 use crate::cli::error::CliError;
 use crate::control::ModuleRegistry;
-use crate::optimize::settings::StopFlag;
 use crate::optimize::shared::worker::{WorkerOptions, WorkerReport, run_pool};
 use crate::optimize::store::StoreLocation;
 
@@ -86,7 +85,7 @@ pub fn run(a: &WorkerArgs, registry: &ModuleRegistry) -> Result<WorkerRun, CliEr
     };
     // Ctrl-C / SIGTERM end the worker after its current episodes.
     let signal = crate::signal::subscribe()?;
-    let stop = StopFlag(signal.flag());
+    let stop = signal.flag();
     let quiet = a.quiet;
     let report = run_pool(&target, registry, &options, &stop, None, &|m| {
         if !quiet {

@@ -1,7 +1,6 @@
 //! Composing configurations without writing XML (thesis 4.4): the pure logic behind the
 //! configuration GUI (`gui::setup`), free of rendering so it tests headless.
 //!
-//! - [`robot_builder`]: a chain robot from its topology (pitch / yaw joints) and a part set
 //! - [`behaviour`]: actuation modules on groups of joints, with parameter values
 //! - [`library`]: the environment editor's object library (box, ramp, stairs, meshes, ...)
 //! - [`env_edit`]: the environment editor's model: add, move, rotate, scale, friction,
@@ -11,6 +10,10 @@
 //! - [`expert`]: composing a simulation from existing files
 //! - [`paths`]: relative paths between the written files, time-stamped names, and a
 //!   file source that sees unsaved files over the disk
+//! - [`error`]: the composing layer's errors
+//!
+//! The robot builder the wizard uses lives with the formats
+//! ([`crate::config::robot_builder`]).
 
 pub mod behaviour;
 pub mod env_edit;

@@ -9,6 +9,7 @@
 use crate::compose::error::ComposeError;
 use crate::config::cross_engine::CrossEngine;
 use crate::config::error::Pos;
+use crate::config::fitness::Fitness;
 use crate::config::mask::JointMask;
 use crate::config::morphology::Morphology;
 use crate::config::optimizer::{
@@ -17,7 +18,6 @@ use crate::config::optimizer::{
 };
 use crate::config::robot_builder::MAX_JOINTS;
 use crate::config::robustness::Robustness;
-use crate::optimize::fitness::Fitness;
 
 /// The values a registered parameter may take.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,6 +1,6 @@
 //! The names of the fitness functions an optimizer file's `<fitness>` extension and the
 //! command line choose from. How each one scores an episode is the optimizers' business
-//! (`crate::optimize::fitness`); the format only knows the names.
+//! (`crate::sim::episode::score`); the format only knows the names.
 
 /// How an episode is scored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

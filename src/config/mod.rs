@@ -5,14 +5,23 @@
 //! - [`robot`], [`kinbody`], [`body`], [`sensor`]: robots, module parts, sensors (B.2-B.4)
 //! - [`actuation`]: which modules drive which joints (B.5)
 //! - [`environment`]: physics and terrain (B.6)
-//! - [`optimizer`]: genetic algorithm and great-deluge settings (B.7); [`fitness`]: the
-//!   names of the fitness functions they choose from
+//! - [`optimizer`]: the optimizer file (B.7: the GA and great deluge, and our CMA-ES,
+//!   evolution strategy and MAP-Elites); [`fitness`]: the names of the fitness functions
+//!   they choose from; our extensions of it: [`cross_engine`] (scores on several engines),
+//!   [`robustness`] (randomized episodes), [`morphology`] (co-design's bodies)
 //! - [`module_types`]: what the loader knows of actuation-module types (parameters,
 //!   ranges, series) to check files against
 //! - [`remote`]: remote (gamepad) bindings to module parameters (our extension)
+//! - [`servos`]: the real robot's servos on the bus (our extension of robot files)
+//! - [`contact`]: an environment's contact model in physical units (our extension)
+//! - [`robot_builder`]: a chain robot from its topology and a part set (thesis 4.4.3)
+//! - [`mask`]: joint masks; [`transform`]: poses; [`mesh`]: OBJ meshes and height maps
+//! - [`source`]: where files come from (the disk, or files in memory)
+//! - [`xml`]: the XML plumbing every format shares; [`error`]: located errors
 //! - [`resolve`]: loading a simulation with all its includes into checked models
 //! - [`start_clearance`]: whether a robot's start pose is free of itself and the scenery
 //! - [`bundle`]: a configuration's files written into a folder that stands alone
+//! - [`summary`]: what `proleg check` prints of a loaded simulation
 //!
 //! Every error names the file, line and column and says what was expected
 //! ([`ConfigError`]). Each `parse_*_file` / `write_*_file` pair round-trips: writing a

@@ -3,6 +3,8 @@
 //!
 //! - [`control`]: the control window (thesis 4.5) — 3D viewer, toolbar, live plots,
 //!   control-algorithm properties, data file inspection, optimization view.
+//! - [`module_editor`]: the user module library in the windows (thesis 4.4.4)
+//! - [`error`]: the windows' errors
 //! - [`desktop`]: reactive rendering, a clean exit on SIGTERM, child windows reaped
 //! - [`keyboard`]: keys reach egui in typed order with the modifiers of their moment
 //! - [`meter`]: frame rate and real-time factor achieved over the last wall second

@@ -9,8 +9,8 @@
 //! The reward is the growth of proleg's own fitness over the step, minus `energy_weight`
 //! times the joules the servos put out, so an episode's return is the optimizers' score of
 //! the same episode (minus the energy term). An episode terminates when the robot leaves
-//! the world or the physics diverges ([`Simulator::world_exit`], the control window's rule)
-//! and is truncated at the duration. Every reset builds a fresh world from the seed, so the
+//! the world or the physics diverges and is truncated at the duration: each episode is one
+//! of the episode runner's ([`Episode`]), its exit rule checked after every action. Every reset builds a fresh world from the seed, so the
 //! same seed and actions give the same trajectory, bit for bit.
 
 use std::sync::Arc;
@@ -21,9 +21,8 @@ use crate::control::observation::ObsLayout;
 use crate::gym::error::GymError;
 use crate::gym::observe::{Previous, Scratch, layout_of, observe};
 use crate::gym::options::{ActionMode, EnvOptions};
-use crate::optimize::evaluate::robot_score;
 use crate::rng::SimRng;
-use crate::sim::{BuildOptions, Simulator, WorldExit};
+use crate::sim::{BuildOptions, Episode, EpisodeEnd, EpisodeSettings, Simulator, WorldExit};
 
 /// The module type that carries the policy's targets into the kernel.
 const POLICY_MODULE: &str = "DirectJointAccess";
@@ -56,12 +55,10 @@ pub struct StepInfo {
     pub exit: Option<WorldExit>,
 }
 
-/// One running episode's bookkeeping.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Episode {
-    start_com: [f64; 3],
-    start_heading: f64,
-    scenery: Option<([f64; 3], [f64; 3])>,
+/// One running episode's bookkeeping: the episode runner's, and what the rewards need.
+#[derive(Debug, Clone, PartialEq)]
+struct EnvEpisode {
+    run: Episode,
     prev: Previous,
     score: f64,
     energy: f64,
@@ -87,7 +84,7 @@ pub struct Env {
     scratch: Scratch,
     steps_per_action: u64,
     max_steps: u64,
-    episode: Episode,
+    episode: EnvEpisode,
     /// The seed of the next reset without one, and where the last one came from.
     seeds: SimRng,
     ready: bool,
@@ -128,6 +125,10 @@ impl Env {
                 file: sim.file.display().to_string(),
             });
         }
+        let run = Episode::begin(
+            &world,
+            episode_settings(&opts, steps_per_action, max_steps),
+        )?;
         let mut env = Env {
             layout: layout_of(&world, false)?,
             sim,
@@ -140,10 +141,8 @@ impl Env {
             scratch: Scratch::default(),
             steps_per_action,
             max_steps,
-            episode: Episode {
-                start_com: [0.0; 3],
-                start_heading: 0.0,
-                scenery: None,
+            episode: EnvEpisode {
+                run,
                 prev: Previous { com: [0.0; 3] },
                 score: 0.0,
                 energy: 0.0,
@@ -220,10 +219,9 @@ impl Env {
         self.world = build(&self.sim, &self.registry, episode_seed)?;
         self.attach_policy()?;
         let com = self.world.com(0)?;
-        self.episode = Episode {
-            start_com: com,
-            start_heading: self.world.heading(0)?,
-            scenery: self.world.scenery_bounds(),
+        let settings = episode_settings(&self.opts, self.steps_per_action, self.max_steps);
+        self.episode = EnvEpisode {
+            run: Episode::begin(&self.world, settings)?,
             prev: Previous { com },
             score: 0.0,
             energy: 0.0,
@@ -248,34 +246,26 @@ impl Env {
             ));
         }
         self.set_targets(action)?;
-        self.world.run_steps(self.steps_per_action);
+        let end = self
+            .episode
+            .run
+            .advance(&mut self.world, self.steps_per_action, None)?;
         self.episode.steps += 1;
-        let dt = self.world.clock().dt;
-        let time = (self.episode.steps * self.steps_per_action) as f64 * dt;
-        let exit = self
-            .world
-            .world_exit(0, self.episode.scenery, self.episode.start_com)?;
-        let score = robot_score(
-            &self.world,
-            0,
-            (self.episode.start_com, self.episode.start_heading),
-            time,
-            self.opts.fitness,
-        )?;
+        let time = self.episode.run.time(&self.world);
+        let score = self.episode.run.score(&self.world, 0)?;
         let energy = self.world.energy(0)?.joules;
-        let diverged = !score.is_finite() || matches!(exit, Some(WorldExit::Diverged));
-        let reward = if diverged {
+        let exit = match end {
+            Some(EpisodeEnd::Left(exit)) => Some(exit),
+            _ => None,
+        };
+        let diverged = exit == Some(WorldExit::Diverged);
+        let reward = if diverged || !score.is_finite() {
             0.0
         } else {
             (score - self.episode.score) - self.opts.energy_weight * (energy - self.episode.energy)
         };
-        let terminated = exit.is_some() || diverged;
-        let exit = if diverged {
-            Some(WorldExit::Diverged)
-        } else {
-            exit
-        };
-        let truncated = !terminated && self.episode.steps >= self.max_steps;
+        let terminated = exit.is_some();
+        let truncated = end == Some(EpisodeEnd::Duration);
         if diverged {
             // Nothing in a diverged world is a number worth showing a policy.
             obs.fill(0.0);
@@ -392,4 +382,15 @@ fn build(sim: &Simulation, registry: &ModuleRegistry, seed: u64) -> Result<Simul
         },
         registry,
     )?)
+}
+
+/// An episode of `max_steps` actions of `steps_per_action` steps, the exit rule read after
+/// every action, scored by the environment's fitness.
+fn episode_settings(opts: &EnvOptions, steps_per_action: u64, max_steps: u64) -> EpisodeSettings {
+    EpisodeSettings {
+        steps: Some(max_steps * steps_per_action),
+        check_every: steps_per_action,
+        fitness: opts.fitness,
+        watch_world: true,
+    }
 }

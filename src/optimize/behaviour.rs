@@ -1,17 +1,13 @@
 //! Behaviour descriptors measured in an episode (MAP-Elites' `<descriptor name="height">`
-//! and `name="curvature"`): a [`Probe`] samples robot `i` of a running world every
-//! [`SAMPLE_SECONDS`] and gives the quantities at the end. Evaluations step their world in
-//! chunks of that length (between samples and checks that the robots are still in the
-//! world); the physics is the same as in one run of steps.
+//! and `name="curvature"`): a [`Probe`] samples robot `i` of a running world after every
+//! chunk of the episode runner ([`crate::sim::EXIT_CHECK_SECONDS`] of simulated time, the
+//! chunks between its checks that the robots are still in the world) and gives the
+//! quantities at the end; the physics is the same as in one run of steps.
 
 use crate::config::Simulation;
 use crate::config::optimizer::{Algorithm, Quantity};
 use crate::measure::turn_deg;
 use crate::sim::{SimError, Simulator};
-
-/// Simulated seconds between samples: the evaluator's chunks, which end with its check
-/// that the robots are still in the world.
-pub const SAMPLE_SECONDS: f64 = crate::sim::EXIT_CHECK_SECONDS;
 
 /// Legs of a path shorter than this (m) do not turn it.
 const SHORTEST_LEG: f64 = 0.005;

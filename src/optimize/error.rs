@@ -92,6 +92,12 @@ pub enum OptimizeError {
     /// The optimizer ended without one evaluation.
     #[error("the optimizer evaluated nothing")]
     NothingEvaluated,
+    /// Stopped (Ctrl-C, SIGTERM, a window's Stop) before the first round ended: no best
+    /// yet; what finished is stored.
+    #[error(
+        "stopped before the first round ended; every finished evaluation is stored and the run stays unfinished (--resume continues it)"
+    )]
+    StoppedEarly,
     /// A run setting given on the command line or in the window that cannot be used.
     #[error("{0}")]
     Choice(#[from] BadChoice),

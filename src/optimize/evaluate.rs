@@ -2,8 +2,10 @@
 //! Candidates are batched, up to `batch` robots sharing one world (they do not touch each
 //! other), and the batches are spread over `workers` threads. A physics blow-up (a
 //! non-finite or far-flung centre of mass) scores the candidate `-inf` and the run goes on.
-//! A robot that leaves the world (falls off the floor's end) is scored as it was when it
-//! left, as the Python environment ends its episode there.
+//! Each episode is one of the episode runner's ([`crate::sim::episode`]): a robot that
+//! leaves the world (falls off the floor's end) is scored as it was when it left, as the
+//! Python environment ends its episode there, and a raised [`Evaluator::stop`] abandons the
+//! episodes in flight ([`EvalError::Stopped`]).
 //! With robust fitness ([`RobustEpisodes`]) a candidate is scored over its K randomized
 //! episodes, each a world of its own, one candidate per job. With cross-engine scores
 //! (`<engines>` in the optimizer file) every candidate runs on each engine, and its score
@@ -15,18 +17,18 @@ use std::time::Instant;
 
 use crate::config::Simulation;
 use crate::config::cross_engine::CrossEngine;
+use crate::config::fitness::Fitness;
 use crate::config::optimizer::Quantity;
 use crate::config::simulation::EngineKind;
 use crate::control::ModuleRegistry;
-use crate::measure::ground_distance;
-use crate::optimize::behaviour::{Probe, SAMPLE_SECONDS, measured_quantities};
+use crate::optimize::behaviour::{Probe, measured_quantities};
 use crate::optimize::design::{Candidate, Design};
-use crate::optimize::fitness::{Episode, Fitness};
 use crate::optimize::robust::RobustEpisodes;
 pub use crate::optimize::scores::CandidateScore;
 use crate::optimize::space::{Genome, SearchSpace};
+use crate::signal::StopFlag;
 use crate::sim::randomize::SensorNoise;
-use crate::sim::{BuildOptions, Simulator, WorldExit};
+use crate::sim::{BuildOptions, Episode, EpisodeEnd, EpisodeSettings, Simulator};
 
 /// Why an episode could not be run or scored.
 #[derive(Debug, thiserror::Error)]
@@ -43,10 +45,11 @@ pub enum EvalError {
     /// A world built for one robot gave no outcome.
     #[error("the episode gave no outcome")]
     Empty,
+    /// The run was asked to stop (Ctrl-C, SIGTERM, a window's Stop) and the episode was
+    /// abandoned; it is deterministic, so a resumed run runs it again to the same score.
+    #[error("stopped before the episode ended")]
+    Stopped,
 }
-
-/// Farther than this from the start (m) counts as a blow-up.
-const BLOW_UP_DISTANCE: f64 = 1000.0;
 
 /// How an episode's world is drawn: its seed, the noise on what its modules read, and the
 /// engine (`None`: the simulation's).
@@ -98,6 +101,8 @@ pub struct Evaluator {
     pub design: Option<std::sync::Arc<crate::optimize::design::Design>>,
     /// The quantities measured in each episode (MAP-Elites' measured descriptors).
     pub measures: Vec<Quantity>,
+    /// Raised to abandon the episodes in flight ([`EvalError::Stopped`]).
+    pub stop: StopFlag,
 }
 
 impl CandidateScore {
@@ -165,6 +170,7 @@ impl Evaluator {
             batch: 1,
             workers: 1,
             measures: measured_quantities(sim),
+            stop: StopFlag::default(),
             design: crate::optimize::design::Design::of(
                 sim,
                 std::sync::Arc::new(crate::config::source::FsSource),
@@ -402,22 +408,30 @@ impl Evaluator {
                 self.space.apply(g, kernel)?;
             }
         }
-        let mut start = Vec::with_capacity(genomes.len());
-        for i in 0..genomes.len() {
-            start.push((s.com(i)?, s.heading(i)?));
+        let settings = EpisodeSettings::new(&s, self.duration, self.fitness);
+        let mut episode = Episode::begin(&s, settings)?;
+        let mut probes = Vec::new();
+        if !self.measures.is_empty() {
+            let samples = settings
+                .steps
+                .unwrap_or(0)
+                .div_ceil(settings.check_every.max(1)) as usize;
+            for i in 0..genomes.len() {
+                probes.push(Probe::start(&s, i, samples)?);
+            }
         }
-        let dt = s.clock().dt;
-        let steps = (self.duration / dt).round() as u64;
-        let (probes, left) = self.run_episode(&mut s, &start, steps)?;
-        let time = steps as f64 * dt;
+        // A robot that leaves the world is scored as it was then: one falling off the
+        // floor's end does not go on scoring as it falls.
+        let end = episode.run(&mut s, Some(&self.stop), |s| {
+            probes.iter_mut().try_for_each(|p| p.sample(s))
+        })?;
+        if end == EpisodeEnd::Stopped {
+            return Err(EvalError::Stopped);
+        }
         let mut outcomes = Vec::with_capacity(genomes.len());
-        for (i, start) in start.into_iter().enumerate() {
-            let score = match left[i] {
-                Some(score) => score,
-                None => robot_score(&s, i, start, time, self.fitness)?,
-            };
+        for i in 0..genomes.len() {
             outcomes.push(Outcome {
-                score,
+                score: episode.score(&s, i)?,
                 measures: probes
                     .get(i)
                     .map(|p| p.finish(&self.measures))
@@ -425,53 +439,6 @@ impl Evaluator {
             });
         }
         Ok(outcomes)
-    }
-
-    /// Runs `steps` steps of `s` in chunks of [`SAMPLE_SECONDS`]; after each chunk a robot
-    /// that left the world ([`Simulator::world_exit`], the environment's and the control
-    /// window's rule) is scored as it is then, and that score stands: a robot falling off
-    /// the floor's end does not go on scoring as it falls. The episode ends early when every
-    /// robot has left. With quantities to measure ([`Evaluator::measures`]), each robot is
-    /// sampled after every chunk.
-    fn run_episode(
-        &self,
-        s: &mut Simulator,
-        start: &[([f64; 3], f64)],
-        steps: u64,
-    ) -> Result<(Vec<Probe>, Vec<Option<f64>>), EvalError> {
-        let dt = s.clock().dt;
-        let chunk = (SAMPLE_SECONDS / dt).round().max(1.0) as u64;
-        let scenery = s.scenery_bounds();
-        let mut probes = Vec::new();
-        if !self.measures.is_empty() {
-            let samples = steps.div_ceil(chunk) as usize;
-            for i in 0..start.len() {
-                probes.push(Probe::start(s, i, samples)?);
-            }
-        }
-        let mut left: Vec<Option<f64>> = vec![None; start.len()];
-        let mut done = 0;
-        while done < steps && left.iter().any(Option::is_none) {
-            let k = chunk.min(steps - done);
-            s.run_steps(k);
-            done += k;
-            for p in &mut probes {
-                p.sample(s)?;
-            }
-            for (i, score) in left.iter_mut().enumerate() {
-                if score.is_some() {
-                    continue;
-                }
-                *score = match s.world_exit(i, scenery, start[i].0)? {
-                    None => None,
-                    Some(WorldExit::Diverged) => Some(f64::NEG_INFINITY),
-                    Some(WorldExit::Left(_)) => {
-                        Some(robot_score(s, i, start[i], done as f64 * dt, self.fitness)?)
-                    }
-                };
-            }
-        }
-        Ok((probes, left))
     }
 }
 
@@ -504,36 +471,4 @@ impl Outcome {
 /// The one outcome of a one-robot world.
 fn first(outcomes: Vec<Outcome>) -> Result<Outcome, EvalError> {
     outcomes.into_iter().next().ok_or(EvalError::Empty)
-}
-
-/// Robot `robot`'s score after an episode that started with its centre of mass and heading
-/// at `start` and ran `time` simulated seconds: `-inf` for a blow-up (a non-finite or
-/// far-flung centre of mass) or an undefined score, else the fitness (evaluations and
-/// replays score through here).
-pub fn robot_score(
-    s: &Simulator,
-    robot: usize,
-    (start_com, start_heading): ([f64; 3], f64),
-    time: f64,
-    fitness: Fitness,
-) -> Result<f64, EvalError> {
-    let end = s.com(robot)?;
-    if !end.iter().all(|v| v.is_finite()) || ground_distance(start_com, end) > BLOW_UP_DISTANCE {
-        return Ok(f64::NEG_INFINITY);
-    }
-    let e = Episode {
-        start_com,
-        end_com: end,
-        start_heading,
-        time,
-        energy: s.energy(robot)?.joules,
-        mass: s.mass(robot)?,
-        gravity: s.gravity(),
-    };
-    let score = fitness.score(&e);
-    Ok(if score.is_nan() {
-        f64::NEG_INFINITY
-    } else {
-        score
-    })
 }

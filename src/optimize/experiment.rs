@@ -16,9 +16,10 @@ use crate::optimize::error::OptimizeError;
 use crate::optimize::robust::episode_records;
 use crate::optimize::scorer::Recording;
 use crate::optimize::session::{Evaluation, RunOutcome, Session};
-use crate::optimize::settings::{RunChoices, RunSettings, StopFlag};
+use crate::optimize::settings::{RunChoices, RunSettings};
 use crate::optimize::space::SearchSpace;
 use crate::optimize::store::{RunInfo, Store, StoreLocation, StoredEval};
+use crate::signal::StopFlag;
 
 /// What to optimize and where to record it.
 #[derive(Debug, Clone, Default)]

@@ -4,12 +4,12 @@
 //! ([`Replay::score`]) or in the control window (`proleg gui --replay`).
 
 use crate::config::Simulation;
+use crate::config::fitness::Fitness;
 use crate::config::robustness::Robustness;
 use crate::config::simulation::EngineKind;
 use crate::control::ModuleRegistry;
 use crate::optimize::error::UnevaluableRun;
 use crate::optimize::evaluate::{EpisodeWorld, EvalError, Evaluator};
-use crate::optimize::fitness::Fitness;
 use crate::optimize::robust::{RobustEpisodes, combine};
 use crate::optimize::run::prepare;
 use crate::optimize::shared::{stored_evaluator, stored_simulation};

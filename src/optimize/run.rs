@@ -9,7 +9,7 @@ use crate::optimize::store::Store;
 pub use crate::optimize::prepare::prepare;
 pub use crate::optimize::scorer::Recording;
 pub use crate::optimize::session::{Evaluation, RunOutcome, Session, check_workers};
-pub use crate::optimize::settings::{RunChoices, RunSettings, StopFlag};
+pub use crate::optimize::settings::{RunChoices, RunSettings};
 
 /// Prepares and runs the optimization of `sim` ([`Session::prepare`], [`Session::run`]).
 pub fn optimize(

@@ -16,7 +16,7 @@ use crate::optimize::deluge::GreatDeluge;
 use crate::optimize::design::DesignSpace;
 use crate::optimize::error::{BadChoice, OptimizeError};
 use crate::optimize::es::EsOptimizer;
-use crate::optimize::evaluate::Evaluator;
+use crate::optimize::evaluate::{EvalError, Evaluator};
 use crate::optimize::ga::GeneticAlgorithm;
 use crate::optimize::local::LocalScorer;
 use crate::optimize::map_elites::{MapElites, map_axes};
@@ -124,9 +124,27 @@ impl Session {
         &self.settings
     }
 
+    /// The evaluator of the run's episodes, stopped by the run's stop flag.
+    fn evaluator(&self, registry: &ModuleRegistry) -> Evaluator {
+        let settings = &self.settings;
+        Evaluator {
+            batch: settings.batch,
+            stop: settings.stop.clone(),
+            ..Evaluator::new(
+                &self.sim,
+                registry,
+                &self.space,
+                settings.fitness,
+                settings.duration,
+                settings.seed,
+            )
+        }
+    }
+
     /// Runs the optimization, calling `on_eval` for every evaluation in order. With a
     /// recording, every evaluation is stored as it is scored, and stored ones (same number
-    /// and genome) are reused instead of simulated again.
+    /// and genome) are reused instead of simulated again. A raised stop flag abandons the
+    /// round in flight (its finished batches are stored) and ends the run unfinished.
     pub fn run(
         &self,
         registry: &ModuleRegistry,
@@ -142,18 +160,7 @@ impl Session {
             &self.start,
             settings,
         )?;
-        let evaluator = Evaluator {
-            batch: settings.batch,
-            ..Evaluator::new(
-                &self.sim,
-                registry,
-                &self.space,
-                settings.fitness,
-                settings.duration,
-                settings.seed,
-            )
-        };
-        let mut scorer = scorer_for(recording, evaluator, settings, registry)?;
+        let mut scorer = scorer_for(recording, self.evaluator(registry), settings, registry)?;
         let (mut n, mut round, mut best) = (0u64, 0u64, f64::NEG_INFINITY);
         let (mut start_score, mut best_engines) = (None, Vec::new());
         while !optimizer.finished() && !settings.stop.is_set() {
@@ -161,11 +168,16 @@ impl Session {
             if candidates.is_empty() {
                 break;
             }
-            let scored = scorer.score(&Round {
+            let scored = match scorer.score(&Round {
                 first: n,
                 number: round,
                 candidates: &candidates,
-            })?;
+            }) {
+                // Stopped mid-round: the episodes in flight were abandoned (the batches
+                // that finished are stored); the round is not told, `--resume` runs it.
+                Err(OptimizeError::Eval(EvalError::Stopped)) => break,
+                scored => scored?,
+            };
             for (g, s) in candidates.iter().zip(&scored) {
                 start_score = start_score.or(Some(s.score));
                 if s.score > best {
@@ -192,7 +204,11 @@ impl Session {
         let (g, s) = optimizer
             .best()
             .map(|(g, s)| (g.clone(), s))
-            .ok_or(OptimizeError::NothingEvaluated)?;
+            .ok_or(if stopped {
+                OptimizeError::StoppedEarly
+            } else {
+                OptimizeError::NothingEvaluated
+            })?;
         Ok(RunOutcome {
             best: g,
             best_score: s,

@@ -1,14 +1,13 @@
 //! How an optimization run goes: seed, workers, batching, budget, episode length and
 //! fitness, built in one place from a simulation's files and the user's choices (the
-//! command line's flags, the control window's optimization view), and the stop flag.
+//! command line's flags, the control window's optimization view), and the stop flag ([`StopFlag`], the signal module's).
 
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use crate::config::Simulation;
+use crate::config::fitness::Fitness;
 use crate::optimize::error::BadChoice;
-use crate::optimize::fitness::Fitness;
+use crate::signal::StopFlag;
 
 /// Neighbours the great deluge hands out per round (fixed, so its candidates do not depend
 /// on the worker count).
@@ -16,28 +15,6 @@ pub const DELUGE_BATCH: usize = 8;
 
 /// Seconds a shared store's claim stays valid without a heartbeat, unless chosen.
 pub const DEFAULT_LEASE_S: f64 = 60.0;
-
-/// Set from another thread to end a run after its current round (the GUI's Stop).
-#[derive(Debug, Clone, Default)]
-pub struct StopFlag(pub Arc<AtomicBool>);
-
-impl StopFlag {
-    /// Asks the run to end after its current round.
-    pub fn stop(&self) {
-        self.0.store(true, Ordering::SeqCst);
-    }
-
-    /// Whether the run was asked to end.
-    pub fn is_set(&self) -> bool {
-        self.0.load(Ordering::SeqCst)
-    }
-}
-
-impl PartialEq for StopFlag {
-    fn eq(&self, other: &Self) -> bool {
-        Arc::ptr_eq(&self.0, &other.0)
-    }
-}
 
 /// How to run.
 #[derive(Debug, Clone, PartialEq)]

@@ -17,6 +17,8 @@
 //!   copy, replacing the module for new instances; running ones keep the old code).
 //!
 //! [`build`] compiles plugin crates with cargo, [`template`] writes new ones.
+//! [`module`] is a plugin's module as the kernel runs it ([`PluginModule`]); [`error`] the
+//! host's errors.
 
 pub mod build;
 pub mod error;

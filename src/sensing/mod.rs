@@ -1,6 +1,6 @@
 //! Sensors as the control kernel sees them: the latest readings of a robot's sensors,
 //! handed to sensing modules through the step context (thesis 5.2.1, listing A.3), and the
-//! pure logic that turns raw contacts into debounced touch states.
+//! pure logic that turns raw contacts into debounced touch states ([`debounce`]).
 
 pub mod debounce;
 

@@ -1,6 +1,9 @@
 //! Loading a whole simulation: the simulation file and everything it includes, parsed,
 //! cross-checked (masks against the robot, modules against the registry, optimizer
 //! parameters against the actuation) and resolved into models the simulation uses.
+//! - [`robot`], [`actuation`], [`environment`], [`optimizer`]: each file's resolved model
+//! - [`flatten`]: a `<KinBody>` and its part files as one list of bodies, joints and sensors
+//! - [`physical`]: a robot's physical validation (masses, inertias, limits)
 
 pub mod actuation;
 pub mod environment;

@@ -1,4 +1,11 @@
-//! The standard actuation-module library.
+//! The standard actuation-module library, a file per module type:
+//!
+//! - [`sinusoidal`]: `PatternGenerator_sinusoidal`, the thesis's sine generator (eq. 3.1)
+//! - [`cpg_phase`], [`cpg_matsuoka`]: phase-oscillator and Matsuoka CPGs (3.3.2)
+//! - [`adaptive_touch`]: `Global_Adaptive_Touch`, the thesis's sensor-driven module (6.2)
+//! - [`direct`]: `DirectJointAccess`, joints held at set angles (listing B.5; the Gymnasium
+//!   environment sets them from its actions)
+//! - [`learned`]: `Policy`, a learned network ([`crate::control::policy`]) as a module
 
 pub mod adaptive_touch;
 pub mod cpg_matsuoka;

@@ -12,6 +12,9 @@
 //!   [`remote_view`]: the egui views
 //! - [`script`], [`script_run`]: scripted driving for tests and screenshots
 //! - [`keys`]: keyboard shortcuts; [`recorder`]: the Record button
+//! - [`calibration_view`]: the real-robot tab's servo calibration; [`results_view`]: the
+//!   stored results in the optimization view
+//! - [`widgets`]: small egui helpers; [`schedule`]: the order of the per-frame work
 
 pub mod assign_view;
 pub mod calibration_view;

@@ -19,20 +19,21 @@ use bevy_egui::egui;
 use egui_plot::{Legend, Line, Plot, PlotPoints, Points};
 
 use crate::config::actuation::write_actuation_file;
+use crate::config::fitness::Fitness;
 use crate::gui::control::results_view::{self, StoredResults};
 use crate::gui::control::session::SimSession;
 use crate::optimize::error::OptimizeError;
 use crate::optimize::experiment::{
     Experiment, ExperimentReport, ExperimentRequest, default_store_path,
 };
-use crate::optimize::fitness::Fitness;
 use crate::optimize::prepare::prepare;
 use crate::optimize::result::actuation_with;
 use crate::optimize::session::Evaluation;
-use crate::optimize::settings::{RunChoices, StopFlag};
+use crate::optimize::settings::RunChoices;
 use crate::optimize::shared::follow::{FOLLOW_POLL, Followed, follow_run};
 use crate::optimize::space::{Genome, SearchSpace};
 use crate::optimize::store::StoreLocation;
+use crate::signal::StopFlag;
 
 pub use crate::gui::error::SaveBestError;
 

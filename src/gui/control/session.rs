@@ -7,14 +7,16 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::config::Simulation;
+use crate::config::fitness::Fitness;
 use crate::config::simulation::EngineKind;
 use crate::control::ControlKernel;
 use crate::control::{ModuleRegistry, load_simulation_in};
 use crate::gui::error::GuiError;
-use crate::optimize::evaluate::robot_score;
 use crate::optimize::replay::Replay;
 use crate::sim::datalog::DataSettings;
-use crate::sim::{BuildOptions, Pacer, Pacing, Simulator, WorldExit};
+use crate::sim::{
+    BuildOptions, Episode, EpisodeEnd, EpisodeSettings, Pacer, Pacing, Simulator, WorldExit,
+};
 
 /// Longest a frame may spend stepping when the simulation runs as fast as possible, so the
 /// window stays responsive (seconds).
@@ -80,24 +82,17 @@ pub struct SimSession {
     /// The stored evaluation shown (`proleg gui --replay`, the results' Replay), rebuilt
     /// with its genome, seed and noise at every restart.
     pub replay: Option<Replay>,
-    /// Robot 0's centre of mass and heading when the world was built (for the replay's
-    /// score).
-    start: ([f64; 3], f64),
+    /// The episode the world runs (the episode runner's): its duration, the exit rule,
+    /// robot 0's start for the replay's score.
+    episode: Episode,
     /// The engine chosen on the command line (`--engine`), kept for every file loaded.
     pub engine: Option<EngineKind>,
     /// Why the run paused by itself, until it runs again.
     pub halt: Option<Halt>,
     /// Parameter values tuned before the last restart (which set the file's again).
     pub tuned: Option<Vec<crate::control::module::Parameters>>,
-    /// Simulated second at which the run pauses (the file's duration; `None` after
-    /// "Continue").
-    end_at: Option<f64>,
-    /// Whether a robot leaving the world pauses the run (off after "Continue").
-    watch_world: bool,
     /// Simulated second at which the run pauses quietly (a script's `run-until`).
     pub pause_at: Option<f64>,
-    /// The static scenery's box (see [`Simulator::scenery_bounds`]).
-    scenery: Option<([f64; 3], [f64; 3])>,
     /// Whether the last frame ran: the first frame after a start takes no wall time
     /// (the window may have idled for minutes).
     was_running: bool,
@@ -144,9 +139,7 @@ impl SimSession {
         let step_width = sim.files.simulation.properties.step_width;
         let pacing = Pacing::of(&sim.files.simulation.properties);
         let (simulator, initial_kernel) = build(&sim, step_width, replay.as_ref(), registry)?;
-        let start = robot_start(&simulator);
-        let scenery = simulator.scenery_bounds();
-        let duration = sim.files.simulation.properties.duration;
+        let episode = begin_episode(&simulator, &sim, replay.as_ref())?;
         Ok(SimSession {
             path,
             sim,
@@ -160,14 +153,11 @@ impl SimSession {
             error: None,
             generation: 0,
             replay,
-            start,
+            episode,
             engine: None,
             halt: None,
             tuned: None,
-            end_at: (duration > 0.0).then_some(duration),
-            watch_world: true,
             pause_at: None,
-            scenery,
             was_running: false,
             registry: registry.clone(),
         })
@@ -192,15 +182,9 @@ impl SimSession {
 
     /// The replayed episode's score so far (the optimizers' formula on robot 0 since the
     /// world was built); at the episode's duration it is the score the run stored.
-    pub fn replay_score(&self) -> Option<Result<f64, crate::optimize::evaluate::EvalError>> {
-        let r = self.replay.as_ref()?;
-        Some(robot_score(
-            &self.simulator,
-            0,
-            self.start,
-            self.sim_time(),
-            r.fitness(),
-        ))
+    pub fn replay_score(&self) -> Option<Result<f64, crate::sim::SimError>> {
+        self.replay.as_ref()?;
+        Some(self.episode.score(&self.simulator, 0))
     }
 
     /// Loads another configuration; on failure keeps the current one and records the error
@@ -266,12 +250,14 @@ impl SimSession {
 
     /// Shows a newly built world, paused at 0.
     fn install(&mut self, simulator: Simulator, kernel: ControlKernel) {
-        self.start = robot_start(&simulator);
-        self.scenery = simulator.scenery_bounds();
+        match begin_episode(&simulator, &self.sim, self.replay.as_ref()) {
+            Ok(episode) => self.episode = episode,
+            Err(e) => {
+                self.error = Some(e.to_string());
+                return;
+            }
+        }
         self.simulator = simulator;
-        let duration = self.sim.files.simulation.properties.duration;
-        self.end_at = (duration > 0.0).then_some(duration);
-        self.watch_world = true;
         self.halt = None;
         self.tuned = None;
         self.initial_kernel = kernel;
@@ -382,8 +368,7 @@ impl SimSession {
     /// (the check is off until the next restart).
     pub fn continue_run(&mut self) {
         match self.halt.take() {
-            Some(Halt::Duration(_)) => self.end_at = None,
-            Some(Halt::LeftWorld(_)) => self.watch_world = false,
+            Some(Halt::Duration(_) | Halt::LeftWorld(_)) => self.episode.continue_past(),
             Some(Halt::Diverged) | None => return,
         }
         self.running = true;
@@ -392,7 +377,7 @@ impl SimSession {
     /// Advances the simulation for a frame that took `frame_wall` wall seconds: the steps
     /// the pacer says are due (several per frame when faster than the frame rate), or as
     /// many as fit in the frame's budget when unpaced; stops at the duration and when the
-    /// robot leaves the world ([`Halt`]). Returns steps run.
+    /// robot leaves the world ([`Halt`], the episode runner's end). Returns steps run.
     pub fn advance(&mut self, frame_wall: f64) -> u64 {
         if !self.running {
             self.was_running = false;
@@ -415,25 +400,32 @@ impl SimSession {
             ),
             None => (UNPACED_STEP_BUDGET, u64::MAX),
         };
-        let stop = match (self.end_at, self.pause_at) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        };
-        let steps = match stop {
+        let steps = match self.pause_at {
             Some(t) => {
                 let last = (t / dt).round().max(0.0) as u64;
                 due.min(last.saturating_sub(self.steps()))
             }
             None => due,
         };
-        let started = Instant::now();
-        let mut done = 0;
+        let (started, first) = (Instant::now(), self.steps());
         // Step in small chunks so the budget is checked without reading the clock each step.
-        while done < steps {
-            let chunk = (steps - done).min(50);
-            self.simulator.run_steps(chunk);
-            done += chunk;
-            if self.check_halt() {
+        let mut left = steps;
+        loop {
+            let chunk = left.min(50);
+            match self.episode.advance(&mut self.simulator, chunk, None) {
+                Ok(Some(end)) => {
+                    self.halt_at(end);
+                    break;
+                }
+                Ok(None) => {}
+                Err(e) => {
+                    self.error = Some(e.to_string());
+                    self.running = false;
+                    break;
+                }
+            }
+            left -= chunk;
+            if left == 0 || self.pause_reached() {
                 break;
             }
             if started.elapsed().as_secs_f64() > budget {
@@ -442,54 +434,49 @@ impl SimSession {
                 break;
             }
         }
-        if steps == 0 {
-            self.check_halt();
-        }
-        done
+        self.pause_reached();
+        self.steps() - first
     }
 
-    /// Pauses the run with a [`Halt`] when it reached its duration or robot 0 left the
-    /// world (checked after every chunk of at most 50 steps, so a fast run stops near
-    /// where it happened). True when it paused.
-    fn check_halt(&mut self) -> bool {
+    /// Pauses quietly at a script's `run-until` second; true when it did.
+    fn pause_reached(&mut self) -> bool {
         let now = self.steps() as f64 * self.simulator.clock().dt;
         if self.pause_at.is_some_and(|t| now >= t - 1e-9) {
             self.pause_at = None;
             self.running = false;
             return true;
         }
-        let at_end = self.end_at.filter(|end| now >= end - 1e-9);
-        let halt = match at_end {
-            Some(end) => Some(Halt::Duration(end)),
-            None => self.left_world(),
-        };
-        if halt.is_some() {
-            self.running = false;
-            self.halt = halt;
-        }
-        !self.running
+        false
     }
 
-    /// Robot 0 left the world ([`Simulator::world_exit`]); leaving the scenery counts only
-    /// while the world is watched.
-    fn left_world(&self) -> Option<Halt> {
-        match self
-            .simulator
-            .world_exit(0, self.scenery, self.start.0)
-            .ok()??
-        {
-            WorldExit::Diverged => Some(Halt::Diverged),
-            WorldExit::Left(c) => self.watch_world.then_some(Halt::LeftWorld(c)),
-        }
+    /// Pauses the run with the [`Halt`] of how its episode ended.
+    fn halt_at(&mut self, end: EpisodeEnd) {
+        self.running = false;
+        self.halt = match end {
+            EpisodeEnd::Duration => Some(Halt::Duration(
+                self.sim.files.simulation.properties.duration,
+            )),
+            EpisodeEnd::Left(WorldExit::Left(c)) => Some(Halt::LeftWorld(c)),
+            EpisodeEnd::Left(WorldExit::Diverged) => Some(Halt::Diverged),
+            EpisodeEnd::Stopped => None,
+        };
     }
 }
 
-/// Robot 0's centre of mass and heading (zero when there is no robot 0).
-fn robot_start(simulator: &Simulator) -> ([f64; 3], f64) {
-    (
-        simulator.com(0).unwrap_or_default(),
-        simulator.heading(0).unwrap_or_default(),
-    )
+/// The episode a window runs on `simulator`: the file's duration (none when it is 0), and
+/// a replay's fitness for its score.
+fn begin_episode(
+    simulator: &Simulator,
+    sim: &Simulation,
+    replay: Option<&Replay>,
+) -> Result<Episode, crate::sim::SimError> {
+    let duration = sim.files.simulation.properties.duration;
+    let fitness = replay.map_or(Fitness::Distance, Replay::fitness);
+    let mut settings = EpisodeSettings::new(simulator, duration, fitness);
+    if duration <= 0.0 {
+        settings.steps = None;
+    }
+    Episode::begin(simulator, settings)
 }
 
 /// A simulator for `sim` at step width `dt`, recording into ring buffers for the live

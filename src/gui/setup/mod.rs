@@ -7,6 +7,8 @@
 //! - [`editor`]: the environment editor (its panels, keys, mouse and drops)
 //! - [`scene`]: the 3D scene; [`cameras`]: perspective, top and side views
 //! - [`script`], [`script_run`]: scripted driving for tests and screenshots
+//! - [`codesign_view`]: the optimization page's MAP-Elites and co-design settings
+//! - [`keys`]: the editor's keyboard shortcuts; [`schedule`]: the per-frame work's order
 
 pub mod cameras;
 pub mod codesign_view;

@@ -427,8 +427,8 @@ pub enum WizardField {
     #[command(name = "opt.fitness")]
     Fitness {
         /// The fitness.
-        #[arg(value_parser = crate::optimize::fitness::Fitness::parse)]
-        fitness: crate::optimize::fitness::Fitness,
+        #[arg(value_parser = crate::config::fitness::Fitness::parse)]
+        fitness: crate::config::fitness::Fitness,
     },
 }
 

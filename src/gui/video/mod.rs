@@ -4,6 +4,8 @@
 //! read back and handed to a [`sink::VideoSink`] (ffmpeg or PNG frames). Bevy's update
 //! loop is pumped here, frame by frame, so the video's time is simulated time whatever
 //! the rendering speed (no window, no display needed: Mesa's software Vulkan renders).
+//! - [`frames`]: one picture of a world on demand (galleries, the dashboard's replays)
+//! - [`gallery`]: a co-design run's best bodies in one picture (`results --gallery`)
 
 pub mod frames;
 pub mod gallery;

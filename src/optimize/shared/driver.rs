@@ -7,9 +7,9 @@ use std::thread::JoinHandle;
 
 use crate::control::ModuleRegistry;
 use crate::optimize::error::OptimizeError;
-use crate::optimize::evaluate::Evaluator;
+use crate::optimize::evaluate::{EvalError, Evaluator};
 use crate::optimize::scores::CandidateScore;
-use crate::optimize::settings::StopFlag;
+use crate::signal::StopFlag;
 use std::time::Duration;
 
 use crate::optimize::shared::worker::{WorkerOptions, WorkerReport, run_pool};
@@ -17,17 +17,27 @@ use crate::optimize::store::PgStore;
 use crate::optimize::store::pg_queue::Pending;
 
 /// Queues `pending` (candidates of `run`) and waits for their scores and measured
-/// quantities, in the same order; a failed episode scores `-inf`. The wait ends with an error if the local workers fail.
+/// quantities, in the same order; a failed episode scores `-inf`. The wait ends with an
+/// error if the local workers fail, and with [`EvalError::Stopped`] when `stop` is raised
+/// (the queued candidates stay queued: a resumed run queues them again, which changes
+/// nothing).
 pub fn evaluate_round(
     store: &mut PgStore,
     run: i64,
     seed: u64,
     pending: &[Pending],
     local: &mut LocalWorkers,
+    stop: &StopFlag,
 ) -> Result<Vec<CandidateScore>, OptimizeError> {
     store.enqueue(run, seed, pending)?;
     let numbers: Vec<u64> = pending.iter().map(|p| p.number).collect();
-    store.wait_scores(run, &numbers, |_| local.check())
+    store.wait_scores(run, &numbers, |_| {
+        local.check()?;
+        if stop.is_set() {
+            return Err(OptimizeError::Eval(EvalError::Stopped));
+        }
+        Ok(())
+    })
 }
 
 /// The driver's own evaluating threads, running beside it until dropped or finished.
@@ -51,6 +61,11 @@ impl LocalWorkers {
         if threads == 0 {
             return LocalWorkers { stop, handle: None };
         }
+        // Finishing the driver's round early (it was stopped) abandons their episodes too.
+        let evaluator = Evaluator {
+            stop: stop.clone(),
+            ..evaluator
+        };
         let target = store.target().clone();
         let registry = registry.clone();
         let options = WorkerOptions {

@@ -6,8 +6,8 @@ use std::time::Duration;
 
 use crate::optimize::scores::finite_or_worst;
 use crate::optimize::session::Evaluation;
-use crate::optimize::settings::StopFlag;
 use crate::optimize::store::{RunRow, Store, StoreLocation};
+use crate::signal::StopFlag;
 
 /// How often a followed run's store is read.
 pub const FOLLOW_POLL: Duration = Duration::from_millis(500);

@@ -14,6 +14,7 @@
 //! Each episode is a pure function of the stored configuration, the run's seed and the
 //! candidate, so the scores, and therefore every later candidate, are the same whoever
 //! evaluates them.
+//! [`queue`] is the driver's scorer over the store's queue.
 
 pub mod ceiling;
 pub mod driver;
@@ -23,12 +24,12 @@ pub mod worker;
 
 use std::path::Path;
 
+use crate::config::fitness::Fitness;
 use crate::config::simulation::EngineKind;
 use crate::config::{MemSource, Simulation, load_simulation_with};
 use crate::control::ModuleRegistry;
 use crate::optimize::error::UnevaluableRun;
 use crate::optimize::evaluate::{Evaluator, scoring_engines};
-use crate::optimize::fitness::Fitness;
 use crate::optimize::prepare::prepare;
 use crate::optimize::space::SearchSpace;
 use crate::optimize::store::{RunSpec, program_version};

@@ -13,6 +13,7 @@ use crate::optimize::shared::worker::OUTAGE;
 use crate::optimize::space::SearchSpace;
 use crate::optimize::store::pg_queue::{DONE, Pending};
 use crate::optimize::store::{ExperimentStore, PgStore};
+use crate::signal::StopFlag;
 
 /// The scorer of a run on a shared store.
 pub struct QueueScorer<'a> {
@@ -25,6 +26,8 @@ pub struct QueueScorer<'a> {
     workers: usize,
     /// Evaluations queued by this call (the rest came from the store).
     queued: u64,
+    /// The run's stop flag: raised, the wait for a round ends.
+    stop: StopFlag,
 }
 
 impl<'a> QueueScorer<'a> {
@@ -40,7 +43,7 @@ impl<'a> QueueScorer<'a> {
         registry: &ModuleRegistry,
     ) -> Result<QueueScorer<'a>, OptimizeError> {
         store.listen(DONE)?;
-        let space = evaluator.space.clone();
+        let (space, stop) = (evaluator.space.clone(), evaluator.stop.clone());
         let local = LocalWorkers::start(
             store,
             registry,
@@ -61,6 +64,7 @@ impl<'a> QueueScorer<'a> {
             local,
             workers: settings.workers,
             queued: 0,
+            stop,
         })
     }
 }
@@ -84,7 +88,8 @@ impl Scorer for QueueScorer<'_> {
         // A lost connection (the server restarted) is made again; queueing the same
         // candidates again changes nothing, and the workers' results are in the store.
         let got = loop {
-            match evaluate_round(self.store, self.run, self.seed, &pending, &mut self.local) {
+            let (run, seed, stop) = (self.run, self.seed, &self.stop);
+            match evaluate_round(self.store, run, seed, &pending, &mut self.local, stop) {
                 Ok(got) => break got,
                 Err(_) if self.store.is_closed() => self.store.reconnect(OUTAGE, &|| false)?,
                 Err(e) => return Err(e),

@@ -9,11 +9,11 @@ use std::time::{Duration, Instant};
 
 use crate::control::ModuleRegistry;
 use crate::optimize::error::OptimizeError;
-use crate::optimize::evaluate::{CandidateScore, Evaluator};
-use crate::optimize::settings::StopFlag;
+use crate::optimize::evaluate::{CandidateScore, EvalError, Evaluator};
 use crate::optimize::shared::run_evaluator;
 use crate::optimize::store::pg_queue::{Claim, ClaimResult, PENDING};
 use crate::optimize::store::{ExperimentStore, PgStore, PgTarget, StoreError};
+use crate::signal::StopFlag;
 
 /// Longest wait between two looks for work when no notification comes (an expired lease
 /// announces itself to no one).
@@ -353,7 +353,12 @@ impl Pool<'_> {
                 return Ok(true);
             }
         };
-        let result = self.evaluate(&evaluator, claim);
+        let Some(result) = self.evaluate(&evaluator, claim.clone()) else {
+            // Stopped mid-episode: the claim goes back with the others (`finish`), for
+            // another worker now rather than when its lease runs out.
+            thread.claimed.push_front(claim);
+            return Ok(true);
+        };
         thread.episode_seconds = Some(match thread.episode_seconds {
             Some(mean) => 0.8 * mean + 0.2 * result.wall,
             None => result.wall,
@@ -404,12 +409,13 @@ impl Pool<'_> {
         }
     }
 
-    /// Runs one claimed episode.
-    fn evaluate(&self, evaluator: &Evaluator, claim: Claim) -> Unsent {
+    /// Runs one claimed episode; `None` when the pool was stopped before it ended.
+    fn evaluate(&self, evaluator: &Evaluator, claim: Claim) -> Option<Unsent> {
         let t = Instant::now();
         let failed = CandidateScore::single(f64::NAN);
         let score = match evaluator.run_batch_scored(std::slice::from_ref(&claim.genome)) {
             Ok(mut scores) => scores.pop().unwrap_or(failed),
+            Err(EvalError::Stopped) => return None,
             Err(e) => {
                 (self.on_message)(&format!(
                     "run {} evaluation {}: the episode failed: {e}",
@@ -418,11 +424,11 @@ impl Pool<'_> {
                 failed
             }
         };
-        Unsent {
+        Some(Unsent {
             claim,
             score,
             wall: t.elapsed().as_secs_f64(),
-        }
+        })
     }
 
     /// The evaluator of `run`, built from the store on its first claim.
@@ -436,10 +442,11 @@ impl Pool<'_> {
             return Ok(e.clone());
         }
         let spec = store.run_spec(run)?;
-        let e = Arc::new(
-            run_evaluator(&spec, self.registry)
-                .map_err(|why| OptimizeError::Unevaluable { run, why })?,
-        );
+        let e = Arc::new(Evaluator {
+            stop: self.stop.clone(),
+            ..run_evaluator(&spec, self.registry)
+                .map_err(|why| OptimizeError::Unevaluable { run, why })?
+        });
         cache.insert(run, e.clone());
         Ok(e)
     }

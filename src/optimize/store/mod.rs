@@ -13,7 +13,9 @@
 //!
 //! [`sqlite`] is the embedded store of one machine (evaluations run in the optimizing
 //! process); [`pg`] a PostgreSQL database shared by a driver and `proleg worker`s on many
-//! hosts, with the queue of shared evaluations in [`pg_queue`].
+//! hosts, with the queue of shared evaluations in [`pg_queue`]. [`location`] reads
+//! `--store` (a path or a URL), [`schema`] describes the tables once for both, [`table`]
+//! is every evaluation as one table, and [`error`] says what failed in which store.
 
 pub mod error;
 pub mod location;

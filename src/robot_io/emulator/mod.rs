@@ -4,7 +4,8 @@
 //! write, sync read, sync write, reboot; servos move toward their goal at a set speed
 //! while torque is on. A servo can be made silent to test timeouts.
 //!
-//! The driver opens the pty's slave side ([`EmulatedBus::path`]) like a USB adapter.
+//! The driver opens the pty's slave side ([`EmulatedBus::path`]) like a USB adapter;
+//! [`packet`] finds and builds Protocol 2.0 packets from the servo's side.
 
 pub mod packet;
 pub mod servo;

@@ -16,7 +16,8 @@
 //! computed by our `Servo` stage and driven by a velocity constraint whose torque is
 //! limited to the joint's `maxtorque` (rapier's motor, MuJoCo's hinge friction loss aimed at the command); the
 //! contact friction is the smaller of the two surfaces'; links joined by a hinge do not
-//! collide; a pad is touched when a contact patch of its link overlaps its area.
+//! collide; a pad is touched when a contact patch of its link overlaps its area ([`pad`],
+//! the engine-neutral test).
 
 pub mod mujoco;
 pub mod pad;

@@ -29,7 +29,7 @@ use crate::sim::pacing::{Pacer, Pacing};
 use crate::sim::schedule::SimStep;
 use crate::sim::spawn::{BuildOptions, build_world};
 
-pub use state::{EXIT_CHECK_SECONDS, PadReading, SceneBody, WORLD_MARGIN, WorldExit};
+pub use state::{PadReading, SceneBody};
 
 /// What a run did.
 #[derive(Debug, Clone, PartialEq)]

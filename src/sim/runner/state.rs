@@ -8,7 +8,7 @@ use crate::control::ControlKernel;
 use crate::sensing::SensorData;
 use crate::sim::Simulator;
 use crate::sim::energy::Energy;
-use crate::sim::engine::{BodyId, BodyState, PadArea, PhysicsEngine, ShapeOutline};
+use crate::sim::engine::{BodyId, BodyState, PadArea, PhysicsEngine};
 use crate::sim::error::SimError;
 use crate::sim::kernel::Kernel;
 use crate::sim::physics::SimPhysics;
@@ -40,23 +40,6 @@ pub struct PadReading {
     pub raw: bool,
     /// The debounced reading modules see.
     pub pressed: bool,
-}
-
-/// How far below the lowest static collider a robot's centre of mass has left the world
-/// (m), and how far beyond the scenery's sides.
-pub const WORLD_MARGIN: (f64, f64) = (1.0, 2.0);
-
-/// Simulated seconds between a headless front's checks of [`Simulator::world_exit`]
-/// (`proleg run`, an optimizer's episode): the same cadence, so both stop at the same step.
-pub const EXIT_CHECK_SECONDS: f64 = 0.05;
-
-/// How a robot left the world ([`Simulator::world_exit`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum WorldExit {
-    /// Its centre of mass (m) is below the scenery or beyond its sides.
-    Left([f64; 3]),
-    /// The physics diverged.
-    Diverged,
 }
 
 /// Things listed in the order of their index.
@@ -281,50 +264,6 @@ impl Simulator {
         Ok(robot.bodies.iter().map(|(b, _)| *b).collect())
     }
 
-    /// The box (min, max corners, m) holding every static collider of the world (its
-    /// ground and fixed scenery), or `None` when nothing is static. Windows use it to notice a
-    /// robot that left the world.
-    pub fn scenery_bounds(&self) -> Option<([f64; 3], [f64; 3])> {
-        let mut out: Option<([f64; 3], [f64; 3])> = None;
-        for c in self.engine().colliders().iter().filter(|c| !c.dynamic) {
-            let (lo, hi) = match c.shape {
-                ShapeOutline::Box(h) => {
-                    // The rotated box's extent along each world axis.
-                    let mut e = [0.0; 3];
-                    for (axis, half) in h.iter().enumerate() {
-                        let mut local = [0.0; 3];
-                        local[axis] = *half;
-                        let w = c.pose.rotate(local);
-                        for (ek, wk) in e.iter_mut().zip(w) {
-                            *ek += wk.abs();
-                        }
-                    }
-                    let t = c.pose.translation;
-                    (
-                        [t[0] - e[0], t[1] - e[1], t[2] - e[2]],
-                        [t[0] + e[0], t[1] + e[1], t[2] + e[2]],
-                    )
-                }
-                ShapeOutline::Sphere(r) => {
-                    let t = c.pose.translation;
-                    (
-                        [t[0] - r, t[1] - r, t[2] - r],
-                        [t[0] + r, t[1] + r, t[2] + r],
-                    )
-                }
-                ShapeOutline::Bounds(lo, hi) => (lo, hi),
-            };
-            out = Some(match out {
-                None => (lo, hi),
-                Some((a, b)) => (
-                    std::array::from_fn(|k| a[k].min(lo[k])),
-                    std::array::from_fn(|k| b[k].max(hi[k])),
-                ),
-            });
-        }
-        out
-    }
-
     /// Position of a body (m, z up).
     pub fn body_position(&self, body: BodyId) -> Option<[f64; 3]> {
         self.engine().body(body).map(|b| b.pose.translation)
@@ -333,32 +272,6 @@ impl Simulator {
     /// Pose, centre of mass, velocity and mass of a body.
     pub fn body_state(&self, body: BodyId) -> Option<BodyState> {
         self.engine().body(body)
-    }
-
-    /// Whether robot `index` left the world: the physics diverged (its centre of mass is not
-    /// a number, or the engine stopped), or its centre of mass is more than
-    /// [`WORLD_MARGIN`] below `scenery`'s lowest point or beyond its sides (the box of
-    /// [`Simulator::scenery_bounds`]); without scenery, 10 m below `start`. The control
-    /// window pauses on it and an environment terminates its episode.
-    pub fn world_exit(
-        &self,
-        index: usize,
-        scenery: Option<([f64; 3], [f64; 3])>,
-        start: [f64; 3],
-    ) -> Result<Option<WorldExit>, SimError> {
-        let c = self.com(index)?;
-        if c.iter().any(|v| !v.is_finite()) || self.diverged() {
-            return Ok(Some(WorldExit::Diverged));
-        }
-        let out = match scenery {
-            Some((lo, hi)) => {
-                c[2] < lo[2] - WORLD_MARGIN.0
-                    || (0..2)
-                        .any(|k| c[k] < lo[k] - WORLD_MARGIN.1 || c[k] > hi[k] + WORLD_MARGIN.1)
-            }
-            None => c[2] < start[2] - 10.0,
-        };
-        Ok(out.then_some(WorldExit::Left(c)))
     }
 
     /// Whether the physics blew up and the world stopped ([`PhysicsEngine::diverged`]).

@@ -4,6 +4,7 @@
 //! - [`build`]: the world of a simulation (bodies, colliders, hinges, sensors)
 //! - [`settings`]: substeps and tolerances scaled to the robot
 //! - [`terrain`]: height fields, the floor as a half-space
+//! - [`contact`]: the contact model in rapier's terms
 //!
 //! We drive rapier directly instead of through bevy_rapier's plugin: the fixed-step
 //! pipeline needs physics as one set among ours, and headless runs must not pay for

@@ -10,6 +10,8 @@
 //! | contact friction: the smaller of the two geometries' | `friction` per geom, `priority` so the smaller one wins |
 //! | robots of a batch, self-collision off | `contype`/`conaffinity` bits: links meet the terrain (and their own robot with self-collision) |
 //! | boxes, spheres, cylinders, meshes, height fields | `box`, `sphere`, `cylinder` (turned: ours stand along y), `mesh` (MuJoCo collides as its convex hull), `hfield` |
+//! [`geoms`] writes one geometry (shape, placement, friction, contact bits, assets);
+//! [`contact`] the contact model in MuJoCo's terms.
 
 pub mod contact;
 pub mod geoms;

@@ -1,14 +1,69 @@
-//! Fitness functions (thesis 3.4.3): what an episode scored. Higher is better for all of
-//! them; cost of transport is negated so that the optimizers can maximize it too. The
-//! names live with the formats ([`crate::config::fitness`]); the scores here.
+//! An episode's score (thesis 3.4.3), written once: the fitness functions' formulas over
+//! what an episode measured ([`Measured`]), and [`robot_score`], a robot's score in a running
+//! world, which every front (`proleg run`, the evaluator, the Gymnasium environment, the
+//! control window, replays) reads through the episode runner. Higher is better for every
+//! fitness; cost of transport is negated so that the optimizers can maximize it too. The
+//! names live with the formats ([`crate::config::fitness`]).
 
+use crate::config::fitness::Fitness;
 use crate::measure::{distance_along, ground_distance, norm};
+use crate::sim::Simulator;
+use crate::sim::episode::exit::BLOW_UP_DISTANCE;
+use crate::sim::error::SimError;
 
-pub use crate::config::fitness::Fitness;
+/// Where a robot started an episode.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RobotStart {
+    /// Its centre of mass (m, z up).
+    pub com: [f64; 3],
+    /// Its tail-to-head heading (degrees from +x).
+    pub heading: f64,
+}
+
+impl RobotStart {
+    /// Where robot `index` of `sim` is now.
+    pub fn of(sim: &Simulator, index: usize) -> Result<RobotStart, SimError> {
+        Ok(RobotStart {
+            com: sim.com(index)?,
+            heading: sim.heading(index)?,
+        })
+    }
+}
+
+/// Robot `robot`'s score after an episode that started at `start` and ran `time` simulated
+/// seconds: `-inf` for a blow-up (a non-finite or far-flung centre of mass) or an undefined
+/// score, else the fitness.
+pub fn robot_score(
+    s: &Simulator,
+    robot: usize,
+    start: RobotStart,
+    time: f64,
+    fitness: Fitness,
+) -> Result<f64, SimError> {
+    let end = s.com(robot)?;
+    if !end.iter().all(|v| v.is_finite()) || ground_distance(start.com, end) > BLOW_UP_DISTANCE {
+        return Ok(f64::NEG_INFINITY);
+    }
+    let e = Measured {
+        start_com: start.com,
+        end_com: end,
+        start_heading: start.heading,
+        time,
+        energy: s.energy(robot)?.joules,
+        mass: s.mass(robot)?,
+        gravity: s.gravity(),
+    };
+    let score = fitness.score(&e);
+    Ok(if score.is_nan() {
+        f64::NEG_INFINITY
+    } else {
+        score
+    })
+}
 
 /// What one episode measured.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Episode {
+pub struct Measured {
     /// Centre of mass at the start (m, z up).
     pub start_com: [f64; 3],
     /// Centre of mass at the end (m, z up).
@@ -27,7 +82,7 @@ pub struct Episode {
 
 impl Fitness {
     /// The score of an episode.
-    pub fn score(self, e: &Episode) -> f64 {
+    pub fn score(self, e: &Measured) -> f64 {
         let displacement = ground_distance(e.start_com, e.end_com);
         match self {
             Fitness::Displacement => displacement,
@@ -55,8 +110,8 @@ impl Fitness {
 mod tests {
     use super::*;
 
-    fn episode(gravity: f64) -> Episode {
-        Episode {
+    fn episode(gravity: f64) -> Measured {
+        Measured {
             start_com: [0.0, 0.0, 0.05],
             end_com: [0.0, -3.0, 0.05],
             start_heading: 90.0,
