@@ -1,4 +1,4 @@
-//! Results across engines (issue 32): an optimizer file with `<engines>rapier mujoco</engines>`
+//! Results across engines: an optimizer file with `<engines>rapier mujoco</engines>`
 //! scores each candidate on both and stores each engine's score; `proleg results` shows them,
 //! a replay on either engine reproduces that engine's stored score; `proleg compare` measures
 //! one simulation on both engines; the environment's contact model is read, written and

@@ -1,4 +1,4 @@
-//! Data files (thesis B.8, issue 5): a recorded run reads back exactly, the thesis's own
+//! Data files (thesis B.8): a recorded run reads back exactly, the thesis's own
 //! listing parses, a cut file reads up to its last complete round, and export picks the
 //! asked columns.
 

@@ -1,4 +1,4 @@
-//! Exports that travel (issue 52): `proleg results --export-robot`, the wizard's save and
+//! Exports that travel: `proleg results --export-robot`, the wizard's save and
 //! `proleg import -o` write a folder that runs on its own (`proleg calibrate -o`: in
 //! `tests/calibrate.rs`). Written far from `configs/` (a temporary folder: no folder above
 //! it holds the shipped environments or parts), moved elsewhere, and run there, a

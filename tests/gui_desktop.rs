@@ -1,4 +1,4 @@
-//! Both windows as desktop applications (issue 33, point 5): idle, they take (almost) no
+//! Both windows as desktop applications: idle, they take (almost) no
 //! CPU — once they have drawn their last frames, measured from the kernel's accounting
 //! over 10 s, below 10 % of one core; they
 //! close within half a second of SIGTERM; and a control window opened from the

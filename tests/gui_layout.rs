@@ -1,4 +1,4 @@
-//! Windows that hold still (issue 52): controls keep their place when counts and banners
+//! Windows that hold still: controls keep their place when counts and banners
 //! appear, so a click aimed at one lands on it. With a real mouse (xdotool on an Xvfb of
 //! the test's own): "Add plot" takes the click right after a series is ticked (its count
 //! no longer appears in front of it), and a run paused at its duration shows its banner

@@ -1,4 +1,4 @@
-//! A real mouse on the control window (issue 33, point 1): xdotool drives `proleg gui` on an
+//! A real mouse on the control window: xdotool drives `proleg gui` on an
 //! Xvfb server of the test's own. A press on a panel belongs to the panel even when the
 //! drag leaves it (the Amplitude slider dragged into the viewer changes Amplitude and moves
 //! no floor); a click on Start selects nothing behind the toolbar; a left drag on the

@@ -1,4 +1,4 @@
-//! The control window's runs as a user sees them (issue 33, points 2 and 3): the speed
+//! The control window's runs as a user sees them: the speed
 //! readouts are what the wall clock says even when frames are slow, and a run ends — at
 //! its duration, or when the robot falls off the world — with a message instead of running
 //! on forever. Under Xvfb with Mesa's software renderer, driven by scripts.

@@ -1,4 +1,4 @@
-//! The optimizers (issue 6) on known objectives, their reproducibility, the genome
+//! The optimizers on known objectives, their reproducibility, the genome
 //! encoding, and the evaluator's independence from the number of workers.
 
 mod common;

@@ -1,5 +1,4 @@
-//! Physics with known answers on both engines at their production settings (issue 32,
-//! part 1): friction onset at atan μ on a tilted box floor, a height-field slope and a
+//! Physics with known answers on both engines at their production settings: friction onset at atan μ on a tilted box floor, a height-field slope and a
 //! trimesh slope, sliding to rest after v² / (2 μ g), resting contact without penetration
 //! or drift on the floor and on a height field, a drop that settles without bouncing, a
 //! servo following its model after a 30° step and stalling at its torque limit, a

@@ -1,4 +1,4 @@
-//! Robust fitness and replay (issue 22): a stored evaluation replayed from the store scores
+//! Robust fitness and replay: a stored evaluation replayed from the store scores
 //! exactly what the optimization stored; a robust candidate's score is the mean of its
 //! randomized episodes, whose seeds are in the store; randomized episodes really differ; a
 //! random start is drawn from the seed.

@@ -1,7 +1,7 @@
-//! The accuracy gate (issue 20): each gate scenario at the production physics settings
+//! The accuracy gate: each gate scenario at the production physics settings
 //! against its converged reference (`proleg bench --convergence`), displacement within 5 %.
 //! Short runs (8 simulated seconds) keep the suite quick; the 30-second figures are in
-//! docs/DESIGN.md §4 and docs/MEASUREMENTS.md. A physics change that trades accuracy for speed fails here.
+//! docs/architecture.md ("Two engines behind one interface") and docs/MEASUREMENTS.md. A physics change that trades accuracy for speed fails here.
 
 mod common;
 
@@ -99,7 +99,7 @@ fn mujoco_c_pitch_yaw_snake_on_the_slope_is_within_the_gate() {
 
 /// Experiment 2's ladder does not settle to 1 % on MuJoCo either (the tactile robot's
 /// switching), but its rungs stay within 5 % of the finest. With the shared contact model
-/// (issue 32: MuJoCo's contacts 7.5 x stiffer than its default) production lies 5.1 % from
+/// (MuJoCo's contacts 7.5 x stiffer than its default) production lies 5.1 % from
 /// the finest rung (0.5899 m against 0.5612 m in 8 s; the rungs 0.5474-0.5846 m): MuJoCo's
 /// limit at 1 ms, stated in docs/MEASUREMENTS.md. The setting that passes 5 %, two MuJoCo steps
 /// per step (4.2 %), halves its speed (25x against 45x real time), so production keeps one

@@ -25,9 +25,10 @@ fn one_signal_raises_every_live_subscriber_and_no_dropped_one() {
     assert!(run.is_raised(), "the first subscriber's flag");
     assert!(window.is_raised(), "the second subscriber's flag");
     assert!(
-        !dropped_flag.load(std::sync::atomic::Ordering::SeqCst),
+        !dropped_flag.is_set(),
         "a dropped subscription hears nothing"
     );
+    assert_eq!(proleg::signal::received(), Some(15), "the signal is remembered");
     // A later subscriber starts lowered.
     assert!(!proleg::signal::subscribe().unwrap().is_raised());
 }

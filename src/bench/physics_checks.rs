@@ -1,6 +1,6 @@
-//! Physical checks with known answers (`proleg check-physics [--engine E]`, issue 32 part
-//! 1, first half): one module (the snake's 72-mm tail link, 70 g) alone on the floor at the
-//! production settings of an engine, against what physics says exactly:
+//! Physical checks with known answers (`proleg check-physics [--engine E]`): one module
+//! (the snake's 72-mm tail link, 70 g) alone on the floor at the production settings of an
+//! engine, against what physics says exactly:
 //!
 //! | check | scene | expected |
 //! |---|---|---|
@@ -10,9 +10,10 @@
 //! | drop | released 10 cm above the floor | at rest within 0.5 s, bounce < 2 mm |
 //! | servo step | the whole snake without gravity, one joint's target stepped by 30° | the servo model's response (P at the gain, clamped to `maxvel`), ±1° |
 //! | pendulum | a module hanging 5° off vertical from an unpowered hinge on a 1-t module resting on a ledge | period 2π √(I / (m g d)), ±1 % |
+//! | servo stall | a level link whose weight pulls with 2 x `maxtorque` | gives way pushing with `maxtorque`, ±2 % |
 //!
-//! The servo stalling against a load and the height-field and trimesh slopes are the rest
-//! of issue 32's part 1, not here yet.
+//! The same friction onset and resting contact on a height-field and a trimesh slope are in
+//! [`super::terrain_checks`].
 
 use std::fmt::Write as _;
 

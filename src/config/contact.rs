@@ -22,7 +22,7 @@
 //! element is optional; the defaults ([`ContactModel::default`]) are the stiffness and
 //! damping rapier's production settings were validated with (its contacts with fixed
 //! bodies: 60 Hz, damping ratio 10), which MuJoCo given the same passes every physical
-//! check with (docs/DESIGN.md §4).
+//! check with (docs/architecture.md, "Two engines behind one interface").
 
 use crate::config::error::{ConfigResult, ErrorKind};
 use crate::config::xml::dom::Element;

@@ -39,7 +39,7 @@ pub struct Physics {
 pub enum Articulation {
     /// Every link a rigid body of its own, the hinges constraints between them (rapier's
     /// impulse joints): the default, the one rapier's production settings were measured with
-    /// (docs/DESIGN.md §4). MuJoCo has no such joints: it simulates every robot as
+    /// (docs/architecture.md, "Two engines behind one interface"). MuJoCo has no such joints: it simulates every robot as
     /// `reduced`.
     #[default]
     Maximal,

@@ -1,4 +1,4 @@
-//! The real robot's servos (our extension of robot files, issue 11): which servo on the
+//! The real robot's servos (our extension of robot files): which servo on the
 //! bus drives which joint, with an angle offset and a direction, and the bus settings.
 //!
 //! ```xml

@@ -12,7 +12,7 @@
 //! components keep. Every engine type (rapier's handles, MuJoCo's pointers) stays inside
 //! its own module; `tests/layering.rs` enforces it.
 //!
-//! Semantics both engines share (docs/DESIGN.md §4): the servo's velocity command is
+//! Semantics both engines share (docs/architecture.md, "Two engines behind one interface"): the servo's velocity command is
 //! computed by our `Servo` stage and driven by a velocity constraint whose torque is
 //! limited to the joint's `maxtorque` (rapier's motor, MuJoCo's hinge friction loss aimed at the command); the
 //! contact friction is the smaller of the two surfaces'; links joined by a hinge do not

@@ -8,7 +8,7 @@
 //!
 //! We drive rapier directly instead of through bevy_rapier's plugin: the fixed-step
 //! pipeline needs physics as one set among ours, and headless runs must not pay for
-//! syncing transforms nobody looks at (see docs/DESIGN.md §10).
+//! syncing transforms nobody looks at (docs/DESIGN.md, "Deviations").
 
 mod build;
 pub mod contact;
