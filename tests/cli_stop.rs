@@ -49,7 +49,10 @@ fn wait_for_a_stored_evaluation(child: &mut Child, store: &Path) {
             child.try_wait().expect("child state").is_none(),
             "the run ended before storing an evaluation"
         );
-        assert!(Instant::now() < deadline, "no evaluation stored in 10 minutes");
+        assert!(
+            Instant::now() < deadline,
+            "no evaluation stored in 10 minutes"
+        );
         std::thread::sleep(Duration::from_millis(50));
     }
 }
@@ -80,8 +83,7 @@ fn table_rows(path: &Path) -> Vec<(u64, String)> {
 }
 
 #[test]
-fn ctrl_c_stops_an_optimization_of_long_episodes_at_once_and_resume_reaches_the_same_evaluations()
-{
+fn ctrl_c_stops_an_optimization_of_long_episodes_at_once_and_resume_reaches_the_same_evaluations() {
     if !common::mujoco_here("ctrl_c_stops_an_optimization") {
         return;
     }
@@ -119,7 +121,10 @@ fn ctrl_c_stops_an_optimization_of_long_episodes_at_once_and_resume_reaches_the_
         .expect("read stderr");
     eprintln!("exited {took:?} after SIGINT");
     assert_eq!(status.code(), Some(130), "{err}");
-    assert!(took < Duration::from_secs(2), "took {took:?} to stop: {err}");
+    assert!(
+        took < Duration::from_secs(2),
+        "took {took:?} to stop: {err}"
+    );
     assert!(
         err.contains("stopping: the episodes in flight are abandoned")
             && err.contains("--resume runs the rest"),
@@ -174,7 +179,10 @@ fn sigterm_ends_a_paced_run_at_its_next_step_with_status_143_and_its_report() {
         .expect("stdout");
     assert_eq!(status.code(), Some(143), "{text}");
     assert!(took < Duration::from_secs(2), "took {took:?}");
-    assert!(text.contains("interrupted     stopped early by a signal"), "{text}");
+    assert!(
+        text.contains("interrupted     stopped early by a signal"),
+        "{text}"
+    );
 }
 
 /// Waits until the child runs proleg's signal thread (`proleg-signals`): from then on a

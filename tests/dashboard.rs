@@ -163,7 +163,10 @@ fn the_api_answers_bad_requests_with_their_status_and_a_remote_bind_needs_its_to
     let (status, body) = get(&format!("{}/api/runs/1/evaluations.csv", d.base()));
     assert_eq!(status, 200);
     assert_eq!(body.lines().count(), 31, "a header and 30 evaluations");
-    assert!(body.starts_with("number,round,score,wall_s,PatternGenerator_sinusoidal"));
+    assert!(
+        body.starts_with("store,run,evaluation,round,score,best,wall_s,genome,values,"),
+        "the table of `proleg results --export`, as CSV: {body}"
+    );
     let (status, _) = get(&format!("{}/no/such/page", d.base()));
     assert_eq!(status, 404);
 

@@ -105,5 +105,8 @@ fn a_link_to_a_missing_file_or_heading_is_found() {
     .unwrap();
     let found = broken(&page);
     std::fs::remove_dir_all(&dir).unwrap();
-    assert_eq!(found, ["../NOPE.md: no such file", "#missing: no heading #missing"]);
+    assert_eq!(
+        found,
+        ["../NOPE.md: no such file", "#missing: no heading #missing"]
+    );
 }

@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use proleg::config::fitness::Fitness;
 use proleg::control::{ModuleRegistry, load_simulation};
-use proleg::gym::{ActionMode, Autoreset, Env, EnvOptions, VecEnv};
+use proleg::gym::{ActionMode, Autoreset, Env, EnvOptions, GymError, VecEnv, VecOptions};
 use proleg::sim::episode::{RobotStart, robot_score};
 use proleg::sim::{BuildOptions, Simulator};
 
@@ -27,8 +27,10 @@ fn run(threads: usize, steps: usize) -> (Vec<f64>, Vec<f64>) {
         &ModuleRegistry::standard(),
         &opts,
         5,
-        threads,
-        Autoreset::NextStep,
+        VecOptions {
+            threads,
+            autoreset: Autoreset::NextStep,
+        },
     )
     .expect("vector env");
     v.reset(Some(3), None).expect("reset");
@@ -100,6 +102,68 @@ fn the_policys_targets_reach_the_joints() {
     for (a, w) in angles.iter().zip(&want) {
         assert!((a - w).abs() < 3.0, "{angles:?} against {want:?}");
     }
-    assert!(env.step(&[f64::NAN; 5], &mut obs).is_err());
-    assert!(env.step(&[0.0; 4], &mut obs).is_err());
+    assert!(matches!(
+        env.step(&[f64::NAN; 5], &mut obs),
+        Err(GymError::NotFinite { index: 0, .. })
+    ));
+    assert!(matches!(
+        env.step(&[0.0; 4], &mut obs),
+        Err(GymError::Shape {
+            given: 4,
+            want: 5,
+            ..
+        })
+    ));
+}
+
+#[test]
+fn options_are_set_by_name_with_their_defaults_documented_once() {
+    use proleg::gym::OptionValue;
+    let docs = proleg::gym::options::documented();
+    let names: Vec<&str> = docs.iter().map(|d| d.name).collect();
+    assert_eq!(
+        names,
+        [
+            "engine",
+            "control_period",
+            "mode",
+            "action_scale",
+            "fitness",
+            "energy_weight",
+            "duration",
+            "threads",
+            "autoreset"
+        ]
+    );
+    let default = |n: &str| docs.iter().find(|d| d.name == n).map(|d| d.default.clone());
+    assert_eq!(default("control_period").as_deref(), Some("0.02"));
+    assert_eq!(default("mode").as_deref(), Some("\"alone\""));
+    assert_eq!(default("duration").as_deref(), Some("None"));
+    assert_eq!(default("autoreset").as_deref(), Some("\"next_step\""));
+    let (mut env, mut vec) = (EnvOptions::default(), VecOptions::default());
+    vec.set(&mut env, "control_period", &OptionValue::Number(0.05))
+        .expect("a number");
+    vec.set(&mut env, "mode", &OptionValue::Text("residual".into()))
+        .expect("a name");
+    vec.set(&mut env, "threads", &OptionValue::Number(3.0))
+        .expect("threads");
+    assert_eq!(
+        (env.control_period, env.mode, vec.threads),
+        (0.05, ActionMode::Residual, 3)
+    );
+    assert!(matches!(
+        vec.set(&mut env, "wobble", &OptionValue::Number(1.0)),
+        Err(GymError::UnknownOption { name, .. }) if name == "wobble"
+    ));
+    assert!(matches!(
+        vec.set(&mut env, "threads", &OptionValue::Number(1.5)),
+        Err(GymError::Option {
+            option: "threads",
+            ..
+        })
+    ));
+    assert!(matches!(
+        vec.set(&mut env, "mode", &OptionValue::Number(1.0)),
+        Err(GymError::Option { option: "mode", .. })
+    ));
 }

@@ -19,7 +19,9 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("remote", &["config", "control"]),
     (
         "sim",
-        &["config", "control", "data", "measure", "rng", "sensing", "signal"],
+        &[
+            "config", "control", "data", "measure", "rng", "sensing", "signal",
+        ],
     ),
     (
         "robot_io",
@@ -29,7 +31,9 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ),
     (
         "optimize",
-        &["config", "control", "data", "measure", "rng", "signal", "sim"],
+        &[
+            "config", "control", "data", "measure", "rng", "signal", "sim",
+        ],
     ),
     (
         "compose",
@@ -265,8 +269,9 @@ fn expand_use(tree: &str) -> Vec<String> {
         .collect()
 }
 
-/// The files of `src` that `file` imports (`use` trees and `crate::`/`super::` paths in its
-/// code, tests left out).
+/// The files of `src` that `file` imports: its `use` trees (paths from `crate`, `super`,
+/// `self` or a child module it declares; a `pub use` re-export does not count) and
+/// `crate::`/`super::` paths in its code, tests left out.
 fn imports_of(src: &Path, file: &Path) -> Vec<std::path::PathBuf> {
     let text = std::fs::read_to_string(file).unwrap();
     let code: String = text
@@ -279,8 +284,10 @@ fn imports_of(src: &Path, file: &Path) -> Vec<std::path::PathBuf> {
         .join("\n");
     let mut paths = Vec::new();
     for statement in code.split(';') {
-        // A `use` item: only visibility words before it, only a path tree after it.
+        // A `use` item: only visibility words before it, only a path tree after it. A
+        // `pub use` is a folder's facade (what it offers), not a dependency of its code.
         if let Some(at) = statement.find("use ")
+            && !statement[..at].contains("pub")
             && statement[..at]
                 .trim()
                 .chars()
@@ -306,6 +313,24 @@ fn imports_of(src: &Path, file: &Path) -> Vec<std::path::PathBuf> {
         }
     }
     let me = module_of(src, file);
+    // The modules this file declares (`mod x;`, `pub mod x;`).
+    let children: Vec<String> = code
+        .split(';')
+        .filter_map(|st| {
+            let st = st.trim();
+            let name = st.rsplit_once("mod ")?.1.trim();
+            let before = st
+                .rsplit_once("mod ")?
+                .0
+                .lines()
+                .last()
+                .unwrap_or("")
+                .trim();
+            (before.is_empty() || before.starts_with("pub") || before.ends_with(']'))
+                .then(|| name.to_string())
+                .filter(|n| n.chars().all(|c| c.is_alphanumeric() || c == '_'))
+        })
+        .collect();
     let mut out = Vec::new();
     for p in paths {
         let segments: Vec<String> = p.split("::").map(|s| s.trim().to_string()).collect();
@@ -322,6 +347,10 @@ fn imports_of(src: &Path, file: &Path) -> Vec<std::path::PathBuf> {
                 .cloned()
                 .chain(segments[1..].iter().cloned())
                 .collect(),
+            // A path from a child module this file declares (`use fit::GroupFit`).
+            Some(child) if children.iter().any(|c| c == child) => {
+                me.iter().cloned().chain(segments.iter().cloned()).collect()
+            }
             _ => continue,
         };
         if let Some(f) = file_of(src, &full)
@@ -439,7 +468,12 @@ fn the_circle_finder_sees_an_injected_circle_of_three() {
     let node = |name: &str, to: &[usize]| (std::path::PathBuf::from(name), to.to_vec());
     let pair = [node("a", &[1]), node("b", &[0]), node("c", &[0])];
     assert!(circles(&pair, 2).is_empty(), "a pair is tolerated");
-    let three = [node("a", &[1]), node("b", &[2]), node("c", &[0]), node("d", &[0])];
+    let three = [
+        node("a", &[1]),
+        node("b", &[2]),
+        node("c", &[0]),
+        node("d", &[0]),
+    ];
     let found = circles(&three, 2);
     assert_eq!(found.len(), 1);
     let mut members = found[0].clone();

@@ -43,7 +43,10 @@ fn folder_headers(dir: &Path, out: &mut Vec<PathBuf>) {
         let p = entry.path();
         if p.is_dir() {
             folder_headers(&p, out);
-        } else if p.file_name().is_some_and(|n| n == "mod.rs" || n == "lib.rs") {
+        } else if p
+            .file_name()
+            .is_some_and(|n| n == "mod.rs" || n == "lib.rs")
+        {
             out.push(p);
         }
     }
@@ -55,7 +58,11 @@ fn every_pub_mod_is_named_in_its_folders_header() {
     let mut files = Vec::new();
     folder_headers(&src, &mut files);
     files.sort();
-    assert!(files.len() > 30, "found only {} folder headers", files.len());
+    assert!(
+        files.len() > 30,
+        "found only {} folder headers",
+        files.len()
+    );
     let mut wrong = Vec::new();
     for f in &files {
         let text = std::fs::read_to_string(f).unwrap();
@@ -95,7 +102,11 @@ fn tracker_numbers(text: &str) -> Vec<String> {
 fn files_under(dir: &Path, out: &mut Vec<PathBuf>) {
     for entry in std::fs::read_dir(dir).unwrap().flatten() {
         let p = entry.path();
-        let name = p.file_name().unwrap_or_default().to_string_lossy().into_owned();
+        let name = p
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned();
         if p.is_dir() {
             if !["target", "__pycache__", ".venv"].contains(&name.as_str()) {
                 files_under(&p, out);
@@ -115,7 +126,9 @@ fn no_tracker_number_in_the_code() {
     // `proleg check` prints) say why in words, not by a tracker number.
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut files = Vec::new();
-    for dir in ["src", "python", "tests", "configs", "benches", "examples", "assets"] {
+    for dir in [
+        "src", "python", "tests", "configs", "benches", "examples", "assets",
+    ] {
         files_under(&root.join(dir), &mut files);
     }
     let mut found = Vec::new();
@@ -125,7 +138,10 @@ fn no_tracker_number_in_the_code() {
             continue;
         };
         for line in tracker_numbers(&text) {
-            found.push(format!("{}: {line}", f.strip_prefix(root).unwrap().display()));
+            found.push(format!(
+                "{}: {line}",
+                f.strip_prefix(root).unwrap().display()
+            ));
         }
     }
     assert!(found.is_empty(), "{}", found.join("\n"));
@@ -133,7 +149,10 @@ fn no_tracker_number_in_the_code() {
 
 #[test]
 fn a_tracker_number_is_found() {
-    assert_eq!(tracker_numbers("a\n// (issue 32 part 1)\nb"), ["// (issue 32 part 1)"]);
+    assert_eq!(
+        tracker_numbers("a\n// (issue 32 part 1)\nb"),
+        ["// (issue 32 part 1)"]
+    );
     assert_eq!(tracker_numbers("Issues #20 and 21"), ["Issues #20 and 21"]);
     assert!(tracker_numbers("an issue with the 3 files").is_empty());
 }

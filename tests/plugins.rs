@@ -130,7 +130,13 @@ fn the_plugin_sine_drives_the_demo_exactly_like_the_built_in_sine() {
     assert!(moved > 0.2, "the snake moved {moved} m");
     // Parameters are checked and changed like a standard module's.
     let k = plugin.kernel_mut(0).unwrap();
-    assert!(k.set_parameter(0, "Amplitude", None, 120.0).is_err());
+    assert!(matches!(
+        k.set_parameter(0, "Amplitude", None, 120.0),
+        Err(proleg::control::kernel::KernelError::Param {
+            error: proleg::control::module::ParamError::OutOfRange { value: 120.0, .. },
+            ..
+        })
+    ));
     k.set_parameter(0, "Amplitude", None, 20.0).unwrap();
     let a = &k.actuators()[0];
     assert_eq!(a.module.parameters().row(0), &[20.0; 5]);

@@ -179,8 +179,14 @@ fn commands_requests_and_connection_errors() {
         robot.send_command("dance", &[], Target::All),
         Err(RobotError::Command(m)) if m.contains("unknown command")
     ));
-    assert!(robot.send_command("torque", &[1.0], Target::Id(9)).is_err());
-    assert!(robot.set_joint_angles(&[0.0; 3]).is_err());
+    assert!(matches!(
+        robot.send_command("torque", &[1.0], Target::Id(9)),
+        Err(RobotError::Command(m)) if m.starts_with("servo 9 is not one of")
+    ));
+    assert!(matches!(
+        robot.set_joint_angles(&[0.0; 3]),
+        Err(RobotError::Command(m)) if m == "3 angles for 5 joints"
+    ));
     // A small negative velocity followed by a position whose low byte is FD makes the
     // answer carry `FF FF FF FD FD` (byte stuffing, as the protocol wants it); the
     // readings still come through.

@@ -28,7 +28,11 @@ fn one_signal_raises_every_live_subscriber_and_no_dropped_one() {
         !dropped_flag.is_set(),
         "a dropped subscription hears nothing"
     );
-    assert_eq!(proleg::signal::received(), Some(15), "the signal is remembered");
+    assert_eq!(
+        proleg::signal::received(),
+        Some(15),
+        "the signal is remembered"
+    );
     // A later subscriber starts lowered.
     assert!(!proleg::signal::subscribe().unwrap().is_raised());
 }

@@ -94,7 +94,7 @@ fn conformance(store: &mut dyn ExperimentStore) {
         .find(|r| r.id == run)
         .expect("the run is listed");
     assert_eq!((row.evaluations, row.best_score), (5, Some(3.25)));
-    assert_eq!(row.best_values.as_deref(), Some("13 45.5"));
+    assert_eq!(row.best_values.as_deref(), Some(&[13.0, 45.5][..]));
     assert_eq!(row.best_engines, eval(3, 3.25).engines);
 
     assert!(!store.run_finished(run).expect("finished?"));

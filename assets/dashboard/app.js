@@ -246,16 +246,9 @@ function renderBest(r) {
   }
 }
 
+// The best score so far comes with each evaluation (the store's table computes it once).
 function curveData(evals) {
-  const x = [], every = [], best = [];
-  let b = null;
-  for (const e of evals) {
-    x.push(e.number);
-    every.push(e.score);
-    if (e.score !== null && (b === null || e.score > b)) b = e.score;
-    best.push(b);
-  }
-  return [x, best, every];
+  return [evals.map((e) => e.number), evals.map((e) => e.best), evals.map((e) => e.score)];
 }
 
 // Axes drawn in the page's text colour (readable in the light and the dark scheme).

@@ -20,7 +20,7 @@ a closed environment as ``RuntimeError``, anything else as :class:`ProlegError`.
 """
 
 from ._native import VERSION as __version__
-from ._native import ConfigError, ProlegError, Simulation, load
+from ._native import ENV_OPTIONS, ConfigError, ProlegError, Simulation, load
 from .envs import ProlegEnv, scenario_path
 from .policy import load_policy, save_policy
 from .registration import SCENARIOS, register_envs
@@ -32,6 +32,7 @@ register_envs()
 
 __all__ = [
     "ConfigError",
+    "ENV_OPTIONS",
     "ProlegEnv",
     "ProlegError",
     "ProlegVectorEnv",

@@ -44,45 +44,28 @@ def scenario_path(file: str) -> str:
     return os.path.normpath(os.path.join(root, file))
 
 
-def native_options(
-    engine: str | None = None,
-    control_period: float = 0.02,
-    mode: str = "alone",
-    action_scale: float | None = None,
-    fitness: str = "distance",
-    energy_weight: float = 0.0,
-    duration: float | None = None,
-) -> dict[str, Any]:
-    """The environment options every native environment takes (see the module's
-    documentation), as keywords."""
-    return {
-        "engine": engine,
-        "control_period": control_period,
-        "mode": mode,
-        "action_scale": action_scale,
-        "fitness": fitness,
-        "energy_weight": energy_weight,
-        "duration": duration,
-    }
+def options_doc() -> str:
+    """The keyword options every environment takes, with their defaults: the library's
+    own list (``proleg.ENV_OPTIONS``), so no default is written in Python."""
+    return "\n".join(
+        f"    {name} = {default}: {doc}" for name, default, doc in _native.ENV_OPTIONS
+    )
 
 
 class ProlegEnv(gymnasium.Env):
-    """One robot in one world of a simulation file (see the module's documentation)."""
+    """One robot in one world of a simulation file (see the module's documentation).
+
+    Keyword options (their defaults are the library's):
+    """
 
     metadata = {"render_modes": ["rgb_array"]}
 
     def __init__(
         self,
         path: str | os.PathLike,
-        engine: str | None = None,
-        control_period: float = 0.02,
-        mode: str = "alone",
-        action_scale: float | None = None,
-        fitness: str = "distance",
-        energy_weight: float = 0.0,
-        duration: float | None = None,
         render_mode: str | None = None,
         render_size: tuple[int, int] = (640, 480),
+        **options: Any,
     ):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(
@@ -91,20 +74,18 @@ class ProlegEnv(gymnasium.Env):
         self.render_mode = render_mode
         self._render_size = render_size
         self._renderer = None
-        self._path, self._engine = os.fspath(path), engine
-        self._env = _native.Env(
-            os.fspath(path),
-            **native_options(
-                engine, control_period, mode, action_scale, fitness, energy_weight, duration
-            ),
-        )
+        self._path = os.fspath(path)
+        self._env = _native.Env(self._path, **options)
         self.action_space = spaces.Box(-1.0, 1.0, (self._env.action_len,), np.float32)
         self.observation_space = spaces.Box(
             -np.inf, np.inf, (self._env.obs_len,), np.float64
         )
         #: The name of every observation index.
         self.observation_names: list[str] = self._env.observation_names
-        self.metadata = {**self.metadata, "render_fps": round(1.0 / control_period)}
+        self.metadata = {
+            **self.metadata,
+            "render_fps": round(1.0 / self._env.control_period),
+        }
 
     @property
     def engine(self) -> str:
@@ -149,10 +130,13 @@ class ProlegEnv(gymnasium.Env):
             return None
         if self._renderer is None:
             width, height = self._render_size
-            self._renderer = _native.Renderer(self._path, width, height, self._engine)
+            self._renderer = _native.Renderer(self._path, width, height, self._env.engine)
         return self._renderer.frame(self._env)
 
     def close(self) -> None:
         """Frees the world and the renderer (closing twice is fine)."""
         self._renderer = None
         self._env.close()
+
+
+ProlegEnv.__doc__ = (ProlegEnv.__doc__ or "") + "\n" + options_doc() + "\n"

@@ -34,15 +34,10 @@ class SB3VecEnv(_Base):
         self,
         path: str | os.PathLike,
         num_envs: int = 1,
-        threads: int | None = None,
-        **env_kwargs: Any,
+        **options: Any,
     ):
         self._venv = _native.VecEnv(
-            os.fspath(path),
-            num_envs,
-            threads=threads if threads is not None else (os.cpu_count() or 1),
-            autoreset="same_step",
-            **env_kwargs,
+            os.fspath(path), num_envs, **{**options, "autoreset": "same_step"}
         )
         observation_space = spaces.Box(-np.inf, np.inf, (self._venv.obs_len,), np.float32)
         action_space = spaces.Box(-1.0, 1.0, (self._venv.action_len,), np.float32)

@@ -11,7 +11,7 @@ from . import _native
 def read_store(location: str, runs: Iterable[int] | None = None):
     """Every evaluation of ``runs`` (all by default) in the store at ``location`` as a
     ``pandas.DataFrame``: ``store``, ``run``, ``evaluation``, ``round``, ``score``,
-    ``wall_s``, ``genome`` and ``values`` (lists), ``engine_scores``, ``rejected`` and
+    ``best`` (the run's best score so far), ``wall_s``, ``genome`` and ``values`` (lists), ``engine_scores``, ``rejected`` and
     ``measures`` (a list). Needs pandas (``pip install proleg[pandas]``)."""
     try:
         import pandas as pd

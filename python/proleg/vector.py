@@ -22,43 +22,31 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from . import _native
-from .envs import native_options
+from .envs import options_doc
 
 _INFO_KEYS = ("time", "score", "energy", "exit")
 
 
 class ProlegVectorEnv(VectorEnv):
-    """``num_envs`` environments of one simulation file (keywords as
-    :class:`proleg.ProlegEnv`'s), on ``threads`` threads (default: the machine's cores)."""
+    """``num_envs`` environments of one simulation file, ``autoreset_mode`` Gymnasium's
+    (or its name). Keyword options (their defaults are the library's):
+    """
 
     def __init__(
         self,
         path: str | os.PathLike,
         num_envs: int = 1,
-        threads: int | None = None,
-        autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
-        engine: str | None = None,
-        control_period: float = 0.02,
-        mode: str = "alone",
-        action_scale: float | None = None,
-        fitness: str = "distance",
-        energy_weight: float = 0.0,
-        duration: float | None = None,
+        autoreset_mode: AutoresetMode | str | None = None,
         render_mode: str | None = None,
+        **options: Any,
     ):
         if render_mode is not None:
             raise ValueError(f"render_mode {render_mode!r} is not offered by the vector env")
-        mode_ = _autoreset_mode(autoreset_mode)
+        if autoreset_mode is not None:
+            options["autoreset"] = autoreset_mode
+        self._venv = _native.VecEnv(os.fspath(path), num_envs, **options)
+        mode_ = AutoresetMode[self._venv.autoreset.upper()]
         self.autoreset_mode = mode_
-        self._venv = _native.VecEnv(
-            os.fspath(path),
-            num_envs,
-            threads=threads if threads is not None else (os.cpu_count() or 1),
-            autoreset=mode_.name.lower(),
-            **native_options(
-                engine, control_period, mode, action_scale, fitness, energy_weight, duration
-            ),
-        )
         self.num_envs = num_envs
         self.render_mode = None
         self.single_action_space = spaces.Box(
@@ -162,20 +150,10 @@ class ProlegVectorEnv(VectorEnv):
         self._venv.close()
 
 
-def _autoreset_mode(mode: AutoresetMode | str) -> AutoresetMode:
-    """Gymnasium's mode, or its name in any spelling (``"same_step"``, ``"SameStep"``)."""
-    if isinstance(mode, AutoresetMode):
-        return mode
-    key = str(mode).replace("_", "").replace("-", "").lower()
-    for m in AutoresetMode:
-        if m.name.replace("_", "").lower() == key:
-            return m
-    raise ValueError(
-        f"autoreset_mode {mode!r}: give one of {[m.name.lower() for m in AutoresetMode]}"
-    )
-
-
 def _seed(seed: int | None) -> int | None:
     if seed is not None and seed < 0:
         raise ValueError(f"seed {seed}: give a non-negative integer")
     return seed
+
+
+ProlegVectorEnv.__doc__ = (ProlegVectorEnv.__doc__ or "") + "\n" + options_doc() + "\n"

@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use proleg::bench::pipeline;
-use proleg::control::{ModuleRegistry, load_simulation_in};
+use proleg::control::load_simulation_in;
 use proleg::interop::mjcf::export_mjcf;
 use proleg::sim::engine::EngineSettings;
 use pyo3::prelude::*;
@@ -24,7 +24,7 @@ pub fn pipeline_rate(
     seconds: f64,
 ) -> PyResult<f64> {
     let kind = engine(engine_name)?;
-    let sim = load_simulation_in(&path, &ModuleRegistry::standard())
+    let sim = load_simulation_in(&path, crate::modules::registry(py)?)
         .map_err(|e| config_error(&e))?
         .with_engine(kind);
     let settings = EngineSettings::production(&sim, sim.engine());
@@ -36,9 +36,9 @@ pub fn pipeline_rate(
 
 /// Writes `path`'s simulation as MJCF to `out` (position servos, `proleg export mjcf`).
 #[pyfunction]
-pub fn export_mjcf_file(path: PathBuf, out: PathBuf) -> PyResult<()> {
+pub fn export_mjcf_file(py: Python<'_>, path: PathBuf, out: PathBuf) -> PyResult<()> {
     let sim =
-        load_simulation_in(&path, &ModuleRegistry::standard()).map_err(|e| config_error(&e))?;
+        load_simulation_in(&path, crate::modules::registry(py)?).map_err(|e| config_error(&e))?;
     export_mjcf(&sim, &out).map_err(other)?;
     Ok(())
 }

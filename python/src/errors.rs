@@ -7,7 +7,7 @@ use proleg::config::ConfigError as FileError;
 use proleg::gym::GymError;
 use proleg::sim::SimError;
 use pyo3::create_exception;
-use pyo3::exceptions::{PyException, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyException, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 
 create_exception!(
@@ -57,6 +57,8 @@ pub fn gym_error(e: GymError) -> PyErr {
         }
         GymError::Kernel(_) => PyValueError::new_err(e.to_string()),
         GymError::State(_) => PyRuntimeError::new_err(e.to_string()),
+        // As Python says of a keyword a function does not take.
+        GymError::UnknownOption { .. } => PyTypeError::new_err(e.to_string()),
         _ => ProlegError::new_err(e.to_string()),
     }
 }

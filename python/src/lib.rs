@@ -9,6 +9,8 @@
 
 mod bench;
 mod errors;
+mod modules;
+mod options;
 mod policy;
 mod render;
 mod simulation;
@@ -35,6 +37,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(bench::pipeline_rate, m)?)?;
     m.add_function(wrap_pyfunction!(bench::export_mjcf_file, m)?)?;
     m.add("CONFIGS", CONFIGS)?;
+    m.add("ENV_OPTIONS", options::documented())?;
     m.add("VERSION", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -5,7 +5,6 @@
 use std::path::PathBuf;
 
 use numpy::{PyArray1, PyArray3, PyArrayMethods, PyReadonlyArray3, PyUntypedArrayMethods};
-use proleg::control::ModuleRegistry;
 use proleg::gui::control::session::SimSession;
 use proleg::gui::video::frames::FrameRenderer;
 use proleg::gui::video::sink::{Frame, VideoSink};
@@ -29,13 +28,15 @@ impl Renderer {
     #[new]
     #[pyo3(signature = (path, width=640, height=480, engine_name=None))]
     fn new(
+        py: Python<'_>,
         path: PathBuf,
         width: u32,
         height: u32,
         engine_name: Option<&str>,
     ) -> PyResult<Renderer> {
         let kind = engine(engine_name)?;
-        let session = SimSession::open(&path, kind, &ModuleRegistry::standard()).map_err(other)?;
+        let registry = crate::modules::registry(py)?;
+        let session = SimSession::open(&path, kind, registry).map_err(other)?;
         let renderer = FrameRenderer::new(session, (width, height)).map_err(other)?;
         Ok(Renderer {
             renderer,

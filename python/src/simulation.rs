@@ -28,12 +28,13 @@ pub fn engine(name: Option<&str>) -> PyResult<Option<EngineKind>> {
     .transpose()
 }
 
-/// Loads a simulation file with the standard module library.
-pub fn load_file(path: &PathBuf) -> Result<Arc<proleg::config::Simulation>, GymError> {
-    Ok(Arc::new(load_simulation_in(
-        path,
-        &ModuleRegistry::standard(),
-    )?))
+/// Loads a simulation file with `registry`'s module types (the process's: standard and
+/// plugins, [`crate::modules::registry`]).
+pub fn load_file(
+    path: &PathBuf,
+    registry: &ModuleRegistry,
+) -> Result<Arc<proleg::config::Simulation>, GymError> {
+    Ok(Arc::new(load_simulation_in(path, registry)?))
 }
 
 /// Loads a simulation file (its includes resolved as `proleg run` resolves them) and
@@ -48,8 +49,9 @@ pub fn load(
     seed: Option<u64>,
 ) -> PyResult<Simulation> {
     let kind = self::engine(engine)?;
+    let registry = crate::modules::registry(py)?;
     let sim = py
-        .detach(|| load_simulation_in(&path, &ModuleRegistry::standard()))
+        .detach(|| load_simulation_in(&path, registry))
         .map_err(|e| config_error(&e))?;
     let sim = Arc::new(sim.with_engine(kind));
     let world = py
@@ -361,29 +363,6 @@ impl Simulation {
     }
 }
 
-/// Environment options from the keyword arguments.
-pub fn options(
-    engine_name: Option<&str>,
-    control_period: f64,
-    mode: &str,
-    action_scale: Option<f64>,
-    fitness: &str,
-    energy_weight: f64,
-    duration: Option<f64>,
-) -> PyResult<EnvOptions> {
-    let opts = EnvOptions {
-        engine: engine(engine_name)?,
-        control_period,
-        mode: ActionMode::parse(mode).map_err(gym_error)?,
-        action_scale,
-        fitness: Fitness::parse(fitness).map_err(|e| PyValueError::new_err(e.to_string()))?,
-        energy_weight,
-        duration,
-    };
-    opts.check().map_err(gym_error)?;
-    Ok(opts)
-}
-
 /// An episode's figures as a dict (`time`, `score`, `energy`, `exit`).
 pub fn info_dict<'py>(py: Python<'py>, i: &StepInfo) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -432,34 +411,15 @@ impl Env {
 
 #[pymethods]
 impl Env {
+    /// An environment over the simulation file `path`; the keyword options are
+    /// `proleg.ENV_OPTIONS`' (the library's, with their defaults).
     #[new]
-    #[pyo3(signature = (path, engine=None, control_period=0.02, mode="alone", action_scale=None, fitness="distance", energy_weight=0.0, duration=None))]
-    #[expect(
-        clippy::too_many_arguments,
-        reason = "a Python constructor: one parameter per keyword argument of its signature"
-    )]
-    fn new(
-        py: Python<'_>,
-        path: PathBuf,
-        engine: Option<&str>,
-        control_period: f64,
-        mode: &str,
-        action_scale: Option<f64>,
-        fitness: &str,
-        energy_weight: f64,
-        duration: Option<f64>,
-    ) -> PyResult<Env> {
-        let opts = options(
-            engine,
-            control_period,
-            mode,
-            action_scale,
-            fitness,
-            energy_weight,
-            duration,
-        )?;
+    #[pyo3(signature = (path, **options))]
+    fn new(py: Python<'_>, path: PathBuf, options: Option<&Bound<'_, PyDict>>) -> PyResult<Env> {
+        let (opts, _) = crate::options::read(options, false)?;
+        let registry = crate::modules::registry(py)?;
         let env = py
-            .detach(|| proleg::gym::Env::new(load_file(&path)?, ModuleRegistry::standard(), opts))
+            .detach(|| proleg::gym::Env::new(load_file(&path, registry)?, registry.clone(), opts))
             .map_err(gym_error)?;
         let obs = vec![0.0; env.layout().len()];
         Ok(Env {

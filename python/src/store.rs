@@ -10,8 +10,8 @@ use pyo3::types::PyDict;
 use crate::errors::other;
 
 /// The evaluations of `runs` (all by default) in `location` as a dict of columns: `store`,
-/// `run`, `evaluation`, `round`, `score`, `wall_s`, lists `genome`, `values`, `measures`,
-/// text `engine_scores` and `rejected`.
+/// `run`, `evaluation`, `round`, `score`, `best` (the run's best so far), `wall_s`, lists
+/// `genome`, `values`, `measures`, text `engine_scores` and `rejected`.
 #[pyfunction]
 #[pyo3(signature = (location, runs=None))]
 pub fn read_store<'py>(
@@ -47,26 +47,27 @@ pub fn read_store<'py>(
         COLUMNS[4],
         rows.iter().map(|r| r.eval.score).collect::<Vec<_>>(),
     )?;
+    d.set_item(COLUMNS[5], rows.iter().map(|r| r.best).collect::<Vec<_>>())?;
     d.set_item(
-        COLUMNS[5],
+        COLUMNS[6],
         rows.iter().map(|r| r.eval.wall).collect::<Vec<_>>(),
     )?;
     d.set_item(
-        COLUMNS[6],
+        COLUMNS[7],
         rows.iter()
             .map(|r| r.eval.genome.clone())
             .collect::<Vec<_>>(),
     )?;
     d.set_item(
-        COLUMNS[7],
+        COLUMNS[8],
         rows.iter()
             .map(|r| r.eval.values.clone())
             .collect::<Vec<_>>(),
     )?;
-    d.set_item(COLUMNS[8], text(8))?;
     d.set_item(COLUMNS[9], text(9))?;
+    d.set_item(COLUMNS[10], text(10))?;
     d.set_item(
-        COLUMNS[10],
+        COLUMNS[11],
         rows.iter()
             .map(|r| r.eval.measures.clone())
             .collect::<Vec<_>>(),

@@ -5,14 +5,13 @@
 use std::path::PathBuf;
 
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
-use proleg::control::ModuleRegistry;
 use proleg::gym::{Autoreset, Lane};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::errors::gym_error;
-use crate::simulation::{exit_name, load_file, options};
+use crate::simulation::{exit_name, load_file};
 
 /// N environments of one simulation file, stepped on `threads` threads.
 #[pyclass(module = "proleg._native")]
@@ -59,45 +58,27 @@ fn column<'py, T: numpy::Element + Copy>(
 
 #[pymethods]
 impl VecEnv {
+    /// `num_envs` environments over the simulation file `path`; the keyword options are
+    /// `proleg.ENV_OPTIONS`' (the library's, with their defaults, `threads` and
+    /// `autoreset` among them).
     #[new]
-    #[pyo3(signature = (path, num_envs, threads=1, autoreset="next_step", engine=None, control_period=0.02, mode="alone", action_scale=None, fitness="distance", energy_weight=0.0, duration=None))]
-    #[expect(
-        clippy::too_many_arguments,
-        reason = "a Python constructor: one parameter per keyword argument of its signature"
-    )]
+    #[pyo3(signature = (path, num_envs, **options))]
     fn new(
         py: Python<'_>,
         path: PathBuf,
         num_envs: usize,
-        threads: usize,
-        autoreset: &str,
-        engine: Option<&str>,
-        control_period: f64,
-        mode: &str,
-        action_scale: Option<f64>,
-        fitness: &str,
-        energy_weight: f64,
-        duration: Option<f64>,
+        options: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<VecEnv> {
-        let opts = options(
-            engine,
-            control_period,
-            mode,
-            action_scale,
-            fitness,
-            energy_weight,
-            duration,
-        )?;
-        let autoreset = Autoreset::parse(autoreset).map_err(gym_error)?;
+        let (opts, vec) = crate::options::read(options, true)?;
+        let registry = crate::modules::registry(py)?;
         let envs = py
             .detach(|| {
                 proleg::gym::VecEnv::new(
-                    load_file(&path)?,
-                    &ModuleRegistry::standard(),
+                    load_file(&path, registry)?,
+                    registry,
                     &opts,
                     num_envs,
-                    threads,
-                    autoreset,
+                    vec,
                 )
             })
             .map_err(gym_error)?;
@@ -108,6 +89,12 @@ impl VecEnv {
     #[getter]
     fn num_envs(&self) -> PyResult<usize> {
         Ok(self.envs_ref()?.lanes().len())
+    }
+
+    /// When a finished episode restarts: `next_step`, `same_step` or `disabled`.
+    #[getter]
+    fn autoreset(&self) -> PyResult<&'static str> {
+        Ok(self.envs_ref()?.autoreset().name())
     }
 
     /// Threads of the pool.

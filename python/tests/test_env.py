@@ -2,6 +2,8 @@
 engines, episodes are reproducible, the reward is the optimizers' fitness, and bad input
 raises."""
 
+import os
+
 import gymnasium as gym
 import numpy as np
 import pytest
@@ -176,3 +178,25 @@ def test_bad_options_raise_value_errors(demo):
         proleg.ProlegEnv(demo, energy_weight=float("nan"))
     with pytest.raises(proleg.ConfigError):
         proleg.ProlegEnv("no/such/file.simulation.xml")
+
+
+def test_the_options_and_their_defaults_come_from_the_library(demo):
+    options = {name: default for name, default, _ in proleg.ENV_OPTIONS}
+    assert list(options) == [
+        "engine", "control_period", "mode", "action_scale", "fitness",
+        "energy_weight", "duration", "threads", "autoreset",
+    ]
+    for name, default, doc in proleg.ENV_OPTIONS:
+        assert f"{name} = {default}: {doc}" in proleg.ProlegEnv.__doc__
+        assert f"{name} = {default}" in proleg.ProlegVectorEnv.__doc__
+    env = proleg.ProlegEnv(demo)
+    assert env.control_period == float(options["control_period"])
+    env.close()
+    venv = proleg.ProlegVectorEnv(demo, 2)
+    assert venv.threads == int(options["threads"]) == (os.cpu_count() or 1)
+    assert venv.autoreset_mode.name.lower() == options["autoreset"].strip('"')
+    venv.close()
+    with pytest.raises(TypeError, match="wobble"):
+        proleg.ProlegEnv(demo, wobble=1.0)
+    with pytest.raises(ValueError, match="control_period"):
+        proleg.ProlegEnv(demo, control_period="fast")

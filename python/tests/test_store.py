@@ -33,6 +33,10 @@ def _optimize_and_compare(store, tmp_path, proleg_bin, env=None):
     for col in ["run", "evaluation", "round"]:
         assert (df[col].to_numpy() == exported[col].to_numpy()).all(), col
     assert np.array_equal(df["score"].to_numpy(), exported["score"].to_numpy())
+    assert np.array_equal(df["best"].to_numpy(), exported["best"].to_numpy())
+    finite = np.where(np.isfinite(df["score"]), df["score"], -np.inf)
+    assert np.array_equal(df["best"].to_numpy(), np.maximum.accumulate(finite)), "best so far"
+
     assert (df["store"] == exported["store"]).all()
     assert [list(map(float, s.split())) for s in exported["values"]] == list(df["values"])
     assert [list(map(int, str(s).split())) for s in exported["genome"]] == list(df["genome"])

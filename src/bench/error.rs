@@ -10,13 +10,13 @@ use crate::sim::engine::EngineSettingsError;
 #[derive(Debug, thiserror::Error)]
 pub enum BenchError {
     /// The scenario does not load.
-    #[error(transparent)]
+    #[error("{0}")]
     Config(#[from] ConfigError),
     /// Its world cannot be built or read.
-    #[error(transparent)]
+    #[error("{0}")]
     Sim(#[from] SimError),
     /// A `--physics` override that cannot be applied (or is for another engine).
-    #[error(transparent)]
+    #[error("{0}")]
     Settings(#[from] EngineSettingsError),
     /// A run whose positions became non-finite.
     #[error("the run with {settings} blew up (non-finite positions)")]

@@ -28,7 +28,7 @@ use crate::sim::{BuildOptions, Simulator};
 #[derive(Debug, thiserror::Error)]
 pub enum PhysicsCheckError {
     /// The scene does not build or run on the engine.
-    #[error(transparent)]
+    #[error("{0}")]
     Sim(#[from] crate::sim::SimError),
     /// The base simulation lacks what a scene is cut from.
     #[error("the base simulation cannot make this scene: {0}")]

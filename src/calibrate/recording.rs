@@ -4,8 +4,11 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::calibrate::CalibrateError;
+use crate::calibrate::error::CalibrateError;
 use crate::data::export::{SeriesSelector, XAxis, for_each_row};
+
+/// Fewest samples a recording needs.
+pub const MIN_SAMPLES: usize = 50;
 
 /// The series a calibration reads.
 pub const DESIRED: &str = "Robot_Data/desired_joint_positions";

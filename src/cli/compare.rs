@@ -30,10 +30,10 @@ pub struct CompareArgs {
 #[derive(Debug, thiserror::Error)]
 pub enum CompareCommandError {
     /// The configuration does not load.
-    #[error(transparent)]
+    #[error("{0}")]
     Config(#[from] ConfigError),
     /// The runs or the plot failed.
-    #[error(transparent)]
+    #[error("{0}")]
     Compare(#[from] CompareError),
 }
 

@@ -8,94 +8,94 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 pub enum CliError {
     /// A configuration that does not load or check.
-    #[error(transparent)]
+    #[error("{0}")]
     Config(#[from] crate::config::ConfigError),
     /// A configuration's files that cannot be copied into a folder of their own.
-    #[error(transparent)]
+    #[error("{0}")]
     Bundle(#[from] crate::config::bundle::BundleError),
     /// A world that cannot be built or read.
-    #[error(transparent)]
+    #[error("{0}")]
     Sim(#[from] crate::sim::SimError),
     /// A data file that cannot be started.
-    #[error(transparent)]
+    #[error("{0}")]
     Record(#[from] crate::sim::runner::RecordError),
     /// A data file that cannot be read.
-    #[error(transparent)]
+    #[error("{0}")]
     Data(#[from] crate::data::read::DataError),
     /// A data file that cannot be finished.
-    #[error(transparent)]
+    #[error("{0}")]
     DataStore(#[from] crate::data::store::DataStoreError),
     /// An x axis that is none of the known ones.
-    #[error(transparent)]
+    #[error("{0}")]
     Axis(#[from] crate::data::export::UnknownAxis),
     /// A series selection that is malformed or not in the file.
-    #[error(transparent)]
+    #[error("{0}")]
     Select(#[from] crate::data::export::SelectError),
     /// A name that is none of the accepted ones.
-    #[error(transparent)]
+    #[error("{0}")]
     Name(#[from] crate::config::error::UnknownName),
     /// Ctrl-C / SIGTERM cannot be handled.
-    #[error(transparent)]
+    #[error("{0}")]
     Signal(#[from] crate::signal::SignalError),
     /// `proleg dashboard` could not serve.
-    #[error(transparent)]
-    Dashboard(crate::dashboard::DashboardError),
+    #[error("{0}")]
+    Dashboard(#[source] crate::dashboard::DashboardError),
     /// A URDF that cannot be imported.
-    #[error(transparent)]
+    #[error("{0}")]
     Import(#[from] crate::cli::interop::ImportError),
     /// A robot that cannot be run to let it settle.
-    #[error(transparent)]
+    #[error("{0}")]
     Settle(#[from] crate::cli::interop::SettleError),
     /// A benchmark that cannot run.
-    #[error(transparent)]
+    #[error("{0}")]
     Bench(#[from] crate::bench::error::BenchError),
     /// The stages' timing that cannot run.
-    #[error(transparent)]
+    #[error("{0}")]
     Stages(#[from] crate::bench::stages::StagesError),
     /// Physics checks that cannot run.
-    #[error(transparent)]
+    #[error("{0}")]
     PhysicsCheck(#[from] crate::bench::physics_checks::PhysicsCheckError),
     /// The experiment store.
-    #[error(transparent)]
+    #[error("{0}")]
     Store(#[from] crate::optimize::store::StoreError),
     /// An optimization that cannot be set up or run.
-    #[error(transparent)]
+    #[error("{0}")]
     Optimize(#[from] crate::optimize::error::OptimizeError),
     /// A servo calibration that cannot be done.
-    #[error(transparent)]
-    Calibrate(Box<crate::calibrate::CalibrateError>),
+    #[error("{0}")]
+    Calibrate(#[source] Box<crate::calibrate::CalibrateError>),
     /// A run setting that cannot be used.
-    #[error(transparent)]
+    #[error("{0}")]
     Choice(#[from] crate::optimize::error::BadChoice),
     /// An episode that cannot be run.
-    #[error(transparent)]
+    #[error("{0}")]
     Eval(#[from] crate::optimize::evaluate::EvalError),
     /// A stored evaluation that cannot be replayed.
-    #[error(transparent)]
+    #[error("{0}")]
     Replay(#[from] crate::optimize::replay::ReplayError),
     /// Physics settings that cannot be used.
-    #[error(transparent)]
+    #[error("{0}")]
     Physics(#[from] crate::sim::engine::EngineSettingsError),
     /// A kernel that cannot be built.
-    #[error(transparent)]
+    #[error("{0}")]
     Kernel(#[from] crate::control::kernel::KernelError),
     /// The real robot's run.
-    #[error(transparent)]
+    #[error("{0}")]
     RealMode(#[from] crate::robot_io::real_mode::RealModeError),
     /// The servo emulator.
-    #[error(transparent)]
+    #[error("{0}")]
     Emulator(#[from] crate::robot_io::emulator::EmulatorError),
     /// A plugin crate.
-    #[error(transparent)]
+    #[error("{0}")]
     Plugin(#[from] crate::plugin_host::error::PluginError),
     /// An import or export.
-    #[error(transparent)]
+    #[error("{0}")]
     Interop(#[from] crate::interop::InteropError),
     /// A weights file that cannot be read or written.
-    #[error(transparent)]
-    Policy(Box<crate::control::policy::PolicyError>),
+    #[error("{0}")]
+    Policy(#[source] Box<crate::control::policy::PolicyError>),
     /// An environment that cannot run.
-    #[error(transparent)]
+    #[error("{0}")]
     Gym(#[from] crate::gym::GymError),
     /// A file that cannot be written.
     #[error("{}: cannot write: {source}", path.display())]

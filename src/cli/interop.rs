@@ -58,7 +58,7 @@ impl fmt::Display for ImportReport {
 #[derive(Debug, thiserror::Error)]
 pub enum ImportError {
     /// The URDF (or a mesh it names) could not be converted.
-    #[error(transparent)]
+    #[error("{0}")]
     Convert(#[from] crate::interop::InteropError),
     /// The files written do not load as `proleg check` would load them.
     #[error("the imported files do not load: {0}")]
@@ -367,13 +367,13 @@ pub enum SettleError {
     #[error("--seconds {0}: give seconds > 0")]
     Seconds(f64),
     /// The configuration does not load.
-    #[error(transparent)]
+    #[error("{0}")]
     Config(#[from] crate::config::error::ConfigError),
     /// A `--physics` setting that is not one.
     #[error("--physics: {0}")]
     Physics(crate::sim::engine::EngineSettingsError),
     /// The world could not be built or run.
-    #[error(transparent)]
+    #[error("{0}")]
     Sim(#[from] crate::sim::error::SimError),
 }
 

@@ -190,7 +190,7 @@ fn describe(f: &mut std::fmt::Formatter<'_>, r: &RunRow) -> std::fmt::Result {
         }
         // A network's weights are many: the first few stand for them.
         const SHOWN: usize = 12;
-        for (g, val) in r.info.genes.iter().zip(v.split_whitespace()).take(SHOWN) {
+        for (g, val) in r.info.genes.iter().zip(v).take(SHOWN) {
             writeln!(f, "           {g:<40} {val}")?;
         }
         if r.info.genes.len() > SHOWN {

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 pub enum ComposeError {
     /// A file the composition reads or writes does not load or check.
-    #[error(transparent)]
+    #[error("{0}")]
     Config(#[from] crate::config::ConfigError),
     /// A file or folder operation failed.
     #[error("{}: {source}", path.display())]
@@ -19,7 +19,7 @@ pub enum ComposeError {
         source: std::io::Error,
     },
     /// A file that cannot be written with its folder.
-    #[error(transparent)]
+    #[error("{0}")]
     Bundle(#[from] crate::config::bundle::BundleError),
     /// A simulation file's include that is not found.
     #[error("{}:{line}: cannot find {include}", file.display())]
@@ -32,13 +32,13 @@ pub enum ComposeError {
         include: String,
     },
     /// A robot the builder cannot build (name, topology, joint count).
-    #[error(transparent)]
+    #[error("{0}")]
     Build(#[from] crate::config::robot_builder::BuildError),
     /// A robot file that is not there.
     #[error("no robot file {}", .0.display())]
     NoRobotFile(PathBuf),
     /// A name that is none of the accepted ones (part set, mode, fitness).
-    #[error(transparent)]
+    #[error("{0}")]
     Name(#[from] crate::config::error::UnknownName),
     /// A module type the registry does not offer.
     #[error("unknown module \"{name}\"; known: {known}")]

@@ -341,7 +341,7 @@ mod tests {
     #[test]
     fn experiment_one_registration_round_trips() {
         let mut s = OptimizationSpec::new(Method::GreatDeluge);
-        assert!(s.validate().is_err());
+        assert!(matches!(s.validate(), Err(ComposeError::NothingRegistered)));
         s.params.push(Registration {
             module: "PatternGenerator_sinusoidal".into(),
             parameter: "Amplitude".into(),

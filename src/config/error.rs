@@ -60,7 +60,8 @@ pub enum ErrorKind {
 }
 
 /// A configuration error with its location.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("{}:{}: {}{}", .file.display(), .pos, .message, context(.included_from, .more))]
 pub struct ConfigError {
     /// The file with the error.
     pub file: PathBuf,
@@ -74,6 +75,8 @@ pub struct ConfigError {
     pub included_from: Vec<(PathBuf, Pos)>,
     /// Further faults found in the same pass (a file's physical checks report them all).
     pub more: Vec<ConfigError>,
+    /// The system's error beneath it (a file that cannot be read).
+    pub source: Option<std::sync::Arc<std::io::Error>>,
 }
 
 impl ConfigError {
@@ -91,7 +94,14 @@ impl ConfigError {
             message: message.into(),
             included_from: Vec::new(),
             more: Vec::new(),
+            source: None,
         }
+    }
+
+    /// The same error, caused by the system's error `e` (kept as its source).
+    pub fn caused_by(mut self, e: std::io::Error) -> Self {
+        self.source = Some(std::sync::Arc::new(e));
+        self
     }
 
     /// Adds the place that included the failing file.
@@ -111,20 +121,18 @@ impl ConfigError {
     }
 }
 
-impl fmt::Display for ConfigError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}: {}", self.file.display(), self.pos, self.message)?;
-        for (file, pos) in &self.included_from {
-            write!(f, "\n  included from {}:{}", file.display(), pos)?;
-        }
-        for other in &self.more {
-            write!(f, "\n{other}")?;
-        }
-        Ok(())
+/// The lines after an error's own: where its file was included from, then the further
+/// faults of the same pass.
+fn context(included_from: &[(PathBuf, Pos)], more: &[ConfigError]) -> String {
+    let mut out = String::new();
+    for (file, pos) in included_from {
+        out.push_str(&format!("\n  included from {}:{}", file.display(), pos));
     }
+    for other in more {
+        out.push_str(&format!("\n{other}"));
+    }
+    out
 }
-
-impl std::error::Error for ConfigError {}
 
 /// Shorthand for results of configuration functions.
 pub type ConfigResult<T> = Result<T, ConfigError>;

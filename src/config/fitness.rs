@@ -77,6 +77,9 @@ mod tests {
             Fitness::parse("Cost_of_transport"),
             Ok(Fitness::CostOfTransport)
         );
-        assert!(Fitness::parse("fastest").is_err());
+        assert!(matches!(
+            Fitness::parse("fastest"),
+            Err(UnknownName { name, .. }) if name == "fastest"
+        ));
     }
 }

@@ -45,6 +45,7 @@ impl Meshes {
                 ErrorKind::MissingFile,
                 format!("cannot read the mesh: {e}"),
             )
+            .caused_by(e)
         })?;
         let mesh = Arc::new(parse_obj(path, &text)?);
         self.0.insert(key, mesh.clone());

@@ -1,6 +1,8 @@
 //! Whether a robot's start pose is free: no two of its links that no joint connects
 //! overlap, and no link starts inside an object of the environment. A co-design search
-//! rejects a body that fails (`optimize::design`), with this module's reason.
+//! rejects a body that fails (`optimize::design`), with this module's reason, and the
+//! environment editor warns of an object on the robot's start pose with the same
+//! measure ([`Boxes`]: the one overlap check).
 //!
 //! The check is geometry of the configuration, not of an engine, so it means the same on
 //! rapier and MuJoCo: every shape is taken as its oriented bounding box (a box as itself,
@@ -47,6 +49,34 @@ pub enum StartOverlap {
         /// How deep (m).
         depth: f64,
     },
+}
+
+/// The oriented boxes of some geometries placed in the world: the one measure of how deep
+/// shapes reach into each other before anything runs.
+#[derive(Debug, Clone, Default)]
+pub struct Boxes(Vec<Obb>);
+
+impl Boxes {
+    /// Adds the boxes of `geoms` on a body at `body` (a mesh by its own-frame bounds in
+    /// `meshes`; without them a mesh is left out, as the scenery's are).
+    pub fn add<'a>(
+        &mut self,
+        geoms: impl IntoIterator<Item = &'a Geom>,
+        body: &Pose,
+        meshes: Option<&Meshes>,
+    ) {
+        self.0
+            .extend(geoms.into_iter().filter_map(|g| Obb::of(g, body, meshes)));
+    }
+
+    /// How deep the deepest pair of boxes, one of each, overlap (<= 0: apart;
+    /// `-inf` when either is empty).
+    pub fn deepest(&self, other: &Boxes) -> f64 {
+        self.0
+            .iter()
+            .flat_map(|x| other.0.iter().map(move |y| x.overlap(y)))
+            .fold(f64::NEG_INFINITY, f64::max)
+    }
 }
 
 /// An oriented box: centre and axes in the world, half extents along them.
@@ -133,23 +163,16 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 /// when the pose is free.
 pub fn start_overlaps(sim: &Simulation) -> Vec<StartOverlap> {
     let start = &sim.environment.robot_pose;
-    let links: Vec<Vec<Obb>> = sim
+    let links: Vec<Boxes> = sim
         .robot
         .links
         .iter()
         .map(|l| {
-            let at = start.mul(&l.pose);
-            l.geoms
-                .iter()
-                .filter_map(|g| Obb::of(g, &at, Some(&sim.robot.meshes)))
-                .collect()
+            let mut b = Boxes::default();
+            b.add(&l.geoms, &start.mul(&l.pose), Some(&sim.robot.meshes));
+            b
         })
         .collect();
-    let deepest = |a: &[Obb], b: &[Obb]| {
-        a.iter()
-            .flat_map(|x| b.iter().map(move |y| x.overlap(y)))
-            .fold(f64::NEG_INFINITY, f64::max)
-    };
     let joined = |i: usize, j: usize| {
         sim.robot
             .joints
@@ -159,7 +182,7 @@ pub fn start_overlaps(sim: &Simulation) -> Vec<StartOverlap> {
     let mut out = Vec::new();
     for i in 0..links.len() {
         for j in i + 1..links.len() {
-            let depth = deepest(&links[i], &links[j]);
+            let depth = links[i].deepest(&links[j]);
             if depth > OVERLAP_TOLERANCE && !joined(i, j) {
                 out.push(StartOverlap::SelfIntersection {
                     a: sim.robot.links[i].name.clone(),
@@ -171,13 +194,10 @@ pub fn start_overlaps(sim: &Simulation) -> Vec<StartOverlap> {
     }
     for body in &sim.environment.bodies {
         // Meshes of the scenery: their bounds are no guide to their surface.
-        let boxes: Vec<Obb> = body
-            .geoms
-            .iter()
-            .filter_map(|g| Obb::of(g, &body.pose, None))
-            .collect();
+        let mut boxes = Boxes::default();
+        boxes.add(&body.geoms, &body.pose, None);
         for (i, link) in links.iter().enumerate() {
-            let depth = deepest(&boxes, link);
+            let depth = boxes.deepest(link);
             if depth > OVERLAP_TOLERANCE {
                 out.push(StartOverlap::Scenery {
                     link: sim.robot.links[i].name.clone(),

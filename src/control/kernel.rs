@@ -61,18 +61,22 @@ impl fmt::Debug for Actuator {
 }
 
 /// Why a kernel could not be built or changed.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum KernelError {
     /// A module could not be created.
-    Create(CreateError),
+    #[error("{0}")]
+    Create(#[source] CreateError),
     /// A module refused a parameter value.
+    #[error("{module}: {error}")]
     Param {
         /// The module type.
         module: &'static str,
         /// Why.
+        #[source]
         error: ParamError,
     },
     /// A robot joint index beyond the robot's joints.
+    #[error("joint {joint} out of range: the robot has {joints} joints")]
     JointOutOfRange {
         /// The index given.
         joint: usize,
@@ -80,6 +84,7 @@ pub enum KernelError {
         joints: usize,
     },
     /// An actuator index beyond the kernel's actuators.
+    #[error("no actuator {index}: the kernel has {count}")]
     NoSuchActuator {
         /// The index given.
         index: usize,
@@ -87,6 +92,7 @@ pub enum KernelError {
         count: usize,
     },
     /// The module does not drive that joint.
+    #[error("module {module} does not drive joint {joint}")]
     NotDriven {
         /// The module type.
         module: &'static str,
@@ -94,6 +100,7 @@ pub enum KernelError {
         joint: usize,
     },
     /// A NaN or infinite value.
+    #[error("{what} must be a finite number, got {value}")]
     NotFinite {
         /// What it was for.
         what: &'static str,
@@ -101,49 +108,24 @@ pub enum KernelError {
         value: f64,
     },
     /// A module's weights file could not be read or does not fit the module.
-    Policy(std::sync::Arc<PolicyError>),
+    #[error("{0}")]
+    Policy(#[source] std::sync::Arc<PolicyError>),
     /// A module has no network to change.
+    #[error("module {module} has no network (give it a weights file)")]
     NoNetwork {
         /// The module type.
         module: &'static str,
     },
     /// A module refused a network or its parameters.
+    #[error("{module}: {cause}")]
     Network {
         /// The module type.
         module: &'static str,
         /// Why.
+        #[source]
         cause: NetworkMismatch,
     },
 }
-
-impl fmt::Display for KernelError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            KernelError::Create(e) => e.fmt(f),
-            KernelError::Param { module, error } => write!(f, "{module}: {error}"),
-            KernelError::JointOutOfRange { joint, joints } => write!(
-                f,
-                "joint {joint} out of range: the robot has {joints} joints"
-            ),
-            KernelError::NoSuchActuator { index, count } => {
-                write!(f, "no actuator {index}: the kernel has {count}")
-            }
-            KernelError::NotDriven { module, joint } => {
-                write!(f, "module {module} does not drive joint {joint}")
-            }
-            KernelError::NotFinite { what, value } => {
-                write!(f, "{what} must be a finite number, got {value}")
-            }
-            KernelError::Policy(e) => e.fmt(f),
-            KernelError::NoNetwork { module } => {
-                write!(f, "module {module} has no network (give it a weights file)")
-            }
-            KernelError::Network { module, cause } => write!(f, "{module}: {cause}"),
-        }
-    }
-}
-
-impl std::error::Error for KernelError {}
 
 /// Reads weights file `file` and gives the network to `module`.
 fn load_network(

@@ -33,9 +33,10 @@ pub struct StepContext<'a> {
 }
 
 /// Why a parameter could not be read or changed.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParamError {
     /// The module has no parameter of that name.
+    #[error("module {module} has no parameter \"{name}\"; its parameters: {}", known.join(", "))]
     UnknownParameter {
         /// The module type.
         module: &'static str,
@@ -45,6 +46,7 @@ pub enum ParamError {
         known: Vec<&'static str>,
     },
     /// A joint index beyond the module's joints.
+    #[error("joint {joint} is not one of the module's {joints} joints")]
     JointOutOfRange {
         /// The index given.
         joint: usize,
@@ -52,6 +54,7 @@ pub enum ParamError {
         joints: usize,
     },
     /// A NaN or infinite value.
+    #[error("{name}: {value} is not a finite number")]
     NotFinite {
         /// The parameter.
         name: &'static str,
@@ -59,6 +62,7 @@ pub enum ParamError {
         value: f64,
     },
     /// A value outside the parameter's range.
+    #[error("{name} = {value} {unit} is outside {min}..{max}")]
     OutOfRange {
         /// The parameter.
         name: &'static str,
@@ -72,6 +76,7 @@ pub enum ParamError {
         unit: &'static str,
     },
     /// Per-joint values whose count is not the module's joints.
+    #[error("{name}: {given} values for {joints} joints")]
     WrongCount {
         /// The parameter.
         name: &'static str,
@@ -81,51 +86,6 @@ pub enum ParamError {
         joints: usize,
     },
 }
-
-impl fmt::Display for ParamError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ParamError::UnknownParameter {
-                module,
-                name,
-                known,
-            } => {
-                write!(
-                    f,
-                    "module {module} has no parameter \"{name}\"; its parameters: {}",
-                    known.join(", ")
-                )
-            }
-            ParamError::JointOutOfRange { joint, joints } => {
-                write!(
-                    f,
-                    "joint {joint} is not one of the module's {joints} joints"
-                )
-            }
-            ParamError::NotFinite { name, value } => {
-                write!(f, "{name}: {value} is not a finite number")
-            }
-            ParamError::OutOfRange {
-                name,
-                value,
-                min,
-                max,
-                unit,
-            } => {
-                write!(f, "{name} = {value} {unit} is outside {min}..{max}")
-            }
-            ParamError::WrongCount {
-                name,
-                given,
-                joints,
-            } => {
-                write!(f, "{name}: {given} values for {joints} joints")
-            }
-        }
-    }
-}
-
-impl std::error::Error for ParamError {}
 
 /// A module's parameter values: one value per parameter and connected joint.
 #[derive(Debug, Clone, PartialEq)]

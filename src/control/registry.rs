@@ -42,9 +42,10 @@ pub struct ModuleRegistry {
 }
 
 /// Why a module could not be created.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum CreateError {
     /// No type answers to the name.
+    #[error("unknown actuation module \"{name}\"; known modules: {}", known.join(", "))]
     Unknown {
         /// The name asked for.
         name: String,
@@ -52,33 +53,12 @@ pub enum CreateError {
         known: Vec<&'static str>,
     },
     /// The type is described but has no factory.
+    #[error("actuation module {name} is described but has no implementation yet")]
     NotImplemented {
         /// Its name.
         name: &'static str,
     },
 }
-
-impl fmt::Display for CreateError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            CreateError::Unknown { name, known } => {
-                write!(
-                    f,
-                    "unknown actuation module \"{name}\"; known modules: {}",
-                    known.join(", ")
-                )
-            }
-            CreateError::NotImplemented { name } => {
-                write!(
-                    f,
-                    "actuation module {name} is described but has no implementation yet"
-                )
-            }
-        }
-    }
-}
-
-impl std::error::Error for CreateError {}
 
 impl Default for ModuleRegistry {
     /// The standard module library (plugins are added by whoever loaded them:

@@ -24,9 +24,9 @@ pub enum DashboardError {
     #[error("the web server failed: {0}")]
     Server(#[source] std::io::Error),
     /// The store could not be read at start.
-    #[error(transparent)]
+    #[error("{0}")]
     Store(#[from] crate::optimize::store::StoreError),
     /// The stop signal could not be subscribed to.
-    #[error(transparent)]
+    #[error("{0}")]
     Signal(#[from] crate::signal::SignalError),
 }

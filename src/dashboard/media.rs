@@ -265,10 +265,10 @@ pub enum MediaError {
         source: std::io::Error,
     },
     /// The store could not be read.
-    #[error(transparent)]
+    #[error("{0}")]
     Store(#[from] crate::optimize::store::StoreError),
     /// The evaluation could not be replayed.
-    #[error(transparent)]
+    #[error("{0}")]
     Replay(#[from] crate::optimize::replay::ReplayError),
     /// A video asked of a build without renderer.
     #[error("this build has no renderer")]

@@ -21,8 +21,9 @@ use tokio_stream::wrappers::WatchStream;
 
 use crate::dashboard::snapshot::{Shared, Snapshot};
 use crate::dashboard::views::{
-    EpisodeView, EvaluationView, EvaluationsView, RunView, RunsView, data_plot, evaluations_csv,
+    EpisodeView, EvaluationView, EvaluationsView, RunView, RunsView, data_plot,
 };
+use crate::optimize::store::table;
 use crate::optimize::store::{RunRow, StoredEval};
 
 /// What every request may read.
@@ -173,7 +174,7 @@ pub enum ApiError {
     #[error("the store holds no run {0}")]
     NoRun(i64),
     /// A run without a MAP-Elites archive (or one that cannot be rebuilt here).
-    #[error(transparent)]
+    #[error("{0}")]
     NoMap(#[from] crate::dashboard::snapshot::NoArchive),
     /// An evaluation number that is not a number.
     #[error("evaluation {0:?} is not a number")]
@@ -208,7 +209,7 @@ pub enum ApiError {
         source: std::io::Error,
     },
     /// A made data file that does not parse.
-    #[error(transparent)]
+    #[error("{0}")]
     DataFile(#[from] crate::data::read::DataError),
     /// The task reading a file ended without an answer.
     #[error("reading the file stopped: {0}")]
@@ -273,7 +274,10 @@ async fn run(
             d.episodes.iter().map(EpisodeView::of).collect()
         }),
         unloadable: details.and_then(|d| d.unloadable.clone()),
-        evaluations: all[first..].iter().map(EvaluationView::of).collect(),
+        evaluations: table::run_rows(&s.store, id, all.to_vec())[first..]
+            .iter()
+            .map(EvaluationView::of)
+            .collect(),
     })
     .into_response())
 }
@@ -288,7 +292,7 @@ async fn run_csv(State(app): State<App>, Path(id): Path<String>) -> Result<Respo
             (header::CONTENT_TYPE, "text/csv; charset=utf-8".to_string()),
             (header::CONTENT_DISPOSITION, disposition),
         ],
-        evaluations_csv(row, all),
+        table::csv(&table::run_rows(&s.store, row.id, all.to_vec())),
     )
         .into_response())
 }

@@ -6,7 +6,8 @@ use serde::Serialize;
 
 use crate::dashboard::snapshot::Snapshot;
 use crate::optimize::archive::StoredArchive;
-use crate::optimize::store::{EpisodeRecord, RunRow, StoredEval};
+use crate::optimize::store::table::EvaluationRow;
+use crate::optimize::store::{EpisodeRecord, RunRow};
 
 /// `GET /api/runs`.
 #[derive(Debug, Serialize)]
@@ -45,7 +46,7 @@ pub struct RunView {
     /// The best score so far.
     pub best: Option<f64>,
     /// The best candidate's values, gene by gene.
-    pub best_values: Vec<(String, String)>,
+    pub best_values: Vec<(String, f64)>,
     /// The best candidate's score on each engine.
     pub best_engines: Vec<(String, f64)>,
     /// Co-design bodies rejected unrun.
@@ -81,13 +82,6 @@ impl RunView {
     pub fn of(s: &Snapshot, r: &RunRow) -> RunView {
         let details = s.details.get(&r.id);
         let queue = s.queues.get(&r.id);
-        let values: Vec<String> = r
-            .best_values
-            .as_deref()
-            .unwrap_or("")
-            .split_whitespace()
-            .map(str::to_string)
-            .collect();
         RunView {
             id: r.id,
             config: r.info.config.clone(),
@@ -99,7 +93,13 @@ impl RunView {
             finished: r.finished,
             evaluations: r.evaluations,
             best: r.best_score.filter(|s| s.is_finite()),
-            best_values: r.info.genes.iter().cloned().zip(values).collect(),
+            best_values: r
+                .info
+                .genes
+                .iter()
+                .cloned()
+                .zip(r.best_values.iter().flatten().copied())
+                .collect(),
             best_engines: r
                 .best_engines
                 .iter()
@@ -174,6 +174,8 @@ pub struct EvaluationView {
     pub round: u64,
     /// Its score (`null`: a failed episode or a rejected body).
     pub score: Option<f64>,
+    /// The run's best score so far, with this one (`null` before any).
+    pub best: Option<f64>,
     /// Its parameter values.
     pub values: Vec<f64>,
     /// Its score on each engine.
@@ -187,12 +189,14 @@ pub struct EvaluationView {
 }
 
 impl EvaluationView {
-    /// The view of a stored evaluation.
-    pub fn of(e: &StoredEval) -> EvaluationView {
+    /// The view of an evaluation's row ([`crate::optimize::store::table`]).
+    pub fn of(row: &EvaluationRow) -> EvaluationView {
+        let e = &row.eval;
         EvaluationView {
             number: e.number,
             round: e.round,
             score: Some(e.score).filter(|s| s.is_finite()),
+            best: Some(row.best).filter(|s| s.is_finite()),
             values: e.values.clone(),
             engines: e.engines.iter().map(|(k, s)| (k.to_string(), *s)).collect(),
             rejected: e.rejected.clone(),
@@ -200,31 +204,6 @@ impl EvaluationView {
             wall: e.wall,
         }
     }
-}
-
-/// A run's evaluations as CSV: number, round, score, wall, then one column per gene.
-pub fn evaluations_csv(run: &RunRow, evals: &[StoredEval]) -> String {
-    let field = |t: &str| {
-        if t.contains([',', '"', '\n']) {
-            format!("\"{}\"", t.replace('"', "\"\""))
-        } else {
-            t.to_string()
-        }
-    };
-    let mut out = String::from("number,round,score,wall_s");
-    for g in &run.info.genes {
-        out.push(',');
-        out.push_str(&field(g));
-    }
-    out.push('\n');
-    for e in evals {
-        out.push_str(&format!("{},{},{},{}", e.number, e.round, e.score, e.wall));
-        for v in &e.values {
-            out.push_str(&format!(",{v}"));
-        }
-        out.push('\n');
-    }
-    out
 }
 
 /// `GET /api/runs/{id}/map`: a MAP-Elites run's archive, as `proleg results` reads it.

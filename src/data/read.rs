@@ -16,7 +16,8 @@ use crate::data::handler::{FrameMeta, HandlerSpec};
 use crate::data::write::STAMPS;
 
 /// Why a data file could not be read.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{}{}: {}", .file.display(), line_suffix(.line), .message)]
 pub struct DataError {
     /// The data file.
     pub file: PathBuf,
@@ -26,16 +27,10 @@ pub struct DataError {
     pub message: String,
 }
 
-impl fmt::Display for DataError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.line {
-            Some(l) => write!(f, "{}:{l}: {}", self.file.display(), self.message),
-            None => write!(f, "{}: {}", self.file.display(), self.message),
-        }
-    }
+/// `:LINE` when the line is known.
+fn line_suffix(line: &Option<usize>) -> String {
+    line.map(|l| format!(":{l}")).unwrap_or_default()
 }
-
-impl std::error::Error for DataError {}
 
 /// What a file holds.
 #[derive(Debug, Clone, Default, PartialEq)]

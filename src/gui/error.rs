@@ -9,34 +9,34 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 pub enum GuiError {
     /// A configuration file that does not load or check.
-    #[error(transparent)]
+    #[error("{0}")]
     Config(#[from] crate::config::ConfigError),
     /// A world that cannot be built or read.
-    #[error(transparent)]
+    #[error("{0}")]
     Sim(#[from] crate::sim::SimError),
     /// A kernel that cannot be built or changed.
-    #[error(transparent)]
+    #[error("{0}")]
     Kernel(#[from] crate::control::kernel::KernelError),
     /// A stored evaluation that cannot be replayed.
-    #[error(transparent)]
+    #[error("{0}")]
     Replay(#[from] crate::optimize::replay::ReplayError),
     /// A composition (wizard, expert dialog, robot builder).
-    #[error(transparent)]
+    #[error("{0}")]
     Compose(#[from] crate::compose::error::ComposeError),
     /// A robot the builder cannot build.
-    #[error(transparent)]
+    #[error("{0}")]
     Build(#[from] crate::config::robot_builder::BuildError),
     /// The environment editor or its file.
-    #[error(transparent)]
+    #[error("{0}")]
     Edit(#[from] crate::compose::env_edit::EditError),
     /// A script that cannot be read or parsed.
-    #[error(transparent)]
-    Script(Box<ScriptError>),
+    #[error("{0}")]
+    Script(#[source] Box<ScriptError>),
     /// The real robot.
-    #[error(transparent)]
+    #[error("{0}")]
     Robot(#[from] crate::robot_io::RobotError),
     /// A video that cannot be recorded.
-    #[error(transparent)]
+    #[error("{0}")]
     Video(#[from] VideoError),
     /// A file that cannot be read or written.
     #[error("{}: {source}", path.display())]
@@ -170,37 +170,37 @@ pub enum CommandError {
     #[error("{0}")]
     Refused(String),
     /// A word that is not a finite number.
-    #[error(transparent)]
+    #[error("{0}")]
     Number(#[from] NotFinite),
     /// A command routed to the wrong group of its window (a programming error).
     #[error("internal: {0} reached the wrong command group")]
     Misrouted(String),
     /// The module library.
-    #[error(transparent)]
+    #[error("{0}")]
     Plugin(#[from] crate::plugin_host::error::PluginError),
     /// A view or device of the window.
-    #[error(transparent)]
+    #[error("{0}")]
     Gui(#[from] GuiError),
     /// The optimization view's Save best.
-    #[error(transparent)]
+    #[error("{0}")]
     SaveBest(#[from] SaveBestError),
     /// The simulation.
-    #[error(transparent)]
+    #[error("{0}")]
     Sim(#[from] crate::sim::SimError),
     /// A module parameter.
-    #[error(transparent)]
+    #[error("{0}")]
     Kernel(#[from] crate::control::kernel::KernelError),
     /// A series selection.
-    #[error(transparent)]
+    #[error("{0}")]
     Select(#[from] crate::data::export::SelectError),
     /// The optimization.
-    #[error(transparent)]
+    #[error("{0}")]
     Optimize(#[from] crate::optimize::error::OptimizeError),
     /// A composition (wizard, expert dialog).
-    #[error(transparent)]
+    #[error("{0}")]
     Compose(#[from] crate::compose::error::ComposeError),
     /// The environment editor.
-    #[error(transparent)]
+    #[error("{0}")]
     Edit(#[from] crate::compose::env_edit::EditError),
 }
 
@@ -223,10 +223,10 @@ pub enum VideoError {
         want: &'static str,
     },
     /// The simulation cannot be opened.
-    #[error(transparent)]
-    Session(Box<GuiError>),
+    #[error("{0}")]
+    Session(#[source] Box<GuiError>),
     /// The world cannot be read.
-    #[error(transparent)]
+    #[error("{0}")]
     Sim(#[from] crate::sim::SimError),
     /// The renderer failed or gave no frames back.
     #[error("{0}")]
@@ -245,11 +245,11 @@ pub enum VideoError {
     #[error("ffmpeg: {0}")]
     Ffmpeg(String),
     /// A gallery's store or run cannot give its designs.
-    #[error(transparent)]
-    Replay(Box<crate::optimize::replay::ReplayError>),
+    #[error("{0}")]
+    Replay(#[source] Box<crate::optimize::replay::ReplayError>),
     /// A gallery's run holds no co-design, or its designs cannot be listed.
-    #[error(transparent)]
-    Designs(Box<crate::optimize::error::OptimizeError>),
+    #[error("{0}")]
+    Designs(#[source] Box<crate::optimize::error::OptimizeError>),
     /// A gallery's run has no design that ran.
     #[error("run {run} has no design that ran yet")]
     NoDesigns {

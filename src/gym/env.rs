@@ -125,10 +125,7 @@ impl Env {
                 file: sim.file.display().to_string(),
             });
         }
-        let run = Episode::begin(
-            &world,
-            episode_settings(&opts, steps_per_action, max_steps),
-        )?;
+        let run = Episode::begin(&world, episode_settings(&opts, steps_per_action, max_steps))?;
         let mut env = Env {
             layout: layout_of(&world, false)?,
             sim,

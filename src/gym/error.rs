@@ -10,16 +10,16 @@ use crate::sim::SimError;
 #[derive(Debug, thiserror::Error)]
 pub enum GymError {
     /// The simulation file does not load.
-    #[error(transparent)]
+    #[error("{0}")]
     Config(#[from] ConfigError),
     /// The world cannot be built or read.
-    #[error(transparent)]
+    #[error("{0}")]
     Sim(#[from] SimError),
     /// The episode's score cannot be read.
-    #[error(transparent)]
+    #[error("{0}")]
     Eval(#[from] crate::optimize::evaluate::EvalError),
     /// The control kernel refused the policy's targets.
-    #[error(transparent)]
+    #[error("{0}")]
     Kernel(#[from] KernelError),
     /// An option out of its range.
     #[error("{option} = {value}: {want}")]
@@ -30,6 +30,14 @@ pub enum GymError {
         value: String,
         /// What it must be.
         want: &'static str,
+    },
+    /// An option no environment has.
+    #[error("no option {name:?}; the options: {known}")]
+    UnknownOption {
+        /// The name given.
+        name: String,
+        /// The options there are.
+        known: String,
     },
     /// An action or buffer of the wrong length.
     #[error("{what} has {given} values, expected {want}")]

@@ -23,5 +23,5 @@ pub mod vector;
 pub use crate::control::observation::ObsLayout;
 pub use env::{Env, StepInfo, Transition};
 pub use error::GymError;
-pub use options::{ActionMode, EnvOptions};
-pub use vector::{Autoreset, Lane, VecEnv};
+pub use options::{ActionMode, Autoreset, EnvOptions, OptionDoc, OptionValue, VecOptions};
+pub use vector::{Lane, VecEnv};

@@ -1,5 +1,9 @@
 //! How an environment is set up: the engine, the control period, whether the policy drives
-//! the joints alone or adds a residual to the simulation's own modules, and the reward.
+//! the joints alone or adds a residual to the simulation's own modules, and the reward
+//! ([`EnvOptions`]); how N of them run together ([`VecOptions`]: threads, autoreset). The
+//! one definition of every option, its default and its meaning: the Python package takes
+//! them by name ([`EnvOptions::set`], [`VecOptions::set`]) and documents them from
+//! [`documented`], so no default is written twice.
 
 use crate::config::fitness::Fitness;
 use crate::config::simulation::EngineKind;
@@ -114,6 +118,249 @@ impl EnvOptions {
                 value: self.fitness.name().to_string(),
                 want: "the reward grows with displacement, distance or speed; cost of transport is undefined before the robot moves (use energy_weight)",
             });
+        }
+        Ok(())
+    }
+}
+
+/// When a finished environment starts its next episode (Gymnasium 1.x's `AutoresetMode`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Autoreset {
+    /// On the step after the one that ended it: that step ignores the action and returns
+    /// the first observation, reward 0, neither flag (Gymnasium's default).
+    NextStep,
+    /// On the step that ended it: the observation returned is the new episode's first, the
+    /// last one of the ended episode is kept as its final observation.
+    SameStep,
+    /// Never by itself: finished environments are reset through
+    /// [`crate::gym::VecEnv::reset`] with a mask.
+    Disabled,
+}
+
+impl Autoreset {
+    /// Reads Gymnasium's names (`next_step`, `same_step`, `disabled`, any case).
+    pub fn parse(s: &str) -> Result<Autoreset, GymError> {
+        match s.trim().to_ascii_lowercase().replace('-', "_").as_str() {
+            "next_step" | "nextstep" => Ok(Autoreset::NextStep),
+            "same_step" | "samestep" => Ok(Autoreset::SameStep),
+            "disabled" => Ok(Autoreset::Disabled),
+            _ => Err(GymError::Option {
+                option: "autoreset_mode",
+                value: s.to_string(),
+                want: "give next_step, same_step or disabled",
+            }),
+        }
+    }
+    /// The name [`Autoreset::parse`] reads first.
+    pub fn name(self) -> &'static str {
+        match self {
+            Autoreset::NextStep => "next_step",
+            Autoreset::SameStep => "same_step",
+            Autoreset::Disabled => "disabled",
+        }
+    }
+}
+
+/// A value given for an option by name (a keyword of the Python package).
+#[derive(Debug, Clone, PartialEq)]
+pub enum OptionValue {
+    /// No value (`None`): the option's "not set", where it has one.
+    Unset,
+    /// A number.
+    Number(f64),
+    /// A name.
+    Text(String),
+}
+
+/// One option as a user sees it: its keyword, its default written as Python writes it, and
+/// what it sets.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OptionDoc {
+    /// The keyword.
+    pub name: &'static str,
+    /// The default, as a Python literal.
+    pub default: String,
+    /// What it sets.
+    pub doc: &'static str,
+}
+
+/// What each option of [`EnvOptions`] and [`VecOptions`] sets, in keyword order.
+const DOCS: [(&str, &str); 9] = [
+    (
+        "engine",
+        "the physics engine, \"rapier\" or \"mujoco\" (None: the file's)",
+    ),
+    (
+        "control_period",
+        "simulated seconds per environment step (a whole number of steps)",
+    ),
+    (
+        "mode",
+        "\"alone\" (the policy drives every joint) or \"residual\" (added to the file's modules)",
+    ),
+    (
+        "action_scale",
+        "the share of each joint's half range an action of 1 moves its target (None: 1 alone, 0.25 as a residual)",
+    ),
+    (
+        "fitness",
+        "the fitness whose growth is the reward: \"distance\", \"displacement\" or \"speed\"",
+    ),
+    ("energy_weight", "reward lost per joule the servos put out"),
+    (
+        "duration",
+        "simulated seconds per episode (None: the file's duration)",
+    ),
+    (
+        "threads",
+        "threads stepping a vector environment's worlds (the machine's cores by default)",
+    ),
+    (
+        "autoreset",
+        "when a vector environment's finished episode restarts: \"next_step\", \"same_step\" or \"disabled\"",
+    ),
+];
+
+/// Python's literal of an optional number.
+fn py_number(v: Option<f64>) -> String {
+    v.map_or_else(|| "None".to_string(), |v| format!("{v:?}"))
+}
+
+/// Every option of an environment and of a vector environment with its default (this
+/// machine's core count for `threads`) and meaning, in keyword order.
+pub fn documented() -> Vec<OptionDoc> {
+    let e = EnvOptions::default();
+    let v = VecOptions::default();
+    let defaults = [
+        e.engine
+            .map_or_else(|| "None".to_string(), |k| format!("\"{k}\"")),
+        py_number(Some(e.control_period)),
+        format!("\"{}\"", e.mode.name()),
+        py_number(e.action_scale),
+        format!("\"{}\"", e.fitness.name()),
+        py_number(Some(e.energy_weight)),
+        py_number(e.duration),
+        v.threads.to_string(),
+        format!("\"{}\"", v.autoreset.name()),
+    ];
+    DOCS.iter()
+        .zip(defaults)
+        .map(|((name, doc), default)| OptionDoc { name, default, doc })
+        .collect()
+}
+
+/// `value` as the option `option` wants it.
+fn number(option: &'static str, value: &OptionValue) -> Result<f64, GymError> {
+    match value {
+        OptionValue::Number(v) => Ok(*v),
+        other => Err(wrong(option, other, "give a number")),
+    }
+}
+
+fn maybe_number(option: &'static str, value: &OptionValue) -> Result<Option<f64>, GymError> {
+    match value {
+        OptionValue::Unset => Ok(None),
+        v => number(option, v).map(Some),
+    }
+}
+
+fn text<'a>(option: &'static str, value: &'a OptionValue) -> Result<&'a str, GymError> {
+    match value {
+        OptionValue::Text(t) => Ok(t),
+        other => Err(wrong(option, other, "give a name")),
+    }
+}
+
+fn wrong(option: &'static str, value: &OptionValue, want: &'static str) -> GymError {
+    GymError::Option {
+        option,
+        value: match value {
+            OptionValue::Unset => "None".to_string(),
+            OptionValue::Number(v) => v.to_string(),
+            OptionValue::Text(t) => format!("{t:?}"),
+        },
+        want,
+    }
+}
+
+impl EnvOptions {
+    /// Sets the option called `name` (see [`documented`]); an unknown name is an error
+    /// listing the known ones.
+    pub fn set(&mut self, name: &str, value: &OptionValue) -> Result<(), GymError> {
+        match name {
+            "engine" => {
+                self.engine = match value {
+                    OptionValue::Unset => None,
+                    v => Some(
+                        EngineKind::parse(text("engine", v)?)
+                            .ok_or_else(|| wrong("engine", v, "give \"rapier\" or \"mujoco\""))?,
+                    ),
+                }
+            }
+            "control_period" => self.control_period = number("control_period", value)?,
+            "mode" => self.mode = ActionMode::parse(text("mode", value)?)?,
+            "action_scale" => self.action_scale = maybe_number("action_scale", value)?,
+            "fitness" => {
+                self.fitness = Fitness::parse(text("fitness", value)?).map_err(|_| {
+                    wrong(
+                        "fitness",
+                        value,
+                        "give \"distance\", \"displacement\" or \"speed\"",
+                    )
+                })?
+            }
+            "energy_weight" => self.energy_weight = number("energy_weight", value)?,
+            "duration" => self.duration = maybe_number("duration", value)?,
+            _ => return Err(unknown(name)),
+        }
+        Ok(())
+    }
+}
+
+/// An option no environment has.
+fn unknown(name: &str) -> GymError {
+    GymError::UnknownOption {
+        name: name.to_string(),
+        known: DOCS.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", "),
+    }
+}
+
+/// How N environments run together.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VecOptions {
+    /// Threads stepping the worlds (1: on the calling thread).
+    pub threads: usize,
+    /// When a finished episode restarts.
+    pub autoreset: Autoreset,
+}
+
+impl Default for VecOptions {
+    fn default() -> Self {
+        VecOptions {
+            threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+            autoreset: Autoreset::NextStep,
+        }
+    }
+}
+
+impl VecOptions {
+    /// Sets the option called `name` (`threads`, `autoreset`), else hands it to `env`'s.
+    pub fn set(
+        &mut self,
+        env: &mut EnvOptions,
+        name: &str,
+        value: &OptionValue,
+    ) -> Result<(), GymError> {
+        match name {
+            "threads" => {
+                let n = number("threads", value)?;
+                if !(n >= 1.0 && n.fract() == 0.0) {
+                    return Err(wrong("threads", value, "give a whole number of at least 1"));
+                }
+                self.threads = n as usize;
+            }
+            "autoreset" => self.autoreset = Autoreset::parse(text("autoreset", value)?)?,
+            _ => env.set(name, value)?,
         }
         Ok(())
     }

@@ -12,37 +12,7 @@ use crate::config::Simulation;
 use crate::control::ModuleRegistry;
 use crate::gym::env::{Env, StepInfo};
 use crate::gym::error::GymError;
-use crate::gym::options::EnvOptions;
-
-/// When a finished environment starts its next episode (Gymnasium 1.x's `AutoresetMode`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Autoreset {
-    /// On the step after the one that ended it: that step ignores the action and returns
-    /// the first observation, reward 0, neither flag (Gymnasium's default).
-    NextStep,
-    /// On the step that ended it: the observation returned is the new episode's first, the
-    /// last one of the ended episode is kept as its final observation.
-    SameStep,
-    /// Never by itself: finished environments are reset through [`VecEnv::reset`] with a
-    /// mask.
-    Disabled,
-}
-
-impl Autoreset {
-    /// Reads Gymnasium's names (`next_step`, `same_step`, `disabled`, any case).
-    pub fn parse(s: &str) -> Result<Autoreset, GymError> {
-        match s.trim().to_ascii_lowercase().replace('-', "_").as_str() {
-            "next_step" | "nextstep" => Ok(Autoreset::NextStep),
-            "same_step" | "samestep" => Ok(Autoreset::SameStep),
-            "disabled" => Ok(Autoreset::Disabled),
-            _ => Err(GymError::Option {
-                option: "autoreset_mode",
-                value: s.to_string(),
-                want: "give next_step, same_step or disabled",
-            }),
-        }
-    }
-}
+use crate::gym::options::{Autoreset, EnvOptions, VecOptions};
 
 /// One environment's outcome of the last step or reset.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -72,15 +42,17 @@ enum Threads {
     Pool(rayon::ThreadPool),
 }
 
-/// What one environment's part of a reset or step is given: its index, environment,
-/// observation row, final-observation row and lane.
-type LaneWork<'a> = (
-    usize,
-    &'a mut Env,
-    &'a mut [f64],
-    &'a mut [f64],
-    &'a mut Lane,
-);
+/// What one environment's part of a reset or step is given.
+struct LaneWork<'a> {
+    /// The environment's index.
+    index: usize,
+    env: &'a mut Env,
+    /// Its observation row.
+    obs: &'a mut [f64],
+    /// Its final-observation row (same-step autoreset).
+    fin: &'a mut [f64],
+    lane: &'a mut Lane,
+}
 
 /// N environments of one simulation, stepped on a pool of threads.
 pub struct VecEnv {
@@ -101,9 +73,9 @@ impl VecEnv {
         registry: &ModuleRegistry,
         opts: &EnvOptions,
         n: usize,
-        threads: usize,
-        autoreset: Autoreset,
+        vec: VecOptions,
     ) -> Result<VecEnv, GymError> {
+        let VecOptions { threads, autoreset } = vec;
         if n == 0 {
             return Err(GymError::Option {
                 option: "num_envs",
@@ -178,7 +150,15 @@ impl VecEnv {
                 .zip(self.final_obs.chunks_mut(o))
                 .zip(self.lanes.iter_mut())
                 .enumerate()
-                .try_for_each(|(i, (((env, obs), fin), lane))| f((i, env, obs, fin, lane))),
+                .try_for_each(|(index, (((env, obs), fin), lane))| {
+                    f(LaneWork {
+                        index,
+                        env,
+                        obs,
+                        fin,
+                        lane,
+                    })
+                }),
             Threads::Pool(pool) => {
                 let work = (
                     self.envs.par_iter_mut(),
@@ -187,9 +167,17 @@ impl VecEnv {
                     self.lanes.par_iter_mut(),
                 );
                 pool.install(|| {
-                    work.into_par_iter()
-                        .enumerate()
-                        .try_for_each(|(i, (env, obs, fin, lane))| f((i, env, obs, fin, lane)))
+                    work.into_par_iter().enumerate().try_for_each(
+                        |(index, (env, obs, fin, lane))| {
+                            f(LaneWork {
+                                index,
+                                env,
+                                obs,
+                                fin,
+                                lane,
+                            })
+                        },
+                    )
                 })
             }
         }
@@ -239,12 +227,13 @@ impl VecEnv {
                 want: n,
             });
         }
-        self.for_each_lane(|(i, env, obs, _, lane)| {
+        self.for_each_lane(|w| {
+            let i = w.index;
             if mask.is_some_and(|m| !m[i]) {
                 return Ok(());
             }
-            let info = env.reset(seed.map(|s| s.wrapping_add(i as u64)), obs)?;
-            *lane = Lane {
+            let info = w.env.reset(seed.map(|s| s.wrapping_add(i as u64)), w.obs)?;
+            *w.lane = Lane {
                 reset: true,
                 info,
                 ..Lane::default()
@@ -266,21 +255,22 @@ impl VecEnv {
             });
         }
         let mode = self.autoreset;
-        self.for_each_lane(|(i, env, obs, fin, lane)| {
-            step_lane(mode, env, obs, fin, &actions[i * a..(i + 1) * a], lane)
+        self.for_each_lane(|w| {
+            let i = w.index;
+            step_lane(mode, w, &actions[i * a..(i + 1) * a])
         })
     }
 }
 
 /// One environment's step under `mode`.
-fn step_lane(
-    mode: Autoreset,
-    env: &mut Env,
-    obs: &mut [f64],
-    fin: &mut [f64],
-    action: &[f64],
-    lane: &mut Lane,
-) -> Result<(), GymError> {
+fn step_lane(mode: Autoreset, work: LaneWork<'_>, action: &[f64]) -> Result<(), GymError> {
+    let LaneWork {
+        env,
+        obs,
+        fin,
+        lane,
+        ..
+    } = work;
     if mode == Autoreset::NextStep && lane.needs_reset {
         let info = env.reset(None, obs)?;
         *lane = Lane {

@@ -36,7 +36,8 @@ pub fn to_isometry(p: &Pose) -> Isometry3<f64> {
 }
 
 /// A conversion that could not be done: the file and the cause.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{}: {cause}", .file.display())]
 pub struct InteropError {
     /// The file read or written.
     pub file: PathBuf,
@@ -53,14 +54,6 @@ impl InteropError {
         }
     }
 }
-
-impl fmt::Display for InteropError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}: {}", self.file.display(), self.cause)
-    }
-}
-
-impl std::error::Error for InteropError {}
 
 /// Writes `text` to `path`, creating its folder.
 pub(crate) fn write_text(path: &Path, text: &str) -> Result<(), InteropError> {

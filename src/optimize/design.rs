@@ -39,7 +39,7 @@ pub enum Rejection {
     #[error("the builder cannot make this body: {0}")]
     Build(#[from] BuildError),
     /// Its start pose is blocked.
-    #[error(transparent)]
+    #[error("{0}")]
     Start(#[from] StartOverlap),
 }
 

@@ -26,13 +26,13 @@ pub enum OptimizeError {
         file: PathBuf,
     },
     /// The actuation's kernel cannot be built (the start candidate is read from it).
-    #[error(transparent)]
+    #[error("{0}")]
     Kernel(#[from] crate::control::kernel::KernelError),
     /// An episode could not be run or scored.
-    #[error(transparent)]
+    #[error("{0}")]
     Eval(#[from] crate::optimize::evaluate::EvalError),
     /// The experiment store failed.
-    #[error(transparent)]
+    #[error("{0}")]
     Store(#[from] StoreError),
     /// A shared store's connection was gone when the round was queued.
     #[error("the shared store went away")]
@@ -65,14 +65,14 @@ pub enum OptimizeError {
         source: std::io::Error,
     },
     /// A configuration's files that cannot be written into a folder of their own.
-    #[error(transparent)]
+    #[error("{0}")]
     Bundle(#[from] crate::config::bundle::BundleError),
     /// A candidate's network that cannot be written.
-    #[error(transparent)]
-    Policy(Box<crate::control::policy::PolicyError>),
+    #[error("{0}")]
+    Policy(#[source] Box<crate::control::policy::PolicyError>),
     /// The configuration does not load.
-    #[error(transparent)]
-    Config(Box<crate::config::ConfigError>),
+    #[error("{0}")]
+    Config(#[source] Box<crate::config::ConfigError>),
     /// `--resume` without an unfinished run of the same configuration.
     #[error(
         "--resume: {store} holds no unfinished run of {config} with seed {seed}, fitness {fitness} and {duration} s episodes"
@@ -204,6 +204,6 @@ pub enum UnevaluableRun {
     #[error("{0}")]
     Setup(Box<OptimizeError>),
     /// Its fitness is not one this host knows.
-    #[error(transparent)]
+    #[error("{0}")]
     Fitness(#[from] crate::config::error::UnknownName),
 }

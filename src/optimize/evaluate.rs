@@ -34,10 +34,10 @@ use crate::sim::{BuildOptions, Episode, EpisodeEnd, EpisodeSettings, Simulator};
 #[derive(Debug, thiserror::Error)]
 pub enum EvalError {
     /// The world does not build, or a robot of it cannot be read.
-    #[error(transparent)]
+    #[error("{0}")]
     Sim(#[from] crate::sim::SimError),
     /// The candidate's values do not fit the kernel.
-    #[error(transparent)]
+    #[error("{0}")]
     Kernel(#[from] crate::control::kernel::KernelError),
     /// A co-design candidate's generated robot or actuation does not load.
     #[error("the candidate's body does not load: {0}")]

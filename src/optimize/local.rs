@@ -1,11 +1,14 @@
 //! Scoring on this host: the round's candidates simulated by the evaluator's threads,
-//! spread over worlds as [`Batching`] finds fastest, each batch stored as it finishes.
+//! spread over worlds as its planner finds fastest ([`Batching`] says how), each batch
+//! stored as it finishes.
 
 use std::ops::Range;
 
 use crate::optimize::error::OptimizeError;
 use crate::optimize::evaluate::Evaluator;
-use crate::optimize::scorer::{Recording, Round, Scorer, ScoringSummary, complete, reuse_stored};
+use crate::optimize::scorer::{
+    Batching, Recording, Round, Scorer, ScoringSummary, complete, reuse_stored,
+};
 use crate::optimize::scores::{CandidateScore, StoredEval};
 use crate::optimize::settings::RunSettings;
 use crate::optimize::space::Genome;
@@ -13,7 +16,7 @@ use crate::optimize::space::Genome;
 /// The scorer of a run without a shared store.
 pub struct LocalScorer<'a> {
     evaluator: Evaluator,
-    batching: Batching,
+    planner: Planner,
     recording: Option<Recording<'a>>,
     seed: u64,
     /// Evaluations stored by this call (for the crash aid).
@@ -35,7 +38,7 @@ impl<'a> LocalScorer<'a> {
                 workers,
                 ..evaluator
             },
-            batching: Batching::new(settings.batch, workers),
+            planner: Planner::new(settings.batch, workers),
             recording,
             seed: settings.seed,
             stored: 0,
@@ -56,7 +59,7 @@ impl<'a> LocalScorer<'a> {
             .map(|i| round.candidates[*i].clone())
             .collect();
         let mut rates = Vec::new();
-        for (range, batch) in self.batching.plan(todo.len()) {
+        for (range, batch) in self.planner.plan(todo.len()) {
             self.evaluator.batch = batch;
             let t = std::time::Instant::now();
             let got = self.evaluate_part(round, missing, &todo, range.clone())?;
@@ -66,7 +69,7 @@ impl<'a> LocalScorer<'a> {
                 scores[missing[range.start + k]] = Some(score);
             }
         }
-        self.batching.learn(&rates);
+        self.planner.learn(&rates);
         Ok(())
     }
 
@@ -139,7 +142,7 @@ impl Scorer for LocalScorer<'_> {
             r.store.finish_run(r.run)?;
         }
         Ok(ScoringSummary {
-            batching: this.batching.description,
+            batching: this.planner.report,
             simulated: this.simulated,
         })
     }
@@ -147,25 +150,24 @@ impl Scorer for LocalScorer<'_> {
 
 /// How candidates are spread over worlds: given, or measured on the first large round
 /// (one world per candidate against robots sharing worlds) and then kept.
-struct Batching {
+struct Planner {
     given: usize,
     workers: usize,
     shared_worlds: Option<bool>,
-    description: String,
+    report: Batching,
 }
 
-impl Batching {
-    fn new(given: usize, workers: usize) -> Batching {
-        let description = if given > 0 {
-            format!("{given} robots per world (given)")
-        } else {
-            "one world per candidate (rounds too small to measure)".to_string()
-        };
-        Batching {
+impl Planner {
+    fn new(given: usize, workers: usize) -> Planner {
+        Planner {
             given,
             workers,
             shared_worlds: None,
-            description,
+            report: if given > 0 {
+                Batching::Given(given)
+            } else {
+                Batching::Unmeasured
+            },
         }
     }
 
@@ -194,16 +196,11 @@ impl Batching {
         }
         let faster_shared = rates[1].1 > rates[0].1;
         self.shared_worlds = Some(faster_shared);
-        self.description = format!(
-            "{} (measured {:.2} candidates/s alone, {:.2} with {} robots per world)",
-            if faster_shared {
-                "robots share worlds"
-            } else {
-                "one world per candidate"
-            },
-            rates[0].1,
-            rates[1].1,
-            rates[1].0
-        );
+        self.report = Batching::Measured {
+            share: faster_shared,
+            alone: rates[0].1,
+            shared: rates[1].1,
+            robots: rates[1].0,
+        };
     }
 }

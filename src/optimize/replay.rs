@@ -22,17 +22,17 @@ use crate::sim::{BuildOptions, SimError, Simulator};
 #[derive(Debug, thiserror::Error)]
 pub enum ReplayError {
     /// The store: unreachable, refused, or without the run.
-    #[error(transparent)]
+    #[error("{0}")]
     Store(#[from] StoreError),
     /// A store location that is neither a file nor a `postgres://` URL.
-    #[error(transparent)]
+    #[error("{0}")]
     Location(#[from] crate::optimize::error::BadChoice),
     /// The run's stored configuration does not load or set up here.
-    #[error(transparent)]
+    #[error("{0}")]
     Unevaluable(#[from] UnevaluableRun),
     /// Its search space cannot be set up.
-    #[error(transparent)]
-    Setup(Box<crate::optimize::error::OptimizeError>),
+    #[error("{0}")]
+    Setup(#[source] Box<crate::optimize::error::OptimizeError>),
     /// The run has no such finished evaluation (or none at all).
     #[error("{store}: run {run} has no {}", match number { Some(n) => format!("finished evaluation {n}"), None => "evaluation".into() })]
     NoEvaluation {
@@ -73,19 +73,19 @@ pub enum ReplayError {
     #[error("evaluation {0:?}: give a number or \"best\"")]
     Which(String),
     /// The replayed episode could not be run or scored.
-    #[error(transparent)]
+    #[error("{0}")]
     Run(#[from] EvalError),
     /// The replay scored nothing.
     #[error("the replay scored nothing")]
     NothingScored,
     /// The replayed world could not be built or read.
-    #[error(transparent)]
+    #[error("{0}")]
     Sim(#[from] SimError),
     /// Its data file could not be opened.
-    #[error(transparent)]
+    #[error("{0}")]
     Record(#[from] crate::sim::runner::RecordError),
     /// Its data file could not be completed.
-    #[error(transparent)]
+    #[error("{0}")]
     Data(#[from] crate::data::store::DataStoreError),
 }
 

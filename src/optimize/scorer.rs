@@ -36,11 +36,64 @@ pub struct Round<'a> {
     pub candidates: &'a [Genome],
 }
 
+/// How candidates were spread over worlds and hosts, and why.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Batching {
+    /// Robots per world, as the user gave it.
+    Given(usize),
+    /// One world per candidate: no round was large enough to measure the alternative.
+    Unmeasured,
+    /// Measured on the first large round: candidates per second with one world each
+    /// (`alone`) and with `robots` robots per world (`shared`), and which was kept.
+    Measured {
+        /// Whether robots share worlds from then on.
+        share: bool,
+        /// Candidates per second, one world each.
+        alone: f64,
+        /// Candidates per second with `robots` per world.
+        shared: f64,
+        /// Robots per world in the shared part.
+        robots: usize,
+    },
+    /// One world per candidate through a shared store, with this many local worker
+    /// threads beside the remote workers.
+    SharedStore(usize),
+}
+
+impl std::fmt::Display for Batching {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Batching::Given(n) => write!(f, "{n} robots per world (given)"),
+            Batching::Unmeasured => {
+                write!(f, "one world per candidate (rounds too small to measure)")
+            }
+            Batching::Measured {
+                share,
+                alone,
+                shared,
+                robots,
+            } => write!(
+                f,
+                "{} (measured {alone:.2} candidates/s alone, {shared:.2} with {robots} robots per world)",
+                if share {
+                    "robots share worlds"
+                } else {
+                    "one world per candidate"
+                }
+            ),
+            Batching::SharedStore(local) => write!(
+                f,
+                "one world per candidate, through the shared store ({local} local worker thread(s))"
+            ),
+        }
+    }
+}
+
 /// How a run's candidates were scored, for its report.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ScoringSummary {
     /// How candidates were spread over worlds and hosts, and why.
-    pub batching: String,
+    pub batching: Batching,
     /// Evaluations simulated in this call (the rest came from the store).
     pub simulated: u64,
 }

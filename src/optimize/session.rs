@@ -67,7 +67,7 @@ pub struct RunOutcome {
     /// Evaluations simulated in this call (the rest came from the store).
     pub simulated: u64,
     /// How candidates were spread over worlds, and why.
-    pub batching: String,
+    pub batching: crate::optimize::scorer::Batching,
     /// Rounds (GA generations, great-deluge batches).
     pub rounds: u64,
     /// The best candidate's score on each engine (runs with `<engines>`; else empty).

@@ -12,21 +12,14 @@ use proleg_plugin_api::{
 use crate::config::module_types::{ModuleDescriptor, ParamDescriptor};
 
 /// Why a library was skipped.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("plugin {}: {cause}", .file.display())]
 pub struct LoadError {
     /// The library file.
     pub file: PathBuf,
     /// Why it was skipped.
     pub cause: String,
 }
-
-impl fmt::Display for LoadError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "plugin {}: {}", self.file.display(), self.cause)
-    }
-}
-
-impl std::error::Error for LoadError {}
 
 /// A loaded plugin library: its table, kept loaded for the life of the process.
 pub struct PluginLibrary {

@@ -325,9 +325,12 @@ mod tests {
             (p.name.as_str(), p.initial, p.min, p.max),
             ("period", 1.5, 0.1, 10.0)
         );
-        assert!(ParamDecl::parse("period").is_err());
-        assert!(ParamDecl::parse("period=nan").is_err());
-        assert!(ParamDecl::parse("period=1:5").is_err());
+        for bad in ["period", "period=nan", "period=1:5"] {
+            assert!(
+                matches!(ParamDecl::parse(bad), Err(PluginError::Param { .. })),
+                "{bad}"
+            );
+        }
     }
 
     #[test]

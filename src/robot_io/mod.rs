@@ -111,9 +111,10 @@ impl Readings {
 }
 
 /// Why a robot operation failed.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RobotError {
     /// The port could not be opened.
+    #[error("cannot open {port}: {cause}")]
     Port {
         /// The port.
         port: String,
@@ -121,11 +122,13 @@ pub enum RobotError {
         cause: String,
     },
     /// A servo did not answer in time.
+    #[error("servo {id} did not answer (timeout)")]
     Timeout {
         /// The servo.
         id: u8,
     },
     /// An answer came from another servo than asked.
+    #[error("asked servo {expected}, servo {got} answered")]
     WrongId {
         /// The id asked.
         expected: u8,
@@ -133,6 +136,7 @@ pub enum RobotError {
         got: u8,
     },
     /// A servo answered with an error status.
+    #[error("servo {id} reports error {code} ({})", servo_error(*code))]
     Servo {
         /// The servo.
         id: u8,
@@ -140,36 +144,15 @@ pub enum RobotError {
         code: u8,
     },
     /// The bus failed (I/O, a garbled answer).
+    #[error("bus error: {0}")]
     Bus(String),
     /// No connection (connect first).
+    #[error("not connected to the robot")]
     NotConnected,
     /// A command or value the driver does not know.
+    #[error("{0}")]
     Command(String),
 }
-
-impl fmt::Display for RobotError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            RobotError::Port { port, cause } => write!(f, "cannot open {port}: {cause}"),
-            RobotError::Timeout { id } => write!(f, "servo {id} did not answer (timeout)"),
-            RobotError::WrongId { expected, got } => {
-                write!(f, "asked servo {expected}, servo {got} answered")
-            }
-            RobotError::Servo { id, code } => {
-                write!(
-                    f,
-                    "servo {id} reports error {code} ({})",
-                    servo_error(*code)
-                )
-            }
-            RobotError::Bus(e) => write!(f, "bus error: {e}"),
-            RobotError::NotConnected => write!(f, "not connected to the robot"),
-            RobotError::Command(e) => write!(f, "{e}"),
-        }
-    }
-}
-
-impl std::error::Error for RobotError {}
 
 /// The Protocol 2.0 status error numbers.
 pub fn servo_error(code: u8) -> &'static str {

@@ -131,7 +131,7 @@ impl Recorder {
 #[derive(Debug, thiserror::Error)]
 pub enum RealModeError {
     /// The actuation's kernel cannot be built.
-    #[error(transparent)]
+    #[error("{0}")]
     Kernel(#[from] crate::control::kernel::KernelError),
     /// The robot has another number of servos than the configuration joints.
     #[error("the robot has {servos} servos, the configuration {joints} joints")]
@@ -142,10 +142,10 @@ pub enum RealModeError {
         joints: usize,
     },
     /// The bus or a servo failed.
-    #[error(transparent)]
+    #[error("{0}")]
     Robot(#[from] RobotError),
     /// The data file could not be written.
-    #[error(transparent)]
+    #[error("{0}")]
     Data(#[from] crate::data::store::DataStoreError),
 }
 

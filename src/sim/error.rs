@@ -1,18 +1,19 @@
 //! Errors building or running a simulation.
 
-use std::fmt;
-
 use crate::config::ConfigError;
 use crate::control::kernel::KernelError;
 
 /// Why a simulation could not be built or changed.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, thiserror::Error)]
 pub enum SimError {
     /// A configuration that does not load or check.
-    Config(ConfigError),
+    #[error("{0}")]
+    Config(#[from] ConfigError),
     /// A kernel that cannot be built or changed (module, parameter, joint).
-    Kernel(KernelError),
+    #[error("{0}")]
+    Kernel(#[from] KernelError),
     /// A collision mesh that cannot be built.
+    #[error("{file}: cannot build the collision mesh: {message}")]
     Mesh {
         /// The mesh file.
         file: String,
@@ -20,6 +21,7 @@ pub enum SimError {
         message: String,
     },
     /// More robots than one world holds.
+    #[error("{requested} robots in one world; at most {max} fit (one collision group each)")]
     TooManyRobots {
         /// Robots asked for.
         requested: usize,
@@ -27,6 +29,7 @@ pub enum SimError {
         max: usize,
     },
     /// A robot index beyond the world's robots.
+    #[error("no robot {index}: the world holds {count}")]
     NoSuchRobot {
         /// The index given.
         index: usize,
@@ -34,6 +37,7 @@ pub enum SimError {
         count: usize,
     },
     /// A link index beyond the robot's links.
+    #[error("no link {link}: the robot has {count}")]
     NoSuchLink {
         /// The index given.
         link: usize,
@@ -41,6 +45,9 @@ pub enum SimError {
         count: usize,
     },
     /// A tactile pad that lies on none of its link's geometries (it reads their contacts).
+    #[error(
+        "tactile pad \"{sensor}\" lies on none of link \"{link}\"'s geometries; a pad reads the contacts of its link's surface, so its box must touch one"
+    )]
     PadOffLink {
         /// The sensor's name.
         sensor: String,
@@ -48,65 +55,14 @@ pub enum SimError {
         link: String,
     },
     /// The MuJoCo engine: a missing or wrong library, a model it rejects.
-    Mujoco(crate::sim::engine::mujoco::MujocoError),
+    #[error("{0}")]
+    Mujoco(#[from] crate::sim::engine::mujoco::MujocoError),
     /// A setting of the configuration the engine has no counterpart for.
+    #[error("{engine} cannot simulate this: {what}")]
     Unsupported {
         /// The engine.
         engine: crate::config::simulation::EngineKind,
         /// What it cannot do, and what to use instead.
         what: String,
     },
-}
-
-impl From<crate::sim::engine::mujoco::MujocoError> for SimError {
-    fn from(e: crate::sim::engine::mujoco::MujocoError) -> Self {
-        SimError::Mujoco(e)
-    }
-}
-
-impl fmt::Display for SimError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SimError::Config(e) => e.fmt(f),
-            SimError::Mujoco(e) => e.fmt(f),
-            SimError::Unsupported { engine, what } => {
-                write!(f, "{engine} cannot simulate this: {what}")
-            }
-            SimError::Kernel(e) => e.fmt(f),
-            SimError::Mesh { file, message } => {
-                write!(f, "{file}: cannot build the collision mesh: {message}")
-            }
-            SimError::TooManyRobots { requested, max } => {
-                write!(
-                    f,
-                    "{requested} robots in one world; at most {max} fit (one collision group each)"
-                )
-            }
-            SimError::NoSuchRobot { index, count } => {
-                write!(f, "no robot {index}: the world holds {count}")
-            }
-            SimError::NoSuchLink { link, count } => {
-                write!(f, "no link {link}: the robot has {count}")
-            }
-            SimError::PadOffLink { sensor, link } => write!(
-                f,
-                "tactile pad \"{sensor}\" lies on none of link \"{link}\"'s geometries; \
-                 a pad reads the contacts of its link's surface, so its box must touch one"
-            ),
-        }
-    }
-}
-
-impl std::error::Error for SimError {}
-
-impl From<ConfigError> for SimError {
-    fn from(e: ConfigError) -> Self {
-        SimError::Config(e)
-    }
-}
-
-impl From<KernelError> for SimError {
-    fn from(e: KernelError) -> Self {
-        SimError::Kernel(e)
-    }
 }

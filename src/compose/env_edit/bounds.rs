@@ -78,17 +78,6 @@ pub(super) fn shape_aabb(shape: &Shape) -> Option<Aabb> {
     }
 }
 
-/// How deep two boxes overlap: the smallest overlap along the three axes (<= 0: apart).
-pub(super) fn overlap(a: &Aabb, b: &Aabb) -> f64 {
-    if a.is_empty() || b.is_empty() {
-        return 0.0;
-    }
-    [0, 1, 2]
-        .map(|k| a.max[k].min(b.max[k]) - a.min[k].max(b.min[k]))
-        .into_iter()
-        .fold(f64::INFINITY, f64::min)
-}
-
 /// Grows `out` by geometry `g` of a body at `body` whose own-frame bounds are `local`.
 pub(super) fn add_geom(out: &mut Aabb, g: &Geom, body: &Pose, local: Option<Aabb>) {
     let Some(local) = local else {
@@ -130,7 +119,7 @@ struct MeshCache {
 #[derive(Debug, Clone, thiserror::Error)]
 pub enum MeshError {
     /// The file does not read or parse (its located error).
-    #[error(transparent)]
+    #[error("{0}")]
     Load(#[from] crate::config::ConfigError),
     /// No such file beside the scene or in a folder above it.
     #[error("{file}: mesh file not found next to {}", scene.display())]

@@ -48,8 +48,8 @@ pub enum EditError {
     #[error("colour {0:?}: each part lies in 0..1")]
     Colour([f64; 3]),
     /// A name the files cannot hold.
-    #[error(transparent)]
-    Name(crate::config::robot_builder::BuildError),
+    #[error("{0}")]
+    Name(#[source] crate::config::robot_builder::BuildError),
     /// A scene file that cannot be read or written.
     #[error("{}: {source}", path.display())]
     Io {

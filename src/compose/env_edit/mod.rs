@@ -17,7 +17,7 @@ mod history;
 use std::path::{Path, PathBuf};
 
 pub use bounds::{Aabb, OVERLAP_TOLERANCE, SceneMeshes};
-use bounds::{add_geom, overlap, shape_aabb};
+use bounds::{add_geom, shape_aabb};
 pub use error::EditError;
 use history::{History, Snapshot};
 
@@ -29,7 +29,8 @@ use crate::config::environment::{
 use crate::config::kinbody::KinBody;
 use crate::config::resolve::environment::resolve_environment;
 use crate::config::resolve::robot::RobotModel;
-use crate::config::source::{FsSource, resolve_include};
+use crate::config::source::{FileSource, FsSource, resolve_include};
+use crate::config::start_clearance::Boxes;
 use crate::config::transform::{Pose, quat_mul};
 
 /// Largest friction the editor offers (Coulomb coefficient, as the thesis's dialog).
@@ -65,6 +66,12 @@ pub struct Props {
     pub colour: Option<[f64; 3]>,
     /// Whether size, friction, mass and colour can be changed (an inline object).
     pub editable: bool,
+}
+
+/// An environment object as a kinbody and where it is placed.
+struct PlacedKinBody {
+    kinbody: KinBody,
+    pose: Pose,
 }
 
 /// The environment being edited.
@@ -297,36 +304,26 @@ impl EnvEditor {
         out
     }
 
-    /// Objects with a geometry whose bounds overlap a robot link's at the start pose by
-    /// more than [`OVERLAP_TOLERANCE`] along every axis (the robot would start inside
-    /// them), each as a warning naming the object.
+    /// Objects that reach into a robot link at the start pose by more than
+    /// [`OVERLAP_TOLERANCE`] (the robot would start inside them), each as a warning naming
+    /// the object: the start-clearance check of a co-design body
+    /// ([`crate::config::start_clearance::Boxes`], oriented boxes; the scenery's meshes are
+    /// not checked, their bounds say nothing of their surface).
     pub fn robot_overlaps(&self, robot: &RobotModel) -> Vec<String> {
-        let mut links = Vec::new();
+        let mut links = Boxes::default();
         for l in &robot.links {
-            let lp = self.robot_pose.mul(&l.pose);
-            for g in &l.geoms {
-                let local = match &g.shape {
-                    Shape::Trimesh { file, scale, .. } => robot.meshes.get(file).map(|m| {
-                        let (min, max) = m.bounds();
-                        Aabb {
-                            min: min.map(|v| v * scale),
-                            max: max.map(|v| v * scale),
-                        }
-                    }),
-                    other => shape_aabb(other),
-                };
-                let mut b = Aabb::EMPTY;
-                add_geom(&mut b, g, &lp, local);
-                links.push(b);
-            }
+            links.add(&l.geoms, &self.robot_pose.mul(&l.pose), Some(&robot.meshes));
         }
         let mut out = Vec::new();
         for i in 0..self.objects.len() {
-            let deepest = self
-                .geom_bounds(i)
-                .iter()
-                .flat_map(|b| links.iter().map(move |l| overlap(b, l)))
-                .fold(0.0, f64::max);
+            let Some(placed) = self.placed_kinbody(i) else {
+                continue;
+            };
+            let mut boxes = Boxes::default();
+            for body in &placed.kinbody.bodies {
+                boxes.add(&body.geoms, &placed.pose.mul(&body.pose), None);
+            }
+            let deepest = boxes.deepest(&links);
             if deepest > OVERLAP_TOLERANCE {
                 out.push(format!(
                     "{} overlaps the robot's start pose (by {:.0} mm): move one of them",
@@ -338,40 +335,24 @@ impl EnvEditor {
         out
     }
 
-    /// World bounds of each geometry of object `i`.
-    fn geom_bounds(&self, i: usize) -> Vec<Aabb> {
-        let Some(kb) = self.placed_kinbody(i) else {
-            return Vec::new();
-        };
-        let mut out = Vec::new();
-        for body in &kb.0.bodies {
-            let bp = kb.1.mul(&body.pose);
-            for g in &body.geoms {
-                let local = match &g.shape {
-                    Shape::Trimesh { file, scale, .. } => self.mesh_aabb(file, *scale),
-                    other => shape_aabb(other),
-                };
-                let mut b = Aabb::EMPTY;
-                add_geom(&mut b, g, &bp, local);
-                out.push(b);
-            }
-        }
-        out
-    }
-
     /// Object `i` as a kinbody and its placement (none for an included file that cannot
-    /// be read).
-    fn placed_kinbody(&self, i: usize) -> Option<(KinBody, Pose)> {
+    /// be read), read through the file source the loader uses.
+    fn placed_kinbody(&self, i: usize) -> Option<PlacedKinBody> {
         match self.objects.get(i)? {
-            EnvObject::Inline(kb) => Some((kb.clone(), kb.pose)),
+            EnvObject::Inline(kb) => Some(PlacedKinBody {
+                kinbody: kb.clone(),
+                pose: kb.pose,
+            }),
             EnvObject::Include(inc) => {
                 let p = resolve_include(&FsSource, &self.file, &inc.file)?;
-                let text = std::fs::read_to_string(&p).ok()?;
+                let text = FsSource.read(&p).ok()?;
                 let kb =
                     crate::config::kinbody::parse_kinbody_file(&p.display().to_string(), &text)
                         .ok()?;
-                let pose = inc.pose.mul(&kb.pose);
-                Some((kb, pose))
+                Some(PlacedKinBody {
+                    pose: inc.pose.mul(&kb.pose),
+                    kinbody: kb,
+                })
             }
         }
     }
@@ -379,7 +360,7 @@ impl EnvEditor {
     /// World bounds of object `i` (empty for an included file that cannot be read).
     pub fn bounds(&self, i: usize) -> Aabb {
         match self.placed_kinbody(i) {
-            Some((kb, pose)) => self.kinbody_aabb(&kb, &pose),
+            Some(p) => self.kinbody_aabb(&p.kinbody, &p.pose),
             None => Aabb::EMPTY,
         }
     }
@@ -866,7 +847,10 @@ mod tests {
         ));
         assert!(matches!(e.set_mass(-1.0), Err(EditError::Mass(_))));
         assert!(matches!(e.scale([0.0, 1.0, 1.0]), Err(EditError::Scale(_))));
-        assert!(e.select(Some(Selected::Object(9))).is_err());
+        assert!(matches!(
+            e.select(Some(Selected::Object(9))),
+            Err(EditError::NoObject { .. })
+        ));
         assert!(!e.can_undo(), "refused edits leave no undo step");
     }
 

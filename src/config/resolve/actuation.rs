@@ -222,6 +222,7 @@ fn read_weights(
                     ErrorKind::MissingFile,
                     format!("weights file {}: {e}", found.display()),
                 )
+                .caused_by(e)
             })?;
             Some(WeightsFile {
                 path: found,

@@ -247,5 +247,6 @@ pub fn read_file(src: &dyn FileSource, path: &Path, from: &Path, pos: Pos) -> Co
             ErrorKind::MissingFile,
             format!("cannot read {}: {e}", path.display()),
         )
+        .caused_by(e)
     })
 }

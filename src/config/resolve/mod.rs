@@ -97,6 +97,7 @@ fn read_top(src: &dyn FileSource, path: &Path) -> ConfigResult<String> {
             ErrorKind::MissingFile,
             format!("cannot read the simulation file: {e}"),
         )
+        .caused_by(e)
     })
 }
 

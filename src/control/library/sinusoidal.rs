@@ -154,10 +154,30 @@ mod tests {
     #[test]
     fn bad_values_are_refused() {
         let mut m = Sinusoidal::new(2);
-        assert!(m.core.params.set(AMPLITUDE, None, f64::NAN).is_err());
-        assert!(m.core.params.set(AMPLITUDE, None, 120.0).is_err());
-        assert!(m.core.params.set(AMPLITUDE, Some(2), 10.0).is_err());
-        assert!(m.core.params.set_all(AMPLITUDE, &[1.0]).is_err());
+        use crate::control::module::ParamError;
+        assert!(matches!(
+            m.core.params.set(AMPLITUDE, None, f64::NAN),
+            Err(ParamError::NotFinite { .. })
+        ));
+        assert!(matches!(
+            m.core.params.set(AMPLITUDE, None, 120.0),
+            Err(ParamError::OutOfRange { value: 120.0, .. })
+        ));
+        assert!(matches!(
+            m.core.params.set(AMPLITUDE, Some(2), 10.0),
+            Err(ParamError::JointOutOfRange {
+                joint: 2,
+                joints: 2
+            })
+        ));
+        assert!(matches!(
+            m.core.params.set_all(AMPLITUDE, &[1.0]),
+            Err(ParamError::WrongCount {
+                given: 1,
+                joints: 2,
+                ..
+            })
+        ));
     }
 
     #[test]

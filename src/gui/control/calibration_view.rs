@@ -28,7 +28,7 @@ pub struct Calibrated {
 #[derive(Debug, thiserror::Error)]
 pub enum PanelError {
     /// The calibration failed.
-    #[error(transparent)]
+    #[error("{0}")]
     Calibrate(#[from] CalibrateError),
     /// Its thread ended without an answer.
     #[error("the calibration stopped without a result")]

@@ -389,8 +389,9 @@ fn best_candidate(
             "run {} is of {} ({}), not this window's configuration:",
             run.id, run.info.config, run.info.algorithm
         ));
-        for line in run.best_values.as_deref().unwrap_or_default().lines() {
-            ui.monospace(format!("  {}", line.trim()));
+        let values = run.best_values.iter().flatten();
+        for (gene, value) in run.info.genes.iter().zip(values) {
+            ui.monospace(format!("  {gene} {value}"));
         }
         ui.label(format!(
             "replay it with proleg gui --replay STORE --run {}",

@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::config::mesh::TriMesh;
-use crate::interop::urdf::ImportOptions;
+use crate::interop::urdf::options::ImportOptions;
 use crate::interop::{InteropError, write_text};
 
 /// Converts and writes the meshes of one import; each (file, scale) once.

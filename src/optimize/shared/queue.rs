@@ -5,7 +5,7 @@
 use crate::control::ModuleRegistry;
 use crate::optimize::error::OptimizeError;
 use crate::optimize::evaluate::Evaluator;
-use crate::optimize::scorer::{Round, Scorer, ScoringSummary, complete, reuse_stored};
+use crate::optimize::scorer::{Batching, Round, Scorer, ScoringSummary, complete, reuse_stored};
 use crate::optimize::scores::{CandidateScore, StoredEval};
 use crate::optimize::settings::RunSettings;
 use crate::optimize::shared::driver::{LocalWorkers, evaluate_round};
@@ -108,10 +108,7 @@ impl Scorer for QueueScorer<'_> {
             this.store.finish_run(this.run)?;
         }
         Ok(ScoringSummary {
-            batching: format!(
-                "one world per candidate, through the shared store ({} local worker thread(s))",
-                this.workers
-            ),
+            batching: Batching::SharedStore(this.workers),
             simulated: this.queued,
         })
     }

@@ -74,8 +74,9 @@ pub struct RunRow {
     pub evaluations: u64,
     /// The best score stored.
     pub best_score: Option<f64>,
-    /// The best candidate's values, as text.
-    pub best_values: Option<String>,
+    /// The best candidate's values, in gene order (`None` while the run has no scored
+    /// evaluation).
+    pub best_values: Option<Vec<f64>>,
     /// The best candidate's score on each engine (runs with `<engines>`; else empty).
     pub best_engines: Vec<(EngineKind, f64)>,
     /// Co-design bodies rejected unrun.
@@ -306,18 +307,23 @@ impl Place<'_> {
     }
 }
 
-/// The best evaluation's engine scores of run `run` (NULL when it has none).
-pub(crate) fn best_engines(
+/// The best evaluation's values and engine scores of run `run`, read from their columns'
+/// text (values NULL while it has no scored evaluation; engine scores NULL when it has
+/// none): both stores read a run's best through here.
+pub(crate) fn read_best(
+    row: &mut RunRow,
     store: &str,
-    run: i64,
-    text: Option<String>,
-) -> Result<Vec<(EngineKind, f64)>, StoreError> {
+    values: Option<String>,
+    engines: Option<String>,
+) -> Result<(), StoreError> {
     let place = Place {
         store,
-        run,
+        run: row.id,
         evaluation: None,
     };
-    place.engines(text.as_deref().unwrap_or_default())
+    row.best_values = values.map(|v| place.list("vals", &v)).transpose()?;
+    row.best_engines = place.engines(engines.as_deref().unwrap_or_default())?;
+    Ok(())
 }
 
 /// Every run with its count of finished evaluations, best score and best values, by id:

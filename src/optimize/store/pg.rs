@@ -11,8 +11,7 @@ use crate::optimize::store::location::PgTarget;
 use crate::optimize::store::schema::{Dialect, create_tables};
 use crate::optimize::store::{
     EVAL_COLUMNS, EpisodeRecord, EvalRow, ExperimentStore, RUNS_WITH_BEST, RunInfo, RunRow,
-    RunSpec, SCHEMA_VERSION, StoreError, StoredEval, best_engines, engine_scores_text, join,
-    score_of,
+    RunSpec, SCHEMA_VERSION, StoreError, StoredEval, engine_scores_text, join, read_best, score_of,
 };
 
 /// An open connection to a PostgreSQL store.
@@ -363,15 +362,16 @@ impl ExperimentStore for PgStore {
                     finished: r.try_get::<_, i32>(8)? != 0,
                     evaluations: r.try_get::<_, i64>(9)? as u64,
                     best_score: r.try_get(10)?,
-                    best_values: r.try_get(11)?,
+                    best_values: None,
                     best_engines: Vec::new(),
                     rejected: r.try_get::<_, i64>(13)? as u64,
                 };
-                Ok::<_, postgres::Error>((row, r.try_get::<_, Option<String>>(12)?))
+                let best: (Option<String>, Option<String>) = (r.try_get(11)?, r.try_get(12)?);
+                Ok::<_, postgres::Error>((row, best))
             })
             .map(|row| {
-                let (mut row, engines) = row.map_err(&fail)?;
-                row.best_engines = best_engines(&store, row.id, engines)?;
+                let (mut row, (values, engines)) = row.map_err(&fail)?;
+                read_best(&mut row, &store, values, engines)?;
                 Ok(row)
             })
             .collect()

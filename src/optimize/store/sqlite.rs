@@ -9,8 +9,7 @@ use rusqlite::{Connection, OptionalExtension, params};
 use crate::optimize::store::schema::{Dialect, create_tables};
 use crate::optimize::store::{
     EVAL_COLUMNS, EpisodeRecord, EvalRow, ExperimentStore, RUNS_WITH_BEST, RunInfo, RunRow,
-    RunSpec, SCHEMA_VERSION, StoreError, StoredEval, best_engines, engine_scores_text, join,
-    score_of,
+    RunSpec, SCHEMA_VERSION, StoreError, StoredEval, engine_scores_text, join, read_best, score_of,
 };
 
 /// An open SQLite store.
@@ -344,17 +343,18 @@ impl ExperimentStore for SqliteStore {
                     finished: r.get::<_, i64>(8)? != 0,
                     evaluations: r.get::<_, i64>(9)? as u64,
                     best_score: r.get(10)?,
-                    best_values: r.get(11)?,
+                    best_values: None,
                     best_engines: Vec::new(),
                     rejected: r.get::<_, i64>(13)? as u64,
                 };
-                Ok((row, r.get::<_, Option<String>>(12)?))
+                let best: (Option<String>, Option<String>) = (r.get(11)?, r.get(12)?);
+                Ok((row, best))
             })
             .map_err(|e| self.fail(e))?;
         let store = self.describe();
         rows.map(|row| {
-            let (mut row, engines) = row.map_err(|e| self.fail(e))?;
-            row.best_engines = best_engines(&store, row.id, engines)?;
+            let (mut row, (values, engines)) = row.map_err(|e| self.fail(e))?;
+            read_best(&mut row, &store, values, engines)?;
             Ok(row)
         })
         .collect()

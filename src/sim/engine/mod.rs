@@ -379,7 +379,7 @@ pub enum EngineSettings {
 #[derive(Debug, thiserror::Error)]
 pub enum EngineSettingsError {
     /// rapier's overrides that do not parse.
-    #[error(transparent)]
+    #[error("{0}")]
     Rapier(#[from] rapier::SettingsError),
     /// Overrides (rapier's `key=value` list) for a run on another engine.
     #[error("--physics sets rapier's settings; this run is on {0}")]

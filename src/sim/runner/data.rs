@@ -82,9 +82,9 @@ impl Simulator {
 #[derive(Debug, thiserror::Error)]
 pub enum RecordError {
     /// The world has no robot 0.
-    #[error(transparent)]
+    #[error("{0}")]
     Sim(#[from] SimError),
     /// The file cannot be created.
-    #[error(transparent)]
+    #[error("{0}")]
     Store(#[from] crate::data::store::DataStoreError),
 }
