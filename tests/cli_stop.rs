@@ -57,6 +57,15 @@ fn wait_for_a_stored_evaluation(child: &mut Child, store: &Path) {
     }
 }
 
+/// Everything left in a child's pipe.
+fn all_of(pipe: Option<impl Read>) -> String {
+    let mut text = String::new();
+    pipe.expect("a piped stream")
+        .read_to_string(&mut text)
+        .expect("read the pipe");
+    text
+}
+
 fn signal(child: &Child, name: &str) {
     let sent = Command::new("kill")
         .args([name, &child.id().to_string()])
@@ -112,13 +121,7 @@ fn ctrl_c_stops_an_optimization_of_long_episodes_at_once_and_resume_reaches_the_
     signal(&child, "-INT");
     let status = child.wait().expect("exit");
     let took = sent.elapsed();
-    let mut err = String::new();
-    child
-        .stderr
-        .take()
-        .expect("stderr")
-        .read_to_string(&mut err)
-        .expect("read stderr");
+    let err = all_of(child.stderr.take());
     eprintln!("exited {took:?} after SIGINT");
     assert_eq!(status.code(), Some(130), "{err}");
     assert!(
@@ -170,13 +173,7 @@ fn sigterm_ends_a_paced_run_at_its_next_step_with_status_143_and_its_report() {
     signal(&child, "-TERM");
     let status = child.wait().expect("exit");
     let took = sent.elapsed();
-    let mut text = String::new();
-    child
-        .stdout
-        .take()
-        .expect("stdout")
-        .read_to_string(&mut text)
-        .expect("stdout");
+    let text = all_of(child.stdout.take());
     assert_eq!(status.code(), Some(143), "{text}");
     assert!(took < Duration::from_secs(2), "took {took:?}");
     assert!(

@@ -83,8 +83,13 @@ pub fn run(a: &WorkerArgs, registry: &ModuleRegistry) -> Result<WorkerRun, CliEr
         idle_exit: a.idle_exit.map(|v| seconds("--idle-exit", v)).transpose()?,
         only_run: None,
     };
-    // Ctrl-C / SIGTERM end the worker after its current episodes.
-    let signal = crate::signal::subscribe()?;
+    // Ctrl-C / SIGTERM abandon the episodes in flight at once (the episode runner sees the
+    // flag between chunks) and hand their claims back; every written result stays.
+    let signal = crate::signal::subscribe_with(|| {
+        eprintln!(
+            "\nworker: stopping: the episodes in flight are abandoned and their claims handed back; every result written stays (Ctrl-C again quits at once)"
+        );
+    })?;
     let stop = signal.flag();
     let quiet = a.quiet;
     let report = run_pool(&target, registry, &options, &stop, None, &|m| {

@@ -54,6 +54,22 @@ struct LaneWork<'a> {
     lane: &'a mut Lane,
 }
 
+impl<'a> LaneWork<'a> {
+    /// Environment `index`'s environment, observation row, final-observation row and lane.
+    fn new(
+        index: usize,
+        (env, obs, fin, lane): (&'a mut Env, &'a mut [f64], &'a mut [f64], &'a mut Lane),
+    ) -> LaneWork<'a> {
+        LaneWork {
+            index,
+            env,
+            obs,
+            fin,
+            lane,
+        }
+    }
+}
+
 /// N environments of one simulation, stepped on a pool of threads.
 pub struct VecEnv {
     envs: Vec<Env>,
@@ -151,13 +167,7 @@ impl VecEnv {
                 .zip(self.lanes.iter_mut())
                 .enumerate()
                 .try_for_each(|(index, (((env, obs), fin), lane))| {
-                    f(LaneWork {
-                        index,
-                        env,
-                        obs,
-                        fin,
-                        lane,
-                    })
+                    f(LaneWork::new(index, (env, obs, fin, lane)))
                 }),
             Threads::Pool(pool) => {
                 let work = (
@@ -167,17 +177,9 @@ impl VecEnv {
                     self.lanes.par_iter_mut(),
                 );
                 pool.install(|| {
-                    work.into_par_iter().enumerate().try_for_each(
-                        |(index, (env, obs, fin, lane))| {
-                            f(LaneWork {
-                                index,
-                                env,
-                                obs,
-                                fin,
-                                lane,
-                            })
-                        },
-                    )
+                    work.into_par_iter()
+                        .enumerate()
+                        .try_for_each(|(index, parts)| f(LaneWork::new(index, parts)))
                 })
             }
         }
