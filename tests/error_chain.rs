@@ -31,8 +31,10 @@ fn a_missing_simulation_file_is_a_chain_from_the_command_to_the_system_error() {
     let err = run(&req, &ModuleRegistry::standard()).expect_err("no such file");
     assert!(matches!(err, CliError::Config(_)), "{err:?}");
     let mut chain: Vec<&(dyn Error + 'static)> = vec![&err];
-    while let Some(next) = chain.last().and_then(|e| e.source()) {
-        chain.push(next);
+    let mut next = err.source();
+    while let Some(e) = next {
+        chain.push(e);
+        next = e.source();
     }
     assert_eq!(chain.len(), 3, "command, file, system: {chain:?}");
     let file = chain[1]

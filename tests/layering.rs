@@ -269,6 +269,20 @@ fn expand_use(tree: &str) -> Vec<String> {
         .collect()
 }
 
+/// The modules `code` declares (`mod x;`, `pub mod x;`).
+fn declared_modules(code: &str) -> Vec<String> {
+    code.split(';')
+        .filter_map(|st| {
+            let (before, name) = st.trim().rsplit_once("mod ")?;
+            let before = before.lines().last().unwrap_or("").trim();
+            let name = name.trim();
+            (before.is_empty() || before.starts_with("pub") || before.ends_with(']'))
+                .then(|| name.to_string())
+                .filter(|n| n.chars().all(|c| c.is_alphanumeric() || c == '_'))
+        })
+        .collect()
+}
+
 /// The files of `src` that `file` imports: its `use` trees (paths from `crate`, `super`,
 /// `self` or a child module it declares; a `pub use` re-export does not count) and
 /// `crate::`/`super::` paths in its code, tests left out.
@@ -313,24 +327,7 @@ fn imports_of(src: &Path, file: &Path) -> Vec<std::path::PathBuf> {
         }
     }
     let me = module_of(src, file);
-    // The modules this file declares (`mod x;`, `pub mod x;`).
-    let children: Vec<String> = code
-        .split(';')
-        .filter_map(|st| {
-            let st = st.trim();
-            let name = st.rsplit_once("mod ")?.1.trim();
-            let before = st
-                .rsplit_once("mod ")?
-                .0
-                .lines()
-                .last()
-                .unwrap_or("")
-                .trim();
-            (before.is_empty() || before.starts_with("pub") || before.ends_with(']'))
-                .then(|| name.to_string())
-                .filter(|n| n.chars().all(|c| c.is_alphanumeric() || c == '_'))
-        })
-        .collect();
+    let children = declared_modules(&code);
     let mut out = Vec::new();
     for p in paths {
         let segments: Vec<String> = p.split("::").map(|s| s.trim().to_string()).collect();

@@ -5,10 +5,9 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use numpy::{PyArray1, PyReadonlyArray1};
-use proleg::config::fitness::Fitness;
 use proleg::config::simulation::EngineKind;
 use proleg::control::{ModuleRegistry, load_simulation_in};
-use proleg::gym::{ActionMode, EnvOptions, GymError, StepInfo, Transition};
+use proleg::gym::{GymError, StepInfo, Transition};
 use proleg::sim::{BuildOptions, RunSummary, SimError, Simulator};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;

@@ -74,7 +74,7 @@ pub struct ConfigError {
     /// Where the failing file was included from, innermost first.
     pub included_from: Vec<(PathBuf, Pos)>,
     /// Further faults found in the same pass (a file's physical checks report them all).
-    pub more: Vec<ConfigError>,
+    pub more: Box<[ConfigError]>,
     /// The system's error beneath it (a file that cannot be read).
     pub source: Option<std::sync::Arc<std::io::Error>>,
 }
@@ -93,7 +93,7 @@ impl ConfigError {
             kind,
             message: message.into(),
             included_from: Vec::new(),
-            more: Vec::new(),
+            more: Box::new([]),
             source: None,
         }
     }
@@ -116,7 +116,7 @@ impl ConfigError {
             return None;
         }
         let mut first = faults.remove(0);
-        first.more = faults;
+        first.more = faults.into_boxed_slice();
         Some(first)
     }
 }

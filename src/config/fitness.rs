@@ -79,7 +79,7 @@ mod tests {
         );
         assert!(matches!(
             Fitness::parse("fastest"),
-            Err(UnknownName { name, .. }) if name == "fastest"
+            Err(crate::config::error::UnknownName { name, .. }) if name == "fastest"
         ));
     }
 }

@@ -5,8 +5,6 @@
 //! angle (degrees) per connected joint. Its parameters are per joint, uniform or
 //! individual ([`Parameters`]); its intermediate values are logged ([`InternalData`]).
 
-use std::fmt;
-
 use crate::config::module_types::{ModuleDescriptor, ParamDescriptor};
 use crate::control::policy::{NetworkMismatch, PolicyNet};
 use crate::rng::SimRng;

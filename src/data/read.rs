@@ -4,7 +4,6 @@
 //! as cut. Files without our `typeParts` extension (the thesis's own) take each series'
 //! part count from its first frame.
 
-use std::fmt;
 use std::fs::File;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};

@@ -9,7 +9,6 @@
 pub mod mjcf;
 pub mod urdf;
 
-use std::fmt;
 use std::path::{Path, PathBuf};
 
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};

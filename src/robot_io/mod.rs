@@ -16,8 +16,6 @@ pub mod dynamixel;
 pub mod emulator;
 pub mod real_mode;
 
-use std::fmt;
-
 /// Which servos a command goes to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Target {
