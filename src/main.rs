@@ -1,6 +1,7 @@
 //! The `proleg` command line: parses the arguments, runs the command
 //! ([`proleg::commands`]) and prints what it returns, or its error. A command that Ctrl-C
-//! or SIGTERM stopped exits with the shell's status for it (130, 143).
+//! or SIGTERM stopped exits with the shell's status for it (130, 143); a window a signal
+//! closed exits cleanly, as from its close button.
 
 use std::process::ExitCode;
 
@@ -15,8 +16,9 @@ fn main() -> ExitCode {
     for message in commands.warnings(&cli) {
         eprintln!("warning: {message}");
     }
+    let window = cli.opens_a_window();
     let result = commands.execute(cli);
-    let stopped_by = proleg::signal::received();
+    let stopped_by = proleg::signal::received().filter(|_| !window);
     match result {
         Ok(text) => print!("{text}"),
         Err(e) if stopped_by.is_some() => eprintln!("stopped: {e}"),

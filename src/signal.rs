@@ -144,17 +144,19 @@ fn install() -> Result<(), SignalError> {
 }
 
 fn add(wake: Option<Wake>) -> Result<Subscription, SignalError> {
-    install()?;
     let (id, flag) = (
         NEXT_ID.fetch_add(1, Ordering::SeqCst),
         Arc::new(AtomicBool::new(false)),
     );
+    // Listed before the handlers exist: a signal that comes as they are installed finds it.
     subscribers().push(Subscriber {
         id,
         flag: flag.clone(),
         wake,
     });
-    Ok(Subscription { id, flag })
+    let subscription = Subscription { id, flag };
+    install()?;
+    Ok(subscription)
 }
 
 /// A stop flag for the next Ctrl-C / SIGTERM (installs the handler on first use).

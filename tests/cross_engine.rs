@@ -248,20 +248,23 @@ fn a_stiffer_contact_presses_a_resting_robot_less_into_the_floor() {
 }
 
 /// Every evaluation of a store as its TSV rows without the store's name and wall seconds:
-/// number, round, score, genome, values, engine scores.
+/// number, round, score, best so far, genome, values, engine scores.
 fn exported(store: &str, name: &str) -> Vec<String> {
     let tsv = common::scratch(name).join("evaluations.tsv");
     let (ok, _, err) = common::proleg(&["results", store, "--export", tsv.to_str().unwrap()]);
     assert!(ok, "{err}");
-    std::fs::read_to_string(&tsv)
-        .unwrap()
-        .lines()
-        .skip(1)
-        .map(|l| {
-            let f: Vec<&str> = l.split('\t').collect();
-            [f[2], f[3], f[4], f[6], f[7], f[8]].join(" ")
-        })
-        .collect()
+    common::table_columns(
+        &std::fs::read_to_string(&tsv).unwrap(),
+        &[
+            "evaluation",
+            "round",
+            "score",
+            "best",
+            "genome",
+            "values",
+            "engine_scores",
+        ],
+    )
 }
 
 #[test]

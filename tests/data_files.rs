@@ -240,7 +240,8 @@ fn plot_writes_a_png_of_the_asked_size() {
     let w = SeriesSelector::parse_list("Robot_Data/nope").unwrap();
     let e = proleg::data::plot::plot(&file, XAxis::SimTime, &w, &bad, (640, 360))
         .expect_err("no such series");
-    assert_eq!(e.file, bad, "the error names the picture not written: {e}");
+    assert_eq!(e.file, file, "the error names the data file read: {e}");
+    assert!(e.message.contains("no series \"nope\""), "{e}");
     assert!(!bad.exists());
 }
 

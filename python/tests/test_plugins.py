@@ -17,9 +17,10 @@ ROOT = Path(proleg.scenario_path("demo.simulation.xml")).parent.parent
 CONFIG = ROOT / "plugins" / "configs" / "snake5p_square_wave.simulation.xml"
 
 
-@pytest.fixture(scope="module")
-def plugin_lib(tmp_path_factory, proleg_bin):
-    lib = tmp_path_factory.mktemp("plugins") / "lib"
+@pytest.fixture
+def plugin_lib(tmp_path, proleg_bin):
+    # `proleg plugin build` reuses the plugin workspace's cargo build (target/plugins).
+    lib = tmp_path / "lib"
     built = subprocess.run(
         [proleg_bin, "plugin", "build", "--lib", str(lib)],
         cwd=ROOT,

@@ -182,7 +182,9 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Cli
 /// Runs `duration` seconds as one episode, stopping early on Ctrl-C / SIGTERM or when the
 /// robot leaves the world; says which stopped it. A paced run paces each chunk.
 fn run_in_chunks(simulator: &mut Simulator, duration: f64) -> Result<Option<RunStop>, CliError> {
-    let stop = crate::signal::subscribe()?.flag();
+    // The subscription must live as long as the run: a dropped one hears no signal.
+    let subscription = crate::signal::subscribe()?;
+    let stop = subscription.flag();
     // `proleg run` reports displacement; the fitness only scores, and nothing reads it here.
     let settings = EpisodeSettings::new(simulator, duration, Fitness::Displacement);
     let mut episode = Episode::begin(simulator, settings)?;

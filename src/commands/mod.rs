@@ -31,6 +31,17 @@ pub struct Cli {
     pub command: Option<Command>,
 }
 
+impl Cli {
+    /// Whether the command is a window: a signal closes a window as its close button does
+    /// (a clean exit), while it stops any other command (exit status 130 or 143).
+    pub fn opens_a_window(&self) -> bool {
+        matches!(
+            self.command,
+            None | Some(Command::Gui(_)) | Some(Command::Wizard(_))
+        )
+    }
+}
+
 /// The commands.
 #[derive(Subcommand)]
 pub enum Command {

@@ -194,3 +194,29 @@ pub fn simulation_file(path: &Path, [robot, actuation, env]: [&Path; 3], duratio
     std::fs::write(path, text).expect("simulation file");
     path.to_path_buf()
 }
+
+/// The rows of an exported evaluations table (`proleg results --export`), each the fields of
+/// `columns` joined by spaces, found by the header's names.
+pub fn table_columns(tsv: &str, columns: &[&str]) -> Vec<String> {
+    let mut lines = tsv.lines();
+    let header: Vec<&str> = lines.next().unwrap_or_default().split('\t').collect();
+    let at: Vec<usize> = columns
+        .iter()
+        .map(|c| {
+            header
+                .iter()
+                .position(|h| h == c)
+                .unwrap_or_else(|| panic!("no column {c} in {header:?}"))
+        })
+        .collect();
+    lines
+        .map(|l| {
+            let f: Vec<&str> = l.split('\t').collect();
+            let picked: Vec<&str> = at
+                .iter()
+                .map(|&i| f.get(i).copied().unwrap_or(""))
+                .collect();
+            picked.join(" ")
+        })
+        .collect()
+}

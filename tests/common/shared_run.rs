@@ -40,28 +40,24 @@ pub fn sqlite_run(name: &str, evals: &str, duration: &str) -> (Vec<String>, Stri
     (lines, path)
 }
 
-/// Every evaluation of a store's runs as (number, round, score, genome, engine scores), by
-/// `proleg results --export` (store name and wall seconds left out).
+/// Every evaluation of a store's runs as (number, round, score, best so far, genome, engine
+/// scores), by `proleg results --export` (store name and wall seconds left out).
 pub fn evaluations(pg: &Pg, store: &str, name: &str) -> Vec<String> {
     let tsv = super::scratch(name).join("evaluations.tsv");
     let out = output(pg.proleg(&["results", store, "--export", tsv.to_str().unwrap()]));
     assert!(out.status.success(), "{}", text(&out.stderr));
     let all = std::fs::read_to_string(&tsv).unwrap();
-    let rows: Vec<String> = all
-        .lines()
-        .skip(1)
-        .map(|l| {
-            let f: Vec<&str> = l.split('\t').collect();
-            format!(
-                "{} {} {} {} {}",
-                f[2],
-                f[3],
-                f[4],
-                f[6],
-                f.get(8).copied().unwrap_or_default()
-            )
-        })
-        .collect();
+    let rows = super::table_columns(
+        &all,
+        &[
+            "evaluation",
+            "round",
+            "score",
+            "best",
+            "genome",
+            "engine_scores",
+        ],
+    );
     assert!(!rows.is_empty());
     rows
 }
