@@ -54,7 +54,7 @@ pub fn load(
         .map_err(|e| config_error(&e))?;
     let sim = Arc::new(sim.with_engine(kind));
     let world = py
-        .detach(|| Simulation::build(&sim, seed))
+        .detach(|| Simulation::build(&sim, seed, registry))
         .map_err(sim_error)?;
     Ok(Simulation {
         sim,
@@ -70,16 +70,19 @@ pub struct Simulation {
 }
 
 impl Simulation {
-    /// The world of `sim` seeded with `seed` (default: the file's).
-    fn build(sim: &proleg::config::Simulation, seed: Option<u64>) -> Result<Simulator, SimError> {
+    /// The world of `sim` seeded with `seed` (default: the file's), its modules made from
+    /// `registry`'s types (plugins too).
+    fn build(
+        sim: &proleg::config::Simulation,
+        seed: Option<u64>,
+        registry: &ModuleRegistry,
+    ) -> Result<Simulator, SimError> {
         let seed = seed.unwrap_or(sim.files.simulation.properties.seed);
-        Simulator::new(
-            sim,
-            &BuildOptions {
-                seed,
-                ..Default::default()
-            },
-        )
+        let opts = BuildOptions {
+            seed,
+            ..Default::default()
+        };
+        Simulator::with_registry(sim, &opts, registry)
     }
 
     fn world(&self) -> PyResult<&Simulator> {
@@ -173,9 +176,9 @@ impl Simulation {
     /// Builds the world anew with `seed` (default: the file's).
     #[pyo3(signature = (seed=None))]
     fn reset(&mut self, py: Python<'_>, seed: Option<u64>) -> PyResult<()> {
-        let sim = &self.sim;
+        let (sim, registry) = (&self.sim, crate::modules::registry(py)?);
         let fresh = py
-            .detach(|| Simulation::build(sim, seed))
+            .detach(|| Simulation::build(sim, seed, registry))
             .map_err(sim_error)?;
         self.world = Some(fresh);
         Ok(())
