@@ -569,7 +569,7 @@ fn joints_outside_their_limits_are_brought_in_by_their_servos_on_every_articulat
     for (engine, articulation) in runs {
         sim.environment.physics.articulation = articulation;
         let opts = proleg::sim::BuildOptions {
-            engine: Some(engine),
+            engine: engine.into(),
             record: false,
             ..Default::default()
         };

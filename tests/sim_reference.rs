@@ -34,7 +34,7 @@ fn trajectory_hash(config: &str, seconds: f64, engine: EngineKind) -> u64 {
         robots: 1,
         seed: sim.files.simulation.properties.seed,
         record: false,
-        engine: Some(engine),
+        engine: engine.into(),
         ..Default::default()
     };
     let mut s = Simulator::new(&sim, &opts).unwrap();

@@ -188,7 +188,7 @@ fn run_on(
     let opts = BuildOptions {
         robots: 1,
         seed: sim.files.simulation.properties.seed,
-        engine: Some(engine),
+        engine: engine.into(),
         ..BuildOptions::default()
     };
     let mut s = Simulator::with_registry(sim, &opts, registry)?;

@@ -71,7 +71,7 @@ pub fn episode(
         robots: 1,
         seed: sim.files.simulation.properties.seed,
         record: false,
-        settings: Some(settings),
+        engine: settings.into(),
         ..Default::default()
     };
     let mut s = Simulator::with_registry(sim, &opts, registry)?;

@@ -37,7 +37,7 @@ use crate::control::{ModuleRegistry, load_simulation};
 use crate::data::store::DataStore;
 use crate::sim::datalog::DataSettings;
 use crate::sim::engine::EngineSettings;
-use crate::sim::{BuildOptions, Simulator};
+use crate::sim::{BuildOptions, EngineChoice, Simulator};
 
 pub use error::BenchError;
 
@@ -85,8 +85,7 @@ pub(crate) fn world_of(
             robots,
             seed: 1,
             record: false,
-            engine: Some(sim.engine()),
-            settings,
+            engine: settings.map_or(EngineChoice::Production(sim.engine()), EngineChoice::Tuned),
             ..Default::default()
         },
         registry,

@@ -84,7 +84,7 @@ fn time_stages(
 ) -> Result<EngineStages, StagesError> {
     let opts = BuildOptions {
         record: false,
-        engine: Some(engine),
+        engine: engine.into(),
         ..Default::default()
     };
     let stages = SimPlugins.build().add(StageTimerPlugin);

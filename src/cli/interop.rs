@@ -196,7 +196,7 @@ fn settle_articulation(
     };
     let first = run(sim)?;
     if first.at_rest()
-        || opts.engine_for(sim) != EngineKind::Rapier
+        || opts.engine.kind_for(sim) != EngineKind::Rapier
         || sim.environment.physics.articulation == Articulation::Reduced
     {
         return Ok((first, None));
@@ -394,7 +394,7 @@ pub fn settle(
     let opts = crate::sim::BuildOptions {
         robots: 1,
         record: false,
-        settings: Some(settings),
+        engine: settings.into(),
         ..Default::default()
     };
     Ok(crate::sim::settle::settle(&sim, seconds, &opts, registry)?)

@@ -123,7 +123,7 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Cli
         robots: 1,
         seed,
         record: false,
-        settings: Some(settings),
+        engine: settings.into(),
         ..Default::default()
     };
     let mut simulator = Simulator::with_registry(&sim, &opts, registry)?;

@@ -396,8 +396,7 @@ impl Evaluator {
             robots: genomes.len(),
             seed: world.seed,
             record: false,
-            engine: world.engine,
-            settings: None,
+            engine: world.engine.into(),
             noise: world.noise,
         };
         let mut s = Simulator::with_registry(sim, &opts, &self.registry)?;

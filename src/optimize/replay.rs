@@ -280,8 +280,7 @@ impl Replay {
             seed: self.seed,
             record,
             noise: self.noise,
-            engine: Some(self.engine),
-            ..BuildOptions::default()
+            engine: self.engine.into(),
         }
     }
 

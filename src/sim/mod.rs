@@ -52,5 +52,5 @@ pub use error::SimError;
 pub use pacing::{Pacer, Pacing};
 pub use runner::{RunSummary, Simulator};
 pub use schedule::{SimStep, SimSystems};
-pub use spawn::BuildOptions;
+pub use spawn::{BuildOptions, EngineChoice};
 pub use stages::{SimPlugins, StageTimerPlugin, StageTimes};

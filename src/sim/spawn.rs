@@ -36,12 +36,8 @@ pub struct BuildOptions {
     pub seed: u64,
     /// Record trajectories (off for throughput runs).
     pub record: bool,
-    /// The physics engine instead of the one the simulation file names (its production
-    /// settings).
-    pub engine: Option<EngineKind>,
-    /// An engine with settings instead of the production ones (`--physics`, converged
-    /// references); it names the engine too, so it wins over `engine`.
-    pub settings: Option<EngineSettings>,
+    /// Which engine, with which settings.
+    pub engine: EngineChoice,
     /// Noise on what modules read (randomized episodes; none by default).
     pub noise: SensorNoise,
 }
@@ -52,8 +48,7 @@ impl Default for BuildOptions {
             robots: 1,
             seed: 1,
             record: true,
-            engine: None,
-            settings: None,
+            engine: EngineChoice::FromFile,
             noise: SensorNoise::default(),
         }
     }
@@ -86,23 +81,54 @@ pub struct SimLink {
 #[derive(Resource, Debug, Clone)]
 pub struct LoadedSimulation(pub Simulation);
 
-impl BuildOptions {
-    /// The engine these options build `sim` on: the settings' engine, else the override,
-    /// else the file's.
-    pub fn engine_for(&self, sim: &Simulation) -> EngineKind {
-        match self.settings {
-            Some(s) => s.kind(),
-            None => self
-                .engine
-                .unwrap_or(sim.files.simulation.properties.engine),
+/// The one answer to "which engine, with which settings" a world is built with.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum EngineChoice {
+    /// The engine the simulation file names, with its production settings.
+    #[default]
+    FromFile,
+    /// This engine instead of the file's, with its production settings (`--engine`).
+    Production(EngineKind),
+    /// An engine with settings other than the production ones (`--physics`, converged
+    /// references); the settings name their engine.
+    Tuned(EngineSettings),
+}
+
+impl From<EngineKind> for EngineChoice {
+    fn from(kind: EngineKind) -> Self {
+        EngineChoice::Production(kind)
+    }
+}
+
+/// An engine named for one world (a cross-engine score) or none (the file's).
+impl From<Option<EngineKind>> for EngineChoice {
+    fn from(kind: Option<EngineKind>) -> Self {
+        kind.map_or(EngineChoice::FromFile, EngineChoice::Production)
+    }
+}
+
+impl From<EngineSettings> for EngineChoice {
+    fn from(settings: EngineSettings) -> Self {
+        EngineChoice::Tuned(settings)
+    }
+}
+
+impl EngineChoice {
+    /// The engine this choice builds `sim` on.
+    pub fn kind_for(&self, sim: &Simulation) -> EngineKind {
+        match self {
+            EngineChoice::FromFile => sim.files.simulation.properties.engine,
+            EngineChoice::Production(kind) => *kind,
+            EngineChoice::Tuned(settings) => settings.kind(),
         }
     }
 
-    /// The engine and settings these options build `sim` with: the settings given, else
-    /// [`engine_for`](Self::engine_for)'s production settings.
+    /// The engine and settings this choice builds `sim` with.
     pub fn settings_for(&self, sim: &Simulation) -> EngineSettings {
-        self.settings
-            .unwrap_or_else(|| EngineSettings::production(sim, self.engine_for(sim)))
+        match self {
+            EngineChoice::Tuned(settings) => *settings,
+            _ => EngineSettings::production(sim, self.kind_for(sim)),
+        }
     }
 }
 
@@ -121,7 +147,7 @@ pub fn build_world(
     let (physics, layout) = engine::build(
         sim,
         &EngineBuild {
-            settings: opts.settings_for(sim),
+            settings: opts.engine.settings_for(sim),
             robots: opts.robots,
         },
     )?;
