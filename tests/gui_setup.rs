@@ -44,6 +44,7 @@ fn inline(o: &EnvObject) -> &KinBody {
     match o {
         EnvObject::Inline(kb) => kb,
         EnvObject::Include(i) => panic!("an include: {}", i.file),
+        EnvObject::Terrain(t) => panic!("a terrain: {}", t.label()),
     }
 }
 

@@ -13,7 +13,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("sensing", &[]),
     ("data", &[]),
     ("signal", &[]),
-    ("config", &[]),
+    ("config", &["rng"]),
     ("control", &["config", "measure", "rng", "sensing"]),
     ("plugin_host", &["config", "control", "rng"]),
     ("remote", &["config", "control"]),

@@ -20,6 +20,7 @@
 //! | `proleg settle` | [`interop`] (the settle report) |
 //! | `proleg policy init / show` | [`policy`] |
 //! | `proleg robustness` | [`robustness`] |
+//! | `proleg terrain` | [`terrain`] ([`terrain::TerrainReport`]) |
 //! | `proleg dashboard` | [`dashboard`] |
 
 pub mod bench;
@@ -36,6 +37,7 @@ pub mod results;
 pub mod robot;
 pub mod robustness;
 pub mod run;
+pub mod terrain;
 pub mod worker;
 
 /// The simulation the control window and the benchmarks use when none is given.

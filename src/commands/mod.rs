@@ -85,6 +85,9 @@ pub enum Command {
     /// Re-evaluate a stored candidate on fresh randomized episodes (friction, masses, servo
     /// torque and gain, start pose, sensor noise): how much of its score a gait keeps.
     Robustness(cli::robustness::RobustnessArgs),
+    /// Write a generated course (rough, hills, steps, stairs, slope, pegs, channel, rubble)
+    /// at a difficulty and seed as an ordinary environment file, to edit by hand.
+    Terrain(cli::terrain::TerrainArgs),
     /// Run a simulation on each engine (closed loop) and measure each run the same way:
     /// displacement, heading, joint tracking, penetration, links in contact, slip; with the
     /// spread between engines and a PNG of the paths and joint angles.
@@ -239,6 +242,7 @@ impl Commands {
             )),
             Command::Policy { command } => printed(cli::policy::run(&command, registry)),
             Command::Robustness(args) => printed(cli::robustness::run(&args, registry)),
+            Command::Terrain(args) => printed(cli::terrain::run(&args)),
             Command::Compare(args) => printed(cli::compare::run(&args, registry)),
             Command::Robot(options) => printed(cli::robot::robot(&options, registry)),
             Command::RobotEmulator(options) => printed(cli::robot::emulator(&options)),

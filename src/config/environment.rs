@@ -1,5 +1,6 @@
 //! Environment files (`*.env.xml`, thesis listing B.6): physics properties, static and
-//! dynamic objects, and the robot's start pose.
+//! dynamic objects, procedural courses (`<Terrain>`, [`crate::config::terrain`]), and the
+//! robot's start pose.
 //!
 //! The thesis stores the robot pose as a trailing comment `<!--Pose: ,w x y z,x y z,-->`
 //! (OpenRAVE's transform order: rotation quaternion, then translation). We read it, and
@@ -10,6 +11,7 @@ use crate::config::body::MAX_FRICTION;
 use crate::config::contact::{ContactModel, read_contact, write_contact};
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
 use crate::config::kinbody::{Include, KinBody};
+use crate::config::terrain::TerrainSpec;
 use crate::config::transform::{POSE_ELEMENTS, Pose};
 use crate::config::xml::dom::Element;
 use crate::config::xml::read::{Reader, read_document};
@@ -86,6 +88,8 @@ pub enum EnvObject {
     Inline(KinBody),
     /// A kinbody file included with a pose.
     Include(Include),
+    /// A procedural course (`<Terrain>`), generated when the file is resolved.
+    Terrain(TerrainSpec),
 }
 
 /// An environment file as written.
@@ -191,7 +195,7 @@ fn parse_pose_comment(r: &Reader, body: &str, pos: Pos) -> ConfigResult<Option<P
 pub fn parse_environment_file(file: &str, text: &str) -> ConfigResult<EnvironmentFile> {
     let (doc, r) = read_document(file, text, "Environment", "an environment file")?;
     let root = &doc.root;
-    r.only_children(root, &["physicsengine", "kinbody", "robotpose"])?;
+    r.only_children(root, &["physicsengine", "kinbody", "terrain", "robotpose"])?;
     r.only_attrs(root, &[])?;
     let physics = r
         .at_most_one(root, "physicsengine")?
@@ -199,12 +203,16 @@ pub fn parse_environment_file(file: &str, text: &str) -> ConfigResult<Environmen
         .transpose()?
         .unwrap_or_default();
     let mut objects = Vec::new();
-    for kb in root.children_named("kinbody") {
-        objects.push(if kb.attr("file").is_some() {
-            EnvObject::Include(Include::read(&r, kb)?)
-        } else {
-            EnvObject::Inline(KinBody::read(&r, kb)?)
-        });
+    for el in &root.children {
+        if el.is("terrain") {
+            objects.push(EnvObject::Terrain(TerrainSpec::read(&r, el)?));
+        } else if el.is("kinbody") {
+            objects.push(if el.attr("file").is_some() {
+                EnvObject::Include(Include::read(&r, el)?)
+            } else {
+                EnvObject::Inline(KinBody::read(&r, el)?)
+            });
+        }
     }
     let mut robot_pose = None;
     for (body, pos) in doc.outer_comments.iter().chain(root.comments.iter()) {
@@ -246,6 +254,7 @@ pub fn write_environment_file(env: &EnvironmentFile) -> String {
         match o {
             EnvObject::Inline(kb) => kb.write(&mut w),
             EnvObject::Include(i) => i.write(&mut w),
+            EnvObject::Terrain(t) => t.write(&mut w),
         }
     }
     if let Some(p) = &env.robot_pose {

@@ -1,6 +1,6 @@
 //! Triangle meshes for `trimesh` and `heightfield` geometries: a small Wavefront OBJ reader
-//! (vertices and faces; polygons are fanned into triangles), and the test that a mesh is a
-//! height map.
+//! (vertices and faces; polygons are fanned into triangles) and writer, and the test that a
+//! mesh is a height map.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -73,6 +73,19 @@ impl TriMesh {
             triangles,
             height_map: OnceLock::new(),
         }
+    }
+
+    /// The mesh as OBJ text, vertices to 1 µm, under a `# header` comment line.
+    pub fn obj_text(&self, header: &str) -> String {
+        use std::fmt::Write as _;
+        let mut s = format!("# {header}\n");
+        for v in &self.vertices {
+            let _ = writeln!(s, "v {:.6} {:.6} {:.6}", v[0], v[1], v[2]);
+        }
+        for t in &self.triangles {
+            let _ = writeln!(s, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+        }
+        s
     }
 
     /// Axis-aligned bounds `(min, max)`.

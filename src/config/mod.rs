@@ -4,7 +4,8 @@
 //! - [`simulation`]: `*.simulation.xml`, the top-level file naming the others (B.1)
 //! - [`robot`], [`kinbody`], [`body`], [`sensor`]: robots, module parts, sensors (B.2-B.4)
 //! - [`actuation`]: which modules drive which joints (B.5)
-//! - [`environment`]: physics and terrain (B.6)
+//! - [`environment`]: physics and terrain (B.6); [`terrain`]: procedural courses (families,
+//!   difficulty, seed) generated into an environment's bodies
 //! - [`optimizer`]: the optimizer file (B.7: the GA and great deluge, and our CMA-ES,
 //!   evolution strategy and MAP-Elites); [`fitness`]: the names of the fitness functions
 //!   they choose from; our extensions of it: [`cross_engine`] (scores on several engines),
@@ -52,6 +53,7 @@ pub mod simulation;
 pub mod source;
 pub mod start_clearance;
 pub mod summary;
+pub mod terrain;
 pub mod transform;
 pub mod xml;
 

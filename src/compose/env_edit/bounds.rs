@@ -147,6 +147,9 @@ impl SceneMeshes {
     /// error is kept, [`SceneMeshes::errors`]).
     pub fn mesh(&self, scene: &Path, file: &str) -> Option<Arc<TriMesh>> {
         let mut cache = self.cache();
+        if file.starts_with(crate::config::terrain::GENERATED_MESH) {
+            return cache.meshes.get(file).cloned();
+        }
         let loaded = match resolve_include(&FsSource, scene, file) {
             Some(path) => cache.meshes.load(&path).map_err(MeshError::from),
             None => Err(MeshError::NotFound {
@@ -161,6 +164,11 @@ impl SceneMeshes {
                 None
             }
         }
+    }
+
+    /// Keeps a generated terrain's height field under the name its geometry gives.
+    pub fn add_generated(&self, name: String, mesh: Arc<TriMesh>) {
+        self.cache().meshes.insert(name, mesh);
     }
 
     /// Bounds of mesh `file` scaled by `scale` (none when it cannot be read).

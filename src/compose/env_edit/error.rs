@@ -35,6 +35,14 @@ pub enum EditError {
         /// The file as the scene names it.
         file: String,
     },
+    /// A generated terrain, whose bodies come from its family, difficulty and seed.
+    #[error(
+        "{label} is a generated terrain: it moves and turns here; change its difficulty or seed, or write it out with `proleg terrain` to edit its bodies"
+    )]
+    Generated {
+        /// The terrain's short name.
+        label: String,
+    },
     /// Scale factors outside 0..1000.
     #[error("scale factors {0:?} must lie in 0..1000")]
     Scale([f64; 3]),

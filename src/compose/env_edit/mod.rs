@@ -114,6 +114,7 @@ fn object_pose(o: &EnvObject) -> Pose {
     match o {
         EnvObject::Inline(kb) => kb.pose,
         EnvObject::Include(i) => i.pose,
+        EnvObject::Terrain(t) => t.pose,
     }
 }
 
@@ -121,6 +122,7 @@ fn object_pose_mut(o: &mut EnvObject) -> &mut Pose {
     match o {
         EnvObject::Inline(kb) => &mut kb.pose,
         EnvObject::Include(i) => &mut i.pose,
+        EnvObject::Terrain(t) => &mut t.pose,
     }
 }
 
@@ -129,6 +131,7 @@ pub fn object_name(o: &EnvObject, index: usize) -> String {
     match o {
         EnvObject::Inline(kb) => kb.name.clone().unwrap_or_else(|| format!("object {index}")),
         EnvObject::Include(i) => format!("{} (file)", i.file),
+        EnvObject::Terrain(t) => format!("terrain {}", t.label()),
     }
 }
 
@@ -354,7 +357,21 @@ impl EnvEditor {
                     kinbody: kb,
                 })
             }
+            EnvObject::Terrain(t) => Some(PlacedKinBody {
+                kinbody: self.terrain(t),
+                pose: t.pose,
+            }),
         }
+    }
+
+    /// A generated terrain's bodies (placed by its pose); its height field joins the
+    /// scene's meshes, so it is drawn and measured as a mesh file would be.
+    pub fn terrain(&self, spec: &crate::config::terrain::TerrainSpec) -> KinBody {
+        let generated = crate::config::terrain::generate(spec);
+        for (name, mesh) in generated.meshes {
+            self.meshes.add_generated(name, mesh);
+        }
+        generated.kinbody
     }
 
     /// World bounds of object `i` (empty for an included file that cannot be read).
@@ -535,6 +552,7 @@ impl EnvEditor {
                     Some(EnvObject::Include(inc)) => Err(EditError::Included {
                         file: inc.file.clone(),
                     }),
+                    Some(EnvObject::Terrain(t)) => Err(EditError::Generated { label: t.label() }),
                     None => Err(EditError::NoObject { index: i, count }),
                 }
             }

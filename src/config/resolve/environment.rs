@@ -1,5 +1,6 @@
 //! The resolved environment: physics properties, every object flattened into placed
-//! static or dynamic bodies, and the robot's start pose.
+//! static or dynamic bodies (a procedural terrain generated into its bodies first), and
+//! the robot's start pose.
 
 use std::path::{Path, PathBuf};
 
@@ -70,6 +71,13 @@ pub fn resolve_environment(
         match o {
             EnvObject::Inline(kb) => fl.add(kb, path, "", &Pose::IDENTITY)?,
             EnvObject::Include(inc) => fl.include(inc, path, "", &Pose::IDENTITY)?,
+            EnvObject::Terrain(spec) => {
+                let generated = crate::config::terrain::generate(spec);
+                for (name, mesh) in generated.meshes {
+                    fl.out.meshes.insert(name, mesh);
+                }
+                fl.add(&generated.kinbody, path, "", &Pose::IDENTITY)?
+            }
         }
     }
     if let Some(j) = fl.out.joints.first() {

@@ -11,6 +11,7 @@ use crate::config::kinbody::{Include, Joint, KinBody, parse_kinbody_file};
 use crate::config::mesh::{Meshes, parse_obj};
 use crate::config::sensor::AttachedSensor;
 use crate::config::source::{FileSource, resolve_include};
+use crate::config::terrain::GENERATED_MESH;
 use crate::config::transform::Pose;
 
 /// A body placed in the frame of the flattened kinbody.
@@ -182,6 +183,10 @@ impl<'a> Flattener<'a> {
             ..
         } = &mut g.shape
         {
+            if mesh.starts_with(GENERATED_MESH) && self.out.meshes.get(mesh).is_some() {
+                // A generated terrain's height field: in memory, a height map by making.
+                return Ok(());
+            }
             let path = find_file(self.src, file, mesh, g.pos, "mesh")?;
             let key = path.display().to_string();
             if self.out.meshes.get(&key).is_none() {

@@ -248,6 +248,7 @@ impl Spawner<'_, '_, '_> {
                     });
                     (inc.pose, kb, Some(inc.file.clone()))
                 }
+                EnvObject::Terrain(t) => (t.pose, Some(env.terrain(t)), Some(t.label())),
             };
             let e = self.item(
                 ItemVisual(Selected::Object(i)),

@@ -3,7 +3,6 @@
 //! scaled and written once each as OBJ next to the imported robot.
 
 use std::collections::BTreeMap;
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::config::mesh::TriMesh;
@@ -89,7 +88,10 @@ impl MeshWriter {
             n += 1;
             file = format!("meshes/{stem}_{n}.obj");
         }
-        write_text(&self.out_dir.join(&file), &obj_text(&mesh))?;
+        write_text(
+            &self.out_dir.join(&file),
+            &mesh.obj_text("written by proleg import (scaled to metres)"),
+        )?;
         self.written.insert(key, (file.clone(), mesh));
         Ok(Some(file))
     }
@@ -212,16 +214,4 @@ fn read_stl(path: &Path) -> Result<TriMesh, InteropError> {
         .map(|f| f.vertices.map(|i| i as u32))
         .collect::<Vec<_>>();
     checked(path, vertices, triangles)
-}
-
-/// OBJ text of a mesh, vertices to 1 µm.
-fn obj_text(mesh: &TriMesh) -> String {
-    let mut s = String::from("# written by proleg import (scaled to metres)\n");
-    for v in &mesh.vertices {
-        let _ = writeln!(s, "v {:.6} {:.6} {:.6}", v[0], v[1], v[2]);
-    }
-    for t in &mesh.triangles {
-        let _ = writeln!(s, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
-    }
-    s
 }

@@ -212,6 +212,9 @@ pub trait PhysicsEngine: Send + Sync + 'static {
     fn pad_contact(&self, p: PadId) -> (bool, [f64; 3]);
     /// Casts laser `l`'s beams; fills `ranges` (m), the maximum range where nothing is hit.
     fn scan(&self, l: LaserId, ranges: &mut [f64]);
+    /// The height (m) of the first surface straight below (x, y) from [`PROBE_FROM`] m up
+    /// (a robot there included), or `None` when nothing is below.
+    fn height_below(&self, x: f64, y: f64) -> Option<f64>;
     /// Moves body `b` by `delta` (m), keeping its velocity and orientation.
     fn translate_body(&mut self, b: BodyId, delta: [f64; 3]);
     /// Sets body `b`'s angular velocity (rad/s).
@@ -223,6 +226,9 @@ pub trait PhysicsEngine: Send + Sync + 'static {
     /// Every contact point, for the debug view.
     fn contacts(&self) -> Vec<ContactView>;
 }
+
+/// Height (m) a [`PhysicsEngine::height_below`] probe is cast down from.
+pub const PROBE_FROM: f64 = 100.0;
 
 /// A laser as the engines cast it: on `body` at `pose`, beams at `angles` (radians, in the
 /// sensor's x-y plane, 0 along +y, positive towards -x), up to `max_range` (m).

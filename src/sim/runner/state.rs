@@ -66,6 +66,12 @@ impl Simulator {
         self.world().resource::<SimPhysics>().engine.as_ref()
     }
 
+    /// The height (m) of the first surface straight below (x, y): the terrain's, where no
+    /// robot is above it; `None` over nothing.
+    pub fn height_below(&self, x: f64, y: f64) -> Option<f64> {
+        self.engine().height_below(x, y)
+    }
+
     /// Which engine steps this world.
     pub fn engine_kind(&self) -> EngineKind {
         self.engine().kind()

@@ -701,6 +701,28 @@ impl PhysicsEngine for MujocoEngine {
         }
     }
 
+    fn height_below(&self, x: f64, y: f64) -> Option<f64> {
+        let from = crate::sim::engine::PROBE_FROM;
+        let (at, down) = ([x, y, from], [0.0, 0.0, -1.0]);
+        let mut geom: c_int = -1;
+        // SAFETY: valid model and data; `at` and `down` hold 3 values, `geom` one; no body
+        // is excluded (-1), no normal is asked for.
+        let hit = unsafe {
+            self.lib.api.mj_ray(
+                self.mp(),
+                self.data,
+                at.as_ptr(),
+                down.as_ptr(),
+                std::ptr::null(),
+                true,
+                -1,
+                &mut geom,
+                std::ptr::null_mut(),
+            )
+        };
+        (hit >= 0.0).then_some(from - hit)
+    }
+
     fn translate_body(&mut self, b: BodyId, delta: [f64; 3]) {
         let Some(&id) = self.bodies.get(b.0 as usize) else {
             return;

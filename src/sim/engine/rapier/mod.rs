@@ -362,6 +362,20 @@ impl PhysicsEngine for RapierEngine {
         }
     }
 
+    fn height_below(&self, x: f64, y: f64) -> Option<f64> {
+        let from = crate::sim::engine::PROBE_FROM;
+        // Every collider in turn, not the broad phase's tree: that is built by the first
+        // step, and a probe answers before it too.
+        let ray = rp::Ray::new(vec3([x, y, from]), vec3([0.0, 0.0, -1.0]));
+        let reach = (2.0 * from) as f32;
+        self.world
+            .colliders
+            .iter()
+            .filter_map(|(_, c)| c.shape().cast_ray(c.position(), &ray, reach, true))
+            .min_by(f32::total_cmp)
+            .map(|toi| from - toi as f64)
+    }
+
     fn translate_body(&mut self, b: BodyId, delta: [f64; 3]) {
         let Some(h) = self.handle(b) else {
             return;

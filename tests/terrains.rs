@@ -1,0 +1,388 @@
+//! Procedural terrains: every family at every tier is the same geometry for the same seed
+//! (a committed hash each, so a change is seen) and another for another seed; its heights
+//! agree between the engines within 1 mm at probed points; bad `<Terrain>` elements are
+//! located errors; `proleg terrain` writes an environment file that loads as the same
+//! course.
+
+mod common;
+
+use std::path::Path;
+
+use proleg::config::body::Shape;
+use proleg::config::environment::parse_environment_file;
+use proleg::config::resolve::environment::{EnvironmentModel, resolve_environment};
+use proleg::config::simulation::EngineKind;
+use proleg::config::terrain::{Family, TerrainSpec, Tier, generate};
+use proleg::config::{ErrorKind, FsSource};
+use proleg::control::load_simulation;
+use proleg::rng::SimRng;
+use proleg::sim::{BuildOptions, Simulator};
+
+/// FNV-1a, 64 bits: a stable hash of the geometry's text.
+fn fnv(text: &str) -> u64 {
+    text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// The generated geometry as text: every body's name, pose and shape, every mesh vertex.
+fn geometry(spec: &TerrainSpec) -> String {
+    let g = generate(spec);
+    let mut s = String::new();
+    for b in &g.kinbody.bodies {
+        s += &format!("{} {:?} {:?}", b.name, b.pose.translation, b.pose.rotation);
+        for geom in &b.geoms {
+            s += &format!(" {:?}\n", geom.shape);
+        }
+    }
+    for (name, mesh) in &g.meshes {
+        s += &format!("{name} {:?} {:?}\n", mesh.vertices, mesh.triangles);
+    }
+    s
+}
+
+/// The committed hash of each family at each tier (seed 7, default length and width).
+const HASHES: [(Family, [u64; 3]); 8] = [
+    (
+        Family::Rough,
+        [
+            8466475956121840255,
+            1574189617292776637,
+            12070538615126412611,
+        ],
+    ),
+    (
+        Family::Hills,
+        [
+            14561953956066670390,
+            15354097053197807046,
+            16891887531172791297,
+        ],
+    ),
+    (
+        Family::Steps,
+        [914859954454630550, 8544047345632533003, 6860514978641308200],
+    ),
+    (
+        Family::Stairs,
+        [
+            9023156432446214991,
+            18279539843027627287,
+            13101188843529243109,
+        ],
+    ),
+    (
+        Family::Slope,
+        [
+            11689417351829387562,
+            3123711234361551749,
+            8130962341209733153,
+        ],
+    ),
+    (
+        Family::Pegs,
+        [
+            12707365777708391650,
+            5048396062632378926,
+            9001097601326460391,
+        ],
+    ),
+    (
+        Family::Channel,
+        [
+            16617428875576955295,
+            8969425830580121826,
+            1647640478900806279,
+        ],
+    ),
+    (
+        Family::Rubble,
+        [
+            10023097266276303439,
+            3651475563223022539,
+            13313966840762958313,
+        ],
+    ),
+];
+
+#[test]
+fn the_same_seed_gives_the_same_course_and_its_committed_hash() {
+    let mut found = Vec::new();
+    for (family, hashes) in HASHES {
+        let mut row = [0u64; 3];
+        for (k, tier) in Tier::ALL.into_iter().enumerate() {
+            let spec = TerrainSpec::new(family, tier.difficulty(), 7);
+            let text = geometry(&spec);
+            assert_eq!(text, geometry(&spec), "{family} {tier:?} twice");
+            let other = TerrainSpec::new(family, tier.difficulty(), 8);
+            assert_ne!(
+                text,
+                geometry(&other),
+                "{family} {tier:?}: seed 8 as seed 7"
+            );
+            row[k] = fnv(&text);
+        }
+        found.push((family, row, hashes));
+    }
+    let table: Vec<String> = found
+        .iter()
+        .map(|(f, row, _)| format!("    (Family::{f:?}, {row:?}),"))
+        .collect();
+    assert!(
+        found.iter().all(|(_, row, hashes)| row == hashes),
+        "the generated geometry changed; if that is meant, commit the new hashes:\n{}",
+        table.join("\n")
+    );
+}
+
+/// The demo snake on `env_text`'s environment (written to a temporary file).
+fn world_on(dir: &Path, env_text: &str) -> proleg::config::Simulation {
+    let path = dir.join("course.env.xml");
+    std::fs::write(&path, env_text).unwrap();
+    let mut sim = load_simulation("configs/demo.simulation.xml").unwrap();
+    sim.environment = environment(&path, env_text);
+    sim
+}
+
+fn environment(path: &Path, text: &str) -> EnvironmentModel {
+    let file = parse_environment_file(&path.display().to_string(), text).unwrap();
+    resolve_environment(&FsSource, path, &file).unwrap()
+}
+
+fn terrain_env(spec: &TerrainSpec) -> String {
+    format!(
+        "<Environment><Terrain family=\"{}\" difficulty=\"{}\" seed=\"{}\"/></Environment>",
+        spec.family, spec.difficulty, spec.seed
+    )
+}
+
+#[test]
+fn heights_agree_between_the_engines_within_a_millimetre() {
+    let dir = common::scratch("terrain_heights");
+    let mut engines = vec![EngineKind::Rapier];
+    if common::mujoco_here("terrain heights on MuJoCo") {
+        engines.push(EngineKind::Mujoco);
+    }
+    for family in Family::ALL {
+        for tier in Tier::ALL {
+            let spec = TerrainSpec::new(family, tier.difficulty(), 3);
+            let sim = world_on(&dir, &terrain_env(&spec));
+            let mut rng = SimRng::new(11);
+            let mut points: Vec<[f64; 2]> = (0..300)
+                .map(|_| [rng.range(-1.4, 1.4), rng.range(2.0, spec.length)])
+                .collect();
+            // And on the bodies themselves (a sparse peg field is mostly floor).
+            let g = generate(&spec);
+            let bodies = g
+                .kinbody
+                .bodies
+                .iter()
+                .filter(|b| b.name != "terrain_floor");
+            points.extend(bodies.take(100).map(|b| {
+                let t = b.pose.translation;
+                [t[0], t[1]]
+            }));
+            let mut heights = Vec::new();
+            for &engine in &engines {
+                let opts = BuildOptions {
+                    engine: engine.into(),
+                    record: false,
+                    ..Default::default()
+                };
+                let s = Simulator::new(&sim, &opts).unwrap();
+                let h: Vec<f64> = points
+                    .iter()
+                    .map(|p| s.height_below(p[0], p[1]).expect("ground below"))
+                    .collect();
+                heights.push(h);
+            }
+            let top = heights[0].iter().cloned().fold(f64::MIN, f64::max);
+            assert!(
+                top > 0.004,
+                "{}: no relief on rapier ({top} m)",
+                spec.label()
+            );
+            if let [rapier, mujoco] = heights.as_slice() {
+                let worst = rapier
+                    .iter()
+                    .zip(mujoco)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                assert!(
+                    worst < 1e-3,
+                    "{}: engines differ by {worst} m",
+                    spec.label()
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_tiers_grow_what_makes_the_ground_hard() {
+    // Relief of height fields, bodies' heights and counts: hard above easy in each family.
+    for family in Family::ALL {
+        let measure = |tier: Tier| {
+            let g = generate(&TerrainSpec::new(family, tier.difficulty(), 5));
+            let field: f64 = g
+                .meshes
+                .iter()
+                .flat_map(|(_, m)| m.vertices.iter().map(|v| v[2].abs()))
+                .fold(0.0, f64::max);
+            let solids = g.kinbody.bodies.len() as f64;
+            let tallest = g
+                .kinbody
+                .bodies
+                .iter()
+                .filter(|b| b.name != "terrain_floor")
+                .flat_map(|b| &b.geoms)
+                .map(|geom| match geom.shape {
+                    Shape::Box { extents } => extents[2].min(extents[0]),
+                    Shape::Cylinder { radius, .. } => radius,
+                    _ => 0.0,
+                })
+                .fold(0.0, f64::max);
+            (field, solids, tallest)
+        };
+        let (easy, hard) = (measure(Tier::Easy), measure(Tier::Hard));
+        let harder = match family {
+            Family::Rough | Family::Hills | Family::Slope => hard.0 > easy.0,
+            Family::Steps | Family::Stairs => hard.2 > easy.2,
+            Family::Pegs | Family::Rubble => hard.1 > easy.1 && hard.2 > easy.2,
+            // Narrower: the walls' pieces stand closer; the same count, straighter or not.
+            Family::Channel => hard.1 >= easy.1,
+        };
+        assert!(harder, "{family}: easy {easy:?}, hard {hard:?}");
+    }
+}
+
+#[test]
+fn bad_terrain_elements_are_located_errors() {
+    let cases = [
+        (
+            r#"<Terrain family="lava" difficulty="0.5"/>"#,
+            ErrorKind::UnknownReference,
+            "lava",
+        ),
+        (
+            r#"<Terrain family="pegs" difficulty="1.5"/>"#,
+            ErrorKind::OutOfRange,
+            "difficulty",
+        ),
+        (
+            r#"<Terrain family="pegs" difficulty="NaN"/>"#,
+            ErrorKind::InvalidValue,
+            "difficulty",
+        ),
+        (
+            r#"<Terrain family="pegs"/>"#,
+            ErrorKind::Missing,
+            "difficulty",
+        ),
+        (
+            r#"<Terrain family="pegs" difficulty="hard" seed="-1"/>"#,
+            ErrorKind::InvalidValue,
+            "seed",
+        ),
+        (
+            r#"<Terrain family="rough" difficulty="easy" length="500" width="40"/>"#,
+            ErrorKind::OutOfRange,
+            "height-field nodes",
+        ),
+        (
+            r#"<Terrain family="rubble" difficulty="1" length="500" width="50"/>"#,
+            ErrorKind::OutOfRange,
+            "bodies",
+        ),
+        (
+            r#"<Terrain family="pegs" difficulty="easy" colour="red"/>"#,
+            ErrorKind::UnknownElement,
+            "colour",
+        ),
+    ];
+    for (element, kind, says) in cases {
+        let text = format!("<Environment>\n  {element}\n</Environment>");
+        let e = parse_environment_file("bad.env.xml", &text).unwrap_err();
+        assert_eq!(e.kind, kind, "{element}: {e}");
+        assert_eq!(e.pos.line, 2, "{element}: {e}");
+        assert!(e.to_string().contains(says), "{element}: {e}");
+    }
+}
+
+#[test]
+fn a_terrain_round_trips_through_its_file() {
+    let mut spec = TerrainSpec::new(Family::Channel, 0.35, 12);
+    spec.length = 40.0;
+    let text = terrain_env(&spec).replace("/>", " length=\"40\"/>");
+    let file = parse_environment_file("t.env.xml", &text).unwrap();
+    let written = proleg::config::environment::write_environment_file(&file);
+    let again = parse_environment_file("t.env.xml", &written).unwrap();
+    assert_eq!(file.objects, again.objects);
+    let proleg::config::environment::EnvObject::Terrain(read) = &again.objects[0] else {
+        panic!("not a terrain: {written}");
+    };
+    assert_eq!(read.length, 40.0);
+    assert_eq!(geometry(read), geometry(&spec));
+}
+
+#[test]
+fn proleg_terrain_writes_a_course_that_loads_as_the_element_does() {
+    let dir = common::scratch("terrain_command");
+    for family in [Family::Rough, Family::Pegs] {
+        let out = dir.join(format!("{family}.env.xml"));
+        let args = proleg::cli::terrain::TerrainArgs {
+            family: family.name().into(),
+            difficulty: "hard".into(),
+            seed: 4,
+            length: 10.0,
+            width: 2.0,
+            out: out.clone(),
+            element: false,
+        };
+        let report = proleg::cli::terrain::run(&args).unwrap();
+        assert_eq!(report.mesh.is_some(), family.is_field(), "{report}");
+        let text = std::fs::read_to_string(&out).unwrap();
+        let written = environment(&out, &text);
+        let spec = proleg::cli::terrain::spec(&args).unwrap();
+        let element = format!(
+            "<Environment><Terrain family=\"{family}\" difficulty=\"hard\" seed=\"4\" length=\"10\" width=\"2\"/></Environment>"
+        );
+        let generated = environment(&dir.join("g.env.xml"), &element);
+        assert_eq!(
+            written.bodies.len(),
+            generated.bodies.len(),
+            "{}",
+            spec.label()
+        );
+        for (a, b) in written.bodies.iter().zip(&generated.bodies) {
+            let d: f64 = (0..3)
+                .map(|i| (a.pose.translation[i] - b.pose.translation[i]).abs())
+                .fold(0.0, f64::max);
+            assert!(
+                d < 1e-4,
+                "{} moved {d} m on the way through the file",
+                a.name
+            );
+        }
+    }
+    let bad = proleg::cli::terrain::TerrainArgs {
+        family: "pegs".into(),
+        difficulty: "2".into(),
+        seed: 1,
+        length: 30.0,
+        width: 3.0,
+        out: dir.join("x.env.xml"),
+        element: false,
+    };
+    let e = proleg::cli::terrain::run(&bad).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            proleg::cli::terrain::TerrainCommandError::Terrain(
+                proleg::config::terrain::TerrainError::Difficulty(_)
+            )
+        ),
+        "{e}"
+    );
+    assert!(!dir.join("x.env.xml").exists());
+}
