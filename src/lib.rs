@@ -37,6 +37,8 @@
 //! - [`rng`]: the seeded random numbers of a run.
 //! - [`sensing`]: sensor readings as modules see them, touch debouncing.
 //! - [`signal`]: one process-wide Ctrl-C / SIGTERM handler handing out stop flags.
+//! - [`suite`]: task suites run: a controller scored on held-out test courses of procedural
+//!   terrains on both engines, journaled and resumable.
 //! - [`sim`]: the simulated world as ECS (a physics engine, rapier or MuJoCo, behind one
 //!   interface; servos; the fixed-step pipeline), the headless [`sim::Simulator`] and the
 //!   one episode runner ([`sim::episode`]).
@@ -70,3 +72,4 @@ pub mod robot_io;
 pub mod sensing;
 pub mod signal;
 pub mod sim;
+pub mod suite;

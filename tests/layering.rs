@@ -52,9 +52,12 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "config", "control", "data", "measure", "optimize", "rng", "sim",
         ],
     ),
+    ("suite", &["config", "control", "rng", "signal", "sim"]),
     (
         "bench",
-        &["config", "control", "data", "measure", "rng", "sim"],
+        &[
+            "config", "control", "data", "measure", "rng", "sim", "suite",
+        ],
     ),
     (
         "dashboard",
@@ -97,6 +100,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "calibrate",
             "gym",
             "dashboard",
+            "suite",
         ],
     ),
 ];

@@ -1,8 +1,9 @@
-//! Procedural terrains: every family at every tier is the same geometry for the same seed
-//! (a committed hash each, so a change is seen) and another for another seed; its heights
-//! agree between the engines within 1 mm at probed points; bad `<Terrain>` elements are
-//! located errors; `proleg terrain` writes an environment file that loads as the same
-//! course.
+//! Procedural terrains and task suites: every family at every tier is the same geometry
+//! for the same seed (a committed hash each, so a change is seen) and another for another
+//! seed; its heights agree between the engines within 1 mm at probed points; bad
+//! `<Terrain>` elements are located errors; `proleg terrain` writes an environment file
+//! that loads as the same course. A suite run scores a real gait on held-out courses of
+//! both engines, and a run stopped halfway resumes to the same table.
 
 mod common;
 
@@ -385,4 +386,104 @@ fn proleg_terrain_writes_a_course_that_loads_as_the_element_does() {
         "{e}"
     );
     assert!(!dir.join("x.env.xml").exists());
+}
+
+/// A small suite: two tasks, two test courses each, short episodes.
+const SMALL_SUITE: &str = r#"<Suite name="small">
+  <Task name="rough-easy" family="rough" difficulty="easy" duration="6" goal="0.3" train="1-4" test="101-102"/>
+  <Task name="pegs-hard" family="pegs" difficulty="hard" duration="6" goal="0.3" test="101-102"/>
+</Suite>"#;
+
+fn engines_here() -> Vec<EngineKind> {
+    let mut engines = vec![EngineKind::Rapier];
+    if common::mujoco_here("suite on MuJoCo") {
+        engines.push(EngineKind::Mujoco);
+    }
+    engines
+}
+
+fn small_run<'a>(
+    suite: &'a proleg::config::suite::SuiteFile,
+    controller: &'a proleg::config::Simulation,
+    journal: std::path::PathBuf,
+) -> proleg::suite::SuiteRun<'a> {
+    proleg::suite::SuiteRun {
+        path: "small.suite.xml".into(),
+        suite,
+        controller,
+        label: "demo".into(),
+        engines: engines_here(),
+        tasks: vec![0, 1],
+        threads: 2,
+        journal,
+    }
+}
+
+#[test]
+fn a_suite_run_stopped_halfway_resumes_to_the_same_table() {
+    let dir = common::scratch("suite_resume");
+    let suite = proleg::config::suite::parse_suite_file("small.suite.xml", SMALL_SUITE).unwrap();
+    let demo = load_simulation("configs/demo.simulation.xml").unwrap();
+    let registry = proleg::control::ModuleRegistry::standard();
+    let quiet = |_: &proleg::suite::episode::EpisodeResult, _: usize, _: usize| {};
+    let whole = small_run(&suite, &demo, dir.join("whole.csv"))
+        .run(&registry, None, &quiet)
+        .unwrap();
+    assert_eq!(whole.tasks.len(), 2, "{whole}");
+    assert!(
+        whole.tasks[0].mean > 0.1,
+        "the sine crawls ahead on easy ground:\n{whole}"
+    );
+    assert_eq!(
+        whole.aggregates.len(),
+        3,
+        "all, trained, held out:\n{whole}"
+    );
+    // Stopped after two episodes: the rest is abandoned, the two are in the journal.
+    let stop = proleg::signal::StopFlag::default();
+    let raise = |_: &proleg::suite::episode::EpisodeResult, done: usize, _: usize| {
+        if done >= 2 {
+            stop.stop();
+        }
+    };
+    let journal = dir.join("stopped.csv");
+    let e = small_run(&suite, &demo, journal.clone())
+        .run(&registry, Some(&stop), &raise)
+        .unwrap_err();
+    let proleg::suite::SuiteError::Stopped { done, total } = e else {
+        panic!("{e}");
+    };
+    assert!(done >= 2 && done < total, "{done} of {total}");
+    let resumed = small_run(&suite, &demo, journal.clone())
+        .run(&registry, None, &quiet)
+        .unwrap();
+    assert_eq!(resumed, whole, "resumed:\n{resumed}\nwhole:\n{whole}");
+    // A journal of another controller is refused, not mixed in.
+    let mut other = demo.clone();
+    other.files.simulation.properties.seed += 1;
+    let e = small_run(&suite, &other, journal)
+        .run(&registry, None, &quiet)
+        .unwrap_err();
+    assert!(e.to_string().contains("another run"), "{e}");
+}
+
+#[test]
+fn the_shipped_suite_holds_out_two_families_and_names_unknown_tasks() {
+    let path = common::root().join("configs/suites/locomotion.suite.xml");
+    let suite = proleg::config::suite::load_suite(&FsSource, &path).unwrap();
+    assert_eq!(suite.tasks.len(), Family::ALL.len() * Tier::ALL.len());
+    assert!(suite.held_out_families().len() >= 2);
+    for t in &suite.tasks {
+        assert!(
+            t.terrain.length >= 30.0,
+            "{}: the course ends too soon",
+            t.name
+        );
+    }
+    let e =
+        proleg::suite::SuiteRun::select(&suite, &["pegs-easy".into(), "lava".into()]).unwrap_err();
+    assert!(
+        matches!(&e, proleg::suite::SuiteError::UnknownTask { name, .. } if name == "lava"),
+        "{e}"
+    );
 }

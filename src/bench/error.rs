@@ -39,6 +39,9 @@ pub enum BenchError {
     /// The control kernel produced non-finite joint angles.
     #[error("the kernel produced non-finite angles")]
     NonFiniteAngles,
+    /// A suite's task world that cannot be made.
+    #[error("{0}")]
+    Suite(#[source] Box<crate::suite::SuiteError>),
     /// The accuracy gate failed: its report, which says by how much.
     #[error("{0}")]
     GateFailed(String),

@@ -16,6 +16,7 @@
 //!   [`terrain_checks`]: the same on terrain made of meshes and height fields
 //! - [`rollout`]: MuJoCo's own `mujoco.rollout` on the exported scenario
 //! - [`stages`]: each stage's share of a step (`--stages`)
+//! - [`suite`]: every task of a suite's rate beside the flat floor's (`--suite`)
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -29,6 +30,7 @@ pub mod modules;
 pub mod physics_checks;
 pub mod rollout;
 pub mod stages;
+pub mod suite;
 pub mod terrain_checks;
 
 use crate::config::Simulation;

@@ -37,6 +37,10 @@ pub struct BenchArgs {
     /// Record, Clock) on rapier and, where its library is, MuJoCo, for --seconds.
     #[arg(long, conflicts_with_all = ["module", "convergence"])]
     pub stages: bool,
+    /// Instead: every task of this suite's rate on each engine (the simulation's robot on
+    /// the task's first test course) beside the flat floor's, for --seconds.
+    #[arg(long, value_name = "SUITE", conflicts_with_all = ["module", "convergence", "stages"])]
+    pub suite: Option<PathBuf>,
     /// Most refinements the reference ladder may take.
     #[arg(long, default_value_t = 5)]
     pub rungs: usize,
@@ -87,6 +91,10 @@ pub fn run(a: &BenchArgs, registry: &ModuleRegistry) -> Result<String, CliError>
     if a.stages {
         let report = crate::bench::stages::report(&a.config, a.seconds, registry)?;
         return Ok(report.to_string());
+    }
+    if let Some(suite) = &a.suite {
+        let rates = crate::bench::suite::rates(&a.config, suite, a.seconds, registry)?;
+        return Ok(rates.to_string());
     }
     if let Some(url) = &a.store {
         return ceiling(a, url);

@@ -21,6 +21,7 @@
 //! | `proleg policy init / show` | [`policy`] |
 //! | `proleg robustness` | [`robustness`] |
 //! | `proleg terrain` | [`terrain`] ([`terrain::TerrainReport`]) |
+//! | `proleg suite` | [`suite`] ([`suite::SuiteOutcome`]) |
 //! | `proleg dashboard` | [`dashboard`] |
 
 pub mod bench;
@@ -37,6 +38,7 @@ pub mod results;
 pub mod robot;
 pub mod robustness;
 pub mod run;
+pub mod suite;
 pub mod terrain;
 pub mod worker;
 

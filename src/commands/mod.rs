@@ -88,6 +88,10 @@ pub enum Command {
     /// Write a generated course (rough, hills, steps, stairs, slope, pegs, channel, rubble)
     /// at a difficulty and seed as an ordinary environment file, to edit by hand.
     Terrain(cli::terrain::TerrainArgs),
+    /// Score a controller on a task suite's held-out test courses on both engines: per task
+    /// mean distance, success and share of its reference; interquartile means with
+    /// bootstrap intervals; CSV and JSON; resumes where a stopped run left off.
+    Suite(cli::suite::SuiteArgs),
     /// Run a simulation on each engine (closed loop) and measure each run the same way:
     /// displacement, heading, joint tracking, penetration, links in contact, slip; with the
     /// spread between engines and a PNG of the paths and joint angles.
@@ -243,6 +247,7 @@ impl Commands {
             Command::Policy { command } => printed(cli::policy::run(&command, registry)),
             Command::Robustness(args) => printed(cli::robustness::run(&args, registry)),
             Command::Terrain(args) => printed(cli::terrain::run(&args)),
+            Command::Suite(args) => printed(cli::suite::run(&args, registry)),
             Command::Compare(args) => printed(cli::compare::run(&args, registry)),
             Command::Robot(options) => printed(cli::robot::robot(&options, registry)),
             Command::RobotEmulator(options) => printed(cli::robot::emulator(&options)),

@@ -5,7 +5,8 @@
 //! - [`robot`], [`kinbody`], [`body`], [`sensor`]: robots, module parts, sensors (B.2-B.4)
 //! - [`actuation`]: which modules drive which joints (B.5)
 //! - [`environment`]: physics and terrain (B.6); [`terrain`]: procedural courses (families,
-//!   difficulty, seed) generated into an environment's bodies
+//!   difficulty, seed) generated into an environment's bodies; [`suite`]: task suites
+//!   (tasks on terrain families with train and held-out test seeds)
 //! - [`optimizer`]: the optimizer file (B.7: the GA and great deluge, and our CMA-ES,
 //!   evolution strategy and MAP-Elites); [`fitness`]: the names of the fitness functions
 //!   they choose from; our extensions of it: [`cross_engine`] (scores on several engines),
@@ -52,6 +53,7 @@ pub mod servos;
 pub mod simulation;
 pub mod source;
 pub mod start_clearance;
+pub mod suite;
 pub mod summary;
 pub mod terrain;
 pub mod transform;

@@ -153,7 +153,7 @@ pub struct SimulationProperties {
 }
 
 /// The physics engines a simulation can name (`<physicsEngine>rapier|mujoco</physicsEngine>`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
 pub enum EngineKind {
     /// rapier3d: pure Rust, always built, the engine the product was specified with.
     #[default]

@@ -18,14 +18,8 @@ use crate::config::terrain::spec::TerrainSpec;
 use crate::config::transform::{Pose, round_to};
 use crate::rng::SimRng;
 
-/// Flat ground behind the start (m).
-pub const START_PAD: f64 = 2.0;
-/// Where the family's ground begins, ahead of the start (m): a robot starts on the flat.
-pub const FEATURES_FROM: f64 = 1.5;
-/// Ground beyond the course's length (m).
-pub const END_PAD: f64 = 2.0;
-/// Spacing of a height field's nodes (m): finer than a module (72 mm).
-pub const GRID: f64 = 0.05;
+pub use crate::config::terrain::spec::{END_PAD, FEATURES_FROM, GRID, START_PAD};
+
 /// Flat floor beside the course (m each side), where a robot that wanders off lands.
 pub const SIDE_MARGIN: f64 = 2.0;
 /// Prefix of the names of generated meshes (not files: they live in memory).

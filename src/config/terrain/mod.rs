@@ -6,7 +6,7 @@
 //!
 //! | module | role |
 //! |---|---|
-//! | [`spec`] | the element: [`Family`], [`Tier`], [`TerrainSpec`], its limits and size check |
+//! | [`spec`] | the element: [`Family`], [`Tier`], [`TerrainSpec`], the course's layout, what the difficulty sets that the size check needs, the limits |
 //! | [`course`] | the layout every course shares (start pad, features, end) and the builder the families draw with |
 //! | [`field`] | the height-field families: rough, hills, slope |
 //! | [`solids`] | the families of boxes and cylinders: steps, stairs, pegs, channel, rubble |

@@ -5,7 +5,7 @@
 
 use crate::config::terrain::course::{Course, FEATURES_FROM, START_PAD, yaw_of, yaw_towards};
 use crate::config::terrain::field::smooth;
-use crate::config::terrain::spec::{Family, TerrainSpec};
+use crate::config::terrain::spec::{WALL_SEGMENT, peg_spacing, rubble_density};
 use crate::config::transform::Pose;
 
 /// Highest level a run of steps climbs to (m).
@@ -77,11 +77,6 @@ fn level_box(c: &mut Course, n: &mut usize, y: f64, len: f64, level: f64) {
 /// Height of pegs and walls (m): higher than the shipped robots can climb.
 const POST_HEIGHT: f64 = 0.2;
 
-/// Peg spacing (m) at difficulty `d`: 0.9 m (0) to 0.35 m (1).
-fn peg_spacing(d: f64) -> f64 {
-    0.9 - 0.55 * d
-}
-
 /// `pegs`: vertical cylinders of radius 1.5 cm (difficulty 0) to 4.5 cm (1) on a grid of
 /// [`peg_spacing`], each moved up to 0.3 spacings in x and y.
 pub fn pegs(c: &mut Course) {
@@ -103,8 +98,6 @@ pub fn pegs(c: &mut Course) {
     }
 }
 
-/// Length of one wall segment of a channel (m).
-const WALL_SEGMENT: f64 = 0.25;
 /// Thickness of a channel's walls (m).
 const WALL: f64 = 0.04;
 /// Spacing of the channel's bend control points (m).
@@ -169,11 +162,6 @@ pub fn channel(c: &mut Course) {
     }
 }
 
-/// Rubble density (boxes per m²) at difficulty `d`: 0.6 (0) to 4 (1).
-fn rubble_density(d: f64) -> f64 {
-    0.6 + 3.4 * d
-}
-
 /// `rubble`: boxes at [`rubble_density`], 4-6 cm across (difficulty 0) to 4-20 cm (1),
 /// 1-1.6 cm (0) to 1-7.6 cm (1) high, at any yaw, lying on the floor.
 pub fn rubble(c: &mut Course) {
@@ -191,19 +179,5 @@ pub fn rubble(c: &mut Course) {
         ];
         let yaw = yaw_of(c.rng.range(-1.0, 1.0));
         c.add_box(format!("rubble{n}"), [x, y, half[2]], half, yaw);
-    }
-}
-
-/// How many bodies the family will make of `area` m² at most (the size check before
-/// generating).
-pub fn estimated_bodies(spec: &TerrainSpec, area: f64) -> f64 {
-    let d = spec.difficulty;
-    match spec.family {
-        Family::Rough | Family::Hills | Family::Slope => 2.0,
-        Family::Steps => spec.length / 0.5 + 2.0,
-        Family::Stairs => 2.0 * spec.length / (0.45 - 0.24 * d).max(0.05) + 2.0,
-        Family::Pegs => area / (peg_spacing(d) * peg_spacing(d)) * 1.5 + 1.0,
-        Family::Channel => 2.0 * (spec.length + START_PAD) / WALL_SEGMENT + 3.0,
-        Family::Rubble => rubble_density(d) * area + 1.0,
     }
 }

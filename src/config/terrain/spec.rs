@@ -115,6 +115,28 @@ impl Tier {
     }
 }
 
+/// Flat ground behind the start (m).
+pub const START_PAD: f64 = 2.0;
+/// Where the family's ground begins, ahead of the start (m): a robot starts on the flat.
+pub const FEATURES_FROM: f64 = 1.5;
+/// Ground beyond the course's length (m).
+pub const END_PAD: f64 = 2.0;
+/// Spacing of a height field's nodes (m): finer than a module (72 mm).
+pub const GRID: f64 = 0.05;
+
+/// Peg spacing (m) at difficulty `d`: 0.9 m (0) to 0.35 m (1).
+pub fn peg_spacing(d: f64) -> f64 {
+    0.9 - 0.55 * d
+}
+
+/// Length of one wall segment of a channel (m).
+pub const WALL_SEGMENT: f64 = 0.25;
+
+/// Rubble density (boxes per m²) at difficulty `d`: 0.6 (0) to 4 (1).
+pub fn rubble_density(d: f64) -> f64 {
+    0.6 + 3.4 * d
+}
+
 /// Course length (m ahead of the start) when a file names none: no controller of the
 /// shipped robots reaches its end in a 90-s episode.
 pub const DEFAULT_LENGTH: f64 = 32.0;
@@ -171,8 +193,16 @@ impl TerrainSpec {
     /// Reads a `<Terrain family=".." difficulty=".." seed=".." length=".." width=".."/>`
     /// (with an optional placement: `<Translation>`, `<RotationAxis>`, ...).
     pub fn read(r: &Reader, el: &Element) -> ConfigResult<TerrainSpec> {
+        TerrainSpec::read_with(r, el, &[])
+    }
+
+    /// [`TerrainSpec::read`] of an element that may carry `extra` attributes of its own (a
+    /// suite's task).
+    pub fn read_with(r: &Reader, el: &Element, extra: &[&str]) -> ConfigResult<TerrainSpec> {
         r.only_children(el, &POSE_ELEMENTS)?;
-        r.only_attrs(el, &["family", "difficulty", "seed", "length", "width"])?;
+        let mut attrs = vec!["family", "difficulty", "seed", "length", "width"];
+        attrs.extend(extra);
+        r.only_attrs(el, &attrs)?;
         let fam = r.required_attr(el, "family")?;
         let family = Family::parse(&fam.value)
             .map_err(|e| r.err(fam.pos, ErrorKind::UnknownReference, e.to_string()))?;
@@ -212,12 +242,12 @@ impl TerrainSpec {
         Ok(spec)
     }
 
-    /// Writes the element.
-    pub fn write(&self, w: &mut XmlWriter) {
+    /// The course's attributes but its seed: family, difficulty, and length and width
+    /// where they are not the defaults.
+    pub fn attributes(&self) -> Vec<(&'static str, String)> {
         let mut attrs = vec![
             ("family", self.family.name().to_string()),
             ("difficulty", num(self.difficulty)),
-            ("seed", self.seed.to_string()),
         ];
         if self.length != DEFAULT_LENGTH {
             attrs.push(("length", num(self.length)));
@@ -225,6 +255,13 @@ impl TerrainSpec {
         if self.width != DEFAULT_WIDTH {
             attrs.push(("width", num(self.width)));
         }
+        attrs
+    }
+
+    /// Writes the element.
+    pub fn write(&self, w: &mut XmlWriter) {
+        let mut attrs = self.attributes();
+        attrs.insert(2, ("seed", self.seed.to_string()));
         if self.pose.is_identity() {
             w.empty("Terrain", &attrs);
         } else {
@@ -257,20 +294,18 @@ impl TerrainSpec {
 
     /// How big the generated course will be, worked out before generating it.
     pub fn size(&self) -> TerrainSize {
-        let area = (self.length + super::course::START_PAD + super::course::END_PAD) * self.width;
-        let grid = super::course::GRID;
+        let area = (self.length + START_PAD + END_PAD) * self.width;
+        let grid = GRID;
         let nodes = if self.family.is_field() {
             let nx = (self.width / grid).ceil() + 1.0;
-            let ny = ((self.length + super::course::START_PAD + super::course::END_PAD) / grid)
-                .ceil()
-                + 1.0;
+            let ny = ((self.length + START_PAD + END_PAD) / grid).ceil() + 1.0;
             nx * ny
         } else {
             0.0
         };
         TerrainSize {
             nodes,
-            bodies: super::solids::estimated_bodies(self, area),
+            bodies: estimated_bodies(self, area),
         }
     }
 }
@@ -346,5 +381,19 @@ impl TerrainError {
             TerrainError::Width(_) => Some("width"),
             TerrainError::TooBig { .. } => None,
         }
+    }
+}
+
+/// How many bodies the family will make of `area` m² at most (the size check before
+/// generating).
+pub fn estimated_bodies(spec: &TerrainSpec, area: f64) -> f64 {
+    let d = spec.difficulty;
+    match spec.family {
+        Family::Rough | Family::Hills | Family::Slope => 2.0,
+        Family::Steps => spec.length / 0.5 + 2.0,
+        Family::Stairs => 2.0 * spec.length / (0.45 - 0.24 * d).max(0.05) + 2.0,
+        Family::Pegs => area / (peg_spacing(d) * peg_spacing(d)) * 1.5 + 1.0,
+        Family::Channel => 2.0 * (spec.length + START_PAD) / WALL_SEGMENT + 3.0,
+        Family::Rubble => rubble_density(d) * area + 1.0,
     }
 }

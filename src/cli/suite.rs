@@ -1,0 +1,136 @@
+//! `proleg suite SUITE CONTROLLER`: a controller (a simulation file: its robot, control and
+//! physics properties) scored on every task's held-out test courses of a suite, on both
+//! engines, in parallel, with progress; the table printed, and written as CSV and JSON
+//! beside the journal it resumes from.
+
+use std::path::PathBuf;
+
+use crate::config::simulation::EngineKind;
+use crate::control::ModuleRegistry;
+use crate::suite::run::journal_path;
+use crate::suite::{SuiteError, SuiteReport, SuiteRun};
+
+/// Command-line options of `proleg suite`.
+#[derive(clap::Args)]
+pub struct SuiteArgs {
+    /// The suite file (`configs/suites/locomotion.suite.xml`).
+    pub suite: PathBuf,
+    /// The controller: a simulation file (its robot and actuation; the suite gives the
+    /// ground).
+    pub controller: PathBuf,
+    /// The engines every course runs on (comma-separated; default: every engine here).
+    #[arg(long, value_delimiter = ',')]
+    pub engines: Vec<EngineKind>,
+    /// Only these tasks (comma-separated names).
+    #[arg(long, value_delimiter = ',')]
+    pub tasks: Vec<String>,
+    /// Episodes run at once (default: the cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// The output folder: the journal (`episodes.csv`), `suite.csv`, `suite.json`
+    /// (default: `suite-results/SUITE-CONTROLLER`).
+    #[arg(short = 'o', long = "out")]
+    pub out: Option<PathBuf>,
+    /// No line per finished episode.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// Why a suite run failed.
+#[derive(Debug, thiserror::Error)]
+pub enum SuiteCommandError {
+    /// The suite run.
+    #[error("{0}")]
+    Suite(#[from] SuiteError),
+    /// The suite or the controller does not load.
+    #[error("{0}")]
+    Config(#[from] crate::config::ConfigError),
+    /// Ctrl-C cannot be handled.
+    #[error("{0}")]
+    Signal(#[from] crate::signal::SignalError),
+    /// The table cannot be written.
+    #[error("{0}")]
+    Write(#[from] crate::config::bundle::BundleError),
+}
+
+/// The report and where it was written.
+#[derive(Debug)]
+pub struct SuiteOutcome {
+    /// The table.
+    pub report: SuiteReport,
+    /// The output folder.
+    pub out: PathBuf,
+}
+
+impl std::fmt::Display for SuiteOutcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.report)?;
+        writeln!(
+            f,
+            "wrote {0}/suite.csv, {0}/suite.json (episodes: {0}/episodes.csv)",
+            self.out.display()
+        )
+    }
+}
+
+fn stem(p: &std::path::Path) -> String {
+    let name = p
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    name.split('.').next().unwrap_or("run").to_string()
+}
+
+/// Runs the suite the options name.
+pub fn run(a: &SuiteArgs, registry: &ModuleRegistry) -> Result<SuiteOutcome, SuiteCommandError> {
+    let suite = crate::config::suite::load_suite(&crate::config::FsSource, &a.suite)?;
+    let controller = crate::control::load_simulation_in(&a.controller, registry)?;
+    let engines = if a.engines.is_empty() {
+        crate::sim::engine::ready_engines()
+    } else {
+        a.engines.clone()
+    };
+    let out = a.out.clone().unwrap_or_else(|| {
+        PathBuf::from("suite-results").join(format!("{}-{}", stem(&a.suite), stem(&a.controller)))
+    });
+    std::fs::create_dir_all(&out).map_err(|source| SuiteError::Journal {
+        path: out.clone(),
+        source,
+    })?;
+    let run = SuiteRun {
+        path: a.suite.clone(),
+        suite: &suite,
+        controller: &controller,
+        label: a.controller.display().to_string(),
+        engines,
+        tasks: SuiteRun::select(&suite, &a.tasks)?,
+        threads: a
+            .threads
+            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
+        journal: journal_path(&out),
+    };
+    let signal = crate::signal::subscribe_with(|| {
+        eprintln!(
+            "stopping: the episodes in flight are abandoned; the finished ones are in the journal (run the same command again to go on)"
+        );
+    })?;
+    let stop = signal.flag();
+    let quiet = a.quiet;
+    let progress = |r: &crate::suite::episode::EpisodeResult, done: usize, total: usize| {
+        if !quiet {
+            eprintln!(
+                "[{done}/{total}] {} seed {} on {}: {:.3} m{}",
+                suite.tasks[r.key.task].name,
+                r.key.seed,
+                r.key.engine.name(),
+                r.distance,
+                if r.crossed { ", crossed the goal" } else { "" }
+            );
+        }
+    };
+    let report = run.run(registry, Some(&stop), &progress)?;
+    crate::config::bundle::write_file(&out.join("suite.csv"), &report.csv())?;
+    let json = serde_json::to_string_pretty(&report).unwrap_or_default();
+    crate::config::bundle::write_file(&out.join("suite.json"), &json)?;
+    Ok(SuiteOutcome { report, out })
+}

@@ -1,0 +1,55 @@
+//! Why a suite cannot be run or its journal read.
+
+use std::path::PathBuf;
+
+/// What went wrong running a suite.
+#[derive(Debug, thiserror::Error)]
+pub enum SuiteError {
+    /// The suite, the controller or a task's course does not load.
+    #[error("{0}")]
+    Config(#[from] crate::config::ConfigError),
+    /// A world that cannot be built or run.
+    #[error("{0}")]
+    Sim(#[from] crate::sim::SimError),
+    /// A task the command names that the suite does not have.
+    #[error("the suite has no task {name:?}; it has {known}")]
+    UnknownTask {
+        /// The name given.
+        name: String,
+        /// The suite's tasks.
+        known: String,
+    },
+    /// An engine whose library is not here.
+    #[error("{0}")]
+    Engine(crate::sim::SimError),
+    /// The journal of finished episodes cannot be read or written.
+    #[error("{}: {source}", path.display())]
+    Journal {
+        /// The journal file.
+        path: PathBuf,
+        /// The system's error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A journal line that is not an episode of this suite (another suite's journal, or a
+    /// cut line).
+    #[error("{}:{line}: {why}", path.display())]
+    JournalLine {
+        /// The journal file.
+        path: PathBuf,
+        /// Its line (from 1).
+        line: usize,
+        /// What is wrong with it.
+        why: String,
+    },
+    /// Ctrl-C / SIGTERM: the run stopped; what finished is in the journal.
+    #[error(
+        "stopped: {done} of {total} episodes are in the journal; run the same command again to go on"
+    )]
+    Stopped {
+        /// Episodes finished.
+        done: usize,
+        /// Episodes of the whole run.
+        total: usize,
+    },
+}

@@ -1,0 +1,169 @@
+//! A suite run: every selected task's test courses on every chosen engine, in parallel on
+//! the local cores, each finished episode written to the journal at once; episodes the
+//! journal already holds are not run again, so a stopped run resumes to the same table.
+
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+use rayon::prelude::*;
+
+use crate::config::Simulation;
+use crate::config::simulation::EngineKind;
+use crate::config::suite::SuiteFile;
+use crate::control::ModuleRegistry;
+use crate::signal::StopFlag;
+use crate::suite::episode::{EpisodeKey, EpisodeResult, run_episode};
+use crate::suite::error::SuiteError;
+use crate::suite::journal::Journal;
+use crate::suite::report::{SuiteReport, report};
+use crate::suite::world::task_world;
+
+/// What to run.
+pub struct SuiteRun<'a> {
+    /// The suite file (what errors name).
+    pub path: PathBuf,
+    /// The suite.
+    pub suite: &'a SuiteFile,
+    /// The controller: its robot, control and physics properties.
+    pub controller: &'a Simulation,
+    /// How the report names the controller.
+    pub label: String,
+    /// The engines every course runs on.
+    pub engines: Vec<EngineKind>,
+    /// The tasks (indices into the suite), in the order they are reported.
+    pub tasks: Vec<usize>,
+    /// Worker threads (each runs one episode at a time).
+    pub threads: usize,
+    /// The journal file.
+    pub journal: PathBuf,
+}
+
+/// Called after every finished episode: it, and how many of how many are done.
+pub type Progress<'p> = &'p (dyn Fn(&EpisodeResult, usize, usize) + Sync);
+
+impl SuiteRun<'_> {
+    /// The tasks named (all when none), or the first unknown name.
+    pub fn select(suite: &SuiteFile, names: &[String]) -> Result<Vec<usize>, SuiteError> {
+        if names.is_empty() {
+            return Ok((0..suite.tasks.len()).collect());
+        }
+        names
+            .iter()
+            .map(|n| {
+                suite
+                    .tasks
+                    .iter()
+                    .position(|t| crate::config::xml::read::same_name(&t.name, n))
+                    .ok_or_else(|| SuiteError::UnknownTask {
+                        name: n.clone(),
+                        known: suite
+                            .tasks
+                            .iter()
+                            .map(|t| t.name.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                    })
+            })
+            .collect()
+    }
+
+    /// Every episode of the run, in a fixed order.
+    pub fn episodes(&self) -> Vec<EpisodeKey> {
+        let mut keys = Vec::new();
+        for &task in &self.tasks {
+            for &seed in &self.suite.tasks[task].test {
+                for &engine in &self.engines {
+                    keys.push(EpisodeKey { task, seed, engine });
+                }
+            }
+        }
+        keys
+    }
+
+    /// The journal's first line: the suite and a fingerprint of what the controller is.
+    pub fn run_line(&self) -> String {
+        let c = self.controller;
+        let what = format!(
+            "{:?}{:?}{:?}{:?}{:?}{}",
+            c.robot,
+            c.actuation,
+            c.environment.physics,
+            c.environment.robot_pose,
+            (
+                c.files.simulation.properties.step_width,
+                c.files.simulation.properties.seed
+            ),
+            crate::config::suite::write_suite_file(self.suite)
+        );
+        let hash = what.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+            (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+        });
+        format!("# proleg suite {} controller {hash:016x}", self.suite.name)
+    }
+
+    /// Runs what the journal does not hold yet; returns the report of all of it.
+    pub fn run(
+        &self,
+        registry: &ModuleRegistry,
+        stop: Option<&StopFlag>,
+        progress: Progress<'_>,
+    ) -> Result<SuiteReport, SuiteError> {
+        for &e in &self.engines {
+            crate::sim::engine::ready(e).map_err(SuiteError::Engine)?;
+        }
+        let journal = Mutex::new(Journal::open(&self.journal, &self.run_line(), self.suite)?);
+        let all = self.episodes();
+        let todo: Vec<EpisodeKey> = {
+            let j = lock(&journal);
+            all.iter()
+                .copied()
+                .filter(|k| !j.done.contains_key(k))
+                .collect()
+        };
+        let total = all.len();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(self.threads.max(1))
+            .build()
+            .map_err(|e| SuiteError::Journal {
+                path: self.journal.clone(),
+                source: std::io::Error::other(e),
+            })?;
+        let outcome: Result<(), SuiteError> = pool.install(|| {
+            todo.par_iter().try_for_each(|&key| {
+                let task = &self.suite.tasks[key.task];
+                let world = task_world(self.controller, task, key.seed, &self.path)?;
+                let Some(r) = run_episode(&world, task, key, registry, stop)? else {
+                    return Ok(());
+                };
+                let mut j = lock(&journal);
+                j.append(self.suite, &r)?;
+                let done = all.iter().filter(|k| j.done.contains_key(k)).count();
+                progress(&r, done, total);
+                Ok(())
+            })
+        });
+        outcome?;
+        let j = lock(&journal);
+        let done = all.iter().filter(|k| j.done.contains_key(k)).count();
+        if done < total {
+            return Err(SuiteError::Stopped { done, total });
+        }
+        Ok(report(
+            self.suite,
+            &self.tasks,
+            &self.engines,
+            &self.label,
+            &j.done,
+        ))
+    }
+}
+
+fn lock(j: &Mutex<Journal>) -> std::sync::MutexGuard<'_, Journal> {
+    // The journal's state is its file and the map, both whole after every append.
+    j.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// The journal file in an output folder.
+pub fn journal_path(out: &Path) -> PathBuf {
+    out.join("episodes.csv")
+}
