@@ -14,11 +14,13 @@ use crate::config::body::{Body, BodyKind, Geom, MeshCollision, Shape};
 use crate::config::error::Pos;
 use crate::config::kinbody::KinBody;
 use crate::config::mesh::TriMesh;
+#[cfg(doc)]
+use crate::config::terrain::spec::Family;
 use crate::config::terrain::spec::TerrainSpec;
 use crate::config::transform::{Pose, round_to};
 use crate::rng::SimRng;
 
-pub use crate::config::terrain::spec::{END_PAD, FEATURES_FROM, GRID, START_PAD};
+pub use crate::config::terrain::spec::{END_PAD, FEATURES_FROM, START_PAD};
 
 /// Flat floor beside the course (m each side), where a robot that wanders off lands.
 pub const SIDE_MARGIN: f64 = 2.0;
@@ -144,20 +146,21 @@ impl<'a> Course<'a> {
         );
     }
 
-    /// A height field over the course, of `height(x, y)` sampled every [`GRID`] (0 on the
+    /// A height field over the course, of `height(x, y)` sampled every [`Family::grid`] (0 on the
     /// start pad is the caller's business); a floor at its lowest point catches a robot
     /// that leaves it sideways.
     pub fn add_field(&mut self, height: impl Fn(f64, f64) -> f64) {
         let [y0, y1] = self.y_range();
-        let nx = (self.spec.width / GRID).ceil() as usize + 1;
-        let ny = ((y1 - y0) / GRID).ceil() as usize + 1;
-        let x0 = -GRID * (nx - 1) as f64 / 2.0;
+        let grid = self.spec.family.grid();
+        let nx = (self.spec.width / grid).ceil() as usize + 1;
+        let ny = ((y1 - y0) / grid).ceil() as usize + 1;
+        let x0 = -grid * (nx - 1) as f64 / 2.0;
         let mut vertices = Vec::with_capacity(nx * ny);
         let mut lowest = 0.0_f64;
         for j in 0..ny {
-            let y = r6(y0 + GRID * j as f64);
+            let y = r6(y0 + grid * j as f64);
             for i in 0..nx {
-                let x = r6(x0 + GRID * i as f64);
+                let x = r6(x0 + grid * i as f64);
                 let z = r6(height(x, y));
                 lowest = lowest.min(z);
                 vertices.push([x, y, z]);

@@ -63,6 +63,14 @@ impl Family {
             })
     }
 
+    /// The spacing of the family's height-field nodes (m).
+    pub fn grid(self) -> f64 {
+        match self {
+            Family::Hills | Family::Slope => SMOOTH_GRID,
+            _ => GRID,
+        }
+    }
+
     /// Whether the family's ground is a height field (else boxes and cylinders on a floor).
     pub fn is_field(self) -> bool {
         matches!(self, Family::Rough | Family::Hills | Family::Slope)
@@ -121,8 +129,12 @@ pub const START_PAD: f64 = 2.0;
 pub const FEATURES_FROM: f64 = 1.5;
 /// Ground beyond the course's length (m).
 pub const END_PAD: f64 = 2.0;
-/// Spacing of a height field's nodes (m): finer than a module (72 mm).
+/// Spacing of a rough height field's nodes (m): finer than a module (72 mm), and a quarter
+/// of the noise's finest wavelength.
 pub const GRID: f64 = 0.05;
+/// Spacing of the smooth height fields' nodes (hills, slopes; m): their features are 15 cm
+/// and more, and a coarser grid means fewer triangles under each link (cheaper contacts).
+pub const SMOOTH_GRID: f64 = 0.1;
 
 /// Peg spacing (m) at difficulty `d`: 0.9 m (0) to 0.35 m (1).
 pub fn peg_spacing(d: f64) -> f64 {
@@ -295,7 +307,7 @@ impl TerrainSpec {
     /// How big the generated course will be, worked out before generating it.
     pub fn size(&self) -> TerrainSize {
         let area = (self.length + START_PAD + END_PAD) * self.width;
-        let grid = GRID;
+        let grid = self.family.grid();
         let nodes = if self.family.is_field() {
             let nx = (self.width / grid).ceil() + 1.0;
             let ny = ((self.length + START_PAD + END_PAD) / grid).ceil() + 1.0;
