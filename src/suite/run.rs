@@ -80,25 +80,34 @@ impl SuiteRun<'_> {
         keys
     }
 
-    /// The journal's first line: the suite and a fingerprint of what the controller is.
+    /// The journal's first line: the suite and a fingerprint of what the controller is
+    /// and of the ground (each task's first test course as generated, so a journal made by
+    /// another version of a terrain family is refused too).
     pub fn run_line(&self) -> String {
         let c = self.controller;
-        let what = format!(
+        let props = &c.files.simulation.properties;
+        let mut what = format!(
             "{:?}{:?}{:?}{:?}{:?}{}",
             c.robot,
             c.actuation,
             c.environment.physics,
             c.environment.robot_pose,
-            (
-                c.files.simulation.properties.step_width,
-                c.files.simulation.properties.seed
-            ),
+            (props.step_width, props.seed),
             crate::config::suite::write_suite_file(self.suite)
         );
+        for task in &self.suite.tasks {
+            if let Some(&seed) = task.test.first() {
+                let g = crate::config::terrain::generate(&task.course(seed));
+                what += &format!("{:?}", g.kinbody.bodies);
+                for (_, mesh) in &g.meshes {
+                    what += &format!("{:?}", mesh.vertices);
+                }
+            }
+        }
         let hash = what.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
             (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
         });
-        format!("# proleg suite {} controller {hash:016x}", self.suite.name)
+        format!("# proleg suite {} run {hash:016x}", self.suite.name)
     }
 
     /// Runs what the journal does not hold yet; returns the report of all of it.

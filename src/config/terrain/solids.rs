@@ -77,22 +77,26 @@ fn level_box(c: &mut Course, n: &mut usize, y: f64, len: f64, level: f64) {
 /// Height of pegs and walls (m): higher than the shipped robots can climb.
 const POST_HEIGHT: f64 = 0.2;
 
-/// `pegs`: vertical cylinders of radius 1.5 cm (difficulty 0) to 4.5 cm (1) on a grid of
-/// [`peg_spacing`], each moved up to 0.3 spacings in x and y.
+/// `pegs`: vertical cylinders of radius 1.5 cm (difficulty 0) to 4.5 cm (1) in rows
+/// [`peg_spacing`] apart, each row's columns as far apart and shifted by a random fraction
+/// of it (no lane runs straight down the field), each peg moved up to 0.2 spacings in x
+/// and y.
 pub fn pegs(c: &mut Course) {
     c.add_floor(0.0);
     let d = c.spec.difficulty;
     let (spacing, radius) = (peg_spacing(d), 0.015 + 0.03 * d);
-    let cols = ((c.spec.width - 2.0 * radius) / spacing).floor().max(0.0) as usize + 1;
-    let x0 = -spacing * (cols - 1) as f64 / 2.0;
+    let half = c.half_width() - radius;
     let (mut y, mut n) = (FEATURES_FROM + spacing / 2.0, 0);
     while y < c.spec.length {
-        for i in 0..cols {
-            let jx = c.rng.range(-0.3, 0.3) * spacing;
-            let jy = c.rng.range(-0.3, 0.3) * spacing;
-            let x = (x0 + spacing * i as f64 + jx).clamp(-c.half_width(), c.half_width());
-            c.add_peg(format!("peg{n}"), [x, y + jy], radius, POST_HEIGHT);
+        // Each row's columns start at a random place: no lane runs straight down the field.
+        let mut x = -half + c.rng.range(0.0, spacing);
+        while x <= half {
+            let jx = c.rng.range(-0.2, 0.2) * spacing;
+            let jy = c.rng.range(-0.2, 0.2) * spacing;
+            let at = [(x + jx).clamp(-half, half), y + jy];
+            c.add_peg(format!("peg{n}"), at, radius, POST_HEIGHT);
             n += 1;
+            x += spacing;
         }
         y += spacing;
     }
