@@ -439,6 +439,14 @@ fn a_suite_run_stopped_halfway_resumes_to_the_same_table() {
         3,
         "all, trained, held out:\n{whole}"
     );
+    // The chart draws a bar of each colour (trained, held out).
+    let png = dir.join("suite.png");
+    proleg::suite::chart::plot(&whole, &[0.3, 0.3], &png, (800, 450)).unwrap();
+    let (pixels, w, h, bpp) = common::window::png_pixels(&png);
+    assert_eq!((w, h), (800, 450));
+    let count = |rgb: [u8; 3]| pixels.chunks(bpp).filter(|p| p[..3] == rgb).count();
+    assert!(count([70, 110, 200]) > 500, "no trained task's bar");
+    assert!(count([220, 120, 40]) > 500, "no held-out task's bar");
     // Stopped after two episodes: the rest is abandoned, the two are in the journal.
     let stop = proleg::signal::StopFlag::default();
     let raise = |_: &proleg::suite::episode::EpisodeResult, done: usize, _: usize| {

@@ -27,7 +27,7 @@ pub struct SuiteArgs {
     /// Episodes run at once (default: the cores).
     #[arg(long)]
     pub threads: Option<usize>,
-    /// The output folder: the journal (`episodes.csv`), `suite.csv`, `suite.json`
+    /// The output folder: the journal (`episodes.csv`), `suite.csv`, `suite.json`, `suite.png`
     /// (default: `suite-results/SUITE-CONTROLLER`).
     #[arg(short = 'o', long = "out")]
     pub out: Option<PathBuf>,
@@ -51,6 +51,9 @@ pub enum SuiteCommandError {
     /// The table cannot be written.
     #[error("{0}")]
     Write(#[from] crate::config::bundle::BundleError),
+    /// The table cannot be put as JSON.
+    #[error("the table as JSON: {0}")]
+    Json(#[from] serde_json::Error),
 }
 
 /// The report and where it was written.
@@ -67,7 +70,7 @@ impl std::fmt::Display for SuiteOutcome {
         write!(f, "{}", self.report)?;
         writeln!(
             f,
-            "wrote {0}/suite.csv, {0}/suite.json (episodes: {0}/episodes.csv)",
+            "wrote {0}/suite.csv, {0}/suite.json, {0}/suite.png (episodes: {0}/episodes.csv)",
             self.out.display()
         )
     }
@@ -130,7 +133,13 @@ pub fn run(a: &SuiteArgs, registry: &ModuleRegistry) -> Result<SuiteOutcome, Sui
     };
     let report = run.run(registry, Some(&stop), &progress)?;
     crate::config::bundle::write_file(&out.join("suite.csv"), &report.csv())?;
-    let json = serde_json::to_string_pretty(&report).unwrap_or_default();
+    let json = serde_json::to_string_pretty(&report)?;
     crate::config::bundle::write_file(&out.join("suite.json"), &json)?;
+    let goals: Vec<f64> = report
+        .tasks
+        .iter()
+        .filter_map(|row| suite.task(&row.task).map(|t| t.goal))
+        .collect();
+    crate::suite::chart::plot(&report, &goals, &out.join("suite.png"), (1200, 650))?;
     Ok(SuiteOutcome { report, out })
 }

@@ -42,6 +42,14 @@ pub enum SuiteError {
         /// What is wrong with it.
         why: String,
     },
+    /// The chart cannot be drawn or written.
+    #[error("{}: cannot draw the chart: {message}", file.display())]
+    Chart {
+        /// The PNG file.
+        file: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
     /// Ctrl-C / SIGTERM: the run stopped; what finished is in the journal.
     #[error(
         "stopped: {done} of {total} episodes are in the journal; run the same command again to go on"

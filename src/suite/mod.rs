@@ -9,8 +9,10 @@
 //! | [`run`] | the run: which episodes, in parallel, journaled ([`run::SuiteRun`]) |
 //! | [`journal`] | the journal of finished episodes, resumed from |
 //! | [`report`] | the table and the aggregates ([`report::SuiteReport`]) |
+//! | [`chart`] | its picture: a bar per task, the goal lines |
 //! | [`error`] | [`SuiteError`] |
 
+pub mod chart;
 pub mod episode;
 pub mod error;
 pub mod journal;
