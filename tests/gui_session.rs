@@ -90,10 +90,16 @@ fn readouts_match_the_wall_clock_when_frames_are_slow() {
         "window says {}x, the clock {factor:.3}x",
         num(shown, "factor")
     );
-    // Real time over all the frames written.
+    // Real time over all the frames written. Each state shows the readouts up to the frame
+    // before it, so the two spans may differ by one frame: a frame that stalls (a shader
+    // compiled, a loaded machine) at either end counts in one and not the other.
     let span = t[FRAMES - 1] - t[0];
     let real = num(shown, "real_time") - num(&states[0], "real_time");
-    assert!(close(real, span), "real time advanced {real} s in {span} s");
+    let longest_frame = t.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max);
+    assert!(
+        (real - span).abs() <= 0.1 * span + longest_frame,
+        "real time advanced {real} s in {span} s (longest frame {longest_frame:.3} s)"
+    );
     // The machine keeps real time at these frame rates: slow frames do not slow the
     // simulation (each frame catches up on the wall time it took).
     let overall = (num(shown, "sim_time") - num(&states[0], "sim_time")) / span;

@@ -77,15 +77,18 @@ impl TriMesh {
 
     /// The mesh as OBJ text, vertices to 1 µm, under a `# header` comment line.
     pub fn obj_text(&self, header: &str) -> String {
-        use std::fmt::Write as _;
-        let mut s = format!("# {header}\n");
-        for v in &self.vertices {
-            let _ = writeln!(s, "v {:.6} {:.6} {:.6}", v[0], v[1], v[2]);
-        }
-        for t in &self.triangles {
-            let _ = writeln!(s, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
-        }
-        s
+        let vertices = self
+            .vertices
+            .iter()
+            .map(|v| format!("v {:.6} {:.6} {:.6}\n", v[0], v[1], v[2]));
+        let faces = self
+            .triangles
+            .iter()
+            .map(|t| format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1));
+        std::iter::once(format!("# {header}\n"))
+            .chain(vertices)
+            .chain(faces)
+            .collect()
     }
 
     /// Axis-aligned bounds `(min, max)`.
