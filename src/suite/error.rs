@@ -40,7 +40,8 @@ pub enum SuiteError {
         /// Its line (from 1).
         line: usize,
         /// What is wrong with it.
-        why: String,
+        #[source]
+        why: crate::suite::journal::BadLine,
     },
     /// The chart cannot be drawn or written.
     #[error("{}: cannot draw the chart: {message}", file.display())]

@@ -44,7 +44,7 @@ impl Journal {
         };
         let mut keep = 0;
         if let Some(text) = &text {
-            let bad = |line: usize, why: String| SuiteError::JournalLine {
+            let bad = |line: usize, why: BadLine| SuiteError::JournalLine {
                 path: path.to_path_buf(),
                 line,
                 why,
@@ -55,10 +55,10 @@ impl Journal {
                 Some((_, first)) => {
                     return Err(bad(
                         1,
-                        format!(
-                            "this journal is of another run ({}); this run is {run_line}: choose another output folder",
-                            first.trim_end()
-                        ),
+                        BadLine::AnotherRun {
+                            found: first.trim_end().to_string(),
+                            this: run_line.to_string(),
+                        },
                     ));
                 }
                 None => {}
@@ -124,28 +124,53 @@ pub fn format_line(suite: &SuiteFile, r: &EpisodeResult) -> String {
     )
 }
 
-fn parse_line(line: &str, suite: &SuiteFile) -> Result<EpisodeResult, String> {
+/// What is wrong with a journal line.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BadLine {
+    /// Not the six columns.
+    #[error("expected {COLUMNS}, found {0:?}")]
+    Columns(String),
+    /// A task the suite does not have.
+    #[error("task {0:?} is not in the suite")]
+    Task(String),
+    /// The first line names another run.
+    #[error(
+        "this journal is of another run ({found}); this run is {this}: choose another output folder"
+    )]
+    AnotherRun {
+        /// The journal's first line.
+        found: String,
+        /// This run's.
+        this: String,
+    },
+    /// A column that does not read as its kind (column, text).
+    #[error("{0} {1:?} does not read")]
+    Value(&'static str, String),
+}
+
+fn parse_line(line: &str, suite: &SuiteFile) -> Result<EpisodeResult, BadLine> {
     let f: Vec<&str> = line.split(',').collect();
     let [task, seed, engine, distance, crossed, ended] = f.as_slice() else {
-        return Err(format!("expected {COLUMNS}, found {line:?}"));
+        return Err(BadLine::Columns(line.to_string()));
     };
+    let bad = |column: &'static str, text: &str| BadLine::Value(column, text.to_string());
     let task = suite
         .tasks
         .iter()
         .position(|t| t.name == *task)
-        .ok_or_else(|| format!("task {task:?} is not in the suite"))?;
-    let seed = seed.parse::<u64>().map_err(|_| format!("seed {seed:?}"))?;
-    let engine = EngineKind::parse(engine).ok_or_else(|| format!("engine {engine:?}"))?;
+        .ok_or_else(|| BadLine::Task(task.to_string()))?;
+    let seed = seed.parse::<u64>().map_err(|_| bad("seed", seed))?;
+    let engine = EngineKind::parse(engine).ok_or_else(|| bad("engine", engine))?;
     let distance = f64::from_str(distance)
         .ok()
         .filter(|d| d.is_finite())
-        .ok_or_else(|| format!("distance {distance:?}"))?;
+        .ok_or_else(|| bad("distance", distance))?;
     let crossed = match *crossed {
         "1" => true,
         "0" => false,
-        other => return Err(format!("crossed {other:?} (0 or 1)")),
+        other => return Err(bad("crossed (0 or 1)", other)),
     };
-    let ended = Ended::parse(ended).ok_or_else(|| format!("ended {ended:?}"))?;
+    let ended = Ended::parse(ended).ok_or_else(|| bad("ended", ended))?;
     Ok(EpisodeResult {
         key: EpisodeKey { task, seed, engine },
         distance,
