@@ -41,7 +41,7 @@ pub enum SuiteError {
         line: usize,
         /// What is wrong with it.
         #[source]
-        why: crate::suite::journal::BadLine,
+        why: BadLine,
     },
     /// The chart cannot be drawn or written.
     #[error("{}: cannot draw the chart: {message}", file.display())]
@@ -61,4 +61,31 @@ pub enum SuiteError {
         /// Episodes of the whole run.
         total: usize,
     },
+}
+
+/// The journal's column header.
+pub const COLUMNS: &str = "task,seed,engine,distance,crossed,ended";
+
+/// What is wrong with a journal line.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BadLine {
+    /// Not the six columns.
+    #[error("expected {COLUMNS}, found {0:?}")]
+    Columns(String),
+    /// A task the suite does not have.
+    #[error("task {0:?} is not in the suite")]
+    Task(String),
+    /// The first line names another run.
+    #[error(
+        "this journal is of another run ({found}); this run is {this}: choose another output folder"
+    )]
+    AnotherRun {
+        /// The journal's first line.
+        found: String,
+        /// This run's.
+        this: String,
+    },
+    /// A column that does not read as its kind (column, text).
+    #[error("{0} {1:?} does not read")]
+    Value(&'static str, String),
 }

@@ -12,10 +12,7 @@ use std::str::FromStr;
 use crate::config::simulation::EngineKind;
 use crate::config::suite::SuiteFile;
 use crate::suite::episode::{Ended, EpisodeKey, EpisodeResult};
-use crate::suite::error::SuiteError;
-
-/// The columns of a journal line.
-pub const COLUMNS: &str = "task,seed,engine,distance,crossed,ended";
+use crate::suite::error::{BadLine, COLUMNS, SuiteError};
 
 /// An open journal: what it held when opened, and the file to append to.
 pub struct Journal {
@@ -122,30 +119,6 @@ pub fn format_line(suite: &SuiteFile, r: &EpisodeResult) -> String {
         u8::from(r.crossed),
         r.ended.name()
     )
-}
-
-/// What is wrong with a journal line.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum BadLine {
-    /// Not the six columns.
-    #[error("expected {COLUMNS}, found {0:?}")]
-    Columns(String),
-    /// A task the suite does not have.
-    #[error("task {0:?} is not in the suite")]
-    Task(String),
-    /// The first line names another run.
-    #[error(
-        "this journal is of another run ({found}); this run is {this}: choose another output folder"
-    )]
-    AnotherRun {
-        /// The journal's first line.
-        found: String,
-        /// This run's.
-        this: String,
-    },
-    /// A column that does not read as its kind (column, text).
-    #[error("{0} {1:?} does not read")]
-    Value(&'static str, String),
 }
 
 fn parse_line(line: &str, suite: &SuiteFile) -> Result<EpisodeResult, BadLine> {
