@@ -219,6 +219,80 @@ fn heights_agree_between_the_engines_within_a_millimetre() {
     }
 }
 
+/// MuJoCo holds static bodies as geoms of its world body: each still has its id, its pose
+/// and its contacts, as on rapier: a snake started on a step touches that step.
+#[test]
+fn static_bodies_keep_their_ids_poses_and_contacts_on_both_engines() {
+    let dir = common::scratch("terrain_static_ids");
+    let mut spec = TerrainSpec::new(Family::Steps, 1.0, 5);
+    spec.length = 8.0;
+    let mut sim = world_on(&dir, &terrain_env(&spec));
+    // The snake's links along y at the start, to centre it on the first step.
+    let probe = Simulator::new(&sim, &BuildOptions::default()).unwrap();
+    let ys: Vec<f64> = probe
+        .links(0)
+        .unwrap()
+        .iter()
+        .map(|l| probe.body_position(l.body).unwrap()[1])
+        .collect();
+    let middle = (ys.iter().cloned().fold(f64::MAX, f64::min)
+        + ys.iter().cloned().fold(f64::MIN, f64::max))
+        / 2.0;
+    let bodies = &sim.environment.bodies;
+    let step = bodies
+        .iter()
+        .position(|b| b.name.starts_with("step"))
+        .expect("a step");
+    let at = bodies[step].pose.translation;
+    let start = &mut sim.environment.robot_pose.translation;
+    start[1] += at[1] - middle;
+    start[2] += 2.0 * at[2];
+    let mut poses = Vec::new();
+    for engine in engines_here() {
+        let opts = BuildOptions {
+            engine: engine.into(),
+            record: false,
+            ..Default::default()
+        };
+        let mut s = Simulator::new(&sim, &opts).unwrap();
+        s.run_steps(1000);
+        let bodies = s.environment_bodies();
+        assert_eq!(bodies.len(), sim.environment.bodies.len(), "{engine:?}");
+        let states: Vec<_> = bodies
+            .iter()
+            .map(|b| s.body_state(b.body).expect("a body of the world"))
+            .collect();
+        assert!(states.iter().all(|b| !b.dynamic), "{engine:?}");
+        let touched: std::collections::BTreeSet<usize> = s
+            .engine()
+            .contacts()
+            .iter()
+            .filter(|c| c.touching)
+            .flat_map(|c| c.bodies)
+            .flatten()
+            .filter_map(|id| bodies.iter().find(|b| b.body == id).map(|b| b.index))
+            .collect();
+        assert_eq!(
+            touched,
+            std::collections::BTreeSet::from([step]),
+            "{engine:?}: the snake lies on {}",
+            sim.environment.bodies[step].name
+        );
+        poses.push(
+            states
+                .iter()
+                .map(|b| b.pose.translation)
+                .collect::<Vec<_>>(),
+        );
+    }
+    if let [rapier, mujoco] = poses.as_slice() {
+        for (a, b) in rapier.iter().zip(mujoco) {
+            // Rapier keeps f32 poses: 4 µm at 32 m.
+            assert!((0..3).all(|k| (a[k] - b[k]).abs() < 1e-5), "{a:?} vs {b:?}");
+        }
+    }
+}
+
 #[test]
 fn the_tiers_grow_what_makes_the_ground_hard() {
     // Relief of height fields, bodies' heights and counts: hard above easy in each family.

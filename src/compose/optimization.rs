@@ -84,6 +84,9 @@ pub struct OptimizationSpec {
     pub random_start: bool,
     /// Robust fitness over randomized episodes, if asked for.
     pub robustness: Option<Robustness>,
+    /// A task suite's train courses as the episodes' worlds, if asked for (kept as the
+    /// file has it; the wizard does not edit it).
+    pub courses: Option<crate::config::courses::CoursesSpec>,
     /// Scores on several engines, combined, if asked for.
     pub cross_engine: Option<CrossEngine>,
     /// The registered parameters.
@@ -129,6 +132,7 @@ impl OptimizationSpec {
             morphology: None,
             random_start: false,
             robustness: None,
+            courses: None,
             cross_engine: None,
             params: Vec::new(),
             fitness: Fitness::Displacement,
@@ -296,6 +300,7 @@ impl OptimizationSpec {
             max_evaluations: self.max_evaluations,
             random_start: self.random_start,
             robustness: self.robustness,
+            courses: self.courses.clone(),
             cross_engine: self.cross_engine.clone(),
         }
     }

@@ -10,7 +10,8 @@
 //! - [`optimizer`]: the optimizer file (B.7: the GA and great deluge, and our CMA-ES,
 //!   evolution strategy and MAP-Elites); [`fitness`]: the names of the fitness functions
 //!   they choose from; our extensions of it: [`cross_engine`] (scores on several engines),
-//!   [`robustness`] (randomized episodes), [`morphology`] (co-design's bodies)
+//!   [`robustness`] (randomized episodes), [`courses`] (a suite's train courses as the
+//!   episodes' worlds), [`morphology`] (co-design's bodies)
 //! - [`module_types`]: what the loader knows of actuation-module types (parameters,
 //!   ranges, series) to check files against
 //! - [`remote`]: remote (gamepad) bindings to module parameters (our extension)
@@ -33,6 +34,7 @@ pub mod actuation;
 pub mod body;
 pub mod bundle;
 pub mod contact;
+pub mod courses;
 pub mod cross_engine;
 pub mod environment;
 pub mod error;

@@ -62,6 +62,23 @@ const RANGES: [(&str, &str, f64); 8] = [
 ];
 
 impl Robustness {
+    /// `episodes` episodes scored by their mean, nothing randomized (the episodes of
+    /// `<courses>` without `<robustness>`).
+    pub fn nominal(episodes: u32) -> Robustness {
+        Robustness {
+            episodes,
+            quantile: None,
+            friction_pct: 0.0,
+            mass_pct: 0.0,
+            torque_pct: 0.0,
+            gain_pct: 0.0,
+            heading_deg: 0.0,
+            position_m: 0.0,
+            angle_noise_deg: 0.0,
+            range_noise_m: 0.0,
+        }
+    }
+
     /// A starting point for a gait meant for a real robot: 8 episodes scored by their mean,
     /// friction +-30 %, masses +-10 %, servo torque and gain +-20 %, heading +-20 deg,
     /// position +-0.1 m, 1 deg of angle noise and 1 cm of range noise.

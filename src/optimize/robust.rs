@@ -4,9 +4,11 @@
 //! numbers: candidates differ by their gait, not by their luck). A co-design body draws
 //! its episodes from the same seeds with its own links and joints ([`RobustEpisodes::of_body`]):
 //! the friction is the same for every body, the masses, servos and start pose follow the
-//! body's link and joint count.
+//! body's link and joint count. With `<courses>`, episode k runs on the suite's train
+//! course k (its scenery replaces the simulation's; the physics draws come on top).
 
 use crate::config::Simulation;
+use crate::config::courses::{TrainCourse, TrainCourses};
 use crate::config::robustness::Robustness;
 use crate::optimize::store::EpisodeRecord;
 use crate::sim::randomize::{RandomizedEpisode, episode_seeds, randomize};
@@ -20,19 +22,33 @@ pub struct RobustEpisodes {
     pub quantile: Option<f64>,
     /// What is drawn.
     pub spec: Robustness,
+    /// The train courses the episodes run on, one each (`<courses>`), if any.
+    pub courses: Option<TrainCourses>,
 }
 
 impl RobustEpisodes {
-    /// The episodes `r` draws for a run of `sim` with seed `run_seed`.
+    /// The episodes `r` draws for a run of `sim` with seed `run_seed`, on `sim`'s own world.
     pub fn new(sim: &Simulation, r: &Robustness, run_seed: u64) -> RobustEpisodes {
+        RobustEpisodes::on_courses(sim, r, run_seed, None)
+    }
+
+    /// The episodes `r` draws, episode k on train course k when `courses` are given.
+    fn on_courses(
+        sim: &Simulation,
+        r: &Robustness,
+        run_seed: u64,
+        courses: Option<&TrainCourses>,
+    ) -> RobustEpisodes {
         let episodes = episode_seeds(run_seed, r.episodes)
             .into_iter()
-            .map(|seed| randomize(sim, r, seed))
+            .enumerate()
+            .map(|(k, seed)| draw(sim, r, seed, courses.and_then(|c| c.course(k))))
             .collect();
         RobustEpisodes {
             episodes,
             quantile: r.quantile,
             spec: *r,
+            courses: courses.cloned(),
         }
     }
 
@@ -40,19 +56,46 @@ impl RobustEpisodes {
     /// candidate's simulation (none when the run has no episode `k`).
     pub fn of_body(&self, k: usize, body: &Simulation) -> Option<RandomizedEpisode> {
         let seed = self.episodes.get(k)?.seed;
-        Some(randomize(body, &self.spec, seed))
+        let course = self.courses.as_ref().and_then(|c| c.course(k));
+        Some(draw(body, &self.spec, seed, course))
     }
 
-    /// The episodes `sim`'s optimizer file asks for, if it asks for any.
+    /// The episodes `sim`'s optimizer file asks for, if it asks for any: `<robustness>`'s
+    /// draws, on `<courses>`' train courses when it names some (without `<robustness>`,
+    /// one nominal episode per course).
     pub fn of(sim: &Simulation, run_seed: u64) -> Option<RobustEpisodes> {
-        let r = sim.optimizer.as_ref()?.spec.robustness?;
-        Some(RobustEpisodes::new(sim, &r, run_seed))
+        let opt = sim.optimizer.as_ref()?;
+        let courses = opt.courses.as_ref();
+        let r = match (opt.spec.robustness, courses) {
+            (Some(r), _) => r,
+            (None, Some(c)) => Robustness::nominal(c.len() as u32),
+            (None, None) => return None,
+        };
+        Some(RobustEpisodes::on_courses(sim, &r, run_seed, courses))
     }
 
     /// The candidate's score from its episodes' scores.
     pub fn combine(&self, scores: &[f64]) -> f64 {
         combine(scores, self.quantile)
     }
+}
+
+/// The episode `seed` draws from `r` for `sim`, on `course` when given (its world
+/// replaces `sim`'s scenery; the draws then say which course).
+fn draw(
+    sim: &Simulation,
+    r: &Robustness,
+    seed: u64,
+    course: Option<&TrainCourse>,
+) -> RandomizedEpisode {
+    let Some(course) = course else {
+        return randomize(sim, r, seed);
+    };
+    let mut on_course = sim.clone();
+    on_course.environment = course.environment.clone();
+    let mut e = randomize(&on_course, r, seed);
+    e.draws = format!("course {} seed {}; {}", course.task, course.seed, e.draws);
+    e
 }
 
 /// The records of the episodes `sim`'s optimizer file asks for with seed `run_seed`, for

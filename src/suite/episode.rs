@@ -11,7 +11,6 @@ use crate::signal::StopFlag;
 use crate::sim::{
     BuildOptions, Episode, EpisodeEnd, EpisodeSettings, SimError, Simulator, WorldExit,
 };
-use crate::suite::world::course_direction;
 
 /// Which episode: a task, a test seed, an engine.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -66,7 +65,7 @@ pub struct EpisodeResult {
     pub ended: Ended,
 }
 
-/// Runs `sim` (a task's world, [`crate::suite::world::task_world`]) on `engine` for the
+/// Runs `sim` (a task's world, [`Task::world`]) on `engine` for the
 /// task's duration; `None` when `stop` was raised before it ended.
 pub fn run_episode(
     sim: &Simulation,
@@ -86,7 +85,7 @@ pub fn run_episode(
     let settings = EpisodeSettings::new(&s, task.duration, Fitness::Distance);
     let mut episode = Episode::begin(&s, settings)?;
     let start = episode.start(0).com;
-    let dir = course_direction(task);
+    let dir = task.direction();
     let along = |c: [f64; 3]| (0..3).map(|i| (c[i] - start[i]) * dir[i]).sum::<f64>();
     let (mut last, mut furthest) = (0.0_f64, 0.0_f64);
     let end = episode.run(&mut s, stop, |s| {

@@ -4,7 +4,6 @@
 //!
 //! | module | role |
 //! |---|---|
-//! | [`world`] | a task's world: the controller on one of its courses |
 //! | [`episode`] | one episode on one engine, measured along the course ([`episode::EpisodeResult`]) |
 //! | [`run`] | the run: which episodes, in parallel, journaled ([`run::SuiteRun`]) |
 //! | [`journal`] | the journal of finished episodes, resumed from |
@@ -18,7 +17,6 @@ pub mod error;
 pub mod journal;
 pub mod report;
 pub mod run;
-pub mod world;
 
 pub use error::SuiteError;
 pub use report::SuiteReport;

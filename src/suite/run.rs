@@ -16,7 +16,6 @@ use crate::suite::episode::{EpisodeKey, EpisodeResult, run_episode};
 use crate::suite::error::SuiteError;
 use crate::suite::journal::Journal;
 use crate::suite::report::{SuiteReport, report};
-use crate::suite::world::task_world;
 
 /// What to run.
 pub struct SuiteRun<'a> {
@@ -140,7 +139,7 @@ impl SuiteRun<'_> {
         let outcome: Result<(), SuiteError> = pool.install(|| {
             todo.par_iter().try_for_each(|&key| {
                 let task = &self.suite.tasks[key.task];
-                let world = task_world(self.controller, task, key.seed, &self.path)?;
+                let world = task.world(self.controller, key.seed, &self.path)?;
                 let Some(r) = run_episode(&world, task, key, registry, stop)? else {
                     return Ok(());
                 };

@@ -265,6 +265,8 @@ pub struct OptimizerFile {
     pub random_start: bool,
     /// Our extension `<robustness>`: K randomized episodes per candidate.
     pub robustness: Option<Robustness>,
+    /// Our extension `<courses>`: the episodes' worlds are a task suite's train courses.
+    pub courses: Option<crate::config::courses::CoursesSpec>,
     /// Our extension `<engines>`/`<combine>`: every candidate scored on several engines.
     pub cross_engine: Option<CrossEngine>,
     /// Our extension `<morphology>`: the bodies a co-design search may build.

@@ -76,7 +76,13 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
     let root = &doc.root;
     r.only_children(
         root,
-        &["properties", "genomeconfig", "robustness", "morphology"],
+        &[
+            "properties",
+            "genomeconfig",
+            "robustness",
+            "courses",
+            "morphology",
+        ],
     )?;
     r.only_attrs(root, &[])?;
     let props = r.required(root, "properties")?;
@@ -100,6 +106,21 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
         .at_most_one(root, "robustness")?
         .map(|el| read_robustness(&r, el))
         .transpose()?;
+    let courses = r
+        .at_most_one(root, "courses")?
+        .map(|el| crate::config::courses::read_courses(&r, el))
+        .transpose()?;
+    if let (Some(c), Some(_), Some(_)) = (
+        &courses,
+        &robustness,
+        courses.as_ref().and_then(|c| c.episodes),
+    ) {
+        return Err(r.err(
+            c.pos,
+            ErrorKind::InvalidValue,
+            "<courses episodes> is for a file without <robustness>; with one, its <episodes> is the number of episodes",
+        ));
+    }
     let cross_engine = read_cross_engine(&r, props)?;
     let morphology = r
         .at_most_one(root, "morphology")?
@@ -114,6 +135,7 @@ pub fn parse_optimizer_file(file: &str, text: &str) -> ConfigResult<OptimizerFil
         max_evaluations,
         random_start,
         robustness,
+        courses,
         cross_engine,
     })
 }

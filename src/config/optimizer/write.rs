@@ -77,6 +77,9 @@ pub fn write_optimizer_file(o: &OptimizerFile) -> String {
     if let Some(rb) = &o.robustness {
         write_robustness(&mut w, rb);
     }
+    if let Some(c) = &o.courses {
+        crate::config::courses::write_courses(&mut w, c);
+    }
     if let Some(m) = &o.morphology {
         crate::config::morphology::write_morphology(&mut w, m);
     }

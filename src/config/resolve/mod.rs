@@ -15,6 +15,7 @@ pub mod robot;
 use std::path::{Path, PathBuf};
 
 use crate::config::actuation::{ActuationFile, parse_actuation_file};
+use crate::config::courses::{self, CoursesSpec, TrainCourse, TrainCourses};
 use crate::config::environment::{EnvironmentFile, parse_environment_file};
 use crate::config::error::{ConfigError, ConfigResult, ErrorKind, Pos};
 use crate::config::module_types::ModuleTypes;
@@ -22,6 +23,7 @@ use crate::config::optimizer::{OptimizerFile, parse_optimizer_file};
 use crate::config::robot::{RobotFile, parse_robot_file};
 use crate::config::simulation::{Mode, SimulationFile, parse_simulation_file};
 use crate::config::source::{FileSource, normalize};
+use crate::config::suite::parse_suite_file;
 
 pub use actuation::{ActuationModel, ModuleInstance, ParamAssignment, WeightsFile};
 pub use environment::{EnvBody, EnvironmentModel};
@@ -151,7 +153,13 @@ pub fn load_simulation_with(
         .map_err(|e| e.included_from(&path, sim.actuation.pos))?;
 
     let (env_file, environment) = load_environment(src, &path, &sim)?;
-    let (opt_file, optimizer) = load_optimizer(src, &path, &sim, &robot, &actuation, registry)?;
+    let (opt_file, optimizer) = load_optimizer(
+        src,
+        &path,
+        &sim,
+        (&robot, &actuation, &environment),
+        registry,
+    )?;
 
     let mut warnings = actuation.warnings.clone();
     if let (Some(opt), false) = (&opt_file, sim.properties.mode.is_optimization()) {
@@ -216,8 +224,7 @@ fn load_optimizer(
     src: &dyn FileSource,
     path: &Path,
     sim: &SimulationFile,
-    robot: &RobotModel,
-    actuation: &ActuationModel,
+    (robot, actuation, environment): (&RobotModel, &ActuationModel, &EnvironmentModel),
     registry: &dyn ModuleTypes,
 ) -> ConfigResult<(Option<OptimizerFile>, Option<OptimizerModel>)> {
     let Some(o) = &sim.optimizer else {
@@ -248,7 +255,58 @@ fn load_optimizer(
             ),
         ));
     }
-    let model = optimizer::resolve_optimizer(&opt_path, &opt_file, robot, actuation, registry)
+    let mut model = optimizer::resolve_optimizer(&opt_path, &opt_file, robot, actuation, registry)
         .map_err(|e| e.included_from(path, o.pos))?;
+    if let Some(c) = &opt_file.courses {
+        let courses = train_courses(src, &opt_path, c, &opt_file, environment)
+            .map_err(|e| e.included_from(path, o.pos))?;
+        model.courses = Some(courses);
+    }
     Ok((Some(opt_file), Some(model)))
+}
+
+/// The courses `<courses>` of optimizer file `file` (at `opt_path`) trains on, generated
+/// with `environment`'s physics and start pose.
+fn train_courses(
+    src: &dyn FileSource,
+    opt_path: &Path,
+    spec: &CoursesSpec,
+    file: &OptimizerFile,
+    environment: &EnvironmentModel,
+) -> ConfigResult<TrainCourses> {
+    let (suite_path, suite) = include(
+        src,
+        opt_path,
+        &spec.suite,
+        spec.pos,
+        "suite",
+        parse_suite_file,
+    )?;
+    let tasks = courses::train_tasks(opt_path, spec, &suite, &suite_path)?;
+    let episodes = match (&file.robustness, spec.episodes) {
+        (Some(r), _) => r.episodes as usize,
+        (None, Some(k)) => k as usize,
+        (None, None) => tasks.len(),
+    };
+    let list = (0..episodes)
+        .map(|k| {
+            let Some((task, seed)) = courses::pick(&tasks, k) else {
+                return Err(ConfigError::new(
+                    opt_path,
+                    spec.pos,
+                    ErrorKind::InvalidValue,
+                    "no train course to pick",
+                ));
+            };
+            Ok(TrainCourse {
+                task: task.name.clone(),
+                seed,
+                environment: task.environment(environment, seed, &suite_path)?,
+            })
+        })
+        .collect::<ConfigResult<Vec<_>>>()?;
+    Ok(TrainCourses {
+        suite: suite_path,
+        courses: std::sync::Arc::new(list),
+    })
 }

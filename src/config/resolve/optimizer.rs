@@ -47,6 +47,8 @@ pub struct OptimizerModel {
     pub spec: OptimizerFile,
     /// The optimized parameters.
     pub parameters: Vec<OptimizedParameter>,
+    /// The train courses of `<courses>`, generated, one per episode.
+    pub courses: Option<crate::config::courses::TrainCourses>,
 }
 
 impl OptimizerModel {
@@ -146,6 +148,7 @@ pub fn resolve_optimizer(
         file: path.to_path_buf(),
         spec: file.clone(),
         parameters,
+        courses: None,
     })
 }
 

@@ -13,8 +13,13 @@
 //! limits are MuJoCo's own. A pad reads its link's contacts grouped by geometry pair (one
 //! patch per pair, as rapier's manifolds), a laser casts `mj_ray` per beam.
 //!
+//! A static environment body is geoms of MuJoCo's world body ([`super::parts`]).
+//!
 //! Where MuJoCo differs from rapier here: dragging moves a robot by its root's free joint
-//! and a static body by its model position (inner links follow their root); an angular
+//! (inner links follow their root) and a static body by its geoms' positions in the
+//! world's own copy of the model, whose midphase is then off (MuJoCo's bounding-volume
+//! tree of the world body was made when the model was compiled and would miss the moved
+//! geoms; every geom of the world body is then tried against each link); an angular
 //! or linear velocity is set on free bodies only; a laser in a batch of several robots also sees the
 //! other robots (`mj_ray` has no collision groups); a body's linear velocity (the data
 //! log's speed and kinetic energy) is MuJoCo's from the step's start, since
@@ -24,14 +29,19 @@ use std::ffi::{CString, c_char, c_int};
 use std::sync::Arc;
 
 use super::ffi::{
-    mjData, mjModel, mjVFS, mjtConstraint_mjCNSTR_FRICTION_DOF, mjtGeom_mjGEOM_BOX,
-    mjtGeom_mjGEOM_SPHERE, mjtObj_mjOBJ_BODY, mjtObj_mjOBJ_JOINT,
+    mjData, mjModel, mjVFS, mjtConstraint_mjCNSTR_FRICTION_DOF, mjtDisableBit_mjDSBL_MIDPHASE,
+    mjtGeom_mjGEOM_BOX, mjtGeom_mjGEOM_SPHERE, mjtObj_mjOBJ_BODY, mjtObj_mjOBJ_GEOM,
+    mjtObj_mjOBJ_JOINT,
 };
 use super::library::{Library, library, take_error};
-use super::mjcf::{MjcfOptions, Servos, env_body_name, link_body_name, mjcf, robot_prefix};
+use super::mjcf::{
+    MjcfOptions, Servos, env_body_name, link_body_name, mjcf, robot_prefix, static_geom_name,
+};
 use super::models::{MujocoModel, shared};
+use super::parts::{Part, Parts, StaticPart};
 use super::{MujocoError, MujocoSettings};
 use crate::config::Simulation;
+use crate::config::body::BodyKind;
 use crate::config::simulation::EngineKind;
 use crate::config::transform::Pose;
 use crate::sim::engine::{
@@ -81,8 +91,8 @@ pub struct MujocoEngine {
     model: Arc<MujocoModel>,
     data: *mut mjData,
     settings: MujocoSettings,
-    /// Our body ids to MuJoCo's.
-    bodies: Vec<c_int>,
+    /// Our bodies: MuJoCo's bodies and the static ones of its world body.
+    parts: Parts,
     hinges: Vec<Hinge>,
     /// The hinge of each MuJoCo dof, or [`NO_HINGE`].
     dof_hinge: Vec<u32>,
@@ -161,7 +171,7 @@ impl MujocoEngine {
             model,
             data,
             settings,
-            bodies: Vec::new(),
+            parts: Parts::default(),
             hinges: Vec::new(),
             dof_hinge: Vec::new(),
             pads: Vec::new(),
@@ -170,6 +180,13 @@ impl MujocoEngine {
             patches: Vec::new(),
         };
         let layout = engine.layout(sim, robots)?;
+        let m = engine.m();
+        let geom_body: Vec<c_int> = (0..m.ngeom.max(0) as usize)
+            // SAFETY: `g < ngeom`.
+            .map(|g| unsafe { *m.geom_bodyid.add(g) })
+            .collect();
+        let nbody = m.nbody.max(0) as usize;
+        engine.parts.index_geoms(&geom_body, nbody);
         // SAFETY: nv is the model's dof count.
         engine.dof_hinge = vec![NO_HINGE; unsafe { (*engine.mp()).nv } as usize];
         for (k, h) in engine.hinges.iter().enumerate() {
@@ -229,17 +246,23 @@ impl MujocoEngine {
         Ok(id)
     }
 
-    fn add_body(&mut self, id: c_int) -> BodyId {
-        self.bodies.push(id);
-        BodyId(self.bodies.len() as u32 - 1)
-    }
-
     /// Our ids of the environment and of each robot's parts, by name.
     fn layout(&mut self, sim: &Simulation, robots: usize) -> Result<Layout, SimError> {
         let mut layout = Layout::default();
-        for i in 0..sim.environment.bodies.len() {
-            let id = self.id(mjtObj_mjOBJ_BODY, &env_body_name(sim, i), sim)?;
-            let body = self.add_body(id);
+        for (i, b) in sim.environment.bodies.iter().enumerate() {
+            let name = env_body_name(sim, i);
+            let body = if b.kind == BodyKind::Static {
+                let geoms = (0..b.geoms.len())
+                    .map(|k| {
+                        let g = self.id(mjtObj_mjOBJ_GEOM, &static_geom_name(&name, k), sim)?;
+                        Ok(g as usize)
+                    })
+                    .collect::<Result<Vec<_>, SimError>>()?;
+                self.parts.add_static(StaticPart::new(b, geoms))
+            } else {
+                let id = self.id(mjtObj_mjOBJ_BODY, &name, sim)?;
+                self.parts.add_body(id)
+            };
             layout.environment.push(body);
         }
         let parts = sensor_parts(sim);
@@ -248,7 +271,7 @@ impl MujocoEngine {
             let mut robot = RobotLayout::default();
             for l in &sim.robot.links {
                 let id = self.id(mjtObj_mjOBJ_BODY, &link_body_name(&prefix, &l.name), sim)?;
-                let body = self.add_body(id);
+                let body = self.parts.add_body(id);
                 robot.links.push((body, l.mass));
             }
             for j in &sim.robot.joints {
@@ -278,6 +301,20 @@ impl MujocoEngine {
         Ok(layout)
     }
 
+    /// The MuJoCo body of link `link` of a robot laid out in `layout`.
+    fn link_body(
+        &self,
+        sim: &Simulation,
+        layout: &RobotLayout,
+        link: usize,
+    ) -> Result<c_int, SimError> {
+        layout
+            .links
+            .get(link)
+            .and_then(|(b, _)| self.parts.mj_body(*b))
+            .ok_or_else(|| rejected(sim, format!("no body for link {link}")).into())
+    }
+
     fn add_sensor(
         &mut self,
         sim: &Simulation,
@@ -287,7 +324,7 @@ impl MujocoEngine {
     ) -> Result<(), SimError> {
         match part {
             SensorPart::Pad { name, link, area } => {
-                let body = self.bodies[layout.links[*link].0.0 as usize];
+                let body = self.link_body(sim, layout, *link)?;
                 let pad = Pad {
                     body,
                     from_link: area.pose.inverse(),
@@ -308,7 +345,7 @@ impl MujocoEngine {
                 angles,
                 max_range,
             } => {
-                let body = self.bodies[layout.links[*link].0.0 as usize];
+                let body = self.link_body(sim, layout, *link)?;
                 self.lasers.push(Laser {
                     body,
                     pose: *pose,
@@ -607,15 +644,30 @@ impl PhysicsEngine for MujocoEngine {
     }
 
     fn body_com(&self, b: BodyId) -> [f64; 3] {
-        let Some(&id) = self.bodies.get(b.0 as usize) else {
-            return [0.0; 3];
-        };
-        // SAFETY: `id < nbody`; xipos has 3 values per body.
-        unsafe { read::<3>(self.d().xipos, 3 * id as usize) }
+        match self.parts.get(b) {
+            // SAFETY: `id < nbody`; xipos has 3 values per body.
+            Some(Part::Body(id)) => unsafe { read::<3>(self.d().xipos, 3 * id as usize) },
+            Some(Part::Static(s)) => self.parts.statics[s].com,
+            None => [0.0; 3],
+        }
     }
 
     fn body(&self, b: BodyId) -> Option<BodyState> {
-        let id = *self.bodies.get(b.0 as usize)?;
+        let id = match self.parts.get(b)? {
+            Part::Body(id) => id,
+            Part::Static(s) => {
+                // Geoms of the world body: no mass, no motion.
+                let part = &self.parts.statics[s];
+                return Some(BodyState {
+                    pose: part.pose,
+                    com: part.com,
+                    linvel: [0.0; 3],
+                    mass: 0.0,
+                    inertia: [0.0; 3],
+                    dynamic: false,
+                });
+            }
+        };
         let m = self.m();
         let mut velocity = [0.0; 6];
         // SAFETY: `id < nbody`; `velocity` holds the 6 values mj_objectVelocity writes.
@@ -724,32 +776,42 @@ impl PhysicsEngine for MujocoEngine {
     }
 
     fn translate_body(&mut self, b: BodyId, delta: [f64; 3]) {
-        let Some(&id) = self.bodies.get(b.0 as usize) else {
-            return;
-        };
-        // SAFETY (both arms): addresses from the model; qpos and body_pos hold 3 values there.
-        if let Some((qpos, _)) = self.free_joint(id) {
-            let q = self.d().qpos;
-            for (k, dk) in delta.iter().enumerate() {
-                unsafe { *q.add(qpos + k) += dk };
+        match self.parts.get(b) {
+            Some(Part::Body(id)) => {
+                let Some((qpos, _)) = self.free_joint(id) else {
+                    return;
+                };
+                let q = self.d().qpos;
+                for (k, dk) in delta.iter().enumerate() {
+                    // SAFETY: a free joint's position is 3 values from `qpos`.
+                    unsafe { *q.add(qpos + k) += dk };
+                }
             }
-        } else if unsafe { *self.m().body_weldid.add(id as usize) } == 0 {
-            // Out of memory for a copy of the shared model: the body stays where it is.
-            let Some(model) = self.own_model() else {
-                return;
-            };
-            let p = unsafe { (*model).body_pos };
-            for (k, dk) in delta.iter().enumerate() {
-                unsafe { *p.add(3 * id as usize + k) += dk };
+            Some(Part::Static(s)) => {
+                // Out of memory for a copy of the shared model: the body stays where it is.
+                let Some(model) = self.own_model() else {
+                    return;
+                };
+                let part = &mut self.parts.statics[s];
+                // SAFETY: this world's own model; the part's geoms are below ngeom and
+                // geom_pos holds 3 values each.
+                unsafe {
+                    for &g in &part.geoms {
+                        for (k, dk) in delta.iter().enumerate() {
+                            *(*model).geom_pos.add(3 * g + k) += dk;
+                        }
+                    }
+                    (*model).opt.disableflags |= mjtDisableBit_mjDSBL_MIDPHASE as c_int;
+                }
+                part.translate(delta);
             }
-        } else {
-            return;
+            None => return,
         }
         self.refresh();
     }
 
     fn set_angular_velocity(&mut self, b: BodyId, angvel: [f64; 3]) {
-        let Some(&id) = self.bodies.get(b.0 as usize) else {
+        let Some(id) = self.parts.mj_body(b) else {
             return;
         };
         let Some((_, dof)) = self.free_joint(id) else {
@@ -766,7 +828,7 @@ impl PhysicsEngine for MujocoEngine {
     }
 
     fn set_linear_velocity(&mut self, b: BodyId, linvel: [f64; 3]) {
-        let Some(&id) = self.bodies.get(b.0 as usize) else {
+        let Some(id) = self.parts.mj_body(b) else {
             return;
         };
         let Some((_, dof)) = self.free_joint(id) else {
@@ -828,10 +890,6 @@ impl PhysicsEngine for MujocoEngine {
             // SAFETY: `geom < ngeom`.
             unsafe { *m.geom_bodyid.add(geom as usize) }
         };
-        let ours = |body: c_int| {
-            let i = self.bodies.iter().position(|b| *b == body)?;
-            Some(BodyId(i as u32))
-        };
         (0..d.ncon.max(0) as usize)
             .map(|i| {
                 // SAFETY: `i < ncon`.
@@ -848,7 +906,7 @@ impl PhysicsEngine for MujocoEngine {
                     normal,
                     touching: c.dist <= 0.0,
                     depth: (-c.dist).max(0.0),
-                    bodies: bodies.map(ours),
+                    bodies: c.geom.map(|g| self.parts.owner(g)),
                     slip: tangential_speed(relative, normal),
                 }
             })

@@ -84,6 +84,28 @@ pub const mjtConstraint_mjCNSTR_CONTACT_FRICTIONLESS: mjtConstraint = 5;
 pub const mjtConstraint_mjCNSTR_CONTACT_PYRAMIDAL: mjtConstraint = 6;
 pub const mjtConstraint_mjCNSTR_CONTACT_ELLIPTIC: mjtConstraint = 7;
 pub type mjtConstraint = ::std::os::raw::c_uint;
+pub const mjtDisableBit_mjDSBL_CONSTRAINT: mjtDisableBit = 1;
+pub const mjtDisableBit_mjDSBL_EQUALITY: mjtDisableBit = 2;
+pub const mjtDisableBit_mjDSBL_FRICTIONLOSS: mjtDisableBit = 4;
+pub const mjtDisableBit_mjDSBL_LIMIT: mjtDisableBit = 8;
+pub const mjtDisableBit_mjDSBL_CONTACT: mjtDisableBit = 16;
+pub const mjtDisableBit_mjDSBL_SPRING: mjtDisableBit = 32;
+pub const mjtDisableBit_mjDSBL_DAMPER: mjtDisableBit = 64;
+pub const mjtDisableBit_mjDSBL_GRAVITY: mjtDisableBit = 128;
+pub const mjtDisableBit_mjDSBL_CLAMPCTRL: mjtDisableBit = 256;
+pub const mjtDisableBit_mjDSBL_WARMSTART: mjtDisableBit = 512;
+pub const mjtDisableBit_mjDSBL_FILTERPARENT: mjtDisableBit = 1024;
+pub const mjtDisableBit_mjDSBL_ACTUATION: mjtDisableBit = 2048;
+pub const mjtDisableBit_mjDSBL_REFSAFE: mjtDisableBit = 4096;
+pub const mjtDisableBit_mjDSBL_SENSOR: mjtDisableBit = 8192;
+pub const mjtDisableBit_mjDSBL_MIDPHASE: mjtDisableBit = 16384;
+pub const mjtDisableBit_mjDSBL_EULERDAMP: mjtDisableBit = 32768;
+pub const mjtDisableBit_mjDSBL_AUTORESET: mjtDisableBit = 65536;
+pub const mjtDisableBit_mjDSBL_NATIVECCD: mjtDisableBit = 131072;
+pub const mjtDisableBit_mjDSBL_ISLAND: mjtDisableBit = 262144;
+pub const mjtDisableBit_mjDSBL_MULTICCD: mjtDisableBit = 524288;
+pub const mjtDisableBit_mjNDISABLE: mjtDisableBit = 20;
+pub type mjtDisableBit = ::std::os::raw::c_uint;
 #[repr(C)]
 #[derive(Debug, Copy, Clone)]
 pub struct mjVFS_ {

@@ -6,6 +6,7 @@
 //! - [`library`]: finding, loading and checking the library; MuJoCo's error hooks
 //! - [`mjcf`]: the one mapping of a simulation to MJCF (engine and export)
 //! - [`engine`]: [`MujocoEngine`], the world built in memory from that mapping
+//! - [`parts`]: our bodies in it (a static environment body is geoms of MuJoCo's world body)
 //!
 //! Where the library is: `PROLEG_MUJOCO` (the file, or a folder holding
 //! `lib/libmujoco.so.4.0.0`), else `~/.local/share/proleg/mujoco/lib/libmujoco.so.4.0.0`,
@@ -18,6 +19,7 @@ pub mod ffi;
 pub mod library;
 pub mod mjcf;
 mod models;
+mod parts;
 
 pub use engine::{MujocoEngine, check_mjcf_file};
 

@@ -1,0 +1,161 @@
+//! Training on a task suite: an optimizer file's `<courses>` makes each candidate's
+//! episodes the suite's train courses (never a test seed, never a held-out task), the
+//! stored episodes name their course, a candidate's score is the mean of its courses'
+//! scores as replayed from the store, and bad `<courses>` are located errors.
+
+mod common;
+
+use std::path::Path;
+
+use proleg::cli::optimize::{OptimizeOptions, run};
+use proleg::config::courses::{CoursesSpec, train_tasks};
+use proleg::config::optimizer::parse_optimizer_file;
+use proleg::config::suite::load_suite;
+use proleg::config::{ErrorKind, FsSource, Pos};
+use proleg::control::{ModuleRegistry, load_simulation};
+use proleg::optimize::replay::load_replay;
+use proleg::optimize::robust::combine;
+use proleg::optimize::store::{Store, StoreLocation};
+
+const CONFIG: &str = "configs/suite_sine.simulation.xml";
+
+#[test]
+fn the_shipped_file_trains_on_one_train_course_of_each_named_task() {
+    let sim = load_simulation(common::root().join(CONFIG)).unwrap();
+    let courses = sim
+        .optimizer
+        .as_ref()
+        .and_then(|o| o.courses.as_ref())
+        .expect("courses");
+    let suite = load_suite(&FsSource, &courses.suite).unwrap();
+    let names: Vec<&str> = courses.courses.iter().map(|c| c.task.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "rough-medium",
+            "hills-medium",
+            "steps-medium",
+            "stairs-medium",
+            "slope-medium",
+            "pegs-medium"
+        ]
+    );
+    for c in courses.courses.iter() {
+        let task = suite.tasks.iter().find(|t| t.name == c.task).unwrap();
+        assert!(task.train.contains(&c.seed) && !task.test.contains(&c.seed));
+        // The course is the task's, generated: not the simulation's flat floor.
+        assert_ne!(c.environment, sim.environment, "{}", c.task);
+        assert_eq!(c.environment.robot_pose, sim.environment.robot_pose);
+    }
+}
+
+fn optimize(store: &str) -> proleg::cli::optimize::OptimizeReport {
+    let o = OptimizeOptions {
+        config: common::root().join(CONFIG),
+        seed: Some(5),
+        workers: Some(2),
+        batch: 1,
+        max_evaluations: Some(3),
+        duration: Some(2.0),
+        fitness: None,
+        out: None,
+        evaluations: None,
+        store: Some(store.to_string()),
+        resume: false,
+        lease: None,
+        quiet: true,
+        crash_after: None,
+        engine: None,
+    };
+    run(&o, &ModuleRegistry::standard()).expect("the optimization runs")
+}
+
+#[test]
+fn a_candidate_scores_the_mean_of_its_train_courses_as_replayed_from_the_store() {
+    let dir = common::scratch("suite_training");
+    let store = dir.join("courses.sqlite").display().to_string();
+    let report = optimize(&store);
+    let run = report.store.1;
+    let mut s = Store::open_existing(&StoreLocation::parse(&store).unwrap()).unwrap();
+    let spec = s.run_spec(run).unwrap();
+    assert_eq!(spec.episodes.len(), 6);
+    assert!(
+        spec.episodes[0]
+            .draws
+            .starts_with("course rough-medium seed 1;"),
+        "{:?}",
+        spec.episodes[0].draws
+    );
+    assert!(
+        spec.episodes[5]
+            .draws
+            .starts_with("course pegs-medium seed 1;")
+    );
+    // The suite is stored with the run: a replay loads it from the store.
+    assert!(
+        spec.files
+            .iter()
+            .any(|(p, _)| p.ends_with("locomotion.suite.xml"))
+    );
+    let registry = ModuleRegistry::standard();
+    for e in s.evaluations(run).unwrap() {
+        let scores: Vec<f64> = (0..6)
+            .map(|k| {
+                load_replay(&mut s, run, e.number, Some(k), &registry)
+                    .and_then(|r| r.score())
+                    .expect("episode")
+            })
+            .collect();
+        assert_eq!(combine(&scores, None), e.score, "evaluation {}", e.number);
+        let spread = scores.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+            - scores.iter().copied().fold(f64::INFINITY, f64::min);
+        assert!(spread > 1e-3, "the courses differ: {scores:?}");
+    }
+}
+
+fn spec(tasks: &[&str]) -> CoursesSpec {
+    CoursesSpec {
+        suite: "suites/locomotion.suite.xml".into(),
+        tasks: tasks.iter().map(|t| t.to_string()).collect(),
+        episodes: None,
+        pos: Pos::new(40, 3),
+    }
+}
+
+#[test]
+fn held_out_and_unknown_tasks_and_doubled_episode_counts_are_located_errors() {
+    let path = common::root().join("configs/suites/locomotion.suite.xml");
+    let suite = load_suite(&FsSource, &path).unwrap();
+    let file = Path::new("x.cmaes.xml");
+    let e = train_tasks(file, &spec(&["pegs-easy", "channel-easy"]), &suite, &path).unwrap_err();
+    assert_eq!((e.pos.line, e.kind), (40, ErrorKind::InvalidValue), "{e}");
+    assert!(
+        e.to_string().contains("\"channel-easy\" is held out"),
+        "{e}"
+    );
+    let e = train_tasks(file, &spec(&["lava"]), &suite, &path).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::UnknownReference, "{e}");
+    assert!(e.to_string().contains("pegs-hard"), "lists the tasks: {e}");
+    let all = train_tasks(file, &spec(&[]), &suite, &path).unwrap();
+    assert_eq!(all.len(), 18, "every task with train seeds");
+    assert!(all.iter().all(|t| !t.held_out()));
+
+    let text =
+        std::fs::read_to_string(common::root().join("configs/optimizer/suite_sine.cmaes.xml"))
+            .unwrap();
+    let both = text.replace(
+        "</cmaEvolutionStrategy>",
+        "<robustness><episodes>4</episodes></robustness></cmaEvolutionStrategy>",
+    );
+    let both = both.replace("pegs-medium\"/>", "pegs-medium\" episodes=\"3\"/>");
+    let e = parse_optimizer_file("x.cmaes.xml", &both).unwrap_err();
+    assert!(e.to_string().contains("<courses episodes>"), "{e}");
+    let round = parse_optimizer_file("x.cmaes.xml", &text).unwrap();
+    let again = parse_optimizer_file(
+        "x.cmaes.xml",
+        &proleg::config::optimizer::write_optimizer_file(&round),
+    )
+    .unwrap();
+    assert_eq!(again.courses, round.courses);
+    assert_eq!(round.courses.as_ref().map(|c| c.tasks.len()), Some(6));
+}
