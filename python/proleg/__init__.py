@@ -7,7 +7,8 @@ shapes:
 - :class:`ProlegEnv`, a Gymnasium environment over any simulation file, and
   :class:`ProlegVectorEnv`, N of them stepped natively on a thread pool,
 - registered ids for the shipped scenarios (``proleg/FlatCrawl-v0``, ``proleg/HillCourse-v0``,
-  ``proleg/Stairs-v0``), each on either engine (``engine="rapier"`` or ``"mujoco"``),
+  ``proleg/Stairs-v0``) and for the locomotion suite's terrain families (``proleg/Pegs-v0``,
+  ... :data:`TASKS`), each on either engine (``engine="rapier"`` or ``"mujoco"``),
 - :func:`read_store`, an experiment store as a pandas table,
 - :meth:`ProlegEnv.render` (``render_mode="rgb_array"``) and :func:`save_video`,
 - :func:`proleg.sb3.SB3VecEnv`, the vector environment for Stable-Baselines3,
@@ -23,7 +24,7 @@ from ._native import VERSION as __version__
 from ._native import ENV_OPTIONS, ConfigError, ProlegError, Simulation, load
 from .envs import ProlegEnv, scenario_path
 from .policy import load_policy, save_policy
-from .registration import SCENARIOS, register_envs
+from .registration import SCENARIOS, TASKS, register_envs
 from .store import read_store
 from .vector import ProlegVectorEnv
 from .video import save_video
@@ -37,6 +38,7 @@ __all__ = [
     "ProlegError",
     "ProlegVectorEnv",
     "SCENARIOS",
+    "TASKS",
     "Simulation",
     "__version__",
     "load",

@@ -172,7 +172,44 @@ def _args(argv: list[str] | None) -> argparse.Namespace:
     p.add_argument("--rounds", type=int, default=ROUNDS,
                    help="rounds over every row; each figure is its best round")
     p.add_argument("--json", help="also write the figures to this file")
+    p.add_argument("--resets", action="store_true",
+                   help="instead: what a reset costs on the suite's task ids (a new course, a seen one)")
     return p.parse_args(argv)
+
+
+#: The ids whose resets ``--resets`` times: the flat demo, the largest height field, the
+#: most bodies.
+RESET_IDS = ("proleg/FlatCrawl-v0", "proleg/Rough-v0", "proleg/Pegs-v0")
+
+
+def reset_costs(engines: list[str], resets: int = 40) -> list[dict]:
+    """Wall milliseconds of a reset per id and engine: the median over resets that met a
+    course for the first time (generated, its world's model built) and over those on a
+    course met before (kept by the environment), one core."""
+    import gymnasium
+
+    _pin(_ONE)
+    out = []
+    for engine in engines:
+        for env_id in RESET_IDS:
+            env = gymnasium.make(env_id, engine=engine, difficulty="hard") \
+                if env_id != "proleg/FlatCrawl-v0" else gymnasium.make(env_id, engine=engine)
+            met: set = set()
+            new, seen = [], []
+            for seed in range(resets):
+                t = time.perf_counter()
+                _, info = env.reset(seed=seed)
+                ms = (time.perf_counter() - t) * 1000.0
+                course = info.get("terrain_seed")
+                (seen if course is None or course in met else new).append(ms)
+                met.add(course)
+            env.close()
+            out.append({"engine": engine, "id": env_id,
+                        "new_course_ms": float(np.median(new)) if new else None,
+                        "seen_course_ms": float(np.median(seen)) if seen else None,
+                        "courses": len(met - {None})})
+    _pin(None)
+    return out
 
 
 def _yardsticks(args: argparse.Namespace) -> dict:
@@ -222,6 +259,18 @@ def _measure(args: argparse.Namespace) -> dict:
 
 def main(argv: list[str] | None = None) -> int:
     args = _args(argv)
+    if args.resets:
+        print("proleg.bench --resets: median wall ms of a reset, one core")
+        print(f"{'engine':<8}{'id':<24}{'new course':>12}{'seen course':>13}{'courses':>9}")
+        rows = reset_costs(args.engines)
+        for r in rows:
+            fmt = lambda v: "-" if v is None else f"{v:.1f}"  # noqa: E731
+            print(f"{r['engine']:<8}{r['id']:<24}{fmt(r['new_course_ms']):>12}"
+                  f"{fmt(r['seen_course_ms']):>13}{r['courses']:>9}")
+        if args.json:
+            with open(args.json, "w") as f:
+                json.dump(rows, f, indent=1)
+        return 0
     measured = _measure(args)
     best = measured["best"]
     out: dict = {"config": args.config, "rounds": args.rounds, "native": [], "pipeline": {}}

@@ -55,7 +55,10 @@ pub fn gym_error(e: GymError) -> PyErr {
         GymError::Option { .. } | GymError::Shape { .. } | GymError::NotFinite { .. } => {
             PyValueError::new_err(e.to_string())
         }
-        GymError::Kernel(_) => PyValueError::new_err(e.to_string()),
+        GymError::Kernel(_)
+        | GymError::NoTask { .. }
+        | GymError::HeldOut { .. }
+        | GymError::NoTerrain(_) => PyValueError::new_err(e.to_string()),
         GymError::State(_) => PyRuntimeError::new_err(e.to_string()),
         // As Python says of a keyword a function does not take.
         GymError::UnknownOption { .. } => PyTypeError::new_err(e.to_string()),

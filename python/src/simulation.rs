@@ -365,13 +365,17 @@ impl Simulation {
     }
 }
 
-/// An episode's figures as a dict (`time`, `score`, `energy`, `exit`).
+/// An episode's figures as a dict (`time`, `score`, `energy`, `exit`, and on a suite
+/// task `terrain_seed`).
 pub fn info_dict<'py>(py: Python<'py>, i: &StepInfo) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("time", i.time)?;
     d.set_item("score", i.score)?;
     d.set_item("energy", i.energy)?;
     d.set_item("exit", exit_name(i))?;
+    if let Some(seed) = i.terrain_seed {
+        d.set_item("terrain_seed", seed)?;
+    }
     Ok(d)
 }
 

@@ -19,6 +19,54 @@ def test_check_env_passes_for_every_registered_id(env_id, engine):
     env.close()
 
 
+#: The suite's held-out families: their ids run test courses only.
+HELD_OUT = ("channel", "rubble")
+
+
+@pytest.mark.parametrize("env_id", sorted(proleg.TASKS))
+def test_check_env_passes_for_every_task_id(env_id, engine):
+    split = "test" if proleg.TASKS[env_id] in HELD_OUT else "train"
+    env = gym.make(env_id, engine=engine, split=split)
+    check_env(env.unwrapped)
+    env.close()
+
+
+def test_a_task_id_draws_train_courses_per_reset_and_keeps_a_given_one(engine):
+    env = gym.make("proleg/Pegs-v0", engine=engine, difficulty="hard")
+    assert env.unwrapped.max_steps == 3000, "the task's 60 s at 20 ms"
+    drawn = []
+    for seed in range(8):
+        obs, info = env.reset(seed=seed)
+        assert 1 <= info["terrain_seed"] <= 20, "a train seed, never a test one"
+        drawn.append(info["terrain_seed"])
+    assert len(set(drawn)) > 2, drawn
+    first, info = env.reset(seed=3)
+    again, info_again = env.reset(seed=3)
+    assert info["terrain_seed"] == info_again["terrain_seed"] == drawn[3]
+    np.testing.assert_array_equal(first, again)
+    env.close()
+    env = gym.make("proleg/Pegs-v0", engine=engine, terrain_seed=7)
+    for seed in range(3):
+        assert env.reset(seed=seed)[1]["terrain_seed"] == 7
+    env.close()
+    env = gym.make("proleg/Rubble-v0", engine=engine, split="test")
+    assert 101 <= env.reset(seed=1)[1]["terrain_seed"] <= 105
+    env.close()
+
+
+def test_bad_task_options_raise_value_errors():
+    with pytest.raises(ValueError, match="held out"):
+        gym.make("proleg/Channel-v0")
+    with pytest.raises(ValueError, match="no pegs task of difficulty 0.3"):
+        gym.make("proleg/Pegs-v0", difficulty=0.3)
+    with pytest.raises(ValueError, match="difficulty"):
+        gym.make("proleg/Pegs-v0", difficulty=1.5)
+    with pytest.raises(ValueError, match="terrain"):
+        gym.make("proleg/FlatCrawl-v0", terrain="lava")
+    with pytest.raises(ValueError, match="terrain_seed is an option of a terrain task"):
+        gym.make("proleg/FlatCrawl-v0", terrain_seed=3)
+
+
 def test_the_registered_ids_make_proleg_envs_on_the_engine_asked(engine):
     env = gym.make("proleg/FlatCrawl-v0", engine=engine)
     assert isinstance(env.unwrapped, proleg.ProlegEnv)
@@ -184,7 +232,8 @@ def test_the_options_and_their_defaults_come_from_the_library(demo):
     options = {name: default for name, default, _ in proleg.ENV_OPTIONS}
     assert list(options) == [
         "engine", "control_period", "mode", "action_scale", "fitness",
-        "energy_weight", "duration", "threads", "autoreset",
+        "energy_weight", "duration", "terrain", "difficulty", "suite", "split",
+        "terrain_seed", "threads", "autoreset",
     ]
     for name, default, doc in proleg.ENV_OPTIONS:
         assert f"{name} = {default}: {doc}" in proleg.ProlegEnv.__doc__

@@ -18,6 +18,7 @@ use std::sync::Arc;
 use crate::config::Simulation;
 use crate::control::ModuleRegistry;
 use crate::control::observation::ObsLayout;
+use crate::gym::course::Courses;
 use crate::gym::error::GymError;
 use crate::gym::observe::{Previous, Scratch, layout_of, observe};
 use crate::gym::options::{ActionMode, EnvOptions};
@@ -53,6 +54,8 @@ pub struct StepInfo {
     pub energy: f64,
     /// How the robot left the world, when it did.
     pub exit: Option<WorldExit>,
+    /// The terrain seed of the episode's course, on a suite task.
+    pub terrain_seed: Option<u64>,
 }
 
 /// One running episode's bookkeeping: the episode runner's, and what the rewards need.
@@ -89,6 +92,10 @@ pub struct Env {
     seeds: SimRng,
     ready: bool,
     episodes: u64,
+    /// A suite task's courses, when the options name a terrain.
+    courses: Option<Courses>,
+    /// The running episode's course.
+    terrain_seed: Option<u64>,
 }
 
 impl Env {
@@ -115,10 +122,21 @@ impl Env {
             });
         }
         let steps_per_action = ratio.round() as u64;
-        let duration = opts.duration.unwrap_or(props.duration);
+        let mut courses = opts.course()?.map(|c| Courses::new(&c)).transpose()?;
+        let duration = opts
+            .duration
+            .or(courses.as_ref().map(|c| c.task().duration))
+            .unwrap_or(props.duration);
         let max_steps = (duration / opts.control_period).round().max(1.0) as u64;
         let seed = props.seed;
-        let world = build(&sim, &registry, seed)?;
+        let (world, terrain_seed) = match courses.as_mut() {
+            Some(c) => {
+                let t = c.pick(seed);
+                let on_course = c.world(&sim, t)?;
+                (build(&on_course, &registry, seed)?, Some(t))
+            }
+            None => (build(&sim, &registry, seed)?, None),
+        };
         let joints = world.kernel(0)?.joints();
         if joints == 0 {
             return Err(GymError::NoJoints {
@@ -149,6 +167,8 @@ impl Env {
             seeds: SimRng::new(seed),
             ready: false,
             episodes: 0,
+            courses,
+            terrain_seed,
             opts,
         };
         env.attach_policy()?;
@@ -213,7 +233,15 @@ impl Env {
             }
             None => self.seeds.next_u64(),
         };
-        self.world = build(&self.sim, &self.registry, episode_seed)?;
+        self.world = match self.courses.as_mut() {
+            Some(c) => {
+                let t = c.pick(episode_seed);
+                self.terrain_seed = Some(t);
+                let on_course = c.world(&self.sim, t)?;
+                build(&on_course, &self.registry, episode_seed)?
+            }
+            None => build(&self.sim, &self.registry, episode_seed)?,
+        };
         self.attach_policy()?;
         let com = self.world.com(0)?;
         let settings = episode_settings(&self.opts, self.steps_per_action, self.max_steps);
@@ -228,7 +256,10 @@ impl Env {
         self.ready = true;
         self.episodes += 1;
         self.observe(obs)?;
-        Ok(StepInfo::default())
+        Ok(StepInfo {
+            terrain_seed: self.terrain_seed,
+            ..StepInfo::default()
+        })
     }
 
     /// One environment step: the action's targets held for one control period; the next
@@ -284,6 +315,7 @@ impl Env {
                 score: self.episode.score,
                 energy: self.episode.energy,
                 exit,
+                terrain_seed: self.terrain_seed,
             },
         })
     }

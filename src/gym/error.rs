@@ -66,6 +66,29 @@ pub enum GymError {
     /// `step` before the first `reset`, or after `close`.
     #[error("{0}")]
     State(&'static str),
+    /// A `terrain` and `difficulty` the suite has no task for.
+    #[error("{suite} has no {family} task of difficulty {difficulty}; its {family} tasks: {known}")]
+    NoTask {
+        /// The suite file.
+        suite: String,
+        /// The family asked for.
+        family: String,
+        /// The difficulty asked for.
+        difficulty: f64,
+        /// The family's tasks there are.
+        known: String,
+    },
+    /// A held-out task asked for with its train seeds.
+    #[error(
+        "task {task} is held out: it has no train seeds (split=\"test\" runs its test seeds, terrain_seed one course)"
+    )]
+    HeldOut {
+        /// The task.
+        task: String,
+    },
+    /// Terrain options without a `terrain`.
+    #[error("{0} is an option of a terrain task: give terrain=\"pegs\" (or another family) too")]
+    NoTerrain(&'static str),
     /// The thread pool of a vector environment could not be started.
     #[error("the thread pool could not be started: {0}")]
     Threads(String),

@@ -6,6 +6,7 @@
 //! |---|---|
 //! | [`options`] | the environment's settings: engine, control period, alone or residual, reward |
 //! | [`observe`] | the observation's layout (a name per index) and its reading from the world |
+//! | [`course`] | a suite task's courses: each reset on a train (or test) course, generated once per seed |
 //! | [`env`] | one environment: the policy as one more module of the kernel, the reward from the optimizers' fitness, termination on the control window's rule |
 //! | [`statistics`] | a policy's starting point: observation statistics of the file's own gait, a network that outputs 0 |
 //! | [`vector`] | N environments on a thread pool, autoreset next-step, same-step or disabled |
@@ -13,6 +14,7 @@
 //!
 //! Nothing here is Python: the binding crate converts arrays and errors and nothing else.
 
+pub mod course;
 pub mod env;
 pub mod error;
 pub mod observe;

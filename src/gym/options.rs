@@ -5,8 +5,12 @@
 //! them by name ([`EnvOptions::set`], [`VecOptions::set`]) and documents them from
 //! [`documented`], so no default is written twice.
 
+use std::path::PathBuf;
+
 use crate::config::fitness::Fitness;
 use crate::config::simulation::EngineKind;
+use crate::config::terrain::{Family, Tier};
+use crate::gym::course::{CourseOptions, Split};
 use crate::gym::error::GymError;
 
 /// Whether the policy is the robot's only module or one more beside the file's modules.
@@ -59,9 +63,19 @@ pub struct EnvOptions {
     pub fitness: Fitness,
     /// Reward lost per joule the servos put out.
     pub energy_weight: f64,
-    /// Simulated seconds per episode (`None`: the file's duration); then the episode is
-    /// truncated.
+    /// Simulated seconds per episode (`None`: the task's, else the file's duration); then
+    /// the episode is truncated.
     pub duration: Option<f64>,
+    /// A suite task's terrain family: each reset builds the robot on one of its courses.
+    pub terrain: Option<Family>,
+    /// The task's difficulty (a tier's value).
+    pub difficulty: f64,
+    /// The suite holding the task.
+    pub suite: Option<PathBuf>,
+    /// Which of the task's seed lists resets draw from.
+    pub split: Split,
+    /// One course for every reset, instead of a drawn one.
+    pub terrain_seed: Option<u64>,
 }
 
 impl Default for EnvOptions {
@@ -74,6 +88,11 @@ impl Default for EnvOptions {
             fitness: Fitness::Distance,
             energy_weight: 0.0,
             duration: None,
+            terrain: None,
+            difficulty: Tier::Medium.difficulty(),
+            suite: None,
+            split: Split::Train,
+            terrain_seed: None,
         }
     }
 }
@@ -85,6 +104,30 @@ impl EnvOptions {
             ActionMode::Alone => 1.0,
             ActionMode::Residual => 0.25,
         })
+    }
+
+    /// The suite task the options ask for, if they name a terrain.
+    pub fn course(&self) -> Result<Option<CourseOptions>, GymError> {
+        let Some(family) = self.terrain else {
+            if self.terrain_seed.is_some() {
+                return Err(GymError::NoTerrain("terrain_seed"));
+            }
+            return Ok(None);
+        };
+        let Some(suite) = self.suite.clone() else {
+            return Err(GymError::Option {
+                option: "suite",
+                value: "None".into(),
+                want: "a terrain task needs its suite file (the registered ids give the shipped one)",
+            });
+        };
+        Ok(Some(CourseOptions {
+            family,
+            difficulty: self.difficulty,
+            suite,
+            split: self.split,
+            terrain_seed: self.terrain_seed,
+        }))
     }
 
     /// Refuses options no episode can run with.
@@ -105,6 +148,14 @@ impl EnvOptions {
         if let Some(d) = self.duration {
             positive("duration", d)?;
         }
+        if !(0.0..=1.0).contains(&self.difficulty) {
+            return Err(GymError::Option {
+                option: "difficulty",
+                value: self.difficulty.to_string(),
+                want: "give a number in [0, 1] or \"easy\", \"medium\", \"hard\"",
+            });
+        }
+        self.course()?;
         if !(self.energy_weight.is_finite() && self.energy_weight >= 0.0) {
             return Err(GymError::Option {
                 option: "energy_weight",
@@ -185,7 +236,7 @@ pub struct OptionDoc {
 }
 
 /// What each option of [`EnvOptions`] and [`VecOptions`] sets, in keyword order.
-const DOCS: [(&str, &str); 9] = [
+const DOCS: [(&str, &str); 14] = [
     (
         "engine",
         "the physics engine, \"rapier\" or \"mujoco\" (None: the file's)",
@@ -210,6 +261,23 @@ const DOCS: [(&str, &str); 9] = [
     (
         "duration",
         "simulated seconds per episode (None: the file's duration)",
+    ),
+    (
+        "terrain",
+        "a suite task's terrain family (\"pegs\", \"rough\", ...): each reset builds the robot on one of its courses (None: the file's world)",
+    ),
+    (
+        "difficulty",
+        "the task's difficulty: \"easy\", \"medium\", \"hard\" or its number in [0, 1]",
+    ),
+    ("suite", "the suite file holding the task"),
+    (
+        "split",
+        "\"train\" (resets draw the task's train seeds) or \"test\" (its held-out test seeds)",
+    ),
+    (
+        "terrain_seed",
+        "one course for every reset (None: drawn from the reset's seed)",
     ),
     (
         "threads",
@@ -240,6 +308,16 @@ pub fn documented() -> Vec<OptionDoc> {
         format!("\"{}\"", e.fitness.name()),
         py_number(Some(e.energy_weight)),
         py_number(e.duration),
+        e.terrain
+            .map_or_else(|| "None".to_string(), |f| format!("\"{f}\"")),
+        py_number(Some(e.difficulty)),
+        e.suite.as_ref().map_or_else(
+            || "None".to_string(),
+            |p| format!("{:?}", p.display().to_string()),
+        ),
+        format!("\"{}\"", e.split.name()),
+        e.terrain_seed
+            .map_or_else(|| "None".to_string(), |s| s.to_string()),
         v.threads.to_string(),
         format!("\"{}\"", v.autoreset.name()),
     ];
@@ -311,6 +389,48 @@ impl EnvOptions {
             }
             "energy_weight" => self.energy_weight = number("energy_weight", value)?,
             "duration" => self.duration = maybe_number("duration", value)?,
+            "terrain" => {
+                self.terrain = match value {
+                    OptionValue::Unset => None,
+                    v => Some(Family::parse(text("terrain", v)?).map_err(|_| {
+                        wrong(
+                            "terrain",
+                            v,
+                            "give a family: rough, hills, steps, stairs, slope, pegs, channel or rubble",
+                        )
+                    })?),
+                }
+            }
+            "difficulty" => {
+                self.difficulty = match value {
+                    OptionValue::Text(t) => Tier::parse(t)
+                        .ok_or_else(|| {
+                            wrong("difficulty", value, "give easy, medium, hard or a number")
+                        })?
+                        .difficulty(),
+                    v => number("difficulty", v)?,
+                }
+            }
+            "suite" => {
+                self.suite = match value {
+                    OptionValue::Unset => None,
+                    v => Some(PathBuf::from(text("suite", v)?)),
+                }
+            }
+            "split" => self.split = Split::parse(text("split", value)?)?,
+            "terrain_seed" => {
+                self.terrain_seed = match maybe_number("terrain_seed", value)? {
+                    None => None,
+                    Some(s) if s >= 0.0 && s.fract() == 0.0 && s < 9.0e15 => Some(s as u64),
+                    Some(_) => {
+                        return Err(wrong(
+                            "terrain_seed",
+                            value,
+                            "give a whole number of at least 0",
+                        ));
+                    }
+                }
+            }
             _ => return Err(unknown(name)),
         }
         Ok(())
