@@ -5,35 +5,13 @@
 
 mod common;
 
-use proleg::cli::optimize::{OptimizeOptions, OptimizeReport, run};
+use common::optimize::optimize;
 use proleg::control::ModuleRegistry;
 use proleg::optimize::replay::{ReplayError, Which, load_replay, randomized_check, replay_from};
 use proleg::optimize::robust::combine;
 use proleg::optimize::store::StoreError;
 use proleg::optimize::store::{Store, StoreLocation};
 use proleg::sim::randomize::episode_seeds;
-
-/// `proleg optimize CONFIG` for `evals` evaluations of `duration` s into `store`.
-fn optimize(config: &str, store: &str, seed: u64, evals: u64, duration: f64) -> OptimizeReport {
-    let o = OptimizeOptions {
-        config: common::root().join(config),
-        seed: Some(seed),
-        workers: Some(2),
-        batch: 1,
-        max_evaluations: Some(evals),
-        duration: Some(duration),
-        fitness: None,
-        out: None,
-        evaluations: None,
-        store: Some(store.to_string()),
-        resume: false,
-        lease: None,
-        quiet: true,
-        crash_after: None,
-        engine: None,
-    };
-    run(&o, &ModuleRegistry::standard()).expect("the optimization runs")
-}
 
 fn open(store: &str) -> Store {
     Store::open_existing(&StoreLocation::parse(store).expect("location")).expect("store")

@@ -7,7 +7,7 @@ mod common;
 
 use std::path::Path;
 
-use proleg::cli::optimize::{OptimizeOptions, run};
+use common::optimize::optimize;
 use proleg::config::courses::{CoursesSpec, train_tasks};
 use proleg::config::optimizer::parse_optimizer_file;
 use proleg::config::suite::load_suite;
@@ -49,32 +49,11 @@ fn the_shipped_file_trains_on_one_train_course_of_each_named_task() {
     }
 }
 
-fn optimize(store: &str) -> proleg::cli::optimize::OptimizeReport {
-    let o = OptimizeOptions {
-        config: common::root().join(CONFIG),
-        seed: Some(5),
-        workers: Some(2),
-        batch: 1,
-        max_evaluations: Some(3),
-        duration: Some(2.0),
-        fitness: None,
-        out: None,
-        evaluations: None,
-        store: Some(store.to_string()),
-        resume: false,
-        lease: None,
-        quiet: true,
-        crash_after: None,
-        engine: None,
-    };
-    run(&o, &ModuleRegistry::standard()).expect("the optimization runs")
-}
-
 #[test]
 fn a_candidate_scores_the_mean_of_its_train_courses_as_replayed_from_the_store() {
     let dir = common::scratch("suite_training");
     let store = dir.join("courses.sqlite").display().to_string();
-    let report = optimize(&store);
+    let report = optimize(CONFIG, &store, 5, 3, 2.0);
     let run = report.store.1;
     let mut s = Store::open_existing(&StoreLocation::parse(&store).unwrap()).unwrap();
     let spec = s.run_spec(run).unwrap();

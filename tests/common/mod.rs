@@ -3,6 +3,7 @@
 
 pub mod driven;
 pub mod hosts;
+pub mod optimize;
 pub mod pg;
 pub mod shared_run;
 pub mod window;
