@@ -1,6 +1,7 @@
 //! The environments from Rust (`proleg::gym`): a vector environment gives the same arrays
 //! on one, two and three threads; a residual policy with zero action runs the file's own
-//! gait, its return the optimizers' score; the policy's targets reach the joints.
+//! gait, its return the optimizers' score; the policy's targets reach the joints; the lanes
+//! of a vector environment on a suite task draw train courses and hold each once.
 
 mod common;
 
@@ -131,6 +132,11 @@ fn options_are_set_by_name_with_their_defaults_documented_once() {
             "fitness",
             "energy_weight",
             "duration",
+            "terrain",
+            "difficulty",
+            "suite",
+            "split",
+            "terrain_seed",
             "threads",
             "autoreset"
         ]
@@ -166,4 +172,40 @@ fn options_are_set_by_name_with_their_defaults_documented_once() {
         vec.set(&mut env, "mode", &OptionValue::Number(1.0)),
         Err(GymError::Option { option: "mode", .. })
     ));
+}
+
+#[test]
+fn a_vector_environment_on_a_task_draws_train_courses_and_holds_each_once() {
+    let opts = EnvOptions {
+        duration: Some(0.1),
+        terrain: Some(proleg::config::terrain::Family::Pegs),
+        suite: Some(common::root().join("configs/suites/locomotion.suite.xml")),
+        ..EnvOptions::default()
+    };
+    let mut v = VecEnv::new(
+        demo(),
+        &ModuleRegistry::standard(),
+        &opts,
+        6,
+        VecOptions {
+            threads: 2,
+            autoreset: Autoreset::NextStep,
+        },
+    )
+    .expect("vector env");
+    let mut met = std::collections::BTreeSet::new();
+    for round in 0..3 {
+        v.reset(Some(10 * round), None).expect("reset");
+        for lane in v.lanes() {
+            let seed = lane.info.terrain_seed.expect("a course");
+            assert!((1..=20).contains(&seed), "a train seed: {seed}");
+            met.insert(seed);
+        }
+    }
+    assert!(met.len() > 3, "{met:?}");
+    // One cache for all lanes: every course met is held once, whichever lane met it.
+    for env in v.envs() {
+        let kept = env.courses().expect("courses").cache().len();
+        assert_eq!(kept, met.len());
+    }
 }

@@ -3,11 +3,12 @@
 //! from the episode's seed (`split="train"`, the default), one of the task's test seeds
 //! (`split="test"`), or `terrain_seed` when given. A generated course is kept for the next
 //! reset on the same seed (a task has a few dozen), so only a seed's first reset pays for
-//! its generation.
+//! its generation; the environments of a vector environment share what they keep
+//! ([`CourseCache`]), so a course is held once, not once per lane.
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use crate::config::Simulation;
 use crate::config::source::FsSource;
@@ -63,6 +64,31 @@ pub struct CourseOptions {
     pub terrain_seed: Option<u64>,
 }
 
+/// The simulation on each course generated so far, by terrain seed: one environment's,
+/// or shared by the lanes of a vector environment (all on the same file and task).
+#[derive(Debug, Clone, Default)]
+pub struct CourseCache(Arc<Mutex<BTreeMap<u64, Arc<Simulation>>>>);
+
+impl CourseCache {
+    /// Courses kept.
+    pub fn len(&self) -> usize {
+        self.map().len()
+    }
+
+    /// Whether none is kept yet.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The map; a lane that panicked while holding it left it whole (an insert is the
+    /// only change), so a poisoned lock is taken as it is.
+    fn map(&self) -> std::sync::MutexGuard<'_, BTreeMap<u64, Arc<Simulation>>> {
+        self.0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+}
+
 /// A task's courses, generated as resets need them.
 #[derive(Debug)]
 pub struct Courses {
@@ -70,13 +96,13 @@ pub struct Courses {
     suite: PathBuf,
     seeds: Vec<u64>,
     fixed: Option<u64>,
-    /// The simulation on each course generated so far.
-    made: BTreeMap<u64, Arc<Simulation>>,
+    made: CourseCache,
 }
 
 impl Courses {
-    /// The task of `o` in its suite, or why there is none.
-    pub fn new(o: &CourseOptions) -> Result<Courses, GymError> {
+    /// The task of `o` in its suite, or why there is none; its courses are kept in
+    /// `cache`.
+    pub fn new(o: &CourseOptions, cache: CourseCache) -> Result<Courses, GymError> {
         let suite = load_suite(&FsSource, &o.suite)?;
         let family = o.family.name();
         let same = |t: &&Task| t.terrain.family == o.family;
@@ -117,7 +143,7 @@ impl Courses {
             suite: o.suite.clone(),
             seeds,
             fixed: o.terrain_seed,
-            made: BTreeMap::new(),
+            made: cache,
         })
     }
 
@@ -134,13 +160,20 @@ impl Courses {
         })
     }
 
-    /// `base` on the course of terrain seed `seed` (generated at its first use).
-    pub fn world(&mut self, base: &Simulation, seed: u64) -> Result<Arc<Simulation>, GymError> {
-        if let Some(sim) = self.made.get(&seed) {
+    /// `base` on the course of terrain seed `seed` (generated at its first use by any
+    /// environment sharing the cache; the others wait for it rather than make it twice).
+    pub fn world(&self, base: &Simulation, seed: u64) -> Result<Arc<Simulation>, GymError> {
+        let mut made = self.made.map();
+        if let Some(sim) = made.get(&seed) {
             return Ok(Arc::clone(sim));
         }
         let sim = Arc::new(self.task.world(base, seed, &self.suite)?);
-        self.made.insert(seed, Arc::clone(&sim));
+        made.insert(seed, Arc::clone(&sim));
         Ok(sim)
+    }
+
+    /// The courses kept.
+    pub fn cache(&self) -> &CourseCache {
+        &self.made
     }
 }

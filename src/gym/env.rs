@@ -18,7 +18,7 @@ use std::sync::Arc;
 use crate::config::Simulation;
 use crate::control::ModuleRegistry;
 use crate::control::observation::ObsLayout;
-use crate::gym::course::Courses;
+use crate::gym::course::{CourseCache, Courses};
 use crate::gym::error::GymError;
 use crate::gym::observe::{Previous, Scratch, layout_of, observe};
 use crate::gym::options::{ActionMode, EnvOptions};
@@ -106,6 +106,17 @@ impl Env {
         registry: ModuleRegistry,
         opts: EnvOptions,
     ) -> Result<Env, GymError> {
+        Env::sharing(sim, registry, opts, CourseCache::default())
+    }
+
+    /// As [`Env::new`], keeping a suite task's courses in `cache` (a vector environment's
+    /// lanes share one).
+    pub fn sharing(
+        sim: Arc<Simulation>,
+        registry: ModuleRegistry,
+        opts: EnvOptions,
+        cache: CourseCache,
+    ) -> Result<Env, GymError> {
         opts.check()?;
         let sim = match opts.engine {
             Some(e) if e != sim.engine() => Arc::new((*sim).clone().with_engine(Some(e))),
@@ -122,14 +133,17 @@ impl Env {
             });
         }
         let steps_per_action = ratio.round() as u64;
-        let mut courses = opts.course()?.map(|c| Courses::new(&c)).transpose()?;
+        let courses = opts
+            .course()?
+            .map(|c| Courses::new(&c, cache))
+            .transpose()?;
         let duration = opts
             .duration
             .or(courses.as_ref().map(|c| c.task().duration))
             .unwrap_or(props.duration);
         let max_steps = (duration / opts.control_period).round().max(1.0) as u64;
         let seed = props.seed;
-        let (world, terrain_seed) = match courses.as_mut() {
+        let (world, terrain_seed) = match courses.as_ref() {
             Some(c) => {
                 let t = c.pick(seed);
                 let on_course = c.world(&sim, t)?;
@@ -216,6 +230,11 @@ impl Env {
         &mut self.world
     }
 
+    /// A suite task's courses, when the options name a terrain.
+    pub fn courses(&self) -> Option<&Courses> {
+        self.courses.as_ref()
+    }
+
     /// Resets so far (each builds a new world).
     pub fn episodes(&self) -> u64 {
         self.episodes
@@ -233,7 +252,7 @@ impl Env {
             }
             None => self.seeds.next_u64(),
         };
-        self.world = match self.courses.as_mut() {
+        self.world = match self.courses.as_ref() {
             Some(c) => {
                 let t = c.pick(episode_seed);
                 self.terrain_seed = Some(t);

@@ -10,6 +10,7 @@ use rayon::prelude::*;
 
 use crate::config::Simulation;
 use crate::control::ModuleRegistry;
+use crate::gym::course::CourseCache;
 use crate::gym::env::{Env, StepInfo};
 use crate::gym::error::GymError;
 use crate::gym::options::{Autoreset, EnvOptions, VecOptions};
@@ -106,7 +107,9 @@ impl VecEnv {
                 want: "give at least one thread",
             });
         }
-        let make = |_| Env::new(sim.clone(), registry.clone(), opts.clone());
+        // One cache of a suite task's courses for every lane: a course is held once.
+        let cache = CourseCache::default();
+        let make = |_| Env::sharing(sim.clone(), registry.clone(), opts.clone(), cache.clone());
         let (threads, envs) = if threads == 1 {
             let envs = (0..n).map(make).collect::<Result<Vec<Env>, GymError>>()?;
             (Threads::Caller, envs)
