@@ -5,10 +5,9 @@
 
 mod common;
 
-use common::optimize::optimize;
+use common::optimize::{assert_scores_are_episode_means, optimize};
 use proleg::control::ModuleRegistry;
 use proleg::optimize::replay::{ReplayError, Which, load_replay, randomized_check, replay_from};
-use proleg::optimize::robust::combine;
 use proleg::optimize::store::StoreError;
 use proleg::optimize::store::{Store, StoreLocation};
 use proleg::sim::randomize::episode_seeds;
@@ -120,19 +119,7 @@ fn robust_fitness_is_the_mean_of_its_stored_randomized_episodes() {
         "{:?}",
         spec.episodes[0]
     );
-    for e in s.evaluations(run).expect("evaluations") {
-        let scores: Vec<f64> = (0..8)
-            .map(|k| {
-                load_replay(&mut s, run, e.number, Some(k), &registry)
-                    .and_then(|r| r.score())
-                    .expect("episode")
-            })
-            .collect();
-        assert_eq!(combine(&scores, None), e.score, "evaluation {}", e.number);
-        let spread = scores.iter().copied().fold(f64::NEG_INFINITY, f64::max)
-            - scores.iter().copied().fold(f64::INFINITY, f64::min);
-        assert!(spread > 1e-3, "the episodes differ: {scores:?}");
-    }
+    assert_scores_are_episode_means(&mut s, run, 8);
     let e = replay_from(&store, run, Which::Best, Some(8), &registry)
         .map(|_| ())
         .expect_err("an error");

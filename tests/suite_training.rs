@@ -7,14 +7,12 @@ mod common;
 
 use std::path::Path;
 
-use common::optimize::optimize;
+use common::optimize::{assert_scores_are_episode_means, optimize};
 use proleg::config::courses::{CoursesSpec, train_tasks};
 use proleg::config::optimizer::parse_optimizer_file;
 use proleg::config::suite::load_suite;
 use proleg::config::{ErrorKind, FsSource, Pos};
-use proleg::control::{ModuleRegistry, load_simulation};
-use proleg::optimize::replay::load_replay;
-use proleg::optimize::robust::combine;
+use proleg::control::load_simulation;
 use proleg::optimize::store::{Store, StoreLocation};
 
 const CONFIG: &str = "configs/suite_sine.simulation.xml";
@@ -76,20 +74,7 @@ fn a_candidate_scores_the_mean_of_its_train_courses_as_replayed_from_the_store()
             .iter()
             .any(|(p, _)| p.ends_with("locomotion.suite.xml"))
     );
-    let registry = ModuleRegistry::standard();
-    for e in s.evaluations(run).unwrap() {
-        let scores: Vec<f64> = (0..6)
-            .map(|k| {
-                load_replay(&mut s, run, e.number, Some(k), &registry)
-                    .and_then(|r| r.score())
-                    .expect("episode")
-            })
-            .collect();
-        assert_eq!(combine(&scores, None), e.score, "evaluation {}", e.number);
-        let spread = scores.iter().copied().fold(f64::NEG_INFINITY, f64::max)
-            - scores.iter().copied().fold(f64::INFINITY, f64::min);
-        assert!(spread > 1e-3, "the courses differ: {scores:?}");
-    }
+    assert_scores_are_episode_means(&mut s, run, 6);
 }
 
 fn spec(tasks: &[&str]) -> CoursesSpec {

@@ -1,7 +1,11 @@
-//! `proleg optimize` in-process, as the tests run it: two workers, quiet, into a store.
+//! `proleg optimize` in-process, as the tests run it: two workers, quiet, into a store;
+//! and the check that a stored score is the mean of its episodes replayed from the store.
 
 use proleg::cli::optimize::{OptimizeOptions, OptimizeReport, run};
 use proleg::control::ModuleRegistry;
+use proleg::optimize::replay::load_replay;
+use proleg::optimize::robust::combine;
+use proleg::optimize::store::Store;
 
 /// `proleg optimize CONFIG` (from the repository root) for `evals` evaluations of
 /// `duration` s with seed `seed` into `store`.
@@ -24,4 +28,23 @@ pub fn optimize(config: &str, store: &str, seed: u64, evals: u64, duration: f64)
         engine: None,
     };
     run(&o, &ModuleRegistry::standard()).expect("the optimization runs")
+}
+
+/// Every stored evaluation of `run` scores the mean of its `episodes` episodes, each
+/// replayed from the store, and the episodes differ (by more than 1 mm).
+pub fn assert_scores_are_episode_means(s: &mut Store, run: i64, episodes: u32) {
+    let registry = ModuleRegistry::standard();
+    for e in s.evaluations(run).expect("evaluations") {
+        let scores: Vec<f64> = (0..episodes)
+            .map(|k| {
+                load_replay(s, run, e.number, Some(k), &registry)
+                    .and_then(|r| r.score())
+                    .expect("episode")
+            })
+            .collect();
+        assert_eq!(combine(&scores, None), e.score, "evaluation {}", e.number);
+        let spread = scores.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+            - scores.iter().copied().fold(f64::INFINITY, f64::min);
+        assert!(spread > 1e-3, "the episodes differ: {scores:?}");
+    }
 }
