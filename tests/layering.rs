@@ -287,25 +287,24 @@ fn declared_modules(code: &str) -> Vec<String> {
         .collect()
 }
 
-/// The files of `src` that `file` imports: its `use` trees (paths from `crate`, `super`,
-/// `self` or a child module it declares; a `pub use` re-export does not count) and
-/// `crate::`/`super::` paths in its code, tests left out.
-fn imports_of(src: &Path, file: &Path) -> Vec<std::path::PathBuf> {
+/// A file's code without its tests and comments.
+fn code_of(file: &Path) -> String {
     let text = std::fs::read_to_string(file).unwrap();
-    let code: String = text
-        .split("#[cfg(test)]")
+    text.split("#[cfg(test)]")
         .next()
         .unwrap_or("")
         .lines()
         .map(|l| l.split("//").next().unwrap_or(""))
         .collect::<Vec<_>>()
-        .join("\n");
+        .join("\n")
+}
+
+/// The `use` trees of `code`, expanded, each with whether it is a re-export (`pub use`,
+/// `pub(crate) use`): only visibility words before `use`, only a path tree after it.
+fn use_paths(code: &str) -> Vec<(bool, String)> {
     let mut paths = Vec::new();
     for statement in code.split(';') {
-        // A `use` item: only visibility words before it, only a path tree after it. A
-        // `pub use` is a folder's facade (what it offers), not a dependency of its code.
         if let Some(at) = statement.find("use ")
-            && !statement[..at].contains("pub")
             && statement[..at]
                 .trim()
                 .chars()
@@ -314,13 +313,124 @@ fn imports_of(src: &Path, file: &Path) -> Vec<std::path::PathBuf> {
                 .chars()
                 .all(|c| c.is_alphanumeric() || "_:{},* \n\t".contains(c))
         {
-            paths.extend(expand_use(&statement[at + 4..]));
+            let public = statement[..at].contains("pub");
+            paths.extend(
+                expand_use(&statement[at + 4..])
+                    .into_iter()
+                    .map(|p| (public, p)),
+            );
         }
     }
+    paths
+}
+
+/// The full module path (from the crate root) of `path` written in the file of module
+/// `me` that declares `children`, or `None` for a path outside the crate.
+fn absolute(me: &[String], children: &[String], path: &str) -> Option<Vec<String>> {
+    let segments: Vec<String> = path.split("::").map(|s| s.trim().to_string()).collect();
+    match segments.first().map(String::as_str) {
+        Some("crate") => Some(segments[1..].to_vec()),
+        Some("super") => {
+            let ups = segments.iter().take_while(|s| *s == "super").count();
+            let mut base = me[..me.len().saturating_sub(ups)].to_vec();
+            base.extend(segments[ups..].iter().cloned());
+            Some(base)
+        }
+        Some("self") => Some(
+            me.iter()
+                .cloned()
+                .chain(segments[1..].iter().cloned())
+                .collect(),
+        ),
+        // A path from a child module this file declares (`use fit::GroupFit`).
+        Some(child) if children.iter().any(|c| c == child) => {
+            Some(me.iter().cloned().chain(segments.iter().cloned()).collect())
+        }
+        _ => None,
+    }
+}
+
+/// What a file offers through `pub use`: the name it offers -> the full path it stands for.
+type Reexports = std::collections::HashMap<String, Vec<String>>;
+
+fn reexports_of(src: &Path, file: &Path) -> Reexports {
+    let code = code_of(file);
+    let me = module_of(src, file);
+    let children = declared_modules(&code);
+    use_paths(&code)
+        .into_iter()
+        .filter(|(public, _)| *public)
+        .filter_map(|(_, p)| {
+            let (path, alias) = match p.split_once(" as ") {
+                Some((path, alias)) => (path.trim().to_string(), alias.trim().to_string()),
+                None => (
+                    p.clone(),
+                    p.rsplit("::").next().unwrap_or("").trim().to_string(),
+                ),
+            };
+            Some((alias, absolute(&me, &children, &path)?))
+        })
+        .collect()
+}
+
+/// The file that defines what `full` names: the file of its longest prefix, and through
+/// that file's `pub use` on to the file the name is re-exported from (a facade is not
+/// a dependency: what is imported through it is).
+fn defining_file(
+    src: &Path,
+    reexports: &std::collections::HashMap<std::path::PathBuf, Reexports>,
+    full: &[String],
+) -> Option<std::path::PathBuf> {
+    let mut full = full.to_vec();
+    let mut file = file_of(src, &full)?;
+    for _ in 0..8 {
+        let module = module_of(src, &file);
+        let Some(name) = full.get(module.len()) else {
+            break;
+        };
+        let Some(target) = reexports.get(&file).and_then(|r| r.get(name)) else {
+            break;
+        };
+        let next: Vec<String> = target
+            .iter()
+            .chain(&full[module.len() + 1..])
+            .cloned()
+            .collect();
+        match file_of(src, &next) {
+            Some(f) if f != file => {
+                file = f;
+                full = next;
+            }
+            _ => break,
+        }
+    }
+    Some(file)
+}
+
+/// The files of `src` that `file` imports: its `use` trees (paths from `crate`, `super`,
+/// `self` or a child module it declares) and `crate::`/`super::` paths in its code, tests
+/// left out; each resolved to the file that defines the item. Its own `pub use`
+/// re-exports are what it offers, not what it depends on.
+fn imports_of(
+    src: &Path,
+    reexports: &std::collections::HashMap<std::path::PathBuf, Reexports>,
+    file: &Path,
+) -> Vec<std::path::PathBuf> {
+    let code = code_of(file);
+    let mut paths: Vec<String> = use_paths(&code)
+        .into_iter()
+        .filter(|(public, _)| !public)
+        .map(|(_, p)| p.split(" as ").next().unwrap_or("").trim().to_string())
+        .collect();
     for start in ["crate::", "super::"] {
         for (at, _) in code.match_indices(start) {
             if at > 0 && code[..at].ends_with(|c: char| c.is_alphanumeric() || c == '_' || c == ':')
             {
+                continue;
+            }
+            // A path inside a `pub use` is a re-export, read above.
+            let line_start = code[..at].rfind('\n').map_or(0, |i| i + 1);
+            if code[line_start..at].trim_start().starts_with("pub") {
                 continue;
             }
             let path: String = code[at..]
@@ -332,34 +442,12 @@ fn imports_of(src: &Path, file: &Path) -> Vec<std::path::PathBuf> {
     }
     let me = module_of(src, file);
     let children = declared_modules(&code);
-    let mut out = Vec::new();
-    for p in paths {
-        let segments: Vec<String> = p.split("::").map(|s| s.trim().to_string()).collect();
-        let full: Vec<String> = match segments.first().map(String::as_str) {
-            Some("crate") => segments[1..].to_vec(),
-            Some("super") => {
-                let ups = segments.iter().take_while(|s| *s == "super").count();
-                let mut base = me[..me.len().saturating_sub(ups)].to_vec();
-                base.extend(segments[ups..].iter().cloned());
-                base
-            }
-            Some("self") => me
-                .iter()
-                .cloned()
-                .chain(segments[1..].iter().cloned())
-                .collect(),
-            // A path from a child module this file declares (`use fit::GroupFit`).
-            Some(child) if children.iter().any(|c| c == child) => {
-                me.iter().cloned().chain(segments.iter().cloned()).collect()
-            }
-            _ => continue,
-        };
-        if let Some(f) = file_of(src, &full)
-            && f != file
-        {
-            out.push(f);
-        }
-    }
+    let mut out: Vec<std::path::PathBuf> = paths
+        .iter()
+        .filter_map(|p| absolute(&me, &children, p))
+        .filter_map(|full| defining_file(src, reexports, &full))
+        .filter(|f| f != file)
+        .collect();
     out.sort();
     out.dedup();
     out
@@ -427,10 +515,14 @@ fn import_graph(src: &Path) -> Vec<(std::path::PathBuf, Vec<usize>)> {
     let mut files = Vec::new();
     rust_files(src, &mut files);
     files.sort();
+    let reexports = files
+        .iter()
+        .map(|f| (f.clone(), reexports_of(src, f)))
+        .collect();
     files
         .iter()
         .map(|f| {
-            let edges = imports_of(src, f)
+            let edges = imports_of(src, &reexports, f)
                 .iter()
                 .filter_map(|t| files.iter().position(|g| g == t))
                 .collect();
@@ -480,4 +572,26 @@ fn the_circle_finder_sees_an_injected_circle_of_three() {
     let mut members = found[0].clone();
     members.sort();
     assert_eq!(members, [0, 1, 2]);
+}
+
+/// An import through a folder's facade (`pub use read::parse_optimizer_file` in
+/// `config/optimizer/mod.rs`) is read as an import of the file that defines the item.
+#[test]
+fn an_import_through_a_facade_is_an_import_of_the_defining_file() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let graph = import_graph(&src);
+    let edges_of = |name: &str| -> Vec<std::path::PathBuf> {
+        let (_, edges) = graph
+            .iter()
+            .find(|(f, _)| f.ends_with(name))
+            .unwrap_or_else(|| panic!("{name} is not in src/"));
+        edges.iter().map(|&i| graph[i].0.clone()).collect()
+    };
+    let resolve = edges_of("config/resolve/mod.rs");
+    assert!(
+        resolve
+            .iter()
+            .any(|f| f.ends_with("config/optimizer/read.rs")),
+        "config::optimizer::parse_optimizer_file resolved to {resolve:?}"
+    );
 }

@@ -51,8 +51,8 @@ pub fn rates(
         let flat = pipeline(&sim, EngineSettings::production(&sim, engine), 1, seconds)?;
         for task in &file.tasks {
             let seed = task.test.first().copied().unwrap_or(1);
-            let world = task
-                .world(&sim, seed, suite)
+            let world = sim
+                .on_course(task, seed, suite)
                 .map_err(|e| BenchError::Suite(Box::new(e.into())))?;
             let settings = EngineSettings::production(&world, engine);
             let f = pipeline(&world, settings, 1, seconds)?;

@@ -17,11 +17,7 @@
 use std::collections::BTreeSet;
 use std::path::Path;
 
-use crate::config::Simulation;
-use crate::config::environment::{EnvObject, EnvironmentFile};
 use crate::config::error::{ConfigResult, ErrorKind, Pos};
-use crate::config::resolve::environment::{EnvironmentModel, resolve_environment};
-use crate::config::source::FsSource;
 use crate::config::terrain::{Family, TerrainSpec};
 use crate::config::xml::dom::Element;
 use crate::config::xml::read::{Reader, read_document};
@@ -59,37 +55,6 @@ impl Task {
     /// Whether it is held out (test seeds only).
     pub fn held_out(&self) -> bool {
         self.train.is_empty()
-    }
-
-    /// `controller` on this task's course of terrain seed `seed`, for the task's duration:
-    /// its robot, control and physics properties, started where its own environment
-    /// starts the robot. `suite` is the suite file (what errors name).
-    pub fn world(
-        &self,
-        controller: &Simulation,
-        seed: u64,
-        suite: &Path,
-    ) -> ConfigResult<Simulation> {
-        let mut sim = controller.clone();
-        sim.environment = self.environment(&controller.environment, seed, suite)?;
-        sim.files.simulation.properties.duration = self.duration;
-        Ok(sim)
-    }
-
-    /// This task's course of terrain seed `seed` as a world with `scenery`'s physics
-    /// properties and start pose (its objects replaced by the course).
-    pub fn environment(
-        &self,
-        scenery: &EnvironmentModel,
-        seed: u64,
-        suite: &Path,
-    ) -> ConfigResult<EnvironmentModel> {
-        let env = EnvironmentFile {
-            physics: scenery.physics.clone(),
-            objects: vec![EnvObject::Terrain(self.course(seed))],
-            robot_pose: Some(scenery.robot_pose),
-        };
-        resolve_environment(&FsSource, suite, &env)
     }
 
     /// The course's forward direction in the world (its +y, turned by its placement).
@@ -142,10 +107,7 @@ impl SuiteFile {
 }
 
 /// Reads and parses the suite file at `path` through `src`.
-pub fn load_suite(
-    src: &dyn crate::config::FileSource,
-    path: &std::path::Path,
-) -> ConfigResult<SuiteFile> {
+pub fn load_suite(src: &dyn crate::config::FileSource, path: &Path) -> ConfigResult<SuiteFile> {
     let text = src.read(path).map_err(|e| {
         crate::config::ConfigError::new(
             path,

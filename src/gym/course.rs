@@ -167,7 +167,7 @@ impl Courses {
         if let Some(sim) = made.get(&seed) {
             return Ok(Arc::clone(sim));
         }
-        let sim = Arc::new(self.task.world(base, seed, &self.suite)?);
+        let sim = Arc::new(base.on_course(&self.task, seed, &self.suite)?);
         made.insert(seed, Arc::clone(&sim));
         Ok(sim)
     }

@@ -65,7 +65,7 @@ pub struct EpisodeResult {
     pub ended: Ended,
 }
 
-/// Runs `sim` (a task's world, [`Task::world`]) on `engine` for the
+/// Runs `sim` (a task's world, [`Simulation::on_course`](crate::config::Simulation::on_course)) on `engine` for the
 /// task's duration; `None` when `stop` was raised before it ended.
 pub fn run_episode(
     sim: &Simulation,

@@ -139,7 +139,7 @@ impl SuiteRun<'_> {
         let outcome: Result<(), SuiteError> = pool.install(|| {
             todo.par_iter().try_for_each(|&key| {
                 let task = &self.suite.tasks[key.task];
-                let world = task.world(self.controller, key.seed, &self.path)?;
+                let world = self.controller.on_course(task, key.seed, &self.path)?;
                 let Some(r) = run_episode(&world, task, key, registry, stop)? else {
                     return Ok(());
                 };

@@ -10,7 +10,8 @@ use crate::config::error::{ConfigError, ConfigResult, ErrorKind};
 use crate::config::mesh::Meshes;
 use crate::config::resolve::flatten::Flattener;
 use crate::config::resolve::robot::{DEFAULT_DENSITY, geom_volume};
-use crate::config::source::FileSource;
+use crate::config::source::{FileSource, FsSource};
+use crate::config::suite::Task;
 use crate::config::transform::Pose;
 
 /// One body of the environment, placed in the world.
@@ -57,6 +58,23 @@ impl EnvironmentModel {
             meshes: Meshes::default(),
         }
     }
+}
+
+/// `task`'s course of terrain seed `seed` as a world with `scenery`'s physics properties
+/// and start pose (its objects replaced by the course). `suite` is the suite file (what
+/// errors name).
+pub fn course_environment(
+    task: &Task,
+    scenery: &EnvironmentModel,
+    seed: u64,
+    suite: &Path,
+) -> ConfigResult<EnvironmentModel> {
+    let env = EnvironmentFile {
+        physics: scenery.physics.clone(),
+        objects: vec![EnvObject::Terrain(task.course(seed))],
+        robot_pose: Some(scenery.robot_pose),
+    };
+    resolve_environment(&FsSource, suite, &env)
 }
 
 /// Builds the environment model from a parsed environment file at `path`.

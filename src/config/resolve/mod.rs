@@ -23,10 +23,10 @@ use crate::config::optimizer::{OptimizerFile, parse_optimizer_file};
 use crate::config::robot::{RobotFile, parse_robot_file};
 use crate::config::simulation::{Mode, SimulationFile, parse_simulation_file};
 use crate::config::source::{FileSource, normalize};
-use crate::config::suite::parse_suite_file;
+use crate::config::suite::{Task, parse_suite_file};
 
 pub use actuation::{ActuationModel, ModuleInstance, ParamAssignment, WeightsFile};
-pub use environment::{EnvBody, EnvironmentModel};
+pub use environment::{EnvBody, EnvironmentModel, course_environment};
 pub use optimizer::{OptimizedParameter, OptimizerModel};
 pub use robot::{
     JointOrientation, JointServo, Link, RobotJoint, RobotModel, RobotSensor, ServoMap,
@@ -88,6 +88,16 @@ impl Simulation {
             self.files.simulation.properties.engine = e;
         }
         self
+    }
+
+    /// This controller on `task`'s course of terrain seed `seed`, for the task's duration:
+    /// its robot, control and physics properties, started where its own environment
+    /// starts the robot. `suite` is the suite file (what errors name).
+    pub fn on_course(&self, task: &Task, seed: u64, suite: &Path) -> ConfigResult<Simulation> {
+        let mut sim = self.clone();
+        sim.environment = course_environment(task, &self.environment, seed, suite)?;
+        sim.files.simulation.properties.duration = task.duration;
+        Ok(sim)
     }
 }
 
@@ -301,7 +311,7 @@ fn train_courses(
             Ok(TrainCourse {
                 task: task.name.clone(),
                 seed,
-                environment: task.environment(environment, seed, &suite_path)?,
+                environment: course_environment(task, environment, seed, &suite_path)?,
             })
         })
         .collect::<ConfigResult<Vec<_>>>()?;
