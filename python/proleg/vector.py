@@ -134,14 +134,25 @@ class ProlegVectorEnv(VectorEnv):
             for key in _INFO_KEYS:
                 final_info[key] = np.asarray(native[key])
                 final_info["_" + key] = final.copy()
+            if "terrain_seed" in native:
+                final_info["terrain_seed"] = np.asarray(native["terrain_seed"])
+                final_info["_terrain_seed"] = final & native["_terrain_seed"]
             infos["final_info"], infos["_final_info"] = final_info, final
             # The environments that reset start a new episode: their own info is its first.
             for key in ("time", "score", "energy"):
                 native[key] = np.where(final, 0.0, native[key])
             native["exit"] = ["" if f else e for f, e in zip(final, native["exit"])]
+            if "terrain_seed" in native:
+                native["terrain_seed"] = np.where(
+                    final, native["running_terrain_seed"], native["terrain_seed"]
+                )
         for key in _INFO_KEYS:
             infos[key] = np.asarray(native[key])
             infos["_" + key] = every
+        if "terrain_seed" in native:
+            # A suite task's course: the terrain seed of each environment's episode.
+            infos["terrain_seed"] = np.asarray(native["terrain_seed"])
+            infos["_terrain_seed"] = np.asarray(native["_terrain_seed"])
         infos["reset"], infos["_reset"] = native["reset"], every
         return infos
 

@@ -189,7 +189,8 @@ impl VecEnv {
 }
 
 /// The info arrays: `time`, `score`, `energy`, `exit`, `reset`; with same-step autoreset
-/// `final_obs` and its mask `_final_obs`.
+/// `final_obs` and its mask `_final_obs`; on a suite task `terrain_seed`, its mask and
+/// `running_terrain_seed`.
 fn infos<'py>(py: Python<'py>, envs: &proleg::gym::VecEnv) -> PyResult<Bound<'py, PyDict>> {
     let lanes = envs.lanes();
     let d = PyDict::new(py);
@@ -202,6 +203,20 @@ fn infos<'py>(py: Python<'py>, envs: &proleg::gym::VecEnv) -> PyResult<Bound<'py
     if envs.autoreset() == Autoreset::SameStep {
         d.set_item("final_obs", VecEnv::observations(py, envs, true)?)?;
         d.set_item("_final_obs", column(py, lanes, |l| l.has_final))?;
+    }
+    if lanes.iter().any(|l| l.info.terrain_seed.is_some()) {
+        // The episode's course (the ended one's, when it ended this step) and the running
+        // one's (a same-step reset's new course).
+        d.set_item(
+            "terrain_seed",
+            column(py, lanes, |l| l.info.terrain_seed.unwrap_or(0)),
+        )?;
+        d.set_item(
+            "_terrain_seed",
+            column(py, lanes, |l| l.info.terrain_seed.is_some()),
+        )?;
+        let running = envs.envs().iter().map(|e| e.terrain_seed().unwrap_or(0));
+        d.set_item("running_terrain_seed", PyArray1::from_iter(py, running))?;
     }
     Ok(d)
 }

@@ -1,5 +1,6 @@
 """The native vector environment: the same arrays whatever the thread count, both
-autoreset modes against a hand-written loop over single environments, the
+autoreset modes against a hand-written loop over single environments (a suite task's
+courses among the infos), the
 Stable-Baselines3 adapter's same-step reset, and bad input raising."""
 
 import gymnasium as gym
@@ -84,6 +85,32 @@ def test_same_step_autoreset_matches_a_hand_written_loop(demo):
                 finals += 1
             assert np.array_equal(obs[i], o)
     assert finals == 2 * N
+
+
+def test_a_task_vector_env_names_each_episodes_course_like_single_envs(engine):
+    venv = gym.make_vec(
+        "proleg/Pegs-v0", num_envs=N, engine=engine, duration=0.1,
+        vectorization_mode="vector_entry_point", autoreset_mode="same_step",
+    )
+    envs = [gym.make("proleg/Pegs-v0", engine=engine, duration=0.1) for _ in range(N)]
+    _, info = venv.reset(seed=10)
+    seeds = [e.reset(seed=10 + i)[1]["terrain_seed"] for i, e in enumerate(envs)]
+    assert info["_terrain_seed"].all() and list(info["terrain_seed"]) == seeds
+    finals = 0
+    for a in actions(4):
+        _, _, term, trunc, info = venv.step(a)
+        for i, e in enumerate(envs):
+            _, _, te, tr, step_info = e.step(a[i])
+            if te or tr:
+                ended = step_info["terrain_seed"]
+                assert info["final_info"]["_terrain_seed"][i]
+                assert info["final_info"]["terrain_seed"][i] == ended
+                step_info = e.reset()[1]
+                finals += 1
+            assert info["terrain_seed"][i] == step_info["terrain_seed"]
+    assert finals == 2 * N
+    assert len(set(info["terrain_seed"]) | set(seeds)) > 1, "courses differ between episodes"
+    venv.close()
 
 
 def test_disabled_autoreset_resets_with_a_mask(demo):

@@ -235,6 +235,11 @@ impl Env {
         self.courses.as_ref()
     }
 
+    /// The terrain seed of the running episode's course (a suite task's environment).
+    pub fn terrain_seed(&self) -> Option<u64> {
+        self.terrain_seed
+    }
+
     /// Resets so far (each builds a new world).
     pub fn episodes(&self) -> u64 {
         self.episodes
