@@ -4,7 +4,8 @@
 //! no floor); a click on Start selects nothing behind the toolbar; a left drag on the
 //! ground orbits the camera instead of moving the floor; on the wizard's environment page,
 //! a click in the Selection panel keeps the selection and the value typed there takes; a
-//! click after a drag still selects. Input is sent step by step, each
+//! click after a drag still selects; in the environment editor a terrain dragged from the
+//! library lands and its difficulty slider, dragged, makes it the hardest. Input is sent step by step, each
 //! step acknowledged by the window two frames after the test said it was sent, so a drag
 //! spans several frames at any frame rate and nothing depends on timing.
 #![cfg(feature = "gui")]
@@ -139,5 +140,49 @@ fn a_position_typed_in_the_wizards_selection_panel_keeps_the_selection_and_takes
         get(&s, "selected_position").starts_with("0.5000 "),
         "{}",
         get(&s, "selected_position")
+    );
+}
+
+/// The environment editor's library entry "terrain pegs" (window pixels).
+const LIBRARY_PEGS: (&str, &str) = ("62", "385");
+/// A point of the perspective view, on the ground.
+const PERSPECTIVE: (&str, &str) = ("520", "640");
+/// The Selection panel's difficulty slider: its handle at the medium tier, and a point
+/// past its right end.
+const DIFFICULTY_SLIDER: (&str, &str) = ("1038", "172");
+const DIFFICULTY_SLIDER_END: (&str, &str) = ("1200", "172");
+
+#[test]
+fn a_terrain_dragged_from_the_editors_library_lands_and_its_difficulty_slider_changes_it() {
+    let x = Xvfb::start();
+    let mut w = Driven::open(
+        &x,
+        "pointer-terrain",
+        &["wizard"],
+        "slow-frames 400\ntool editor\n",
+        7,
+    );
+    let objects: usize = get(&w.now(), "env_objects").parse().unwrap();
+    // Press on the library's "terrain pegs", drag it over the perspective view, release.
+    w.input(&x, LIBRARY_PEGS, &["mousedown", "1"]);
+    w.input(&x, (LIBRARY_PEGS.0, "420"), &[]);
+    w.input(&x, PERSPECTIVE, &[]);
+    w.input(&x, PERSPECTIVE, &["mouseup", "1"]);
+    let s = w.now();
+    assert_eq!(get(&s, "env_objects"), (objects + 1).to_string(), "dropped");
+    assert_eq!(
+        get(&s, "selected_terrain"),
+        "pegs d0.50 seed 1",
+        "at the medium tier"
+    );
+    // The Selection panel's difficulty slider, pressed and dragged to its right end.
+    w.input(&x, DIFFICULTY_SLIDER, &["mousedown", "1"]);
+    w.input(&x, DIFFICULTY_SLIDER_END, &[]);
+    w.input(&x, DIFFICULTY_SLIDER_END, &["mouseup", "1"]);
+    let s = w.finish();
+    assert_eq!(
+        get(&s, "selected_terrain"),
+        "pegs d1.00 seed 1",
+        "the hardest pegs"
     );
 }

@@ -75,6 +75,40 @@ fn a_candidate_scores_the_mean_of_its_train_courses_as_replayed_from_the_store()
             .any(|(p, _)| p.ends_with("locomotion.suite.xml"))
     );
     assert_scores_are_episode_means(&mut s, run, 6);
+    drop(s);
+    // `proleg suite SUITE STORE --run R`: the run's best candidate is the controller.
+    let args = |run: i64, out: &str| proleg::cli::suite::SuiteArgs {
+        suite: common::root().join("configs/suites/locomotion.suite.xml"),
+        controller: store.clone().into(),
+        run: Some(run),
+        engines: vec![proleg::config::simulation::EngineKind::Rapier],
+        tasks: vec!["pegs-easy".into()],
+        threads: Some(2),
+        out: Some(dir.join(out)),
+        quiet: true,
+    };
+    let registry = proleg::control::ModuleRegistry::standard();
+    let scored = proleg::cli::suite::run(&args(run, "best"), &registry).unwrap();
+    assert_eq!(scored.report.controller, format!("{store} run {run}"));
+    let candidate = dir.join("best/controller/candidate.simulation.xml");
+    assert!(
+        candidate.is_file(),
+        "the candidate is exported beside the table"
+    );
+    let mut untuned = args(run, "untuned");
+    untuned.controller = common::root().join(CONFIG);
+    untuned.run = None;
+    let untuned = proleg::cli::suite::run(&untuned, &registry).unwrap();
+    assert_ne!(
+        scored.report.tasks[0].mean, untuned.report.tasks[0].mean,
+        "the candidate's genes, not the file's gait"
+    );
+    let e = proleg::cli::suite::run(&args(run + 7, "none"), &registry).unwrap_err();
+    assert!(
+        matches!(e, proleg::cli::suite::SuiteCommandError::Store(_)),
+        "{e}"
+    );
+    assert!(e.to_string().contains(&format!("{}", run + 7)), "{e}");
 }
 
 fn spec(tasks: &[&str]) -> CoursesSpec {

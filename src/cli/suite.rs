@@ -1,12 +1,15 @@
 //! `proleg suite SUITE CONTROLLER`: a controller (a simulation file: its robot, control and
-//! physics properties) scored on every task's held-out test courses of a suite, on both
-//! engines, in parallel, with progress; the table printed, and written as CSV and JSON
-//! beside the journal it resumes from.
+//! physics properties; or, with `--run R`, a store's run whose best candidate is exported
+//! into the output folder) scored on every task's held-out test courses of a suite, on
+//! both engines, in parallel, with progress; the table printed, and written as CSV and
+//! JSON beside the journal it resumes from.
 
 use std::path::PathBuf;
 
 use crate::config::simulation::EngineKind;
 use crate::control::ModuleRegistry;
+use crate::optimize::export::export_candidate;
+use crate::optimize::store::{Store, StoreLocation};
 use crate::suite::run::journal_path;
 use crate::suite::{SuiteError, SuiteReport, SuiteRun};
 
@@ -16,8 +19,12 @@ pub struct SuiteArgs {
     /// The suite file (`configs/suites/locomotion.suite.xml`).
     pub suite: PathBuf,
     /// The controller: a simulation file (its robot and actuation; the suite gives the
-    /// ground).
+    /// ground), or with `--run` an experiment store (SQLite file or postgres:// URL).
     pub controller: PathBuf,
+    /// The controller is this run's best candidate in the store CONTROLLER names (written
+    /// into OUT/controller/ as `proleg results --export-robot best` writes it).
+    #[arg(long)]
+    pub run: Option<i64>,
     /// The engines every course runs on (comma-separated; default: every engine here).
     #[arg(long, value_delimiter = ',')]
     pub engines: Vec<EngineKind>,
@@ -28,7 +35,7 @@ pub struct SuiteArgs {
     #[arg(long)]
     pub threads: Option<usize>,
     /// The output folder: the journal (`episodes.csv`), `suite.csv`, `suite.json`, `suite.png`
-    /// (default: `suite-results/SUITE-CONTROLLER`).
+    /// (default: `suite-results/SUITE-CONTROLLER`, with `--run R` `...-runR`).
     #[arg(short = 'o', long = "out")]
     pub out: Option<PathBuf>,
     /// No line per finished episode.
@@ -54,6 +61,12 @@ pub enum SuiteCommandError {
     /// The table cannot be put as JSON.
     #[error("the table as JSON: {0}")]
     Json(#[from] serde_json::Error),
+    /// The store's run cannot be read or exported.
+    #[error("{0}")]
+    Store(#[from] crate::optimize::error::OptimizeError),
+    /// The store's location is not one.
+    #[error("{0}")]
+    Location(#[from] crate::optimize::error::BadChoice),
 }
 
 /// The report and where it was written.
@@ -76,6 +89,25 @@ impl std::fmt::Display for SuiteOutcome {
     }
 }
 
+/// Run `run`'s best candidate of the store at `location`, exported into `OUT/controller/`;
+/// the simulation file that runs it.
+fn export_best(
+    location: &StoreLocation,
+    run: i64,
+    out: &std::path::Path,
+    registry: &ModuleRegistry,
+) -> Result<PathBuf, SuiteCommandError> {
+    let mut store =
+        Store::open_existing(location).map_err(crate::optimize::error::OptimizeError::from)?;
+    Ok(export_candidate(
+        &mut store,
+        run,
+        None,
+        &out.join("controller"),
+        registry,
+    )?)
+}
+
 fn stem(p: &std::path::Path) -> String {
     let name = p
         .file_name()
@@ -87,24 +119,38 @@ fn stem(p: &std::path::Path) -> String {
 /// Runs the suite the options name.
 pub fn run(a: &SuiteArgs, registry: &ModuleRegistry) -> Result<SuiteOutcome, SuiteCommandError> {
     let suite = crate::config::suite::load_suite(&crate::config::FsSource, &a.suite)?;
-    let controller = crate::control::load_simulation_in(&a.controller, registry)?;
     let engines = if a.engines.is_empty() {
         crate::sim::engine::ready_engines()
     } else {
         a.engines.clone()
     };
     let out = a.out.clone().unwrap_or_else(|| {
-        PathBuf::from("suite-results").join(format!("{}-{}", stem(&a.suite), stem(&a.controller)))
+        let run = a.run.map_or(String::new(), |r| format!("-run{r}"));
+        PathBuf::from("suite-results").join(format!(
+            "{}-{}{run}",
+            stem(&a.suite),
+            stem(&a.controller)
+        ))
     });
     std::fs::create_dir_all(&out).map_err(|source| SuiteError::Journal {
         path: out.clone(),
         source,
     })?;
+    let (controller_file, label) = match a.run {
+        None => (a.controller.clone(), a.controller.display().to_string()),
+        Some(run) => {
+            // The label names the store as its Display does: never a URL's password.
+            let location = StoreLocation::parse(&a.controller.to_string_lossy())?;
+            let file = export_best(&location, run, &out, registry)?;
+            (file, format!("{location} run {run}"))
+        }
+    };
+    let controller = crate::control::load_simulation_in(&controller_file, registry)?;
     let run = SuiteRun {
         path: a.suite.clone(),
         suite: &suite,
         controller: &controller,
-        label: a.controller.display().to_string(),
+        label,
         engines,
         tasks: SuiteRun::select(&suite, &a.tasks)?,
         threads: a

@@ -1,12 +1,15 @@
 //! The environment editor's object library (thesis 4.4.6): primitive objects, stairs, a
-//! ramp and the triangle meshes found in the assets folder (the irregular obstacle among
-//! them). Each item becomes a static `<KinBody>` whose geometry sits about its origin.
+//! ramp, the triangle meshes found in the assets folder (the irregular obstacle among
+//! them) and a generated course of every terrain family. Each item but a terrain becomes
+//! a static `<KinBody>` whose geometry sits about its origin; a terrain becomes a
+//! `<Terrain>` element (its bodies are generated from its family, difficulty and seed).
 
 use std::path::Path;
 
 use crate::config::body::{Body, BodyKind, Geom, MeshCollision, Shape};
 use crate::config::error::Pos;
 use crate::config::kinbody::KinBody;
+use crate::config::terrain::Family;
 use crate::config::transform::Pose;
 
 /// Something the editor can put into the scene.
@@ -24,6 +27,8 @@ pub enum LibraryItem {
     Stairs,
     /// A Wavefront OBJ mesh, the path as the environment file will name it.
     Mesh(String),
+    /// A generated course of this terrain family (dropped at the medium tier, seed 1).
+    Terrain(Family),
 }
 
 impl LibraryItem {
@@ -38,14 +43,22 @@ impl LibraryItem {
             LibraryItem::Mesh(path) => Path::new(path)
                 .file_stem()
                 .map_or_else(|| path.clone(), |s| s.to_string_lossy().into_owned()),
+            LibraryItem::Terrain(family) => format!("terrain {family}"),
         }
     }
 
-    /// Parses a label (`box`, `stairs`, ...) or a mesh path ending in `.obj`.
+    /// Parses a label (`box`, `stairs`, `terrain pegs` or `terrain-pegs`, ...) or a mesh
+    /// path ending in `.obj`.
     pub fn parse(s: &str) -> Option<LibraryItem> {
         let s = s.trim();
         if s.to_ascii_lowercase().ends_with(".obj") {
             return Some(LibraryItem::Mesh(s.to_string()));
+        }
+        if let Some(family) = s
+            .strip_prefix("terrain ")
+            .or_else(|| s.strip_prefix("terrain-"))
+        {
+            return Family::parse(family).ok().map(LibraryItem::Terrain);
         }
         [
             LibraryItem::Box,
@@ -58,7 +71,8 @@ impl LibraryItem {
         .find(|i| i.label().eq_ignore_ascii_case(s))
     }
 
-    /// The object, named `name`, at the origin.
+    /// The object, named `name`, at the origin (a terrain has no bodies of its own: the
+    /// editor places it as a `<Terrain>` element).
     pub fn kinbody(&self, name: &str) -> KinBody {
         let geoms = self.pieces(name);
         let stairs = matches!(self, LibraryItem::Stairs);
@@ -164,6 +178,7 @@ impl LibraryItem {
                 },
                 [0.6, 0.45, 0.3],
             )],
+            LibraryItem::Terrain(_) => Vec::new(),
         }
     }
 }
@@ -178,7 +193,8 @@ pub fn rotation_x(deg: f64) -> Pose {
 }
 
 /// The library: the primitives, then every `*.obj` under `assets_dir/meshes`, named as
-/// `assets/meshes/NAME.obj` (found from any configuration folder by the include search).
+/// `assets/meshes/NAME.obj` (found from any configuration folder by the include search),
+/// then a terrain of every family.
 pub fn library(assets_dir: &Path) -> Vec<LibraryItem> {
     let mut items = vec![
         LibraryItem::Box,
@@ -200,6 +216,7 @@ pub fn library(assets_dir: &Path) -> Vec<LibraryItem> {
         .collect();
     meshes.sort();
     items.extend(meshes.into_iter().map(LibraryItem::Mesh));
+    items.extend(Family::ALL.into_iter().map(LibraryItem::Terrain));
     items
 }
 
@@ -215,6 +232,16 @@ mod tests {
             "assets/meshes/irregular_obstacle.obj".into()
         )));
         assert_eq!(LibraryItem::parse("Stairs"), Some(LibraryItem::Stairs));
+        assert!(lib.contains(&LibraryItem::Terrain(Family::Pegs)));
+        assert_eq!(
+            LibraryItem::parse("terrain Rubble"),
+            Some(LibraryItem::Terrain(Family::Rubble))
+        );
+        assert_eq!(
+            LibraryItem::parse("terrain-pegs"),
+            Some(LibraryItem::Terrain(Family::Pegs))
+        );
+        assert_eq!(LibraryItem::parse("terrain lava"), None);
         assert_eq!(LibraryItem::parse("teapot"), None);
         assert_eq!(LibraryItem::Stairs.kinbody("s").bodies.len(), 5);
     }

@@ -43,6 +43,12 @@ pub enum EditError {
         /// The terrain's short name.
         label: String,
     },
+    /// A terrain edit with something else selected.
+    #[error("select a generated terrain first")]
+    NotTerrain,
+    /// A terrain difficulty or size the generator refuses.
+    #[error("{0}")]
+    Terrain(#[source] crate::config::terrain::TerrainError),
     /// Scale factors outside 0..1000.
     #[error("scale factors {0:?} must lie in 0..1000")]
     Scale([f64; 3]),

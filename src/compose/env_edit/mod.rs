@@ -31,6 +31,7 @@ use crate::config::resolve::environment::resolve_environment;
 use crate::config::resolve::robot::RobotModel;
 use crate::config::source::{FileSource, FsSource, resolve_include};
 use crate::config::start_clearance::Boxes;
+use crate::config::terrain::{Family, TerrainSpec, Tier};
 use crate::config::transform::{Pose, quat_mul};
 
 /// Largest friction the editor offers (Coulomb coefficient, as the thesis's dialog).
@@ -66,6 +67,8 @@ pub struct Props {
     pub colour: Option<[f64; 3]>,
     /// Whether size, friction, mass and colour can be changed (an inline object).
     pub editable: bool,
+    /// A generated terrain's family, difficulty and seed (changed here).
+    pub terrain: Option<TerrainSpec>,
 }
 
 /// An environment object as a kinbody and where it is placed.
@@ -414,6 +417,9 @@ impl EnvEditor {
     /// point, and is selected; a mesh that is a height map becomes a height field. Returns
     /// its index.
     pub fn add(&mut self, item: &LibraryItem, x: f64, y: f64) -> usize {
+        if let LibraryItem::Terrain(family) = item {
+            return self.add_terrain(*family, x, y);
+        }
         let name = self.unique_name(&item.label());
         let mut kb = item.kinbody(&name);
         self.height_fields_where_possible(&mut kb);
@@ -426,6 +432,41 @@ impl EnvEditor {
         let i = self.objects.len() - 1;
         self.selected = Some(Selected::Object(i));
         i
+    }
+
+    /// Drops a course of `family` (medium tier, seed 1) with its start at (x, y), facing
+    /// +y as the shipped robots do, and selects it. Returns its index.
+    fn add_terrain(&mut self, family: Family, x: f64, y: f64) -> usize {
+        let mut spec = TerrainSpec::new(family, Tier::Medium.difficulty(), 1);
+        spec.pose = Pose::from_translation([x, y, 0.0]);
+        self.checkpoint();
+        self.objects.push(EnvObject::Terrain(spec));
+        let i = self.objects.len() - 1;
+        self.selected = Some(Selected::Object(i));
+        i
+    }
+
+    /// Sets the selected terrain's difficulty (0..=1) and seed: its course is generated
+    /// anew.
+    pub fn set_terrain(&mut self, difficulty: f64, seed: u64) -> Result<(), EditError> {
+        let Selected::Object(i) = self.need_selection()? else {
+            return Err(EditError::NotTerrain);
+        };
+        let Some(EnvObject::Terrain(t)) = self.objects.get(i) else {
+            return Err(EditError::NotTerrain);
+        };
+        let next = TerrainSpec {
+            difficulty,
+            seed,
+            ..t.clone()
+        };
+        next.check().map_err(EditError::Terrain)?;
+        if next == *t {
+            return Ok(());
+        }
+        self.checkpoint();
+        self.objects[i] = EnvObject::Terrain(next);
+        Ok(())
     }
 
     /// Selects an object or the robot (None clears the selection).
@@ -708,6 +749,7 @@ impl EnvEditor {
             mass: None,
             colour: None,
             editable: false,
+            terrain: None,
         };
         if let Selected::Object(i) = s {
             p.size = self.bounds(i).size();
@@ -725,6 +767,9 @@ impl EnvEditor {
                     .filter_map(|b| b.mass.as_ref().map(|m| m.total))
                     .collect();
                 p.mass = (!masses.is_empty()).then(|| masses.iter().sum());
+            }
+            if let EnvObject::Terrain(t) = o {
+                p.terrain = Some(t.clone());
             }
         }
         Some(p)
@@ -870,6 +915,47 @@ mod tests {
             Err(EditError::NoObject { .. })
         ));
         assert!(!e.can_undo(), "refused edits leave no undo step");
+    }
+
+    #[test]
+    fn a_dropped_terrain_takes_a_new_difficulty_and_seed_and_saves_as_a_terrain_element() {
+        let dir = std::env::temp_dir().join(format!("proleg_env_terrain_{}", std::process::id()));
+        let path = dir.join("scene.env.xml");
+        let mut e = EnvEditor::new(&path);
+        let i = e.add(&LibraryItem::Terrain(Family::Pegs), 0.0, 0.5);
+        assert_eq!(e.selected, Some(Selected::Object(i)));
+        let props = e.props(Selected::Object(i)).unwrap();
+        let t = props.terrain.expect("a terrain's properties");
+        assert_eq!((t.family, t.difficulty, t.seed), (Family::Pegs, 0.5, 1));
+        assert_eq!(t.pose.translation, [0.0, 0.5, 0.0]);
+        let medium = e.terrain(&t).bodies.len();
+        assert!(e.bounds(i).size()[1] > 30.0, "the course runs 30 m ahead");
+        e.set_terrain(0.9, 7).unwrap();
+        let Some(EnvObject::Terrain(t)) = e.objects.get(i) else {
+            panic!("still a terrain")
+        };
+        assert_eq!((t.difficulty, t.seed), (0.9, 7));
+        let hard = e.terrain(t).bodies.len();
+        assert!(hard > medium, "denser pegs: {hard} bodies against {medium}");
+        assert!(matches!(e.set_terrain(1.5, 7), Err(EditError::Terrain(_))));
+        assert!(matches!(
+            e.set_terrain(f64::NAN, 7),
+            Err(EditError::Terrain(_))
+        ));
+        e.save(&path).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            text.contains("<Terrain family=\"pegs\" difficulty=\"0.9\" seed=\"7\""),
+            "{text}"
+        );
+        assert!(e.undo());
+        let Some(EnvObject::Terrain(t)) = e.objects.get(i) else {
+            panic!("still a terrain")
+        };
+        assert_eq!((t.difficulty, t.seed), (0.5, 1), "undone");
+        e.select(Some(Selected::Object(0))).unwrap();
+        assert!(matches!(e.set_terrain(0.2, 1), Err(EditError::NotTerrain)));
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

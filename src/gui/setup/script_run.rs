@@ -462,6 +462,9 @@ fn editor_pairs(env: &mut EnvEditor, pairs: &mut Vec<(&str, String)>) {
             "selected_friction",
             p.friction.map_or(String::new(), |v| format!("{v}")),
         ));
+        if let Some(t) = &p.terrain {
+            pairs.push(("selected_terrain", t.label()));
+        }
     }
     let rp = env.robot_pose.translation;
     pairs.push((

@@ -2,7 +2,7 @@
 //! a 3D view, or "Add" it ahead of the robot), the scene's object list, undo / redo,
 //! load / save, "Preview"; and the side panel for the selection: position, heading
 //! (fixed steps or a typed angle), scale, friction, static / dynamic, mass, colour,
-//! delete. Labels mark the top and side views.
+//! delete; a generated terrain's difficulty and seed. Labels mark the top and side views.
 
 use std::path::PathBuf;
 
@@ -11,6 +11,7 @@ use bevy_egui::egui;
 use crate::compose::env_edit::{
     EDITOR_MAX_FRICTION, EditError, EnvEditor, Props, Selected, object_name,
 };
+use crate::config::terrain::{TerrainSpec, Tier};
 use crate::gui::setup::preview::run_preview;
 use crate::gui::setup::state::{SetupState, Status, Tool};
 
@@ -219,6 +220,8 @@ pub fn show_selection(ui: &mut egui::Ui, state: &mut SetupState) {
     });
     if props.editable {
         result = editable_properties(ui, env, &props);
+    } else if let Some(terrain) = &props.terrain {
+        result = terrain_properties(ui, env, terrain);
     } else if sel == Selected::Robot {
         ui.label("The robot placeholder sets the start pose: move and turn it.");
     } else {
@@ -227,6 +230,41 @@ pub fn show_selection(ui: &mut egui::Ui, state: &mut SetupState) {
     if let Err(e) = result {
         state.status = Some(Status::Error(e.to_string()));
     }
+}
+
+/// A generated terrain's difficulty (a slider, the tiers marked) and seed, and its
+/// deletion; the last change's result.
+fn terrain_properties(
+    ui: &mut egui::Ui,
+    env: &mut EnvEditor,
+    terrain: &TerrainSpec,
+) -> Result<(), EditError> {
+    let mut result = Ok(());
+    ui.label(format!(
+        "A generated {} course, {:.0} m long and {:.1} m wide: its bodies come from its difficulty and seed.",
+        terrain.family, terrain.length, terrain.width
+    ));
+    let (mut difficulty, mut seed) = (terrain.difficulty, terrain.seed);
+    let tiers: Vec<String> = Tier::ALL
+        .iter()
+        .map(|t| format!("{} {}", t.name(), t.difficulty()))
+        .collect();
+    let slider = ui
+        .add(egui::Slider::new(&mut difficulty, 0.0..=1.0).text("difficulty"))
+        .on_hover_text(format!("tiers: {}", tiers.join(", ")));
+    let seed_box = ui
+        .horizontal(|ui| {
+            ui.label("seed");
+            ui.add(egui::DragValue::new(&mut seed).range(0..=u32::MAX as u64))
+        })
+        .inner;
+    if slider.changed() || seed_box.changed() {
+        result = env.set_terrain(difficulty, seed);
+    }
+    if ui.button("Delete").clicked() {
+        result = env.delete();
+    }
+    result
 }
 
 /// Size, friction, dynamics, mass, colour and deletion of an editable object; the last
