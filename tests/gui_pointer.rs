@@ -81,7 +81,10 @@ fn start_selects_nothing_and_a_left_drag_on_the_ground_orbits() {
     }
     w.input(&x, ("450", "450"), &["mouseup", "1"]);
     let s = w.finish();
-    assert_eq!(get(&s, "running"), "true", "Start was clicked");
+    // The run stepped (it may have ended since: the demo lasts 30 s of real time, and a
+    // loaded machine draws this test's frames slowly).
+    let steps: u64 = get(&s, "steps").parse().unwrap();
+    assert!(steps > 0, "Start was clicked");
     assert_eq!(
         get(&s, "selected"),
         "false",
