@@ -17,23 +17,28 @@ fn demo() -> Arc<proleg::config::Simulation> {
     Arc::new(load_simulation(common::root().join("configs/demo.simulation.xml")).expect("demo"))
 }
 
+/// `n` demo environments with `opts` on `threads`, resetting on the next step.
+fn next_step_vec(opts: &EnvOptions, n: usize, threads: usize) -> VecEnv {
+    VecEnv::new(
+        demo(),
+        &ModuleRegistry::standard(),
+        opts,
+        n,
+        VecOptions {
+            threads,
+            autoreset: Autoreset::NextStep,
+        },
+    )
+    .expect("vector env")
+}
+
 /// Observations, rewards and flags of `steps` steps of 5 environments on `threads`.
 fn run(threads: usize, steps: usize) -> (Vec<f64>, Vec<f64>) {
     let opts = EnvOptions {
         duration: Some(0.1),
         ..EnvOptions::default()
     };
-    let mut v = VecEnv::new(
-        demo(),
-        &ModuleRegistry::standard(),
-        &opts,
-        5,
-        VecOptions {
-            threads,
-            autoreset: Autoreset::NextStep,
-        },
-    )
-    .expect("vector env");
+    let mut v = next_step_vec(&opts, 5, threads);
     v.reset(Some(3), None).expect("reset");
     let (mut obs, mut rewards) = (v.observations().to_vec(), Vec::new());
     for k in 0..steps {
@@ -182,17 +187,7 @@ fn a_vector_environment_on_a_task_draws_train_courses_and_holds_each_once() {
         suite: Some(common::root().join("configs/suites/locomotion.suite.xml")),
         ..EnvOptions::default()
     };
-    let mut v = VecEnv::new(
-        demo(),
-        &ModuleRegistry::standard(),
-        &opts,
-        6,
-        VecOptions {
-            threads: 2,
-            autoreset: Autoreset::NextStep,
-        },
-    )
-    .expect("vector env");
+    let mut v = next_step_vec(&opts, 6, 2);
     let mut met = std::collections::BTreeSet::new();
     for round in 0..3 {
         v.reset(Some(10 * round), None).expect("reset");
