@@ -21,6 +21,7 @@ fn request(duration: f64) -> RunRequest {
         fps: 30,
         size: (1280, 720),
         no_grid: false,
+        camera: None,
         engine: None,
     }
 }

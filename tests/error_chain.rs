@@ -27,6 +27,7 @@ fn a_missing_simulation_file_is_a_chain_from_the_command_to_the_system_error() {
         fps: 30,
         size: (1280, 720),
         no_grid: false,
+        camera: None,
     };
     let err = run(&req, &ModuleRegistry::standard()).expect_err("no such file");
     assert!(matches!(err, CliError::Config(_)), "{err:?}");

@@ -147,6 +147,28 @@ fn the_first_frame_shows_the_scene_and_the_ground_carries_a_metre_grid_unless_tu
 }
 
 #[test]
+fn the_camera_option_moves_the_video_camera_back_and_round() {
+    let dir = scratch("video-camera");
+    // The robot's saturated blue modules, which neither the ground nor the sky has.
+    let robot_pixels = |pixels: &[u8], bpp: usize| {
+        pixels
+            .chunks(bpp)
+            .filter(|p| {
+                i32::from(p[2]) > i32::from(p[1]) + 50 && i32::from(p[2]) > i32::from(p[0]) + 80
+            })
+            .count()
+    };
+    let (close, bpp) = first_frame(&dir.join("close"), &[]);
+    let (far, _) = first_frame(&dir.join("far"), &["--camera", "4,-25,40"]);
+    let (near, far) = (robot_pixels(&close, bpp), robot_pixels(&far, bpp));
+    assert!(near > 1000, "{near} robot pixels in the default close view");
+    assert!(
+        far > 20 && far * 6 < near,
+        "4 m back the robot covers {far} pixels, close up {near}"
+    );
+}
+
+#[test]
 fn bad_video_requests_are_refused_with_the_reason() {
     let out = Command::new(env!("CARGO_BIN_EXE_proleg"))
         .args([
@@ -166,6 +188,17 @@ fn bad_video_requests_are_refused_with_the_reason() {
         err.contains("--size") && err.contains("WIDTHxHEIGHT"),
         "{err}"
     );
+    for camera in ["4,-25", "0,0,30", "4,0,95", "4,NaN,30"] {
+        let out = Command::new(env!("CARGO_BIN_EXE_proleg"))
+            .args(["run", "configs/demo.simulation.xml", "--video", "x.mp4"])
+            .arg(format!("--camera={camera}"))
+            .current_dir(common::root())
+            .output()
+            .expect("proleg");
+        assert!(!out.status.success(), "--camera {camera} accepted");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("--camera") && err.contains(camera), "{err}");
+    }
 }
 
 #[test]

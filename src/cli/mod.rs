@@ -45,6 +45,31 @@ pub mod worker;
 /// The simulation the control window and the benchmarks use when none is given.
 pub const DEMO_CONFIG: &str = "configs/demo.simulation.xml";
 
+/// `DISTANCE,YAW,PITCH`: where `proleg run --video`'s camera looks at the robot from
+/// (metres, degrees, degrees).
+pub fn parse_camera(s: &str) -> Result<[f64; 3], error::CliError> {
+    let bad = |want| error::CliError::Option {
+        option: "--camera",
+        value: s.to_string(),
+        want,
+    };
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let [d, yaw, pitch] = parts[..] else {
+        return Err(bad("expected DISTANCE,YAW,PITCH, e.g. 3,-25,35"));
+    };
+    let n = |t: &str| t.parse::<f64>().ok().filter(|v| v.is_finite());
+    match (n(d), n(yaw), n(pitch)) {
+        (Some(d), Some(yaw), Some(pitch))
+            if (0.05..=50.0).contains(&d) && (-10.0..=85.0).contains(&pitch) =>
+        {
+            Ok([d, yaw, pitch])
+        }
+        _ => Err(bad(
+            "a distance of 0.05 to 50 m, a yaw in degrees and a pitch of -10 to 85 degrees",
+        )),
+    }
+}
+
 /// `WIDTHxHEIGHT` in pixels (image and video sizes of `proleg data plot`, `proleg run
 /// --video`).
 pub fn parse_size(s: &str) -> Result<(u32, u32), error::CliError> {

@@ -62,6 +62,11 @@ pub struct RunRequest {
     /// A video without the ground's metre grid.
     #[arg(long)]
     pub no_grid: bool,
+    /// The video camera's place: DISTANCE,YAW,PITCH (metres from the robot; degrees about
+    /// the vertical, 0 behind the robot looking along its start heading, positive from its
+    /// left; degrees above the ground) [default: 0.75,-51.6,31.5]
+    #[arg(long, value_parser = crate::cli::parse_camera)]
+    pub camera: Option<[f64; 3]>,
 }
 
 /// What a run did.

@@ -162,6 +162,14 @@ pub fn video(req: &cli::run::RunRequest, registry: &ModuleRegistry) -> Printed {
             seconds: req.duration,
             engine: req.engine,
             grid: !req.no_grid,
+            view: req.camera.map_or(
+                crate::gui::video::VideoView::CLOSE,
+                |[distance, yaw_deg, pitch_deg]| crate::gui::video::VideoView {
+                    distance,
+                    yaw_deg,
+                    pitch_deg,
+                },
+            ),
         };
         crate::gui::video::record_video(&request, registry)
             .map(|r| r.to_string())

@@ -25,6 +25,16 @@ impl Meshes {
         self.0.insert(file, mesh);
     }
 
+    /// Keeps only the meshes whose file name `keep` accepts.
+    pub fn retain(&mut self, mut keep: impl FnMut(&str) -> bool) {
+        self.0.retain(|file, _| keep(file));
+    }
+
+    /// The file names held.
+    pub fn names(&self) -> impl Iterator<Item = &str> {
+        self.0.keys().map(String::as_str)
+    }
+
     /// Adds every mesh of `other` not known yet.
     pub fn extend(&mut self, other: &Meshes) {
         for (k, v) in &other.0 {

@@ -166,9 +166,25 @@ impl SceneMeshes {
         }
     }
 
-    /// Keeps a generated terrain's height field under the name its geometry gives.
-    pub fn add_generated(&self, name: String, mesh: Arc<TriMesh>) {
-        self.cache().meshes.insert(name, mesh);
+    /// Keeps a generated terrain's height field under the name its geometry gives, and
+    /// forgets every other generated one not named in `live` (the scene's terrains now:
+    /// a slider dragged through a hundred difficulties leaves one course, not a hundred).
+    pub fn add_generated(&self, name: String, mesh: Arc<TriMesh>, live: &[String]) {
+        let mut cache = self.cache();
+        cache.meshes.retain(|file| {
+            !file.starts_with(crate::config::terrain::GENERATED_MESH)
+                || live.iter().any(|l| l == file)
+        });
+        cache.meshes.insert(name, mesh);
+    }
+
+    /// How many generated height fields are held.
+    pub fn generated_count(&self) -> usize {
+        self.cache()
+            .meshes
+            .names()
+            .filter(|f| f.starts_with(crate::config::terrain::GENERATED_MESH))
+            .count()
     }
 
     /// Bounds of mesh `file` scaled by `scale` (none when it cannot be read).

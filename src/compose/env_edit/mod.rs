@@ -371,8 +371,16 @@ impl EnvEditor {
     /// scene's meshes, so it is drawn and measured as a mesh file would be.
     pub fn terrain(&self, spec: &crate::config::terrain::TerrainSpec) -> KinBody {
         let generated = crate::config::terrain::generate(spec);
+        let live: Vec<String> = self
+            .objects
+            .iter()
+            .filter_map(|o| match o {
+                EnvObject::Terrain(t) => Some(t.mesh_name()),
+                _ => None,
+            })
+            .collect();
         for (name, mesh) in generated.meshes {
-            self.meshes.add_generated(name, mesh);
+            self.meshes.add_generated(name, mesh, &live);
         }
         generated.kinbody
     }
@@ -956,6 +964,34 @@ mod tests {
         e.select(Some(Selected::Object(0))).unwrap();
         assert!(matches!(e.set_terrain(0.2, 1), Err(EditError::NotTerrain)));
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn a_terrain_whose_difficulty_is_dragged_leaves_one_course_in_the_mesh_cache() {
+        let mut e = editor();
+        let i = e.add(&LibraryItem::Terrain(Family::Hills), 0.0, 0.5);
+        e.select(Some(Selected::Object(i))).unwrap();
+        for k in 0..=10 {
+            e.set_terrain(f64::from(k) / 10.0, 3).unwrap();
+            let _ = e.bounds(i);
+        }
+        assert_eq!(
+            e.meshes.generated_count(),
+            1,
+            "only the scene's course is held"
+        );
+        let Some(EnvObject::Terrain(t)) = e.objects.get(i) else {
+            panic!("still a terrain")
+        };
+        assert!(e.mesh(&t.mesh_name()).is_some(), "and it is the one drawn");
+        e.delete().unwrap();
+        let j = e.add(&LibraryItem::Terrain(Family::Rough), 0.0, 0.5);
+        let _ = e.bounds(j);
+        assert_eq!(
+            e.meshes.generated_count(),
+            1,
+            "a deleted terrain's course goes"
+        );
     }
 
     #[test]

@@ -175,12 +175,7 @@ impl<'a> Course<'a> {
                 triangles.push([a, d, c]);
             }
         }
-        let name = format!(
-            "{GENERATED_MESH}{}-seed{}-d{}",
-            self.spec.family,
-            self.spec.seed,
-            crate::config::xml::write::num(self.spec.difficulty)
-        );
+        let name = self.spec.mesh_name();
         self.meshes
             .push((name.clone(), Arc::new(TriMesh::new(vertices, triangles))));
         let shape = Shape::Trimesh {

@@ -97,11 +97,11 @@ enum Hill {
     Trough(f64),
 }
 
-/// `hills`: obstacles 3 cm (difficulty 0) to 15 cm (1) high, 0.8-2 m long, with flat gaps
-/// between them that shrink with the difficulty.
+/// `hills`: obstacles half to all of 3 cm (difficulty 0) to 28 cm (1) high, 0.8-2 m long,
+/// with flat gaps between them that shrink with the difficulty.
 pub fn hills(c: &mut Course) {
     let d = c.spec.difficulty;
-    let highest = 0.03 + 0.12 * d;
+    let highest = 0.03 + 0.25 * d;
     let mut features = Vec::new();
     let mut y = FEATURES_FROM + 0.5;
     while y < c.spec.length {

@@ -12,11 +12,11 @@ use crate::config::transform::Pose;
 const HIGHEST_STEP: f64 = 0.3;
 
 /// `steps`: treads 0.5-1.4 m long; each a rise or a drop of half to all of 1 cm
-/// (difficulty 0) to 7 cm (1), never below the floor nor above 30 cm.
+/// (difficulty 0) to 6 cm (1), never below the floor nor above 30 cm.
 pub fn steps(c: &mut Course) {
     c.add_floor(0.0);
     let d = c.spec.difficulty;
-    let highest = 0.01 + 0.06 * d;
+    let highest = 0.01 + 0.05 * d;
     let (mut y, mut level) = (FEATURES_FROM, 0.0_f64);
     let mut n = 0;
     while y < c.spec.length {
@@ -31,7 +31,7 @@ pub fn steps(c: &mut Course) {
 }
 
 /// `stairs`: flights of 3-6 steps up, a landing, as many down, a flat stretch; rises of
-/// 1 cm (difficulty 0) to 7 cm (1), treads 0.45 m (0) to 0.21 m (1).
+/// 70-100 % of 1 cm (difficulty 0) to 6 cm (1), treads 0.45 m (0) to 0.21 m (1).
 pub fn stairs(c: &mut Course) {
     c.add_floor(0.0);
     let d = c.spec.difficulty;
@@ -39,7 +39,7 @@ pub fn stairs(c: &mut Course) {
     let mut level = 0.0;
     while y < c.spec.length {
         let count = 3 + (c.rng.uniform() * 4.0) as usize;
-        let rise = (0.01 + 0.06 * d) * c.rng.range(0.7, 1.0);
+        let rise = (0.01 + 0.05 * d) * c.rng.range(0.7, 1.0);
         let tread = (0.45 - 0.24 * d) * c.rng.range(0.9, 1.1);
         for _ in 0..count {
             level += rise;

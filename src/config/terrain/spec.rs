@@ -202,6 +202,17 @@ impl TerrainSpec {
         format!("{} d{:.2} seed {}", self.family, self.difficulty, self.seed)
     }
 
+    /// The name a height-field family's course gives its mesh (family, seed, difficulty).
+    pub fn mesh_name(&self) -> String {
+        format!(
+            "{}{}-seed{}-d{}",
+            super::GENERATED_MESH,
+            self.family,
+            self.seed,
+            crate::config::xml::write::num(self.difficulty)
+        )
+    }
+
     /// Reads a `<Terrain family=".." difficulty=".." seed=".." length=".." width=".."/>`
     /// (with an optional placement: `<Translation>`, `<RotationAxis>`, ...).
     pub fn read(r: &Reader, el: &Element) -> ConfigResult<TerrainSpec> {

@@ -7,7 +7,7 @@ use bevy::prelude::*;
 
 use crate::gui::control::session::SimSession;
 use crate::gui::video::sink::Frame;
-use crate::gui::video::{VideoError, WARM_UP, capture, check_size, following_app};
+use crate::gui::video::{VideoError, VideoView, WARM_UP, capture, check_size, following_app};
 use crate::sim::Simulator;
 
 /// An off-screen renderer of other simulators' worlds.
@@ -23,7 +23,7 @@ impl FrameRenderer {
     pub fn new(session: SimSession, size: (u32, u32)) -> Result<FrameRenderer, VideoError> {
         check_size(size)?;
         let (app, target) = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            following_app(session, size)
+            following_app(session, size, VideoView::CLOSE)
         }))
         .map_err(|_| no_renderer())?;
         Ok(FrameRenderer { app, target, size })

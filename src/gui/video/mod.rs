@@ -53,6 +53,40 @@ pub struct VideoRequest {
     pub engine: Option<crate::config::simulation::EngineKind>,
     /// Draw the ground's metre grid.
     pub grid: bool,
+    /// Where the following camera looks from (default: [`VideoView::CLOSE`]).
+    pub view: VideoView,
+}
+
+/// Where a video's camera looks at robot 0 from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VideoView {
+    /// Distance from the robot's centre of mass (m).
+    pub distance: f64,
+    /// Degrees about the vertical: 0 looks along the robot's start heading from behind,
+    /// positive from its left.
+    pub yaw_deg: f64,
+    /// Degrees above the ground.
+    pub pitch_deg: f64,
+}
+
+impl VideoView {
+    /// The videos' default: close, from behind and to the right, the robot filling the
+    /// frame.
+    pub const CLOSE: VideoView = VideoView {
+        distance: 0.75,
+        yaw_deg: -51.566,
+        pitch_deg: 31.513,
+    };
+
+    /// The orbit camera of this view.
+    fn orbit(self) -> OrbitCamera {
+        OrbitCamera {
+            distance: self.distance as f32,
+            yaw: self.yaw_deg.to_radians() as f32,
+            pitch: self.pitch_deg.to_radians() as f32,
+            ..OrbitCamera::default()
+        }
+    }
 }
 
 /// What was rendered.
@@ -138,6 +172,7 @@ pub fn record_replay_video(
         seconds: Some(replay.duration),
         engine: Some(replay.engine),
         grid: true,
+        view: VideoView::CLOSE,
     };
     check(&req)?;
     let session =
@@ -214,7 +249,7 @@ fn render(
     captured: &Arc<Mutex<Captured>>,
     sink: &mut VideoSink,
 ) -> Result<[f64; 3], VideoError> {
-    let (mut app, target) = following_app(session, req.size);
+    let (mut app, target) = following_app(session, req.size, req.view);
     app.insert_resource(crate::gui::view3d::meshes::ShowGrid(req.grid));
     // The scene is built on the first update and reaches the render world updates later:
     // without these, the first frames were black or empty sky.
@@ -302,14 +337,11 @@ fn video_app(session: SimSession) -> App {
 }
 
 /// The video's app with an image of `size` to render into and a camera that follows robot
-/// 0, closer than the window's default view (the robot fills the frame).
-fn following_app(session: SimSession, size: (u32, u32)) -> (App, Handle<Image>) {
+/// 0 from `view`.
+fn following_app(session: SimSession, size: (u32, u32), view: VideoView) -> (App, Handle<Image>) {
     let mut app = video_app(session);
     let target = render_target(&mut app, size);
-    let orbit = OrbitCamera {
-        distance: 0.75,
-        ..OrbitCamera::default()
-    };
+    let orbit = view.orbit();
     app.world_mut().spawn((
         Name::new("video camera"),
         VideoCamera,

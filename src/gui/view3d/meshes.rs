@@ -6,7 +6,7 @@ use bevy::asset::RenderAssetUsages;
 use bevy::mesh::{Indices, PrimitiveTopology};
 use bevy::prelude::*;
 
-use crate::config::body::{Geom, Shape};
+use crate::config::body::{Geom, MeshCollision, Shape};
 use crate::config::mesh::TriMesh;
 use crate::config::transform::Pose;
 
@@ -41,7 +41,9 @@ pub fn geom_mesh(shape: &Shape, tri: Option<&TriMesh>) -> Option<Mesh> {
         }
         Shape::Sphere { radius } => Sphere::new(*radius as f32).mesh().ico(3).ok()?,
         Shape::Cylinder { radius, height } => Cylinder::new(*radius as f32, *height as f32).into(),
-        Shape::Trimesh { scale, .. } => {
+        Shape::Trimesh {
+            scale, collision, ..
+        } => {
             let obj = tri?;
             let positions: Vec<[f32; 3]> = obj
                 .vertices
@@ -57,9 +59,38 @@ pub fn geom_mesh(shape: &Shape, tri: Option<&TriMesh>) -> Option<Mesh> {
             .with_inserted_indices(Indices::U32(indices));
             mesh.duplicate_vertices();
             mesh.compute_flat_normals();
+            if *collision == MeshCollision::HeightField {
+                tint_by_height(&mut mesh);
+            }
             mesh
         }
     })
+}
+
+/// Shades a height field's vertices by their height, from 70 % of its colour at its
+/// lowest point to 125 % at its highest: a few centimetres of relief under a high sun
+/// look flat otherwise (the material's colour multiplies the vertices').
+fn tint_by_height(mesh: &mut Mesh) {
+    let Some(positions) = mesh
+        .attribute(Mesh::ATTRIBUTE_POSITION)
+        .and_then(|a| a.as_float3())
+    else {
+        return;
+    };
+    let (lo, hi) = positions
+        .iter()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p[2]), hi.max(p[2]))
+        });
+    let span = (hi - lo).max(1e-6);
+    let colours: Vec<[f32; 4]> = positions
+        .iter()
+        .map(|p| {
+            let k = 0.7 + 0.55 * (p[2] - lo) / span;
+            [k, k, k, 1.0]
+        })
+        .collect();
+    mesh.insert_attribute(Mesh::ATTRIBUTE_COLOR, colours);
 }
 
 /// A configuration pose as a Bevy transform (same frame: the scene root converts).
