@@ -23,7 +23,7 @@ pub struct TaskRate {
     pub engine: EngineKind,
     /// Simulated seconds per wall second.
     pub rate: f64,
-    /// The flat floor's rate on the same engine.
+    /// The flat floor's rate on the same engine, measured just before the task's.
     pub flat: f64,
 }
 
@@ -37,7 +37,8 @@ pub struct SuiteRates {
 }
 
 /// Measures every task of the suite at `suite` on every engine here, `seconds` each (best
-/// of the bench's repetitions).
+/// of the bench's repetitions), each beside a measurement of the flat floor taken just
+/// before it.
 pub fn rates(
     config: &Path,
     suite: &Path,
@@ -48,8 +49,10 @@ pub fn rates(
     let file = crate::config::suite::load_suite(&crate::config::FsSource, suite)?;
     let mut rows = Vec::new();
     for engine in crate::sim::engine::ready_engines() {
-        let flat = pipeline(&sim, EngineSettings::production(&sim, engine), 1, seconds)?;
         for task in &file.tasks {
+            // The flat floor again beside each task: a machine whose speed drifts over the
+            // minutes of a run (these VMs: up to 40 %) moves both figures alike.
+            let flat = pipeline(&sim, EngineSettings::production(&sim, engine), 1, seconds)?;
             let seed = task.test.first().copied().unwrap_or(1);
             let world = sim
                 .on_course(task, seed, suite)
