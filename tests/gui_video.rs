@@ -199,6 +199,15 @@ fn bad_video_requests_are_refused_with_the_reason() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(err.contains("--camera") && err.contains(camera), "{err}");
     }
+    // Without a video there is no camera to place: refused, not ignored.
+    let out = Command::new(env!("CARGO_BIN_EXE_proleg"))
+        .args(["run", "configs/demo.simulation.xml", "--camera", "3,0,30"])
+        .current_dir(common::root())
+        .output()
+        .expect("proleg");
+    assert!(!out.status.success(), "--camera without --video accepted");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--video"), "{err}");
 }
 
 #[test]

@@ -65,7 +65,7 @@ pub struct RunRequest {
     /// The video camera's place: DISTANCE,YAW,PITCH (metres from the robot; degrees about
     /// the vertical, 0 behind the robot looking along its start heading, positive from its
     /// left; degrees above the ground) [default: 0.75,-51.6,31.5]
-    #[arg(long, value_parser = crate::cli::parse_camera)]
+    #[arg(long, requires = "video", value_parser = crate::cli::parse_camera)]
     pub camera: Option<[f64; 3]>,
 }
 
