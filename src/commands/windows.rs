@@ -163,7 +163,7 @@ pub fn video(req: &cli::run::RunRequest, registry: &ModuleRegistry) -> Printed {
             engine: req.engine,
             grid: !req.no_grid,
             view: req.camera.map_or(
-                crate::gui::video::VideoView::CLOSE,
+                crate::gui::video::VideoView::close(),
                 |[distance, yaw_deg, pitch_deg]| crate::gui::video::VideoView {
                     distance,
                     yaw_deg,

@@ -23,7 +23,7 @@ impl FrameRenderer {
     pub fn new(session: SimSession, size: (u32, u32)) -> Result<FrameRenderer, VideoError> {
         check_size(size)?;
         let (app, target) = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            following_app(session, size, VideoView::CLOSE)
+            following_app(session, size, VideoView::close())
         }))
         .map_err(|_| no_renderer())?;
         Ok(FrameRenderer { app, target, size })

@@ -53,7 +53,7 @@ pub struct VideoRequest {
     pub engine: Option<crate::config::simulation::EngineKind>,
     /// Draw the ground's metre grid.
     pub grid: bool,
-    /// Where the following camera looks from (default: [`VideoView::CLOSE`]).
+    /// Where the following camera looks from (default: [`VideoView::close`]).
     pub view: VideoView,
 }
 
@@ -70,13 +70,16 @@ pub struct VideoView {
 }
 
 impl VideoView {
-    /// The videos' default: close, from behind and to the right, the robot filling the
-    /// frame.
-    pub const CLOSE: VideoView = VideoView {
-        distance: 0.75,
-        yaw_deg: -51.566,
-        pitch_deg: 31.513,
-    };
+    /// The videos' default: the perspective views' angles (their [`OrbitCamera`]
+    /// default), closer, the robot filling the frame.
+    pub fn close() -> VideoView {
+        let orbit = OrbitCamera::default();
+        VideoView {
+            distance: 0.75,
+            yaw_deg: f64::from(orbit.yaw).to_degrees(),
+            pitch_deg: f64::from(orbit.pitch).to_degrees(),
+        }
+    }
 
     /// The orbit camera of this view.
     fn orbit(self) -> OrbitCamera {
@@ -172,7 +175,7 @@ pub fn record_replay_video(
         seconds: Some(replay.duration),
         engine: Some(replay.engine),
         grid: true,
-        view: VideoView::CLOSE,
+        view: VideoView::close(),
     };
     check(&req)?;
     let session =
