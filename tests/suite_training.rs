@@ -116,6 +116,7 @@ fn spec(tasks: &[&str]) -> CoursesSpec {
         suite: "suites/locomotion.suite.xml".into(),
         tasks: tasks.iter().map(|t| t.to_string()).collect(),
         episodes: None,
+        stages: Vec::new(),
         pos: Pos::new(40, 3),
     }
 }

@@ -3,6 +3,7 @@
 //! progress, a table of every evaluation, and the best candidate written back as an
 //! actuation file.
 
+use std::cell::{Cell, RefCell};
 use std::fmt::{self, Write as _};
 use std::fs::File;
 use std::io::{BufWriter, Write as _};
@@ -16,6 +17,7 @@ use crate::cli::error::CliError;
 use crate::config::Simulation;
 use crate::config::fitness::Fitness;
 use crate::control::ModuleRegistry;
+use crate::optimize::curriculum::{Curriculum, StageOf, StageSummary, run_request};
 use crate::optimize::experiment::{Experiment, ExperimentReport, ExperimentRequest};
 use crate::optimize::session::Evaluation;
 use crate::optimize::settings::{RunChoices, RunSettings};
@@ -144,50 +146,140 @@ pub fn run_observed(
         out: o.out.clone(),
         stop: signal.flag(),
         crash_after: o.crash_after,
+        stage: None,
     };
-    let experiment = Experiment::open(&request, registry)?;
+    let table = RefCell::new(Table::new(o.evaluations.as_deref())?);
+    // The budget is the first run's (a curriculum's stages share it).
+    let budget = Cell::new(None);
+    let mut on_open = |stage: Option<StageOf<'_>>, experiment: &Experiment| {
+        keep_note(&keeps, experiment);
+        if !o.quiet {
+            match stage {
+                Some(s) => announce_stage(s.curriculum, s.number, experiment, o.resume),
+                None => announce(experiment, o.resume),
+            }
+        }
+        table.borrow_mut().head(experiment.session().space());
+        if budget.get().is_none() {
+            let max = experiment.session().settings().max_evaluations;
+            budget.set(Some(Some(max).filter(|m| *m != u64::MAX)));
+        }
+    };
+    let report = run_request(&request, registry, &mut on_open, &mut |e: &Evaluation| {
+        table.borrow_mut().row(e);
+        on_eval(e, budget.get().flatten());
+    })?;
+    table.into_inner().finish()?;
+    Ok(report)
+}
+
+/// What the signal thread says a stop keeps: the experiment's store and run.
+fn keep_note(keeps: &Mutex<String>, experiment: &Experiment) {
     let (store, run) = experiment.run_id();
     if let Ok(mut k) = keeps.lock() {
         *k = format!(
             "every finished evaluation is kept in {store} (run {run}); --resume runs the rest"
         );
     }
+}
+
+/// The header on stderr: warnings, what is optimized, and the run resumed.
+fn announce(experiment: &Experiment, resume: bool) {
     let (sim, session) = (experiment.simulation(), experiment.session());
-    if !o.quiet {
-        for w in &experiment.warnings {
-            eprintln!("warning: {w}");
+    for w in &experiment.warnings {
+        eprintln!("warning: {w}");
+    }
+    eprint!("{}", header(sim, session.space(), session.settings()));
+    if resume {
+        let (store, run) = experiment.run_id();
+        eprintln!(
+            "resuming run {run} of {store}: {} evaluations stored",
+            experiment.stored()
+        );
+    }
+}
+
+/// A curriculum's stage `k` (1-based) on stderr: the header before the first, then the
+/// stage's tasks, the score that ends it and its budget.
+fn announce_stage(curriculum: &Curriculum, k: usize, experiment: &Experiment, resume: bool) {
+    if k == 1 {
+        announce(experiment, false);
+    }
+    let settings = experiment.session().settings();
+    let until = settings
+        .until
+        .map_or("the end of the budget".to_string(), |u| {
+            format!("a best score of {u}")
+        });
+    let (store, run) = experiment.run_id();
+    eprintln!(
+        "curriculum stage {k} of {}: {} until {until}; run {run} of {store}{}",
+        curriculum.len(),
+        curriculum.tasks(k - 1).join(" "),
+        match (resume, experiment.stored()) {
+            (true, n) if n > 0 => format!(", {n} evaluations stored"),
+            _ => String::new(),
         }
-        eprint!("{}", header(sim, session.space(), session.settings()));
-        if o.resume {
-            let (store, run) = experiment.run_id();
-            eprintln!(
-                "resuming run {run} of {store}: {} evaluations stored",
-                experiment.stored()
-            );
+    );
+}
+
+/// The evaluations table (TSV), if asked for: created at once (a path that cannot be
+/// written fails before anything runs), its header line written with the first stage's
+/// genes, a row per evaluation; the first write error is kept and returned at the end.
+struct Table<'a> {
+    path: Option<&'a Path>,
+    writer: Option<BufWriter<File>>,
+    headed: bool,
+    error: Option<std::io::Error>,
+}
+
+impl<'a> Table<'a> {
+    fn new(path: Option<&'a Path>) -> Result<Self, CliError> {
+        let writer = path
+            .map(|p| {
+                File::create(p)
+                    .map(BufWriter::new)
+                    .map_err(CliError::write(p))
+            })
+            .transpose()?;
+        Ok(Table {
+            path,
+            writer,
+            headed: false,
+            error: None,
+        })
+    }
+
+    /// Writes the header line (once: a curriculum's later stages add rows).
+    fn head(&mut self, space: &SearchSpace) {
+        if let Some(w) = self.writer.as_mut()
+            && !self.headed
+        {
+            self.headed = true;
+            if let Err(e) = write_header(w, space) {
+                self.error.get_or_insert(e);
+            }
         }
     }
-    let space = session.space().clone();
-    let mut table = open_table(o.evaluations.as_deref(), &space)?;
-    let max = session.settings().max_evaluations;
-    let budget = Some(max).filter(|m| *m != u64::MAX);
-    let mut table_error = None;
-    let report = experiment.run(registry, |e: &Evaluation| {
-        if let Some(w) = table.as_mut()
+
+    fn row(&mut self, e: &Evaluation) {
+        if let Some(w) = self.writer.as_mut()
             && let Err(err) = write_row(w, e)
         {
-            table_error.get_or_insert(err);
+            self.error.get_or_insert(err);
         }
-        on_eval(e, budget);
-    })?;
-    let table_path = o.evaluations.as_deref().unwrap_or(Path::new(""));
-    if let Some(mut w) = table
-        && let Err(e) = w.flush()
-    {
-        table_error.get_or_insert(e);
     }
-    match table_error {
-        Some(e) => Err(CliError::write(table_path)(e)),
-        None => Ok(report),
+
+    fn finish(mut self) -> Result<(), CliError> {
+        if let Some(mut w) = self.writer.take()
+            && let Err(e) = w.flush()
+        {
+            self.error.get_or_insert(e);
+        }
+        match (self.error, self.path) {
+            (Some(e), Some(p)) => Err(CliError::write(p)(e)),
+            _ => Ok(()),
+        }
     }
 }
 
@@ -237,20 +329,10 @@ fn header(sim: &Simulation, space: &SearchSpace, settings: &RunSettings) -> Stri
     head
 }
 
-/// The evaluations table (TSV) with its header line, if asked for.
-fn open_table(
-    path: Option<&Path>,
-    space: &SearchSpace,
-) -> Result<Option<BufWriter<File>>, CliError> {
-    let Some(p) = path else {
-        return Ok(None);
-    };
-    let f = File::create(p).map_err(CliError::write(p))?;
-    let mut w = BufWriter::new(f);
+/// The evaluations table's header line: the columns and the genes.
+fn write_header(w: &mut BufWriter<File>, space: &SearchSpace) -> std::io::Result<()> {
     let genes: Vec<String> = space.genes.iter().map(|g| g.label()).collect();
     writeln!(w, "evaluation\tround\tscore\tbest\t{}", genes.join("\t"))
-        .map_err(CliError::write(p))?;
-    Ok(Some(w))
 }
 
 /// One evaluation as a table row.
@@ -317,6 +399,7 @@ impl Progress {
 impl fmt::Display for ExperimentReport {
     fn fmt(&self, out: &mut fmt::Formatter<'_>) -> fmt::Result {
         let o = &self.outcome;
+        curriculum_lines(&self.curriculum, out)?;
         writeln!(
             out,
             "{} evaluations in {} rounds ({} simulated, {} from the store), {:.1} s",
@@ -335,6 +418,8 @@ impl fmt::Display for ExperimentReport {
         if let Some(s0) = o.start_score {
             let whence = if o.start_drawn {
                 "drawn from the seed"
+            } else if self.curriculum.last().is_some_and(|s| s.number > 1) {
+                "the previous stage's best"
             } else {
                 "the configured values"
             };
@@ -377,6 +462,32 @@ impl fmt::Display for ExperimentReport {
         }
         Ok(())
     }
+}
+
+/// A curriculum's stages, one line each, before the last stage's report.
+fn curriculum_lines(stages: &[StageSummary], out: &mut fmt::Formatter<'_>) -> fmt::Result {
+    for s in stages {
+        let ended = match (s.until, s.reached) {
+            (Some(u), true) => format!("reached {u}"),
+            (Some(u), false) => format!("did not reach {u}: the curriculum ends here"),
+            (None, _) => "the last stage".to_string(),
+        };
+        writeln!(
+            out,
+            "curriculum stage {} of {} ({}): best {:.4} in {} evaluations ({} simulated), {ended}; run {}",
+            s.number,
+            s.of,
+            s.tasks.join(" "),
+            s.best_score,
+            s.evaluations,
+            s.simulated,
+            s.run
+        )?;
+    }
+    if let Some(last) = stages.last() {
+        writeln!(out, "the lines below are stage {}'s", last.number)?;
+    }
+    Ok(())
 }
 
 /// The report's throughput lines: evaluations per hour, real time per worker, the thesis's

@@ -13,6 +13,20 @@
 //! courses are generated once, when the simulation is loaded, and every candidate meets
 //! the same ones (common random numbers, as `<robustness>`'s draws). Episodes keep the
 //! simulation's own duration and fitness.
+//!
+//! A curriculum names its tasks stage by stage instead of in `tasks`:
+//!
+//! ```xml
+//! <courses suite="../suites/locomotion.suite.xml" episodes="2">
+//!   <stage tasks="steps-easy" until="5"/>
+//!   <stage tasks="steps-medium" until="5"/>
+//!   <stage tasks="steps-hard"/>
+//! </courses>
+//! ```
+//!
+//! Every stage but the last ends once its best score reaches `until`; the last has none
+//! (`proleg optimize` runs the stages one after another, [`crate::optimize::curriculum`]).
+//! A simulation loaded from such a file trains on the first stage's tasks.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -36,8 +50,40 @@ pub struct CoursesSpec {
     pub tasks: Vec<String>,
     /// Episodes per candidate when the file has no `<robustness>`.
     pub episodes: Option<u32>,
+    /// A curriculum's stages, in order (none: `tasks` is the one set of tasks).
+    pub stages: Vec<StageSpec>,
     /// Where the element is.
     pub pos: Pos,
+}
+
+/// One `<stage>` of a curriculum.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StageSpec {
+    /// The tasks this stage trains on.
+    pub tasks: Vec<String>,
+    /// The best score that ends the stage (every stage but the last has one).
+    pub until: Option<f64>,
+    /// Where the element is.
+    pub pos: Pos,
+}
+
+impl CoursesSpec {
+    /// The tasks a simulation loaded from this element trains on: `tasks`, or the first
+    /// stage's.
+    pub fn first_tasks(&self) -> &[String] {
+        self.stages.first().map_or(&self.tasks, |s| &s.tasks)
+    }
+
+    /// Stage `k` (0-based) as an element of its own: its tasks, no stages.
+    pub fn stage(&self, k: usize) -> Option<CoursesSpec> {
+        let stage = self.stages.get(k)?;
+        Some(CoursesSpec {
+            tasks: stage.tasks.clone(),
+            stages: Vec::new(),
+            pos: stage.pos,
+            ..self.clone()
+        })
+    }
 }
 
 /// One train course: a task's course of one train seed, generated.
@@ -100,11 +146,11 @@ impl TrainCourses {
 /// Reads `<courses>` (a child of the optimizer file's root).
 pub fn read_courses(r: &Reader, el: &Element) -> ConfigResult<CoursesSpec> {
     r.only_attrs(el, &["suite", "tasks", "episodes"])?;
-    r.only_children(el, &[])?;
+    r.only_children(el, &["stage"])?;
     let suite = r.required_attr(el, "suite")?.value.trim().to_string();
     let tasks = el
         .attr("tasks")
-        .map(|a| a.value.split_whitespace().map(str::to_string).collect())
+        .map(|a| names(&a.value))
         .unwrap_or_default();
     let episodes = match el.attr("episodes") {
         Some(a) => {
@@ -120,12 +166,74 @@ pub fn read_courses(r: &Reader, el: &Element) -> ConfigResult<CoursesSpec> {
         }
         None => None,
     };
+    let stages = read_stages(r, el)?;
+    if !stages.is_empty() && el.attr("tasks").is_some() {
+        return Err(r.err(
+            el.pos,
+            ErrorKind::InvalidValue,
+            "<courses> names its tasks either in `tasks` or stage by stage in <stage>s, not both",
+        ));
+    }
     Ok(CoursesSpec {
         suite,
         tasks,
         episodes,
+        stages,
         pos: el.pos,
     })
+}
+
+/// Task names as written, separated by white space.
+fn names(text: &str) -> Vec<String> {
+    text.split_whitespace().map(str::to_string).collect()
+}
+
+/// The `<stage>` children of `<courses>`: each names tasks; every one but the last ends at
+/// a score (`until`), the last has none.
+fn read_stages(r: &Reader, el: &Element) -> ConfigResult<Vec<StageSpec>> {
+    let elements: Vec<&Element> = el.children_named("stage").collect();
+    let last = elements.len().saturating_sub(1);
+    elements
+        .iter()
+        .enumerate()
+        .map(|(k, st)| {
+            r.only_attrs(st, &["tasks", "until"])?;
+            r.only_children(st, &[])?;
+            let tasks = names(&r.required_attr(st, "tasks")?.value);
+            if tasks.is_empty() {
+                return Err(r.err(
+                    st.pos,
+                    ErrorKind::InvalidValue,
+                    "<stage tasks> names no task",
+                ));
+            }
+            let until = st
+                .attr("until")
+                .map(|a| r.number(&a.value, a.pos, "until"))
+                .transpose()?;
+            match (k == last, until) {
+                (false, None) => Err(r.err(
+                    st.pos,
+                    ErrorKind::Missing,
+                    format!(
+                        "stage {} of {} needs `until` (the best score that ends it)",
+                        k + 1,
+                        last + 1
+                    ),
+                )),
+                (true, Some(_)) => Err(r.err(
+                    st.pos,
+                    ErrorKind::InvalidValue,
+                    "the last stage has no `until`: it runs to the end of the budget",
+                )),
+                _ => Ok(StageSpec {
+                    tasks,
+                    until,
+                    pos: st.pos,
+                }),
+            }
+        })
+        .collect()
 }
 
 /// Writes `<courses>`.
@@ -137,11 +245,24 @@ pub fn write_courses(w: &mut XmlWriter, c: &CoursesSpec) {
     if let Some(k) = c.episodes {
         attrs.push(("episodes", k.to_string()));
     }
-    w.empty("courses", &attrs);
+    if c.stages.is_empty() {
+        w.empty("courses", &attrs);
+        return;
+    }
+    w.open("courses", &attrs);
+    for stage in &c.stages {
+        let mut attrs = vec![("tasks", stage.tasks.join(" "))];
+        if let Some(u) = stage.until {
+            attrs.push(("until", crate::config::xml::write::num(u)));
+        }
+        w.empty("stage", &attrs);
+    }
+    w.close();
 }
 
 /// The tasks `spec` trains on, from `suite` (file `suite_path`); `file` is the optimizer
-/// file (what errors name).
+/// file (what errors name). A curriculum trains on its first stage's tasks; every stage's
+/// names are checked.
 pub fn train_tasks<'a>(
     file: &Path,
     spec: &CoursesSpec,
@@ -149,6 +270,14 @@ pub fn train_tasks<'a>(
     suite_path: &Path,
 ) -> ConfigResult<Vec<&'a Task>> {
     let r = Reader::new(file);
+    for (k, _) in spec.stages.iter().enumerate().skip(1) {
+        if let Some(stage) = spec.stage(k) {
+            train_tasks(file, &stage, suite, suite_path)?;
+        }
+    }
+    if let Some(first) = spec.stage(0) {
+        return train_tasks(file, &first, suite, suite_path);
+    }
     if spec.tasks.is_empty() {
         let trainable: Vec<&Task> = suite.tasks.iter().filter(|t| !t.held_out()).collect();
         if trainable.is_empty() {

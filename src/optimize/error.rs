@@ -89,6 +89,18 @@ pub enum OptimizeError {
         /// The episode duration (s).
         duration: f64,
     },
+    /// A curriculum's stage given a start candidate that is not of its search space.
+    #[error("the start candidate is not of the run's search space")]
+    StartOutsideSpace,
+    /// A curriculum (`<courses>` with `<stage>`s) opened as one run.
+    #[error(
+        "{}: its <courses> is a curriculum (<stage>s): `proleg optimize` and the optimization view run its stages one after another",
+        file.display()
+    )]
+    CurriculumAsOneRun {
+        /// The optimizer file.
+        file: PathBuf,
+    },
     /// The optimizer ended without one evaluation.
     #[error("the optimizer evaluated nothing")]
     NothingEvaluated,

@@ -10,6 +10,7 @@ use std::time::Instant;
 
 use crate::config::actuation::write_actuation_file;
 use crate::config::simulation::EngineKind;
+use crate::config::source::{FileSource, MemSource, Overlay};
 use crate::config::{FsSource, RecordingSource, Simulation, load_simulation_with};
 use crate::control::ModuleRegistry;
 use crate::optimize::error::OptimizeError;
@@ -17,7 +18,7 @@ use crate::optimize::robust::episode_records;
 use crate::optimize::scorer::Recording;
 use crate::optimize::session::{Evaluation, RunOutcome, Session};
 use crate::optimize::settings::{RunChoices, RunSettings};
-use crate::optimize::space::SearchSpace;
+use crate::optimize::space::{Genome, SearchSpace};
 use crate::optimize::store::{RunInfo, Store, StoreLocation, StoredEval};
 use crate::signal::StopFlag;
 
@@ -40,6 +41,28 @@ pub struct ExperimentRequest {
     pub stop: StopFlag,
     /// Testing aid: abort (like kill -9) once this many evaluations are stored.
     pub crash_after: Option<u64>,
+    /// A curriculum's stage ([`crate::optimize::curriculum`]); none: the configuration as
+    /// written, which must not be a curriculum.
+    pub stage: Option<StageRequest>,
+}
+
+/// One stage of a curriculum as a run of its own: the optimizer file rewritten to train on
+/// the stage's tasks (what the store keeps with the run, so workers and replays build the
+/// stage's courses), its start and the score that ends it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StageRequest {
+    /// The stage's name in the store ("curriculum stage 2 of 3 (steps-medium)"): part of
+    /// the run's algorithm, which `--resume` matches.
+    pub label: String,
+    /// The optimizer file's path and the stage's text of it.
+    pub optimizer: (PathBuf, String),
+    /// The start candidate (the previous stage's best); none: the configured start.
+    pub start: Option<Genome>,
+    /// The best score that ends the stage (none: the budget does).
+    pub until: Option<f64>,
+    /// With `--resume`, a stage the store does not hold starts anew instead of failing
+    /// (every stage but the first).
+    pub may_start: bool,
 }
 
 /// An experiment opened: its run started (or found) in the store, ready to run.
@@ -80,6 +103,8 @@ pub struct ExperimentReport {
     pub engine: EngineKind,
     /// The best candidate's score on each engine (runs with `<engines>`; else empty).
     pub best_engines: Vec<(EngineKind, f64)>,
+    /// A curriculum's stages, in order, this run the last (else empty).
+    pub curriculum: Vec<crate::optimize::curriculum::StageSummary>,
 }
 
 impl ExperimentReport {
@@ -96,13 +121,34 @@ impl Experiment {
         request: &ExperimentRequest,
         registry: &ModuleRegistry,
     ) -> Result<Experiment, OptimizeError> {
-        let source = RecordingSource::new(&FsSource);
+        let overlay = request.stage.as_ref().map(|stage| Overlay {
+            top: MemSource::new().with(&stage.optimizer.0, stage.optimizer.1.clone()),
+            base: &FsSource,
+        });
+        let base: &dyn FileSource = match &overlay {
+            Some(o) => o,
+            None => &FsSource,
+        };
+        let source = RecordingSource::new(base);
         let sim = load_simulation_with(&source, &request.config, registry)
             .map_err(|e| OptimizeError::Config(Box::new(e)))?
             .with_engine(request.engine);
+        if let Some(model) = &sim.optimizer
+            && request.stage.is_none()
+            && model
+                .spec
+                .courses
+                .as_ref()
+                .is_some_and(|c| !c.stages.is_empty())
+        {
+            return Err(OptimizeError::CurriculumAsOneRun {
+                file: model.file.clone(),
+            });
+        }
         let warnings = design_part_warnings(&source, &sim);
         let settings = RunSettings {
             stop: request.stop.clone(),
+            until: request.stage.as_ref().and_then(|s| s.until),
             ..RunSettings::of(&sim, &request.choices)?
         };
         let location = match &request.store {
@@ -110,15 +156,31 @@ impl Experiment {
             None => StoreLocation::sqlite(default_store_path(&request.config)),
         };
         let shared = matches!(location, StoreLocation::Postgres(_));
-        let session = Session::prepare(&sim, &settings, registry, shared)?;
+        let mut session = Session::prepare(&sim, &settings, registry, shared)?;
+        if let Some(start) = request.stage.as_ref().and_then(|s| s.start.clone()) {
+            session = session.starting_from(start)?;
+        }
         let mut store = Store::open(&location)?;
-        let info = run_info(&sim, session.space(), &settings);
+        let mut info = run_info(&sim, session.space(), &settings);
+        if let Some(stage) = &request.stage {
+            info.algorithm = format!("{}, {}", info.algorithm, stage.label);
+        }
         let files = stored_files(&source, &request.config, &sim);
-        let (run, known) = if request.resume {
-            resumed_run(&mut store, &info)?
-        } else {
-            let episodes = episode_records(&sim, settings.seed);
-            (store.start_run(&info, &files, &episodes)?, Vec::new())
+        let found = match (request.resume, &request.stage) {
+            (false, _) => None,
+            (true, None) => Some(resumed_run(&mut store, &info)?),
+            (true, Some(stage)) => match latest_run(&mut store, &info)? {
+                Some(found) => Some(found),
+                None if stage.may_start => None,
+                None => Some(resumed_run(&mut store, &info)?),
+            },
+        };
+        let (run, known) = match found {
+            Some(found) => found,
+            None => {
+                let episodes = episode_records(&sim, settings.seed);
+                (store.start_run(&info, &files, &episodes)?, Vec::new())
+            }
         };
         Ok(Experiment {
             sim,
@@ -191,6 +253,7 @@ impl Experiment {
             store: (shown, self.run),
             actuation: self.out.clone(),
             engine: self.sim.engine(),
+            curriculum: Vec::new(),
         })
     }
 }
@@ -293,6 +356,25 @@ fn design_part_warnings(source: &RecordingSource, sim: &Simulation) -> Vec<Strin
     match crate::optimize::design::body_files(sim, source) {
         Ok(_) => Vec::new(),
         Err(e) => vec![format!("co-design parts: {e}")],
+    }
+}
+
+/// The last run matching `info`, finished or not, with its stored evaluations: a
+/// curriculum's stage resumed (a finished stage is replayed from the store, simulating
+/// nothing, to its same best).
+fn latest_run(
+    store: &mut Store,
+    info: &RunInfo,
+) -> Result<Option<(i64, Vec<StoredEval>)>, OptimizeError> {
+    let latest = store
+        .runs()?
+        .into_iter()
+        .filter(|r| r.info == *info)
+        .map(|r| r.id)
+        .max();
+    match latest {
+        Some(id) => Ok(Some((id, store.evaluations(id)?))),
+        None => Ok(None),
     }
 }
 

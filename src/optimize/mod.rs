@@ -16,6 +16,7 @@
 //!   same in one call, and the names its callers use
 //! - [`settings`]: seed, workers, batching, budget, episode and fitness, from files and choices
 //! - [`experiment`]: an optimization recorded in a store (`proleg optimize`, the window's view)
+//! - [`curriculum`]: a curriculum's stages run one after another, each a stored run
 //! - [`evaluate`]: the evaluator: candidates as episodes of the episode runner, batched per
 //!   world, on threads; [`robust`]: scores over randomized episodes
 //! - [`scorer`]: how a round gets its scores (this host: [`local`]; a shared store's
@@ -32,6 +33,7 @@
 pub mod archive;
 pub mod behaviour;
 pub mod cmaes;
+pub mod curriculum;
 pub mod curve;
 pub mod deluge;
 pub mod design;

@@ -75,6 +75,8 @@ pub struct RunOutcome {
     /// The run was stopped before its optimizer finished (a signal, the window's Stop):
     /// it stays unfinished in its store, and `--resume` continues it.
     pub stopped: bool,
+    /// The run ended because its best score reached the settings' `until`.
+    pub reached: bool,
 }
 
 /// An optimization of a simulation, prepared and checked.
@@ -84,6 +86,7 @@ pub struct Session {
     settings: RunSettings,
     space: SearchSpace,
     start: Genome,
+    start_drawn: bool,
 }
 
 impl Session {
@@ -107,10 +110,24 @@ impl Session {
         let start = start_candidate(model.spec.random_start, &space, configured, settings.seed);
         Ok(Session {
             sim: sim.clone(),
+            start_drawn: model.spec.random_start,
             model,
             settings: settings.clone(),
             space,
             start,
+        })
+    }
+
+    /// The same session starting from `start` (a candidate of its search space: a
+    /// curriculum's previous stage's best) instead of the configured or drawn one.
+    pub fn starting_from(self, start: Genome) -> Result<Session, OptimizeError> {
+        if !self.space.contains(&start) {
+            return Err(OptimizeError::StartOutsideSpace);
+        }
+        Ok(Session {
+            start,
+            start_drawn: false,
+            ..self
         })
     }
 
@@ -162,8 +179,8 @@ impl Session {
         )?;
         let mut scorer = scorer_for(recording, self.evaluator(registry), settings, registry)?;
         let (mut n, mut round, mut best) = (0u64, 0u64, f64::NEG_INFINITY);
-        let (mut start_score, mut best_engines) = (None, Vec::new());
-        while !optimizer.finished() && !settings.stop.is_set() {
+        let (mut start_score, mut best_engines, mut reached) = (None, Vec::new(), false);
+        while !optimizer.finished() && !settings.stop.is_set() && !reached {
             let candidates = optimizer.ask();
             if candidates.is_empty() {
                 break;
@@ -198,8 +215,9 @@ impl Session {
             let measures: Vec<Vec<f64>> = scored.into_iter().map(|s| s.measures).collect();
             optimizer.tell_measured(&scores, &measures);
             round += 1;
+            reached = settings.until.is_some_and(|until| best >= until);
         }
-        let stopped = settings.stop.is_set() && !optimizer.finished();
+        let stopped = settings.stop.is_set() && !optimizer.finished() && !reached;
         let summary = scorer.finish(!stopped)?;
         let (g, s) = optimizer
             .best()
@@ -213,7 +231,7 @@ impl Session {
             best: g,
             best_score: s,
             start: self.start.clone(),
-            start_drawn: self.model.spec.random_start,
+            start_drawn: self.start_drawn,
             start_score,
             evaluations: n,
             simulated: summary.simulated,
@@ -221,6 +239,7 @@ impl Session {
             rounds: round,
             best_engines,
             stopped,
+            reached,
         })
     }
 }

@@ -38,6 +38,9 @@ pub struct RunSettings {
     pub lease: Duration,
     /// Ends the run early when set (between rounds).
     pub stop: StopFlag,
+    /// Ends the run, finished, at the end of the first round whose best score reaches this
+    /// (a curriculum's stage, [`crate::optimize::curriculum`]); none: the budget ends it.
+    pub until: Option<f64>,
 }
 
 /// Robots per world unless the user asks for more: each evaluation in a world of its own,
@@ -116,6 +119,7 @@ impl RunSettings {
                 .unwrap_or(Fitness::Displacement),
             lease: Duration::from_secs_f64(lease),
             stop: StopFlag::default(),
+            until: None,
         })
     }
 }

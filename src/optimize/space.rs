@@ -175,6 +175,16 @@ impl SearchSpace {
             .product()
     }
 
+    /// Whether `genome` is a candidate of this space: a gene each, every allele in range.
+    pub fn contains(&self, genome: &[u32]) -> bool {
+        genome.len() == self.genes.len()
+            && self
+                .genes
+                .iter()
+                .zip(genome)
+                .all(|(g, k)| *k < g.alleles.count())
+    }
+
     /// Parameter values of a genome, one per gene.
     pub fn decode(&self, genome: &[u32]) -> Vec<f64> {
         self.genes

@@ -1,6 +1,7 @@
 //! The optimization view, docked on the window's left: when the simulation's mode is an
 //! optimization, run it on headless workers in the background exactly as `proleg optimize
-//! CONFIG` does ([`crate::optimize::experiment::Experiment`]: the configuration file as saved,
+//! CONFIG` does ([`crate::optimize::curriculum::run_request`]: the configuration file as saved,
+//! a curriculum's stages one after another,
 //! every evaluation stored in a SQLite store, by default the command line's
 //! `CONFIG-STEM.results.sqlite`, shown and editable), show its progress, evaluations per
 //! second, a live learning curve with the score's name and unit, the best candidate's
@@ -22,10 +23,9 @@ use crate::config::actuation::write_actuation_file;
 use crate::config::fitness::Fitness;
 use crate::gui::control::results_view::{self, StoredResults};
 use crate::gui::control::session::SimSession;
+use crate::optimize::curriculum::run_request;
 use crate::optimize::error::OptimizeError;
-use crate::optimize::experiment::{
-    Experiment, ExperimentReport, ExperimentRequest, default_store_path,
-};
+use crate::optimize::experiment::{ExperimentReport, ExperimentRequest, default_store_path};
 use crate::optimize::prepare::prepare;
 use crate::optimize::result::actuation_with;
 use crate::optimize::session::Evaluation;
@@ -145,12 +145,11 @@ impl OptimizerView {
             let eval_tx = tx.clone();
             // The view closing drops the receiver; the run goes on to its end and is
             // stored like any other (`proleg results` lists it).
-            let result = Experiment::open(&request, &registry).and_then(|x| {
-                x.run(&registry, |e| {
-                    if eval_tx.send(Report::Eval(e.clone())).is_err() {
-                        bevy::log::debug!("evaluation {} not shown: the view is closed", e.number);
-                    }
-                })
+            // A curriculum's stages run one after another, numbered on as one curve.
+            let result = run_request(&request, &registry, &mut |_, _| {}, &mut |e| {
+                if eval_tx.send(Report::Eval(e.clone())).is_err() {
+                    bevy::log::debug!("evaluation {} not shown: the view is closed", e.number);
+                }
             });
             if tx.send(Report::Done(Box::new(result))).is_err() {
                 bevy::log::info!("the optimization ended after its view closed; it is stored");
