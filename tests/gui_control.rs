@@ -167,6 +167,31 @@ fn scripted_state(name: &str, config: &str, commands: &str) -> Vec<(String, Stri
 }
 
 #[test]
+fn optimization_view_runs_a_curriculum_stage_by_stage_and_shows_the_last_stages_best() {
+    let dir = scratch("optimize_curriculum");
+    let store = dir.join("c.sqlite");
+    let s = scripted_state(
+        "optimize_curriculum",
+        "configs/suite_curriculum.simulation.xml",
+        &format!("wait 1\noptimize 12 {}\n", store.display()),
+    );
+    assert_eq!(get(&s, "optimizer_evaluations"), "12");
+    let status = get(&s, "optimizer_status");
+    let best: f64 = get(&s, "optimizer_best").parse().expect("a best score");
+    // The best shown is the last stage's, on its own courses, not an easier stage's.
+    assert!(
+        status.starts_with("finished: curriculum stages 1-")
+            && status.contains(&format!("best {best:.4} m; stored as runs 1-")),
+        "{status}"
+    );
+    let (ok, out, err) = common::proleg(&["results", store.to_str().unwrap()]);
+    assert!(
+        ok && out.contains("curriculum stage 1 of 3 (steps-easy)"),
+        "{out}{err}"
+    );
+}
+
+#[test]
 fn optimization_view_runs_the_ga_and_replays_the_best() {
     let dir = scratch("optimize_files");
     let (store, best) = (dir.join("ga.sqlite"), dir.join("best.actuation.xml"));

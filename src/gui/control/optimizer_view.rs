@@ -235,7 +235,11 @@ impl OptimizerView {
                             f64::NAN
                         };
                         self.curve.push([e.number as f64 + 1.0, score, e.best]);
-                        if self.best.as_ref().is_none_or(|(_, b)| e.score > *b) {
+                        // The best of the run, or of a curriculum's latest stage (its
+                        // scores are on other courses than the stage before): an
+                        // evaluation that is its run's best so far, unless it only ties.
+                        if e.score == e.best && self.best.as_ref().is_none_or(|(_, b)| e.best != *b)
+                        {
                             self.best = Some((e.genome.clone(), e.score));
                         }
                     }
@@ -244,14 +248,7 @@ impl OptimizerView {
                             Ok(o) => {
                                 self.results.store = self.store.clone();
                                 self.results.list();
-                                format!(
-                                    "finished: {} evaluations in {:.0} s, best {}; stored as run {} in {}",
-                                    o.outcome.evaluations,
-                                    o.wall,
-                                    self.score_text(o.outcome.best_score),
-                                    o.store.1,
-                                    o.store.0
-                                )
+                                self.finished_status(&o)
                             }
                             Err(e) => format!("failed: {e}"),
                         })
@@ -275,6 +272,36 @@ impl OptimizerView {
             self.rx = None;
             self.status = status;
         }
+    }
+
+    /// How a run ended: its evaluations, best and run in the store; for a curriculum, every
+    /// stage's evaluations and the last stage's best.
+    fn finished_status(&self, o: &ExperimentReport) -> String {
+        let (first, last) = match (o.curriculum.first(), o.curriculum.last()) {
+            (Some(first), Some(last)) => (first, last),
+            _ => {
+                return format!(
+                    "finished: {} evaluations in {:.0} s, best {}; stored as run {} in {}",
+                    o.outcome.evaluations,
+                    o.wall,
+                    self.score_text(o.outcome.best_score),
+                    o.store.1,
+                    o.store.0
+                );
+            }
+        };
+        let evaluations: u64 = o.curriculum.iter().map(|s| s.evaluations).sum();
+        format!(
+            "finished: curriculum stages 1-{} of {}, {evaluations} evaluations; stage {} ({}): best {}; stored as runs {}-{} in {}",
+            last.number,
+            last.of,
+            last.number,
+            last.tasks.join(" "),
+            self.score_text(o.outcome.best_score),
+            first.run,
+            last.run,
+            o.store.0
+        )
     }
 
     /// A score with its unit ("3.4765 m").
