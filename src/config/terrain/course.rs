@@ -16,7 +16,7 @@ use crate::config::kinbody::KinBody;
 use crate::config::mesh::TriMesh;
 #[cfg(doc)]
 use crate::config::terrain::spec::Family;
-use crate::config::terrain::spec::TerrainSpec;
+use crate::config::terrain::spec::{FIELD_GRID, TerrainSpec};
 use crate::config::transform::{Pose, round_to};
 use crate::rng::SimRng;
 
@@ -151,7 +151,7 @@ impl<'a> Course<'a> {
     /// that leaves it sideways.
     pub fn add_field(&mut self, height: impl Fn(f64, f64) -> f64) {
         let [y0, y1] = self.y_range();
-        let grid = self.spec.family.grid();
+        let grid = FIELD_GRID;
         let nx = (self.spec.width / grid).ceil() as usize + 1;
         let ny = ((y1 - y0) / grid).ceil() as usize + 1;
         let x0 = -grid * (nx - 1) as f64 / 2.0;

@@ -52,8 +52,9 @@ impl Lattice {
     }
 }
 
-/// Octaves of the rough family's noise: the finest is at least four grid cells long, so
-/// the height field resolves it.
+/// Octaves of the rough family's noise: the finest lattice is at least two grid cells long
+/// (20 cm at difficulty 1), so every lattice value and the blend between two of them is
+/// sampled.
 const OCTAVES: usize = 3;
 
 /// `rough`: amplitude 1 cm (difficulty 0) to 6 cm (1); base wavelength 2 m to 0.8 m;

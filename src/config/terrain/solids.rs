@@ -5,7 +5,7 @@
 
 use crate::config::terrain::course::{Course, FEATURES_FROM, START_PAD, yaw_of, yaw_towards};
 use crate::config::terrain::field::smooth;
-use crate::config::terrain::spec::{WALL_SEGMENT, peg_spacing, rubble_density};
+use crate::config::terrain::spec::{WALL_SAMPLE, peg_spacing, rubble_density};
 use crate::config::transform::Pose;
 
 /// Highest level a run of steps climbs to (m).
@@ -106,6 +106,10 @@ pub fn pegs(c: &mut Course) {
 const WALL: f64 = 0.04;
 /// Spacing of the channel's bend control points (m).
 const BEND_EVERY: f64 = 2.0;
+/// How far a channel's wall may stray from its curve (m).
+const WALL_TOLERANCE: f64 = 0.01;
+/// Longest straight piece of a channel's wall (m).
+const WALL_LONGEST: f64 = 4.0;
 
 /// `channel`: two walls around a centre line that bends by up to 0.2 m (difficulty 0) to
 /// 1.2 m (1) every [`BEND_EVERY`], and a gap that narrows from 1.2 m to 1 m (0) or 0.24 m (1)
@@ -144,26 +148,53 @@ pub fn channel(c: &mut Course) {
         along(y, &centres, 0.0).clamp(-(room - hg).max(0.0), (room - hg).max(0.0))
     };
     let [_, y1] = c.y_range();
-    let (mut y, mut n) = (-START_PAD / 2.0, 0);
-    let mut walls = Vec::new();
-    while y < y1 {
-        let y2 = (y + WALL_SEGMENT).min(y1);
-        for side in [-1.0, 1.0] {
-            let off = WALL / 2.0;
-            let a = [centre(y) + side * (half_gap(y) + off), y];
-            let b = [centre(y2) + side * (half_gap(y2) + off), y2];
-            walls.push((a, b));
-        }
-        y = y2;
-    }
-    for (a, b) in walls {
+    let samples = ((y1 + START_PAD / 2.0) / WALL_SAMPLE).ceil() as usize;
+    let walls: Vec<_> = [-1.0, 1.0]
+        .into_iter()
+        .flat_map(|side| {
+            let curve: Vec<[f64; 2]> = (0..=samples)
+                .map(|k| {
+                    let y = (-START_PAD / 2.0 + WALL_SAMPLE * k as f64).min(y1);
+                    [centre(y) + side * (half_gap(y) + WALL / 2.0), y]
+                })
+                .collect();
+            wall_segments(&curve)
+        })
+        .collect();
+    for (n, (a, b)) in walls.into_iter().enumerate() {
         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
         let len = (dx * dx + dy * dy).sqrt();
         let mid = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0, POST_HEIGHT / 2.0];
         let half = [WALL / 2.0, len / 2.0 + WALL / 2.0, POST_HEIGHT / 2.0];
         c.add_box(format!("wall{n}"), mid, half, yaw_towards(dx, dy));
-        n += 1;
     }
+}
+
+/// A wall's polyline, sampled every [`WALL_SAMPLE`], as few straight segments as keep every
+/// sample within [`WALL_TOLERANCE`] of its segment, none longer than [`WALL_LONGEST`]:
+/// long where the channel runs straight, short in its bends (fewer bodies for the engines
+/// to pose and test).
+fn wall_segments(curve: &[[f64; 2]]) -> Vec<([f64; 2], [f64; 2])> {
+    let fits = |a: usize, b: usize| {
+        let (p, q) = (curve[a], curve[b]);
+        let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
+        let len = (dx * dx + dy * dy).sqrt();
+        len <= WALL_LONGEST
+            && curve[a + 1..b]
+                .iter()
+                .all(|r| ((r[0] - p[0]) * dy - (r[1] - p[1]) * dx).abs() <= WALL_TOLERANCE * len)
+    };
+    let mut segments = Vec::new();
+    let mut a = 0;
+    while a + 1 < curve.len() {
+        let mut b = a + 1;
+        while b + 1 < curve.len() && fits(a, b + 1) {
+            b += 1;
+        }
+        segments.push((curve[a], curve[b]));
+        a = b;
+    }
+    segments
 }
 
 /// `rubble`: boxes at [`rubble_density`], 4-6 cm across (difficulty 0) to 4-20 cm (1),
@@ -183,5 +214,41 @@ pub fn rubble(c: &mut Course) {
         ];
         let yaw = yaw_of(c.rng.range(-1.0, 1.0));
         c.add_box(format!("rubble{n}"), [x, y, half[2]], half, yaw);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The distance of `r` from the line through `p` and `q`.
+    fn off_line(r: [f64; 2], p: [f64; 2], q: [f64; 2]) -> f64 {
+        let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
+        ((r[0] - p[0]) * dy - (r[1] - p[1]) * dx).abs() / (dx * dx + dy * dy).sqrt()
+    }
+
+    #[test]
+    fn a_straight_wall_is_few_long_pieces_and_a_bent_one_follows_its_curve() {
+        let line: Vec<[f64; 2]> = (0..=200).map(|k| [0.3, 0.05 * k as f64]).collect();
+        let pieces = wall_segments(&line);
+        assert_eq!(pieces.len(), 3, "10 m straight in pieces of at most 4 m");
+        assert!(pieces.windows(2).all(|w| w[0].1 == w[1].0), "pieces join");
+        // A bend as sharp as a hard channel's: 2 m across in 2 m of smoothstep.
+        let bend: Vec<[f64; 2]> = (0..=80)
+            .map(|k| {
+                let y = 0.05 * k as f64;
+                [2.0 * smooth(y / 2.0 - 0.5), y]
+            })
+            .collect();
+        let pieces = wall_segments(&bend);
+        assert!(pieces.len() < 40, "{} pieces for 80 samples", pieces.len());
+        assert!(pieces.len() > 4, "{} pieces follow a bend", pieces.len());
+        for r in &bend {
+            let piece = pieces
+                .iter()
+                .find(|(p, q)| p[1] <= r[1] && r[1] <= q[1])
+                .map(|&(p, q)| off_line(*r, p, q));
+            assert!(piece.is_some_and(|d| d <= WALL_TOLERANCE + 1e-12), "{r:?}");
+        }
     }
 }

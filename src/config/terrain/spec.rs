@@ -63,14 +63,6 @@ impl Family {
             })
     }
 
-    /// The spacing of the family's height-field nodes (m).
-    pub fn grid(self) -> f64 {
-        match self {
-            Family::Hills | Family::Slope => SMOOTH_GRID,
-            _ => GRID,
-        }
-    }
-
     /// Whether the family's ground is a height field (else boxes and cylinders on a floor).
     pub fn is_field(self) -> bool {
         matches!(self, Family::Rough | Family::Hills | Family::Slope)
@@ -129,20 +121,21 @@ pub const START_PAD: f64 = 2.0;
 pub const FEATURES_FROM: f64 = 1.5;
 /// Ground beyond the course's length (m).
 pub const END_PAD: f64 = 2.0;
-/// Spacing of a rough height field's nodes (m): finer than a module (72 mm), and a quarter
-/// of the noise's finest wavelength.
-pub const GRID: f64 = 0.05;
-/// Spacing of the smooth height fields' nodes (hills, slopes; m): their features are 15 cm
-/// and more, and a coarser grid means fewer triangles under each link (cheaper contacts).
-pub const SMOOTH_GRID: f64 = 0.1;
+/// Spacing of the height fields' nodes (m): half the rough family's finest noise lattice at
+/// difficulty 1, and hills' and slopes' features are 15 cm and more. A finer grid means more
+/// triangles under each link: on rough ground a 5-cm grid cost 1.39x the flat floor's
+/// instructions per step on rapier, this one 1.15x (docs/suite.md).
+pub const FIELD_GRID: f64 = 0.1;
 
 /// Peg spacing (m) at difficulty `d`: 0.9 m (0) to 0.35 m (1).
 pub fn peg_spacing(d: f64) -> f64 {
     0.9 - 0.55 * d
 }
 
-/// Length of one wall segment of a channel (m).
-pub const WALL_SEGMENT: f64 = 0.25;
+/// Spacing of the samples of a channel's wall curve (m). The wall is as few straight pieces
+/// between samples as follow the curve within a centimetre; the channel bends gently enough
+/// (curvature below 4 /m) that every piece spans two samples or more.
+pub const WALL_SAMPLE: f64 = 0.05;
 
 /// Rubble density (boxes per m²) at difficulty `d`: 0.6 (0) to 4 (1).
 pub fn rubble_density(d: f64) -> f64 {
@@ -318,10 +311,9 @@ impl TerrainSpec {
     /// How big the generated course will be, worked out before generating it.
     pub fn size(&self) -> TerrainSize {
         let area = (self.length + START_PAD + END_PAD) * self.width;
-        let grid = self.family.grid();
         let nodes = if self.family.is_field() {
-            let nx = (self.width / grid).ceil() + 1.0;
-            let ny = ((self.length + START_PAD + END_PAD) / grid).ceil() + 1.0;
+            let nx = (self.width / FIELD_GRID).ceil() + 1.0;
+            let ny = ((self.length + START_PAD + END_PAD) / FIELD_GRID).ceil() + 1.0;
             nx * ny
         } else {
             0.0
@@ -342,7 +334,7 @@ pub struct TerrainSize {
     pub bodies: f64,
 }
 
-/// Most height-field nodes a course may have (a 500 m x 5 m course at 5 cm).
+/// Most height-field nodes a course may have (a 500 m x 20 m course at 10 cm).
 pub const MAX_NODES: f64 = 1_100_000.0;
 /// Most bodies a course may have.
 pub const MAX_BODIES: f64 = 20_000.0;
@@ -416,7 +408,7 @@ pub fn estimated_bodies(spec: &TerrainSpec, area: f64) -> f64 {
         Family::Steps => spec.length / 0.5 + 2.0,
         Family::Stairs => 2.0 * spec.length / (0.45 - 0.24 * d).max(0.05) + 2.0,
         Family::Pegs => area / (peg_spacing(d) * peg_spacing(d)) * 1.5 + 1.0,
-        Family::Channel => 2.0 * (spec.length + START_PAD) / WALL_SEGMENT + 3.0,
+        Family::Channel => 2.0 * (spec.length + START_PAD) / (2.0 * WALL_SAMPLE) + 5.0,
         Family::Rubble => rubble_density(d) * area + 1.0,
     }
 }
