@@ -52,7 +52,10 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "config", "control", "data", "measure", "optimize", "rng", "sim",
         ],
     ),
-    ("suite", &["config", "control", "rng", "signal", "sim"]),
+    (
+        "suite",
+        &["config", "control", "optimize", "rng", "signal", "sim"],
+    ),
     (
         "bench",
         &[

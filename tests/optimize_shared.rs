@@ -878,3 +878,90 @@ fn the_coordinator_benchmark_hands_out_and_takes_back_every_evaluation_once() {
     );
     assert!(row.get::<_, bool>(4), "each claimed once");
 }
+
+/// Two tasks of two test courses each, 4-s episodes.
+const SMALL_SUITE: &str = r#"<Suite name="small">
+  <Task name="rough-easy" family="rough" difficulty="easy" duration="4" goal="0.3" train="1-4" test="101-102"/>
+  <Task name="pegs-hard" family="pegs" difficulty="hard" duration="4" goal="0.3" test="101-102"/>
+</Suite>"#;
+
+#[test]
+fn a_suite_runs_on_a_worker_of_the_store_to_the_local_table_and_resumes_from_the_store() {
+    let pg = server();
+    let url = pg.database("shared_suite");
+    let dir = common::scratch("shared_suite");
+    let suite = dir.join("small.suite.xml");
+    std::fs::write(&suite, SMALL_SUITE).unwrap();
+    let engines = if common::mujoco_here("suite on a store's workers") {
+        "rapier,mujoco"
+    } else {
+        "rapier"
+    };
+    let total = 4 * engines.split(',').count() as i64;
+    let (suite, demo) = (suite.to_str().unwrap(), "configs/demo.simulation.xml");
+    let out = |name: &str| dir.join(name).display().to_string();
+    let args = |o: &str, more: &[&str]| -> Vec<String> {
+        let mut a: Vec<String> = [
+            "suite",
+            suite,
+            demo,
+            "--engines",
+            engines,
+            "-o",
+            o,
+            "--quiet",
+        ]
+        .map(String::from)
+        .to_vec();
+        a.extend(more.iter().map(|s| s.to_string()));
+        a
+    };
+    let run = |a: Vec<String>| {
+        let refs: Vec<&str> = a.iter().map(String::as_str).collect();
+        pg.proleg(&refs)
+    };
+    let here = output(run(args(&out("here"), &[])));
+    assert!(here.status.success(), "{}", text(&here.stderr));
+    // Every episode on one worker: the driver runs none itself.
+    let mut driver = spawn(run(args(
+        &out("shared"),
+        &["--store", &url, "--threads", "0"],
+    )));
+    pg.wait_until(
+        "shared_suite",
+        "SELECT EXISTS (SELECT 1 FROM evaluations)",
+        &mut driver,
+    );
+    let worker = spawn(pg.proleg(&["worker", "--store", &url, "--idle-exit", "2"]));
+    let shared = driver.wait_with_output().expect("driver");
+    assert!(shared.status.success(), "{}", text(&shared.stderr));
+    let worker = worker.wait_with_output().expect("worker");
+    assert!(worker.status.success(), "{}", text(&worker.stderr));
+    assert_eq!(worker_counts(&text(&worker.stdout)), (total as u64, 0));
+    let table = |o: &str| std::fs::read_to_string(Path::new(o).join("suite.csv")).unwrap();
+    assert_eq!(table(&out("shared")), table(&out("here")));
+    // A new output folder: every episode comes from the store, none is run again.
+    let again = output(run(args(
+        &out("again"),
+        &["--store", &url, "--threads", "1"],
+    )));
+    assert!(again.status.success(), "{}", text(&again.stderr));
+    assert_eq!(table(&out("again")), table(&out("here")));
+    let row = pg
+        .connect("shared_suite")
+        .query_one(
+            "SELECT COUNT(*), MAX(attempt)::BIGINT, COUNT(*) FILTER (WHERE state = 'done') FROM evaluations",
+            &[],
+        )
+        .unwrap();
+    let get = |i: usize| row.get::<_, i64>(i);
+    assert_eq!((get(0), get(1), get(2)), (total, 1, total));
+    // A file is no shared store.
+    let file = output(run(args(&out("file"), &["--store", "x.sqlite"])));
+    assert!(!file.status.success());
+    assert!(
+        text(&file.stderr).contains("PostgreSQL"),
+        "{}",
+        text(&file.stderr)
+    );
+}

@@ -74,7 +74,10 @@ fn a_candidate_scores_the_mean_of_its_train_courses_as_replayed_from_the_store()
             .iter()
             .any(|(p, _)| p.ends_with("locomotion.suite.xml"))
     );
-    assert_scores_are_episode_means(&mut s, run, 6);
+    // Two seconds do not take the snake off its courses' flat start: the rough courses'
+    // episodes differ from the pegs' (a height field under it, a box floor), not from
+    // each other.
+    assert_scores_are_episode_means(&mut s, run, 6, 0.0);
     drop(s);
     // `proleg suite SUITE STORE --run R`: the run's best candidate is the controller.
     let args = |run: i64, out: &str| proleg::cli::suite::SuiteArgs {
@@ -84,6 +87,8 @@ fn a_candidate_scores_the_mean_of_its_train_courses_as_replayed_from_the_store()
         engines: vec![proleg::config::simulation::EngineKind::Rapier],
         tasks: vec!["pegs-easy".into()],
         threads: Some(2),
+        store: None,
+        lease: 60.0,
         out: Some(dir.join(out)),
         quiet: true,
     };

@@ -494,6 +494,7 @@ fn small_run<'a>(
         tasks: vec![0, 1],
         threads: 2,
         journal,
+        shared: None,
     }
 }
 
@@ -503,7 +504,7 @@ fn a_suite_run_stopped_halfway_resumes_to_the_same_table() {
     let suite = proleg::config::suite::parse_suite_file("small.suite.xml", SMALL_SUITE).unwrap();
     let demo = load_simulation("configs/demo.simulation.xml").unwrap();
     let registry = proleg::control::ModuleRegistry::standard();
-    let quiet = |_: &proleg::suite::episode::EpisodeResult, _: usize, _: usize| {};
+    let quiet = |_: &proleg::sim::episode::course::EpisodeResult, _: usize, _: usize| {};
     let whole = small_run(&suite, &demo, dir.join("whole.csv"))
         .run(&registry, None, &quiet)
         .unwrap();
@@ -527,7 +528,7 @@ fn a_suite_run_stopped_halfway_resumes_to_the_same_table() {
     assert!(count([220, 120, 40]) > 500, "no held-out task's bar");
     // Stopped after two episodes: the rest is abandoned, the two are in the journal.
     let stop = proleg::signal::StopFlag::default();
-    let raise = |_: &proleg::suite::episode::EpisodeResult, done: usize, _: usize| {
+    let raise = |_: &proleg::sim::episode::course::EpisodeResult, done: usize, _: usize| {
         if done >= 2 {
             stop.stop();
         }

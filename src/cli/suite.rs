@@ -4,13 +4,17 @@
 //! both engines, in parallel, with progress; the table printed, and written as CSV and
 //! JSON beside the journal it resumes from.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 use crate::config::simulation::EngineKind;
+use crate::config::source::normalize;
+use crate::config::{FsSource, RecordingSource, load_simulation_with};
 use crate::control::ModuleRegistry;
 use crate::optimize::export::export_candidate;
 use crate::optimize::store::{Store, StoreLocation};
 use crate::suite::run::journal_path;
+use crate::suite::shared::SharedSuite;
 use crate::suite::{SuiteError, SuiteReport, SuiteRun};
 
 /// Command-line options of `proleg suite`.
@@ -31,9 +35,20 @@ pub struct SuiteArgs {
     /// Only these tasks (comma-separated names).
     #[arg(long, value_delimiter = ',')]
     pub tasks: Vec<String>,
-    /// Episodes run at once (default: the cores).
+    /// Episodes run at once here (default: the cores; with `--store` 0 leaves every
+    /// episode to the workers).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Run the episodes through this shared store, on `proleg worker --store URL` of any
+    /// host beside this process's threads: postgres://USER@HOST[:PORT]/DATABASE (password
+    /// from the URL, PGPASSWORD or ~/.pgpass; never printed). A run stopped resumes from
+    /// what the store holds.
+    #[arg(long)]
+    pub store: Option<String>,
+    /// With `--store`: seconds a claim stays valid without a heartbeat (a killed worker's
+    /// episode is run again this long after its last one).
+    #[arg(long, default_value_t = crate::optimize::settings::DEFAULT_LEASE_S)]
+    pub lease: f64,
     /// The output folder: the journal (`episodes.csv`), `suite.csv`, `suite.json`, `suite.png`
     /// (default: `suite-results/SUITE-CONTROLLER`, with `--run R` `...-runR`).
     #[arg(short = 'o', long = "out")]
@@ -67,6 +82,11 @@ pub enum SuiteCommandError {
     /// The store's location is not one.
     #[error("{0}")]
     Location(#[from] crate::optimize::error::BadChoice),
+    /// `--store` names a store that is not shared (a SQLite file).
+    #[error(
+        "--store {0}: a suite runs on the workers of a PostgreSQL store (postgres://...), not of a file"
+    )]
+    NotShared(String),
 }
 
 /// The report and where it was written.
@@ -116,9 +136,33 @@ fn stem(p: &std::path::Path) -> String {
     name.split('.').next().unwrap_or("run").to_string()
 }
 
+/// Where and with what files the suite runs on a shared store.
+fn shared_suite(
+    url: &str,
+    a: &SuiteArgs,
+    controller: &Path,
+    recording: &RecordingSource,
+) -> Result<SharedSuite, SuiteCommandError> {
+    let StoreLocation::Postgres(target) = StoreLocation::parse(url)? else {
+        return Err(SuiteCommandError::NotShared(url.to_string()));
+    };
+    if !a.lease.is_finite() || a.lease <= 0.0 {
+        return Err(crate::optimize::error::BadChoice::Lease(a.lease).into());
+    }
+    let path = |p: &Path| normalize(p).display().to_string();
+    Ok(SharedSuite {
+        target: *target,
+        files: recording.files(),
+        suite: path(&a.suite),
+        controller: path(controller),
+        lease: Duration::from_secs_f64(a.lease),
+    })
+}
+
 /// Runs the suite the options name.
 pub fn run(a: &SuiteArgs, registry: &ModuleRegistry) -> Result<SuiteOutcome, SuiteCommandError> {
-    let suite = crate::config::suite::load_suite(&crate::config::FsSource, &a.suite)?;
+    let recording = RecordingSource::new(&FsSource);
+    let suite = crate::config::suite::load_suite(&recording, &a.suite)?;
     let engines = if a.engines.is_empty() {
         crate::sim::engine::ready_engines()
     } else {
@@ -145,7 +189,11 @@ pub fn run(a: &SuiteArgs, registry: &ModuleRegistry) -> Result<SuiteOutcome, Sui
             (file, format!("{location} run {run}"))
         }
     };
-    let controller = crate::control::load_simulation_in(&controller_file, registry)?;
+    let controller = load_simulation_with(&recording, &controller_file, registry)?;
+    let shared = match &a.store {
+        None => None,
+        Some(url) => Some(shared_suite(url, a, &controller_file, &recording)?),
+    };
     let run = SuiteRun {
         path: a.suite.clone(),
         suite: &suite,
@@ -157,6 +205,7 @@ pub fn run(a: &SuiteArgs, registry: &ModuleRegistry) -> Result<SuiteOutcome, Sui
             .threads
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
         journal: journal_path(&out),
+        shared,
     };
     let signal = crate::signal::subscribe_with(|| {
         eprintln!(
@@ -165,7 +214,7 @@ pub fn run(a: &SuiteArgs, registry: &ModuleRegistry) -> Result<SuiteOutcome, Sui
     })?;
     let stop = signal.flag();
     let quiet = a.quiet;
-    let progress = |r: &crate::suite::episode::EpisodeResult, done: usize, total: usize| {
+    let progress = |r: &crate::sim::episode::course::EpisodeResult, done: usize, total: usize| {
         if !quiet {
             eprintln!(
                 "[{done}/{total}] {} seed {} on {}: {:.3} m{}",

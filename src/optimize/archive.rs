@@ -21,6 +21,8 @@ pub(crate) fn stored_run(
     registry: &ModuleRegistry,
 ) -> Result<crate::config::Simulation, OptimizeError> {
     let spec = store.run_spec(run)?;
+    crate::optimize::shared::candidate_run(&spec)
+        .map_err(|why| OptimizeError::Unevaluable { run, why })?;
     stored_simulation(&spec, registry).map_err(|why| OptimizeError::Unevaluable { run, why })
 }
 

@@ -191,6 +191,12 @@ pub enum UnevaluableRun {
     /// Its stored configuration does not load with this host's module types.
     #[error("its configuration does not load on this host: {0}")]
     Config(#[from] crate::config::ConfigError),
+    /// A suite run (`proleg suite --store`): its evaluations are episodes of one
+    /// controller on a suite's courses, not candidates to export, replay or score again.
+    #[error(
+        "it is a suite run: its evaluations are episodes of one controller on the suite's courses, not candidates"
+    )]
+    SuiteRun,
     /// Another program version started it (its scores could differ).
     #[error(
         "started by {started}, this host runs {here}: its scores could differ, so it is left to workers of the same version"

@@ -45,6 +45,12 @@ pub enum EvalError {
     /// A world built for one robot gave no outcome.
     #[error("the episode gave no outcome")]
     Empty,
+    /// A suite run's course does not build from its stored files.
+    #[error("the course does not build: {0}")]
+    Course(Box<crate::config::ConfigError>),
+    /// A suite run's evaluation names no episode of its suite.
+    #[error("the evaluation names no episode of the suite (genome {0:?})")]
+    NoSuchEpisode(crate::optimize::space::Genome),
     /// The run was asked to stop (Ctrl-C, SIGTERM, a window's Stop) and the episode was
     /// abandoned; it is deterministic, so a resumed run runs it again to the same score.
     #[error("stopped before the episode ended")]

@@ -28,6 +28,8 @@ pub fn export_candidate(
     registry: &ModuleRegistry,
 ) -> Result<PathBuf, OptimizeError> {
     let spec = store.run_spec(run)?;
+    crate::optimize::shared::candidate_run(&spec)
+        .map_err(|why| OptimizeError::Unevaluable { run, why })?;
     let evaluations = store.evaluations(run)?;
     let chosen = match number {
         Some(n) => evaluations.iter().find(|e| e.number == n),

@@ -129,6 +129,7 @@ pub fn load_replay(
     registry: &ModuleRegistry,
 ) -> Result<Replay, ReplayError> {
     let spec = store.run_spec(run)?;
+    crate::optimize::shared::candidate_run(&spec)?;
     let eval = store
         .evaluations_from(run, number)?
         .into_iter()

@@ -51,6 +51,21 @@ pub enum SuiteError {
         /// What went wrong.
         message: String,
     },
+    /// The shared store: it cannot be reached or written, or the process's own workers
+    /// failed.
+    #[error("{0}")]
+    Shared(Box<crate::optimize::error::OptimizeError>),
+    /// An episode whose worker could not run it (its output says why): stored as failed,
+    /// it is not run again in that store's run.
+    #[error(
+        "{episode} failed on the worker that ran it (run {run} of the store; that worker's output says why)"
+    )]
+    FailedOnWorker {
+        /// The store's run.
+        run: i64,
+        /// Which episode.
+        episode: String,
+    },
     /// Ctrl-C / SIGTERM: the run stopped; what finished is in the journal.
     #[error(
         "stopped: {done} of {total} episodes are in the journal; run the same command again to go on"
@@ -61,6 +76,18 @@ pub enum SuiteError {
         /// Episodes of the whole run.
         total: usize,
     },
+}
+
+impl From<crate::optimize::error::OptimizeError> for SuiteError {
+    fn from(e: crate::optimize::error::OptimizeError) -> Self {
+        SuiteError::Shared(Box::new(e))
+    }
+}
+
+impl From<crate::optimize::store::StoreError> for SuiteError {
+    fn from(e: crate::optimize::store::StoreError) -> Self {
+        SuiteError::Shared(Box::new(e.into()))
+    }
 }
 
 /// The journal's column header.

@@ -11,7 +11,7 @@ use std::str::FromStr;
 
 use crate::config::simulation::EngineKind;
 use crate::config::suite::SuiteFile;
-use crate::suite::episode::{Ended, EpisodeKey, EpisodeResult};
+use crate::sim::episode::course::{Ended, EpisodeKey, EpisodeResult};
 use crate::suite::error::{BadLine, COLUMNS, SuiteError};
 
 /// An open journal: what it held when opened, and the file to append to.

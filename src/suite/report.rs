@@ -11,7 +11,7 @@ use std::fmt;
 use crate::config::simulation::EngineKind;
 use crate::config::suite::{SuiteFile, Task};
 use crate::rng::SimRng;
-use crate::suite::episode::{EpisodeKey, EpisodeResult};
+use crate::sim::episode::course::{EpisodeKey, EpisodeResult};
 
 /// Bootstrap resamples of an interval.
 pub const RESAMPLES: usize = 2000;

@@ -12,10 +12,11 @@ use crate::config::simulation::EngineKind;
 use crate::config::suite::SuiteFile;
 use crate::control::ModuleRegistry;
 use crate::signal::StopFlag;
-use crate::suite::episode::{EpisodeKey, EpisodeResult, run_episode};
+use crate::sim::episode::course::{EpisodeKey, EpisodeResult, run_episode};
 use crate::suite::error::SuiteError;
 use crate::suite::journal::Journal;
 use crate::suite::report::{SuiteReport, report};
+use crate::suite::shared::{SharedSuite, run_on_store};
 
 /// What to run.
 pub struct SuiteRun<'a> {
@@ -35,6 +36,9 @@ pub struct SuiteRun<'a> {
     pub threads: usize,
     /// The journal file.
     pub journal: PathBuf,
+    /// Run on a shared store's workers instead of the local cores alone (`threads` of
+    /// them then among the workers).
+    pub shared: Option<SharedSuite>,
 }
 
 /// Called after every finished episode: it, and how many of how many are done.
@@ -79,10 +83,29 @@ impl SuiteRun<'_> {
         keys
     }
 
-    /// The journal's first line: the suite and a fingerprint of what the controller is
-    /// and of the ground (each task's first test course as generated, so a journal made by
-    /// another version of a terrain family is refused too).
+    /// How the episode `key` is named in messages.
+    pub fn describe(&self, key: EpisodeKey) -> String {
+        format!(
+            "{} seed {} on {}",
+            self.suite.tasks[key.task].name,
+            key.seed,
+            key.engine.name()
+        )
+    }
+
+    /// The journal's first line: the suite and the run's [`fingerprint`](Self::fingerprint).
     pub fn run_line(&self) -> String {
+        format!(
+            "# proleg suite {} run {:016x}",
+            self.suite.name,
+            self.fingerprint()
+        )
+    }
+
+    /// A fingerprint of the suite, of what the controller is and of the ground (each
+    /// task's first test course as generated, so a journal or a stored run made by another
+    /// version of a terrain family is not taken for this run's).
+    pub fn fingerprint(&self) -> u64 {
         let c = self.controller;
         let props = &c.files.simulation.properties;
         let mut what = format!(
@@ -103,10 +126,9 @@ impl SuiteRun<'_> {
                 }
             }
         }
-        let hash = what.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+        what.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
             (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
-        });
-        format!("# proleg suite {} run {hash:016x}", self.suite.name)
+        })
     }
 
     /// Runs what the journal does not hold yet; returns the report of all of it.
@@ -129,6 +151,35 @@ impl SuiteRun<'_> {
                 .collect()
         };
         let total = all.len();
+        match &self.shared {
+            Some(shared) => run_on_store(self, shared, registry, &journal, stop, progress)?,
+            None => self.run_here(&journal, &todo, registry, stop, progress)?,
+        }
+        let j = lock(&journal);
+        let done = all.iter().filter(|k| j.done.contains_key(k)).count();
+        if done < total {
+            return Err(SuiteError::Stopped { done, total });
+        }
+        Ok(report(
+            self.suite,
+            &self.tasks,
+            &self.engines,
+            &self.label,
+            &j.done,
+        ))
+    }
+
+    /// Runs `todo` on the local cores, each result into the journal as it ends.
+    fn run_here(
+        &self,
+        journal: &Mutex<Journal>,
+        todo: &[EpisodeKey],
+        registry: &ModuleRegistry,
+        stop: Option<&StopFlag>,
+        progress: Progress<'_>,
+    ) -> Result<(), SuiteError> {
+        let all = self.episodes();
+        let total = all.len();
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(self.threads.max(1))
             .build()
@@ -143,30 +194,19 @@ impl SuiteRun<'_> {
                 let Some(r) = run_episode(&world, task, key, registry, stop)? else {
                     return Ok(());
                 };
-                let mut j = lock(&journal);
+                let mut j = lock(journal);
                 j.append(self.suite, &r)?;
                 let done = all.iter().filter(|k| j.done.contains_key(k)).count();
                 progress(&r, done, total);
                 Ok(())
             })
         });
-        outcome?;
-        let j = lock(&journal);
-        let done = all.iter().filter(|k| j.done.contains_key(k)).count();
-        if done < total {
-            return Err(SuiteError::Stopped { done, total });
-        }
-        Ok(report(
-            self.suite,
-            &self.tasks,
-            &self.engines,
-            &self.label,
-            &j.done,
-        ))
+        outcome
     }
 }
 
-fn lock(j: &Mutex<Journal>) -> std::sync::MutexGuard<'_, Journal> {
+/// The journal, locked.
+pub(crate) fn lock(j: &Mutex<Journal>) -> std::sync::MutexGuard<'_, Journal> {
     // The journal's state is its file and the map, both whole after every append.
     j.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
 }

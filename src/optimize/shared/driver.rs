@@ -7,11 +7,12 @@ use std::thread::JoinHandle;
 
 use crate::control::ModuleRegistry;
 use crate::optimize::error::OptimizeError;
-use crate::optimize::evaluate::{EvalError, Evaluator};
+use crate::optimize::evaluate::EvalError;
 use crate::optimize::scores::CandidateScore;
 use crate::signal::StopFlag;
 use std::time::Duration;
 
+use crate::optimize::shared::work::RunWork;
 use crate::optimize::shared::worker::{WorkerOptions, WorkerReport, run_pool};
 use crate::optimize::store::PgStore;
 use crate::optimize::store::pg_queue::Pending;
@@ -47,12 +48,12 @@ pub struct LocalWorkers {
 }
 
 impl LocalWorkers {
-    /// Starts `threads` workers (none for 0) on `run` of `store`, with `evaluator` already
+    /// Starts `threads` workers (none for 0) on `run` of `store`, with its `work` already
     /// built from the driver's configuration, claiming with `lease`.
     pub fn start(
         store: &PgStore,
         registry: &ModuleRegistry,
-        evaluator: Evaluator,
+        work: RunWork,
         run: i64,
         threads: usize,
         lease: Duration,
@@ -62,10 +63,7 @@ impl LocalWorkers {
             return LocalWorkers { stop, handle: None };
         }
         // Finishing the driver's round early (it was stopped) abandons their episodes too.
-        let evaluator = Evaluator {
-            stop: stop.clone(),
-            ..evaluator
-        };
+        let work = Arc::new(work.with_stop(stop.clone()));
         let target = store.target().clone();
         let registry = registry.clone();
         let options = WorkerOptions {
@@ -75,14 +73,13 @@ impl LocalWorkers {
             only_run: Some(run),
         };
         let flag = stop.clone();
-        let evaluator = Arc::new(evaluator);
         let handle = std::thread::spawn(move || {
             run_pool(
                 &target,
                 &registry,
                 &options,
                 &flag,
-                Some((run, evaluator)),
+                Some((run, work)),
                 &|_| {},
             )
         });

@@ -15,11 +15,17 @@
 //! candidate, so the scores, and therefore every later candidate, are the same whoever
 //! evaluates them.
 //! [`queue`] is the driver's scorer over the store's queue.
+//!
+//! A suite run (`proleg suite --store`) goes through the same queue: its evaluations are
+//! episodes of one controller on the suite's courses ([`suite_job`]); a worker does
+//! whichever a claim's run asks for ([`work::RunWork`]).
 
 pub mod ceiling;
 pub mod driver;
 pub mod follow;
 pub mod queue;
+pub mod suite_job;
+pub mod work;
 pub mod worker;
 
 use std::path::Path;
@@ -50,6 +56,15 @@ pub fn stored_simulation(
     )?)
 }
 
+/// An error for a suite run, whose evaluations are episodes, not candidates: what
+/// exports, replays and evaluators ask before reading a stored run's candidates.
+pub fn candidate_run(spec: &RunSpec) -> Result<(), UnevaluableRun> {
+    match suite_job::SuiteJob::of(&spec.info) {
+        Some(_) => Err(UnevaluableRun::SuiteRun),
+        None => Ok(()),
+    }
+}
+
 /// The evaluator of a stored run, built from its stored files with this host's module
 /// types; an error says why this host cannot evaluate it (another program version, a
 /// module type it lacks, a configuration that does not load).
@@ -57,6 +72,7 @@ pub fn run_evaluator(
     spec: &RunSpec,
     registry: &ModuleRegistry,
 ) -> Result<Evaluator, UnevaluableRun> {
+    candidate_run(spec)?;
     let here = program_version();
     if spec.program != here {
         return Err(UnevaluableRun::Version {

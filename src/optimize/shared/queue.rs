@@ -9,6 +9,7 @@ use crate::optimize::scorer::{Batching, Round, Scorer, ScoringSummary, complete,
 use crate::optimize::scores::{CandidateScore, StoredEval};
 use crate::optimize::settings::RunSettings;
 use crate::optimize::shared::driver::{LocalWorkers, evaluate_round};
+use crate::optimize::shared::work::RunWork;
 use crate::optimize::shared::worker::OUTAGE;
 use crate::optimize::space::SearchSpace;
 use crate::optimize::store::pg_queue::{DONE, Pending};
@@ -47,10 +48,10 @@ impl<'a> QueueScorer<'a> {
         let local = LocalWorkers::start(
             store,
             registry,
-            Evaluator {
+            RunWork::Candidates(Evaluator {
                 workers: 1,
                 ..evaluator
-            },
+            }),
             run,
             settings.workers,
             settings.lease,

@@ -9,8 +9,8 @@ use std::time::{Duration, Instant};
 
 use crate::control::ModuleRegistry;
 use crate::optimize::error::OptimizeError;
-use crate::optimize::evaluate::{CandidateScore, EvalError, Evaluator};
-use crate::optimize::shared::run_evaluator;
+use crate::optimize::evaluate::{CandidateScore, EvalError};
+use crate::optimize::shared::work::RunWork;
 use crate::optimize::store::pg_queue::{Claim, ClaimResult, PENDING};
 use crate::optimize::store::{ExperimentStore, PgStore, PgTarget, StoreError};
 use crate::signal::StopFlag;
@@ -86,8 +86,8 @@ struct Unsent {
 
 /// What one evaluating thread keeps between claims.
 struct ThreadState {
-    /// Evaluators of the runs seen, by run.
-    evaluators: HashMap<i64, Arc<Evaluator>>,
+    /// The work of the runs seen, by run.
+    evaluators: HashMap<i64, Arc<RunWork>>,
     /// Since when there was nothing to claim.
     idle_since: Instant,
     /// Claims taken and not evaluated yet (one batch).
@@ -125,21 +125,21 @@ struct Pool<'a> {
     options: &'a WorkerOptions,
     id: String,
     stop: &'a StopFlag,
-    preloaded: Option<(i64, Arc<Evaluator>)>,
+    preloaded: Option<(i64, Arc<RunWork>)>,
     refused: Mutex<Vec<i64>>,
     report: Mutex<WorkerReport>,
     on_message: &'a (dyn Fn(&str) + Sync),
 }
 
-/// Runs a pool until `stop` is set, or it has been idle for `idle_exit`; `preloaded` is an
-/// evaluator for one run already built (the driver's), `on_message` hears refusals and
-/// failed episodes.
+/// Runs a pool until `stop` is set, or it has been idle for `idle_exit`; `preloaded` is the
+/// work of one run already built (the driver's), `on_message` hears refusals and failed
+/// episodes.
 pub fn run_pool(
     target: &PgTarget,
     registry: &ModuleRegistry,
     options: &WorkerOptions,
     stop: &StopFlag,
-    preloaded: Option<(i64, Arc<Evaluator>)>,
+    preloaded: Option<(i64, Arc<RunWork>)>,
     on_message: &(dyn Fn(&str) + Sync),
 ) -> Result<WorkerReport, OptimizeError> {
     let t = Instant::now();
@@ -410,11 +410,11 @@ impl Pool<'_> {
     }
 
     /// Runs one claimed episode; `None` when the pool was stopped before it ended.
-    fn evaluate(&self, evaluator: &Evaluator, claim: Claim) -> Option<Unsent> {
+    fn evaluate(&self, work: &RunWork, claim: Claim) -> Option<Unsent> {
         let t = Instant::now();
         let failed = CandidateScore::single(f64::NAN);
-        let score = match evaluator.run_batch_scored(std::slice::from_ref(&claim.genome)) {
-            Ok(mut scores) => scores.pop().unwrap_or(failed),
+        let score = match work.score(&claim.genome) {
+            Ok(score) => score,
             Err(EvalError::Stopped) => return None,
             Err(e) => {
                 (self.on_message)(&format!(
@@ -431,22 +431,22 @@ impl Pool<'_> {
         })
     }
 
-    /// The evaluator of `run`, built from the store on its first claim.
+    /// The work of `run`, built from the store on its first claim.
     fn evaluator(
         &self,
         store: &mut PgStore,
-        cache: &mut HashMap<i64, Arc<Evaluator>>,
+        cache: &mut HashMap<i64, Arc<RunWork>>,
         run: i64,
-    ) -> Result<Arc<Evaluator>, OptimizeError> {
+    ) -> Result<Arc<RunWork>, OptimizeError> {
         if let Some(e) = cache.get(&run) {
             return Ok(e.clone());
         }
         let spec = store.run_spec(run)?;
-        let e = Arc::new(Evaluator {
-            stop: self.stop.clone(),
-            ..run_evaluator(&spec, self.registry)
+        let e = Arc::new(
+            RunWork::of(&spec, self.registry)
                 .map_err(|why| OptimizeError::Unevaluable { run, why })?
-        });
+                .with_stop(self.stop.clone()),
+        );
         cache.insert(run, e.clone());
         Ok(e)
     }

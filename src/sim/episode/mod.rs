@@ -8,7 +8,10 @@
 //!
 //! - [`exit`]: the exit rule ([`WorldExit`], the [`Scenery`] box and its margins)
 //! - [`score`]: the fitness of an episode and a robot's score in a running world
+//! - [`course`]: one episode on a suite task's course, measured along it (distance, the goal
+//!   line crossed): what `proleg suite` and its workers run
 
+pub mod course;
 pub mod exit;
 pub mod score;
 

@@ -44,6 +44,22 @@ impl Ended {
         }
     }
 
+    /// Its number in a store's measures.
+    pub fn code(self) -> u8 {
+        match self {
+            Ended::Duration => 0,
+            Ended::Left => 1,
+            Ended::Diverged => 2,
+        }
+    }
+
+    /// The end a store's measure names.
+    pub fn of_code(code: f64) -> Option<Ended> {
+        [Ended::Duration, Ended::Left, Ended::Diverged]
+            .into_iter()
+            .find(|e| f64::from(e.code()) == code)
+    }
+
     /// Reads a journal name.
     pub fn parse(s: &str) -> Option<Ended> {
         [Ended::Duration, Ended::Left, Ended::Diverged]
