@@ -947,6 +947,20 @@ fn a_suite_runs_on_a_worker_of_the_store_to_the_local_table_and_resumes_from_the
     )));
     assert!(again.status.success(), "{}", text(&again.stderr));
     assert_eq!(table(&out("again")), table(&out("here")));
+    each_episode_once_and_no_export(&pg, &url, total, &out("export"));
+    // A file is no shared store.
+    let file = output(run(args(&out("file"), &["--store", "x.sqlite"])));
+    assert!(!file.status.success());
+    assert!(
+        text(&file.stderr).contains("PostgreSQL"),
+        "{}",
+        text(&file.stderr)
+    );
+}
+
+/// The suite run's store holds each of its `total` episodes once, each claimed once, and
+/// refuses to export one as a candidate.
+fn each_episode_once_and_no_export(pg: &Pg, url: &str, total: i64, out: &str) {
     let row = pg
         .connect("shared_suite")
         .query_one(
@@ -956,12 +970,12 @@ fn a_suite_runs_on_a_worker_of_the_store_to_the_local_table_and_resumes_from_the
         .unwrap();
     let get = |i: usize| row.get::<_, i64>(i);
     assert_eq!((get(0), get(1), get(2)), (total, 1, total));
-    // A file is no shared store.
-    let file = output(run(args(&out("file"), &["--store", "x.sqlite"])));
-    assert!(!file.status.success());
+    // Its evaluations are episodes, not candidates: no export.
+    let export = output(pg.proleg(&["results", url, "--export-robot", "best", "-o", out]));
+    assert!(!export.status.success());
     assert!(
-        text(&file.stderr).contains("PostgreSQL"),
+        text(&export.stderr).contains("it is a suite run"),
         "{}",
-        text(&file.stderr)
+        text(&export.stderr)
     );
 }
