@@ -43,25 +43,28 @@ pub fn run_request(
     on_open: &mut dyn FnMut(Option<StageOf<'_>>, &Experiment),
     on_eval: &mut dyn FnMut(&Evaluation),
 ) -> Result<ExperimentReport, OptimizeError> {
-    match Curriculum::of(request, registry)? {
-        Some(curriculum) => {
-            let mut opened = |number: usize, x: &Experiment| {
-                on_open(
-                    Some(StageOf {
-                        curriculum: &curriculum,
-                        number,
-                    }),
-                    x,
-                );
-            };
-            curriculum.run(request, registry, &mut opened, on_eval)
-        }
-        None => {
-            let experiment = Experiment::open(request, registry)?;
+    // The configuration is loaded once for an ordinary run; a curriculum's file is read
+    // again as stages (each stage a run of its own).
+    let curriculum = match Experiment::open(request, registry) {
+        Ok(experiment) => {
             on_open(None, &experiment);
-            experiment.run(registry, on_eval)
+            return experiment.run(registry, on_eval);
         }
-    }
+        Err(e @ OptimizeError::CurriculumAsOneRun { .. }) => {
+            Curriculum::of(request, registry)?.ok_or(e)?
+        }
+        Err(e) => return Err(e),
+    };
+    let mut opened = |number: usize, x: &Experiment| {
+        on_open(
+            Some(StageOf {
+                curriculum: &curriculum,
+                number,
+            }),
+            x,
+        );
+    };
+    curriculum.run(request, registry, &mut opened, on_eval)
 }
 
 /// A curriculum read from a simulation's optimizer file.
