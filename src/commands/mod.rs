@@ -97,7 +97,8 @@ pub enum Command {
     /// spread between engines and a PNG of the paths and joint angles.
     Compare(cli::compare::CompareArgs),
     /// Evaluate the pending candidates of a shared postgres:// store (runs of `proleg
-    /// optimize --store URL` on any host), until stopped or idle.
+    /// optimize --store URL` on any host) and the episodes of its suite runs (`proleg
+    /// suite --store URL`), until stopped or idle.
     Worker(cli::worker::WorkerArgs),
     /// Serve a live web page over a store (SQLite or postgres://), read-only: runs,
     /// learning curves, evaluations; for runs on hosts without a display.
