@@ -366,13 +366,7 @@ fn latest_run(
     store: &mut Store,
     info: &RunInfo,
 ) -> Result<Option<(i64, Vec<StoredEval>)>, OptimizeError> {
-    let latest = store
-        .runs()?
-        .into_iter()
-        .filter(|r| r.info == *info)
-        .map(|r| r.id)
-        .max();
-    match latest {
+    match store.latest_run(info)? {
         Some(id) => Ok(Some((id, store.evaluations(id)?))),
         None => Ok(None),
     }

@@ -47,13 +47,7 @@ fn find_or_start(
     info: &RunInfo,
     files: &[(String, String)],
 ) -> Result<i64, OptimizeError> {
-    let found = store
-        .runs()?
-        .into_iter()
-        .filter(|r| r.info == *info)
-        .map(|r| r.id)
-        .max();
-    match found {
+    match store.latest_run(info)? {
         Some(id) => Ok(id),
         None => Ok(store.start_run(info, &program_version(), files, &[])?),
     }

@@ -155,6 +155,16 @@ pub trait ExperimentStore {
 
     /// Every run with its best evaluation.
     fn runs(&mut self) -> Result<Vec<RunRow>, StoreError>;
+
+    /// The last run matching `info`, finished or not.
+    fn latest_run(&mut self, info: &RunInfo) -> Result<Option<i64>, StoreError> {
+        Ok(self
+            .runs()?
+            .into_iter()
+            .filter(|r| r.info == *info)
+            .map(|r| r.id)
+            .max())
+    }
 }
 
 /// An open store of either kind: reached through [`ExperimentStore`]'s methods; a
