@@ -1,6 +1,7 @@
 //! The shared PostgreSQL store with real processes on a real server (`scripts/test` starts a
-//! private one): a driver and worker processes find what one process finds on SQLite; a
-//! worker or the driver killed with SIGKILL loses and duplicates nothing; bad stores are
+//! private one): a driver and worker processes find what one process finds on SQLite, and
+//! a suite's episodes run by workers give the local table; a worker (of a run or of a
+//! suite) or the driver killed with SIGKILL loses and duplicates nothing; bad stores are
 //! one-line errors that never show the password. The faults across a network (a server
 //! restarted, links cut or lossy) are `tests/shared_hosts.rs`.
 
@@ -978,4 +979,81 @@ fn each_episode_once_and_no_export(pg: &Pg, url: &str, total: i64, out: &str) {
         "{}",
         text(&export.stderr)
     );
+}
+
+#[test]
+fn a_killed_worker_s_suite_episode_runs_again_and_the_table_is_the_local_one() {
+    let pg = server();
+    let url = pg.database("shared_suite_kill");
+    let dir = common::scratch("shared_suite_kill");
+    let suite = dir.join("long.suite.xml");
+    // 20-s episodes: about half a second each, long enough to be killed in.
+    std::fs::write(
+        &suite,
+        SMALL_SUITE.replace("duration=\"4\"", "duration=\"20\""),
+    )
+    .unwrap();
+    let suite = suite.display().to_string();
+    let out = |name: &str| dir.join(name).display().to_string();
+    let args = |o: &str, more: &[&str]| -> Vec<String> {
+        let base = [
+            "suite",
+            &suite,
+            "configs/demo.simulation.xml",
+            "--engines",
+            "rapier",
+        ];
+        let tail = ["-o", o, "--quiet"];
+        base.iter()
+            .chain(&tail)
+            .chain(more)
+            .map(|s| s.to_string())
+            .collect()
+    };
+    let run = |a: Vec<String>| pg.proleg(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    let here = output(run(args(&out("here"), &[])));
+    assert!(here.status.success(), "{}", text(&here.stderr));
+    let mut driver = spawn(run(args(
+        &out("shared"),
+        &["--store", &url, "--threads", "0"],
+    )));
+    pg.wait_until("shared_suite_kill", HAS_STORE, &mut driver);
+    let worker = |idle: &str| {
+        let a = ["worker", "--store", &url, "--threads", "1", "--lease", "3"];
+        spawn(pg.proleg(&[&a[..], &["--idle-exit", idle]].concat()))
+    };
+    let mut doomed = worker("60");
+    let pid = doomed.id();
+    let running = format!(
+        "SELECT EXISTS (SELECT 1 FROM evaluations WHERE state = 'running' AND worker LIKE '%/{pid}/%')"
+    );
+    pg.wait_until("shared_suite_kill", &running, &mut doomed);
+    let mut c = pg.connect("shared_suite_kill");
+    let lost: i64 = c
+        .query_one(
+            &format!(
+                "SELECT number FROM evaluations WHERE state = 'running' AND worker LIKE '%/{pid}/%'"
+            ),
+            &[],
+        )
+        .unwrap()
+        .get(0);
+    doomed.kill().expect("SIGKILL");
+    let _ = doomed.wait();
+    // Idle longer than the lease, so that it is there when the lease runs out.
+    let survivor = worker("6");
+    let shared = driver.wait_with_output().expect("driver");
+    assert!(shared.status.success(), "{}", text(&shared.stderr));
+    let table = |o: &str| std::fs::read_to_string(Path::new(o).join("suite.csv")).unwrap();
+    assert_eq!(table(&out("shared")), table(&out("here")));
+    let survived = survivor.wait_with_output().expect("worker");
+    assert!(survived.status.success(), "{}", text(&survived.stderr));
+    let row = c
+        .query_one(
+            "SELECT state, attempt FROM evaluations WHERE number = $1",
+            &[&lost],
+        )
+        .unwrap();
+    assert_eq!(row.get::<_, String>(0), "done");
+    assert!(row.get::<_, i32>(1) >= 2, "claimed again after the kill");
 }
