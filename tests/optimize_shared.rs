@@ -235,39 +235,8 @@ fn a_killed_worker_s_evaluation_is_claimed_again_and_nothing_is_lost() {
     args.extend(["--workers", "0"]);
     let mut driver = spawn(pg.proleg(&args));
     pg.wait_until("shared_kill_worker", HAS_STORE, &mut driver);
-    let worker = |idle: &str| {
-        spawn(pg.proleg(&[
-            "worker",
-            "--store",
-            &url,
-            "--threads",
-            "1",
-            "--lease",
-            "3",
-            "--idle-exit",
-            idle,
-        ]))
-    };
-    let mut doomed = worker("60");
-    let pid = doomed.id();
-    let running = format!(
-        "SELECT EXISTS (SELECT 1 FROM evaluations WHERE state = 'running' AND worker LIKE '%/{pid}/%')"
-    );
-    pg.wait_until("shared_kill_worker", &running, &mut doomed);
-    let mut c = pg.connect("shared_kill_worker");
-    let lost: i64 = c
-        .query_one(
-            &format!(
-                "SELECT number FROM evaluations WHERE state = 'running' AND worker LIKE '%/{pid}/%'"
-            ),
-            &[],
-        )
-        .unwrap()
-        .get(0);
-    doomed.kill().expect("SIGKILL");
-    let _ = doomed.wait();
-    // Idle longer than the lease, so that it is there when the lease runs out.
-    let survivor = worker("6");
+    let lost = kill_a_worker_holding_a_claim(&pg, "shared_kill_worker", &url);
+    let survivor = lease_worker(&pg, &url, "6");
     let out = driver.wait_with_output().expect("driver");
     assert!(out.status.success(), "{}", text(&out.stderr));
     assert_eq!(result_lines(&text(&out.stdout)), expected);
@@ -278,6 +247,7 @@ fn a_killed_worker_s_evaluation_is_claimed_again_and_nothing_is_lost() {
     let out = survivor.wait_with_output().expect("worker");
     assert!(out.status.success(), "{}", text(&out.stderr));
 
+    let mut c = pg.connect("shared_kill_worker");
     let row = c
         .query_one(
             "SELECT state, attempt, score IS NOT NULL FROM evaluations WHERE number = $1",
@@ -1018,37 +988,16 @@ fn a_killed_worker_s_suite_episode_runs_again_and_the_table_is_the_local_one() {
         &["--store", &url, "--threads", "0"],
     )));
     pg.wait_until("shared_suite_kill", HAS_STORE, &mut driver);
-    let worker = |idle: &str| {
-        let a = ["worker", "--store", &url, "--threads", "1", "--lease", "3"];
-        spawn(pg.proleg(&[&a[..], &["--idle-exit", idle]].concat()))
-    };
-    let mut doomed = worker("60");
-    let pid = doomed.id();
-    let running = format!(
-        "SELECT EXISTS (SELECT 1 FROM evaluations WHERE state = 'running' AND worker LIKE '%/{pid}/%')"
-    );
-    pg.wait_until("shared_suite_kill", &running, &mut doomed);
-    let mut c = pg.connect("shared_suite_kill");
-    let lost: i64 = c
-        .query_one(
-            &format!(
-                "SELECT number FROM evaluations WHERE state = 'running' AND worker LIKE '%/{pid}/%'"
-            ),
-            &[],
-        )
-        .unwrap()
-        .get(0);
-    doomed.kill().expect("SIGKILL");
-    let _ = doomed.wait();
-    // Idle longer than the lease, so that it is there when the lease runs out.
-    let survivor = worker("6");
+    let lost = kill_a_worker_holding_a_claim(&pg, "shared_suite_kill", &url);
+    let survivor = lease_worker(&pg, &url, "6");
     let shared = driver.wait_with_output().expect("driver");
     assert!(shared.status.success(), "{}", text(&shared.stderr));
     let table = |o: &str| std::fs::read_to_string(Path::new(o).join("suite.csv")).unwrap();
     assert_eq!(table(&out("shared")), table(&out("here")));
     let survived = survivor.wait_with_output().expect("worker");
     assert!(survived.status.success(), "{}", text(&survived.stderr));
-    let row = c
+    let row = pg
+        .connect("shared_suite_kill")
         .query_one(
             "SELECT state, attempt FROM evaluations WHERE number = $1",
             &[&lost],
@@ -1056,4 +1005,30 @@ fn a_killed_worker_s_suite_episode_runs_again_and_the_table_is_the_local_one() {
         .unwrap();
     assert_eq!(row.get::<_, String>(0), "done");
     assert!(row.get::<_, i32>(1) >= 2, "claimed again after the kill");
+}
+
+/// A worker of one thread on `url` with a 3-s lease that exits after `idle` s without work
+/// (longer than the lease: a survivor is there when a killed worker's lease runs out).
+fn lease_worker(pg: &Pg, url: &str, idle: &str) -> Child {
+    let args = ["worker", "--store", url, "--threads", "1", "--lease", "3"];
+    spawn(pg.proleg(&[&args[..], &["--idle-exit", idle]].concat()))
+}
+
+/// Starts a [`lease_worker`] on database `db` at `url`, waits until it holds a claim and
+/// kills it with SIGKILL; the number of the evaluation it held.
+fn kill_a_worker_holding_a_claim(pg: &Pg, db: &str, url: &str) -> i64 {
+    let mut doomed = lease_worker(pg, url, "60");
+    let held = format!(
+        "FROM evaluations WHERE state = 'running' AND worker LIKE '%/{}/%'",
+        doomed.id()
+    );
+    pg.wait_until(db, &format!("SELECT EXISTS (SELECT 1 {held})"), &mut doomed);
+    let lost: i64 = pg
+        .connect(db)
+        .query_one(&format!("SELECT number {held}"), &[])
+        .unwrap()
+        .get(0);
+    doomed.kill().expect("SIGKILL");
+    let _ = doomed.wait();
+    lost
 }
