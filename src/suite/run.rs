@@ -143,17 +143,10 @@ impl SuiteRun<'_> {
         }
         let journal = Mutex::new(Journal::open(&self.journal, &self.run_line(), self.suite)?);
         let all = self.episodes();
-        let todo: Vec<EpisodeKey> = {
-            let j = lock(&journal);
-            all.iter()
-                .copied()
-                .filter(|k| !j.done.contains_key(k))
-                .collect()
-        };
         let total = all.len();
         match &self.shared {
-            Some(shared) => run_on_store(self, shared, registry, &journal, stop, progress)?,
-            None => self.run_here(&journal, &todo, registry, stop, progress)?,
+            Some(shared) => run_on_store(self, shared, registry, &journal, &all, stop, progress)?,
+            None => self.run_here(&journal, &all, registry, stop, progress)?,
         }
         let j = lock(&journal);
         let done = all.iter().filter(|k| j.done.contains_key(k)).count();
@@ -169,16 +162,23 @@ impl SuiteRun<'_> {
         ))
     }
 
-    /// Runs `todo` on the local cores, each result into the journal as it ends.
+    /// Runs the episodes of `all` the journal lacks on the local cores, each result into
+    /// the journal as it ends.
     fn run_here(
         &self,
         journal: &Mutex<Journal>,
-        todo: &[EpisodeKey],
+        all: &[EpisodeKey],
         registry: &ModuleRegistry,
         stop: Option<&StopFlag>,
         progress: Progress<'_>,
     ) -> Result<(), SuiteError> {
-        let all = self.episodes();
+        let todo: Vec<EpisodeKey> = {
+            let j = lock(journal);
+            all.iter()
+                .copied()
+                .filter(|k| !j.done.contains_key(k))
+                .collect()
+        };
         let total = all.len();
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(self.threads.max(1))

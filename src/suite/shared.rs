@@ -12,7 +12,7 @@ use std::time::Duration;
 use crate::control::ModuleRegistry;
 use crate::optimize::error::OptimizeError;
 use crate::optimize::shared::driver::LocalWorkers;
-use crate::optimize::shared::suite_job::{SuiteJob, episode_entry, episode_result};
+use crate::optimize::shared::suite_job::{SuiteJob, episode_entry, episode_key, episode_result};
 use crate::optimize::shared::work::RunWork;
 use crate::optimize::store::pg_queue::{DONE, Pending};
 use crate::optimize::store::{ExperimentStore, PgStore, PgTarget, RunInfo, program_version};
@@ -67,7 +67,7 @@ fn take_stored(
     let mut j = lock(journal);
     for eval in &stored {
         let Some(r) = episode_result(run.suite, eval) else {
-            let key = crate::optimize::shared::suite_job::episode_key(run.suite, &eval.genome);
+            let key = episode_key(run.suite, &eval.genome);
             return Err(SuiteError::FailedOnWorker {
                 run: id,
                 episode: key.map(|k| run.describe(k)).unwrap_or_default(),
@@ -94,10 +94,10 @@ pub fn run_on_store(
     shared: &SharedSuite,
     registry: &ModuleRegistry,
     journal: &Mutex<Journal>,
+    all: &[EpisodeKey],
     stop: Option<&StopFlag>,
     progress: Progress<'_>,
 ) -> Result<(), SuiteError> {
-    let all = run.episodes();
     let mut store = PgStore::open(&shared.target, true)?;
     let job = SuiteJob {
         suite: shared.suite.clone(),
@@ -108,7 +108,7 @@ pub fn run_on_store(
     let info = job.info(&shared.controller, seed);
     let id = find_or_start(&mut store, &info, &shared.files)?;
     store.listen(DONE)?;
-    let mut missing = take_stored(&mut store, id, run, journal, &all, progress)?;
+    let mut missing = take_stored(&mut store, id, run, journal, all, progress)?;
     if missing.is_empty() {
         store.finish_run(id)?;
         return Ok(());
@@ -131,7 +131,7 @@ pub fn run_on_store(
     while !missing.is_empty() && !stop.is_some_and(StopFlag::is_set) {
         local.check()?;
         store.wait_notification(LOOK_EVERY)?;
-        missing = take_stored(&mut store, id, run, journal, &all, progress)?;
+        missing = take_stored(&mut store, id, run, journal, all, progress)?;
     }
     local.finish(&mut store)?;
     if missing.is_empty() {

@@ -87,7 +87,7 @@ struct Unsent {
 /// What one evaluating thread keeps between claims.
 struct ThreadState {
     /// The work of the runs seen, by run.
-    evaluators: HashMap<i64, Arc<RunWork>>,
+    works: HashMap<i64, Arc<RunWork>>,
     /// Since when there was nothing to claim.
     idle_since: Instant,
     /// Claims taken and not evaluated yet (one batch).
@@ -271,14 +271,14 @@ impl Pool<'_> {
         let mut store = PgStore::open(self.target, false)?;
         store.listen(PENDING)?;
         let mut thread = ThreadState {
-            evaluators: HashMap::new(),
+            works: HashMap::new(),
             idle_since: Instant::now(),
             claimed: VecDeque::new(),
             unsent: Vec::new(),
             episode_seconds: None,
         };
         if let Some((run, e)) = &self.preloaded {
-            thread.evaluators.insert(*run, e.clone());
+            thread.works.insert(*run, e.clone());
         }
         while !self.stop.is_set() {
             match self.step(&mut store, &mut thread) {
@@ -334,7 +334,7 @@ impl Pool<'_> {
             store.wait_notification(IDLE_POLL)?;
             return Ok(true);
         };
-        let evaluator = match self.evaluator(store, &mut thread.evaluators, claim.run) {
+        let work = match self.work(store, &mut thread.works, claim.run) {
             Ok(e) => e,
             Err(e) if store.is_closed() => {
                 thread.claimed.push_front(claim);
@@ -353,7 +353,7 @@ impl Pool<'_> {
                 return Ok(true);
             }
         };
-        let Some(result) = self.evaluate(&evaluator, claim.clone()) else {
+        let Some(result) = self.evaluate(&work, claim.clone()) else {
             // Stopped mid-episode: the claim goes back with the others (`finish`), for
             // another worker now rather than when its lease runs out.
             thread.claimed.push_front(claim);
@@ -432,7 +432,7 @@ impl Pool<'_> {
     }
 
     /// The work of `run`, built from the store on its first claim.
-    fn evaluator(
+    fn work(
         &self,
         store: &mut PgStore,
         cache: &mut HashMap<i64, Arc<RunWork>>,
