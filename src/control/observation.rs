@@ -77,15 +77,31 @@ impl ObsLayout {
 
     /// Values per observation.
     pub fn len(&self) -> usize {
+        self.part_sizes().iter().sum()
+    }
+
+    /// The values each part holds in this observation, in [`ObsParts`] order (angles,
+    /// speeds, pads, lasers, gravity, velocity, phases; 0 for a part switched off).
+    pub fn part_sizes(&self) -> [usize; 7] {
         let p = &self.parts;
         let n = |on: bool, k: usize| if on { k } else { 0 };
-        n(p.angles, self.joints)
-            + n(p.speeds, self.joints)
-            + n(p.pads, self.pads)
-            + n(p.lasers, self.beams.iter().sum())
-            + n(p.gravity, 3)
-            + n(p.velocity, 3)
-            + n(p.phases, 2 * self.phases)
+        [
+            n(p.angles, self.joints),
+            n(p.speeds, self.joints),
+            n(p.pads, self.pads),
+            n(p.lasers, self.beams.iter().sum()),
+            n(p.gravity, 3),
+            n(p.velocity, 3),
+            n(p.phases, 2 * self.phases),
+        ]
+    }
+
+    /// Where part `k` (in [`ObsParts`] order, 0..7) lies in the observation; empty for a
+    /// part switched off or an index past the last part.
+    pub fn part_range(&self, k: usize) -> std::ops::Range<usize> {
+        let sizes = self.part_sizes();
+        let start: usize = sizes.iter().take(k).sum();
+        start..start + sizes.get(k).copied().unwrap_or(0)
     }
 
     /// Whether the observation holds no value.

@@ -10,7 +10,8 @@
 //! network whose inputs do not match the observation stops the module (it outputs 0 and
 //! says why in [`ActuationModule::failure`]). `Senses` = 0 holds every sensor input at the
 //! network's observation mean (the generator phases stay): the ablation that measures what
-//! sensing is worth. Nothing is allocated per step once the observation's layout is known.
+//! sensing is worth; `Hold` = k holds the k-th part alone (1 angles .. 7 phases), the
+//! ablation per sense. Nothing is allocated per step once the observation's layout is known.
 
 use crate::config::module_types::{ModuleDescriptor, ParamDescriptor};
 use crate::control::module::{ActuationModule, ModuleCore, StepContext};
@@ -26,8 +27,9 @@ pub const TYPE_NAME: &str = "Policy";
 const PERIOD: usize = 0;
 const AMPLITUDE: usize = 1;
 const SENSES: usize = 2;
+const HOLD: usize = 3;
 /// The first of the seven input switches, in [`ObsParts`] order.
-const INPUTS: usize = 3;
+const INPUTS: usize = 4;
 
 const fn switch(name: &'static str, help: &'static str) -> ParamDescriptor {
     ParamDescriptor {
@@ -68,6 +70,15 @@ const PARAMETERS: &[ParamDescriptor] = &[
         min: 0.0,
         max: 1.0,
         help: "0 holds every sensor input at the network's observation mean (ablation)",
+    },
+    ParamDescriptor {
+        name: "Hold",
+        aliases: &[],
+        unit: "part",
+        default: 0.0,
+        min: 0.0,
+        max: 7.0,
+        help: "holds one part of the observation at the network's mean (1 angles, 2 speeds, 3 pads, 4 lasers, 5 gravity, 6 velocity, 7 phases; 0 none): the per-sense ablation",
     },
     switch("Angles", "observe every joint's angle"),
     switch("Speeds", "observe every joint's angular speed"),
@@ -217,13 +228,14 @@ impl Policy {
         };
         write_observation(layout, &src, obs);
         if core.params.get(SENSES, 0) < 0.5 {
-            let phases = if layout.parts.phases {
-                2 * layout.phases
-            } else {
-                0
-            };
-            let sensed = obs.len() - phases;
+            // Every part before the phases is sensed.
+            let sensed = layout.part_range(6).start;
             obs[..sensed].copy_from_slice(&net.obs_mean[..sensed]);
+        }
+        let hold = core.params.get(HOLD, 0).round();
+        if hold >= 1.0 {
+            let held = layout.part_range(hold as usize - 1);
+            obs[held.clone()].copy_from_slice(&net.obs_mean[held]);
         }
         net.forward(obs, action);
         if let Some((output, &value)) = action.iter().enumerate().find(|(_, v)| !v.is_finite()) {
@@ -399,5 +411,38 @@ mod tests {
         let mut out = [1.0];
         p.compute(&context(0, &[57.0], &sensors), &mut out);
         assert_eq!(out, [0.0], "the held input is the mean: normalized to 0");
+    }
+
+    #[test]
+    fn hold_holds_one_part_at_its_mean_and_leaves_the_others() {
+        let mut p = Policy::new(1);
+        only_angles(&mut p);
+        p.core.params.set(INPUTS + 1, None, 1.0).expect("speeds on");
+        // action = angle(rad) + speed(rad/s), both normalized by their means 0.3 and 0.2.
+        let mut net = linear(vec![1.0, 1.0], vec![0.0]);
+        net.obs_mean = vec![0.3, 0.2];
+        p.set_network(net).expect("one output");
+        p.core.params.set(AMPLITUDE, None, 1.0).expect("amplitude");
+        let sensors = SensorData {
+            joint_speeds: vec![0.4f64.to_degrees()],
+            ..SensorData::default()
+        };
+        let angle = [0.5f64.to_degrees()];
+        let mut out = [0.0];
+        let mut run = |p: &mut Policy, hold: f64| {
+            p.core.params.set(HOLD, None, hold).expect("hold");
+            p.reset(&mut SimRng::new(1));
+            p.compute(&context(0, &angle, &sensors), &mut out);
+            out[0]
+        };
+        let both = run(&mut p, 0.0);
+        let angle_held = run(&mut p, 1.0);
+        let speed_held = run(&mut p, 2.0);
+        let phases_held = run(&mut p, 7.0);
+        let near = |a: f64, b: f64| (a - b).abs() < 1e-9;
+        assert!(near(both, 0.2 + 0.2), "{both}");
+        assert!(near(angle_held, 0.2), "{angle_held}");
+        assert!(near(speed_held, 0.2), "{speed_held}");
+        assert!(near(phases_held, both), "no phases observed: nothing held");
     }
 }
