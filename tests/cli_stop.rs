@@ -122,6 +122,7 @@ fn ctrl_c_stops_an_optimization_of_long_episodes_at_once_and_resume_reaches_the_
     let status = child.wait().expect("exit");
     let took = sent.elapsed();
     let err = all_of(child.stderr.take());
+    let report = all_of(child.stdout.take());
     eprintln!("exited {took:?} after SIGINT");
     assert_eq!(status.code(), Some(130), "{err}");
     assert!(
@@ -137,6 +138,7 @@ fn ctrl_c_stops_an_optimization_of_long_episodes_at_once_and_resume_reaches_the_
         stored(&stopped) < 17,
         "the generation in flight was abandoned, not finished"
     );
+    assert_counts_add_up(&report);
 
     let out = optimize(&stopped, &stopped_table, evals, &["--quiet", "--resume"])
         .output()
@@ -149,6 +151,26 @@ fn ctrl_c_stops_an_optimization_of_long_episodes_at_once_and_resume_reaches_the_
     assert_eq!(stored(&stopped), 17);
     // Every evaluation the resumed run reports, stored or run again, is the whole run's.
     assert_eq!(table_rows(&stopped_table), table_rows(&whole_table));
+}
+
+/// The report's first line, "N evaluations in R rounds (S simulated, F from the store)",
+/// counts only finished rounds: S + F = N (the abandoned generation is in neither).
+fn assert_counts_add_up(report: &str) {
+    let line = report
+        .lines()
+        .find(|l| l.contains(" evaluations in "))
+        .unwrap_or_else(|| panic!("no report line in {report}"));
+    let numbers: Vec<u64> = line
+        .split(|c: char| !c.is_ascii_digit() && c != '.')
+        .filter_map(|w| w.parse().ok())
+        .collect();
+    let [n, _rounds, simulated, from_store, ..] = numbers[..] else {
+        panic!("{line}");
+    };
+    assert!(
+        simulated <= n && from_store <= n && simulated + from_store == n,
+        "{line}"
+    );
 }
 
 #[test]

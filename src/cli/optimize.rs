@@ -406,7 +406,7 @@ impl fmt::Display for ExperimentReport {
             o.evaluations,
             o.rounds,
             o.simulated,
-            o.evaluations - o.simulated,
+            o.evaluations.saturating_sub(o.simulated),
             self.wall
         )?;
         if o.simulated > 0 {

@@ -21,7 +21,7 @@ pub struct LocalScorer<'a> {
     seed: u64,
     /// Evaluations stored by this call (for the crash aid).
     stored: u64,
-    /// Evaluations simulated by this call (the rest came from the store).
+    /// Evaluations of finished rounds simulated by this call (the rest came from the store).
     simulated: u64,
 }
 
@@ -129,10 +129,12 @@ impl Scorer for LocalScorer<'_> {
     fn score(&mut self, round: &Round<'_>) -> Result<Vec<CandidateScore>, OptimizeError> {
         let known = self.recording.as_ref().map_or(&[][..], |r| &r.known[..]);
         let (mut scores, missing) = reuse_stored(known, round);
-        self.simulated += missing.len() as u64;
         if !missing.is_empty() {
             self.simulate(round, &missing, &mut scores)?;
         }
+        // Counted once the round is scored: a round stopped midway is not an evaluation
+        // of the run (its finished batches are stored and come from the store on resume).
+        self.simulated += missing.len() as u64;
         Ok(complete(scores))
     }
 

@@ -25,7 +25,7 @@ pub struct QueueScorer<'a> {
     space: SearchSpace,
     local: LocalWorkers,
     workers: usize,
-    /// Evaluations queued by this call (the rest came from the store).
+    /// Evaluations of finished rounds queued by this call (the rest came from the store).
     queued: u64,
     /// The run's stop flag: raised, the wait for a round ends.
     stop: StopFlag,
@@ -76,7 +76,6 @@ impl Scorer for QueueScorer<'_> {
         if missing.is_empty() {
             return Ok(complete(scores));
         }
-        self.queued += missing.len() as u64;
         let pending: Vec<Pending> = missing
             .iter()
             .map(|&i| Pending {
@@ -99,6 +98,9 @@ impl Scorer for QueueScorer<'_> {
         for (k, score) in got.into_iter().enumerate() {
             scores[missing[k]] = Some(score);
         }
+        // Counted once the round is scored, as a local run counts (a stopped round is not
+        // an evaluation of the run).
+        self.queued += missing.len() as u64;
         Ok(complete(scores))
     }
 
