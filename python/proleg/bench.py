@@ -59,14 +59,17 @@ def _timed_steps(step, actions: np.ndarray, steps: int) -> float:
 
 
 def native(
-    path: str, engine: str, n: int, threads: int, seconds: float, residual: bool = False
+    path: str, engine: str, n: int, threads: int, seconds: float, residual: bool = False,
+    **course,
 ) -> dict:
     """The native vector environment, one run: ``seconds`` simulated per environment (at
     least 25 steps); episodes end and reset as they would in training. Random actions, or
-    with ``residual`` zero actions added to the file's gait (the pipeline's physics)."""
+    with ``residual`` zero actions added to the file's gait (the pipeline's physics).
+    ``course``: a suite task's options (``terrain``, ``difficulty``, ``suite``,
+    ``terrain_seed``), as the pipeline gets them."""
     _pin(_ONE if threads == 1 else None)
     mode = "residual" if residual else "alone"
-    venv = ProlegVectorEnv(path, n, threads=threads, engine=engine, mode=mode)
+    venv = ProlegVectorEnv(path, n, threads=threads, engine=engine, mode=mode, **course)
     venv.reset(seed=0)
     steps = max(25, math.ceil(seconds / venv._venv.control_period))
     rng = np.random.default_rng(0)
@@ -172,6 +175,11 @@ def _args(argv: list[str] | None) -> argparse.Namespace:
     p.add_argument("--rounds", type=int, default=ROUNDS,
                    help="rounds over every row; each figure is its best round")
     p.add_argument("--json", help="also write the figures to this file")
+    p.add_argument("--terrain", help="a suite family (pegs, hills, ...): every row on one of"
+                   " its courses, the pipeline too (the Gymnasium yardsticks are skipped)")
+    p.add_argument("--difficulty", default="medium", help="the task's tier (with --terrain)")
+    p.add_argument("--terrain-seed", type=int, default=1,
+                   help="the course every row runs on (with --terrain; default 1, a train course)")
     p.add_argument("--resets", action="store_true",
                    help="instead: what a reset costs on the suite's task ids (a new course, a seen one)")
     return p.parse_args(argv)
@@ -212,10 +220,21 @@ def reset_costs(engines: list[str], resets: int = 40) -> list[dict]:
     return out
 
 
+def _course(args: argparse.Namespace) -> dict:
+    """The suite task's options every row and the pipeline get (none without --terrain)."""
+    if not args.terrain:
+        return {}
+    from .registration import SUITE
+
+    return {"terrain": args.terrain, "difficulty": args.difficulty,
+            "suite": scenario_path(SUITE), "terrain_seed": args.terrain_seed}
+
+
 def _yardsticks(args: argparse.Namespace) -> dict:
     """The plain Gymnasium ``MujocoEnv`` of the file's robot and ``Swimmer-v5``, as
-    callables measuring one run each (none without Gymnasium's MuJoCo extra)."""
-    if args.peers <= 0 or "mujoco" not in args.engines:
+    callables measuring one run each (none without Gymnasium's MuJoCo extra, none on a
+    suite task's course: they know no terrain)."""
+    if args.peers <= 0 or "mujoco" not in args.engines or args.terrain:
         return {}
     try:
         import gymnasium
@@ -238,6 +257,7 @@ def _measure(args: argparse.Namespace) -> dict:
     rows = [(e, n, t, False) for e in args.engines for n in args.envs for t in args.threads]
     rows += [(e, max(args.envs), 1, True) for e in args.engines]
     yardsticks = _yardsticks(args)
+    course = _course(args)
     best: dict = {}
 
     def keep(key, figure, rate_key):
@@ -247,11 +267,12 @@ def _measure(args: argparse.Namespace) -> dict:
     for _ in range(max(1, args.rounds)):
         for engine in args.engines:
             _pin(_ONE)
-            rate = _native.pipeline_rate(args.config, engine, args.pipeline_seconds)
+            rate = _native.pipeline_rate(args.config, engine, args.pipeline_seconds, **course)
             _pin(None)
             keep(("pipeline", engine), {"robot_steps_per_s": rate}, "robot_steps_per_s")
         for row in rows:
-            keep(row, native(args.config, *row[:3], args.seconds, row[3]), "robot_steps_per_s")
+            keep(row, native(args.config, *row[:3], args.seconds, row[3], **course),
+                 "robot_steps_per_s")
         for name, run in yardsticks.items():
             keep(name, run(), "env_steps_per_s")
     return {"rows": rows, "best": best}
@@ -273,9 +294,13 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     measured = _measure(args)
     best = measured["best"]
-    out: dict = {"config": args.config, "rounds": args.rounds, "native": [], "pipeline": {}}
-    print(f"proleg.bench: {args.config}, control period 20 ms, random actions in [-1, 1]"
-          f" (alone) unless marked; best of {args.rounds} interleaved rounds")
+    course = _course(args)
+    out: dict = {"config": args.config, "rounds": args.rounds, "native": [], "pipeline": {},
+                 "course": {k: v for k, v in course.items() if k != "suite"}}
+    where = (f" on {args.terrain}-{args.difficulty} course {args.terrain_seed}"
+             if course else "")
+    print(f"proleg.bench: {args.config}{where}, control period 20 ms, random actions in"
+          f" [-1, 1] (alone) unless marked; best of {args.rounds} interleaved rounds")
     print(f"{'engine':<8}{'envs':>5}{'threads':>8}{'env-steps/s':>14}{'robot-steps/s':>15}"
           f"{'sim s/wall s':>14}{'vs pipeline':>13}")
     for engine in args.engines:
