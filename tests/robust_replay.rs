@@ -155,7 +155,11 @@ fn the_robustness_check_reevaluates_on_fresh_episodes() {
             1,
             Which::Best,
             &ranges,
-            proleg::optimize::replay::FreshEpisodes { count: 5, seed },
+            proleg::optimize::replay::FreshEpisodes {
+                count: 5,
+                seed,
+                course: None,
+            },
             None,
             &registry,
         )
@@ -166,4 +170,52 @@ fn the_robustness_check_reevaluates_on_fresh_episodes() {
     assert_eq!(a.scores.len(), 5);
     assert_eq!(a, check(1000), "seeded");
     assert_ne!(a.scores, check(1001).scores, "another seed, other episodes");
+}
+
+#[test]
+fn the_robustness_check_runs_on_a_suite_course_when_asked() {
+    let dir = common::scratch("robust_course");
+    let store = dir.join("c.sqlite").display().to_string();
+    optimize(
+        "configs/gait_from_scratch_cmaes.simulation.xml",
+        &store,
+        2,
+        2,
+        2.0,
+    );
+    let registry = ModuleRegistry::standard();
+    let ranges = proleg::config::robustness::Robustness::typical();
+    let check = |course: Option<(&str, u64)>| {
+        randomized_check(
+            &store,
+            1,
+            Which::Best,
+            &ranges,
+            proleg::optimize::replay::FreshEpisodes {
+                count: 2,
+                seed: 1000,
+                course: course.map(|(task, seed)| proleg::optimize::replay::OnCourse {
+                    suite: common::root().join("configs/suites/locomotion.suite.xml"),
+                    task: task.into(),
+                    seed,
+                }),
+            },
+            None,
+            &registry,
+        )
+    };
+    let own = check(None).expect("the run's world");
+    let steps = check(Some(("steps-medium", 101))).expect("a test course");
+    assert_eq!(steps.scores.len(), 2);
+    // Another world, other scores: the candidate ran on the course, not on its own floor
+    // (two seconds keep it on the course's flat start, so courses of two families would
+    // score alike).
+    assert_ne!(own.nominal, steps.nominal);
+    assert_ne!(own.scores, steps.scores);
+    assert_eq!(steps, check(Some(("steps-medium", 101))).unwrap(), "seeded");
+    let err = check(Some(("lava-medium", 1))).unwrap_err().to_string();
+    assert!(
+        err.contains("no task lava-medium") && err.contains("steps-medium"),
+        "{err}"
+    );
 }

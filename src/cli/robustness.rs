@@ -6,7 +6,7 @@ use std::fmt;
 
 use crate::config::robustness::Robustness;
 use crate::control::ModuleRegistry;
-use crate::optimize::replay::{FreshEpisodes, RandomizedCheck, Which, randomized_check};
+use crate::optimize::replay::{FreshEpisodes, OnCourse, RandomizedCheck, Which, randomized_check};
 
 /// Command-line options of `proleg robustness`.
 #[derive(clap::Args)]
@@ -29,6 +29,44 @@ pub struct RobustnessArgs {
     /// checked in turn): how the gait fares on the other engine.
     #[arg(long = "engines", visible_alias = "engine", value_delimiter = ',')]
     pub engines: Vec<crate::config::simulation::EngineKind>,
+    /// A suite task's course instead of the run's own world, as TASK:SEED (a test seed for
+    /// a held-out world, e.g. steps-medium:101); with --suite.
+    #[arg(long, requires = "suite")]
+    pub course: Option<CourseArg>,
+    /// The suite file --course names a task of.
+    #[arg(long, requires = "course")]
+    pub suite: Option<std::path::PathBuf>,
+}
+
+/// `--course TASK:SEED`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CourseArg {
+    /// The task's name.
+    pub task: String,
+    /// The course's terrain seed.
+    pub seed: u64,
+}
+
+/// A `--course` that is not `TASK:SEED`.
+#[derive(Debug, thiserror::Error)]
+#[error("{0:?}: give TASK:SEED, e.g. steps-medium:101")]
+pub struct BadCourse(String);
+
+impl std::str::FromStr for CourseArg {
+    type Err = BadCourse;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let bad = || BadCourse(s.to_string());
+        let (task, seed) = s.rsplit_once(':').ok_or_else(bad)?;
+        let seed = seed.trim().parse().map_err(|_| bad())?;
+        if task.trim().is_empty() {
+            return Err(bad());
+        }
+        Ok(CourseArg {
+            task: task.trim().to_string(),
+            seed,
+        })
+    }
 }
 
 /// The checks of one candidate, one per engine asked for (the run's engine when none).
@@ -44,6 +82,14 @@ pub fn run(
     registry: &ModuleRegistry,
 ) -> Result<RobustnessReport, crate::optimize::replay::ReplayError> {
     let which = Which::parse(&a.eval)?;
+    let course = match (&a.course, &a.suite) {
+        (Some(c), Some(suite)) => Some(OnCourse {
+            suite: suite.clone(),
+            task: c.task.clone(),
+            seed: c.seed,
+        }),
+        _ => None,
+    };
     let engines: Vec<Option<_>> = match a.engines.as_slice() {
         [] => vec![None],
         list => list.iter().copied().map(Some).collect(),
@@ -58,6 +104,7 @@ pub fn run(
             FreshEpisodes {
                 count: a.episodes,
                 seed: a.seed,
+                course: course.clone(),
             },
             engine,
             registry,

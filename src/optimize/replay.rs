@@ -53,6 +53,20 @@ pub enum ReplayError {
         /// Genes the configuration has.
         configured: usize,
     },
+    /// The suite a robustness check's course comes from does not load, or the candidate
+    /// cannot be put on its course.
+    #[error("{0}")]
+    Course(#[source] Box<crate::config::ConfigError>),
+    /// A course of a task the suite does not have.
+    #[error("{suite}: no task {task} (its tasks: {known})")]
+    UnknownTask {
+        /// The suite file.
+        suite: String,
+        /// The task asked for.
+        task: String,
+        /// The suite's tasks.
+        known: String,
+    },
     /// An episode asked of a run without randomized episodes.
     #[error("run {run} has no randomized episodes (no <robustness>), so no episode {episode}")]
     NoEpisodes {
@@ -430,14 +444,45 @@ impl RandomizedCheck {
     }
 }
 
-/// Episodes drawn afresh for a robustness check: how many, and the seed they are drawn
-/// from (not the run's own).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Episodes drawn afresh for a robustness check: how many, the seed they are drawn from
+/// (not the run's own), and where (the run's own world, or a suite task's course).
+#[derive(Debug, Clone, PartialEq)]
 pub struct FreshEpisodes {
     /// How many.
     pub count: u32,
     /// Their seed.
     pub seed: u64,
+    /// A suite task's course instead of the world of the run's simulation file.
+    pub course: Option<OnCourse>,
+}
+
+/// One course of a suite task, by the task's name and the course's terrain seed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OnCourse {
+    /// The suite file.
+    pub suite: std::path::PathBuf,
+    /// The task's name (`steps-medium`).
+    pub task: String,
+    /// The course's terrain seed (a test seed, for a held-out world).
+    pub seed: u64,
+}
+
+impl OnCourse {
+    /// `sim` on this course ([`Simulation::on_course`]: the task's world and duration).
+    pub fn place(&self, sim: &Simulation) -> Result<Simulation, ReplayError> {
+        let boxed = |e| ReplayError::Course(Box::new(e));
+        let suite = crate::config::suite::load_suite(&crate::config::FsSource, &self.suite)
+            .map_err(boxed)?;
+        let Some(task) = suite.task(&self.task) else {
+            let known: Vec<&str> = suite.tasks.iter().map(|t| t.name.as_str()).collect();
+            return Err(ReplayError::UnknownTask {
+                suite: self.suite.display().to_string(),
+                task: self.task.clone(),
+                known: known.join(", "),
+            });
+        };
+        sim.on_course(task, self.seed, &self.suite).map_err(boxed)
+    }
 }
 
 /// Re-evaluates `which` evaluation of `run` in the store at `location` on `fresh`
@@ -458,7 +503,11 @@ pub fn randomized_check(
     let number = which.number(&mut store, run)?;
     let replay = load_replay(&mut store, run, number, None, registry)?;
     let engine = engine.unwrap_or(replay.engine);
-    let nominal_sim = &replay.nominal.clone().with_engine(Some(engine));
+    let mut nominal_sim = replay.nominal.clone().with_engine(Some(engine));
+    if let Some(course) = &fresh.course {
+        nominal_sim = course.place(&nominal_sim)?;
+    }
+    let nominal_sim = &nominal_sim;
     let e = &replay.evaluator;
     let genome = std::slice::from_ref(&replay.genome);
     let world = EpisodeWorld::nominal(e.seed, None);
