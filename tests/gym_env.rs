@@ -1,7 +1,8 @@
 //! The environments from Rust (`proleg::gym`): a vector environment gives the same arrays
 //! on one, two and three threads; a residual policy with zero action runs the file's own
 //! gait, its return the optimizers' score; the policy's targets reach the joints; the lanes
-//! of a vector environment on a suite task draw train courses and hold each once.
+//! of a vector environment on a suite task draw train courses and hold each once; a
+//! randomized environment's reset draws its physics as the robustness check does.
 
 mod common;
 
@@ -142,6 +143,7 @@ fn options_are_set_by_name_with_their_defaults_documented_once() {
             "suite",
             "split",
             "terrain_seed",
+            "randomize",
             "threads",
             "autoreset"
         ]
@@ -151,6 +153,7 @@ fn options_are_set_by_name_with_their_defaults_documented_once() {
     assert_eq!(default("mode").as_deref(), Some("\"alone\""));
     assert_eq!(default("duration").as_deref(), Some("None"));
     assert_eq!(default("autoreset").as_deref(), Some("\"next_step\""));
+    assert_eq!(default("randomize").as_deref(), Some("False"));
     let (mut env, mut vec) = (EnvOptions::default(), VecOptions::default());
     vec.set(&mut env, "control_period", &OptionValue::Number(0.05))
         .expect("a number");
@@ -177,6 +180,73 @@ fn options_are_set_by_name_with_their_defaults_documented_once() {
         vec.set(&mut env, "mode", &OptionValue::Number(1.0)),
         Err(GymError::Option { option: "mode", .. })
     ));
+    vec.set(&mut env, "randomize", &OptionValue::Number(1.0))
+        .expect("True");
+    assert!(env.randomize);
+    assert!(matches!(
+        vec.set(&mut env, "randomize", &OptionValue::Number(0.5)),
+        Err(GymError::Option {
+            option: "randomize",
+            ..
+        })
+    ));
+}
+
+/// The return of a 1-s residual episode with zero action from reset `seed`.
+fn zero_residual_return(env: &mut Env, seed: u64) -> (f64, [f64; 3]) {
+    let mut obs = vec![0.0; env.layout().len()];
+    env.reset(Some(seed), &mut obs).expect("reset");
+    let mut total = 0.0;
+    loop {
+        let t = env.step(&[0.0; 5], &mut obs).expect("step");
+        total += t.reward;
+        if t.truncated || t.terminated {
+            return (total, env.world().com(0).expect("com"));
+        }
+    }
+}
+
+#[test]
+fn a_randomized_environment_draws_each_resets_physics_as_the_robustness_check_does() {
+    use proleg::config::robustness::Robustness;
+    use proleg::sim::randomize::randomize;
+    let sim = demo();
+    let opts = EnvOptions {
+        mode: ActionMode::Residual,
+        duration: Some(1.0),
+        randomize: true,
+        ..EnvOptions::default()
+    };
+    let mut env = Env::new(sim.clone(), ModuleRegistry::standard(), opts.clone()).expect("env");
+    let (first, com) = zero_residual_return(&mut env, 5);
+    assert_eq!(
+        zero_residual_return(&mut env, 5),
+        (first, com),
+        "same seed, same world"
+    );
+    let (other, _) = zero_residual_return(&mut env, 6);
+    assert_ne!(first, other, "another seed draws other physics");
+    // The world is the robustness draw of the reset's seed, built as the check builds it.
+    let drawn = randomize(&sim, &Robustness::typical(), 5);
+    let options = BuildOptions {
+        seed: drawn.seed,
+        noise: drawn.noise,
+        record: false,
+        ..BuildOptions::default()
+    };
+    let mut plain = Simulator::new(&drawn.sim, &options).expect("world");
+    plain.run_steps(1000);
+    assert_eq!(plain.com(0).expect("com"), com);
+    let nominal = EnvOptions {
+        randomize: false,
+        ..opts
+    };
+    let mut env = Env::new(sim, ModuleRegistry::standard(), nominal).expect("env");
+    assert_ne!(
+        zero_residual_return(&mut env, 5).0,
+        first,
+        "the nominal world differs"
+    );
 }
 
 #[test]

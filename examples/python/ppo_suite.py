@@ -10,7 +10,12 @@ BASE is the simulation whose modules the residual runs beside (scripts/learned-s
 experiment writes `sine_quarter.simulation.xml`, the sine CMA-ES had after a quarter of
 the budget, as (c) starts from). Each episode is one of the task's train courses (a seed
 drawn per reset from the task's train list, never a test seed), `--duration` simulated
-seconds; the reward is the metres gained along the course. The policy's outputs are
+seconds; the reward is the metres gained along the course. `--engines rapier,mujoco`
+splits the environments between the engines, so the policy learns both engines' contacts
+(trained on rapier alone, a hills network lost half its distance on MuJoCo); `--randomize`
+draws each episode's physics (friction, masses, servos, start pose, sensor noise) as
+`proleg robustness` does. The policy's
+outputs are
 offsets of `--amplitude` degrees at 1 (the `Policy` module's `Amplitude`: the environment's
 action scale is amplitude / 90, the robot's ±90° joints).
 
@@ -43,6 +48,10 @@ def main() -> None:
     p.add_argument("--task", default="steps-medium", help="a trainable suite task")
     p.add_argument("--steps", type=int, default=1_080_000)
     p.add_argument("--envs", type=int, default=16)
+    p.add_argument("--engines", default="rapier",
+                   help="comma-separated engines the environments are split between")
+    p.add_argument("--randomize", action="store_true",
+                   help="each episode's physics drawn as `proleg robustness` draws them")
     p.add_argument("--duration", type=float, default=30.0)
     p.add_argument("--amplitude", type=float, default=15.0)
     p.add_argument("--checkpoint", type=int, default=270_000)
@@ -58,9 +67,12 @@ def main() -> None:
     torch.set_num_threads(1)
     family, difficulty = args.task.rsplit("-", 1)
     os.makedirs(os.path.dirname(args.out) or ".", exist_ok=True)
-    venv = SB3VecEnv(args.base, num_envs=args.envs, duration=args.duration, mode="residual",
+    engines = args.engines.split(",")
+    venv = SB3VecEnv(args.base, num_envs=args.envs, engines=engines,
+                     duration=args.duration, mode="residual",
                      action_scale=args.amplitude / 90.0, terrain=family,
-                     difficulty=difficulty, suite=proleg.scenario_path(SUITE), threads=2)
+                     difficulty=difficulty, suite=proleg.scenario_path(SUITE), threads=2,
+                     randomize=args.randomize)
     venv = VecNormalize(VecMonitor(venv), norm_obs=True, norm_reward=True, gamma=0.995)
     model = PPO("MlpPolicy", venv, n_steps=512, batch_size=2048, n_epochs=10,
                 learning_rate=3e-4, gamma=0.995, gae_lambda=0.95, ent_coef=0.0,
@@ -98,7 +110,8 @@ def main() -> None:
     save_sb3_policy(args.out + ".safetensors", model, venv.obs_rms)
     write_actuation(args.base, args.out + ".actuation.xml",
                     os.path.abspath(args.out + ".safetensors"), args.amplitude)
-    figures = {"task": args.task, "steps": args.steps, "envs": args.envs,
+    figures = {"task": args.task, "steps": args.steps, "envs": args.envs, "engines": engines,
+               "randomize": args.randomize,
                "episode_s": args.duration, "wall_s": wall,
                "simulated_s": args.steps * 0.02,
                "last_training_return": curve.points[-1][1] if curve.points else None}

@@ -121,6 +121,26 @@ def test_the_residual_with_zero_action_is_the_files_own_gait_and_the_return_its_
     assert np.array_equal(env._env.com(), end)
 
 
+def test_randomize_draws_each_resets_physics_from_its_seed(demo, engine):
+    """randomize=True: the same reset seed gives the same drawn world (the same
+    trajectory under the same actions), another seed another world, and neither is the
+    nominal one."""
+    acts = np.random.default_rng(0).uniform(-1, 1, (40, 5))
+
+    def trajectory(seed, **options):
+        env = proleg.ProlegEnv(demo, engine=engine, **options)
+        out = [env.reset(seed=seed)[0]] + [env.step(a)[0] for a in acts]
+        env.close()
+        return np.array(out)
+
+    a = trajectory(7, randomize=True)
+    assert np.array_equal(a, trajectory(7, randomize=True))
+    assert not np.array_equal(a, trajectory(8, randomize=True))
+    assert not np.array_equal(a, trajectory(7))
+    with pytest.raises(ValueError, match="randomize"):
+        proleg.ProlegEnv(demo, randomize=0.5)
+
+
 def test_residual_observations_carry_the_generators_phase(demo):
     env = proleg.ProlegEnv(demo, mode="residual")
     assert env.observation_names[-2:] == ["phase[0].sin", "phase[0].cos"]
@@ -233,7 +253,7 @@ def test_the_options_and_their_defaults_come_from_the_library(demo):
     assert list(options) == [
         "engine", "control_period", "mode", "action_scale", "fitness",
         "energy_weight", "duration", "terrain", "difficulty", "suite", "split",
-        "terrain_seed", "threads", "autoreset",
+        "terrain_seed", "randomize", "threads", "autoreset",
     ]
     for name, default, doc in proleg.ENV_OPTIONS:
         assert f"{name} = {default}: {doc}" in proleg.ProlegEnv.__doc__

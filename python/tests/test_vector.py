@@ -159,6 +159,38 @@ def test_the_sb3_adapter_resets_on_the_same_step_with_the_terminal_observation(d
         assert not np.array_equal(obs[i], last.astype(np.float32)), "a new episode began"
 
 
+def test_the_sb3_adapter_splits_its_environments_between_the_engines(demo, engine):
+    """engines=[rapier, ENGINE]: the first two environments step as rapier's adapter's,
+    the last one as ENGINE's (its seed continuing the count)."""
+    mixed = SB3VecEnv(demo, num_envs=3, engines=["rapier", engine], duration=0.06)
+    front = SB3VecEnv(demo, num_envs=2, engine="rapier", duration=0.06)
+    back = SB3VecEnv(demo, num_envs=1, engine=engine, duration=0.06)
+    mixed.seed(7)
+    front.seed(7)
+    back.seed(9)
+    assert np.array_equal(mixed.reset(), np.concatenate([front.reset(), back.reset()]))
+    ended = False
+    for step in np.random.default_rng(3).uniform(-1, 1, (4, 3, 5)).astype(np.float32):
+        mixed.step_async(step)
+        front.step_async(step[:2])
+        back.step_async(step[2:])
+        obs, rewards, dones, infos = mixed.step_wait()
+        parts = [front.step_wait(), back.step_wait()]
+        for got, k in zip((obs, rewards, dones), range(3)):
+            assert np.array_equal(got, np.concatenate([p[k] for p in parts]))
+        for i, j in zip(infos, parts[0][3] + parts[1][3]):
+            assert i.keys() == j.keys()
+            assert all(np.array_equal(i[key], j[key]) for key in i)
+        ended |= bool(dones.any())
+    assert ended, "an episode ended and restarted on the way"
+    with pytest.raises(ValueError, match="engine= or engines="):
+        SB3VecEnv(demo, num_envs=2, engines=["rapier"], engine="rapier")
+    with pytest.raises(ValueError, match="engine names"):
+        SB3VecEnv(demo, num_envs=1, engines=["rapier", "mujoco"])
+    with pytest.raises(ValueError, match="engine = .*\"rapier\" or \"mujoco\""):
+        SB3VecEnv(demo, num_envs=2, engines=["rapier", "bullet"])
+
+
 def test_bad_input_to_the_vector_env_raises(demo):
     venv = proleg.ProlegVectorEnv(demo, 2)
     venv.reset(seed=0)

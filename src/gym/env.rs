@@ -11,11 +11,13 @@
 //! the same episode (minus the energy term). An episode terminates when the robot leaves
 //! the world or the physics diverges and is truncated at the duration: each episode is one
 //! of the episode runner's ([`Episode`]), its exit rule checked after every action. Every reset builds a fresh world from the seed, so the
-//! same seed and actions give the same trajectory, bit for bit.
+//! same seed and actions give the same trajectory, bit for bit; with `randomize` the reset's
+//! seed also draws the world's physics (friction, masses, servos, start pose, sensor noise).
 
 use std::sync::Arc;
 
 use crate::config::Simulation;
+use crate::config::robustness::Robustness;
 use crate::control::ModuleRegistry;
 use crate::control::observation::ObsLayout;
 use crate::gym::course::{CourseCache, Courses};
@@ -23,6 +25,7 @@ use crate::gym::error::GymError;
 use crate::gym::observe::{Previous, Scratch, layout_of, observe};
 use crate::gym::options::{ActionMode, EnvOptions};
 use crate::rng::SimRng;
+use crate::sim::randomize::{SensorNoise, randomize};
 use crate::sim::{BuildOptions, Episode, EpisodeEnd, EpisodeSettings, Simulator, WorldExit};
 
 /// The module type that carries the policy's targets into the kernel.
@@ -147,9 +150,12 @@ impl Env {
             Some(c) => {
                 let t = c.pick(seed);
                 let on_course = c.world(&sim, t)?;
-                (build(&on_course, &registry, seed)?, Some(t))
+                (
+                    build(&on_course, &registry, seed, SensorNoise::default())?,
+                    Some(t),
+                )
             }
-            None => (build(&sim, &registry, seed)?, None),
+            None => (build(&sim, &registry, seed, SensorNoise::default())?, None),
         };
         let joints = world.kernel(0)?.joints();
         if joints == 0 {
@@ -262,9 +268,9 @@ impl Env {
                 let t = c.pick(episode_seed);
                 self.terrain_seed = Some(t);
                 let on_course = c.world(&self.sim, t)?;
-                build(&on_course, &self.registry, episode_seed)?
+                self.episode_world(&on_course, episode_seed)?
             }
-            None => build(&self.sim, &self.registry, episode_seed)?,
+            None => self.episode_world(&self.sim, episode_seed)?,
         };
         self.attach_policy()?;
         let com = self.world.com(0)?;
@@ -424,13 +430,33 @@ impl Env {
     }
 }
 
-/// A fresh world of `sim` with `seed`, recording nothing (as the optimizers build theirs).
-fn build(sim: &Simulation, registry: &ModuleRegistry, seed: u64) -> Result<Simulator, GymError> {
+impl Env {
+    /// An episode's fresh world of `sim` with `seed`: with `randomize`, its physics drawn
+    /// from the typical robustness ranges with that seed (the draw's own seed and sensor
+    /// noise then build it), as `proleg robustness` draws an episode.
+    fn episode_world(&self, sim: &Simulation, seed: u64) -> Result<Simulator, GymError> {
+        if !self.opts.randomize {
+            return build(sim, &self.registry, seed, SensorNoise::default());
+        }
+        let drawn = randomize(sim, &Robustness::typical(), seed);
+        build(&drawn.sim, &self.registry, drawn.seed, drawn.noise)
+    }
+}
+
+/// A fresh world of `sim` with `seed` and sensor `noise`, recording nothing (as the
+/// optimizers build theirs).
+fn build(
+    sim: &Simulation,
+    registry: &ModuleRegistry,
+    seed: u64,
+    noise: SensorNoise,
+) -> Result<Simulator, GymError> {
     Ok(Simulator::with_registry(
         sim,
         &BuildOptions {
             seed,
             record: false,
+            noise,
             ..Default::default()
         },
         registry,

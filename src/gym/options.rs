@@ -8,6 +8,8 @@
 use std::path::PathBuf;
 
 use crate::config::fitness::Fitness;
+#[cfg(doc)]
+use crate::config::robustness::Robustness;
 use crate::config::simulation::EngineKind;
 use crate::config::terrain::{Family, Tier};
 use crate::gym::course::{CourseOptions, Split};
@@ -76,6 +78,9 @@ pub struct EnvOptions {
     pub split: Split,
     /// One course for every reset, instead of a drawn one.
     pub terrain_seed: Option<u64>,
+    /// Every reset draws the world's physics from [`Robustness::typical`]'s ranges with
+    /// the reset's seed, as `proleg robustness` draws its episodes.
+    pub randomize: bool,
 }
 
 impl Default for EnvOptions {
@@ -93,6 +98,7 @@ impl Default for EnvOptions {
             suite: None,
             split: Split::Train,
             terrain_seed: None,
+            randomize: false,
         }
     }
 }
@@ -236,7 +242,7 @@ pub struct OptionDoc {
 }
 
 /// What each option of [`EnvOptions`] and [`VecOptions`] sets, in keyword order.
-const DOCS: [(&str, &str); 14] = [
+const DOCS: [(&str, &str); 15] = [
     (
         "engine",
         "the physics engine, \"rapier\" or \"mujoco\" (None: the file's)",
@@ -280,6 +286,10 @@ const DOCS: [(&str, &str); 14] = [
         "one course for every reset (None: drawn from the reset's seed)",
     ),
     (
+        "randomize",
+        "each reset draws the physics as `proleg robustness` does (friction, masses, servos, start pose, sensor noise) from its seed",
+    ),
+    (
         "threads",
         "threads stepping a vector environment's worlds (the machine's cores by default)",
     ),
@@ -318,6 +328,7 @@ pub fn documented() -> Vec<OptionDoc> {
         format!("\"{}\"", e.split.name()),
         e.terrain_seed
             .map_or_else(|| "None".to_string(), |s| s.to_string()),
+        if e.randomize { "True" } else { "False" }.to_string(),
         v.threads.to_string(),
         format!("\"{}\"", v.autoreset.name()),
     ];
@@ -429,6 +440,12 @@ impl EnvOptions {
                             "give a whole number of at least 0",
                         ));
                     }
+                }
+            }
+            "randomize" => {
+                self.randomize = match value {
+                    OptionValue::Number(v) if *v == 0.0 || *v == 1.0 => *v == 1.0,
+                    other => return Err(wrong("randomize", other, "give True or False")),
                 }
             }
             _ => return Err(unknown(name)),
