@@ -61,6 +61,22 @@ fn a_vector_env_gives_the_same_arrays_on_one_two_and_three_threads() {
     assert!(one.1.iter().any(|r| *r != 0.0));
 }
 
+/// The return of a residual episode with zero action from reset `seed`, run to its
+/// duration, and the centre of mass where it ended.
+fn zero_residual_return(env: &mut Env, seed: u64) -> (f64, [f64; 3]) {
+    let mut obs = vec![0.0; env.layout().len()];
+    env.reset(Some(seed), &mut obs).expect("reset");
+    let mut total = 0.0;
+    loop {
+        let t = env.step(&[0.0; 5], &mut obs).expect("step");
+        total += t.reward;
+        if t.truncated || t.terminated {
+            assert!(t.truncated, "the episode ran to its duration");
+            return (total, env.world().com(0).expect("com"));
+        }
+    }
+}
+
 #[test]
 fn a_residual_with_zero_action_runs_the_files_gait_and_returns_its_score() {
     let sim = demo();
@@ -70,21 +86,11 @@ fn a_residual_with_zero_action_runs_the_files_gait_and_returns_its_score() {
         ..EnvOptions::default()
     };
     let mut env = Env::new(sim.clone(), ModuleRegistry::standard(), opts).expect("env");
-    let mut obs = vec![0.0; env.layout().len()];
-    env.reset(Some(1), &mut obs).expect("reset");
-    let mut total = 0.0;
-    loop {
-        let t = env.step(&[0.0; 5], &mut obs).expect("step");
-        total += t.reward;
-        if t.truncated || t.terminated {
-            assert!(t.truncated);
-            break;
-        }
-    }
+    let (total, com) = zero_residual_return(&mut env, 1);
     let mut plain = Simulator::new(&sim, &BuildOptions::default()).expect("world");
     let start = RobotStart::of(&plain, 0).expect("start");
     plain.run_steps(1000);
-    assert_eq!(env.world().com(0).expect("com"), plain.com(0).expect("com"));
+    assert_eq!(com, plain.com(0).expect("com"));
     let score = robot_score(&plain, 0, start, 1.0, Fitness::Distance).expect("score");
     assert!((total - score).abs() < 1e-12, "{total} against {score}");
     assert!(score > 0.03, "the demo crawls forward: {score}");
@@ -190,20 +196,6 @@ fn options_are_set_by_name_with_their_defaults_documented_once() {
             ..
         })
     ));
-}
-
-/// The return of a 1-s residual episode with zero action from reset `seed`.
-fn zero_residual_return(env: &mut Env, seed: u64) -> (f64, [f64; 3]) {
-    let mut obs = vec![0.0; env.layout().len()];
-    env.reset(Some(seed), &mut obs).expect("reset");
-    let mut total = 0.0;
-    loop {
-        let t = env.step(&[0.0; 5], &mut obs).expect("step");
-        total += t.reward;
-        if t.truncated || t.terminated {
-            return (total, env.world().com(0).expect("com"));
-        }
-    }
 }
 
 #[test]
