@@ -6,6 +6,12 @@
 //!
 //! The driver opens the pty's slave side ([`EmulatedBus::path`]) like a USB adapter;
 //! [`packet`] finds and builds Protocol 2.0 packets from the servo's side.
+//!
+//! A host's writes that get no answer (sync writes, the torque-off at the end) reach the
+//! emulator's thread some time after the host's `write` returned: [`EmulatedBus::servos`]
+//! and [`EmulatedBus::stats`] therefore first *settle* the bus, sending a marker packet
+//! (a ping to an id no servo has) behind everything written so far and waiting until the
+//! thread has handled it, so a snapshot taken after a run shows all of the run.
 
 pub mod packet;
 pub mod servo;
@@ -14,9 +20,9 @@ use std::io::{Read, Write};
 use std::os::fd::AsFd;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::{Arc, Condvar, Mutex, PoisonError};
 use std::thread::JoinHandle;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use nix::fcntl::OFlag;
 use nix::poll::{PollFd, PollFlags, PollTimeout, poll};
@@ -57,12 +63,23 @@ struct Shared {
     stats: BusStats,
     /// Corrupt (bad checksum) the first answer once the bus has seen this many packets.
     garble_after: Option<u64>,
+    /// Settle markers handled (not counted as packets).
+    markers: u64,
 }
+
+/// The longest a settle waits for the emulator's thread before giving up (a guard against
+/// a hang; the thread handles a marker within milliseconds).
+const SETTLE_LIMIT: Duration = Duration::from_secs(10);
 
 /// A running emulated bus; stops when dropped.
 pub struct EmulatedBus {
     path: PathBuf,
     shared: Arc<Mutex<Shared>>,
+    /// Signalled when the thread has handled a settle marker.
+    handled: Arc<Condvar>,
+    /// The emulator's own handle on the slave side, through which settle markers go, and
+    /// the id they ping (none when every id is a servo's).
+    marker: Option<(std::fs::File, u8)>,
     stop: Arc<AtomicBool>,
     thread: Option<JoinHandle<()>>,
 }
@@ -135,18 +152,40 @@ impl EmulatedBus {
                 .collect(),
             stats: BusStats::default(),
             garble_after: None,
+            markers: 0,
         }));
+        let marker_id = (0..=252u8).rev().find(|id| !ids.contains(id));
+        let marker = match marker_id {
+            Some(id) => Some((
+                slave.try_clone().map_err(|source| EmulatorError::Open {
+                    path: path.clone(),
+                    source,
+                })?,
+                id,
+            )),
+            None => None,
+        };
+        let handled = Arc::new(Condvar::new());
         let stop = Arc::new(AtomicBool::new(false));
         let thread = {
-            let (shared, stop) = (shared.clone(), stop.clone());
+            let (bus, stop) = (
+                Bus {
+                    shared: shared.clone(),
+                    handled: handled.clone(),
+                    marker_id,
+                },
+                stop.clone(),
+            );
             std::thread::Builder::new()
                 .name("dynamixel emulator".into())
-                .spawn(move || serve(master, slave, &shared, &stop))
+                .spawn(move || serve(master, slave, &bus, &stop))
                 .map_err(EmulatorError::Thread)?
         };
         Ok(EmulatedBus {
             path,
             shared,
+            handled,
+            marker,
             stop,
             thread: Some(thread),
         })
@@ -161,14 +200,47 @@ impl EmulatedBus {
         self.shared.lock().unwrap_or_else(PoisonError::into_inner)
     }
 
-    /// A snapshot of every servo.
-    pub fn servos(&self) -> Vec<EmulatedServo> {
-        self.lock().servos.clone()
+    /// Waits until the emulator's thread has handled every byte written to the bus before
+    /// this call. Gives up (the snapshot is then as far as the thread got) when the thread
+    /// has stopped, the marker cannot be written, or [`SETTLE_LIMIT`] passes.
+    fn settle(&self) -> std::sync::MutexGuard<'_, Shared> {
+        let Some((file, id)) = &self.marker else {
+            return self.lock();
+        };
+        let target = self.lock().markers + 1;
+        let mut writer: &std::fs::File = file;
+        if writer
+            .write_all(&packet::instruction(*id, PING, &[]))
+            .is_err()
+        {
+            return self.lock();
+        }
+        let deadline = Instant::now() + SETTLE_LIMIT;
+        let mut shared = self.lock();
+        while shared.markers < target {
+            let now = Instant::now();
+            let finished = self.thread.as_ref().is_none_or(|t| t.is_finished());
+            if finished || now >= deadline {
+                break;
+            }
+            shared = self
+                .handled
+                .wait_timeout(shared, (deadline - now).min(Duration::from_millis(100)))
+                .unwrap_or_else(PoisonError::into_inner)
+                .0;
+        }
+        shared
     }
 
-    /// What the bus has received so far.
+    /// A snapshot of every servo, once the bus has settled (everything written to it so
+    /// far handled).
+    pub fn servos(&self) -> Vec<EmulatedServo> {
+        self.settle().servos.clone()
+    }
+
+    /// What the bus has received so far, once it has settled.
     pub fn stats(&self) -> BusStats {
-        self.lock().stats
+        self.settle().stats
     }
 
     /// Sends the first answer after `packets` packets with a wrong checksum (line noise).
@@ -207,8 +279,15 @@ impl Drop for EmulatedBus {
     }
 }
 
+/// What the emulator's thread shares with the [`EmulatedBus`].
+struct Bus {
+    shared: Arc<Mutex<Shared>>,
+    handled: Arc<Condvar>,
+    marker_id: Option<u8>,
+}
+
 /// The emulator thread: reads instructions, answers, moves the servos.
-fn serve(mut master: PtyMaster, _slave: std::fs::File, shared: &Mutex<Shared>, stop: &AtomicBool) {
+fn serve(mut master: PtyMaster, _slave: std::fs::File, bus: &Bus, stop: &AtomicBool) {
     let mut buf: Vec<u8> = Vec::with_capacity(1024);
     let mut chunk = [0u8; 512];
     let mut last = Instant::now();
@@ -229,7 +308,7 @@ fn serve(mut master: PtyMaster, _slave: std::fs::File, shared: &Mutex<Shared>, s
         let now = Instant::now();
         let dt = now.duration_since(last).as_secs_f64();
         last = now;
-        let mut shared = shared.lock().unwrap_or_else(PoisonError::into_inner);
+        let mut shared = bus.shared.lock().unwrap_or_else(PoisonError::into_inner);
         for s in shared.servos.iter_mut() {
             s.advance(dt);
         }
@@ -242,6 +321,11 @@ fn serve(mut master: PtyMaster, _slave: std::fs::File, shared: &Mutex<Shared>, s
                 }
                 Parsed::Packet(instruction, used) => {
                     buf.drain(..used);
+                    if instruction.instruction == PING && Some(instruction.id) == bus.marker_id {
+                        shared.markers += 1;
+                        bus.handled.notify_all();
+                        continue;
+                    }
                     shared.stats.packets += 1;
                     let mut answer = answer(&mut shared, &instruction);
                     if !answer.is_empty()

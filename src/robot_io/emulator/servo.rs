@@ -164,6 +164,12 @@ impl EmulatedServo {
         let goal =
             a <= usize::from(table::GOAL_POSITION) && end > usize::from(table::GOAL_POSITION);
         self.memory[a..end].copy_from_slice(data);
+        let torque = usize::from(table::TORQUE_ENABLE);
+        if (a..end).contains(&torque) {
+            // The load current follows the torque at once, not at the next movement.
+            let v = self.u32_at(table::PRESENT_VELOCITY) as i32;
+            self.put_current(v);
+        }
         if goal {
             self.goals_written += 1;
             self.in_flight
@@ -234,15 +240,20 @@ impl EmulatedServo {
             (velocity_units_s * 360.0 / table::POSITION_UNITS / table::VELOCITY_UNIT_DEG_S).round()
                 as i32,
         ));
-        // A load current that grows with the speed (emulated, in 2.69 mA units).
+        self.put_current(velocity);
+        self.put(table::PRESENT_VELOCITY, &velocity.to_le_bytes());
+        self.put(table::PRESENT_POSITION, &position.to_le_bytes());
+    }
+
+    /// A load current that grows with the speed while the torque is on (emulated, in
+    /// 2.69 mA units).
+    fn put_current(&mut self, velocity: i32) {
         let current = if self.torque() {
             (40 + velocity.unsigned_abs() / 4).min(1000) as i16
         } else {
             0
         };
         self.put(table::PRESENT_CURRENT, &current.to_le_bytes());
-        self.put(table::PRESENT_VELOCITY, &velocity.to_le_bytes());
-        self.put(table::PRESENT_POSITION, &position.to_le_bytes());
     }
 }
 
@@ -268,5 +279,19 @@ mod tests {
         assert!(!s.write(table::PRESENT_POSITION, &[0, 0, 0, 0]));
         assert!(!s.write(0, &[1]));
         assert_eq!(s.goals_written, 1);
+    }
+
+    #[test]
+    fn the_load_current_follows_the_torque_switch_before_any_movement() {
+        let current = |s: &EmulatedServo| {
+            let b = s.read(table::PRESENT_CURRENT, 2).unwrap_or(&[0, 0]);
+            i16::from_le_bytes([b[0], b[1]])
+        };
+        let mut s = EmulatedServo::new(1, 90.0);
+        assert_eq!(current(&s), 0);
+        assert!(s.write(table::TORQUE_ENABLE, &[1]));
+        assert_eq!(current(&s), 40, "holding current at once");
+        assert!(s.write(table::TORQUE_ENABLE, &[0]));
+        assert_eq!(current(&s), 0);
     }
 }
