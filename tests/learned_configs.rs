@@ -27,6 +27,14 @@ const SHIPPED: &[(&str, &str, u64, bool, f64, f64)] = &[
         8.459732814548923,
     ),
     (
+        "configs/learned/steps_medium_robust.simulation.xml",
+        "steps-medium",
+        101,
+        true,
+        9.452888066569962,
+        8.593312175024545,
+    ),
+    (
         "configs/learned/steps_medium_sine.simulation.xml",
         "steps-medium",
         101,
