@@ -155,27 +155,22 @@ impl EmulatedBus {
             markers: 0,
         }));
         let marker_id = (0..=252u8).rev().find(|id| !ids.contains(id));
-        let marker = match marker_id {
-            Some(id) => Some((
-                slave.try_clone().map_err(|source| EmulatorError::Open {
-                    path: path.clone(),
-                    source,
-                })?,
-                id,
-            )),
-            None => None,
-        };
+        let marker = marker_id
+            .map(|id| slave.try_clone().map(|file| (file, id)))
+            .transpose()
+            .map_err(|source| EmulatorError::Open {
+                path: path.clone(),
+                source,
+            })?;
         let handled = Arc::new(Condvar::new());
         let stop = Arc::new(AtomicBool::new(false));
         let thread = {
-            let (bus, stop) = (
-                Bus {
-                    shared: shared.clone(),
-                    handled: handled.clone(),
-                    marker_id,
-                },
-                stop.clone(),
-            );
+            let bus = Bus {
+                shared: shared.clone(),
+                handled: handled.clone(),
+                marker_id,
+            };
+            let stop = stop.clone();
             std::thread::Builder::new()
                 .name("dynamixel emulator".into())
                 .spawn(move || serve(master, slave, &bus, &stop))
