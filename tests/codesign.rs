@@ -254,7 +254,7 @@ fn invalid_bodies_are_rejected_unrun_with_their_reason() {
     let (ok, out, err) = common::proleg(&["results", store.to_str().unwrap()]);
     assert!(ok, "{err}");
     assert!(
-        out.contains(&format!("{} bodies rejected unrun", reasons.len())),
+        out.contains(&format!("{} candidates rejected", reasons.len())),
         "{out}"
     );
 }

@@ -11,6 +11,7 @@ use std::process::Command;
 use std::sync::OnceLock;
 
 use proleg::control::{ModuleRegistry, load_simulation_in};
+use proleg::optimize::store::{ExperimentStore, SqliteStore};
 use proleg::plugin_host::{self, PluginHost};
 use proleg::sim::{BuildOptions, Simulator};
 
@@ -277,17 +278,97 @@ fn a_panicking_plugin_is_disabled_and_bad_libraries_are_skipped() {
     );
     assert!(kernel.desired().iter().all(|a| *a == 0.0));
 
-    // The command line reports it too, and warns about the skipped libraries.
-    let (ok, out, err) = proleg_with(
+    // The command line reports it too, fails (the figures are not the file's control),
+    // and warns about the skipped libraries.
+    let (ok, _, err) = proleg_with(
         lib.to_str().unwrap(),
         &["run", config.to_str().unwrap(), "--duration", "1"],
     );
-    assert!(ok, "{err}");
-    assert!(out.contains("module failed   Panicky"), "{out}");
+    assert!(!ok, "{err}");
+    assert!(
+        err.contains("module failed   Panicky")
+            && err.contains("module Panicky failed during the run: plugin module Panicky")
+            && err.contains("panicked in compute"),
+        "{err}"
+    );
     assert!(
         err.contains("warning: plugin") && err.contains("ABI version 999"),
         "{err}"
     );
+
+    failed_modules_are_rejected_in_an_optimization(&lib, &dir, &config);
+}
+
+/// An optimization of the panicking module's `Panic_Time` (1-s episodes): a candidate whose
+/// module fails within its episode is stored as rejected with the reason, at -inf, never
+/// scored as if the module were not there.
+fn failed_modules_are_rejected_in_an_optimization(lib: &Path, dir: &Path, config: &Path) {
+    std::fs::write(
+        dir.join("panicky.cmaes.xml"),
+        r#"<cmaEvolutionStrategy>
+  <properties>
+    <popsize>6</popsize>
+    <sigma>0.25</sigma>
+    <maxEvaluations>12</maxEvaluations>
+    <numOfParametersToOptimize>1</numOfParametersToOptimize>
+    <registeredParameters>
+      <parameter number="0" controlAlgorithm="Panicky" parameter="Panic_Time"/>
+    </registeredParameters>
+  </properties>
+  <genomeConfig number="0" allJoints="1" genomeType="1" valueType="1" valueSpace="1" activeJoints="11111">
+    <upperBounds>1.5</upperBounds>
+    <lowerBounds>0.1</lowerBounds>
+    <boundsIncrements>0.05</boundsIncrements>
+    <lowerBoundTypes>1</lowerBoundTypes>
+    <upperBoundTypes>1</upperBoundTypes>
+    <uniform>1</uniform>
+  </genomeConfig>
+</cmaEvolutionStrategy>"#,
+    )
+    .unwrap();
+    let text = std::fs::read_to_string(config)
+        .unwrap()
+        .replace(
+            "<mode>Single Run Simulation</mode>",
+            "<mode>CMA-ES optimization</mode>",
+        )
+        .replace(
+            "<simulationProperties>",
+            "<optimizer>panicky.cmaes.xml</optimizer>\n  <simulationProperties>",
+        )
+        .replace("<duration>30</duration>", "<duration>1</duration>");
+    let optimized = dir.join("panicky_opt.simulation.xml");
+    std::fs::write(&optimized, text).unwrap();
+    let store = dir.join("panicky.sqlite");
+    let (ok, _, err) = proleg_with(
+        lib.to_str().unwrap(),
+        &[
+            "optimize",
+            optimized.to_str().unwrap(),
+            "--store",
+            store.to_str().unwrap(),
+            "--quiet",
+        ],
+    );
+    assert!(ok, "{err}");
+    let evaluations = SqliteStore::open(&store).unwrap().evaluations(1).unwrap();
+    assert_eq!(evaluations.len(), 12);
+    let mut failed = 0;
+    for e in &evaluations {
+        if e.values[0] < 1.0 {
+            failed += 1;
+            assert_eq!(e.score, f64::NEG_INFINITY, "{e:?}");
+            let why = e.rejected.as_deref().unwrap_or("");
+            assert!(
+                why.contains("module Panicky failed during the episode: plugin module Panicky")
+                    && why.contains("panicked in compute"),
+                "{why}"
+            );
+        } else {
+            assert!(e.score.is_finite() && e.rejected.is_none(), "{e:?}");
+        }
+    }
+    assert!(failed > 0, "{evaluations:?}");
 }
 
 #[test]

@@ -75,6 +75,7 @@ fn with_policy(sim: &Simulation, weights: &Path, amplitude: &[f64]) -> Simulatio
             path: weights.to_path_buf(),
             bytes: std::fs::read(weights).expect("weights").into(),
         }),
+        pos: Default::default(),
     });
     sim
 }
@@ -208,7 +209,8 @@ fn bad_weights_files_are_errors_naming_file_and_tensor() {
     std::fs::write(&junk, b"not tensors").expect("write");
     let e = build_error(&with_policy(&sim, &junk, &vec![10.0; joints]));
     assert!(e.contains("junk.safetensors"), "{e}");
-    // A network whose inputs are not the observation's: the module stops and says why.
+    // A network whose inputs are not the observation's: refused before the first step,
+    // naming the actuation file (this module was not written in one: no line).
     let wide = dir.join("wide.safetensors");
     PolicyNet::new(
         vec![Layer {
@@ -220,21 +222,11 @@ fn bad_weights_files_are_errors_naming_file_and_tensor() {
     .expect("net")
     .write(&wide)
     .expect("write");
-    let mut world = Simulator::new(
-        &with_policy(&sim, &wide, &vec![10.0; joints]),
-        &BuildOptions::default(),
-    )
-    .expect("world");
-    world.run_steps(3);
-    let failures: Vec<String> = world
-        .kernel(0)
-        .expect("kernel")
-        .failures()
-        .map(|(m, c)| format!("{m}: {c}"))
-        .collect();
+    let e = build_error(&with_policy(&sim, &wide, &vec![10.0; joints]));
     assert!(
-        failures.len() == 1 && failures[0].contains("reads 7 inputs"),
-        "{failures:?}"
+        e.contains("reads 7 inputs but the observation has")
+            && e.contains(&sim.actuation.file.display().to_string()),
+        "{e}"
     );
 }
 
@@ -306,6 +298,15 @@ fn an_actuation_file_names_its_weights_file_relative_to_itself() {
     assert!(
         written.contains(r#"weights="missing.safetensors""#),
         "{written}"
+    );
+    // Its network reads 24 inputs; the demo snake with a sine observes 18: `proleg run`
+    // refuses it before the first step, naming the file and the module's line.
+    let (ok, out, err) = common::proleg(&["run", sim_file.to_str().expect("path")]);
+    assert!(!ok && !out.contains("displacement"), "{out}");
+    assert!(
+        err.contains("policy.actuation.xml:5:3")
+            && err.contains("the network reads 24 inputs but the observation has 18"),
+        "{err}"
     );
 }
 

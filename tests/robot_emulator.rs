@@ -357,6 +357,7 @@ fn a_policy_module_drives_the_emulated_servos_with_the_real_robot_s_senses() {
             path: weights.clone(),
             bytes: std::fs::read(&weights).unwrap().into(),
         }),
+        pos: Default::default(),
     });
     let bus = EmulatedBus::start(&[1, 2, 3, 4, 5], 600.0).unwrap();
     let mut robot = chain(&bus, &sim);

@@ -16,6 +16,20 @@ pub enum CliError {
     /// A world that cannot be built or read.
     #[error("{0}")]
     Sim(#[from] crate::sim::SimError),
+    /// A run that ended with a module stopped (a plugin that panicked, a network with a
+    /// non-finite output): what it did, then why its figures are not those of the file's
+    /// control (exit status 1).
+    #[error(
+        "{report}module {module} failed during the run: {cause}; its joints got 0 from then on, so the figures above are not the file's control"
+    )]
+    ModuleFailed {
+        /// The run's report.
+        report: Box<crate::cli::run::RunReport>,
+        /// The first module that failed.
+        module: String,
+        /// Why.
+        cause: String,
+    },
     /// A data file that cannot be started.
     #[error("{0}")]
     Record(#[from] crate::sim::runner::RecordError),

@@ -174,7 +174,7 @@ fn describe(f: &mut std::fmt::Formatter<'_>, r: &RunRow) -> std::fmt::Result {
     if r.rejected > 0 {
         writeln!(
             f,
-            "         {} bodies rejected unrun (each with its reason: --export lists them)",
+            "         {} candidates rejected (bodies unrun, modules failed; each with its reason: --export lists them)",
             r.rejected
         )?;
     }

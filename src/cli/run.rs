@@ -105,6 +105,19 @@ pub enum RunStop {
 
 /// Loads, runs and summarizes; the error is the message to print.
 pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, CliError> {
+    let report = run_report(req, registry)?;
+    match report.failures.first().cloned() {
+        Some((module, cause)) => Err(CliError::ModuleFailed {
+            report: Box::new(report),
+            module,
+            cause,
+        }),
+        None => Ok(report),
+    }
+}
+
+/// The run's report, a module's failure in it included.
+fn run_report(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, CliError> {
     let sim = load_simulation_in(&req.config, registry)?.with_engine(req.engine);
     let props = &sim.files.simulation.properties;
     let duration = req.duration.unwrap_or(props.duration);

@@ -125,6 +125,17 @@ pub enum KernelError {
         #[source]
         cause: NetworkMismatch,
     },
+    /// A module cannot run on the robot's observation (a network's inputs).
+    #[error("{module} (module {number} of the actuation file): {cause}")]
+    Observation {
+        /// The actuator's place in the file, from 1.
+        number: usize,
+        /// The module type.
+        module: &'static str,
+        /// Why.
+        #[source]
+        cause: NetworkMismatch,
+    },
 }
 
 /// Reads weights file `file` and gives the network to `module`.
@@ -344,6 +355,22 @@ impl ControlKernel {
                 .failure()
                 .map(|f| (a.module.descriptor().type_name, f))
         })
+    }
+
+    /// Checks every module against the robot's observation before a run: `sensors` sized
+    /// as the robot's sensors ([`crate::control::ActuationModule::check_observation`]).
+    pub fn check_observation(&self, sensors: &SensorData) -> Result<(), KernelError> {
+        let phases = self.generators.len();
+        for (index, a) in self.actuators.iter().enumerate() {
+            a.module
+                .check_observation(self.joints(), sensors, phases)
+                .map_err(|cause| KernelError::Observation {
+                    number: index + 1,
+                    module: a.module.descriptor().type_name,
+                    cause,
+                })?;
+        }
+        Ok(())
     }
 
     /// Number of robot joints.

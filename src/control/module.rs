@@ -325,6 +325,18 @@ pub trait ActuationModule: Send + Sync {
     fn network(&self) -> Option<&PolicyNet> {
         None
     }
+    /// Whether the module can run on a robot of `joints` joints whose sensors read into
+    /// `sensors` (sized as the robot's) with `phases` generators beside it: a `Policy`
+    /// checks that its network reads the observation its switches select; other modules
+    /// have nothing to check. Called before a run, so a mismatch is refused, not run.
+    fn check_observation(
+        &self,
+        _joints: usize,
+        _sensors: &SensorData,
+        _phases: usize,
+    ) -> Result<(), NetworkMismatch> {
+        Ok(())
+    }
     /// Gives the module a network to run; modules that run none refuse it.
     fn set_network(&mut self, _net: PolicyNet) -> Result<(), NetworkMismatch> {
         Err(NetworkMismatch::NotAPolicy {

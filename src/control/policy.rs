@@ -117,6 +117,24 @@ pub enum NetworkMismatch {
         /// The module's joints.
         want: usize,
     },
+    /// The network reads another number of inputs than the robot's observation holds.
+    #[error(
+        "the network reads {network} inputs but the observation has {observation} (the robot has {joints} joints, {pads} pads, {beams} laser beams and {generators} generators; the module's switches choose the parts observed)"
+    )]
+    Inputs {
+        /// The network's inputs.
+        network: usize,
+        /// The observation's values.
+        observation: usize,
+        /// Robot joints.
+        joints: usize,
+        /// Tactile pads.
+        pads: usize,
+        /// Laser beams.
+        beams: usize,
+        /// Generators.
+        generators: usize,
+    },
     /// The module runs no network.
     #[error("module {module} runs no network (only Policy does)")]
     NotAPolicy {

@@ -49,7 +49,7 @@ pub struct RunView {
     pub best_values: Vec<(String, f64)>,
     /// The best candidate's score on each engine.
     pub best_engines: Vec<(String, f64)>,
-    /// Co-design bodies rejected unrun.
+    /// Candidates rejected: co-design bodies unrun, modules failed during the episode.
     pub rejected: u64,
     /// The engines its candidates are scored on.
     pub engines: Vec<String>,

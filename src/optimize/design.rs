@@ -32,7 +32,8 @@ use crate::config::start_clearance::{StartOverlap, start_overlaps};
 use crate::control::ModuleRegistry;
 use crate::optimize::space::{Alleles, Gene, Genome, SearchSpace, alleles_of};
 
-/// Why a co-design candidate's body is not run.
+/// Why a candidate is not scored: a co-design body not run, or a module that stopped
+/// during its episode.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum Rejection {
     /// The robot builder cannot make it.
@@ -41,6 +42,16 @@ pub enum Rejection {
     /// Its start pose is blocked.
     #[error("{0}")]
     Start(#[from] StartOverlap),
+    /// A module stopped during the episode (a plugin that panicked, a network with a
+    /// non-finite output): the episode did not run the control the file describes, so it
+    /// is not scored as if the module were not there.
+    #[error("module {module} failed during the episode: {cause}")]
+    ModuleFailed {
+        /// The module type.
+        module: String,
+        /// Why it stopped.
+        cause: String,
+    },
 }
 
 /// What a candidate genome becomes.

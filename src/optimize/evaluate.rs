@@ -22,7 +22,7 @@ use crate::config::optimizer::Quantity;
 use crate::config::simulation::EngineKind;
 use crate::control::ModuleRegistry;
 use crate::optimize::behaviour::{Probe, measured_quantities};
-use crate::optimize::design::{Candidate, Design};
+use crate::optimize::design::{Candidate, Design, Rejection};
 use crate::optimize::robust::RobustEpisodes;
 pub use crate::optimize::scores::CandidateScore;
 use crate::optimize::space::{Genome, SearchSpace};
@@ -117,7 +117,7 @@ impl CandidateScore {
         CandidateScore {
             score: outcome.score,
             engines: Vec::new(),
-            rejected: None,
+            rejected: outcome.failed,
             measures: outcome.measures,
         }
     }
@@ -125,14 +125,19 @@ impl CandidateScore {
     /// Outcomes on several engines: their scores combined, the first engine's quantities.
     fn combined(cross: &CrossEngine, row: Vec<(EngineKind, Outcome)>) -> CandidateScore {
         let scores: Vec<f64> = row.iter().map(|(_, o)| o.score).collect();
+        let failed = row.iter().find_map(|(_, o)| o.failed.clone());
         CandidateScore {
-            score: cross.combine.apply(&scores),
+            score: if failed.is_some() {
+                f64::NEG_INFINITY
+            } else {
+                cross.combine.apply(&scores)
+            },
             measures: row
                 .first()
                 .map(|(_, o)| o.measures.clone())
                 .unwrap_or_default(),
             engines: row.into_iter().map(|(k, o)| (k, o.score)).collect(),
-            rejected: None,
+            rejected: failed,
         }
     }
 }
@@ -435,8 +440,21 @@ impl Evaluator {
         }
         let mut outcomes = Vec::with_capacity(genomes.len());
         for i in 0..genomes.len() {
+            let failed =
+                s.kernel(i)?
+                    .failures()
+                    .next()
+                    .map(|(module, cause)| Rejection::ModuleFailed {
+                        module: module.to_string(),
+                        cause: cause.to_string(),
+                    });
             outcomes.push(Outcome {
-                score: episode.score(&s, i)?,
+                score: if failed.is_some() {
+                    f64::NEG_INFINITY
+                } else {
+                    episode.score(&s, i)?
+                },
+                failed,
                 measures: probes
                     .get(i)
                     .map(|p| p.finish(&self.measures))
@@ -455,6 +473,8 @@ pub struct Outcome {
     pub score: f64,
     /// The measured quantities, in [`Evaluator::measures`]' order.
     pub measures: Vec<f64>,
+    /// A module that stopped during the episode: the score is then `-inf`.
+    pub failed: Option<Rejection>,
 }
 
 impl Outcome {
@@ -466,9 +486,15 @@ impl Outcome {
         let measures = (0..n)
             .map(|k| episodes.iter().map(|o| o.measures[k]).sum::<f64>() / episodes.len() as f64)
             .collect();
+        let failed = episodes.iter().find_map(|o| o.failed.clone());
         Outcome {
-            score: robust.combine(&scores),
+            score: if failed.is_some() {
+                f64::NEG_INFINITY
+            } else {
+                robust.combine(&scores)
+            },
             measures,
+            failed,
         }
     }
 }

@@ -29,6 +29,9 @@ pub fn prepare(
     }
     let limits = sim.robot.joints.iter().map(|j| j.limits_deg).collect();
     let kernel = ControlKernel::from_actuation(&sim.actuation, registry, limits)?;
+    // A module that cannot run on the robot is refused before the first candidate.
+    crate::sim::spawn::check_modules(sim, &kernel)
+        .map_err(|e| OptimizeError::Eval(crate::optimize::evaluate::EvalError::Sim(e)))?;
     let space = SearchSpace::from_model(model, &kernel)?;
     if space.genes.is_empty() {
         return Err(OptimizeError::NothingRegistered {

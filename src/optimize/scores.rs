@@ -14,7 +14,8 @@ pub struct CandidateScore {
     pub score: f64,
     /// Each engine's score, in the optimizer file's order (empty on one engine).
     pub engines: Vec<(EngineKind, f64)>,
-    /// Why a co-design candidate's body was not run (its score is then `-inf`).
+    /// Why the candidate was rejected (a co-design body not run, a module failed during
+    /// its episode; its score is then `-inf`).
     pub rejected: Option<Rejection>,
     /// The quantities measured in its episode (MAP-Elites' measured descriptors; of the
     /// first engine with cross-engine scores, averaged over robust fitness's episodes).
@@ -58,7 +59,8 @@ pub struct StoredEval {
     pub score: f64,
     /// Its score on each engine, when the run scores on several (`<engines>`).
     pub engines: Vec<(EngineKind, f64)>,
-    /// Why its body was rejected unrun (a co-design candidate; its score is then `-inf`).
+    /// Why it was rejected (a co-design body unrun, a module failed during its episode; its
+    /// score is then `-inf`).
     pub rejected: Option<String>,
     /// The quantities measured in its episode (MAP-Elites' measured descriptors; else
     /// empty).

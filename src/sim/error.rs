@@ -12,6 +12,18 @@ pub enum SimError {
     /// A kernel that cannot be built or changed (module, parameter, joint).
     #[error("{0}")]
     Kernel(#[from] KernelError),
+    /// A module that cannot run on the robot, found before the first step.
+    #[error("{0}")]
+    Module(Box<ModuleMismatch>),
+    /// A module stopped during an episode whose result would be scored (a plugin's panic,
+    /// a network's non-finite output): the episode did not run the file's control.
+    #[error("module {module} failed during the episode: {cause}")]
+    ModuleFailed {
+        /// The module type.
+        module: String,
+        /// Why it stopped.
+        cause: String,
+    },
     /// A collision mesh that cannot be built.
     #[error("{file}: cannot build the collision mesh: {message}")]
     Mesh {
@@ -65,4 +77,27 @@ pub enum SimError {
         /// What it cannot do, and what to use instead.
         what: String,
     },
+}
+
+/// A module that cannot run on the robot (a network reading another observation than the
+/// robot's sensors give): the actuation file and where the module is written in it.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("{}: {cause}", located(file, *pos))]
+pub struct ModuleMismatch {
+    /// The actuation file.
+    pub file: std::path::PathBuf,
+    /// Where its `<actuationModule>` is written (line 0: made in the window).
+    pub pos: crate::config::error::Pos,
+    /// Why.
+    #[source]
+    pub cause: KernelError,
+}
+
+/// `file:line:col`, or the file alone for a position the file does not have.
+fn located(file: &std::path::Path, pos: crate::config::error::Pos) -> String {
+    if pos.line == 0 {
+        file.display().to_string()
+    } else {
+        format!("{}:{pos}", file.display())
+    }
 }

@@ -9,13 +9,14 @@ use bevy::prelude::*;
 use crate::config::Simulation;
 use crate::config::sensor::Sensor;
 use crate::config::simulation::EngineKind;
+use crate::control::kernel::KernelError;
 use crate::control::{ControlKernel, ModuleRegistry};
 use crate::rng::SimRng;
 use crate::sensing::{Debounce, SensorData};
 use crate::sim::clock::SimClock;
 use crate::sim::energy::Energy;
 use crate::sim::engine::{self, BodyId, EngineBuild, EngineSettings, RobotLayout};
-use crate::sim::error::SimError;
+use crate::sim::error::{ModuleMismatch, SimError};
 use crate::sim::kernel::Kernel;
 use crate::sim::laser::Laser2dSensor;
 use crate::sim::physics::SimPhysics;
@@ -144,6 +145,7 @@ pub fn build_world(
     let props = &sim.files.simulation.properties;
     let limits: Vec<[f64; 2]> = sim.robot.joints.iter().map(|j| j.limits_deg).collect();
     let template = ControlKernel::from_actuation(&sim.actuation, registry, limits)?;
+    check_modules(sim, &template)?;
     let (physics, layout) = engine::build(
         sim,
         &EngineBuild {
@@ -173,6 +175,46 @@ pub fn build_world(
     world.insert_resource(SimPhysics { engine: physics });
     world.insert_resource(LoadedSimulation(sim.clone()));
     Ok(robots)
+}
+
+/// Refuses, before anything is built, a module that cannot run on the robot's
+/// observation (a `Policy` whose network reads another number of inputs), naming the
+/// actuation file and the module's line.
+pub fn check_modules(sim: &Simulation, kernel: &ControlKernel) -> Result<(), SimError> {
+    kernel
+        .check_observation(&declared_sensors(sim))
+        .map_err(|cause| {
+            let pos = match &cause {
+                KernelError::Observation { number, .. } => sim
+                    .actuation
+                    .modules
+                    .get(number - 1)
+                    .map(|m| m.pos)
+                    .unwrap_or_default(),
+                _ => Default::default(),
+            };
+            SimError::Module(Box::new(ModuleMismatch {
+                file: sim.actuation.file.clone(),
+                pos,
+                cause,
+            }))
+        })
+}
+
+/// The robot's sensor readings as its file declares them (pads, each laser's beams),
+/// empty: the observation's shape.
+fn declared_sensors(sim: &Simulation) -> SensorData {
+    let mut pads = 0;
+    let mut beams = Vec::new();
+    for s in &sim.robot.sensors {
+        match &s.sensor {
+            Sensor::Laser2d(l) => beams.push(l.beam_angles().len()),
+            Sensor::Tactile(_) => pads += 1,
+        }
+    }
+    let mut sensors = SensorData::new(pads, &beams);
+    sensors.joint_speeds = vec![0.0; sim.robot.joints.len()];
+    sensors
 }
 
 /// Robot `r` of the batch: its root entity with kernel, sensors, track and energy, and its

@@ -33,6 +33,9 @@ pub struct ModuleInstance {
     /// The weights file of a module that runs a network, found relative to the actuation
     /// file and read with the configuration (parsed when the kernel is built).
     pub weights: Option<WeightsFile>,
+    /// Where its `<actuationModule>` was written (no position: a module made in the
+    /// window), for errors found when the kernel meets the robot.
+    pub pos: Pos,
 }
 
 /// A weights file's path and bytes, read with the configuration (so a run's stored files
@@ -143,6 +146,7 @@ pub fn resolve_actuation(
             joints: m.joints.clone(),
             params,
             weights,
+            pos: m.pos,
         });
     }
     Ok(ActuationModel {

@@ -7,8 +7,10 @@
 //! environment's residual mode: a policy trained there runs here unchanged.
 //!
 //! Without a network it outputs 0 (training starts from the other modules alone). A
-//! network whose inputs do not match the observation stops the module (it outputs 0 and
-//! says why in [`ActuationModule::failure`]). `Senses` = 0 holds every sensor input at the
+//! network whose inputs do not match the robot's observation is refused before the run
+//! ([`ActuationModule::check_observation`]); one that stops fitting during a run (its
+//! switches changed in the window) or computes a non-finite output stops the module (it
+//! outputs 0 and says why in [`ActuationModule::failure`]). `Senses` = 0 holds every sensor input at the
 //! network's observation mean (the generator phases stay): the ablation that measures what
 //! sensing is worth; `Hold` = k holds the k-th part alone (1 angles .. 7 phases), the
 //! ablation per sense. Nothing is allocated per step once the observation's layout is known.
@@ -20,6 +22,7 @@ use crate::control::observation::{
 };
 use crate::control::policy::{NetworkMismatch, PolicyNet};
 use crate::rng::SimRng;
+use crate::sensing::SensorData;
 
 /// The type name in actuation files.
 pub const TYPE_NAME: &str = "Policy";
@@ -107,24 +110,9 @@ pub fn descriptor() -> ModuleDescriptor {
 /// Why the module stopped (its [`ActuationModule::failure`] says it in words).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PolicyFailure {
-    /// The network reads another number of inputs than the observation holds.
-    #[error(
-        "the network reads {network} inputs but the observation has {observation} (the robot has {joints} joints, {pads} pads, {beams} laser beams and {generators} generators; the module's switches choose the parts observed)"
-    )]
-    Inputs {
-        /// The network's inputs.
-        network: usize,
-        /// The observation's values.
-        observation: usize,
-        /// Robot joints.
-        joints: usize,
-        /// Tactile pads.
-        pads: usize,
-        /// Laser beams.
-        beams: usize,
-        /// Generators.
-        generators: usize,
-    },
+    /// The network does not fit the observation (its inputs).
+    #[error("{0}")]
+    Mismatch(#[from] NetworkMismatch),
     /// The network computed a NaN or infinite output.
     #[error("the network's output {output} is {value}")]
     NotFinite {
@@ -210,16 +198,7 @@ impl Policy {
         else {
             return Ok(());
         };
-        if net.inputs() != layout.len() {
-            return Err(PolicyFailure::Inputs {
-                network: net.inputs(),
-                observation: layout.len(),
-                joints: layout.joints,
-                pads: layout.pads,
-                beams: layout.beams.iter().sum(),
-                generators: layout.phases,
-            });
-        }
+        inputs_fit(net, layout)?;
         let src = ObsSource {
             angles: ctx.robot_angles,
             sensors: ctx.sensors,
@@ -243,6 +222,21 @@ impl Policy {
         }
         Ok(())
     }
+}
+
+/// Whether `net` reads as many inputs as `layout` holds.
+fn inputs_fit(net: &PolicyNet, layout: &ObsLayout) -> Result<(), NetworkMismatch> {
+    if net.inputs() == layout.len() {
+        return Ok(());
+    }
+    Err(NetworkMismatch::Inputs {
+        network: net.inputs(),
+        observation: layout.len(),
+        joints: layout.joints,
+        pads: layout.pads,
+        beams: layout.beams.iter().sum(),
+        generators: layout.phases,
+    })
 }
 
 impl ActuationModule for Policy {
@@ -292,6 +286,18 @@ impl ActuationModule for Policy {
 
     fn network(&self) -> Option<&PolicyNet> {
         self.net.as_ref()
+    }
+
+    fn check_observation(
+        &self,
+        joints: usize,
+        sensors: &SensorData,
+        phases: usize,
+    ) -> Result<(), NetworkMismatch> {
+        let Some(net) = &self.net else {
+            return Ok(());
+        };
+        inputs_fit(net, &ObsLayout::new(joints, sensors, phases, self.parts()))
     }
 
     fn set_network(&mut self, net: PolicyNet) -> Result<(), NetworkMismatch> {

@@ -311,6 +311,7 @@ impl SimSession {
                 joints: crate::config::mask::JointMask(bits),
                 params: Vec::new(),
                 weights: None,
+                pos: crate::config::error::Pos::default(),
             });
         let (simulator, kernel) =
             build(&sim, self.step_width, self.replay.as_ref(), &self.registry)?;

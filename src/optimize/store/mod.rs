@@ -9,7 +9,7 @@
 //! | `runs` | what identifies a run ([`RunInfo`]), when it started, whether it finished, the program that started it |
 //! | `run_files` | the run's resolved configuration: every file it read (simulation, robot, parts, actuation, environment, meshes, optimizer) |
 //! | `run_episodes` | robust fitness: each randomized episode's seed and what it drew |
-//! | `evaluations` | one row per candidate: number, round, genome, values, score, its score on each engine (`engine_scores`, runs with `<engines>`), why its body was rejected (`rejected`, co-design; NULL for a body that ran), the quantities measured in its episode (`measures`, MAP-Elites' measured descriptors), seed, wall seconds; and for shared evaluation its `state` (`pending`, `running`, `done`), the claiming `worker`, the claim's `attempt` and `lease_until` |
+//! | `evaluations` | one row per candidate: number, round, genome, values, score, its score on each engine (`engine_scores`, runs with `<engines>`), why it was rejected (`rejected`: a co-design body unrun or a module failed during its episode; NULL otherwise), the quantities measured in its episode (`measures`, MAP-Elites' measured descriptors), seed, wall seconds; and for shared evaluation its `state` (`pending`, `running`, `done`), the claiming `worker`, the claim's `attempt` and `lease_until` |
 //!
 //! [`sqlite`] is the embedded store of one machine (evaluations run in the optimizing
 //! process); [`pg`] a PostgreSQL database shared by a driver and `proleg worker`s on many
@@ -79,7 +79,7 @@ pub struct RunRow {
     pub best_values: Option<Vec<f64>>,
     /// The best candidate's score on each engine (runs with `<engines>`; else empty).
     pub best_engines: Vec<(EngineKind, f64)>,
-    /// Co-design bodies rejected unrun.
+    /// Candidates rejected: co-design bodies unrun, modules failed during the episode.
     pub rejected: u64,
 }
 

@@ -82,7 +82,8 @@ pub struct EpisodeResult {
 }
 
 /// Runs `sim` (a task's world, [`Simulation::on_course`](crate::config::Simulation::on_course)) on `engine` for the
-/// task's duration; `None` when `stop` was raised before it ended.
+/// task's duration; `None` when `stop` was raised before it ended, an error when a module
+/// failed during it (its distance is not the file's control's).
 pub fn run_episode(
     sim: &Simulation,
     task: &Task,
@@ -118,6 +119,12 @@ pub fn run_episode(
         EpisodeEnd::Left(WorldExit::Left(_)) => Ended::Left,
         EpisodeEnd::Left(WorldExit::Diverged) => Ended::Diverged,
     };
+    if let Some((module, cause)) = s.kernel(0)?.failures().next() {
+        return Err(SimError::ModuleFailed {
+            module: module.to_string(),
+            cause: cause.to_string(),
+        });
+    }
     let diverged = ended == Ended::Diverged;
     Ok(Some(EpisodeResult {
         key,
