@@ -36,8 +36,9 @@ HEADLESS_PACKAGES=(pkg-config gcc libfontconfig1-dev libfreetype-dev fonts-dejav
 # with a throw-away certificate made by openssl; xdotool types on the control window;
 # Debian's old MuJoCo 2.2.2 is the "wrong version" proleg must refuse; iproute2 and iptables
 # make the hosts of the network tests (scripts/hosts: namespaces, cut links, lost packets);
-# the dashboard's tests drive Chromium through chromedriver.
-TEST_PACKAGES=(postgresql openssl python3 python3-venv xdotool libmujoco2.2.2 iproute2 iptables chromium chromium-driver)
+# the dashboard's tests drive Chromium through chromedriver; g++ compiles libFuzzer for the
+# fuzz targets (scripts/fuzz).
+TEST_PACKAGES=(g++ postgresql openssl python3 python3-venv xdotool libmujoco2.2.2 iproute2 iptables chromium chromium-driver)
 
 # From the Python registry: peer checks (URDFs we did not write, pybullet's pybullet_data,
 # for the import tests; MuJoCo for the cross-engine check of an exported gait and the
