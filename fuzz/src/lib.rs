@@ -94,6 +94,21 @@ pub fn load_and_run(top: &str, replaced: &str, text: &str) -> Option<Simulation>
     Some(sim)
 }
 
+/// The demo as the configuration set holds it (loaded once per process).
+pub fn demo() -> Option<&'static Simulation> {
+    static DEMO: OnceLock<Option<Simulation>> = OnceLock::new();
+    DEMO.get_or_init(|| {
+        let src = source_with("unused.xml", "");
+        load_simulation_with(
+            &src,
+            Path::new(&format!("{ROOT}/demo.simulation.xml")),
+            registry(),
+        )
+        .ok()
+    })
+    .as_ref()
+}
+
 /// Builds `sim`'s world and runs [`STEPS`] steps, unless the world is refused.
 pub fn run_briefly(sim: &Simulation) {
     let opts = BuildOptions {

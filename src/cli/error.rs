@@ -23,8 +23,8 @@ pub enum CliError {
         "{report}module {module} failed during the run: {cause}; its joints got 0 from then on, so the figures above are not the file's control"
     )]
     ModuleFailed {
-        /// The run's report.
-        report: Box<crate::cli::run::RunReport>,
+        /// The run's report, as printed.
+        report: String,
         /// The first module that failed.
         module: String,
         /// Why.

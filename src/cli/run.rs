@@ -108,7 +108,7 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Cli
     let report = run_report(req, registry)?;
     match report.failures.first().cloned() {
         Some((module, cause)) => Err(CliError::ModuleFailed {
-            report: Box::new(report),
+            report: report.to_string(),
             module,
             cause,
         }),
