@@ -523,6 +523,15 @@ fn optimizer_command(
     })
 }
 
+/// Writes `text` to `file` whole: into a file beside it, then renamed over it, so whoever
+/// waits for `file` to appear (a test driving the window) never reads half of it.
+fn write_whole(file: &std::path::Path, text: &str) -> std::io::Result<()> {
+    let mut part = file.as_os_str().to_owned();
+    part.push(".part");
+    std::fs::write(&part, text)?;
+    std::fs::rename(&part, file)
+}
+
 /// Screenshots, the state file and quitting.
 fn output_command(
     c: Command,
@@ -537,7 +546,7 @@ fn output_command(
             Flow::Yield
         }
         Command::State { file } => {
-            std::fs::write(&file, state_lines(session, views))
+            write_whole(&file, &state_lines(session, views))
                 .map_err(|source| CommandError::Write { path: file, source })?;
             Flow::Next
         }
