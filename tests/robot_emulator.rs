@@ -386,3 +386,35 @@ fn a_policy_module_drives_the_emulated_servos_with_the_real_robot_s_senses() {
         );
     }
 }
+
+/// A faulty line: answers that arrive split or after noise are read whole; one cut short
+/// is a timeout naming its servo; a corrupted one is a bus error; none is a panic.
+#[test]
+fn a_faulty_line_is_read_through_or_reported() {
+    use proleg::robot_io::emulator::line::LineFault;
+    let sim = sim();
+    let bus = EmulatedBus::start(&[1, 2, 3, 4, 5], 600.0).unwrap();
+    bus.set_faults(
+        [
+            LineFault::Split(4),
+            LineFault::Noise(vec![0xFF, 0xFF, 0x00]),
+            LineFault::Repeat,
+        ]
+        .into(),
+    );
+    let mut robot = chain(&bus, &sim);
+    robot.connect().unwrap();
+    let mut readings = proleg::robot_io::Readings::new(5);
+    robot.read(&mut readings).unwrap();
+    bus.set_faults([LineFault::Truncate(6)].into());
+    assert_eq!(
+        robot.request(Info::Temperatures, &mut [0.0; 5]),
+        Err(RobotError::Timeout { id: 1 })
+    );
+    bus.set_faults([LineFault::Corrupt { at: 9, xor: 0x40 }].into());
+    match robot.request(Info::Errors, &mut [0.0; 5]) {
+        Err(RobotError::Bus(why)) => assert!(why.contains("servo 1"), "{why}"),
+        other => panic!("{other:?}"),
+    }
+    robot.disconnect();
+}

@@ -1,10 +1,4 @@
-//! A robot file from raw bytes in the demo (its part files beside it): loaded and, when it loads, run.
+//! The `robot_file` target (`proleg_fuzz::targets::robot_file`) under libFuzzer.
 #![no_main]
 
-use libfuzzer_sys::fuzz_target;
-
-fuzz_target!(|data: &[u8]| {
-    if let Some(text) = proleg_fuzz::text(data) {
-        proleg_fuzz::load_and_run("demo.simulation.xml", "robots/snake5p.robot.xml", text);
-    }
-});
+libfuzzer_sys::fuzz_target!(|data: &[u8]| proleg_fuzz::targets::robot_file::run(data));

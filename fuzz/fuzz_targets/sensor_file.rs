@@ -1,10 +1,4 @@
-//! A sensor file from raw bytes, the touch snake's pads: loaded and, when it loads, run.
+//! The `sensor_file` target (`proleg_fuzz::targets::sensor_file`) under libFuzzer.
 #![no_main]
 
-use libfuzzer_sys::fuzz_target;
-
-fuzz_target!(|data: &[u8]| {
-    if let Some(text) = proleg_fuzz::text(data) {
-        proleg_fuzz::load_and_run(proleg_fuzz::TOUCH, "sensors/tactile.sensor.xml", text);
-    }
-});
+libfuzzer_sys::fuzz_target!(|data: &[u8]| proleg_fuzz::targets::sensor_file::run(data));

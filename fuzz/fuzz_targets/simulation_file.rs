@@ -1,10 +1,4 @@
-//! A simulation file from raw bytes, with the demo's robot, control and floor beside it: loaded through the resolver (its includes and paths fuzzed too) and, when it loads, run.
+//! The `simulation_file` target (`proleg_fuzz::targets::simulation_file`) under libFuzzer.
 #![no_main]
 
-use libfuzzer_sys::fuzz_target;
-
-fuzz_target!(|data: &[u8]| {
-    if let Some(text) = proleg_fuzz::text(data) {
-        proleg_fuzz::load_and_run("demo.simulation.xml", "demo.simulation.xml", text);
-    }
-});
+libfuzzer_sys::fuzz_target!(|data: &[u8]| proleg_fuzz::targets::simulation_file::run(data));

@@ -5,6 +5,8 @@
 //! either loads and runs as written, or is refused with an error. A panic, a hang (more
 //! than a second: `-timeout=1`) or a run above 2 GiB (`-rss_limit_mb=2048`) is a finding.
 
+pub mod targets;
+
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -124,4 +126,31 @@ pub fn run_briefly(sim: &Simulation) {
 /// refused by the reader before any parsing: nothing to fuzz there).
 pub fn text(data: &[u8]) -> Option<&str> {
     std::str::from_utf8(data).ok()
+}
+
+/// The first line where two values' pretty `Debug` forms differ, to say what a round trip
+/// changed; source positions (`line:` and `col:` of a `Pos`, which equality ignores) are
+/// left out.
+pub fn first_difference(a: &impl std::fmt::Debug, b: &impl std::fmt::Debug) -> String {
+    let (a, b) = (format!("{a:#?}"), format!("{b:#?}"));
+    let kept = |l: &&str| {
+        let t = l.trim_start();
+        !t.starts_with("line: ") && !t.starts_with("col: ")
+    };
+    let (a, b): (Vec<&str>, Vec<&str>) = (
+        a.lines().filter(kept).collect(),
+        b.lines().filter(kept).collect(),
+    );
+    match a.iter().zip(&b).position(|(x, y)| x != y) {
+        Some(n) => format!(
+            "read {:?}, read back {:?} after {:?}",
+            a[n].trim(),
+            b[n].trim(),
+            a[n.saturating_sub(3)..n]
+                .iter()
+                .map(|l| l.trim())
+                .collect::<Vec<_>>()
+        ),
+        None => format!("{} lines read, {} read back", a.len(), b.len()),
+    }
 }

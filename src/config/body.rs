@@ -236,12 +236,11 @@ impl Geom {
         w.open("Geom", &attrs);
         self.pose.write(w);
         match &self.shape {
-            // Sizes to 0.01 mm: files people read, not float noise.
-            Shape::Box { extents } => w.nums("extents", &extents.map(|v| round_to(v, 1e5))),
-            Shape::Sphere { radius } => w.num("radius", round_to(*radius, 1e5)),
+            Shape::Box { extents } => w.nums("extents", extents),
+            Shape::Sphere { radius } => w.num("radius", *radius),
             Shape::Cylinder { radius, height } => {
-                w.num("radius", round_to(*radius, 1e5));
-                w.num("height", round_to(*height, 1e5));
+                w.num("radius", *radius);
+                w.num("height", *height);
             }
             Shape::Trimesh { file, scale, .. } => {
                 w.leaf("data", &format!("{file} {}", num(*scale)))
@@ -550,6 +549,25 @@ impl Body {
             m.write(w);
         }
         w.close();
+    }
+
+    /// Rounds its pose and its geoms' poses and sizes as files written for people hold
+    /// them (`Pose::for_people`; sizes to 0.01 mm).
+    pub fn round_for_people(&mut self) {
+        self.pose = self.pose.for_people();
+        for g in &mut self.geoms {
+            g.pose = g.pose.for_people();
+            let size = |v: &mut f64| *v = round_to(*v, 1e5);
+            match &mut g.shape {
+                Shape::Box { extents } => extents.iter_mut().for_each(size),
+                Shape::Sphere { radius } => size(radius),
+                Shape::Cylinder { radius, height } => {
+                    size(radius);
+                    size(height);
+                }
+                Shape::Trimesh { .. } => {}
+            }
+        }
     }
 }
 

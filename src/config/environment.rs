@@ -231,6 +231,23 @@ pub fn parse_environment_file(file: &str, text: &str) -> ConfigResult<Environmen
     })
 }
 
+impl EnvironmentFile {
+    /// Rounds the poses and sizes it holds as files written for people hold them
+    /// (`KinBody::round_for_people`), the robot's pose and the courses' poses too.
+    pub fn round_for_people(&mut self) {
+        for o in &mut self.objects {
+            match o {
+                EnvObject::Inline(kb) => kb.round_for_people(),
+                EnvObject::Include(i) => i.pose = i.pose.for_people(),
+                EnvObject::Terrain(t) => t.pose = t.pose.for_people(),
+            }
+        }
+        if let Some(p) = &mut self.robot_pose {
+            *p = p.for_people();
+        }
+    }
+}
+
 /// Writes an environment file, with the pose both as element and as the thesis's comment.
 pub fn write_environment_file(env: &EnvironmentFile) -> String {
     let mut w = XmlWriter::new();

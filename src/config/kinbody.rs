@@ -301,6 +301,22 @@ impl KinBody {
         }
         w.close();
     }
+
+    /// Rounds the poses and sizes it holds as files written for people hold them (0.1 mm,
+    /// sizes 0.01 mm): what a program that computed them (wizard, editor, import) writes;
+    /// the writer itself writes values as they are.
+    pub fn round_for_people(&mut self) {
+        self.pose = self.pose.for_people();
+        for i in &mut self.includes {
+            i.pose = i.pose.for_people();
+        }
+        for b in &mut self.bodies {
+            b.round_for_people();
+        }
+        for s in &mut self.sensors {
+            s.pose = s.pose.for_people();
+        }
+    }
 }
 
 impl Include {

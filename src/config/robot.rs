@@ -54,6 +54,17 @@ pub fn parse_robot_file(file: &str, text: &str) -> ConfigResult<RobotFile> {
     })
 }
 
+impl RobotFile {
+    /// Rounds the poses and sizes it holds as files written for people hold them
+    /// (`KinBody::round_for_people`), its sensors' poses too.
+    pub fn round_for_people(&mut self) {
+        self.kinbody.round_for_people();
+        for s in &mut self.sensors {
+            s.pose = s.pose.for_people();
+        }
+    }
+}
+
 /// Writes a robot file.
 pub fn write_robot_file(robot: &RobotFile) -> String {
     let mut w = XmlWriter::new();

@@ -202,8 +202,8 @@ impl RobotSpec {
         )
     }
 
-    /// The robot file; `parts_dir` is the parts folder as seen from the robot file
-    /// (e.g. `../parts`).
+    /// The robot file, its computed poses rounded for people (`RobotFile::round_for_people`);
+    /// `parts_dir` is the parts folder as seen from the robot file (e.g. `../parts`).
     pub fn to_robot_file(&self, parts_dir: &str) -> RobotFile {
         let n = self.joints.len();
         let d = self.parts.spacing();
@@ -262,7 +262,7 @@ impl RobotSpec {
                 pos: Pos::new(0, 0),
             })
             .collect();
-        RobotFile {
+        let mut file = RobotFile {
             name: self.name.clone(),
             kinbody: KinBody {
                 name: Some(format!("k{}", self.name)),
@@ -276,7 +276,9 @@ impl RobotSpec {
             sensors: Vec::new(),
             servos: None,
             pos: Pos::new(0, 0),
-        }
+        };
+        file.round_for_people();
+        file
     }
 }
 

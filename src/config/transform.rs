@@ -125,15 +125,24 @@ impl Pose {
         Ok(tf)
     }
 
-    /// Writes `<translation>` rounded to 0.1 mm (files people read, not float noise such as
-    /// `-0.1559227705001831`) and `<quat>` as it is (each only when not neutral).
+    /// Writes `<translation>` and `<quat>` as they are (each only when not neutral), so a
+    /// file read and written reads back equal; producers of computed poses round them first
+    /// (`for_people`).
     pub fn write(&self, w: &mut XmlWriter) {
-        let t = self.translation.map(|v| round_to(v, 1e4));
-        if t != [0.0; 3] {
-            w.nums("translation", &t);
+        if self.translation != [0.0; 3] {
+            w.nums("translation", &self.translation);
         }
         if self.rotation != Pose::IDENTITY.rotation {
             w.nums("quat", &self.rotation);
+        }
+    }
+
+    /// The pose as files written for people hold it: the translation rounded to 0.1 mm
+    /// (not float noise such as `-0.1559227705001831`), the rotation as it is.
+    pub fn for_people(&self) -> Pose {
+        Pose {
+            translation: self.translation.map(|v| round_to(v, 1e4)),
+            rotation: self.rotation,
         }
     }
 }

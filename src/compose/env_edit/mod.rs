@@ -187,11 +187,13 @@ impl EnvEditor {
 
     /// The environment file this scene is.
     pub fn to_file(&self) -> EnvironmentFile {
-        EnvironmentFile {
+        let mut file = EnvironmentFile {
             physics: self.physics.clone(),
             objects: self.objects.clone(),
             robot_pose: Some(self.robot_pose),
-        }
+        };
+        file.round_for_people();
+        file
     }
 
     /// Checks the scene the way a simulation would load it (meshes and included files

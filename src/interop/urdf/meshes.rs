@@ -160,13 +160,35 @@ fn read_mesh(path: &Path) -> Result<Option<TriMesh>, InteropError> {
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
     let loader = mesh_loader::Loader::default();
-    let scene = match ext.as_str() {
+    let collada = match ext.as_str() {
         "stl" => return read_stl(path).map(Some),
-        "obj" => loader.load_obj(path),
-        "dae" => loader.load_collada(path),
+        "obj" => false,
+        "dae" => true,
         _ => return Ok(None),
-    }
-    .map_err(|e| InteropError::new(path, format!("not a readable {ext} mesh: {e}")))?;
+    };
+    let load = || {
+        if collada {
+            loader.load_collada(path)
+        } else {
+            loader.load_obj(path)
+        }
+    };
+    // mesh-loader 0.1's readers index and unwrap what a malformed file lacks (a COLLADA
+    // accessor naming a source that is not there panics): a panic there is this file's
+    // error, not the end of the program.
+    let scene = std::panic::catch_unwind(std::panic::AssertUnwindSafe(load))
+        .map_err(|payload| {
+            let why = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_default();
+            InteropError::new(
+                path,
+                format!("not a readable {ext} mesh (its reader failed: {why})"),
+            )
+        })?
+        .map_err(|e| InteropError::new(path, format!("not a readable {ext} mesh: {e}")))?;
     let mut vertices = Vec::new();
     let mut triangles = Vec::new();
     for m in &scene.meshes {

@@ -162,7 +162,7 @@ pub fn import_urdf_with(
     let stem = urdf.file_stem().map(|s| s.to_string_lossy().into_owned());
     let name = file_name(stem.as_deref().unwrap_or(&robot.name));
     let robot_file = out_dir.join(format!("{name}.robot.xml"));
-    let file = RobotFile {
+    let mut file = RobotFile {
         name: name.clone(),
         kinbody: KinBody {
             name: Some(name.clone()),
@@ -177,6 +177,7 @@ pub fn import_urdf_with(
         servos: None,
         pos: Pos::default(),
     };
+    file.round_for_people();
     write_text(&robot_file, &write_robot_file(&file))?;
     let hinges = file.kinbody.joints.len();
     let offsets = gait_offsets(&file.kinbody.joints, &mut warnings);
@@ -269,8 +270,9 @@ fn hinge(
         .unwrap_or(child);
     let parent_body = tree.body_of[parent_link];
     let to_parent = tree.world[parent_body].inverse() * tree.world[child];
-    let axis =
-        to_parent.rotation * nalgebra::Vector3::new(j.axis.xyz[0], j.axis.xyz[1], j.axis.xyz[2]);
+    // A direction of length 1e-6 or more (validate.rs), made a unit vector as URDF means it.
+    let axis = to_parent.rotation
+        * nalgebra::Vector3::new(j.axis.xyz[0], j.axis.xyz[1], j.axis.xyz[2]).normalize();
     let anchor = to_parent.translation.vector;
     let lim = &j.limit;
     let limits_deg = match j.joint_type {

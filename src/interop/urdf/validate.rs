@@ -160,6 +160,9 @@ pub fn cleaned(
     } else if root.child("link").is_none() {
         faults.push(format!("line {}: <robot> has no <link>", root.pos.line));
     }
+    if root.is("robot") {
+        repeated_names(root, &mut faults);
+    }
     let mut out = urdf_only(root, "robot");
     if root.is("robot") {
         for l in out.children.iter_mut().filter(|c| c.is("link")) {
@@ -183,6 +186,30 @@ pub fn cleaned(
         text: w.finish(),
         lines,
     })
+}
+
+/// A link or joint name used twice (urdf-rs reads both; every link and joint must be
+/// unique in a URDF, and the robot file written from it would repeat the name).
+fn repeated_names(root: &Element, faults: &mut Vec<String>) {
+    for tag in ["link", "joint"] {
+        let mut first: std::collections::BTreeMap<&str, u32> = std::collections::BTreeMap::new();
+        for el in root.children_named(tag) {
+            let Some(name) = el.attr("name") else {
+                continue;
+            };
+            match first.entry(name.value.as_str()) {
+                std::collections::btree_map::Entry::Vacant(v) => {
+                    v.insert(el.pos.line);
+                }
+                std::collections::btree_map::Entry::Occupied(o) => faults.push(format!(
+                    "line {}: {tag} name \"{}\" is used twice (first on line {})",
+                    el.pos.line,
+                    name.value,
+                    o.get()
+                )),
+            }
+        }
+    }
 }
 
 /// Whether `child` is URDF inside an element named `parent`.
@@ -276,6 +303,25 @@ fn check_element(el: &Element, faults: &mut Vec<String>) {
                 JOINT_TYPES.join(", ")
             )));
         }
+    }
+    if el.is("joint")
+        && el
+            .attr("type")
+            .is_some_and(|t| matches!(t.value.as_str(), "revolute" | "continuous"))
+        && let Some(axis) = el.child("axis")
+        && let Some(xyz) = axis.attr("xyz")
+        && bad_numbers(&xyz.value, 3).is_none()
+        && xyz
+            .value
+            .split_whitespace()
+            .map(|v| v.parse::<f64>().map_or(0.0, |v| v * v))
+            .sum::<f64>()
+            < 1e-12
+    {
+        faults.push(format!(
+            "line {}: <axis> xyz=\"{}\": a hinge's axis needs a direction (length 1e-6 or more)",
+            axis.pos.line, xyz.value
+        ));
     }
     for (_, attrs) in NUMERIC.iter().filter(|(n, _)| el.is(n)) {
         for (attr, numbers) in attrs.iter() {

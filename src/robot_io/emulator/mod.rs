@@ -13,6 +13,7 @@
 //! (a ping to an id no servo has) behind everything written so far and waiting until the
 //! thread has handled it, so a snapshot taken after a run shows all of the run.
 
+pub mod line;
 pub mod packet;
 pub mod servo;
 
@@ -29,6 +30,7 @@ use nix::poll::{PollFd, PollFlags, PollTimeout, poll};
 use nix::pty::{PtyMaster, grantpt, posix_openpt, ptsname_r, unlockpt};
 use nix::sys::termios::{SetArg, cfmakeraw, tcgetattr, tcsetattr};
 
+use crate::robot_io::emulator::line::LineFault;
 use crate::robot_io::emulator::packet::{Instruction, Parsed, parse, status};
 use crate::robot_io::emulator::servo::EmulatedServo;
 
@@ -63,6 +65,8 @@ struct Shared {
     stats: BusStats,
     /// Corrupt (bad checksum) the first answer once the bus has seen this many packets.
     garble_after: Option<u64>,
+    /// What the line does to the next answers, in turn (then they pass).
+    faults: std::collections::VecDeque<LineFault>,
     /// Settle markers handled (not counted as packets).
     markers: u64,
 }
@@ -152,6 +156,7 @@ impl EmulatedBus {
                 .collect(),
             stats: BusStats::default(),
             garble_after: None,
+            faults: std::collections::VecDeque::new(),
             markers: 0,
         }));
         let marker_id = (0..=252u8).rev().find(|id| !ids.contains(id));
@@ -241,6 +246,12 @@ impl EmulatedBus {
     /// Sends the first answer after `packets` packets with a wrong checksum (line noise).
     pub fn garble_after(&self, packets: u64) {
         self.lock().garble_after = Some(packets);
+    }
+
+    /// Sends the next answers through these line faults, one each, in turn (then as they
+    /// are).
+    pub fn set_faults(&self, faults: std::collections::VecDeque<LineFault>) {
+        self.lock().faults = faults;
     }
 
     /// Makes servo `id` stop answering once the bus has seen `packets` packets.
@@ -333,7 +344,11 @@ fn serve(mut master: PtyMaster, _slave: std::fs::File, bus: &Bus, stop: &AtomicB
                             *last ^= 0x5A;
                         }
                     }
-                    if !answer.is_empty() && master.write_all(&answer).is_err() {
+                    if answer.is_empty() {
+                        continue;
+                    }
+                    let fault = shared.faults.pop_front().unwrap_or(LineFault::Pass);
+                    if fault.send(&answer, &mut master).is_err() {
                         break;
                     }
                 }

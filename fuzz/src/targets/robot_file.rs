@@ -1,0 +1,8 @@
+//! A robot file from raw bytes in the demo (its part files beside it): loaded and, when it loads, run.
+
+/// The target: the fuzzer's bytes in, a panic on a finding.
+pub fn run(data: &[u8]) {
+    if let Some(text) = crate::text(data) {
+        crate::load_and_run("demo.simulation.xml", "robots/snake5p.robot.xml", text);
+    }
+}
