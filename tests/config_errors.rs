@@ -275,8 +275,8 @@ fn out_of_range_values() {
         "parts/p.kinbody.xml",
         5,
         &[
-            "mass is -0.1 kg",
-            "must be > 0",
+            "the mass (kg) is -0.1",
+            "must be between 0.000001 and 1000000",
             "included from cfg/r.robot.xml:3",
         ],
     );
@@ -314,7 +314,7 @@ fn out_of_range_values() {
         ErrorKind::OutOfRange,
         "r.robot.xml",
         5,
-        &["extents", "> 0"],
+        &["extents", "must all be between 0.000001 and 10000"],
     );
     let e = load_with("a.actuation.xml", "values=\"30 40\"", "values=\"30 95\"");
     expect(

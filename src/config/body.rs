@@ -262,19 +262,29 @@ impl Geom {
     }
 }
 
+/// The sizes a geometry may have (m): from 1 µm (both engines refuse a zero size; MuJoCo
+/// anything below 1e-15) to 10 km.
+pub const SIZES: (f64, f64) = (1e-6, 1e4);
+
+/// The masses a body may have (kg): from a milligram to a thousand tonnes.
+pub const MASSES: (f64, f64) = (1e-6, 1e6);
+
 /// A geometry's shape from its `type` and the children that type needs.
 fn read_shape(r: &Reader, el: &Element) -> ConfigResult<Shape> {
     let ty = r.required_attr(el, "type")?;
-    let positive = |name: &str| r.positive(r.required(el, name)?);
+    let positive = |name: &str| r.f64_in(r.required(el, name)?, SIZES.0, SIZES.1);
     Ok(match ty.value.to_ascii_lowercase().as_str() {
         "box" => {
             let c = r.required(el, "extents")?;
             let e = r.array::<3>(c)?;
-            if e.iter().any(|v| *v <= 0.0) {
+            if e.iter().any(|v| !(SIZES.0..=SIZES.1).contains(v)) {
                 return Err(r.err(
                     c.text_pos,
                     ErrorKind::OutOfRange,
-                    "box <extents> must all be > 0 (half-extents in m)",
+                    format!(
+                        "box <extents> must all be between {} and {} (half-extents in m)",
+                        SIZES.0, SIZES.1
+                    ),
                 ));
             }
             Shape::Box { extents: e }
@@ -339,13 +349,7 @@ impl Mass {
             Some(c) => (r.f64(c)?, c.text_pos),
             None => (r.f64(el)?, el.text_pos),
         };
-        if total <= 0.0 {
-            return Err(r.err(
-                pos,
-                ErrorKind::OutOfRange,
-                format!("mass is {total} kg; it must be > 0"),
-            ));
-        }
+        r.check_range(total, MASSES.0, MASSES.1, pos, "the mass (kg)")?;
         let com = r
             .at_most_one(el, "com")?
             .map(|c| r.array::<3>(c))

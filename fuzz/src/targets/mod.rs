@@ -8,6 +8,7 @@ pub mod data_file;
 pub mod dynamixel_bus;
 pub mod environment_file;
 pub mod kinbody_file;
+pub mod mjcf_robot;
 pub mod obj_mesh;
 pub mod optimizer_file;
 pub mod policy_weights;
@@ -31,6 +32,7 @@ pub const ALL: &[(&str, Target)] = &[
     ("dynamixel_bus", dynamixel_bus::run),
     ("environment_file", environment_file::run),
     ("kinbody_file", kinbody_file::run),
+    ("mjcf_robot", mjcf_robot::run),
     ("obj_mesh", obj_mesh::run),
     ("optimizer_file", optimizer_file::run),
     ("policy_weights", policy_weights::run),

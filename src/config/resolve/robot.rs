@@ -319,9 +319,14 @@ pub fn geom_volume(g: &Geom) -> f64 {
     }
 }
 
+/// `v` as a unit vector; scaled by its largest component first, so that an axis written
+/// with huge components (`-3.6e250 -0.2 -0.5`, whose squared length overflows) keeps its
+/// direction instead of becoming zero. The reader refuses a zero axis before.
 fn normalize(v: [f64; 3]) -> [f64; 3] {
+    let m = v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let v = v.map(|x| x / m);
     let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    [v[0] / n, v[1] / n, v[2] / n]
+    v.map(|x| x / n)
 }
 
 fn classify(axis: [f64; 3], chain: [f64; 3]) -> JointOrientation {
@@ -467,7 +472,7 @@ fn resolve_joints(
             None => links[parent].pose,
         };
         let anchor = frame.mul(&Pose::from_translation(j.anchor)).translation;
-        let axis = normalize(frame.rotate(j.axis));
+        let axis = normalize(frame.rotate(normalize(j.axis)));
         let chain = {
             let (a, b) = (links[parent].centre(), links[child].centre());
             [b[0] - a[0], b[1] - a[1], b[2] - a[2]]

@@ -5,7 +5,9 @@
 //! while torque is on. A servo can be made silent to test timeouts.
 //!
 //! The driver opens the pty's slave side ([`EmulatedBus::path`]) like a USB adapter;
-//! [`packet`] finds and builds Protocol 2.0 packets from the servo's side.
+//! [`packet`] finds and builds Protocol 2.0 packets from the servo's side; [`line`] is what
+//! a faulty line does to the answers on their way (dropped, cut, corrupted, repeated,
+//! split, after noise), set with [`EmulatedBus::set_faults`].
 //!
 //! A host's writes that get no answer (sync writes, the torque-off at the end) reach the
 //! emulator's thread some time after the host's `write` returned: [`EmulatedBus::servos`]
