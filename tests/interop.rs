@@ -414,7 +414,9 @@ fn inertial_data_no_body_can_have_is_refused_naming_the_link() {
     .unwrap_err()
     .to_string();
     assert!(
-        e.contains("neg.urdf") && e.contains("link base") && e.contains("mass must be >= 0"),
+        e.contains("neg.urdf")
+            && e.contains("link base")
+            && e.contains("a mass must be between 0 and 1000000 kg"),
         "{e}"
     );
     // 0.03 > 0.01 + 0.01: no mass distribution has these moments. Real URDFs break the

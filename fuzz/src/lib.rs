@@ -128,6 +128,31 @@ pub fn text(data: &[u8]) -> Option<&str> {
     std::str::from_utf8(data).ok()
 }
 
+/// Reads `text` with `parse`, and when it is accepted, checks that `write`'s writing of it
+/// reads back equal (`read(write(read(x))) == read(x)`); panics, saying what differs, when
+/// it does not or when the writing is refused.
+pub fn round_trip<T, E>(
+    text: &str,
+    parse: impl Fn(&str, &str) -> Result<T, E>,
+    write: impl Fn(&T) -> String,
+) where
+    T: PartialEq + std::fmt::Debug,
+    E: std::fmt::Display,
+{
+    let Ok(first) = parse("fuzz.xml", text) else {
+        return;
+    };
+    let written = write(&first);
+    match parse("written.xml", &written) {
+        Ok(again) => assert!(
+            again == first,
+            "read back differs, {}:\n{written}",
+            first_difference(&first, &again)
+        ),
+        Err(e) => panic!("the writing of an accepted file is refused: {e}\n{written}"),
+    }
+}
+
 /// The first line where two values' pretty `Debug` forms differ, to say what a round trip
 /// changed; source positions (`line:` and `col:` of a `Pos`, which equality ignores) are
 /// left out.

@@ -309,10 +309,15 @@ pub fn write_remote_file(f: &RemoteFile) -> String {
     w.open("remote", &[("name", f.name.clone())]);
     for b in &f.bindings {
         let mut attrs = vec![("element", b.element.clone())];
+        // An action's binding says its mode and dead zone only when not the defaults
+        // (press: increment); any other binding always says them.
         if let Some(a) = b.action {
             attrs.push(("action", a.name().to_string()));
-        } else {
+        }
+        if b.action.is_none() || b.mode != BindMode::Increment {
             attrs.push(("mode", b.mode.name().to_string()));
+        }
+        if b.action.is_none() || b.dead_zone != DEFAULT_DEAD_ZONE {
             attrs.push(("deadZone", num(b.dead_zone)));
         }
         if b.targets.is_empty() {

@@ -7,12 +7,15 @@
 //! resolver with the demo's floor, and when proleg accepts it, exported to MJCF and loaded
 //! by MuJoCo (where its library is installed): proleg accepts only what MuJoCo loads, so an
 //! accepted robot that MuJoCo refuses is a finding, as is a panic. What loads runs briefly.
+//! The drawn robot file is also the `arbitrary`-driven round trip: when its reader accepts
+//! it, its writing reads back equal.
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use libfuzzer_sys::arbitrary::{Result, Unstructured};
 use proleg::config::load_simulation_with;
+use proleg::config::robot::{parse_robot_file, write_robot_file};
 use proleg::interop::mjcf::export_mjcf;
 
 /// The most bodies a drawn robot has.
@@ -155,6 +158,7 @@ pub fn run(data: &[u8]) {
     let Ok((robot, joints)) = robot(&mut u) else {
         return;
     };
+    crate::round_trip(&robot, parse_robot_file, write_robot_file);
     let (top, actuation) = simulation(joints);
     let mut src = crate::source_with("fuzz.robot.xml", &robot);
     src.insert(format!("{}/fuzz.simulation.xml", crate::ROOT), &top);

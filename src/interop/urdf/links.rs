@@ -6,7 +6,7 @@ use std::path::Path;
 use nalgebra::{Isometry3, Matrix3, UnitQuaternion, Vector3};
 
 use crate::config::body::{Body, BodyKind, Geom, Mass, MeshCollision, Shape};
-use crate::config::body::{balanced_inertia, principal_moments};
+use crate::config::body::{MASSES, SIZES, balanced_inertia, principal_moments};
 use crate::config::error::Pos;
 use crate::config::mesh::TriMesh;
 use crate::interop::urdf::lint::misplaced_collision;
@@ -39,11 +39,11 @@ impl StandIn {
             .links
             .iter()
             .map(|l| l.inertial.mass.value)
-            .filter(|m| *m > 0.0 && m.is_finite())
+            .filter(|m| *m >= MASSES.0 && m.is_finite())
             .fold(f64::INFINITY, f64::min);
         StandIn {
             mass: if lightest.is_finite() {
-                0.01 * lightest
+                (0.01 * lightest).max(MASSES.0)
             } else {
                 0.01
             },
@@ -222,6 +222,11 @@ fn link_colour(robot: &urdf_rs::Robot, link: &urdf_rs::Link) -> Option<[f64; 3]>
 
 /// One collision geometry at `at` (in its body's frame); `None` (with a warning) for what
 /// proleg cannot represent.
+/// Whether a size (a half-extent, a radius, a height; m) is one proleg's files hold.
+fn size_ok(v: f64) -> bool {
+    (SIZES.0..=SIZES.1).contains(&v)
+}
+
 fn geom(
     link: &str,
     g: &urdf_rs::Geometry,
@@ -232,23 +237,25 @@ fn geom(
     // proleg's cylinders stand along y, URDF's along z: turn y onto z.
     let y_to_z = || at * UnitQuaternion::from_euler_angles(std::f64::consts::FRAC_PI_2, 0.0, 0.0);
     let (shape, pose) = match g {
-        urdf_rs::Geometry::Box { size } if size.iter().all(|v| *v > 0.0) => (
+        urdf_rs::Geometry::Box { size } if size.iter().all(|v| size_ok(v / 2.0)) => (
             Shape::Box {
                 extents: [size[0] / 2.0, size[1] / 2.0, size[2] / 2.0],
             },
             *at,
         ),
-        urdf_rs::Geometry::Sphere { radius } if *radius > 0.0 => {
+        urdf_rs::Geometry::Sphere { radius } if size_ok(*radius) => {
             (Shape::Sphere { radius: *radius }, *at)
         }
-        urdf_rs::Geometry::Cylinder { radius, length } if *radius > 0.0 && *length > 0.0 => (
+        urdf_rs::Geometry::Cylinder { radius, length } if size_ok(*radius) && size_ok(*length) => (
             Shape::Cylinder {
                 radius: *radius,
                 height: *length,
             },
             y_to_z(),
         ),
-        urdf_rs::Geometry::Capsule { radius, length } if *radius > 0.0 => {
+        urdf_rs::Geometry::Capsule { radius, length }
+            if size_ok(*radius) && size_ok(length + 2.0 * radius) =>
+        {
             warn.push(format!(
                 "link {link}: a capsule (r {radius} m, length {length} m) is imported as a cylinder of its full length"
             ));
@@ -282,7 +289,8 @@ fn geom(
         }
         other => {
             warn.push(format!(
-                "link {link}: a geometry of zero size is skipped: {other:?}"
+                "link {link}: a geometry of zero size, or outside proleg's {} to {} m, is skipped: {other:?}",
+                SIZES.0, SIZES.1
             ));
             return Ok(None);
         }
@@ -308,12 +316,12 @@ fn geom(
 fn check_inertial(link: &urdf_rs::Link, at: &str, urdf: &Path) -> Result<(), InteropError> {
     let i = &link.inertial;
     let name = &link.name;
-    if !(i.mass.value >= 0.0 && i.mass.value.is_finite()) {
+    if !(0.0..=MASSES.1).contains(&i.mass.value) {
         return Err(InteropError::new(
             urdf,
             format!(
-                "{at}link {name}: <inertial><mass value=\"{}\"/>: a mass must be >= 0 kg",
-                i.mass.value
+                "{at}link {name}: <inertial><mass value=\"{}\"/>: a mass must be between 0 and {} kg",
+                i.mass.value, MASSES.1
             ),
         ));
     }
@@ -395,6 +403,13 @@ fn mass(
         if i.mass.value <= 0.0 {
             continue;
         }
+        if i.mass.value < MASSES.0 {
+            warn.push(format!(
+                "link {}: its mass {} kg is below proleg's {} kg; it is taken as no mass",
+                link.name, i.mass.value, MASSES.0
+            ));
+            continue;
+        }
         let frame = tree.in_body(l) * origin(&i.origin);
         let r = frame.rotation.to_rotation_matrix().into_inner();
         let local = link_inertia(&robot.links[l], warn);
@@ -409,6 +424,15 @@ fn mass(
         return Ok(None);
     }
     let total: f64 = parts.iter().map(|p| p.0).sum();
+    if total > MASSES.1 {
+        return Err(InteropError::new(
+            urdf,
+            format!(
+                "link {name}: the links merged into its body weigh {total} kg, above proleg's {} kg",
+                MASSES.1
+            ),
+        ));
+    }
     let com: Vector3<f64> = parts.iter().map(|p| p.1 * p.0).sum::<Vector3<f64>>() / total;
     let mut inertia = Matrix3::zeros();
     for (m, c, i) in &parts {
