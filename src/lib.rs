@@ -29,6 +29,8 @@
 //! - [`optimize`]: parameter optimization: the search space, the optimizers (GA, great
 //!   deluge, CMA-ES, OpenAI-ES, MAP-Elites), the evaluator, the experiment store (SQLite or
 //!   a PostgreSQL store shared by workers on many hosts), replays and results.
+//! - [`playback`]: a 3D replay in the browser: episodes recorded as pose streams and the
+//!   three.js viewer page that plays them (`proleg run --html`, the dashboard).
 //! - [`plugin_host`]: user actuation modules in runtime-loaded libraries (the
 //!   `proleg-plugin-api` C ABI), their building and templates.
 //! - [`remote`]: remote controls (gamepads) bound to module parameters.
@@ -73,6 +75,7 @@ pub mod gym;
 pub mod interop;
 pub mod measure;
 pub mod optimize;
+pub mod playback;
 pub mod plugin_host;
 pub mod remote;
 pub mod rng;

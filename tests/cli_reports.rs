@@ -10,19 +10,8 @@ use proleg::control::ModuleRegistry;
 
 fn request(duration: f64) -> RunRequest {
     RunRequest {
-        config: common::root().join("configs/demo.simulation.xml"),
         duration: Some(duration),
-        seed: None,
-        realtime: 0.0,
-        data: None,
-        every: None,
-        physics: String::new(),
-        video: None,
-        fps: 30,
-        size: (1280, 720),
-        no_grid: false,
-        camera: None,
-        engine: None,
+        ..RunRequest::of(common::root().join("configs/demo.simulation.xml"))
     }
 }
 

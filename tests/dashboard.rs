@@ -10,6 +10,7 @@ use std::net::TcpStream;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+use common::browser::Browser;
 use common::pg::{server, spawn, text};
 use common::shared_run::driver_on_fresh_database;
 use proleg::optimize::store::{RunInfo, Store, StoreLocation, StoredEval};
@@ -185,145 +186,6 @@ fn the_api_answers_bad_requests_with_their_status_and_a_remote_bind_needs_its_to
     assert_eq!(get(&format!("{local}/")).0, 401);
     assert_eq!(get(&format!("{local}/api/runs?token=wrong{token}")).0, 401);
     assert_eq!(get(&format!("{local}/api/runs?token={token}")).0, 200);
-}
-
-/// chromedriver and a headless Chromium session, ended when dropped.
-struct Browser {
-    driver: Child,
-    runtime: tokio::runtime::Runtime,
-    client: Option<fantoccini::Client>,
-}
-
-impl Browser {
-    fn start(name: &str) -> Browser {
-        Browser::with_args(name, &[])
-    }
-
-    /// A browser whose pages prefer the dark colour scheme.
-    fn dark(name: &str) -> Browser {
-        Browser::with_args(name, &["--force-dark-mode"])
-    }
-
-    fn with_args(name: &str, extra: &[&str]) -> Browser {
-        let port = {
-            let l = std::net::TcpListener::bind("127.0.0.1:0").expect("a free port");
-            l.local_addr().expect("port").port()
-        };
-        let driver = Command::new("chromedriver")
-            .arg(format!("--port={port}"))
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("chromedriver (Debian's chromium-driver; scripts/test installs it)");
-        let profile = common::scratch(&format!("{name}_chromium"));
-        let mut args: Vec<String> = [
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-quic",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--window-size=1300,900",
-        ]
-        .iter()
-        .chain(extra)
-        .map(|a| a.to_string())
-        .collect();
-        args.push(format!("--user-data-dir={}", profile.display()));
-        let caps: serde_json::Map<String, serde_json::Value> =
-            serde_json::from_value(serde_json::json!({ "goog:chromeOptions": {
-                "binary": "/usr/bin/chromium",
-                "args": args
-            }}))
-            .expect("capabilities");
-        let runtime = tokio::runtime::Runtime::new().expect("runtime");
-        let url = format!("http://127.0.0.1:{port}");
-        let client = runtime.block_on(async {
-            // chromedriver takes a moment to listen.
-            for _ in 0..100 {
-                let c = fantoccini::ClientBuilder::native()
-                    .capabilities(caps.clone())
-                    .connect(&url)
-                    .await;
-                match c {
-                    Ok(c) => return c,
-                    Err(_) => tokio::time::sleep(Duration::from_millis(100)).await,
-                }
-            }
-            panic!("chromedriver did not answer at {url}");
-        });
-        Browser {
-            driver,
-            runtime,
-            client: Some(client),
-        }
-    }
-
-    fn goto(&self, url: &str) {
-        let c = self.client.as_ref().expect("a session");
-        self.runtime.block_on(c.goto(url)).expect("the page loads");
-    }
-
-    /// The value of the JavaScript expression `js` in the page.
-    fn eval(&self, js: &str) -> serde_json::Value {
-        let c = self.client.as_ref().expect("a session");
-        self.runtime
-            .block_on(c.execute(&format!("return {js};"), vec![]))
-            .unwrap_or_else(|e| panic!("{js}: {e}"))
-    }
-
-    /// A PNG of the window, written to `path` (for docs/; looked at before committing).
-    fn screenshot(&self, path: &std::path::Path) {
-        let c = self.client.as_ref().expect("a session");
-        let png = self.runtime.block_on(c.screenshot()).expect("a screenshot");
-        std::fs::write(path, png).expect("screenshot written");
-    }
-
-    /// A PNG of the element `selector` selects, written to `path` (the window made tall
-    /// enough to hold it whole).
-    fn screenshot_of(&self, selector: &str, path: &std::path::Path) {
-        let c = self.client.as_ref().expect("a session");
-        let png = self
-            .runtime
-            .block_on(async {
-                c.set_window_size(1300, 1600).await?;
-                let e = c.find(fantoccini::Locator::Css(selector)).await?;
-                c.execute(
-                    "arguments[0].scrollIntoView(true);",
-                    vec![serde_json::to_value(&e)?],
-                )
-                .await?;
-                e.screenshot().await
-            })
-            .unwrap_or_else(|e| panic!("a screenshot of {selector}: {e}"));
-        std::fs::write(path, png).expect("screenshot written");
-    }
-
-    /// Waits (up to 20 s) until `js` is true in the page.
-    fn wait_for(&self, js: &str) {
-        self.wait_up_to(js, Duration::from_secs(20));
-    }
-
-    /// Waits up to `limit` until `js` is true in the page.
-    fn wait_up_to(&self, js: &str, limit: Duration) {
-        let deadline = Instant::now() + limit;
-        while self.eval(js) != serde_json::Value::Bool(true) {
-            assert!(Instant::now() < deadline, "timed out waiting for: {js}");
-            std::thread::sleep(Duration::from_millis(50));
-        }
-    }
-}
-
-impl Drop for Browser {
-    fn drop(&mut self) {
-        if let Some(c) = self.client.take() {
-            let _ = self.runtime.block_on(c.close());
-        }
-        let _ = self.driver.kill();
-        let _ = self.driver.wait();
-    }
 }
 
 #[test]
@@ -677,4 +539,89 @@ fn a_store_that_goes_away_shows_reconnecting_and_the_page_recovers_with_it() {
         Duration::from_secs(90),
     );
     assert_eq!(b.eval("window.proleg.evaluations.length"), 30);
+}
+
+#[test]
+fn an_evaluation_replays_in_3d_beside_the_runs_best() {
+    let dir = common::scratch("dashboard_replay3d");
+    let store = dir.join("runs.sqlite");
+    let (ok, _, err) = common::optimize(
+        "configs/experiment1_ga.simulation.xml",
+        ("12", "2"),
+        &store,
+        &[],
+    );
+    assert!(ok, "{err}");
+    let d = Dashboard::start(store.to_str().unwrap(), "127.0.0.1:0", None);
+    let base = format!("{}/api/runs/1/evaluations/3/replay/rapier", d.base());
+    // Not before it is asked for, not from another site's form, not on an unknown engine.
+    assert_eq!(get(&format!("{base}/stream.json")).0, 404);
+    assert_eq!(request("POST", &base, "").0, 400);
+    let (status, body) = get(&format!(
+        "{}/api/runs/1/evaluations/3/replay/bullet",
+        d.base()
+    ));
+    assert_eq!(status, 400, "{body}");
+    assert!(body.contains("unknown physics engine"), "{body}");
+
+    let b = Browser::start("dashboard_replay3d");
+    b.goto(&format!("{}/replay?a=1/3&b=1/best", d.base()));
+    b.wait_up_to(
+        "!!(window.prolegReplay && (window.prolegReplay.ready || window.prolegReplay.error))",
+        Duration::from_secs(120),
+    );
+    assert_eq!(
+        b.eval("window.prolegReplay.error || null"),
+        serde_json::Value::Null
+    );
+    assert_eq!(b.eval("window.prolegReplay.replays"), 2);
+    assert_eq!(b.eval("window.prolegReplay.views()"), 2);
+    assert!(b.eval("window.prolegReplay.pose(1, 0)").is_object());
+
+    // The stream is the episode the optimizer scored: its last score is the stored one.
+    let (status, body) = get(&format!("{base}/stream.json"));
+    assert_eq!(status, 200);
+    let stream: serde_json::Value = serde_json::from_str(&body).expect("JSON");
+    let scores = proleg::playback::encode::decode(
+        stream["score"].as_str().expect("scores"),
+        f32::from_le_bytes,
+    )
+    .expect("base64");
+    let (_, run) = get(&format!("{}/api/runs/1", d.base()));
+    let run: serde_json::Value = serde_json::from_str(&run).expect("JSON");
+    let stored = run["evaluations"][3]["score"].as_f64().expect("a score");
+    let last = f64::from(*scores.last().expect("frames"));
+    assert!(
+        (last - stored).abs() < 1e-4,
+        "replayed {last}, stored {stored}"
+    );
+}
+
+/// The time from asking for an uncached 90-s evaluation's 3D replay to its first frame
+/// drawn, for docs/replay.md.
+#[test]
+#[ignore = "a figure: cargo test --release --test dashboard -- --ignored --nocapture replay_first_frame"]
+fn replay_first_frame_figure() {
+    let dir = common::scratch("dashboard_replay_figure");
+    let store = dir.join("runs.sqlite");
+    let (ok, _, err) = common::optimize(
+        "configs/experiment1_ga.simulation.xml",
+        ("2", "90"),
+        &store,
+        &[],
+    );
+    assert!(ok, "{err}");
+    let d = Dashboard::start(store.to_str().unwrap(), "127.0.0.1:0", None);
+    let b = Browser::start("dashboard_replay_figure");
+    b.goto(&format!("{}/", d.base()));
+    let asked = Instant::now();
+    b.goto(&format!("{}/replay?a=1/1", d.base()));
+    b.wait_up_to(
+        "!!(window.prolegReplay && window.prolegReplay.ready && window.prolegReplay.framesDrawn() > 0)",
+        Duration::from_secs(120),
+    );
+    eprintln!(
+        "uncached 90-s evaluation: first frame {:.2} s after the request",
+        asked.elapsed().as_secs_f64()
+    );
 }

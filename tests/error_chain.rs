@@ -14,21 +14,7 @@ use proleg::control::ModuleRegistry;
 #[test]
 fn a_missing_simulation_file_is_a_chain_from_the_command_to_the_system_error() {
     let missing = std::env::temp_dir().join("proleg-no-such.simulation.xml");
-    let req = RunRequest {
-        config: missing.clone(),
-        duration: None,
-        seed: None,
-        realtime: 0.0,
-        data: None,
-        every: None,
-        physics: String::new(),
-        engine: None,
-        video: None,
-        fps: 30,
-        size: (1280, 720),
-        no_grid: false,
-        camera: None,
-    };
+    let req = RunRequest::of(missing.clone());
     let err = run(&req, &ModuleRegistry::standard()).expect_err("no such file");
     assert!(matches!(err, CliError::Config(_)), "{err:?}");
     let mut chain: Vec<&(dyn Error + 'static)> = vec![&err];

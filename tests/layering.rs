@@ -23,6 +23,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "config", "control", "data", "measure", "rng", "sensing", "signal",
         ],
     ),
+    ("playback", &["config", "signal", "sim"]),
     (
         "robot_io",
         &[
@@ -32,7 +33,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     (
         "optimize",
         &[
-            "config", "control", "data", "measure", "rng", "signal", "sim",
+            "config", "control", "data", "measure", "playback", "rng", "signal", "sim",
         ],
     ),
     (
@@ -43,7 +44,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     (
         "gym",
         &[
-            "config", "control", "measure", "optimize", "rng", "sensing", "sim",
+            "config", "control", "measure", "optimize", "playback", "rng", "sensing", "sim",
         ],
     ),
     (
@@ -64,7 +65,9 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ),
     (
         "dashboard",
-        &["config", "control", "data", "optimize", "signal"],
+        &[
+            "config", "control", "data", "optimize", "playback", "signal",
+        ],
     ),
     (
         "gui",
@@ -103,6 +106,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "calibrate",
             "gym",
             "dashboard",
+            "playback",
             "suite",
         ],
     ),

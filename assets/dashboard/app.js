@@ -7,6 +7,7 @@ const state = {
   version: 0,
   runs: [],
   run: null,          // the open run's id
+  engines: [],        // the engines its candidates are scored on
   evaluations: [],    // its evaluations read so far
   sort: { key: "number", down: false },
   compare: new Set(),
@@ -147,11 +148,12 @@ async function loadRun() {
   if (id !== state.run || state.evaluations.length !== from) return;
   state.evaluations.push(...data.evaluations);
   const r = data.run;
+  state.engines = r.engines;
   $("#run-title").textContent = `Run ${r.id}: ${r.config}`;
   const summary = $("#run-summary");
   summary.textContent = `${r.algorithm} on ${r.engines.join(", ") || "an engine not known here"}, ` +
     `seed ${r.seed}, ${r.fitness} over ${r.duration} s episodes; ` +
-    `${evaluationCount(r)} evaluations (${fmt(r.episode_seconds, 1)} s of episodes), best ${fmt(r.best)}` +
+    `${evaluationCount(r)} evaluations of ${r.duration} s simulated each (${fmt(r.compute_seconds, 1)} s of computing), best ${fmt(r.best)}` +
     (r.best_engines.length ? ` (${r.best_engines.map(([k, s]) => `${k} ${fmt(s)}`).join(", ")})` : "") +
     (r.rejected ? `; ${r.rejected} bodies rejected` : "") + (r.finished ? "; finished" : "");
   summary.dataset.evaluations = String(state.evaluations.length);
@@ -311,6 +313,24 @@ function renderEvaluations() {
       b.setAttribute("aria-label", `replay evaluation ${e.number}: video and data file`);
       b.addEventListener("click", () => openEvaluation(e.number));
       play.appendChild(b);
+      // The 3D replay in a page of its own: this evaluation, beside the run's best, or on
+      // both engines when the run scores on both.
+      const links = [[`replay?a=${state.run}/${e.number}`, "3D", `3D replay of evaluation ${e.number}`],
+        [`replay?a=${state.run}/${e.number}&b=${state.run}/best`, "3D vs best", `evaluation ${e.number} beside the run's best in 3D`]];
+      if ((state.engines || []).length > 1) {
+        links.push([`replay?a=${state.run}/${e.number}/${state.engines[0]}&b=${state.run}/${e.number}/${state.engines[1]}`,
+          "3D both engines", `evaluation ${e.number} on ${state.engines.join(" and ")} in 3D`]);
+      }
+      for (const [href, text, label] of links) {
+        const a = document.createElement("a");
+        a.href = href;
+        a.target = "_blank";
+        a.rel = "noopener";
+        a.className = "replay3d";
+        a.textContent = text;
+        a.setAttribute("aria-label", label);
+        play.append(" ", a);
+      }
     }
     tr.appendChild(play);
     body.appendChild(tr);

@@ -48,6 +48,9 @@ pub enum CliError {
     /// A name that is none of the accepted ones.
     #[error("{0}")]
     Name(#[from] crate::config::error::UnknownName),
+    /// A 3D replay that cannot be recorded or written.
+    #[error("{0}")]
+    Playback(#[from] crate::playback::PlaybackError),
     /// Ctrl-C / SIGTERM cannot be handled.
     #[error("{0}")]
     Signal(#[from] crate::signal::SignalError),

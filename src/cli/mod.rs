@@ -6,7 +6,7 @@
 //!
 //! | command | module |
 //! |---|---|
-//! | `proleg run` | [`run`] ([`run::RunReport`]) |
+//! | `proleg run` | [`run`] ([`run::RunReport`]); `--html`: [`run_html`] |
 //! | `proleg optimize` | [`optimize`] ([`optimize::OptimizeReport`]) |
 //! | `proleg compare` | [`compare`] ([`compare::CompareReport`]) |
 //! | `proleg results` | [`results`] ([`results::ResultsReport`]) |
@@ -38,6 +38,7 @@ pub mod results;
 pub mod robot;
 pub mod robustness;
 pub mod run;
+pub mod run_html;
 pub mod suite;
 pub mod terrain;
 pub mod worker;

@@ -1,6 +1,6 @@
 //! `proleg results`: the runs of one or more experiment stores, their best candidates,
-//! learning curves (PNG, all runs together as in thesis fig. 7.1a) and every evaluation
-//! as TSV.
+//! learning curves (PNG, all runs together as in thesis fig. 7.1a), every evaluation as
+//! TSV, and an evaluation as a 3D replay page (`--html`).
 
 use std::path::{Path, PathBuf};
 
@@ -9,6 +9,7 @@ use crate::control::ModuleRegistry;
 use crate::optimize::archive::{StoredArchive, plot_map, stored_archive};
 use crate::optimize::curve::{CurveGroup, plot_curves};
 use crate::optimize::export::export_candidate;
+use crate::optimize::replay::{Which, load_replay};
 use crate::optimize::store::table::{self, evaluation_rows};
 use crate::optimize::store::{RunRow, Store, StoreLocation};
 
@@ -44,7 +45,16 @@ pub struct ResultsArgs {
     /// candidate.simulation.xml with its actuation and networks' weights files).
     #[arg(long, value_name = "N|best", requires = "out")]
     pub export_robot: Option<String>,
-    /// The folder --export-robot writes.
+    /// Write the first run's evaluation N (or the best), replayed as the optimization
+    /// scored it, as a self-contained 3D replay page into the file -o names.
+    #[arg(
+        long,
+        value_name = "N|best",
+        requires = "out",
+        conflicts_with = "export_robot"
+    )]
+    pub html: Option<String>,
+    /// The folder --export-robot writes, or the page --html writes.
     #[arg(short, long)]
     pub out: Option<PathBuf>,
     /// Render a co-design run's best distinct bodies (the first run listed: choose it with
@@ -74,6 +84,10 @@ impl ResultsArgs {
                 want: "give an evaluation number or best",
             })?)),
         };
+        let html = match self.html.as_deref() {
+            None => None,
+            Some(text) => Some((Which::parse(text)?, self.out.clone().unwrap_or_default())),
+        };
         Ok(ResultsOptions {
             stores: self.stores.clone(),
             runs: self.runs.clone(),
@@ -81,6 +95,7 @@ impl ResultsArgs {
             export: self.export.clone(),
             map: self.map.clone(),
             export_robot: export_robot.map(|n| (n, self.out.clone().unwrap_or_default())),
+            html,
         })
     }
 }
@@ -102,6 +117,8 @@ pub struct ResultsOptions {
     /// configuration files into this folder (a co-design run's body, any other run's
     /// actuation file).
     pub export_robot: Option<(Option<u64>, PathBuf)>,
+    /// Write an evaluation of the first run as a 3D replay page into this file.
+    pub html: Option<(Which, PathBuf)>,
 }
 
 /// The runs of the stores, and the files written.
@@ -120,6 +137,8 @@ pub struct ResultsReport {
     /// The exported candidate's main file (a design's simulation file, else the
     /// actuation file), if written.
     pub exported: Option<PathBuf>,
+    /// The 3D replay page written: the evaluation's number, the file and its size (bytes).
+    pub html: Option<(u64, PathBuf, u64)>,
 }
 
 impl std::fmt::Display for ResultsReport {
@@ -146,6 +165,14 @@ impl std::fmt::Display for ResultsReport {
         }
         if let Some(sim) = &self.exported {
             writeln!(f, "candidate written: {}", sim.display())?;
+        }
+        if let Some((number, page, bytes)) = &self.html {
+            writeln!(
+                f,
+                "3D replay of evaluation {number} written to {} ({:.2} MB)",
+                page.display(),
+                *bytes as f64 / 1e6
+            )?;
         }
         if let Some(tsv) = &self.export {
             writeln!(f, "evaluations written to {}", tsv.display())?;
@@ -250,6 +277,10 @@ pub fn run(o: &ResultsOptions, registry: &ModuleRegistry) -> Result<ResultsRepor
         }
         None => None,
     };
+    let html = match &o.html {
+        Some((which, file)) => Some(replay_page(&mut opened, *which, file, registry)?),
+        None => None,
+    };
     if let Some(png) = &o.curve {
         let curves = curve_groups(&mut opened)?;
         let fitness = opened
@@ -276,7 +307,25 @@ pub fn run(o: &ResultsOptions, registry: &ModuleRegistry) -> Result<ResultsRepor
         archives,
         map: o.map.clone(),
         exported,
+        html,
     })
+}
+
+/// Writes `which` evaluation of the first run as a 3D replay page into `file`: its number,
+/// the file and its size.
+fn replay_page(
+    opened: &mut [(Store, Vec<RunRow>)],
+    which: Which,
+    file: &Path,
+    registry: &ModuleRegistry,
+) -> Result<(u64, PathBuf, u64), CliError> {
+    let (store, runs) = opened.first_mut().ok_or(CliError::NoRun(0))?;
+    let run = runs.first().ok_or(CliError::NoRun(0))?.id;
+    let number = which.number(store, run)?;
+    let replay = load_replay(store, run, number, None, registry)?;
+    let stream = replay.pose_stream(registry, crate::playback::DEFAULT_FPS)?;
+    let bytes = crate::playback::page::write_standalone(file, &[&stream])?;
+    Ok((number, file.to_path_buf(), bytes))
 }
 
 /// The runs' learning curves: runs of one optimizer on one configuration (seeds) make one

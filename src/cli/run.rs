@@ -9,10 +9,13 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use crate::cli::error::CliError;
+use crate::cli::run_html;
+use crate::config::Simulation;
 use crate::config::fitness::Fitness;
 use crate::config::simulation::EngineKind;
 use crate::config::simulation::Mode;
 use crate::control::{ModuleRegistry, load_simulation_in};
+use crate::playback::{PoseStream, Recording, record_episode};
 use crate::signal::StopFlag;
 use crate::sim::datalog::DataSettings;
 use crate::sim::engine::EngineSettings;
@@ -53,9 +56,20 @@ pub struct RunRequest {
     /// feature, no display.
     #[arg(long)]
     pub video: Option<PathBuf>,
-    /// Video frames per simulated second.
-    #[arg(long, default_value_t = 30)]
+    /// Frames per simulated second of the video or the 3D replay.
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..))]
     pub fps: u32,
+    /// Write the run as a 3D replay: one self-contained HTML page (the viewer and the
+    /// bodies' poses inlined; opened from disk in any browser, no server, no network).
+    #[arg(long, conflicts_with_all = ["video", "realtime"])]
+    pub html: Option<PathBuf>,
+    /// With --html: another simulation file run on the same seed and shown beside this
+    /// one on one timeline (two controllers on one world).
+    #[arg(long, requires = "html")]
+    pub compare: Option<PathBuf>,
+    /// With --html: the run also on this engine, shown beside it (rapier against MuJoCo).
+    #[arg(long, requires = "html")]
+    pub compare_engine: Option<EngineKind>,
     /// Video size, WIDTHxHEIGHT.
     #[arg(long, default_value = "1280x720", value_parser = crate::cli::parse_size)]
     pub size: (u32, u32),
@@ -67,6 +81,30 @@ pub struct RunRequest {
     /// left; degrees above the ground) [default: 0.75,-51.6,31.5]
     #[arg(long, requires = "video", value_parser = crate::cli::parse_camera)]
     pub camera: Option<[f64; 3]>,
+}
+
+impl RunRequest {
+    /// A run of `config` with every option as the command line leaves it by default.
+    pub fn of(config: PathBuf) -> RunRequest {
+        RunRequest {
+            config,
+            duration: None,
+            seed: None,
+            realtime: 0.0,
+            data: None,
+            every: None,
+            physics: String::new(),
+            engine: None,
+            video: None,
+            fps: 30,
+            size: (1280, 720),
+            no_grid: false,
+            camera: None,
+            html: None,
+            compare: None,
+            compare_engine: None,
+        }
+    }
 }
 
 /// What a run did.
@@ -92,6 +130,8 @@ pub struct RunReport {
     pub failures: Vec<(String, String)>,
     /// How the run ended before its duration, if it did.
     pub stopped: Option<RunStop>,
+    /// The 3D replay page written (`--html`).
+    pub html: Option<crate::cli::run_html::HtmlReport>,
 }
 
 /// Why a run ended before its duration.
@@ -120,21 +160,7 @@ pub fn run(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, Cli
 fn run_report(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, CliError> {
     let sim = load_simulation_in(&req.config, registry)?.with_engine(req.engine);
     let props = &sim.files.simulation.properties;
-    let duration = req.duration.unwrap_or(props.duration);
-    if !duration.is_finite() || duration < 0.0 {
-        return Err(CliError::Option {
-            option: "--duration",
-            value: duration.to_string(),
-            want: "give a number of seconds >= 0",
-        });
-    }
-    if !req.realtime.is_finite() || req.realtime < 0.0 {
-        return Err(CliError::Option {
-            option: "--realtime",
-            value: req.realtime.to_string(),
-            want: "give a factor >= 0 (0 = as fast as possible)",
-        });
-    }
+    let duration = checked_duration(req, props.duration)?;
     let seed = req.seed.unwrap_or(props.seed);
     let settings = EngineSettings::of(&sim, &req.physics)?;
     let opts = BuildOptions {
@@ -149,25 +175,23 @@ fn run_report(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, 
         realtime_factor: req.realtime,
         delay_ms: 0.0,
     });
-    if let Some(file) = &req.data {
-        let every = req.every.unwrap_or(props.accuracy.max(1));
-        if every == 0 {
-            return Err(CliError::Option {
-                option: "--every",
-                value: "0".into(),
-                want: "give a sampling period of at least 1 step",
-            });
-        }
-        let settings = DataSettings {
-            every,
-            ..DataSettings::default()
-        };
-        simulator.record_to(file, settings)?;
-    }
+    start_data(req, &mut simulator, props.accuracy)?;
     let heading0 = simulator.heading(0)?;
     let start_com = simulator.com(0)?;
     let wall = Instant::now();
-    let stopped = run_in_chunks(&mut simulator, duration)?;
+    // The subscription must live as long as the run: a dropped one hears no signal.
+    let subscription = crate::signal::subscribe()?;
+    let stop = subscription.flag();
+    let recording = req
+        .html
+        .as_ref()
+        .map(|_| run_html::recording(req, run_html::label(&req.config, simulator.engine_kind())));
+    let (stopped, stream) = run_in_chunks(
+        &mut simulator,
+        duration,
+        &stop,
+        recording.as_ref().map(|r| (&sim, r)),
+    )?;
     let rounds = simulator.finish_data()?;
     let summary = RunSummary::new(
         simulator.clock().step,
@@ -176,6 +200,14 @@ fn run_report(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, 
         start_com,
         simulator.com(0)?,
     );
+    let html = match (&req.html, stream) {
+        (Some(file), Some(stream)) => {
+            let beside = run_html::compare_stream(req, registry, (duration, seed), &stop)?;
+            let streams: Vec<&PoseStream> = std::iter::once(&stream).chain(&beside).collect();
+            Some(run_html::write_page(file, &streams)?)
+        }
+        _ => None,
+    };
     Ok(RunReport {
         simulation: sim.file.clone(),
         robot: sim.robot.name.clone(),
@@ -194,29 +226,83 @@ fn run_report(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, 
             })
             .unwrap_or_default(),
         stopped,
+        html,
     })
 }
 
-/// Runs `duration` seconds as one episode, stopping early on Ctrl-C / SIGTERM or when the
-/// robot leaves the world; says which stopped it. A paced run paces each chunk.
-fn run_in_chunks(simulator: &mut Simulator, duration: f64) -> Result<Option<RunStop>, CliError> {
-    // The subscription must live as long as the run: a dropped one hears no signal.
-    let subscription = crate::signal::subscribe()?;
-    let stop = subscription.flag();
-    // `proleg run` reports displacement; the fitness only scores, and nothing reads it here.
+/// The run's duration (`--duration`, else the file's `duration`), checked with
+/// `--realtime`.
+fn checked_duration(req: &RunRequest, file_duration: f64) -> Result<f64, CliError> {
+    let duration = req.duration.unwrap_or(file_duration);
+    if !duration.is_finite() || duration < 0.0 {
+        return Err(CliError::Option {
+            option: "--duration",
+            value: duration.to_string(),
+            want: "give a number of seconds >= 0",
+        });
+    }
+    if !req.realtime.is_finite() || req.realtime < 0.0 {
+        return Err(CliError::Option {
+            option: "--realtime",
+            value: req.realtime.to_string(),
+            want: "give a factor >= 0 (0 = as fast as possible)",
+        });
+    }
+    Ok(duration)
+}
+
+/// Starts `--data`'s file, sampled every `--every` steps (else the file's `accuracy`).
+fn start_data(req: &RunRequest, simulator: &mut Simulator, accuracy: u32) -> Result<(), CliError> {
+    let Some(file) = &req.data else {
+        return Ok(());
+    };
+    let every = req.every.unwrap_or(accuracy.max(1));
+    if every == 0 {
+        return Err(CliError::Option {
+            option: "--every",
+            value: "0".into(),
+            want: "give a sampling period of at least 1 step",
+        });
+    }
+    let settings = DataSettings {
+        every,
+        ..DataSettings::default()
+    };
+    simulator.record_to(file, settings)?;
+    Ok(())
+}
+
+/// Runs `duration` seconds as one episode, stopping early on `stop` (Ctrl-C / SIGTERM) or
+/// when the robot leaves the world; says which stopped it. A paced run paces each chunk;
+/// with `replay` (the loaded simulation and how to record), the run is recorded as a pose
+/// stream (unpaced).
+fn run_in_chunks(
+    simulator: &mut Simulator,
+    duration: f64,
+    stop: &StopFlag,
+    replay: Option<(&Simulation, &Recording)>,
+) -> Result<(Option<RunStop>, Option<PoseStream>), CliError> {
+    // `proleg run` reports displacement (the stream's score over time is it too).
     let settings = EpisodeSettings::new(simulator, duration, Fitness::Displacement);
     let mut episode = Episode::begin(simulator, settings)?;
     let pacer = Pacer::new(simulator.pacing(), simulator.clock().dt);
-    let end = if pacer.is_paced() {
-        paced(simulator, &mut episode, &pacer, &stop)?
-    } else {
-        episode.run(simulator, Some(&stop), |_| Ok::<(), CliError>(()))?
+    let (end, stream) = match replay {
+        Some((sim, recording)) => {
+            let r = record_episode(sim, simulator, &mut episode, recording, Some(stop))?;
+            (r.end, Some(r.stream))
+        }
+        None if pacer.is_paced() => (paced(simulator, &mut episode, &pacer, stop)?, None),
+        None => (
+            episode.run(simulator, Some(stop), |_| Ok::<(), CliError>(()))?,
+            None,
+        ),
     };
-    Ok(match end {
+    let stopped = match end {
         EpisodeEnd::Duration => None,
         EpisodeEnd::Stopped => Some(RunStop::Interrupted),
         EpisodeEnd::Left(exit) => Some(RunStop::Left(exit)),
-    })
+    };
+    Ok((stopped, stream))
 }
 
 /// [`Episode::advance`] one step at a time against the wall clock (the exit rule still
@@ -266,6 +352,19 @@ impl fmt::Display for RunReport {
         writeln!(out, "heading         {h0:.1} -> {h1:.1} deg")?;
         if let Some((file, rounds)) = &self.data {
             writeln!(out, "data            {} ({rounds} rounds)", file.display())?;
+        }
+        if let Some(h) = &self.html {
+            let frames: Vec<String> = h.frames.iter().map(ToString::to_string).collect();
+            writeln!(
+                out,
+                "3D replay       {} ({:.2} MB, {} frames{})",
+                h.file.display(),
+                h.bytes as f64 / 1e6,
+                frames.join(" + "),
+                h.beside
+                    .as_ref()
+                    .map_or_else(String::new, |b| format!("; beside it: {b}"))
+            )?;
         }
         for (module, cause) in &self.failures {
             writeln!(out, "module failed   {module}: {cause}")?;

@@ -296,9 +296,37 @@ fn data(command: DataCommand) -> Printed {
 
 #[cfg(test)]
 mod tests {
+    use clap::Parser;
+
+    use super::{Cli, Command};
+
     /// clap's own checks of every command's arguments.
     #[test]
     fn the_command_line_passes_claps_checks() {
-        <super::Cli as clap::CommandFactory>::command().debug_assert();
+        <Cli as clap::CommandFactory>::command().debug_assert();
+    }
+
+    /// `RunRequest::of` is what the command line gives without options, and `--html`
+    /// refuses what it cannot do (a paced run, a video) and what needs it.
+    #[test]
+    fn a_run_request_of_a_file_is_the_command_lines_default() {
+        let parsed = Cli::try_parse_from(["proleg", "run", "a.simulation.xml"]).unwrap();
+        let Some(Command::Run(req)) = parsed.command else {
+            panic!("not a run");
+        };
+        assert_eq!(
+            req,
+            crate::cli::run::RunRequest::of("a.simulation.xml".into())
+        );
+        for refused in [
+            &["run", "a.xml", "--html", "a.html", "--realtime", "1"][..],
+            &["run", "a.xml", "--html", "a.html", "--video", "a.mp4"],
+            &["run", "a.xml", "--compare", "b.xml"],
+            &["run", "a.xml", "--compare-engine", "mujoco"],
+            &["run", "a.xml", "--html", "a.html", "--fps", "0"],
+        ] {
+            let args = std::iter::once("proleg").chain(refused.iter().copied());
+            assert!(Cli::try_parse_from(args).is_err(), "{refused:?} accepted");
+        }
     }
 }

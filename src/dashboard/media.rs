@@ -1,10 +1,11 @@
-//! An evaluation's video and data file, made on demand: the page asks for them, one thread
-//! makes them in order (a queue: never two renders at once, however many pages ask), each
-//! replayed from the store as the optimization scored it ([`crate::optimize::replay`]) and
-//! kept in a cache folder, so each is made once. The data file is recorded headless by the
-//! replay itself; the video by a [`VideoRenderer`] the builds with a renderer supply (the
-//! off-screen renderer of `proleg run --video`); without one the page says why there is
-//! no video.
+//! An evaluation's video, data file and 3D replay, made on demand: the page asks for them,
+//! one thread makes them in order (a queue: never two renders at once, however many pages
+//! ask), each replayed from the store as the optimization scored it
+//! ([`crate::optimize::replay`]) and kept in a cache folder, so each is made once. The data
+//! file and the 3D replay's pose stream (on the run's engine or the other) are recorded
+//! headless by the replay itself; the video by a [`VideoRenderer`] the builds with a
+//! renderer supply (the off-screen renderer of `proleg run --video`); without one the page
+//! says why there is no video.
 
 use std::collections::{HashMap, VecDeque};
 use std::path::{Path, PathBuf};
@@ -14,6 +15,7 @@ use std::time::Duration;
 
 use serde::Serialize;
 
+use crate::config::simulation::EngineKind;
 use crate::control::ModuleRegistry;
 use crate::optimize::replay::{Replay, load_replay};
 use crate::optimize::store::{Store, StoreLocation};
@@ -33,13 +35,14 @@ pub trait VideoRenderer: Send + Sync {
 }
 
 /// Which of an evaluation's media.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
-#[serde(rename_all = "lowercase")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Kind {
     /// The episode as a WebM video.
     Video,
     /// The episode's B.8 data file.
     Data,
+    /// The episode replayed on this engine as the 3D viewer's pose stream (JSON).
+    Replay(EngineKind),
 }
 
 impl Kind {
@@ -48,6 +51,17 @@ impl Kind {
         match self {
             Kind::Video => "webm",
             Kind::Data => "data.xml",
+            Kind::Replay(EngineKind::Rapier) => "replay-rapier.json",
+            Kind::Replay(EngineKind::Mujoco) => "replay-mujoco.json",
+        }
+    }
+
+    /// What it is, as messages name it.
+    pub fn what(self) -> &'static str {
+        match self {
+            Kind::Video => "video",
+            Kind::Data => "data file",
+            Kind::Replay(_) => "3D replay",
         }
     }
 }
@@ -248,6 +262,18 @@ impl Media {
                     .render(replay, &part, registry)
                     .map_err(MediaError::Render)?;
             }
+            Kind::Replay(engine) => {
+                let replay = if engine == replay.engine {
+                    replay
+                } else {
+                    replay.on_engine(engine)
+                };
+                let stream = replay.pose_stream(registry, crate::playback::DEFAULT_FPS)?;
+                std::fs::write(&part, stream.to_json()?).map_err(|source| MediaError::Io {
+                    path: part.clone(),
+                    source,
+                })?;
+            }
         }
         std::fs::rename(&part, &done).map_err(|source| MediaError::Io { path: done, source })
     }
@@ -270,6 +296,9 @@ pub enum MediaError {
     /// The evaluation could not be replayed.
     #[error("{0}")]
     Replay(#[from] crate::optimize::replay::ReplayError),
+    /// The 3D replay's stream could not be encoded.
+    #[error("{0}")]
+    Playback(#[from] crate::playback::PlaybackError),
     /// A video asked of a build without renderer.
     #[error("this build has no renderer")]
     NoRenderer,

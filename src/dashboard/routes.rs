@@ -1,7 +1,8 @@
 //! The dashboard's routes: the page and its assets (built into the binary), the JSON of the
-//! runs and of a run's evaluations, a run's evaluations as CSV, and the event stream that
-//! tells the page when the store changed (server-sent events). A remote bind requires the
-//! token ([`guard`]); a bad request gets its status and a one-line message.
+//! runs and of a run's evaluations, a run's evaluations as CSV, an evaluation's media (video,
+//! data file, and the 3D replay's page and pose streams on either engine), and the event
+//! stream that tells the page when the store changed (server-sent events). A remote bind
+//! requires the token ([`guard`]); a bad request gets its status and a one-line message.
 
 use std::convert::Infallible;
 use std::sync::Arc;
@@ -15,7 +16,9 @@ use axum::response::sse::{Event, KeepAlive, Sse};
 use axum::response::{IntoResponse, Json, Response};
 use axum::routing::get;
 
+use crate::config::simulation::EngineKind;
 use crate::dashboard::media::{Job, Kind, Media, MediaState};
+use crate::playback::page;
 use tokio_stream::StreamExt;
 use tokio_stream::wrappers::WatchStream;
 
@@ -56,6 +59,20 @@ pub fn router(app: App) -> Router {
             "/vendor/uPlot.min.css",
             get(|| asset("text/css", UPLOT_CSS)),
         )
+        .route("/replay", get(replay_page))
+        .route(
+            "/viewer.js",
+            get(|| asset("text/javascript", page::VIEWER_JS)),
+        )
+        .route("/viewer.css", get(|| asset("text/css", page::VIEWER_CSS)))
+        .route(
+            "/replay-sources.js",
+            get(|| asset("text/javascript", REPLAY_SOURCES_JS)),
+        )
+        .route(
+            "/vendor/three.iife.min.js",
+            get(|| asset("text/javascript", page::THREE_JS)),
+        )
         .route("/api/runs", get(runs))
         .route("/api/runs/{id}", get(run))
         .route("/api/runs/{id}/evaluations.csv", get(run_csv))
@@ -67,6 +84,14 @@ pub fn router(app: App) -> Router {
         .route("/api/runs/{id}/evaluations/{n}/video.webm", get(video))
         .route("/api/runs/{id}/evaluations/{n}/data.xml", get(data_file))
         .route("/api/runs/{id}/evaluations/{n}/data.json", get(data_json))
+        .route(
+            "/api/runs/{id}/evaluations/{n}/replay/{engine}",
+            get(replay_state).post(replay_request),
+        )
+        .route(
+            "/api/runs/{id}/evaluations/{n}/replay/{engine}/stream.json",
+            get(replay_stream),
+        )
         .route("/api/events", get(events))
         .fallback(|| async { (StatusCode::NOT_FOUND, "no such page") })
         .layer(axum::middleware::from_fn_with_state(app.clone(), guard))
@@ -79,13 +104,28 @@ const STYLE_CSS: &str = include_str!("../../assets/dashboard/style.css");
 const UPLOT_JS: &str = include_str!("../../assets/dashboard/vendor/uPlot.iife.min.js");
 const UPLOT_CSS: &str = include_str!("../../assets/dashboard/vendor/uPlot.min.css");
 
+/// The 3D replay's page (assets/viewer/dashboard.html): the viewer, fetching the pose
+/// streams `?a=RUN/N/ENGINE&b=…` names.
+const REPLAY_HTML: &str = include_str!("../../assets/viewer/dashboard.html");
+/// What turns the replay page's query into streams asked of this server.
+const REPLAY_SOURCES_JS: &str = include_str!("../../assets/viewer/dashboard-sources.js");
+
 /// The page, with a policy that lets it load nothing but this server's own files.
 async fn page() -> Response {
-    let mut r = asset("text/html; charset=utf-8", INDEX_HTML).await;
+    own_files_only(asset("text/html; charset=utf-8", INDEX_HTML).await)
+}
+
+/// The 3D replay's page, under the same policy.
+async fn replay_page() -> Response {
+    own_files_only(asset("text/html; charset=utf-8", REPLAY_HTML).await)
+}
+
+/// `r` with a policy that lets its page load nothing but this server's own files.
+fn own_files_only(mut r: Response) -> Response {
     r.headers_mut().insert(
         header::CONTENT_SECURITY_POLICY,
         HeaderValue::from_static(
-            "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data:",
+            "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:",
         ),
     );
     r
@@ -197,6 +237,9 @@ pub enum ApiError {
         /// Video or data file.
         what: &'static str,
     },
+    /// An engine name that is no engine's.
+    #[error("{0}")]
+    BadEngine(#[from] crate::config::simulation::UnknownEngine),
     /// A request to make media without the page's header (another site's form).
     #[error("ask for media from the dashboard's page (the X-Proleg header is missing)")]
     NotFromPage,
@@ -223,6 +266,7 @@ impl IntoResponse for ApiError {
             ApiError::BadId(_)
             | ApiError::BadFrom
             | ApiError::BadNumber(_)
+            | ApiError::BadEngine(_)
             | ApiError::NotFromPage => StatusCode::BAD_REQUEST,
             ApiError::NoRun(_)
             | ApiError::NoMap(_)
@@ -382,10 +426,7 @@ fn made(app: &App, at: (String, String), kind: Kind) -> Result<std::path::PathBu
         return Err(ApiError::NotMade {
             run: job.run,
             number: job.number,
-            what: match kind {
-                Kind::Video => "video",
-                Kind::Data => "data file",
-            },
+            what: kind.what(),
         });
     }
     Ok(app.media.file(&job))
@@ -434,4 +475,45 @@ async fn data_json(
     let file = made(&app, at, Kind::Data)?;
     let plot = tokio::task::spawn_blocking(move || data_plot(&file)).await??;
     Ok(Json(plot).into_response())
+}
+
+/// Evaluation `n` of run `id` replayed on `engine`: its 3D replay's job.
+fn replay_job(app: &App, (id, n, engine): (String, String, String)) -> Result<Job, ApiError> {
+    let engine: EngineKind = engine.parse()?;
+    job_of(app, (id, n), Kind::Replay(engine))
+}
+
+/// Where an evaluation's 3D replay on an engine is.
+async fn replay_state(
+    State(app): State<App>,
+    Path(at): Path<(String, String, String)>,
+) -> Result<Response, ApiError> {
+    Ok(Json(app.media.state(&replay_job(&app, at)?)).into_response())
+}
+
+/// Asks for an evaluation's 3D replay on an engine (from the page: `X-Proleg`).
+async fn replay_request(
+    State(app): State<App>,
+    Path(at): Path<(String, String, String)>,
+    headers: axum::http::HeaderMap,
+) -> Result<Response, ApiError> {
+    if !headers.contains_key("x-proleg") {
+        return Err(ApiError::NotFromPage);
+    }
+    Ok(Json(app.media.request(replay_job(&app, at)?)).into_response())
+}
+
+/// A made 3D replay's pose stream.
+async fn replay_stream(
+    State(app): State<App>,
+    Path(at): Path<(String, String, String)>,
+) -> Result<Response, ApiError> {
+    let job = replay_job(&app, at)?;
+    let bytes = bytes(
+        &app,
+        (job.run.to_string(), job.number.to_string()),
+        job.kind,
+    )
+    .await?;
+    Ok(([(header::CONTENT_TYPE, "application/json")], bytes).into_response())
 }

@@ -53,8 +53,9 @@ pub struct RunView {
     pub rejected: u64,
     /// The engines its candidates are scored on.
     pub engines: Vec<String>,
-    /// Seconds of episodes its evaluations took, summed (the compute it used).
-    pub episode_seconds: f64,
+    /// Seconds of computing its evaluations took, summed (the store's wall times: the
+    /// compute it used, not the simulated time, which is `duration` per episode).
+    pub compute_seconds: f64,
     /// A shared run's evaluations waiting for a worker.
     pub pending: Option<u64>,
     /// A shared run's evaluations claimed by workers.
@@ -107,7 +108,7 @@ impl RunView {
                 .collect(),
             rejected: r.rejected,
             engines: details.map(|d| d.engines.clone()).unwrap_or_default(),
-            episode_seconds: s
+            compute_seconds: s
                 .evaluations
                 .get(&r.id)
                 .map_or(0.0, |e| e.iter().map(|e| e.wall).sum()),

@@ -16,7 +16,7 @@ use crate::optimize::shared::{stored_evaluator, stored_simulation};
 use crate::optimize::space::{Genome, SearchSpace};
 use crate::optimize::store::{RunSpec, Store, StoreError, program_version};
 use crate::sim::randomize::SensorNoise;
-use crate::sim::{BuildOptions, SimError, Simulator};
+use crate::sim::{BuildOptions, Episode, EpisodeSettings, SimError, Simulator};
 
 /// Why a stored evaluation cannot be replayed or checked.
 #[derive(Debug, thiserror::Error)]
@@ -101,6 +101,9 @@ pub enum ReplayError {
     /// Its data file could not be completed.
     #[error("{0}")]
     Data(#[from] crate::data::store::DataStoreError),
+    /// Its pose stream could not be recorded.
+    #[error("{0}")]
+    Playback(#[from] crate::playback::PlaybackError),
 }
 
 /// A stored evaluation, ready to run again.
@@ -352,6 +355,33 @@ impl Replay {
         )?;
         simulator.run_for(self.duration);
         Ok(simulator.finish_data()?)
+    }
+
+    /// Replays the episode headless in the world [`Replay::build_options`] builds, as the
+    /// optimization ran it (one episode: a robot that leaves the world ends it), recorded
+    /// as a pose stream for the 3D viewer at `fps` frames per simulated second.
+    pub fn pose_stream(
+        &self,
+        registry: &ModuleRegistry,
+        fps: f64,
+    ) -> Result<crate::playback::PoseStream, ReplayError> {
+        let mut simulator =
+            Simulator::with_registry(&self.sim, &self.build_options(false), registry)?;
+        self.apply(&mut simulator)?;
+        let settings = EpisodeSettings::new(&simulator, self.duration, self.fitness());
+        let mut episode = Episode::begin(&simulator, settings)?;
+        let recording = crate::playback::Recording {
+            fps,
+            label: self.label.clone(),
+        };
+        let recorded = crate::playback::record_episode(
+            &self.sim,
+            &mut simulator,
+            &mut episode,
+            &recording,
+            None,
+        )?;
+        Ok(recorded.stream)
     }
 }
 
