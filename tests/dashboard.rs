@@ -408,9 +408,10 @@ const FITS: &str = "[...document.querySelectorAll('body *')].filter((e) => \
     .concat(document.documentElement.scrollWidth > document.documentElement.clientWidth \
         ? [`page ${document.documentElement.scrollWidth} > ${document.documentElement.clientWidth}`] : [])";
 
-#[test]
-fn an_evaluation_replays_in_the_page_as_a_video_of_the_robot_with_its_data_plots() {
-    let dir = common::scratch("dashboard_video");
+/// A store of twelve 2-s evaluations of experiment 1's GA in a scratch folder `name`,
+/// served by a dashboard on loopback.
+fn small_run(name: &str) -> (std::path::PathBuf, Dashboard) {
+    let dir = common::scratch(name);
     let store = dir.join("runs.sqlite");
     let (ok, _, err) = common::optimize(
         "configs/experiment1_ga.simulation.xml",
@@ -420,6 +421,12 @@ fn an_evaluation_replays_in_the_page_as_a_video_of_the_robot_with_its_data_plots
     );
     assert!(ok, "{err}");
     let d = Dashboard::start(store.to_str().unwrap(), "127.0.0.1:0", None);
+    (dir, d)
+}
+
+#[test]
+fn an_evaluation_replays_in_the_page_as_a_video_of_the_robot_with_its_data_plots() {
+    let (dir, d) = small_run("dashboard_video");
     let media = |n: u32| format!("{}/api/runs/1/evaluations/{n}/media", d.base());
     let (status, _) = get(&format!("{}/api/runs/1/evaluations/3/video.webm", d.base()));
     assert_eq!(status, 404, "no video before it is asked for");
@@ -543,16 +550,7 @@ fn a_store_that_goes_away_shows_reconnecting_and_the_page_recovers_with_it() {
 
 #[test]
 fn an_evaluation_replays_in_3d_beside_the_runs_best() {
-    let dir = common::scratch("dashboard_replay3d");
-    let store = dir.join("runs.sqlite");
-    let (ok, _, err) = common::optimize(
-        "configs/experiment1_ga.simulation.xml",
-        ("12", "2"),
-        &store,
-        &[],
-    );
-    assert!(ok, "{err}");
-    let d = Dashboard::start(store.to_str().unwrap(), "127.0.0.1:0", None);
+    let (_, d) = small_run("dashboard_replay3d");
     let base = format!("{}/api/runs/1/evaluations/3/replay/rapier", d.base());
     // Not before it is asked for, not from another site's form, not on an unknown engine.
     assert_eq!(get(&format!("{base}/stream.json")).0, 404);

@@ -84,14 +84,6 @@ fn every_frame_holds_each_bodys_simulated_pose() {
     assert!((last[0] - first[0]).abs() + (last[1] - first[1]).abs() > 0.01);
 }
 
-/// The streams inlined in a page written by `--html`.
-fn page_streams(page: &str) -> Vec<serde_json::Value> {
-    let open = "<script id=\"replay-streams\" type=\"application/json\">";
-    let start = page.find(open).expect("the streams' element") + open.len();
-    let end = start + page[start..].find("</script>").expect("its end");
-    serde_json::from_str(&page[start..end]).expect("the streams are JSON")
-}
-
 fn array<const N: usize, T>(v: &serde_json::Value, key: &str, from: fn([u8; N]) -> T) -> Vec<T> {
     encode::decode(v[key].as_str().expect(key), from).expect(key)
 }
@@ -122,7 +114,7 @@ fn the_run_page_agrees_with_the_runs_data_file() {
     let html = report.html.as_ref().expect("a page");
     let text = std::fs::read_to_string(&page).unwrap();
     assert_eq!(html.bytes, text.len() as u64);
-    let streams = page_streams(&text);
+    let streams = common::page_streams(&text);
     assert_eq!(streams.len(), 1);
     let s = &streams[0];
     assert_eq!(s["format"], "proleg-replay 1");
@@ -216,7 +208,7 @@ fn a_label_with_markup_stays_in_a_string() {
         !page.contains("<script>window.owned") && !page.contains("<b>bold"),
         "the label's markup is in the page as markup"
     );
-    assert_eq!(page_streams(&page)[0]["label"], label);
+    assert_eq!(common::page_streams(&page)[0]["label"], label);
 }
 
 #[test]
@@ -236,7 +228,7 @@ fn two_engines_go_side_by_side() {
     let report = run(&req, &ModuleRegistry::standard()).unwrap();
     let html = report.html.unwrap();
     assert_eq!(html.frames.len(), 2);
-    let streams = page_streams(&std::fs::read_to_string(&page).unwrap());
+    let streams = common::page_streams(&std::fs::read_to_string(&page).unwrap());
     assert_eq!(streams.len(), 2);
     assert!(
         streams[0]["engine"].as_str().unwrap().starts_with("rapier"),
@@ -279,7 +271,7 @@ fn proleg_results_writes_a_stored_evaluation_as_the_optimizer_scored_it() {
     let text = std::fs::read_to_string(&page).unwrap();
     assert_eq!(bytes, text.len() as u64);
     let best = report.stores[0].1[0].best_score.expect("a best score");
-    let streams = page_streams(&text);
+    let streams = common::page_streams(&text);
     let score = array(&streams[0], "score", f32::from_le_bytes);
     let last = f64::from(*score.last().unwrap());
     assert!(

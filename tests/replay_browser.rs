@@ -36,13 +36,9 @@ fn config(name: &str) -> String {
         .to_string()
 }
 
-/// The streams inlined in a page.
+/// The streams inlined in the page `page`.
 fn page_streams(page: &Path) -> Vec<serde_json::Value> {
-    let text = std::fs::read_to_string(page).expect("the page");
-    let open = "<script id=\"replay-streams\" type=\"application/json\">";
-    let start = text.find(open).expect("the streams' element") + open.len();
-    let end = start + text[start..].find("</script>").expect("its end");
-    serde_json::from_str(&text[start..end]).expect("JSON")
+    common::page_streams(&std::fs::read_to_string(page).expect("the page"))
 }
 
 /// A browser that can reach nothing: every request goes to a proxy that is not there.

@@ -163,14 +163,7 @@ fn run_report(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, 
     let duration = checked_duration(req, props.duration)?;
     let seed = req.seed.unwrap_or(props.seed);
     let settings = EngineSettings::of(&sim, &req.physics)?;
-    let opts = BuildOptions {
-        robots: 1,
-        seed,
-        record: false,
-        engine: settings.into(),
-        ..Default::default()
-    };
-    let mut simulator = Simulator::with_registry(&sim, &opts, registry)?;
+    let mut simulator = Simulator::with_registry(&sim, &one_robot(seed, settings), registry)?;
     simulator.set_pacing(Pacing {
         realtime_factor: req.realtime,
         delay_ms: 0.0,
@@ -228,6 +221,17 @@ fn run_report(req: &RunRequest, registry: &ModuleRegistry) -> Result<RunReport, 
         stopped,
         html,
     })
+}
+
+/// How a run builds its world: one robot, `seed`, on `settings`' engine.
+pub fn one_robot(seed: u64, settings: EngineSettings) -> BuildOptions {
+    BuildOptions {
+        robots: 1,
+        seed,
+        record: false,
+        engine: settings.into(),
+        ..Default::default()
+    }
 }
 
 /// The run's duration (`--duration`, else the file's `duration`), checked with

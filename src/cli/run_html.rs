@@ -14,7 +14,7 @@ use crate::control::{ModuleRegistry, load_simulation_in};
 use crate::playback::{PoseStream, Recording, record_episode};
 use crate::signal::StopFlag;
 use crate::sim::engine::EngineSettings;
-use crate::sim::{BuildOptions, Episode, EpisodeSettings, Simulator};
+use crate::sim::{Episode, EpisodeSettings, Simulator};
 
 /// What `--html` wrote.
 #[derive(Debug, Clone, PartialEq)]
@@ -67,13 +67,7 @@ pub fn compare_stream(
         req.physics.as_str()
     };
     let settings = EngineSettings::of(&sim, physics)?;
-    let opts = BuildOptions {
-        robots: 1,
-        seed,
-        record: false,
-        engine: settings.into(),
-        ..Default::default()
-    };
+    let opts = crate::cli::run::one_robot(seed, settings);
     let mut simulator = Simulator::with_registry(&sim, &opts, registry)?;
     let rec = recording(req, label(file, simulator.engine_kind()));
     Ok(Some(record_run(

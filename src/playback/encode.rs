@@ -11,40 +11,33 @@ pub const QUATERNION_SCALE: f64 = 32767.0;
 /// Hundredths of a degree: a joint angle stored as an `i16` (within ±327.67°).
 pub const ANGLE_SCALE: f64 = 100.0;
 
+/// `values` as base64 of their bytes as `bytes` gives them (little-endian).
+fn base64_of<T: Copy, const N: usize>(values: &[T], bytes: fn(T) -> [u8; N]) -> String {
+    let mut out = Vec::with_capacity(values.len() * N);
+    for v in values {
+        out.extend_from_slice(&bytes(*v));
+    }
+    STANDARD.encode(out)
+}
+
 /// `values` as base64 of their little-endian bytes.
 pub fn f32s(values: &[f32]) -> String {
-    let mut bytes = Vec::with_capacity(values.len() * 4);
-    for v in values {
-        bytes.extend_from_slice(&v.to_le_bytes());
-    }
-    STANDARD.encode(bytes)
+    base64_of(values, f32::to_le_bytes)
 }
 
 /// `values` as base64 of their little-endian bytes.
 pub fn i16s(values: &[i16]) -> String {
-    let mut bytes = Vec::with_capacity(values.len() * 2);
-    for v in values {
-        bytes.extend_from_slice(&v.to_le_bytes());
-    }
-    STANDARD.encode(bytes)
+    base64_of(values, i16::to_le_bytes)
 }
 
 /// `values` as base64 of their little-endian bytes.
 pub fn u16s(values: &[u16]) -> String {
-    let mut bytes = Vec::with_capacity(values.len() * 2);
-    for v in values {
-        bytes.extend_from_slice(&v.to_le_bytes());
-    }
-    STANDARD.encode(bytes)
+    base64_of(values, u16::to_le_bytes)
 }
 
 /// `values` as base64 of their little-endian bytes.
 pub fn u32s(values: &[u32]) -> String {
-    let mut bytes = Vec::with_capacity(values.len() * 4);
-    for v in values {
-        bytes.extend_from_slice(&v.to_le_bytes());
-    }
-    STANDARD.encode(bytes)
+    base64_of(values, u32::to_le_bytes)
 }
 
 /// `bytes` as base64.

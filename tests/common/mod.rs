@@ -222,3 +222,11 @@ pub fn table_columns(tsv: &str, columns: &[&str]) -> Vec<String> {
         })
         .collect()
 }
+
+/// The pose streams a 3D replay page (`proleg run --html`) holds inlined.
+pub fn page_streams(page: &str) -> Vec<serde_json::Value> {
+    let open = "<script id=\"replay-streams\" type=\"application/json\">";
+    let start = page.find(open).expect("the streams' element") + open.len();
+    let end = start + page[start..].find("</script>").expect("its end");
+    serde_json::from_str(&page[start..end]).expect("the streams are JSON")
+}
