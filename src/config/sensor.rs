@@ -55,6 +55,102 @@ impl Laser2d {
     }
 }
 
+/// `el`'s at most one `<name>` flag (0/1), else `default`.
+fn flag(r: &Reader, el: &Element, name: &str, default: bool) -> ConfigResult<bool> {
+    r.at_most_one(el, name)?
+        .map(|c| r.flag(c))
+        .transpose()
+        .map(|v| v.unwrap_or(default))
+}
+
+/// A `<sensor type="BaseLaser2D">`'s settings.
+fn read_laser(r: &Reader, el: &Element) -> ConfigResult<Laser2d> {
+    r.only_children(
+        el,
+        &[
+            "minangle",
+            "maxangle",
+            "resolution",
+            "maxrange",
+            "scantime",
+            "render",
+            "power",
+        ],
+    )?;
+    let min_angle = r.opt_f64(el, "minangle")?.unwrap_or(-90.0);
+    let max_angle = r.opt_f64(el, "maxangle")?.unwrap_or(90.0);
+    if min_angle > max_angle {
+        let c = r.required(el, "minangle")?;
+        return Err(r.err(
+            c.text_pos,
+            ErrorKind::OutOfRange,
+            format!("laser <minangle> {min_angle} is greater than <maxangle> {max_angle}"),
+        ));
+    }
+    let positive = |name: &str, default: f64| -> ConfigResult<f64> {
+        Ok(r.opt_positive(el, name)?.unwrap_or(default))
+    };
+    let laser = Laser2d {
+        min_angle,
+        max_angle,
+        resolution: positive("resolution", 1.0)?,
+        max_range: positive("maxrange", 5.0)?,
+        scan_time: positive("scantime", 0.1)?,
+        render: flag(r, el, "render", false)?,
+        power: flag(r, el, "power", true)?,
+    };
+    check_scan(r, el, &laser)?;
+    Ok(laser)
+}
+
+/// Most beams a laser may have: real planar scanners have up to a few thousand (a
+/// Hokuyo UTM-30LX 1,081, a SICK LMS-5xx 1,901 at its finest).
+pub const MAX_BEAMS: f64 = 10_000.0;
+
+/// Refuses a scan wider than a full turn (angles beyond ±360°) or of more than
+/// [`MAX_BEAMS`] beams, at the element that says so: every beam is cast every scan.
+fn check_scan(r: &Reader, el: &Element, l: &Laser2d) -> ConfigResult<()> {
+    for (name, v) in [("minangle", l.min_angle), ("maxangle", l.max_angle)] {
+        if v.abs() > 360.0 {
+            let c = r.required(el, name)?;
+            return Err(r.err(
+                c.text_pos,
+                ErrorKind::OutOfRange,
+                format!("laser <{name}> {v} is beyond a full turn: give degrees within -360..360"),
+            ));
+        }
+    }
+    if l.max_angle - l.min_angle > 360.0 {
+        let c = r.required(el, "maxangle")?;
+        return Err(r.err(
+            c.text_pos,
+            ErrorKind::OutOfRange,
+            format!(
+                "laser scans {} degrees (<minangle> {} to <maxangle> {}): at most a full turn, 360",
+                l.max_angle - l.min_angle,
+                l.min_angle,
+                l.max_angle
+            ),
+        ));
+    }
+    let beams = ((l.max_angle - l.min_angle) / l.resolution).floor() + 1.0;
+    if beams > MAX_BEAMS {
+        let pos = r
+            .at_most_one(el, "resolution")?
+            .map_or(el.pos, |c| c.text_pos);
+        return Err(r.err(
+            pos,
+            ErrorKind::OutOfRange,
+            format!(
+                "laser has {beams} beams ({} degrees every {} degrees): at most {MAX_BEAMS}; give a coarser <resolution>",
+                l.max_angle - l.min_angle,
+                l.resolution
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// The kinds of sensor.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Sensor {
@@ -76,12 +172,6 @@ impl Sensor {
     /// Reads a `<sensor type="...">` element (the root of a sensor file, or inline).
     pub fn read(r: &Reader, el: &Element) -> ConfigResult<Sensor> {
         let ty = r.required_attr(el, "type")?;
-        let flag = |name: &str, default: bool| -> ConfigResult<bool> {
-            r.at_most_one(el, name)?
-                .map(|c| r.flag(c))
-                .transpose()
-                .map(|v| v.unwrap_or(default))
-        };
         match ty.value.to_ascii_lowercase().as_str() {
             "tactilesensor" | "tactile" => {
                 r.only_children(el, &["power", "extents", "debounce"])?;
@@ -105,49 +195,12 @@ impl Sensor {
                     .transpose()?
                     .unwrap_or(3);
                 Ok(Sensor::Tactile(TactileSensor {
-                    power: flag("power", true)?,
+                    power: flag(r, el, "power", true)?,
                     extents,
                     debounce,
                 }))
             }
-            "baselaser2d" | "laser2d" => {
-                r.only_children(
-                    el,
-                    &[
-                        "minangle",
-                        "maxangle",
-                        "resolution",
-                        "maxrange",
-                        "scantime",
-                        "render",
-                        "power",
-                    ],
-                )?;
-                let min_angle = r.opt_f64(el, "minangle")?.unwrap_or(-90.0);
-                let max_angle = r.opt_f64(el, "maxangle")?.unwrap_or(90.0);
-                if min_angle > max_angle {
-                    let c = r.required(el, "minangle")?;
-                    return Err(r.err(
-                        c.text_pos,
-                        ErrorKind::OutOfRange,
-                        format!(
-                            "laser <minangle> {min_angle} is greater than <maxangle> {max_angle}"
-                        ),
-                    ));
-                }
-                let positive = |name: &str, default: f64| -> ConfigResult<f64> {
-                    Ok(r.opt_positive(el, name)?.unwrap_or(default))
-                };
-                Ok(Sensor::Laser2d(Laser2d {
-                    min_angle,
-                    max_angle,
-                    resolution: positive("resolution", 1.0)?,
-                    max_range: positive("maxrange", 5.0)?,
-                    scan_time: positive("scantime", 0.1)?,
-                    render: flag("render", false)?,
-                    power: flag("power", true)?,
-                }))
-            }
+            "baselaser2d" | "laser2d" => Ok(Sensor::Laser2d(read_laser(r, el)?)),
             other => Err(r.err(
                 ty.pos,
                 ErrorKind::InvalidValue,
@@ -274,4 +327,38 @@ pub fn write_sensor_file(sensor: &Sensor) -> String {
     let mut w = XmlWriter::new();
     sensor.write(&mut w, &[]);
     w.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn laser(min: &str, max: &str, resolution: &str) -> ConfigResult<Sensor> {
+        parse_sensor_file(
+            "l.sensor.xml",
+            &format!(
+                "<sensor type=\"BaseLaser2D\">\n  <minangle>{min}</minangle>\n  <maxangle>{max}</maxangle>\n  <resolution>{resolution}</resolution>\n</sensor>\n"
+            ),
+        )
+    }
+
+    /// A scan is at most a full turn of at most MAX_BEAMS beams (fuzzing found a laser of
+    /// 10^13 beams that the world then tried to cast: regression input
+    /// fuzz/regressions/sensor_file/laser-scan-beyond-a-full-turn).
+    #[test]
+    fn a_laser_scans_at_most_a_full_turn_in_at_most_ten_thousand_beams() {
+        let Ok(Sensor::Laser2d(l)) = laser("-180", "180", "0.25") else {
+            panic!("a full turn at a quarter degree loads");
+        };
+        assert_eq!(l.beam_angles().len(), 1441);
+        let e = laser("-11111111111111.1", "90", "1").unwrap_err();
+        assert_eq!((e.kind, e.pos.line), (ErrorKind::OutOfRange, 2), "{e}");
+        assert!(e.to_string().contains("beyond a full turn"), "{e}");
+        let e = laser("-300", "300", "1").unwrap_err();
+        assert_eq!(e.pos.line, 3, "{e}");
+        assert!(e.to_string().contains("at most a full turn"), "{e}");
+        let e = laser("-90", "90", "0.001").unwrap_err();
+        assert_eq!(e.pos.line, 4, "{e}");
+        assert!(e.to_string().contains("180001 beams"), "{e}");
+    }
 }
