@@ -121,12 +121,7 @@ fn the_run_page_agrees_with_the_runs_data_file() {
     let frames = s["frames"].as_u64().unwrap() as usize;
     assert_eq!(html.frames, vec![frames]);
     let joints = s["scene"]["joints"].as_array().unwrap().len();
-    let moving = s["scene"]["bodies"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter(|b| b["moves"] == true)
-        .count();
+    let moving = common::moving_bodies(s);
     let angles = array(s, "angles", i16::from_le_bytes);
     let rotations = array(s, "rotations", i16::from_le_bytes);
     let score = array(s, "score", f32::from_le_bytes);

@@ -132,12 +132,7 @@ fn the_replay_draws_the_robot_and_scrubs_to_the_streams_poses() {
     // Scrubbing puts each body at the stream's pose for that frame.
     let dt = s["frame_seconds"].as_f64().unwrap();
     let frames = s["frames"].as_u64().unwrap() as usize;
-    let moving = s["scene"]["bodies"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter(|b| b["moves"] == true)
-        .count();
+    let moving = common::moving_bodies(s);
     let positions = encode::decode(s["positions"].as_str().unwrap(), f32::from_le_bytes).unwrap();
     let rotations = encode::decode(s["rotations"].as_str().unwrap(), i16::from_le_bytes).unwrap();
     for frame in [1, frames / 3, frames - 1] {

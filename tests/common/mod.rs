@@ -230,3 +230,13 @@ pub fn page_streams(page: &str) -> Vec<serde_json::Value> {
     let end = start + page[start..].find("</script>").expect("its end");
     serde_json::from_str(&page[start..end]).expect("the streams are JSON")
 }
+
+/// How many of a pose stream's bodies move (those each frame holds a pose of).
+pub fn moving_bodies(stream: &serde_json::Value) -> usize {
+    stream["scene"]["bodies"]
+        .as_array()
+        .expect("the scene's bodies")
+        .iter()
+        .filter(|b| b["moves"] == true)
+        .count()
+}
