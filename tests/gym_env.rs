@@ -150,6 +150,7 @@ fn options_are_set_by_name_with_their_defaults_documented_once() {
             "split",
             "terrain_seed",
             "randomize",
+            "replay_fps",
             "threads",
             "autoreset"
         ]
@@ -160,6 +161,7 @@ fn options_are_set_by_name_with_their_defaults_documented_once() {
     assert_eq!(default("duration").as_deref(), Some("None"));
     assert_eq!(default("autoreset").as_deref(), Some("\"next_step\""));
     assert_eq!(default("randomize").as_deref(), Some("False"));
+    assert_eq!(default("replay_fps").as_deref(), Some("0.0"));
     let (mut env, mut vec) = (EnvOptions::default(), VecOptions::default());
     vec.set(&mut env, "control_period", &OptionValue::Number(0.05))
         .expect("a number");
@@ -186,6 +188,15 @@ fn options_are_set_by_name_with_their_defaults_documented_once() {
         vec.set(&mut env, "mode", &OptionValue::Number(1.0)),
         Err(GymError::Option { option: "mode", .. })
     ));
+    assert!(
+        matches!(
+            vec.set(&mut env, "replay_fps", &OptionValue::Number(30.0)),
+            Err(GymError::Option { option: "replay_fps", want, .. }) if want.contains("ProlegEnv")
+        ),
+        "a vector environment records no replay, and says where one is recorded"
+    );
+    vec.set(&mut env, "replay_fps", &OptionValue::Number(0.0))
+        .expect("0 is the vector environments' own value");
     vec.set(&mut env, "randomize", &OptionValue::Number(1.0))
         .expect("True");
     assert!(env.randomize);

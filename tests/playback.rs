@@ -274,3 +274,86 @@ fn proleg_results_writes_a_stored_evaluation_as_the_optimizer_scored_it() {
         "evaluation {number} replayed {last}, stored {best}"
     );
 }
+
+/// Every moving body's pose in `world` now (position, rotation x, y, z, w).
+fn poses(world: &Simulator) -> Vec<([f64; 3], [f64; 4])> {
+    let bodies = world.robot_bodies(0).unwrap();
+    bodies
+        .iter()
+        .map(|b| {
+            let pose = world.body_state(*b).unwrap().pose;
+            let [w, x, y, z] = pose.rotation;
+            (pose.translation, [x, y, z, w])
+        })
+        .collect()
+}
+
+#[test]
+fn an_environments_stepped_episode_replays_as_it_was_stepped() {
+    use proleg::gym::{Env, EnvOptions, GymError};
+    let sim = std::sync::Arc::new(load_simulation(demo()).unwrap());
+    let registry = ModuleRegistry::standard();
+    let opts = EnvOptions {
+        replay_fps: 25.0,
+        duration: Some(1.0),
+        ..Default::default()
+    };
+    let mut env = Env::new(sim.clone(), registry.clone(), opts.clone()).unwrap();
+    assert!(matches!(env.replay(None), Err(GymError::State(_))));
+    let mut obs = vec![0.0; env.layout().len()];
+    env.reset(Some(3), &mut obs).unwrap();
+    // What the caller saw: the world at the reset and after every second step (25 frames
+    // per second at 50 steps per second).
+    let mut seen = vec![poses(env.world())];
+    let mut steps = 0u64;
+    let running = loop {
+        let action: Vec<f64> = (0..env.action_len())
+            .map(|j| (0.3 * steps as f64 + j as f64).sin())
+            .collect();
+        let t = env.step(&action, &mut obs).unwrap();
+        steps += 1;
+        if steps.is_multiple_of(2) || t.truncated || t.terminated {
+            seen.push(poses(env.world()));
+        }
+        if steps == 10 {
+            let so_far = env.replay(None).unwrap();
+            assert_eq!(so_far.frames, 6);
+            assert!(so_far.end.contains("goes on"), "{}", so_far.end);
+        }
+        if t.truncated || t.terminated {
+            break t;
+        }
+    };
+    assert!(running.truncated && steps == 50);
+    let stream = env.replay(Some("the <b>stepped</b> episode")).unwrap();
+    assert_eq!((stream.frames, stream.frame_seconds), (seen.len(), 0.04));
+    assert_eq!(stream.label, "the <b>stepped</b> episode");
+    assert!(stream.end.contains("duration"), "{}", stream.end);
+    let mut worst = (0.0f64, 0.0f64);
+    for (frame, bodies) in seen.iter().enumerate() {
+        for (k, (p0, q0)) in bodies.iter().enumerate() {
+            let (p, q) = stream.pose_at(frame, k).unwrap();
+            let d = (0..3).map(|i| (p[i] - p0[i]).powi(2)).sum::<f64>().sqrt();
+            worst = (worst.0.max(d), worst.1.max(angle_between(q, *q0)));
+        }
+    }
+    assert!(worst.0 < 1e-5 && worst.1 < 0.01, "off by {worst:?}");
+    let (first, _) = stream.pose_at(0, 0).unwrap();
+    let (last, _) = stream.pose_at(stream.frames - 1, 0).unwrap();
+    assert!(
+        (0..3).any(|i| (last[i] - first[i]).abs() > 1e-3),
+        "the robot moved"
+    );
+
+    // The next episode is a recording of its own.
+    env.reset(None, &mut obs).unwrap();
+    let next = env.replay(None).unwrap();
+    assert_eq!(next.frames, 1);
+    assert!(next.label.contains("episode 2"), "{}", next.label);
+
+    let quiet = Env::new(sim, registry, EnvOptions::default()).unwrap();
+    assert!(
+        matches!(quiet.replay(None), Err(GymError::State(m)) if m.contains("replay_fps")),
+        "an environment made without replay_fps says how to get one"
+    );
+}

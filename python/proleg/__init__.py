@@ -11,6 +11,8 @@ shapes:
   ... :data:`TASKS`), each on either engine (``engine="rapier"`` or ``"mujoco"``),
 - :func:`read_store`, an experiment store as a pandas table,
 - :meth:`ProlegEnv.render` (``render_mode="rgb_array"``) and :func:`save_video`,
+- :meth:`ProlegEnv.save_html` (``replay_fps=30``) and :func:`save_html`, a stepped episode
+  as a self-contained 3D replay page (one, or two side by side),
 - :func:`proleg.sb3.SB3VecEnv`, the vector environment for Stable-Baselines3,
 - :func:`save_policy` and :func:`load_policy`, a learned policy's network in the weights
   file proleg's policy module reads, run by the library's own forward pass.
@@ -25,6 +27,7 @@ from ._native import ENV_OPTIONS, ConfigError, ProlegError, Simulation, load
 from .envs import ProlegEnv, scenario_path
 from .policy import load_policy, save_policy
 from .registration import SCENARIOS, TASKS, register_envs
+from .replay import Replay, save_html
 from .store import read_store
 from .vector import ProlegVectorEnv
 from .video import save_video
@@ -37,6 +40,7 @@ __all__ = [
     "ProlegEnv",
     "ProlegError",
     "ProlegVectorEnv",
+    "Replay",
     "SCENARIOS",
     "TASKS",
     "Simulation",
@@ -44,6 +48,7 @@ __all__ = [
     "load",
     "load_policy",
     "read_store",
+    "save_html",
     "save_policy",
     "save_video",
     "scenario_path",

@@ -17,6 +17,11 @@ With ``render_mode="rgb_array"``, :meth:`ProlegEnv.render` draws the world off-s
 through the renderer of ``proleg run --video``; :func:`proleg.save_video` writes frames
 as a video (ffmpeg) or PNG files.
 
+With ``replay_fps`` (frames per simulated second), every episode is recorded as it is
+stepped: :meth:`ProlegEnv.replay` gives it and :meth:`ProlegEnv.save_html` writes it as a
+self-contained page with the 3D viewer of ``proleg run --html`` (orbit, scrub, side by
+side with another replay through :func:`proleg.save_html`).
+
 The reward is the growth over the step of proleg's fitness (``fitness="distance"``: metres
 along the start heading; also ``"displacement"`` and ``"speed"``) minus ``energy_weight``
 per joule the servos put out: an episode's return is the optimizers' score of the same
@@ -35,6 +40,7 @@ import numpy as np
 from gymnasium import spaces
 
 from . import _native
+from .replay import Replay, save_html
 
 
 def scenario_path(file: str) -> str:
@@ -132,6 +138,17 @@ class ProlegEnv(gymnasium.Env):
             width, height = self._render_size
             self._renderer = _native.Renderer(self._path, width, height, self._env.engine)
         return self._renderer.frame(self._env)
+
+    def replay(self, label: str | None = None) -> Replay:
+        """The running episode's frames so far (all of them once it ended) for the 3D
+        replay, titled ``label`` (else the file, episode and seed). Needs ``replay_fps``."""
+        return self._env.replay(label)
+
+    def save_html(self, path: str | os.PathLike, label: str | None = None) -> tuple[str, int]:
+        """Writes the episode stepped since the last reset (so far, or all of it once it
+        ended) as a self-contained 3D replay page; returns the file and its size in bytes.
+        Needs ``replay_fps`` (e.g. ``proleg.ProlegEnv(file, replay_fps=30)``)."""
+        return save_html(path, self.replay(label))
 
     def close(self) -> None:
         """Frees the world and the renderer (closing twice is fine)."""

@@ -5,6 +5,7 @@
 
 use proleg::config::ConfigError as FileError;
 use proleg::gym::GymError;
+use proleg::playback::PlaybackError;
 use proleg::sim::SimError;
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyRuntimeError, PyTypeError, PyValueError};
@@ -73,6 +74,15 @@ pub fn sim_error(e: SimError) -> PyErr {
         SimError::Kernel(_) | SimError::NoSuchRobot { .. } | SimError::NoSuchLink { .. } => {
             PyValueError::new_err(e.to_string())
         }
+        _ => ProlegError::new_err(e.to_string()),
+    }
+}
+
+/// A replay's error: not one or two replays for a page is bad input.
+pub fn playback_error(e: PlaybackError) -> PyErr {
+    match e {
+        PlaybackError::Streams(_) | PlaybackError::Fps(_) => PyValueError::new_err(e.to_string()),
+        PlaybackError::Sim(s) => sim_error(s),
         _ => ProlegError::new_err(e.to_string()),
     }
 }

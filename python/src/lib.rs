@@ -13,6 +13,7 @@ mod modules;
 mod options;
 mod policy;
 mod render;
+mod replay;
 mod simulation;
 mod store;
 mod vector;
@@ -32,8 +33,10 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<policy::PolicyNet>()?;
     m.add_class::<render::Renderer>()?;
     m.add_class::<render::VideoWriter>()?;
+    m.add_class::<replay::Replay>()?;
     m.add_function(wrap_pyfunction!(simulation::load, m)?)?;
     m.add_function(wrap_pyfunction!(store::read_store, m)?)?;
+    m.add_function(wrap_pyfunction!(replay::write_html, m)?)?;
     m.add_function(wrap_pyfunction!(bench::pipeline_rate, m)?)?;
     m.add_function(wrap_pyfunction!(bench::export_mjcf_file, m)?)?;
     m.add("CONFIGS", CONFIGS)?;

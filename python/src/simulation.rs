@@ -525,6 +525,17 @@ impl Env {
         ))
     }
 
+    /// The running episode's frames so far (all of them once it ended) for the browser's
+    /// 3D replay, titled `label` (else the file, episode and seed); the environment records
+    /// them when made with `replay_fps`.
+    #[pyo3(signature = (label=None))]
+    fn replay(&self, py: Python<'_>, label: Option<&str>) -> PyResult<crate::replay::Replay> {
+        let env = self.env_ref()?;
+        py.detach(|| env.replay(label))
+            .map(crate::replay::Replay::new)
+            .map_err(gym_error)
+    }
+
     /// Robot 0's centre of mass now (m).
     fn com<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let c = self.env_ref()?.world().com(0).map_err(sim_error)?;

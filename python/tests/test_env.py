@@ -253,7 +253,7 @@ def test_the_options_and_their_defaults_come_from_the_library(demo):
     assert list(options) == [
         "engine", "control_period", "mode", "action_scale", "fitness",
         "energy_weight", "duration", "terrain", "difficulty", "suite", "split",
-        "terrain_seed", "randomize", "threads", "autoreset",
+        "terrain_seed", "randomize", "replay_fps", "threads", "autoreset",
     ]
     for name, default, doc in proleg.ENV_OPTIONS:
         assert f"{name} = {default}: {doc}" in proleg.ProlegEnv.__doc__

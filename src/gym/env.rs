@@ -13,6 +13,8 @@
 //! of the episode runner's ([`Episode`]), its exit rule checked after every action. Every reset builds a fresh world from the seed, so the
 //! same seed and actions give the same trajectory, bit for bit; with `randomize` the reset's
 //! seed also draws the world's physics (friction, masses, servos, start pose, sensor noise).
+//! With `replay_fps`, every episode is recorded as it is stepped ([`crate::gym::replay`])
+//! and [`Env::replay`] gives it as the browser's 3D replay plays it.
 
 use std::sync::Arc;
 
@@ -24,6 +26,8 @@ use crate::gym::course::{CourseCache, Courses};
 use crate::gym::error::GymError;
 use crate::gym::observe::{Previous, Scratch, layout_of, observe};
 use crate::gym::options::{ActionMode, EnvOptions};
+use crate::gym::replay::{EnvReplay, steps_per_frame};
+use crate::playback::PoseStream;
 use crate::rng::SimRng;
 use crate::sim::randomize::{SensorNoise, randomize};
 use crate::sim::{BuildOptions, Episode, EpisodeEnd, EpisodeSettings, Simulator, WorldExit};
@@ -95,6 +99,8 @@ pub struct Env {
     seeds: SimRng,
     ready: bool,
     episodes: u64,
+    /// The running episode's recording for the 3D replay (with `replay_fps`).
+    replay: Option<EnvReplay>,
     /// A suite task's courses, when the options name a terrain.
     courses: Option<Courses>,
     /// The running episode's course.
@@ -187,6 +193,7 @@ impl Env {
             seeds: SimRng::new(seed),
             ready: false,
             episodes: 0,
+            replay: None,
             courses,
             terrain_seed,
             opts,
@@ -263,16 +270,17 @@ impl Env {
             }
             None => self.seeds.next_u64(),
         };
-        self.world = match self.courses.as_ref() {
+        let built = match self.courses.as_ref() {
             Some(c) => {
                 let t = c.pick(episode_seed);
                 self.terrain_seed = Some(t);
-                let on_course = c.world(&self.sim, t)?;
-                self.episode_world(&on_course, episode_seed)?
+                c.world(&self.sim, t)?
             }
-            None => self.episode_world(&self.sim, episode_seed)?,
+            None => Arc::clone(&self.sim),
         };
+        self.world = self.episode_world(&built, episode_seed)?;
         self.attach_policy()?;
+        self.replay = self.begin_replay(&built, episode_seed)?;
         let com = self.world.com(0)?;
         let settings = episode_settings(&self.opts, self.steps_per_action, self.max_steps);
         self.episode = EnvEpisode {
@@ -336,6 +344,9 @@ impl Env {
             self.episode.energy = energy;
         }
         self.episode.over = terminated || truncated;
+        if let Some(replay) = self.replay.as_mut() {
+            replay.after_step(&self.world, self.episode.steps, score, end)?;
+        }
         Ok(Transition {
             reward,
             terminated,
@@ -431,6 +442,53 @@ impl Env {
 }
 
 impl Env {
+    /// The running episode's frames so far (all of them once it ended) as the browser's
+    /// 3D replay plays them, titled `label` (else the file, episode and seed); recorded
+    /// when the options ask for `replay_fps`.
+    pub fn replay(&self, label: Option<&str>) -> Result<PoseStream, GymError> {
+        if self.opts.replay_fps == 0.0 {
+            return Err(GymError::State(
+                "the environment records no replay: make it with replay_fps=30 (frames per simulated second)",
+            ));
+        }
+        match self.replay.as_ref() {
+            Some(r) => Ok(r.stream(label)),
+            None => Err(GymError::State(
+                "nothing recorded yet: call reset, then step the episode",
+            )),
+        }
+    }
+
+    /// The recording of the episode about to start on the fresh world (built from `sim`
+    /// with `seed`), when the options ask for one.
+    fn begin_replay(&self, sim: &Simulation, seed: u64) -> Result<Option<EnvReplay>, GymError> {
+        let fps = self.opts.replay_fps;
+        if fps == 0.0 {
+            return Ok(None);
+        }
+        let name = sim.file.file_name().map_or_else(
+            || sim.file.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        let course = self
+            .terrain_seed
+            .map_or_else(String::new, |t| format!(", course {t}"));
+        let label = format!(
+            "{name}: episode {} (seed {seed}{course})",
+            self.episodes + 1
+        );
+        let period = self.opts.control_period;
+        EnvReplay::begin(
+            sim,
+            &self.world,
+            steps_per_frame(fps, period),
+            period,
+            self.max_steps,
+            (label, self.opts.fitness.name().to_string()),
+        )
+        .map(Some)
+    }
+
     /// An episode's fresh world of `sim` with `seed`: with `randomize`, its physics drawn
     /// from the typical robustness ranges with that seed (the draw's own seed and sensor
     /// noise then build it), as `proleg robustness` draws an episode.

@@ -8,6 +8,7 @@
 //! | [`observe`] | the observation's layout (a name per index) and its reading from the world |
 //! | [`course`] | a suite task's courses: each reset on a train (or test) course, generated once per seed |
 //! | [`env`] | one environment: the policy as one more module of the kernel, the reward from the optimizers' fitness, termination on the control window's rule |
+//! | [`replay`] | an episode recorded for the browser's 3D replay (`replay_fps`, Python's `save_html`) |
 //! | [`statistics`] | a policy's starting point: observation statistics of the file's own gait, a network that outputs 0 |
 //! | [`vector`] | N environments on a thread pool, autoreset next-step, same-step or disabled |
 //! | [`error`] | [`GymError`] |
@@ -19,6 +20,7 @@ pub mod env;
 pub mod error;
 pub mod observe;
 pub mod options;
+pub mod replay;
 pub mod statistics;
 pub mod vector;
 

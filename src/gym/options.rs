@@ -81,6 +81,9 @@ pub struct EnvOptions {
     /// Every reset draws the world's physics from [`Robustness::typical`]'s ranges with
     /// the reset's seed, as `proleg robustness` draws its episodes.
     pub randomize: bool,
+    /// Frames per simulated second of every episode's recording for the browser's 3D
+    /// replay ([`crate::gym::Env::replay`]); 0: nothing is recorded.
+    pub replay_fps: f64,
 }
 
 impl Default for EnvOptions {
@@ -99,6 +102,7 @@ impl Default for EnvOptions {
             split: Split::Train,
             terrain_seed: None,
             randomize: false,
+            replay_fps: 0.0,
         }
     }
 }
@@ -167,6 +171,13 @@ impl EnvOptions {
                 option: "energy_weight",
                 value: self.energy_weight.to_string(),
                 want: "give zero or a positive number",
+            });
+        }
+        if !(self.replay_fps.is_finite() && self.replay_fps >= 0.0) {
+            return Err(GymError::Option {
+                option: "replay_fps",
+                value: self.replay_fps.to_string(),
+                want: "give 0 (no replay) or a positive number of frames per simulated second",
             });
         }
         if self.fitness == Fitness::CostOfTransport {
@@ -242,7 +253,7 @@ pub struct OptionDoc {
 }
 
 /// What each option of [`EnvOptions`] and [`VecOptions`] sets, in keyword order.
-const DOCS: [(&str, &str); 15] = [
+const DOCS: [(&str, &str); 16] = [
     (
         "engine",
         "the physics engine, \"rapier\" or \"mujoco\" (None: the file's)",
@@ -290,6 +301,10 @@ const DOCS: [(&str, &str); 15] = [
         "each reset draws the physics as `proleg robustness` does (friction, masses, servos, start pose, sensor noise) from its seed",
     ),
     (
+        "replay_fps",
+        "frames per simulated second of each episode's recording for the browser's 3D replay (save_html); 0: none (the frame period is the nearest whole number of steps)",
+    ),
+    (
         "threads",
         "threads stepping a vector environment's worlds (the machine's cores by default)",
     ),
@@ -329,6 +344,7 @@ pub fn documented() -> Vec<OptionDoc> {
         e.terrain_seed
             .map_or_else(|| "None".to_string(), |s| s.to_string()),
         if e.randomize { "True" } else { "False" }.to_string(),
+        py_number(Some(e.replay_fps)),
         v.threads.to_string(),
         format!("\"{}\"", v.autoreset.name()),
     ];
@@ -448,6 +464,7 @@ impl EnvOptions {
                     other => return Err(wrong("randomize", other, "give True or False")),
                 }
             }
+            "replay_fps" => self.replay_fps = number("replay_fps", value)?,
             _ => return Err(unknown(name)),
         }
         Ok(())
@@ -497,6 +514,13 @@ impl VecOptions {
                 self.threads = n as usize;
             }
             "autoreset" => self.autoreset = Autoreset::parse(text("autoreset", value)?)?,
+            "replay_fps" if *value != OptionValue::Number(0.0) => {
+                return Err(wrong(
+                    "replay_fps",
+                    value,
+                    "a vector environment records no replay: record one episode with proleg.ProlegEnv(..., replay_fps=30)",
+                ));
+            }
             _ => env.set(name, value)?,
         }
         Ok(())

@@ -11,6 +11,9 @@ pub enum PlaybackError {
     /// A frame rate that is not a positive number.
     #[error("{0} frames per second: give a number above 0")]
     Fps(f64),
+    /// Not one or two streams for a page.
+    #[error("{0} replays: the page plays one, or two on one timeline")]
+    Streams(usize),
     /// The stream could not be turned into JSON.
     #[error("the replay could not be encoded: {0}")]
     Encode(#[source] serde_json::Error),

@@ -23,6 +23,9 @@ const TEMPLATE: &str = include_str!("../../assets/viewer/replay.html");
 
 /// The page with `streams` (one, or two on one timeline) inlined.
 pub fn standalone(streams: &[&PoseStream]) -> Result<String, PlaybackError> {
+    if !(1..=2).contains(&streams.len()) {
+        return Err(PlaybackError::Streams(streams.len()));
+    }
     let mut json = String::from("[");
     for (i, s) in streams.iter().enumerate() {
         if i > 0 {

@@ -71,13 +71,13 @@ pub fn record_episode(
         score_name: episode.settings().fitness.name().to_string(),
     };
     Ok(Recorded {
-        stream: recorder.finish(info, &end_text(end)),
+        stream: recorder.stream(info, &end_text(end)),
         end,
     })
 }
 
 /// How an episode ended, as the page says it.
-fn end_text(end: EpisodeEnd) -> String {
+pub fn end_text(end: EpisodeEnd) -> String {
     match end {
         EpisodeEnd::Duration => "ran its duration".into(),
         EpisodeEnd::Stopped => "stopped".into(),

@@ -1,7 +1,7 @@
 //! The pose stream: an episode as the viewer plays it — the [`Scene`] once, then per frame
 //! every moving body's pose (position as `f32`, rotation as four `i16`), robot 0's joint
 //! angles (hundredths of a degree), its pads' contacts and its score so far. The
-//! [`Recorder`] fills preallocated buffers frame by frame; [`Recorder::finish`] encodes
+//! [`Recorder`] fills preallocated buffers frame by frame; [`Recorder::stream`] encodes
 //! them ([`crate::playback::encode`]) into the JSON the page reads.
 
 use serde::Serialize;
@@ -132,8 +132,9 @@ impl Recorder {
         Ok(())
     }
 
-    /// The stream of the frames recorded, the episode having ended as `end` says.
-    pub fn finish(self, info: StreamInfo, end: &str) -> PoseStream {
+    /// The stream of the frames recorded so far, the episode having ended (or gone on) as
+    /// `end` says; the recorder can go on recording.
+    pub fn stream(&self, info: StreamInfo, end: &str) -> PoseStream {
         PoseStream {
             format: FORMAT,
             label: info.label,
@@ -142,7 +143,7 @@ impl Recorder {
             frames: self.frames,
             score_name: info.score_name,
             end: end.to_string(),
-            scene: self.parts.scene,
+            scene: self.parts.scene.clone(),
             positions: encode::f32s(&self.positions),
             rotations: encode::i16s(&self.rotations),
             angles: encode::i16s(&self.angles),
