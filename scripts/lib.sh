@@ -32,6 +32,11 @@ ensure_rust() {
 # shared PostgreSQL store).
 HEADLESS_PACKAGES=(pkg-config gcc libfontconfig1-dev libfreetype-dev fonts-dejavu-core libssl-dev)
 
+# What the release binary needs at run time on a bare Debian (scripts/release-smoke checks
+# it): TLS to a shared PostgreSQL store (OpenSSL), text in plots (fontconfig, freetype, a
+# font) and the gamepad (libudev). The wheel bundles its own (auditwheel).
+RUNTIME_PACKAGES=(libssl3 libfontconfig1 libfreetype6 fonts-dejavu-core libudev1)
+
 # The tests of the shared store run a private PostgreSQL server (scripts/pg-test-server),
 # with a throw-away certificate made by openssl; xdotool types on the control window;
 # Debian's old MuJoCo 2.2.2 is the "wrong version" proleg must refuse; iproute2 and iptables

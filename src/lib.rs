@@ -84,3 +84,7 @@ pub mod sensing;
 pub mod signal;
 pub mod sim;
 pub mod suite;
+
+/// The program's version (the workspace's, Cargo.toml): `proleg --version`, the Python
+/// package's `__version__` and every run a store records ([`optimize::store::program_version`]).
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");

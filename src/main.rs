@@ -11,6 +11,13 @@ use proleg::commands::{Cli, Commands};
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Before any thread starts: an off-screen renderer on a machine with no session would
+    // have Mesa's device-select layer print errors that are none (`gui::video::vulkan`).
+    #[cfg(feature = "gui")]
+    if let Some((name, value)) = proleg::gui::video::vulkan::headless_setting_here() {
+        // SAFETY: the process has one thread yet, so nothing reads the environment meanwhile.
+        unsafe { std::env::set_var(name, value) };
+    }
     // The user module library: every command sees the plugin modules.
     let commands = Commands::open();
     for message in commands.warnings(&cli) {

@@ -95,6 +95,30 @@ fn a_run_renders_off_screen_into_a_video_with_one_frame_per_tick() {
     assert!(colours > 20, "the last frame has only {colours} colours");
 }
 
+#[test]
+fn a_video_on_a_machine_with_no_session_prints_nothing_that_looks_like_a_failure() {
+    // No XDG_RUNTIME_DIR, as on a cluster node or in CI: Mesa's device-select layer would
+    // have libwayland print "error: XDG_RUNTIME_DIR is invalid ..." twice.
+    let video = scratch("video-no-session").join("demo.mp4");
+    let out = Command::new(env!("CARGO_BIN_EXE_proleg"))
+        .args(["run", "configs/demo.simulation.xml", "--duration", "0.2"])
+        .args(["--size", "160x120", "--video", video.to_str().unwrap()])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("XDG_RUNTIME_DIR")
+        .env_remove("NODEVICE_SELECT")
+        .current_dir(common::root())
+        .output()
+        .expect("proleg");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        !err.to_lowercase().contains("error"),
+        "a green run says no error: {err}"
+    );
+    assert_eq!(probe(&video).0, 6);
+}
+
 /// The first PNG frame of the demo rendered into `dir` (320x180), with `extra` options.
 fn first_frame(dir: &Path, extra: &[&str]) -> (Vec<u8>, usize) {
     let mut args = vec![

@@ -22,7 +22,9 @@ Errors of the library arrive as exceptions with its message: a file that does no
 a closed environment as ``RuntimeError``, anything else as :class:`ProlegError`.
 """
 
+from ._native import MUJOCO_LIBRARY as _MUJOCO_LIBRARY
 from ._native import VERSION as __version__
+from ._mujoco import use_wheel_library as _use_wheel_library
 from ._native import ENV_OPTIONS, ConfigError, ProlegError, Simulation, load
 from .envs import ProlegEnv, scenario_path
 from .policy import load_policy, save_policy
@@ -33,6 +35,8 @@ from .vector import ProlegVectorEnv
 from .video import save_video
 
 register_envs()
+# MuJoCo from the `mujoco` extra's wheel, unless PROLEG_MUJOCO names another.
+_use_wheel_library(_MUJOCO_LIBRARY)
 
 __all__ = [
     "ConfigError",

@@ -43,11 +43,24 @@ from . import _native
 from .replay import Replay, save_html
 
 
+#: The shipped ``configs/`` a release wheel carries inside the package (scripts/release).
+_PACKAGED_CONFIGS = os.path.join(os.path.dirname(__file__), "configs")
+
+
+def configs_root() -> str:
+    """Where the shipped simulation files are: ``$PROLEG_CONFIGS`` when set, else the
+    copy a release wheel carries, else the ``configs/`` folder of the checkout the package
+    was built from."""
+    if os.environ.get("PROLEG_CONFIGS"):
+        return os.environ["PROLEG_CONFIGS"]
+    if os.path.isdir(_PACKAGED_CONFIGS):
+        return _PACKAGED_CONFIGS
+    return _native.CONFIGS
+
+
 def scenario_path(file: str) -> str:
-    """The path of a shipped simulation file: under ``$PROLEG_CONFIGS`` when set, else in
-    the ``configs/`` folder of the checkout the package was built from."""
-    root = os.environ.get("PROLEG_CONFIGS", _native.CONFIGS)
-    return os.path.normpath(os.path.join(root, file))
+    """The path of a shipped simulation file (under :func:`configs_root`)."""
+    return os.path.normpath(os.path.join(configs_root(), file))
 
 
 def options_doc() -> str:
@@ -135,6 +148,9 @@ class ProlegEnv(gymnasium.Env):
         if self.render_mode != "rgb_array":
             return None
         if self._renderer is None:
+            setting = _native.headless_vulkan_setting()
+            if setting is not None:
+                os.environ.setdefault(*setting)
             width, height = self._render_size
             self._renderer = _native.Renderer(self._path, width, height, self._env.engine)
         return self._renderer.frame(self._env)

@@ -37,10 +37,15 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulation::load, m)?)?;
     m.add_function(wrap_pyfunction!(store::read_store, m)?)?;
     m.add_function(wrap_pyfunction!(replay::write_html, m)?)?;
+    m.add_function(wrap_pyfunction!(render::headless_vulkan_setting, m)?)?;
     m.add_function(wrap_pyfunction!(bench::pipeline_rate, m)?)?;
     m.add_function(wrap_pyfunction!(bench::export_mjcf_file, m)?)?;
     m.add("CONFIGS", CONFIGS)?;
     m.add("ENV_OPTIONS", options::documented())?;
-    m.add("VERSION", env!("CARGO_PKG_VERSION"))?;
+    m.add("VERSION", proleg::VERSION)?;
+    m.add(
+        "MUJOCO_LIBRARY",
+        proleg::sim::engine::mujoco::library::library_file_name(),
+    )?;
     Ok(())
 }

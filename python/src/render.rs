@@ -125,3 +125,11 @@ impl VideoWriter {
         Ok((written.path.display().to_string(), written.frames))
     }
 }
+
+/// The environment variable (name, value) to set before the first renderer starts on a
+/// machine with no desktop session, or `None` (`proleg::gui::video::vulkan`); Python sets
+/// it through `os.environ`, so its view of the environment stays true.
+#[pyfunction]
+pub fn headless_vulkan_setting() -> Option<(&'static str, &'static str)> {
+    proleg::gui::video::vulkan::headless_setting_here()
+}

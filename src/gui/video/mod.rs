@@ -6,10 +6,12 @@
 //! the rendering speed (no window, no display needed: Mesa's software Vulkan renders).
 //! - [`frames`]: one picture of a world on demand (galleries, the dashboard's replays)
 //! - [`gallery`]: a co-design run's best bodies in one picture (`results --gallery`)
+//! - [`vulkan`]: the environment an off-screen renderer asks for on a headless machine
 
 pub mod frames;
 pub mod gallery;
 pub mod sink;
+pub mod vulkan;
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;

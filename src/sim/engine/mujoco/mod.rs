@@ -73,7 +73,7 @@ impl std::fmt::Display for MujocoSettings {
 pub enum MujocoError {
     /// No library where we look.
     #[error(
-        "MuJoCo {MUJOCO_VERSION} is not installed ({path}): run `bash scripts/install-mujoco` (or set PROLEG_MUJOCO to libmujoco.so.{MUJOCO_VERSION})"
+        "MuJoCo {MUJOCO_VERSION} is not installed ({path}): run `bash scripts/install-mujoco` (a checkout or the release tarball), `pip install 'proleg[mujoco]'` (Python), or set PROLEG_MUJOCO to libmujoco.so.{MUJOCO_VERSION}"
     )]
     Missing {
         /// Where we looked.
