@@ -39,7 +39,7 @@ pub const SCHEMA_VERSION: i64 = 5;
 /// The program that starts a run, stored with it: a worker of another version refuses the
 /// run (its physics may differ, so its scores would not be the driver's).
 pub fn program_version() -> String {
-    format!("proleg {}", crate::VERSION)
+    format!("proleg {}", env!("CARGO_PKG_VERSION"))
 }
 
 /// What identifies a run (a resumed run must match all of it).
