@@ -6,7 +6,7 @@ use std::path::Path;
 use nalgebra::{Isometry3, Matrix3, UnitQuaternion, Vector3};
 
 use crate::config::body::{Body, BodyKind, Geom, Mass, MeshCollision, Shape};
-use crate::config::body::{MASSES, SIZES, balanced_inertia, principal_moments};
+use crate::config::body::{MASSES, SIZES, balanced_inertia, inertia_fault, principal_moments};
 use crate::config::error::Pos;
 use crate::config::mesh::TriMesh;
 use crate::interop::urdf::lint::misplaced_collision;
@@ -455,11 +455,22 @@ fn mass(
             pos: Pos::default(),
         }));
     }
+    let written = turnable(name, tensor, total, warn);
+    // The robot file's own rule (one door): links merged from absurd distances (a fuzzed
+    // joint 1e52 m away) give a tensor whose smallest moment is lost to rounding.
+    if let Some(fault) = inertia_fault(&written) {
+        return Err(InteropError::new(
+            urdf,
+            format!(
+                "link {name}: the links merged into its body have an inertia no body can have: {fault} (are its fixed joints' origins where they should be?)"
+            ),
+        ));
+    }
     Ok(Some(Mass {
         total,
         distribution: "custom".into(),
         com: Some([com.x, com.y, com.z]),
-        inertia: Some(turnable(name, tensor, total, warn)),
+        inertia: Some(written),
         pos: Pos::default(),
     }))
 }
