@@ -26,8 +26,9 @@ use crate::gym::course::{CourseCache, Courses};
 use crate::gym::error::GymError;
 use crate::gym::observe::{Previous, Scratch, layout_of, observe};
 use crate::gym::options::{ActionMode, EnvOptions};
-use crate::gym::replay::{EnvReplay, steps_per_frame};
+use crate::gym::replay::EnvReplay;
 use crate::playback::PoseStream;
+use crate::playback::record::steps_per_frame;
 use crate::rng::SimRng;
 use crate::sim::randomize::{SensorNoise, randomize};
 use crate::sim::{BuildOptions, Episode, EpisodeEnd, EpisodeSettings, Simulator, WorldExit};
@@ -481,7 +482,11 @@ impl Env {
         EnvReplay::begin(
             sim,
             &self.world,
-            steps_per_frame(fps, period),
+            steps_per_frame(fps, period).map_err(|_| GymError::Option {
+                option: "replay_fps",
+                value: fps.to_string(),
+                want: "give 0 (no replay) or a positive number of frames per simulated second",
+            })?,
             period,
             self.max_steps,
             (label, self.opts.fitness.name().to_string()),

@@ -15,12 +15,6 @@ use crate::playback::scene::Scene;
 use crate::playback::stream::{Recorder, StreamInfo};
 use crate::sim::{EpisodeEnd, Simulator};
 
-/// Environment steps between two frames of `fps` frames per simulated second, at
-/// `control_period` seconds per step.
-pub fn steps_per_frame(fps: f64, control_period: f64) -> u64 {
-    ((1.0 / (fps * control_period)).round() as u64).max(1)
-}
-
 /// One episode's recording.
 pub struct EnvReplay {
     recorder: Recorder,
@@ -95,19 +89,5 @@ impl EnvReplay {
             ),
         };
         self.recorder.stream(info, &end)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::steps_per_frame;
-
-    #[test]
-    fn a_frame_is_the_whole_number_of_steps_nearest_the_rate_asked_for() {
-        assert_eq!(steps_per_frame(25.0, 0.02), 2);
-        assert_eq!(steps_per_frame(30.0, 0.02), 2);
-        assert_eq!(steps_per_frame(50.0, 0.02), 1);
-        assert_eq!(steps_per_frame(1000.0, 0.02), 1);
-        assert_eq!(steps_per_frame(10.0, 0.02), 5);
     }
 }

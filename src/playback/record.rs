@@ -88,3 +88,20 @@ pub fn end_text(end: EpisodeEnd) -> String {
         ),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::steps_per_frame;
+
+    #[test]
+    fn a_frame_is_the_whole_number_of_steps_nearest_the_rate_asked_for() {
+        // At an environment's 20-ms step as at a physics step.
+        let every = |fps| steps_per_frame(fps, 0.02).ok();
+        assert_eq!(every(25.0), Some(2));
+        assert_eq!(every(30.0), Some(2));
+        assert_eq!(every(50.0), Some(1));
+        assert_eq!(every(1000.0), Some(1));
+        assert_eq!(every(10.0), Some(5));
+        assert!(steps_per_frame(0.0, 0.02).is_err());
+    }
+}
